@@ -1,0 +1,62 @@
+/**
+ * @class   vtkPenumbraHeadlessFactory
+ * @brief   Object factory that makes vtkRenderWindow::New() return a headless EGL window.
+ *
+ * Installed automatically when this module is initialised (C++ `vtk_module_autoinit`, or
+ * `import penumbra` in Python) if headless rendering is wanted:
+ *
+ *  - `PENUMBRA_HEADLESS=1` (or `on`, `egl`): always use vtkPenumbraEGLRenderWindow;
+ *  - `PENUMBRA_HEADLESS=0` (or `off`, `x`): never; VTK's X window is used as usual;
+ *  - unset: use it exactly when `DISPLAY` is unset or empty, i.e. when VTK's X window could
+ *    only fail with "bad X server connection".
+ *
+ * When installed, the override of every other factory for vtkRenderWindow (VTK's
+ * vtkXOpenGLRenderWindow) is disabled, so the choice does not depend on load order.
+ */
+
+#ifndef vtkPenumbraHeadlessFactory_h
+#define vtkPenumbraHeadlessFactory_h
+
+#include "vtkObjectFactory.h"
+#include "vtkPenumbraHeadlessModule.h" // For export macro
+
+class VTKPENUMBRAHEADLESS_EXPORT vtkPenumbraHeadlessFactory : public vtkObjectFactory
+{
+public:
+  static vtkPenumbraHeadlessFactory* New();
+  vtkTypeMacro(vtkPenumbraHeadlessFactory, vtkObjectFactory);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  const char* GetVTKSourceVersion() override;
+  const char* GetDescription() override { return "Penumbra headless EGL render window"; }
+
+  /**
+   * Whether the environment asks for headless rendering (see the class description).
+   */
+  static bool HeadlessRequested();
+
+  /**
+   * Make vtkRenderWindow::New() return vtkPenumbraEGLRenderWindow from now on. Idempotent.
+   */
+  static void Install();
+
+  /**
+   * Undo Install(): VTK's own render window factory is enabled again. Idempotent.
+   */
+  static void Uninstall();
+
+  /**
+   * Whether Install() is in effect.
+   */
+  static bool IsInstalled();
+
+protected:
+  vtkPenumbraHeadlessFactory();
+  ~vtkPenumbraHeadlessFactory() override = default;
+
+private:
+  vtkPenumbraHeadlessFactory(const vtkPenumbraHeadlessFactory&) = delete;
+  void operator=(const vtkPenumbraHeadlessFactory&) = delete;
+};
+
+#endif
