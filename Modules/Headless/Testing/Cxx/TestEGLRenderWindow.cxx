@@ -21,15 +21,7 @@
 #include <cstdlib>
 #include <iostream>
 
-#define CHECK(cond)                                                                              \
-  do                                                                                             \
-  {                                                                                              \
-    if (!(cond))                                                                                 \
-    {                                                                                            \
-      std::cerr << __FILE__ << ":" << __LINE__ << ": check failed: " #cond << std::endl;       \
-      return EXIT_FAILURE;                                                                       \
-    }                                                                                            \
-  } while (false)
+#include "PenumbraTestMacros.h"
 
 namespace
 {

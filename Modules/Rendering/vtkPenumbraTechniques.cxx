@@ -1,0 +1,211 @@
+#include "vtkPenumbraTechniques.h"
+
+#include "vtkCameraPass.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkRenderPassCollection.h"
+#include "vtkRenderer.h"
+#include "vtkSequencePass.h"
+#include "vtkShadowMapBakerPass.h"
+#include "vtkShadowMapPass.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using json = nlohmann::json;
+
+namespace
+{
+struct OptionError : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+// Reads the options a technique knows and rejects the rest, so a typo never silently falls
+// back to a default.
+class Options
+{
+public:
+  explicit Options(const json& j)
+    : J(j)
+  {
+  }
+
+  int Integer(const char* key, int def, int lo, int hi)
+  {
+    this->Known.emplace_back(key);
+    if (!this->J.contains(key))
+    {
+      return def;
+    }
+    const json& v = this->J.at(key);
+    if (!v.is_number_integer() || v.get<long long>() < lo || v.get<long long>() > hi)
+    {
+      throw OptionError(std::string(key) + ": expected an integer in [" + std::to_string(lo) +
+        ", " + std::to_string(hi) + "], got " + v.dump());
+    }
+    return static_cast<int>(v.get<long long>());
+  }
+
+  void RejectUnknown() const
+  {
+    for (auto it = this->J.begin(); it != this->J.end(); ++it)
+    {
+      bool known = false;
+      for (const auto& k : this->Known)
+      {
+        known = known || k == it.key();
+      }
+      if (!known)
+      {
+        std::string allowed;
+        for (const auto& k : this->Known)
+        {
+          allowed += (allowed.empty() ? "" : ", ") + k;
+        }
+        throw OptionError(it.key() + ": unknown option" +
+          (allowed.empty() ? std::string(" (this technique has none)")
+                           : " (allowed: " + allowed + ")"));
+      }
+    }
+  }
+
+private:
+  const json& J;
+  std::vector<std::string> Known;
+};
+
+struct Technique
+{
+  const char* Name;
+  const char* Description;
+  std::function<void(vtkRenderer*, Options&)> Install;
+};
+
+void InstallNone(vtkRenderer* ren, Options& opts)
+{
+  opts.RejectUnknown();
+  ren->SetPass(nullptr);
+}
+
+void InstallVTKShadowMap(vtkRenderer* ren, Options& opts)
+{
+  const int resolution = opts.Integer("resolution", 1024, 16, 16384);
+  opts.RejectUnknown();
+  // The composition of VTK's own TestShadowMapPass: bake the maps, then shade with them.
+  vtkNew<vtkShadowMapPass> shadows;
+  shadows->GetShadowMapBakerPass()->SetResolution(resolution);
+  vtkNew<vtkRenderPassCollection> passes;
+  passes->AddItem(shadows->GetShadowMapBakerPass());
+  passes->AddItem(shadows);
+  vtkNew<vtkSequencePass> sequence;
+  sequence->SetPasses(passes);
+  vtkNew<vtkCameraPass> camera;
+  camera->SetDelegatePass(sequence);
+  ren->SetPass(camera);
+}
+
+const std::vector<Technique>& Registry()
+{
+  static const std::vector<Technique> techniques = {
+    { "none", "plain VTK rendering without shadows", InstallNone },
+    { "vtk-shadowmap", "VTK's vtkShadowMapPass (exponential shadow map; peer for comparison)",
+      InstallVTKShadowMap },
+  };
+  return techniques;
+}
+
+const Technique* Find(const char* name)
+{
+  for (const auto& t : Registry())
+  {
+    if (name && std::strcmp(t.Name, name) == 0)
+    {
+      return &t;
+    }
+  }
+  return nullptr;
+}
+}
+
+vtkStandardNewMacro(vtkPenumbraTechniques);
+
+int vtkPenumbraTechniques::GetNumberOfTechniques()
+{
+  return static_cast<int>(Registry().size());
+}
+
+const char* vtkPenumbraTechniques::GetTechniqueName(int index)
+{
+  return (index >= 0 && index < GetNumberOfTechniques()) ? Registry()[static_cast<size_t>(index)].Name
+                                                           : nullptr;
+}
+
+const char* vtkPenumbraTechniques::GetTechniqueDescription(int index)
+{
+  return (index >= 0 && index < GetNumberOfTechniques())
+    ? Registry()[static_cast<size_t>(index)].Description
+    : nullptr;
+}
+
+bool vtkPenumbraTechniques::HasTechnique(const char* name)
+{
+  return Find(name) != nullptr;
+}
+
+int vtkPenumbraTechniques::Apply(vtkRenderer* renderer, const char* name, const char* options)
+{
+  this->ErrorMessage.clear();
+  const Technique* technique = Find(name);
+  if (!technique)
+  {
+    std::string known;
+    for (const auto& t : Registry())
+    {
+      known += (known.empty() ? "" : ", ") + std::string(t.Name);
+    }
+    this->ErrorMessage =
+      "unknown technique \"" + std::string(name ? name : "") + "\" (available: " + known + ")";
+    return 0;
+  }
+  if (!renderer)
+  {
+    this->ErrorMessage = "no renderer given";
+    return 0;
+  }
+  try
+  {
+    const json parsed = (options && *options) ? json::parse(options) : json::object();
+    if (!parsed.is_object())
+    {
+      throw OptionError("options must be a JSON object");
+    }
+    Options opts(parsed);
+    technique->Install(renderer, opts);
+  }
+  catch (const OptionError& e)
+  {
+    this->ErrorMessage = e.what();
+    return 0;
+  }
+  catch (const json::exception& e)
+  {
+    this->ErrorMessage = std::string("options are not valid JSON: ") + e.what();
+    return 0;
+  }
+  return 1;
+}
+
+void vtkPenumbraTechniques::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  for (const auto& t : Registry())
+  {
+    os << indent << t.Name << ": " << t.Description << "\n";
+  }
+}

@@ -1,0 +1,70 @@
+/**
+ * @class   vtkPenumbraTechniques
+ * @brief   Registry of shadow techniques: installs one, by name, on a renderer.
+ *
+ * Every way Penumbra can draw shadows is registered here under a short name, with a
+ * documented set of options. Applications, the scene files' "technique" block, the
+ * `penumbra-render --technique` switch and the benchmark all go through Apply(), so a new
+ * technique becomes available everywhere by registering it in this one place.
+ *
+ * Registered techniques:
+ *  - `none`: plain VTK rendering, no shadows. No options.
+ *  - `vtk-shadowmap`: VTK's own vtkShadowMapPass (exponential shadow maps; directional
+ *    lights and spot lights under 90 degrees only; opaque geometry only). Options:
+ *    `resolution` (integer texels per side, default 1024, 16..16384).
+ *
+ * Options are JSON text (an object); unknown options and out-of-range values are rejected
+ * with a message naming the option.
+ */
+
+#ifndef vtkPenumbraTechniques_h
+#define vtkPenumbraTechniques_h
+
+#include "vtkObject.h"
+#include "vtkPenumbraRenderingModule.h" // For export macro
+
+#include <string> // For std::string
+
+class vtkRenderer;
+
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraTechniques : public vtkObject
+{
+public:
+  static vtkPenumbraTechniques* New();
+  vtkTypeMacro(vtkPenumbraTechniques, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The registered technique names and one-line descriptions.
+   */
+  static int GetNumberOfTechniques();
+  static const char* GetTechniqueName(int index);
+  static const char* GetTechniqueDescription(int index);
+  static bool HasTechnique(const char* name);
+  ///@}
+
+  /**
+   * Makes `renderer` draw with technique `name` configured by `options` (JSON object text;
+   * nullptr or "" means defaults). Returns 1 on success; 0 leaves the renderer unchanged and
+   * sets GetErrorMessage() to "<option>: <problem>" or "unknown technique ...".
+   */
+  int Apply(vtkRenderer* renderer, const char* name, const char* options);
+
+  /**
+   * Why the last Apply() failed; empty after a success.
+   */
+  const char* GetErrorMessage() { return this->ErrorMessage.c_str(); }
+
+protected:
+  vtkPenumbraTechniques() = default;
+  ~vtkPenumbraTechniques() override = default;
+
+private:
+  vtkPenumbraTechniques(const vtkPenumbraTechniques&) = delete;
+  void operator=(const vtkPenumbraTechniques&) = delete;
+
+  std::string ErrorMessage;
+};
+
+#endif

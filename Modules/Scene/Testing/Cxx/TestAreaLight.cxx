@@ -1,0 +1,82 @@
+// Area and linear lights: the fixed sample positions every technique and the reference share,
+// the emitter frame, and the validity checks behind the scene files' errors.
+#include "vtkMath.h"
+#include "vtkNew.h"
+#include "vtkPenumbraAreaLight.h"
+#include "vtkSmartPointer.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <limits>
+#include <string>
+
+#include "PenumbraTestMacros.h"
+
+int TestAreaLight(int, char*[])
+{
+  vtkNew<vtkPenumbraAreaLight> light;
+  light->SetPosition(1, 2, 10);
+  light->SetFocalPoint(1, 2, 0); // emits along -z
+  light->SetUp(0, 1, 0);
+  light->SetWidth(4.0);
+  light->SetHeight(2.0);
+  light->SetSamplesPerAxis(4);
+  CHECK(std::string(light->GetValidityMessage()).empty());
+  CHECK(light->GetNumberOfSamples() == 16);
+
+  double u[3], v[3], n[3];
+  CHECK(light->GetAxes(u, v, n));
+  CHECK(std::fabs(n[2] + 1.0) < 1e-15 && std::fabs(v[1] - 1.0) < 1e-15);
+  CHECK(std::fabs(vtkMath::Dot(u, v)) < 1e-15 && std::fabs(vtkMath::Dot(u, n)) < 1e-15);
+  CHECK(std::fabs(u[0] + 1.0) < 1e-15); // U = V x N = y x -z = -x
+
+  // Cell centres of a 4 x 4 grid over 4 x 2: offsets along U are -1.5, -0.5, 0.5, 1.5 and
+  // along V -0.75, -0.25, 0.25, 0.75; their mean is the centre.
+  double mean[3] = { 0, 0, 0 };
+  for (int s = 0; s < 16; ++s)
+  {
+    double p[3];
+    CHECK(light->GetSamplePosition(s, p));
+    const double su = -(p[0] - 1.0); // along U = -x
+    const double sv = p[1] - 2.0;
+    CHECK(std::fabs(su - (-1.5 + (s % 4))) < 1e-12);
+    CHECK(std::fabs(sv - (-0.75 + 0.5 * (s / 4))) < 1e-12);
+    CHECK(p[2] == 10.0);
+    for (int c = 0; c < 3; ++c)
+    {
+      mean[c] += p[c] / 16.0;
+    }
+  }
+  CHECK(std::fabs(mean[0] - 1.0) < 1e-12 && std::fabs(mean[1] - 2.0) < 1e-12);
+  double p[3];
+  CHECK(!light->GetSamplePosition(16, p) && !light->GetSamplePosition(-1, p));
+
+  // A line has k samples along U only.
+  light->SetShapeToLine();
+  CHECK(light->GetNumberOfSamples() == 4);
+  CHECK(light->GetSamplePosition(3, p) && std::fabs(p[1] - 2.0) < 1e-15);
+
+  // Up parallel to the emission direction still gives an orthonormal frame.
+  light->SetUp(0, 0, 5);
+  CHECK(light->GetAxes(u, v, n));
+  CHECK(std::fabs(vtkMath::Norm(u) - 1.0) < 1e-12 && std::fabs(vtkMath::Dot(v, n)) < 1e-12);
+
+  // Clones keep the extent (lights get cloned by VTK passes).
+  vtkSmartPointer<vtkLight> clone = vtkSmartPointer<vtkLight>::Take(light->ShallowClone());
+  auto* area = vtkPenumbraAreaLight::SafeDownCast(clone);
+  CHECK(area && area->GetWidth() == 4.0 && area->GetShape() == vtkPenumbraAreaLight::Line);
+
+  // Invalid lights explain themselves.
+  light->SetShapeToRectangle();
+  light->SetWidth(0.0);
+  CHECK(std::string(light->GetValidityMessage()).find("positive") != std::string::npos);
+  light->SetWidth(std::numeric_limits<double>::quiet_NaN());
+  CHECK(std::string(light->GetValidityMessage()).find("finite") != std::string::npos);
+  light->SetWidth(1e-6); // tiny is valid
+  light->SetHeight(1e-6);
+  CHECK(std::string(light->GetValidityMessage()).empty());
+  light->SetFocalPoint(1, 2, 10);
+  CHECK(std::string(light->GetValidityMessage()).find("direction") != std::string::npos);
+  return EXIT_SUCCESS;
+}

@@ -1,0 +1,142 @@
+#include "vtkPenumbraAreaLight.h"
+
+#include "vtkMath.h"
+#include "vtkObjectFactory.h"
+
+#include <cmath>
+#include <cstdio>
+
+vtkStandardNewMacro(vtkPenumbraAreaLight);
+
+vtkPenumbraAreaLight::vtkPenumbraAreaLight()
+  : Shape(Rectangle)
+  , Width(1.0)
+  , Height(1.0)
+  , Up{ 0.0, 0.0, 1.0 }
+  , SamplesPerAxis(8)
+  , ValidityMessage{ 0 }
+{
+  // Shade like a point light at the centre when no soft-shadow technique runs.
+  this->SetPositional(true);
+  this->SetConeAngle(180.0);
+  this->SetLightTypeToSceneLight();
+}
+
+int vtkPenumbraAreaLight::GetNumberOfSamples()
+{
+  return this->Shape == Line ? this->SamplesPerAxis : this->SamplesPerAxis * this->SamplesPerAxis;
+}
+
+bool vtkPenumbraAreaLight::GetAxes(double u[3], double v[3], double n[3])
+{
+  for (int c = 0; c < 3; ++c)
+  {
+    n[c] = this->FocalPoint[c] - this->Position[c];
+  }
+  if (vtkMath::Normalize(n) == 0.0)
+  {
+    return false;
+  }
+  // V = Up made perpendicular to N; fall back to the world axis least aligned with N.
+  double up[3] = { this->Up[0], this->Up[1], this->Up[2] };
+  double along = vtkMath::Dot(up, n);
+  double w[3] = { up[0] - along * n[0], up[1] - along * n[1], up[2] - along * n[2] };
+  if (vtkMath::Norm(w) < 1e-9 * std::max(1.0, vtkMath::Norm(up)))
+  {
+    int axis = 0;
+    for (int c = 1; c < 3; ++c)
+    {
+      if (std::fabs(n[c]) < std::fabs(n[axis]))
+      {
+        axis = c;
+      }
+    }
+    double e[3] = { 0, 0, 0 };
+    e[axis] = 1.0;
+    along = vtkMath::Dot(e, n);
+    for (int c = 0; c < 3; ++c)
+    {
+      w[c] = e[c] - along * n[c];
+    }
+  }
+  vtkMath::Normalize(w);
+  for (int c = 0; c < 3; ++c)
+  {
+    v[c] = w[c];
+  }
+  vtkMath::Cross(v, n, u);
+  vtkMath::Normalize(u);
+  return true;
+}
+
+bool vtkPenumbraAreaLight::GetSamplePosition(int index, double position[3])
+{
+  const int k = this->SamplesPerAxis;
+  if (index < 0 || index >= this->GetNumberOfSamples())
+  {
+    return false;
+  }
+  double u[3], v[3], n[3];
+  if (!this->GetAxes(u, v, n))
+  {
+    return false;
+  }
+  const int i = index % k;
+  const int j = index / k;
+  const double su = ((i + 0.5) / k - 0.5) * this->Width;
+  const double sv = this->Shape == Line ? 0.0 : ((j + 0.5) / k - 0.5) * this->Height;
+  for (int c = 0; c < 3; ++c)
+  {
+    position[c] = this->Position[c] + su * u[c] + sv * v[c];
+  }
+  return true;
+}
+
+const char* vtkPenumbraAreaLight::GetValidityMessage()
+{
+  this->ValidityMessage[0] = '\0';
+  double u[3], v[3], n[3];
+  const bool finite = std::isfinite(this->Width) && std::isfinite(this->Height) &&
+    std::isfinite(this->Position[0]) && std::isfinite(this->Position[1]) &&
+    std::isfinite(this->Position[2]) && std::isfinite(this->FocalPoint[0]) &&
+    std::isfinite(this->FocalPoint[1]) && std::isfinite(this->FocalPoint[2]);
+  if (!finite)
+  {
+    std::snprintf(this->ValidityMessage, sizeof(this->ValidityMessage),
+      "position, focal point and size must be finite numbers");
+  }
+  else if (!(this->Width > 0.0) || (this->Shape == Rectangle && !(this->Height > 0.0)))
+  {
+    std::snprintf(this->ValidityMessage, sizeof(this->ValidityMessage),
+      "size must be positive (got %g x %g); use a point or spot light for a zero-size light",
+      this->Width, this->Height);
+  }
+  else if (!this->GetAxes(u, v, n))
+  {
+    std::snprintf(this->ValidityMessage, sizeof(this->ValidityMessage),
+      "position and focal point coincide, so the light has no direction");
+  }
+  return this->ValidityMessage;
+}
+
+vtkLight* vtkPenumbraAreaLight::ShallowClone()
+{
+  vtkPenumbraAreaLight* clone = vtkPenumbraAreaLight::New();
+  clone->DeepCopy(this);
+  clone->Shape = this->Shape;
+  clone->Width = this->Width;
+  clone->Height = this->Height;
+  clone->SetUp(this->Up);
+  clone->SamplesPerAxis = this->SamplesPerAxis;
+  return clone;
+}
+
+void vtkPenumbraAreaLight::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Shape: " << (this->Shape == Line ? "Line" : "Rectangle") << "\n";
+  os << indent << "Width: " << this->Width << "\n";
+  os << indent << "Height: " << this->Height << "\n";
+  os << indent << "Up: " << this->Up[0] << " " << this->Up[1] << " " << this->Up[2] << "\n";
+  os << indent << "SamplesPerAxis: " << this->SamplesPerAxis << "\n";
+}

@@ -1,0 +1,127 @@
+/**
+ * @class   vtkPenumbraSceneReader
+ * @brief   Builds a renderer (props, lights, camera) from a Penumbra JSON scene file.
+ *
+ * The scene file is the middleware's description of what to render: meshes by file or from a
+ * built-in generator, with transform, colour, material and shadow flags; lights (directional,
+ * spot, point, rectangular area, linear); camera; image size; and the shadow technique with
+ * its options. The schema is documented in Data/Scenes/SCHEMA.md.
+ *
+ * Validation is strict and happens before anything is rendered: the first problem found is
+ * reported as one message that names the file, the field and what is wrong, e.g.
+ * `city.json: lights[1].type: unknown light type "sun" (expected directional, spot, point,
+ * area or linear)`. Read() then returns 0 and GetErrorMessage() holds that message.
+ *
+ * Relative file paths are resolved against the scene file's folder. A path starting with
+ * `$DATA/` is resolved against DataDirectory (default: the `PENUMBRA_DATA_DIR` environment
+ * variable, else the data folder configured at build time).
+ */
+
+#ifndef vtkPenumbraSceneReader_h
+#define vtkPenumbraSceneReader_h
+
+#include "vtkObject.h"
+#include "vtkPenumbraSceneModule.h" // For export macro
+
+#include <memory> // For std::unique_ptr
+
+class vtkActor;
+class vtkRenderer;
+
+class VTKPENUMBRASCENE_EXPORT vtkPenumbraSceneReader : public vtkObject
+{
+public:
+  static vtkPenumbraSceneReader* New();
+  vtkTypeMacro(vtkPenumbraSceneReader, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The JSON scene file to read. Default: none.
+   */
+  vtkSetStringMacro(FileName);
+  vtkGetStringMacro(FileName);
+  ///@}
+
+  ///@{
+  /**
+   * Folder that `$DATA/` paths point to. Default: `PENUMBRA_DATA_DIR` from the environment,
+   * else the build-time data folder.
+   */
+  vtkSetStringMacro(DataDirectory);
+  vtkGetStringMacro(DataDirectory);
+  ///@}
+
+  /**
+   * Reads FileName and builds the scene. Returns 1 on success, 0 on any error (see
+   * GetErrorMessage(); the error is also reported through vtkErrorMacro).
+   */
+  int Read();
+
+  /**
+   * Same as Read() for JSON text; `label` names it in messages and `baseDirectory` resolves
+   * its relative paths.
+   */
+  int ReadFromString(const char* json, const char* label, const char* baseDirectory);
+
+  /**
+   * The first problem found by the last Read(), empty after a success.
+   */
+  const char* GetErrorMessage();
+
+  /**
+   * The renderer holding the scene's props, lights and camera (nullptr before a successful
+   * read). A new renderer is made by every successful read.
+   */
+  vtkRenderer* GetRenderer();
+
+  ///@{
+  /**
+   * Image size in pixels from the scene's "image" block. Default 640 x 480.
+   */
+  int GetWidth();
+  int GetHeight();
+  ///@}
+
+  /**
+   * Technique named by the scene's "technique" block; "vtk-shadowmap" if none is given.
+   */
+  const char* GetTechniqueName();
+
+  /**
+   * The technique block's other members as JSON text ("{}" if none), for the technique to
+   * validate. Errors in them are to be reported as `<file>: technique.<option>: ...`.
+   */
+  const char* GetTechniqueOptions();
+
+  /**
+   * A label for messages about this scene: the file name, or the label given to
+   * ReadFromString.
+   */
+  const char* GetSceneLabel();
+
+  ///@{
+  /**
+   * The scene's objects, in file order.
+   */
+  int GetNumberOfObjects();
+  const char* GetObjectName(int index);
+  vtkActor* GetObjectActor(int index);
+  ///@}
+
+protected:
+  vtkPenumbraSceneReader();
+  ~vtkPenumbraSceneReader() override;
+
+  char* FileName;
+  char* DataDirectory;
+
+private:
+  vtkPenumbraSceneReader(const vtkPenumbraSceneReader&) = delete;
+  void operator=(const vtkPenumbraSceneReader&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
