@@ -1,0 +1,41 @@
+"""The examples in Examples/ run as documented and produce non-blank images."""
+
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import penumbra
+from vtkmodules.vtkCommonDataModel import vtkImageData
+
+from penumbra_testing import SCENES_DIR, SOURCE_DIR, image_luminance
+
+
+def spread(path):
+    image = vtkImageData()
+    io = penumbra.vtkPenumbraImageIO()
+    if not io.Read(path, image):
+        raise AssertionError(io.GetErrorMessage())
+    values = sorted(v for row in image_luminance(image) for v in row)
+    return values[int(0.95 * len(values))] - values[int(0.05 * len(values))]
+
+
+class ExamplesTest(unittest.TestCase):
+    def test_cxx_example(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "city.png")
+            subprocess.run([os.environ["PENUMBRA_EXAMPLE_CXX"], out], check=True, timeout=300)
+            self.assertGreater(spread(out), 40)
+
+    def test_python_example(self):
+        script = os.path.join(SOURCE_DIR, "Examples", "Python", "shadowed_scene.py")
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "iso.png")
+            subprocess.run([sys.executable, script, os.path.join(SCENES_DIR, "isosurface.json"), out],
+                           check=True, timeout=300)
+            self.assertGreater(spread(out), 40)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,63 @@
+"""penumbra-render end to end, headless: the default scene renders with visible shadows."""
+
+import os
+import tempfile
+import unittest
+
+import penumbra
+from vtkmodules.vtkCommonDataModel import vtkImageData
+
+from penumbra_testing import SCENES_DIR, image_luminance, run_render
+
+
+def read_png(path):
+    image = vtkImageData()
+    io = penumbra.vtkPenumbraImageIO()
+    if not io.Read(path, image):
+        raise AssertionError(io.GetErrorMessage())
+    return image
+
+
+class RenderCliTest(unittest.TestCase):
+    def render(self, tmp, technique):
+        out = os.path.join(tmp, technique + ".png")
+        code, stdout, stderr = run_render(os.path.join(SCENES_DIR, "default.json"), "-o", out,
+                                          "--size", "160x120", "--technique", technique)
+        self.assertEqual(code, 0, stderr)
+        for phase in ("load", "setup", "first", "frame", "write", "total"):
+            self.assertRegex(stdout, r"(?m)^%s\s+[0-9.]+ ms" % phase)
+        image = read_png(out)
+        self.assertEqual(image.GetDimensions()[:2], (160, 120))
+        return image_luminance(image)
+
+    def test_default_scene_has_shadows(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            lit = self.render(tmp, "none")
+            shadowed = self.render(tmp, "vtk-shadowmap")
+        pixels = [(a, b) for ra, rb in zip(lit, shadowed) for a, b in zip(ra, rb)]
+        # Not blank: the scene covers most of the frame with varied shading.
+        values = sorted(a for a, _ in pixels)
+        self.assertGreater(values[int(0.9 * len(values))] - values[int(0.1 * len(values))], 30)
+        # Shadows only ever darken, and they darken a real part of the image.
+        darker = sum(1 for a, b in pixels if b < a - 25)
+        brighter = sum(1 for a, b in pixels if b > a + 25)
+        self.assertGreater(darker, 0.03 * len(pixels), "too few shadowed pixels")
+        self.assertLess(brighter, 0.002 * len(pixels), "shadowing must not brighten pixels")
+
+    def test_size_and_technique_arguments_are_checked(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "x.png")
+            scene = os.path.join(SCENES_DIR, "default.json")
+            for args, fragment in (((scene, "-o", out, "--size", "0x10"), "--size"),
+                                   ((scene, "-o", out, "--technique", "nope"), "unknown technique"),
+                                   ((scene,), "no output file"),
+                                   ((scene, "-o", out, "--option", "resolution=-3"), "resolution")):
+                with self.subTest(args=args[1:]):
+                    code, _, stderr = run_render(*args)
+                    self.assertEqual(code, 2)
+                    self.assertIn(fragment, stderr)
+                    self.assertFalse(os.path.exists(out))
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,119 @@
+"""Scene files: every shipped scene loads; each kind of bad input gives its own clear error,
+a non-zero exit and no output file."""
+
+import glob
+import math
+import os
+import tempfile
+import unittest
+
+import penumbra
+
+from penumbra_testing import BAD_SCENES_DIR, SCENES_DIR, run_render
+
+# file -> fragment the one error line must contain (field and problem).
+BAD_SCENES = {
+    "missing_file.json": "objects[0].file: file not found",
+    "nan_literal.json": "invalid JSON",
+    "nan_mesh.json": "objects[0].file: reading",
+    "negative_size.json": "lights[0].size: area light size must be positive",
+    "zero_size_light.json": "lights[0].length: linear light length must be positive",
+    "unknown_light.json": 'lights[0].type: unknown light type "sun"',
+    "unknown_key.json": "objects[0].colour: unknown key",
+    "empty_scene.json": "objects: the scene is empty",
+    "no_lights.json": "lights: missing",
+    "infinite_value.json": "invalid JSON: number overflow parsing '1e999'",
+    "not_json.json": "invalid JSON",
+    "unknown_technique.json": 'unknown technique "magic"',
+    "bad_technique_option.json": "technique: resolution: expected an integer",
+    "unknown_generator.json": 'objects[0].generator.type: unknown generator "teapot"',
+    "spot_cone_too_wide.json": "lights[0].cone_angle",
+}
+
+
+class SceneFilesTest(unittest.TestCase):
+    def test_every_example_scene_loads(self):
+        scenes = sorted(glob.glob(os.path.join(SCENES_DIR, "*.json")))
+        self.assertGreaterEqual(len(scenes), 10)
+        for path in scenes:
+            with self.subTest(scene=os.path.basename(path)):
+                reader = penumbra.load_scene(path)
+                self.assertGreater(reader.GetNumberOfObjects(), 0)
+                self.assertTrue(penumbra.vtkPenumbraTechniques.HasTechnique(reader.GetTechniqueName()))
+                ren = reader.GetRenderer()
+                self.assertGreater(ren.GetLights().GetNumberOfItems(), 0)
+                bounds = ren.ComputeVisiblePropBounds()
+                self.assertTrue(all(math.isfinite(b) for b in bounds))
+                self.assertLess(bounds[0], bounds[1])
+
+    def test_every_bad_scene_is_covered(self):
+        shipped = {os.path.basename(p) for p in glob.glob(os.path.join(BAD_SCENES_DIR, "*.json"))}
+        self.assertEqual(shipped, set(BAD_SCENES))
+
+    def test_bad_scenes_fail_clearly_without_output(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            for name, fragment in sorted(BAD_SCENES.items()):
+                with self.subTest(scene=name):
+                    out = os.path.join(tmp, name + ".png")
+                    code, stdout, stderr = run_render(os.path.join(BAD_SCENES_DIR, name), "-o", out)
+                    self.assertEqual(code, 2, stderr)
+                    lines = [l for l in stderr.splitlines() if l.strip()]
+                    self.assertEqual(len(lines), 1, "exactly one error line expected:\n" + stderr)
+                    self.assertIn(name, lines[0], "the message names the file")
+                    self.assertIn(fragment, lines[0])
+                    self.assertFalse(os.path.exists(out), "no output file on error")
+            self.assertEqual(os.listdir(tmp), [], "no partial files left behind")
+
+    def test_reader_reports_without_raising(self):
+        reader = penumbra.vtkPenumbraSceneReader()
+        reader.AddObserver("ErrorEvent", lambda *a: None)
+        self.assertEqual(reader.ReadFromString('{"objects": 3}', "inline", ""), 0)
+        self.assertIn("inline: objects: missing", reader.GetErrorMessage())
+        self.assertIsNone(reader.GetRenderer())
+
+    def test_loaded_scene_details(self):
+        text = """{
+          "objects": [
+            {"name": "a", "generator": {"type": "box", "bounds": [0, 1, 0, 1, 0, 1]},
+             "transform": {"scale": 2, "rotate": [90, 0, 0, 1], "translate": [10, 0, 0]},
+             "cast_shadows": false, "material": {"model": "pbr", "roughness": 0.25}},
+            {"name": "b", "generator": {"type": "plane"}, "receive_shadows": false}
+          ],
+          "lights": [
+            {"type": "area", "position": [0, 0, 5], "normal": [0, 0, -1], "size": [2, 1],
+             "up": [0, 1, 0], "samples": 4},
+            {"type": "directional", "direction": [0, 0, -1], "on": false}
+          ],
+          "image": {"width": 320, "height": 200},
+          "technique": {"name": "none"}
+        }"""
+        reader = penumbra.vtkPenumbraSceneReader()
+        self.assertEqual(reader.ReadFromString(text, "inline", ""), 1, reader.GetErrorMessage())
+        self.assertEqual((reader.GetWidth(), reader.GetHeight()), (320, 200))
+        a = reader.GetObjectActor(0)
+        b = reader.GetObjectActor(1)
+        # scale 2, then 90 degrees about z, then translate: (1, 0, 0) -> (10, 2, 0).
+        m = a.GetMatrix()
+        p = [sum(m.GetElement(r, c) * v for c, v in enumerate((1, 0, 0, 1))) for r in range(3)]
+        for got, want in zip(p, (10, 2, 0)):
+            self.assertAlmostEqual(got, want, places=9)
+        self.assertFalse(penumbra.vtkPenumbraShadowKeys.CastsShadows(a))
+        self.assertTrue(penumbra.vtkPenumbraShadowKeys.ReceivesShadows(a))
+        self.assertTrue(penumbra.vtkPenumbraShadowKeys.CastsShadows(b))
+        self.assertFalse(penumbra.vtkPenumbraShadowKeys.ReceivesShadows(b))
+        self.assertEqual(a.GetProperty().GetInterpolationAsString(), "Physically based rendering")
+        lights = reader.GetRenderer().GetLights()
+        area = lights.GetItemAsObject(0)
+        self.assertIsInstance(area, penumbra.vtkPenumbraAreaLight)
+        self.assertEqual(area.GetNumberOfSamples(), 16)
+        # U = V x N with V = up = +y and N = -z gives U = -x; sample 0 is the (-,-) corner cell.
+        pos = [0.0, 0.0, 0.0]
+        self.assertTrue(area.GetSamplePosition(0, pos))
+        for got, want in zip(pos, (0.75, -0.375, 5.0)):
+            self.assertAlmostEqual(got, want, places=12)
+        self.assertFalse(area.GetSamplePosition(16, pos))
+        self.assertEqual(lights.GetItemAsObject(1).GetSwitch(), 0)
+
+
+if __name__ == "__main__":
+    unittest.main()
