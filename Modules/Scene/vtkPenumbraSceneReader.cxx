@@ -4,6 +4,7 @@
 #include "vtkPenumbraCityBlockSource.h"
 #include "vtkPenumbraIsosurfaceSource.h"
 #include "vtkPenumbraRoomSource.h"
+#include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraTerrainSource.h"
 
@@ -754,6 +755,8 @@ void vtkPenumbraSceneReader::Internals::BuildObject(
   vtkPenumbraShadowKeys::SetCastsShadows(actor, ctx.Bool(obj, field, "cast_shadows", true));
   vtkPenumbraShadowKeys::SetReceivesShadows(actor, ctx.Bool(obj, field, "receive_shadows", true));
   actor->SetVisibility(ctx.Bool(obj, field, "visible", true));
+  // So that extraction errors can say which object is broken.
+  vtkPenumbraSceneGeometry::SetPropName(actor, name.c_str());
 
   this->Renderer->AddActor(actor);
   this->ObjectNames.push_back(name);

@@ -1,0 +1,574 @@
+// Scene extraction: world-space triangles in double precision with the props' full matrices,
+// triangulation of polygons and strips in VTK's draw order, composite data, assemblies,
+// visibility, shadow flags, MTime caching, rebasing of georeferenced coordinates, bad input,
+// and the gl_PrimitiveID -> triangle mapping arithmetic.
+#include "vtkActor.h"
+#include "vtkAssembly.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCommand.h"
+#include "vtkCompositePolyDataMapper.h"
+#include "vtkDataSetMapper.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraShadowKeys.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+#include "vtkSphereSource.h"
+#include "vtkTestErrorObserver.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <initializer_list>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "PenumbraTestMacros.h"
+
+namespace
+{
+// A polydata with double-precision points (float would lose georeferenced detail).
+vtkSmartPointer<vtkPolyData> MakePolyData(std::initializer_list<double> xyz)
+{
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  const std::vector<double> v(xyz);
+  for (size_t i = 0; i + 2 < v.size(); i += 3)
+  {
+    points->InsertNextPoint(v[i], v[i + 1], v[i + 2]);
+  }
+  poly->SetPoints(points);
+  poly->SetVerts(vtkNew<vtkCellArray>());
+  poly->SetLines(vtkNew<vtkCellArray>());
+  poly->SetPolys(vtkNew<vtkCellArray>());
+  poly->SetStrips(vtkNew<vtkCellArray>());
+  return poly;
+}
+
+void AddCell(vtkCellArray* cells, std::initializer_list<vtkIdType> ids)
+{
+  const std::vector<vtkIdType> v(ids);
+  cells->InsertNextCell(static_cast<vtkIdType>(v.size()), v.data());
+}
+
+vtkSmartPointer<vtkActor> MakeActor(vtkDataObject* data)
+{
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputDataObject(data);
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  return actor;
+}
+
+// World position of vertex `v` (0..2) of triangle `t`.
+void WorldVertex(vtkPenumbraSceneGeometry* g, vtkIdType t, int v, double out[3])
+{
+  const double* o = g->GetOrigin();
+  for (int c = 0; c < 3; ++c)
+  {
+    out[c] = g->GetVertices()->GetComponent(t, 3 * v + c) + o[c];
+  }
+}
+
+bool Near(const double a[3], double x, double y, double z, double tol)
+{
+  return std::fabs(a[0] - x) <= tol && std::fabs(a[1] - y) <= tol && std::fabs(a[2] - z) <= tol;
+}
+
+// Position + orientation + scale + origin + UserMatrix against hand-computed coordinates.
+int TestTransform()
+{
+  auto poly = MakePolyData({ 1, 2, 3, 4, 0, -1, 0, 5, 2 });
+  AddCell(poly->GetPolys(), { 0, 1, 2 });
+  auto actor = MakeActor(poly);
+  actor->SetPosition(10, 20, 30);
+  actor->SetOrientation(0, 0, 90);
+  actor->SetScale(2, 3, 4);
+  actor->SetOrigin(1, 1, 1);
+  vtkNew<vtkMatrix4x4> user; // rotate 90 degrees about z, then translate (100, -50, 7)
+  const double u[16] = { 0, -1, 0, 100, 1, 0, 0, -50, 0, 0, 1, 7, 0, 0, 0, 1 };
+  user->DeepCopy(u);
+  actor->SetUserMatrix(user);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(actor);
+
+  vtkNew<vtkPenumbraSceneGeometry> g;
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfTriangles() == 1 && g->GetNumberOfProps() == 1);
+  CHECK(g->GetProp(0) == actor.GetPointer());
+  // world = U * T(origin + position) * Rz(90) * S * T(-origin) * p, Rz(90): (x, y) -> (-y, x)
+  // p0 (1,2,3): (0,1,2) -> (0,3,8) -> (-3,0,8) -> (8,21,39) -> U: (79,-42,46)
+  // p1 (4,0,-1): (3,-1,-2) -> (6,-3,-8) -> (3,6,-8) -> (14,27,23) -> U: (73,-36,30)
+  // p2 (0,5,2): (-1,4,1) -> (-2,12,4) -> (-12,-2,4) -> (-1,19,35) -> U: (81,-51,42)
+  double w[3];
+  WorldVertex(g, 0, 0, w);
+  CHECK(Near(w, 79, -42, 46, 1e-9));
+  WorldVertex(g, 0, 1, w);
+  CHECK(Near(w, 73, -36, 30, 1e-9));
+  WorldVertex(g, 0, 2, w);
+  CHECK(Near(w, 81, -51, 42, 1e-9));
+  double b[6];
+  g->GetBounds(b);
+  CHECK(std::fabs(b[0] - 73) < 1e-9 && std::fabs(b[1] - 81) < 1e-9);
+  CHECK(std::fabs(b[2] + 51) < 1e-9 && std::fabs(b[3] + 36) < 1e-9);
+  CHECK(std::fabs(b[4] - 30) < 1e-9 && std::fabs(b[5] - 46) < 1e-9);
+  // The origin is a power-of-two multiple near the centre (77, -43.5, 38): extent 16 -> 1 m.
+  const double* o = g->GetOrigin();
+  CHECK(o[0] == 77 && (o[1] == -43 || o[1] == -44) && o[2] == 38);
+  CHECK(g->GetNumberOfDegenerateTriangles() == 0);
+  return EXIT_SUCCESS;
+}
+
+// Quad -> 2, pentagon -> 3 (fans), 6-point strip -> 4 triangles with alternating order.
+int TestTriangulation()
+{
+  auto poly = MakePolyData({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, // quad 0-3
+    3, 0, 0, 4, 0, 0, 5, 1, 0, 4, 2, 0, 3, 1, 0,                  // pentagon 4-8
+    0, 5, 0, 0, 6, 0, 1, 5, 0, 1, 6, 0, 2, 5, 0, 2, 6, 0 });      // strip 9-14
+  AddCell(poly->GetVerts(), { 0 });
+  AddCell(poly->GetLines(), { 0, 1 });
+  AddCell(poly->GetPolys(), { 0, 1, 2, 3 });
+  AddCell(poly->GetPolys(), { 4, 5, 6, 7, 8 });
+  AddCell(poly->GetStrips(), { 9, 10, 11, 12, 13, 14 });
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(MakeActor(poly));
+
+  vtkNew<vtkPenumbraSceneGeometry> g;
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfTriangles() == 2 + 3 + 4);
+  // Cell ids count verts and lines first: quad 2, pentagon 3, strip 4.
+  const vtkIdType cells[9] = { 2, 2, 3, 3, 3, 4, 4, 4, 4 };
+  for (vtkIdType t = 0; t < 9; ++t)
+  {
+    CHECK(g->GetCellIds()->GetValue(t) == cells[t]);
+    CHECK(g->GetPropIndices()->GetValue(t) == 0);
+  }
+  double w[3];
+  // Pentagon fan: (4,5,6), (4,6,7), (4,7,8); check the last one.
+  WorldVertex(g, 4, 0, w);
+  CHECK(Near(w, 3, 0, 0, 1e-12));
+  WorldVertex(g, 4, 1, w);
+  CHECK(Near(w, 4, 2, 0, 1e-12));
+  WorldVertex(g, 4, 2, w);
+  CHECK(Near(w, 3, 1, 0, 1e-12));
+  // Strip triangle 1 is (p1, p3, p2) = points 10, 12, 11; triangle 3 is (p3, p5, p4).
+  WorldVertex(g, 6, 0, w);
+  CHECK(Near(w, 0, 6, 0, 1e-12));
+  WorldVertex(g, 6, 1, w);
+  CHECK(Near(w, 1, 6, 0, 1e-12));
+  WorldVertex(g, 6, 2, w);
+  CHECK(Near(w, 1, 5, 0, 1e-12));
+  WorldVertex(g, 8, 1, w);
+  CHECK(Near(w, 2, 6, 0, 1e-12));
+  // All strip triangles keep one winding: their normals all point the same way.
+  for (vtkIdType t = 5; t < 9; ++t)
+  {
+    double a[3], bb[3], c[3], e1[3], e2[3], n[3];
+    WorldVertex(g, t, 0, a);
+    WorldVertex(g, t, 1, bb);
+    WorldVertex(g, t, 2, c);
+    vtkMath::Subtract(bb, a, e1);
+    vtkMath::Subtract(c, a, e2);
+    vtkMath::Cross(e1, e2, n);
+    CHECK(n[2] < 0);
+  }
+  return EXIT_SUCCESS;
+}
+
+// Multiblock (nested) through a composite mapper: blocks in depth-first order, cell ids
+// continuing from block to block; vtkDataSetMapper surface-extracts an unstructured grid.
+int TestCompositeAndDataSet()
+{
+  auto a = MakePolyData({ 0, 0, 0, 1, 0, 0, 0, 1, 0 });
+  AddCell(a->GetVerts(), { 0 });
+  AddCell(a->GetPolys(), { 0, 1, 2 });
+  auto b = MakePolyData({ 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1 });
+  AddCell(b->GetPolys(), { 0, 1, 2, 3 });
+  vtkNew<vtkMultiBlockDataSet> inner;
+  inner->SetBlock(0, b);
+  vtkNew<vtkMultiBlockDataSet> mb;
+  mb->SetBlock(0, a);
+  mb->SetBlock(1, inner);
+  vtkNew<vtkCompositePolyDataMapper> compositeMapper;
+  compositeMapper->SetInputDataObject(mb);
+  vtkNew<vtkActor> compositeActor;
+  compositeActor->SetMapper(compositeMapper);
+
+  vtkNew<vtkUnstructuredGrid> hex;
+  vtkNew<vtkPoints> hp;
+  for (int i = 0; i < 8; ++i)
+  {
+    hp->InsertNextPoint(10 + (((i + 1) / 2) % 2), (i / 2) % 2, i / 4);
+  }
+  hex->SetPoints(hp);
+  const vtkIdType hexIds[8] = { 0, 1, 2, 3, 4, 5, 6, 7 };
+  hex->InsertNextCell(VTK_HEXAHEDRON, 8, hexIds);
+  vtkNew<vtkDataSetMapper> dsMapper;
+  dsMapper->SetInputData(hex);
+  vtkNew<vtkActor> hexActor;
+  hexActor->SetMapper(dsMapper);
+
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(compositeActor);
+  renderer->AddActor(hexActor);
+  vtkNew<vtkPenumbraSceneGeometry> g;
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfProps() == 2);
+  CHECK(g->GetPropTriangleCount(0) == 3 && g->GetPropTriangleOffset(1) == 3);
+  CHECK(g->GetCellIds()->GetValue(0) == 1); // after block a's vertex cell
+  CHECK(g->GetCellIds()->GetValue(1) == 2); // block b's quad: a has 2 cells
+  CHECK(g->GetCellIds()->GetValue(2) == 2);
+  double w[3];
+  WorldVertex(g, 1, 0, w);
+  CHECK(Near(w, 0, 0, 1, 1e-12));
+  CHECK(g->MapPrimitiveId(0, 0) == -1); // composite: mapping not supported
+  CHECK(g->GetPropTriangleCount(1) == 12); // 6 quad faces
+  double bounds[6];
+  g->GetBounds(bounds);
+  CHECK(bounds[0] == 0 && bounds[1] == 11 && bounds[5] == 1);
+  CHECK(g->MapPrimitiveId(1, 0) == 3 && g->MapPrimitiveId(1, 11) == 14);
+  return EXIT_SUCCESS;
+}
+
+// Assembly parts with path matrices; a flag on the assembly applies to its parts.
+int TestAssembly()
+{
+  auto poly = MakePolyData({ 0, 0, 0, 1, 0, 0, 0, 1, 0 });
+  AddCell(poly->GetPolys(), { 0, 1, 2 });
+  auto part = MakeActor(poly);
+  part->SetPosition(0, 1, 0);
+  vtkNew<vtkAssembly> assembly;
+  assembly->AddPart(part);
+  assembly->SetPosition(5, 0, 0);
+  assembly->SetScale(2, 2, 2);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddViewProp(assembly);
+
+  vtkNew<vtkPenumbraSceneGeometry> g;
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfProps() == 1 && g->GetProp(0) == part.GetPointer());
+  CHECK(g->GetPropIndex(part) == 0 && g->GetPropIndex(assembly) == -1);
+  double w[3];
+  WorldVertex(g, 0, 1, w); // (1,0,0) + (0,1,0) = (1,1,0), scaled by 2, + (5,0,0)
+  CHECK(Near(w, 7, 2, 0, 1e-12));
+  CHECK(g->GetFlags()->GetValue(0) == 3);
+  vtkPenumbraShadowKeys::SetCastsShadows(assembly, false);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetFlags()->GetValue(0) == vtkPenumbraSceneGeometry::RECEIVES_SHADOWS);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 0);
+  // Moving the assembly moves the part.
+  assembly->SetPosition(6, 0, 0);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1);
+  WorldVertex(g, 0, 1, w);
+  CHECK(Near(w, 8, 2, 0, 1e-12));
+  return EXIT_SUCCESS;
+}
+
+// Visibility, flags and the MTime cache.
+int TestFlagsAndCache()
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(8);
+  sphere->SetPhiResolution(6);
+  vtkNew<vtkPolyDataMapper> sphereMapper;
+  sphereMapper->SetInputConnection(sphere->GetOutputPort());
+  vtkNew<vtkActor> a;
+  a->SetMapper(sphereMapper);
+  auto quad = MakePolyData({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0 });
+  AddCell(quad->GetPolys(), { 0, 1, 2, 3 });
+  auto b = MakeActor(quad);
+  b->SetPosition(3, 0, 0);
+  auto hidden = MakeActor(quad);
+  hidden->VisibilityOff();
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(a);
+  renderer->AddActor(hidden);
+  renderer->AddActor(b);
+
+  vtkNew<vtkPenumbraSceneGeometry> g;
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfProps() == 2); // the invisible prop is skipped
+  CHECK(g->GetProp(1) == b.GetPointer() && g->GetPropIndex(hidden) == -1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 2);
+  const vtkIdType sphereTris = g->GetPropTriangleCount(0);
+  CHECK(sphereTris == 2 * 8 * (6 - 2)); // vtkSphereSource: 2 * theta * (phi - 2) triangles
+  CHECK(g->GetNumberOfTriangles() == sphereTris + 2);
+  vtkMTimeType geometryTime = g->GetGeometryTime();
+  vtkMTimeType flagsTime = g->GetFlagsTime();
+
+  // Nothing changed: nothing extracted, nothing republished.
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 0);
+  CHECK(g->GetGeometryTime() == geometryTime && g->GetFlagsTime() == flagsTime);
+
+  // A colour change is not a geometry change.
+  b->GetProperty()->SetColor(1, 0, 0);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 0);
+  CHECK(g->GetGeometryTime() == geometryTime && g->GetFlagsTime() == flagsTime);
+
+  // Flags: not extracted again, but the flags (and only them) are new.
+  vtkPenumbraShadowKeys::SetCastsShadows(a, false);
+  vtkPenumbraShadowKeys::SetReceivesShadows(b, false);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 0);
+  CHECK(g->GetGeometryTime() == geometryTime && g->GetFlagsTime() > flagsTime);
+  CHECK(g->GetFlags()->GetValue(0) == vtkPenumbraSceneGeometry::RECEIVES_SHADOWS);
+  CHECK(g->GetFlags()->GetValue(sphereTris) == vtkPenumbraSceneGeometry::CASTS_SHADOWS);
+  flagsTime = g->GetFlagsTime();
+
+  // Moving one prop re-extracts that prop only and keeps the origin.
+  const double origin[3] = { g->GetOrigin()[0], g->GetOrigin()[1], g->GetOrigin()[2] };
+  b->SetPosition(3.5, 0, 0);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1);
+  CHECK(g->GetGeometryTime() > geometryTime);
+  CHECK(g->GetOrigin()[0] == origin[0] && g->GetOrigin()[1] == origin[1]);
+  double w[3];
+  WorldVertex(g, sphereTris, 0, w);
+  CHECK(Near(w, 3.5, 0, 0, 1e-12));
+  geometryTime = g->GetGeometryTime();
+
+  // An upstream change re-extracts through the pipeline.
+  sphere->SetThetaResolution(10);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1);
+  CHECK(g->GetPropTriangleCount(0) == 2 * 10 * (6 - 2));
+  CHECK(g->GetGeometryTime() > geometryTime);
+  geometryTime = g->GetGeometryTime();
+
+  // Showing a prop again costs no extraction but changes the triangle list; hiding too.
+  hidden->VisibilityOn();
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfProps() == 3 && g->GetProp(1) == hidden.GetPointer());
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1); // first time ever seen visible
+  geometryTime = g->GetGeometryTime();
+  hidden->VisibilityOff();
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfProps() == 2 && g->GetGeometryTime() > geometryTime);
+  geometryTime = g->GetGeometryTime();
+  hidden->VisibilityOn();
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 0);
+  CHECK(g->GetNumberOfProps() == 3 && g->GetGeometryTime() > geometryTime);
+
+  // Modified() without a real change re-extracts but does not bump the geometry time.
+  geometryTime = g->GetGeometryTime();
+  quad->Modified();
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 2); // both quad actors share the data
+  CHECK(g->GetGeometryTime() == geometryTime);
+  return EXIT_SUCCESS;
+}
+
+// City coordinates: millimetres survive rebasing, and the positions are small.
+int TestGeoreferenced()
+{
+  const double x0 = 3.45e6, y0 = 5.43e6;
+  auto poly = MakePolyData({ x0, y0, 0, x0 + 20.001, y0, 0, x0, y0 + 30.002, 12.003, //
+    x0 + 0.001, y0 + 0.001, 0.001 });
+  AddCell(poly->GetPolys(), { 0, 1, 2 });
+  AddCell(poly->GetPolys(), { 0, 1, 3 });
+  auto actor = MakeActor(poly);
+  auto other = MakeActor(poly);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(actor);
+  renderer->AddActor(other);
+
+  vtkNew<vtkPenumbraSceneGeometry> g;
+  CHECK(g->Update(renderer) == 1);
+  const double* o = g->GetOrigin();
+  CHECK(std::fabs(o[0] - x0) < 100 && std::fabs(o[1] - y0) < 100);
+  vtkPoints* pts = poly->GetPoints();
+  const vtkIdType ids[2][3] = { { 0, 1, 2 }, { 0, 1, 3 } };
+  for (vtkIdType t = 0; t < 2; ++t)
+  {
+    for (int v = 0; v < 3; ++v)
+    {
+      double in[3], w[3];
+      pts->GetPoint(ids[t][v], in);
+      WorldVertex(g, t, v, w);
+      CHECK(Near(w, in[0], in[1], in[2], 1e-9));
+      for (int c = 0; c < 3; ++c)
+      {
+        const double rel = g->GetVertices()->GetComponent(t, 3 * v + c);
+        CHECK(std::fabs(rel) < 64);
+        // float32 of the relative position still holds the millimetre.
+        CHECK(std::fabs(static_cast<float>(rel) - rel) < 1e-5);
+      }
+    }
+  }
+  // The 1 mm triangle is not degenerate.
+  CHECK(g->GetNumberOfDegenerateTriangles() == 0);
+  // Moving one prop by 10 m does not move the origin (no jitter for the others).
+  const double before[3] = { o[0], o[1], o[2] };
+  other->SetPosition(10, 0, 0);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(o[0] == before[0] && o[1] == before[1] && o[2] == before[2]);
+  // Moving the whole scene far away does.
+  actor->SetPosition(5000, 0, 0);
+  other->SetPosition(5000, 0, 0);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(std::fabs(o[0] - (x0 + 5000)) < 100);
+  return EXIT_SUCCESS;
+}
+
+// NaN points fail with the prop named; the geometry is emptied. Empty scenes are fine.
+int TestBadInputAndEmpty()
+{
+  vtkNew<vtkPenumbraSceneGeometry> g;
+  vtkNew<vtkRenderer> empty;
+  CHECK(g->Update(empty) == 1);
+  CHECK(g->GetNumberOfTriangles() == 0 && g->GetNumberOfProps() == 0);
+  CHECK(std::string(g->GetErrorMessage()).empty());
+  double b[6];
+  g->GetBounds(b);
+  CHECK(!vtkMath::AreBoundsInitialized(b));
+
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  auto good = MakePolyData({ 0, 0, 0, 1, 0, 0, 0, 1, 0 });
+  AddCell(good->GetPolys(), { 0, 1, 2 });
+  auto bad = MakePolyData({ 0, 0, 0, nan, 0, 0, 0, inf, 0, 7, 7, nan });
+  AddCell(bad->GetPolys(), { 0, 1, 2 });
+  AddCell(bad->GetVerts(), { 3 }); // not in a triangle: not counted
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(MakeActor(good));
+  auto badActor = MakeActor(bad);
+  vtkPenumbraSceneGeometry::SetPropName(badActor, "tower");
+  renderer->AddActor(badActor);
+  CHECK(std::string(vtkPenumbraSceneGeometry::GetPropName(badActor)) == "tower");
+
+  vtkNew<vtkTest::ErrorObserver> observer;
+  g->AddObserver(vtkCommand::ErrorEvent, observer);
+  CHECK(g->Update(renderer) == 0);
+  const std::string message = g->GetErrorMessage();
+  CHECK(message == "vtkActor 'tower' (prop 1): 2 points with NaN/inf coordinates");
+  CHECK(observer->GetError());
+  CHECK(observer->GetErrorMessage().find("'tower' (prop 1)") != std::string::npos);
+  CHECK(g->GetNumberOfTriangles() == 0 && g->GetNumberOfProps() == 0);
+
+  // Fixed: success again, and the message is cleared.
+  bad->GetPoints()->SetPoint(1, 1, 0, 0);
+  bad->GetPoints()->SetPoint(2, 0, 1, 0);
+  bad->GetPoints()->Modified();
+  CHECK(g->Update(renderer) == 1);
+  CHECK(std::string(g->GetErrorMessage()).empty());
+  CHECK(g->GetNumberOfTriangles() == 2);
+
+  // An unnamed prop is still identified by class and index.
+  bad->GetPoints()->SetPoint(0, inf, 0, 0);
+  bad->GetPoints()->Modified();
+  vtkPenumbraSceneGeometry::SetPropName(badActor, nullptr);
+  observer->Clear();
+  CHECK(g->Update(renderer) == 0);
+  CHECK(std::string(g->GetErrorMessage()) ==
+    "unnamed vtkActor (prop 1): 1 point with NaN/inf coordinates");
+  return EXIT_SUCCESS;
+}
+
+// gl_PrimitiveID + PrimitiveIDOffset -> global triangle, for a mesh with verts, lines, polys
+// (one fan triangle with two coincident points, which VTK does not draw) and strips.
+int TestPrimitiveMapping()
+{
+  auto first = MakePolyData({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0 });
+  AddCell(first->GetPolys(), { 0, 1, 2, 3 }); // 2 triangles before the mixed prop
+
+  auto mixed = MakePolyData({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 1, 1, 0, // 2 and 3 coincide
+    2, 0, 0, 3, 0, 0, 3, 1, 0, 2, 2, 0, 1.5, 1, 0,                // 4-8
+    0, 5, 0, 0, 6, 0, 1, 5, 0, 1, 6, 0, 2, 5, 0 });               // 9-13
+  AddCell(mixed->GetVerts(), { 0 });          // 1 point primitive
+  AddCell(mixed->GetVerts(), { 4, 5, 6 });    // 3 point primitives
+  AddCell(mixed->GetLines(), { 0, 1 });       // 1 segment
+  AddCell(mixed->GetLines(), { 4, 5, 6, 7 }); // 3 segments
+  AddCell(mixed->GetPolys(), { 9, 10, 11 });       // local triangle 0, cell 4
+  AddCell(mixed->GetPolys(), { 0, 1, 2, 3 });      // local 1, 2 (2 not drawn), cell 5
+  AddCell(mixed->GetPolys(), { 4, 5, 6, 7, 8 });   // local 3, 4, 5, cell 6
+  AddCell(mixed->GetStrips(), { 9, 10, 11, 12, 13 }); // local 6, 7, 8, cell 7
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(mixed);
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(MakeActor(first));
+  renderer->AddActor(actor);
+
+  vtkNew<vtkPenumbraSceneGeometry> g;
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetPropTriangleOffset(1) == 2 && g->GetPropTriangleCount(1) == 9);
+  CHECK(g->GetNumberOfDegenerateTriangles() == 1); // kept, and counted
+  const vtkIdType cells[9] = { 4, 5, 5, 6, 6, 6, 7, 7, 7 };
+  for (vtkIdType t = 0; t < 9; ++t)
+  {
+    CHECK(g->GetCellIds()->GetValue(2 + t) == cells[t]);
+  }
+  // Offsets: 4 vertex points, 4 line segments -> triangles start at 8. Polygons draw 5 of
+  // their 6 fan triangles; without a cell map the strips start at 8 + (12 - 2 * 3) = 14.
+  const vtkIdType expected[18] = { -1, -1, -1, -1, -1, -1, -1, -1, // points, lines
+    2 + 0, 2 + 1, 2 + 3, 2 + 4, 2 + 5,                              // drawn fan triangles
+    -1,                                                             // never produced
+    2 + 6, 2 + 7, 2 + 8,                                            // strip triangles
+    -1 };
+  for (vtkIdType id = 0; id < 18; ++id)
+  {
+    if (g->MapPrimitiveId(1, id) != expected[id])
+    {
+      std::cerr << "MapPrimitiveId(1, " << id << ") = " << g->MapPrimitiveId(1, id)
+                << ", expected " << expected[id] << "\n";
+      return EXIT_FAILURE;
+    }
+  }
+  CHECK(g->MapPrimitiveId(0, 0) == 0 && g->MapPrimitiveId(0, 1) == 1);
+  CHECK(g->MapPrimitiveId(0, 2) == -1 && g->MapPrimitiveId(0, -1) == -1);
+  CHECK(g->MapPrimitiveId(2, 0) == -1 && g->MapPrimitiveId(-1, 0) == -1);
+
+  // With cell scalars the mapper builds its exact cell map: strips follow the drawn count.
+  vtkNew<vtkFloatArray> scalars;
+  scalars->SetNumberOfTuples(mixed->GetNumberOfCells());
+  scalars->FillValue(1.0f);
+  mixed->GetCellData()->SetScalars(scalars);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->MapPrimitiveId(1, 12) == 2 + 5 && g->MapPrimitiveId(1, 13) == 2 + 6);
+  CHECK(g->MapPrimitiveId(1, 15) == 2 + 8 && g->MapPrimitiveId(1, 16) == -1);
+  // ... unless the scalars are not shown: back to the map-less numbering.
+  mapper->ScalarVisibilityOff();
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->MapPrimitiveId(1, 13) == -1 && g->MapPrimitiveId(1, 14) == 2 + 6);
+
+  // Wireframe draws lines, not triangles: no mapping.
+  actor->GetProperty()->SetRepresentationToWireframe();
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->MapPrimitiveId(1, 8) == -1);
+  return EXIT_SUCCESS;
+}
+} // namespace
+
+int TestSceneGeometry(int, char*[])
+{
+  RUN(TestTransform());
+  RUN(TestTriangulation());
+  RUN(TestCompositeAndDataSet());
+  RUN(TestAssembly());
+  RUN(TestFlagsAndCache());
+  RUN(TestGeoreferenced());
+  RUN(TestBadInputAndEmpty());
+  RUN(TestPrimitiveMapping());
+  return EXIT_SUCCESS;
+}

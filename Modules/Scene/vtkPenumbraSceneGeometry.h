@@ -1,0 +1,237 @@
+/**
+ * @class   vtkPenumbraSceneGeometry
+ * @brief   World-space triangles of a renderer's props, in double precision, for shadow
+ *          techniques and the exact reference.
+ *
+ * Update() walks the renderer's view props (all of them, not only those inside the camera
+ * frustum: a prop off screen still casts shadows into the view), extracts every triangle of
+ * every visible vtkActor (vtkAssembly parts included, with their path matrices), applies the
+ * prop's full matrix in double precision and stores the result relative to a rebasing Origin.
+ *
+ * Supported: vtkActor with vtkPolyDataMapper, vtkCompositePolyDataMapper(2) or
+ * vtkDataSetMapper (non-polydata inputs go through a default vtkDataSetSurfaceFilter, as
+ * vtkDataSetMapper does), composite inputs (polydata leaves in depth-first order, as the
+ * composite mappers draw them), vtkAssembly. Polygons with more than three points and
+ * triangle strips are triangulated; vertices and lines are ignored. Invisible props, props
+ * without mapper or input, volumes and 2D actors are skipped. Block visibility of composite
+ * data (vtkCompositeDataDisplayAttributes) is not honoured: it lives on
+ * vtkCompositePolyDataMapper2, and this module must not depend on RenderingOpenGL2.
+ *
+ * Triangle order follows what VTK 9.1's vtkOpenGLPolyDataMapper draws, so that a G-buffer
+ * pass can turn `gl_PrimitiveID + PrimitiveIDOffset` into a global triangle index with
+ * MapPrimitiveId() (the rule is documented there).
+ *
+ * Rebasing: Origin is the centre of the world bounds of all triangles, each coordinate
+ * rounded to a multiple of 2^k metres, 2^k being the smallest power of two not below 1/16 of
+ * the largest extent and at least 1 m (exact in double, and (vertex - Origin) is then exact
+ * for vertices near it). Once chosen it is kept by later updates as long as the bounds'
+ * centre stays within one extent (at least 1 m) of it on every axis and the extent has not
+ * grown or shrunk by more than a factor of 4 since; an update without triangles keeps it
+ * too. So one prop moving does not make it jitter. Positions within a few kilometres of
+ * Origin keep millimetres in float32, whatever the georeferenced coordinates (1e6..1e7 m).
+ *
+ * Caching: each prop's input is first brought up to date (mapper->Update(), unless the
+ * mapper is Static). A prop whose input data object, data MTime, mapper MTime and matrix
+ * values did not change since the previous Update() is not re-extracted;
+ * GetNumberOfPropsExtractedLastUpdate() tells how many were. Hidden props keep their cached
+ * triangles, so showing them again costs nothing; colour, material and flag changes never
+ * re-extract. GetGeometryTime() changes only when the published triangles change (positions,
+ * topology, the visible prop set, or Origin), GetFlagsTime() when the per-triangle flags do.
+ *
+ * Bad input (NaN or infinite coordinates) makes Update() return 0 with a message naming the
+ * prop (GetErrorMessage(), also reported with vtkErrorMacro) and empties the geometry so
+ * nothing renders silently wrong. A scene without triangles is not an error.
+ */
+
+#ifndef vtkPenumbraSceneGeometry_h
+#define vtkPenumbraSceneGeometry_h
+
+#include "vtkObject.h"
+#include "vtkPenumbraSceneModule.h" // For export macro
+
+#include <memory> // For std::unique_ptr
+
+class vtkDoubleArray;
+class vtkIdTypeArray;
+class vtkInformationStringKey;
+class vtkIntArray;
+class vtkProp;
+class vtkRenderer;
+class vtkUnsignedCharArray;
+
+class VTKPENUMBRASCENE_EXPORT vtkPenumbraSceneGeometry : public vtkObject
+{
+public:
+  static vtkPenumbraSceneGeometry* New();
+  vtkTypeMacro(vtkPenumbraSceneGeometry, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Bits of GetFlags().
+   */
+  enum TriangleFlags
+  {
+    CASTS_SHADOWS = 1,
+    RECEIVES_SHADOWS = 2
+  };
+
+  /**
+   * Extracts the triangles of the renderer's view props (renderer->GetViewProps()). Returns
+   * 1 on success, 0 on error (see GetErrorMessage()); on error the geometry is emptied.
+   */
+  int Update(vtkRenderer* renderer);
+
+#ifndef __VTK_WRAP__
+  /**
+   * Same for an explicit prop list, e.g. the one a render pass gets from vtkRenderState.
+   * Beware that vtkRenderState holds only the props that survived frustum culling, while
+   * props outside the view still cast shadows into it.
+   */
+  int Update(vtkProp** props, int count);
+#endif
+
+  /**
+   * The problem found by the last Update(), empty after a success.
+   */
+  const char* GetErrorMessage();
+
+  /**
+   * Rebasing origin in world coordinates (metres): every vertex is stored minus it. Default
+   * (0, 0, 0) until an Update() finds triangles; see the class description for the rule.
+   */
+  vtkGetVector3Macro(Origin, double);
+
+  /**
+   * Number of extracted triangles (degenerate ones included).
+   */
+  vtkIdType GetNumberOfTriangles();
+
+  /**
+   * One tuple of 9 components per triangle: v0 xyz, v1 xyz, v2 xyz, world position minus
+   * Origin, in double precision. Vertex order is VTK's (the triangle's winding is kept).
+   */
+  vtkDoubleArray* GetVertices();
+
+  /**
+   * Per triangle: index of its prop in the extracted prop list (see GetProp()).
+   */
+  vtkIntArray* GetPropIndices();
+
+  /**
+   * Per triangle: id of the VTK cell it comes from in the prop's polydata (verts, lines,
+   * polys, strips numbered in that order, as vtkPolyData does; after surface extraction for
+   * non-polydata; for composite data each polydata leaf's ids continue after the previous
+   * leaf's, in depth-first order).
+   */
+  vtkIdTypeArray* GetCellIds();
+
+  /**
+   * Per triangle: bit 0 (CASTS_SHADOWS, value 1) = casts shadows, bit 1 (RECEIVES_SHADOWS,
+   * value 2) = receives shadows, from vtkPenumbraShadowKeys.
+   */
+  vtkUnsignedCharArray* GetFlags();
+
+  ///@{
+  /**
+   * The extracted props: visible vtkActors that have a mapper with input (with triangles or
+   * not), in view-prop order, the parts of a vtkAssembly in path-traversal order. For an
+   * assembly part GetProp() returns the part actor (the leaf of its assembly path).
+   */
+  int GetNumberOfProps();
+  vtkProp* GetProp(int index);
+  ///@}
+
+  ///@{
+  /**
+   * Range of a prop's triangles in the global triangle list: they are contiguous. -1 / 0 for
+   * an invalid index.
+   */
+  vtkIdType GetPropTriangleOffset(int index);
+  vtkIdType GetPropTriangleCount(int index);
+  ///@}
+
+  /**
+   * Index of a prop (as an actor, or as an assembly part actor) in the extracted list, -1 if
+   * absent. For an actor used in several assembly paths the first one.
+   */
+  int GetPropIndex(vtkProp* prop);
+
+  /**
+   * Global triangle index of the triangle that VTK 9.1's vtkOpenGLPolyDataMapper draws as
+   * `primitiveId` (= gl_PrimitiveID + the mapper's PrimitiveIDOffset uniform) for prop
+   * `propIndex`; -1 if that primitive is not one of our triangles (a vertex or line
+   * primitive), is out of range, if the prop is not drawn as a surface (wireframe / points
+   * representation), or if its input is composite: vtkCompositePolyDataMapper2 orders its
+   * blocks by polydata pointer (std::map<vtkPolyData*, ...>) and groups them by array
+   * layout, so its numbering cannot be reproduced.
+   *
+   * The rule mirrored (VTK 9.1, surface representation, checked by rendering):
+   * - vtkOpenGLPolyDataMapper::RenderPieceDraw draws the cell arrays in the order verts,
+   *   lines, polys, strips; the offset of each is vtkOpenGLCellToVTKCellMap's primitive
+   *   offset: verts start at 0 with one point primitive per point id, lines follow with one
+   *   segment per consecutive point pair, then the polygon triangles, then the strip
+   *   triangles.
+   * - Polygons are fanned (p0, p_i, p_i+1); fan triangles with two coincident points (equal
+   *   coordinates) are not drawn (vtkOpenGLIndexBufferObject::AppendTriangleIndexBuffer). We
+   *   keep them in our list; no primitive id maps to them.
+   * - Strips give triangle j = (p_j, p_j+1+j%2, p_j+1+(j+1)%2), all drawn.
+   * - The strips' offset counts n-2 triangles per polygon, skipped ones included, unless the
+   *   mapper has cell scalars or cell normals (it then builds its full cell map, counting only
+   *   drawn triangles); Update() evaluates which case applies for every prop.
+   */
+  vtkIdType MapPrimitiveId(int propIndex, vtkIdType primitiveId);
+
+  /**
+   * Changes only when the triangles change: positions, topology, the set of visible props or
+   * Origin (not when only flags change). 0 before any triangle was published.
+   */
+  vtkMTimeType GetGeometryTime();
+
+  /**
+   * Changes when the per-triangle flags change: caster/receiver flags, or the triangle list
+   * itself (e.g. a prop shown or hidden).
+   */
+  vtkMTimeType GetFlagsTime();
+
+  /**
+   * How many props the last Update() (re)extracted from their data: 0 when nothing changed.
+   */
+  int GetNumberOfPropsExtractedLastUpdate();
+
+  /**
+   * Number of zero-area triangles (kept in the list, in their place): those whose largest
+   * angle has a sine below 1e-12, coincident points included. Duplicate triangles are kept
+   * too and are not counted separately.
+   */
+  vtkIdType GetNumberOfDegenerateTriangles();
+
+  /**
+   * World bounds (xmin, xmax, ymin, ymax, zmin, zmax) of all triangles; uninitialized bounds
+   * (vtkMath::UninitializeBounds) when there are none.
+   */
+  void GetBounds(double bounds[6]);
+
+  /**
+   * Optional prop name used in error messages (`vtkActor 'tower' (prop 3): ...`), stored in
+   * the prop's property keys like vtkPenumbraShadowKeys' flags. Default: none (messages then
+   * say `unnamed vtkActor (prop 3)`). An assembly's name is used for unnamed parts.
+   */
+  static vtkInformationStringKey* NAME();
+  static void SetPropName(vtkProp* prop, const char* name);
+  static const char* GetPropName(vtkProp* prop);
+
+protected:
+  vtkPenumbraSceneGeometry();
+  ~vtkPenumbraSceneGeometry() override;
+
+  double Origin[3];
+
+private:
+  vtkPenumbraSceneGeometry(const vtkPenumbraSceneGeometry&) = delete;
+  void operator=(const vtkPenumbraSceneGeometry&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
