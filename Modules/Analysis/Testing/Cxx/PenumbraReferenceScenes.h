@@ -1,0 +1,127 @@
+// Small analytic scenes shared by the reference tests: actors in a renderer (no window),
+// view samples placed analytically on a ground plane, and an error observer so tests can
+// check failures without VTK printing "ERROR:" (which ctest counts as a failure).
+#ifndef PenumbraReferenceScenes_h
+#define PenumbraReferenceScenes_h
+
+#include "vtkActor.h"
+#include "vtkCommand.h"
+#include "vtkDoubleArray.h"
+#include "vtkNew.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkPolyDataAlgorithm.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+
+#include <cmath>
+#include <string>
+
+namespace penumbra_test
+{
+
+// Adds `source`'s output as an actor at `position` (the actor matrix carries any offset).
+inline vtkSmartPointer<vtkActor> AddActor(
+  vtkRenderer* renderer, vtkPolyDataAlgorithm* source, const double position[3])
+{
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(source->GetOutputPort());
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->SetPosition(position[0], position[1], position[2]);
+  renderer->AddActor(actor);
+  return actor;
+}
+
+// Global index of a triangle of prop `propIndex` containing (x, y) in the xy projection
+// (world coordinates), or -1. Inclusive edges: a point on a shared edge takes the first.
+inline vtkIdType FindTriangleXY(vtkPenumbraSceneGeometry* geometry, int propIndex, double x,
+  double y)
+{
+  double origin[3];
+  geometry->GetOrigin(origin);
+  const double px = x - origin[0];
+  const double py = y - origin[1];
+  const vtkIdType first = geometry->GetPropTriangleOffset(propIndex);
+  const vtkIdType count = geometry->GetPropTriangleCount(propIndex);
+  vtkDoubleArray* vertices = geometry->GetVertices();
+  for (vtkIdType t = first; t < first + count; ++t)
+  {
+    double v[9];
+    vertices->GetTypedTuple(t, v);
+    double sign = 0.0;
+    bool inside = true;
+    for (int e = 0; e < 3 && inside; ++e)
+    {
+      const double* a = v + 3 * e;
+      const double* b = v + 3 * ((e + 1) % 3);
+      const double cross = (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]);
+      if (cross != 0.0)
+      {
+        if (sign == 0.0)
+        {
+          sign = cross;
+        }
+        else if ((cross > 0.0) != (sign > 0.0))
+        {
+          inside = false;
+        }
+      }
+    }
+    if (inside)
+    {
+      return t;
+    }
+  }
+  return -1;
+}
+
+// res x res samples at the pixel centres of the square [lo, hi]^2 on the plane z = 0 of the
+// (offset) frame, seen orthographically from above: normal +z, prop `propIndex`.
+inline void FillGroundSamples(vtkPenumbraViewSamples* samples,
+  vtkPenumbraSceneGeometry* geometry, int propIndex, const double offset[3], int res, double lo,
+  double hi)
+{
+  samples->SetSize(res, res);
+  samples->SetOrigin(geometry->GetOrigin());
+  samples->SetCameraPosition(offset[0], offset[1], offset[2] + 100.0);
+  const double pixel = (hi - lo) / res;
+  const double up[3] = { 0, 0, 1 };
+  for (int j = 0; j < res; ++j)
+  {
+    for (int i = 0; i < res; ++i)
+    {
+      const double world[3] = { offset[0] + lo + (i + 0.5) * pixel,
+        offset[1] + lo + (j + 0.5) * pixel, offset[2] };
+      const vtkIdType tri = FindTriangleXY(geometry, propIndex, world[0], world[1]);
+      samples->SetSample(samples->GetSampleIndex(i, j), world, up, propIndex, tri);
+    }
+  }
+}
+
+// Pixel centre (local coordinates, offset removed) of sample (i, j) of FillGroundSamples.
+inline void PixelCentre(int i, int j, int res, double lo, double hi, double c[2])
+{
+  const double pixel = (hi - lo) / res;
+  c[0] = lo + (i + 0.5) * pixel;
+  c[1] = lo + (j + 0.5) * pixel;
+}
+
+// Counts errors reported to an object instead of printing them.
+class ErrorCounter : public vtkCommand
+{
+public:
+  static ErrorCounter* New() { return new ErrorCounter; }
+  void Execute(vtkObject*, unsigned long, void* data) override
+  {
+    ++this->Count;
+    this->Last = data ? static_cast<const char*>(data) : "";
+  }
+  int Count = 0;
+  std::string Last;
+};
+
+} // namespace penumbra_test
+
+#endif

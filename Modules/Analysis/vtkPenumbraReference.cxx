@@ -1,0 +1,854 @@
+#include "vtkPenumbraReference.h"
+
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkLight.h"
+#include "vtkMath.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkSMPTools.h"
+#include "vtkTypeUInt32Array.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkPenumbraReference);
+vtkCxxSetObjectMacro(vtkPenumbraReference, Geometry, vtkPenumbraSceneGeometry);
+
+namespace
+{
+constexpr unsigned int NoPrimitive = RTC_INVALID_GEOMETRY_ID;
+constexpr int MaxConvergedSamplesPerAxis = 256;
+
+using Clock = std::chrono::steady_clock;
+
+double ElapsedMs(Clock::time_point start)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Per-ray state the filter reads: Embree hands our context pointer back to the filter, so
+// the extra members must follow the RTCIntersectContext it starts with.
+struct RayContext
+{
+  RTCIntersectContext Embree;
+  unsigned int OwnPrimitive;
+  float TieLimit;
+  bool SawTie;
+};
+
+// Decides which candidate hits block. The receiver's own triangle never does (no acne bias
+// needed for it); a hit in the tie band is remembered and skipped, so a blocker farther away
+// can still decide the ray and only a ray with nothing else in the way reports a tie.
+void OcclusionFilter(const RTCFilterFunctionNArguments* args)
+{
+  auto* ctx = reinterpret_cast<RayContext*>(args->context);
+  for (unsigned int i = 0; i < args->N; ++i)
+  {
+    if (args->valid[i] != -1)
+    {
+      continue;
+    }
+    if (RTCHitN_primID(args->hit, args->N, i) == ctx->OwnPrimitive)
+    {
+      args->valid[i] = 0;
+      continue;
+    }
+    // Embree stores the candidate's distance in tfar while the filter runs.
+    if (RTCRayN_tfar(args->ray, args->N, i) < ctx->TieLimit)
+    {
+      ctx->SawTie = true;
+      args->valid[i] = 0;
+    }
+  }
+}
+
+void EmbreeError(void* userPtr, RTCError code, const char* message)
+{
+  auto* text = static_cast<std::string*>(userPtr);
+  *text = "Embree error " + std::to_string(static_cast<int>(code)) + ": " +
+    (message ? message : "(no message)");
+}
+
+enum class LightKind
+{
+  Directional,
+  Point,
+  Spot,
+  Area
+};
+
+}
+
+// A light reduced to what the rays need (world frame; Run() rebases a copy).
+struct vtkPenumbraReference::LightRays
+{
+  LightKind Kind = LightKind::Point;
+  bool Off = false;
+  double Direction[3] = { 0, 0, 0 }; // directional: unit vector toward the light
+  double Position[3] = { 0, 0, 0 };  // point/spot: light position
+  double Axis[3] = { 0, 0, 0 };      // spot: unit axis pointing away from the light
+  double CosCone = -1.0;             // spot: cosine of the cone half-angle
+  std::vector<double> Points;        // area: 3 per light sample
+};
+
+struct vtkPenumbraReference::Internals
+{
+  RTCDevice Device = nullptr;
+  RTCScene Scene = nullptr;
+  std::string DeviceError;
+  std::string Error;
+
+  // What the current scene was built from.
+  bool Built = false;
+  vtkMTimeType BuiltGeometryTime = 0;
+  vtkMTimeType BuiltFlagsTime = 0;
+  double BuiltOrigin[3] = { 0, 0, 0 };
+  vtkIdType BuiltTriangles = 0;
+
+  std::vector<vtkIdType> PrimitiveToTriangle;
+  std::vector<unsigned int> TriangleToPrimitive;
+  double Diagonal = 1.0;
+
+  vtkNew<vtkUnsignedCharArray> Ties;
+
+  ~Internals()
+  {
+    if (this->Scene)
+    {
+      rtcReleaseScene(this->Scene);
+    }
+    if (this->Device)
+    {
+      rtcReleaseDevice(this->Device);
+    }
+  }
+
+  bool Occluded(const float origin[3], const float direction[3], float tnear, float tfar,
+    unsigned int own, float tieLimit, bool& tie) const
+  {
+    RTCRay ray;
+    ray.org_x = origin[0];
+    ray.org_y = origin[1];
+    ray.org_z = origin[2];
+    ray.tnear = tnear;
+    ray.dir_x = direction[0];
+    ray.dir_y = direction[1];
+    ray.dir_z = direction[2];
+    ray.time = 0.0f;
+    ray.tfar = tfar;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = 0;
+    ray.flags = 0;
+    RayContext ctx;
+    rtcInitIntersectContext(&ctx.Embree);
+    ctx.Embree.filter = OcclusionFilter;
+    ctx.OwnPrimitive = own;
+    ctx.TieLimit = tieLimit;
+    ctx.SawTie = false;
+    rtcOccluded1(this->Scene, &ctx.Embree, &ray);
+    const bool occluded = ray.tfar == -std::numeric_limits<float>::infinity();
+    tie = !occluded && ctx.SawTie;
+    return occluded;
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkPenumbraReference::vtkPenumbraReference()
+  : Geometry(nullptr)
+  , RelativeEpsilon(1e-5)
+  , TieFactor(16.0)
+  , NumberOfTies(0)
+  , NumberOfRays(0)
+  , LastTimeMs(0.0)
+  , LastBuildTimeMs(0.0)
+  , NumberOfBuilds(0)
+  , Impl(new Internals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkPenumbraReference::~vtkPenumbraReference()
+{
+  this->SetGeometry(nullptr);
+}
+
+//------------------------------------------------------------------------------
+vtkUnsignedCharArray* vtkPenumbraReference::GetTies()
+{
+  return this->Impl->Ties;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkPenumbraReference::GetNumberOfCasterTriangles()
+{
+  return static_cast<vtkIdType>(this->Impl->PrimitiveToTriangle.size());
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPenumbraReference::GetErrorMessage()
+{
+  return this->Impl->Error.c_str();
+}
+
+namespace
+{
+bool Finite3(const double v[3])
+{
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+// The view sample arrays of a Compute call, checked before any output is touched.
+struct SampleInput
+{
+  vtkIdType Count = 0;
+  const float* Positions = nullptr;
+  const float* Normals = nullptr;
+  const int* Props = nullptr;
+  const vtkIdType* Triangles = nullptr;
+  double Shift[3] = { 0, 0, 0 }; // samples origin - geometry origin
+};
+
+// Returns an empty string when the samples are usable.
+std::string CheckSamples(vtkPenumbraViewSamples* samples, SampleInput& in)
+{
+  if (!samples)
+  {
+    return "no view samples (null vtkPenumbraViewSamples)";
+  }
+  const vtkIdType n = samples->GetNumberOfSamples();
+  vtkFloatArray* pos = samples->GetPositions();
+  vtkFloatArray* nrm = samples->GetNormals();
+  vtkIntArray* props = samples->GetPropIndices();
+  vtkIdTypeArray* tris = samples->GetTriangleIds();
+  if (!pos || !nrm || !props || !tris)
+  {
+    return "view samples lack one of the position, normal, prop or triangle arrays";
+  }
+  if (pos->GetNumberOfComponents() != 3 || nrm->GetNumberOfComponents() != 3 ||
+    props->GetNumberOfComponents() != 1 || tris->GetNumberOfComponents() != 1)
+  {
+    return "view sample arrays have the wrong number of components (3, 3, 1, 1 expected)";
+  }
+  if (pos->GetNumberOfTuples() != n || nrm->GetNumberOfTuples() != n ||
+    props->GetNumberOfTuples() != n || tris->GetNumberOfTuples() != n)
+  {
+    std::ostringstream msg;
+    msg << "view sample arrays do not match the " << samples->GetWidth() << " x "
+        << samples->GetHeight() << " size: positions " << pos->GetNumberOfTuples()
+        << ", normals " << nrm->GetNumberOfTuples() << ", prop indices "
+        << props->GetNumberOfTuples() << ", triangle ids " << tris->GetNumberOfTuples();
+    return msg.str();
+  }
+  double origin[3];
+  samples->GetOrigin(origin);
+  if (!Finite3(origin))
+  {
+    return "view samples have a non-finite origin";
+  }
+  in.Count = n;
+  in.Positions = n ? pos->GetPointer(0) : nullptr;
+  in.Normals = n ? nrm->GetPointer(0) : nullptr;
+  in.Props = n ? props->GetPointer(0) : nullptr;
+  in.Triangles = n ? tris->GetPointer(0) : nullptr;
+  for (int c = 0; c < 3; ++c)
+  {
+    in.Shift[c] = origin[c];
+  }
+  return std::string();
+}
+}
+
+//------------------------------------------------------------------------------
+// One place for every failure: the message is kept for GetErrorMessage() and reported.
+#define PENUMBRA_REFERENCE_FAIL(text)                                                            \
+  do                                                                                             \
+  {                                                                                              \
+    this->Impl->Error = (text);                                                                  \
+    vtkErrorMacro(<< this->Impl->Error);                                                         \
+    return 0;                                                                                    \
+  } while (false)
+
+//------------------------------------------------------------------------------
+int vtkPenumbraReference::ComputeVisibility(
+  vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility)
+{
+  const auto start = Clock::now();
+  this->Impl->Error.clear();
+  if (!light)
+  {
+    PENUMBRA_REFERENCE_FAIL("no light (null vtkLight)");
+  }
+  if (!visibility)
+  {
+    PENUMBRA_REFERENCE_FAIL("no output array for the visibility (null vtkFloatArray)");
+  }
+  LightRays rays;
+  if (auto* area = vtkPenumbraAreaLight::SafeDownCast(light))
+  {
+    const std::string problem = area->GetValidityMessage();
+    if (!problem.empty())
+    {
+      PENUMBRA_REFERENCE_FAIL("invalid area light: " + problem);
+    }
+    const int n = area->GetNumberOfSamples();
+    rays.Kind = LightKind::Area;
+    rays.Points.resize(3 * static_cast<size_t>(n));
+    for (int j = 0; j < n; ++j)
+    {
+      area->GetSamplePosition(j, &rays.Points[3 * static_cast<size_t>(j)]);
+    }
+  }
+  else
+  {
+    double position[3], focal[3];
+    light->GetTransformedPosition(position);
+    light->GetTransformedFocalPoint(focal);
+    if (!Finite3(position) || !Finite3(focal))
+    {
+      PENUMBRA_REFERENCE_FAIL("light position or focal point is not finite");
+    }
+    if (!light->GetPositional())
+    {
+      rays.Kind = LightKind::Directional;
+      for (int c = 0; c < 3; ++c)
+      {
+        rays.Direction[c] = position[c] - focal[c];
+      }
+      if (!(vtkMath::Normalize(rays.Direction) > 0.0))
+      {
+        PENUMBRA_REFERENCE_FAIL(
+          "directional light has no direction (position equals focal point)");
+      }
+    }
+    else
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        rays.Position[c] = position[c];
+      }
+      const double cone = light->GetConeAngle();
+      rays.Kind = cone < 90.0 ? LightKind::Spot : LightKind::Point;
+      if (rays.Kind == LightKind::Spot)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          rays.Axis[c] = focal[c] - position[c];
+        }
+        if (!(vtkMath::Normalize(rays.Axis) > 0.0))
+        {
+          PENUMBRA_REFERENCE_FAIL("spot light has no axis (position equals focal point)");
+        }
+        rays.CosCone = std::cos(vtkMath::RadiansFromDegrees(cone));
+      }
+    }
+  }
+  rays.Off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  const int ok = this->Run(samples, rays, visibility, nullptr);
+  if (ok)
+  {
+    this->LastTimeMs = ElapsedMs(start);
+  }
+  return ok;
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraReference::ComputeAreaMasks(
+  vtkPenumbraViewSamples* samples, vtkPenumbraAreaLight* light, vtkTypeUInt32Array* masks)
+{
+  const auto start = Clock::now();
+  this->Impl->Error.clear();
+  if (!light)
+  {
+    PENUMBRA_REFERENCE_FAIL("no area light (null vtkPenumbraAreaLight)");
+  }
+  if (!masks)
+  {
+    PENUMBRA_REFERENCE_FAIL("no output array for the masks (null vtkTypeUInt32Array)");
+  }
+  const std::string problem = light->GetValidityMessage();
+  if (!problem.empty())
+  {
+    PENUMBRA_REFERENCE_FAIL("invalid area light: " + problem);
+  }
+  LightRays rays;
+  rays.Kind = LightKind::Area;
+  const int n = light->GetNumberOfSamples();
+  rays.Points.resize(3 * static_cast<size_t>(n));
+  for (int j = 0; j < n; ++j)
+  {
+    light->GetSamplePosition(j, &rays.Points[3 * static_cast<size_t>(j)]);
+  }
+  rays.Off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  const int ok = this->Run(samples, rays, nullptr, masks);
+  if (ok)
+  {
+    this->LastTimeMs = ElapsedMs(start);
+  }
+  return ok;
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraReference::ComputeConvergedVisibility(vtkPenumbraViewSamples* samples,
+  vtkPenumbraAreaLight* light, int samplesPerAxis, vtkFloatArray* visibility)
+{
+  const auto start = Clock::now();
+  this->Impl->Error.clear();
+  if (!light)
+  {
+    PENUMBRA_REFERENCE_FAIL("no area light (null vtkPenumbraAreaLight)");
+  }
+  if (!visibility)
+  {
+    PENUMBRA_REFERENCE_FAIL("no output array for the visibility (null vtkFloatArray)");
+  }
+  if (samplesPerAxis < 1 || samplesPerAxis > MaxConvergedSamplesPerAxis)
+  {
+    PENUMBRA_REFERENCE_FAIL("samples per axis must be in [1, " +
+      std::to_string(MaxConvergedSamplesPerAxis) + "], got " + std::to_string(samplesPerAxis));
+  }
+  const std::string problem = light->GetValidityMessage();
+  if (!problem.empty())
+  {
+    PENUMBRA_REFERENCE_FAIL("invalid area light: " + problem);
+  }
+  double u[3], v[3], nrm[3];
+  light->GetAxes(u, v, nrm);
+  double centre[3];
+  light->GetPosition(centre);
+  const bool line = light->GetShape() == vtkPenumbraAreaLight::Line;
+  const int k = samplesPerAxis;
+  const int n = line ? k : k * k;
+  const double width = light->GetWidth();
+  const double height = light->GetHeight();
+  LightRays rays;
+  rays.Kind = LightKind::Area;
+  rays.Points.resize(3 * static_cast<size_t>(n));
+  for (int index = 0; index < n; ++index)
+  {
+    // vtkPenumbraAreaLight::GetSamplePosition's expression, term for term, so that the
+    // light's own k reproduces its positions bit for bit.
+    const int i = index % k;
+    const int j = index / k;
+    const double su = ((i + 0.5) / k - 0.5) * width;
+    const double sv = line ? 0.0 : ((j + 0.5) / k - 0.5) * height;
+    for (int c = 0; c < 3; ++c)
+    {
+      rays.Points[3 * static_cast<size_t>(index) + c] = centre[c] + su * u[c] + sv * v[c];
+    }
+  }
+  rays.Off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  const int ok = this->Run(samples, rays, visibility, nullptr);
+  if (ok)
+  {
+    this->LastTimeMs = ElapsedMs(start);
+  }
+  return ok;
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraReference::EnsureScene()
+{
+  Internals& impl = *this->Impl;
+  vtkPenumbraSceneGeometry* geometry = this->Geometry;
+  double origin[3];
+  geometry->GetOrigin(origin);
+  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
+  if (impl.Built && impl.BuiltGeometryTime == geometry->GetGeometryTime() &&
+    impl.BuiltFlagsTime == geometry->GetFlagsTime() && impl.BuiltTriangles == nTriangles &&
+    origin[0] == impl.BuiltOrigin[0] && origin[1] == impl.BuiltOrigin[1] &&
+    origin[2] == impl.BuiltOrigin[2])
+  {
+    return 1;
+  }
+  const auto start = Clock::now();
+
+  vtkDoubleArray* vertices = geometry->GetVertices();
+  vtkUnsignedCharArray* flags = geometry->GetFlags();
+  if (nTriangles > 0 &&
+    (!vertices || !flags || vertices->GetNumberOfComponents() != 9 ||
+      vertices->GetNumberOfTuples() != nTriangles || flags->GetNumberOfTuples() != nTriangles))
+  {
+    PENUMBRA_REFERENCE_FAIL("scene geometry is inconsistent: vertex or flag arrays do not "
+                            "match its number of triangles");
+  }
+  if (nTriangles > static_cast<vtkIdType>(std::numeric_limits<unsigned int>::max() / 3))
+  {
+    PENUMBRA_REFERENCE_FAIL("scene geometry has too many triangles for one Embree scene");
+  }
+
+  if (!impl.Device)
+  {
+    impl.Device = rtcNewDevice(nullptr);
+    if (!impl.Device)
+    {
+      PENUMBRA_REFERENCE_FAIL("cannot create an Embree device");
+    }
+    rtcSetDeviceErrorFunction(impl.Device, EmbreeError, &impl.DeviceError);
+  }
+  if (impl.Scene)
+  {
+    rtcReleaseScene(impl.Scene);
+    impl.Scene = nullptr;
+  }
+  impl.Built = false;
+  impl.DeviceError.clear();
+
+  // Casters only; zero-area triangles cover no solid angle and are skipped.
+  impl.PrimitiveToTriangle.clear();
+  impl.TriangleToPrimitive.assign(static_cast<size_t>(nTriangles), NoPrimitive);
+  const double* v = nTriangles ? vertices->GetPointer(0) : nullptr;
+  const unsigned char* f = nTriangles ? flags->GetPointer(0) : nullptr;
+  for (vtkIdType t = 0; t < nTriangles; ++t)
+  {
+    if (!(f[t] & vtkPenumbraSceneGeometry::CASTS_SHADOWS))
+    {
+      continue;
+    }
+    const double* p = v + 9 * t;
+    const double e1[3] = { p[3] - p[0], p[4] - p[1], p[5] - p[2] };
+    const double e2[3] = { p[6] - p[0], p[7] - p[1], p[8] - p[2] };
+    double cross[3];
+    vtkMath::Cross(e1, e2, cross);
+    if (vtkMath::Dot(cross, cross) == 0.0 || !std::isfinite(vtkMath::Dot(cross, cross)))
+    {
+      continue;
+    }
+    impl.TriangleToPrimitive[static_cast<size_t>(t)] =
+      static_cast<unsigned int>(impl.PrimitiveToTriangle.size());
+    impl.PrimitiveToTriangle.push_back(t);
+  }
+
+  impl.Scene = rtcNewScene(impl.Device);
+  if (!impl.Scene)
+  {
+    PENUMBRA_REFERENCE_FAIL("cannot create an Embree scene: " + impl.DeviceError);
+  }
+  rtcSetSceneFlags(impl.Scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  rtcSetSceneBuildQuality(impl.Scene, RTC_BUILD_QUALITY_HIGH);
+  const size_t count = impl.PrimitiveToTriangle.size();
+  if (count > 0)
+  {
+    RTCGeometry mesh = rtcNewGeometry(impl.Device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+      mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * count));
+    auto* ib = static_cast<unsigned int*>(rtcSetNewGeometryBuffer(
+      mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned int), count));
+    if (!vb || !ib)
+    {
+      rtcReleaseGeometry(mesh);
+      PENUMBRA_REFERENCE_FAIL("cannot allocate Embree buffers: " + impl.DeviceError);
+    }
+    for (size_t prim = 0; prim < count; ++prim)
+    {
+      const double* p = v + 9 * impl.PrimitiveToTriangle[prim];
+      for (int c = 0; c < 9; ++c)
+      {
+        vb[9 * prim + c] = static_cast<float>(p[c]);
+      }
+      for (unsigned int c = 0; c < 3; ++c)
+      {
+        ib[3 * prim + c] = static_cast<unsigned int>(3 * prim + c);
+      }
+    }
+    rtcSetGeometryBuildQuality(mesh, RTC_BUILD_QUALITY_HIGH);
+    rtcCommitGeometry(mesh);
+    rtcAttachGeometry(impl.Scene, mesh);
+    rtcReleaseGeometry(mesh);
+  }
+  rtcCommitScene(impl.Scene);
+  if (!impl.DeviceError.empty())
+  {
+    PENUMBRA_REFERENCE_FAIL("building the Embree scene failed: " + impl.DeviceError);
+  }
+
+  double bounds[6];
+  geometry->GetBounds(bounds);
+  double diagonal = 0.0;
+  if (vtkMath::AreBoundsInitialized(bounds))
+  {
+    diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+      (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+      (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+  }
+  impl.Diagonal = std::isfinite(diagonal) && diagonal > 0.0 ? diagonal : 1.0;
+
+  impl.Built = true;
+  impl.BuiltGeometryTime = geometry->GetGeometryTime();
+  impl.BuiltFlagsTime = geometry->GetFlagsTime();
+  impl.BuiltTriangles = nTriangles;
+  for (int c = 0; c < 3; ++c)
+  {
+    impl.BuiltOrigin[c] = origin[c];
+  }
+  ++this->NumberOfBuilds;
+  this->LastBuildTimeMs = ElapsedMs(start);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& light,
+  vtkFloatArray* visibility, vtkTypeUInt32Array* masks)
+{
+  Internals& impl = *this->Impl;
+  SampleInput in;
+  const std::string problem = CheckSamples(samples, in);
+  if (!problem.empty())
+  {
+    PENUMBRA_REFERENCE_FAIL(problem);
+  }
+  if (!this->Geometry)
+  {
+    PENUMBRA_REFERENCE_FAIL("no scene geometry: call SetGeometry() first");
+  }
+  if (!this->EnsureScene())
+  {
+    return 0;
+  }
+
+  // Everything below happens in the geometry's rebased frame, differences taken in double.
+  double geometryOrigin[3];
+  this->Geometry->GetOrigin(geometryOrigin);
+  for (int c = 0; c < 3; ++c)
+  {
+    in.Shift[c] -= geometryOrigin[c];
+  }
+  LightRays local = light;
+  if (local.Kind == LightKind::Point || local.Kind == LightKind::Spot)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      local.Position[c] -= geometryOrigin[c];
+    }
+  }
+  const size_t nLight = local.Points.size() / 3;
+  for (size_t j = 0; j < nLight; ++j)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      local.Points[3 * j + c] -= geometryOrigin[c];
+    }
+  }
+
+  const vtkIdType n = in.Count;
+  const int words = static_cast<int>((nLight + 31) / 32);
+  float* vis = nullptr;
+  if (visibility)
+  {
+    visibility->SetNumberOfComponents(1);
+    visibility->SetNumberOfTuples(n);
+    vis = n ? visibility->GetPointer(0) : nullptr;
+  }
+  vtkTypeUInt32* bits = nullptr;
+  if (masks)
+  {
+    masks->SetNumberOfComponents(std::max(words, 1));
+    masks->SetNumberOfTuples(n);
+    bits = n ? masks->GetPointer(0) : nullptr;
+    if (bits)
+    {
+      std::fill(bits, bits + static_cast<size_t>(n) * std::max(words, 1), 0u);
+    }
+  }
+  impl.Ties->SetNumberOfComponents(1);
+  impl.Ties->SetNumberOfTuples(n);
+  unsigned char* ties = n ? impl.Ties->GetPointer(0) : nullptr;
+
+  const bool anyCaster = !impl.PrimitiveToTriangle.empty();
+  const vtkIdType nTriangles = static_cast<vtkIdType>(impl.TriangleToPrimitive.size());
+  const double epsilon = this->RelativeEpsilon;
+  const double tieFactor = this->TieFactor;
+  const double diagonal = impl.Diagonal;
+  std::atomic<vtkIdType> rayCount(0);
+  std::atomic<vtkIdType> tieCount(0);
+
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    vtkIdType localRays = 0;
+    vtkIdType localTies = 0;
+    for (vtkIdType s = begin; s < end; ++s)
+    {
+      ties[s] = 0;
+      double p[3], normal[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
+        normal[c] = in.Normals[3 * s + c];
+      }
+      if (in.Props[s] < 0 || !Finite3(p) || !Finite3(normal))
+      {
+        if (vis)
+        {
+          vis[s] = -1.0f;
+        }
+        continue;
+      }
+      if (local.Off)
+      {
+        if (vis)
+        {
+          vis[s] = 1.0f;
+        }
+        if (bits)
+        {
+          for (size_t j = 0; j < nLight; ++j)
+          {
+            bits[static_cast<size_t>(s) * words + j / 32] |= 1u << (j % 32);
+          }
+        }
+        continue;
+      }
+      const float origin[3] = { static_cast<float>(p[0]), static_cast<float>(p[1]),
+        static_cast<float>(p[2]) };
+      const double scale = std::max(vtkMath::Norm(p), diagonal);
+      const float tnear = static_cast<float>(epsilon * scale);
+      const float tieLimit = static_cast<float>(tieFactor * epsilon * scale);
+      const vtkIdType tri = in.Triangles[s];
+      const unsigned int own =
+        tri >= 0 && tri < nTriangles ? impl.TriangleToPrimitive[static_cast<size_t>(tri)] : NoPrimitive;
+
+      // Traces from p along `toLight` (not normalized, its length is the distance for
+      // positional targets); returns 1 when the light point is visible.
+      auto visible = [&](const double toLight[3], bool bounded, bool& tie) -> bool {
+        tie = false;
+        double d[3] = { toLight[0], toLight[1], toLight[2] };
+        const double distance = vtkMath::Normalize(d);
+        if (!anyCaster || !(distance > 0.0))
+        {
+          return true;
+        }
+        const float dir[3] = { static_cast<float>(d[0]), static_cast<float>(d[1]),
+          static_cast<float>(d[2]) };
+        const float tfar = bounded ? static_cast<float>(distance * (1.0 - epsilon))
+                                   : std::numeric_limits<float>::infinity();
+        if (!(tfar > tnear))
+        {
+          return true;
+        }
+        ++localRays;
+        return !impl.Occluded(origin, dir, tnear, tfar, own, tieLimit, tie);
+      };
+
+      if (local.Kind == LightKind::Area)
+      {
+        int lit = 0;
+        bool anyTie = false;
+        for (size_t j = 0; j < nLight; ++j)
+        {
+          const double toLight[3] = { local.Points[3 * j] - p[0], local.Points[3 * j + 1] - p[1],
+            local.Points[3 * j + 2] - p[2] };
+          if (!(vtkMath::Dot(normal, toLight) > 0.0))
+          {
+            continue; // on or below the tangent plane: counts as occluded
+          }
+          bool tie = false;
+          if (visible(toLight, true, tie))
+          {
+            ++lit;
+            if (bits)
+            {
+              bits[static_cast<size_t>(s) * words + j / 32] |= 1u << (j % 32);
+            }
+          }
+          anyTie = anyTie || tie;
+        }
+        if (vis)
+        {
+          vis[s] = static_cast<float>(lit) / static_cast<float>(nLight);
+        }
+        if (anyTie)
+        {
+          ties[s] = 1;
+          ++localTies;
+        }
+        continue;
+      }
+
+      double toLight[3];
+      bool bounded = true;
+      if (local.Kind == LightKind::Directional)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          toLight[c] = local.Direction[c];
+        }
+        bounded = false;
+      }
+      else
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          toLight[c] = local.Position[c] - p[c];
+        }
+      }
+      float value = 0.0f;
+      bool tie = false;
+      if (vtkMath::Dot(normal, toLight) > 0.0)
+      {
+        bool inside = true;
+        if (local.Kind == LightKind::Spot)
+        {
+          double fromLight[3] = { -toLight[0], -toLight[1], -toLight[2] };
+          inside = vtkMath::Normalize(fromLight) > 0.0 &&
+            vtkMath::Dot(fromLight, local.Axis) >= local.CosCone;
+        }
+        if (inside)
+        {
+          value = visible(toLight, bounded, tie) ? 1.0f : 0.0f;
+        }
+      }
+      if (vis)
+      {
+        vis[s] = value;
+      }
+      if (tie)
+      {
+        ties[s] = 1;
+        ++localTies;
+      }
+    }
+    rayCount += localRays;
+    tieCount += localTies;
+  });
+
+  this->NumberOfRays = rayCount.load();
+  this->NumberOfTies = tieCount.load();
+  if (visibility)
+  {
+    visibility->Modified();
+  }
+  if (masks)
+  {
+    masks->Modified();
+  }
+  impl.Ties->Modified();
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraReference::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Geometry: " << this->Geometry << "\n";
+  os << indent << "RelativeEpsilon: " << this->RelativeEpsilon << "\n";
+  os << indent << "TieFactor: " << this->TieFactor << "\n";
+  os << indent << "NumberOfBuilds: " << this->NumberOfBuilds << "\n";
+  os << indent << "NumberOfCasterTriangles: " << this->GetNumberOfCasterTriangles() << "\n";
+  os << indent << "NumberOfRays: " << this->NumberOfRays << "\n";
+  os << indent << "NumberOfTies: " << this->NumberOfTies << "\n";
+  os << indent << "LastTimeMs: " << this->LastTimeMs << "\n";
+  os << indent << "LastBuildTimeMs: " << this->LastBuildTimeMs << "\n";
+}
