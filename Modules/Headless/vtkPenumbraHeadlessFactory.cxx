@@ -1,5 +1,6 @@
 #include "vtkPenumbraHeadlessFactory.h"
 
+#include "vtkGenericRenderWindowInteractor.h"
 #include "vtkObjectFactoryCollection.h"
 #include "vtkPenumbraEGLRenderWindow.h"
 #include "vtkVersion.h"
@@ -19,6 +20,13 @@ vtkObject* CreateEGLRenderWindow()
   return vtkPenumbraEGLRenderWindow::New();
 }
 
+// VTK's X interactor would open the (absent) X display as soon as a window initialises it,
+// e.g. inside vtkContextView; the generic interactor needs no window system.
+vtkObject* CreateGenericInteractor()
+{
+  return vtkGenericRenderWindowInteractor::New();
+}
+
 vtkPenumbraHeadlessFactory* InstalledFactory = nullptr;
 unsigned int AutoInitCount = 0;
 }
@@ -29,6 +37,8 @@ vtkPenumbraHeadlessFactory::vtkPenumbraHeadlessFactory()
 {
   this->RegisterOverride("vtkRenderWindow", "vtkPenumbraEGLRenderWindow",
     "Headless EGL render window", 1, CreateEGLRenderWindow);
+  this->RegisterOverride("vtkRenderWindowInteractor", "vtkGenericRenderWindowInteractor",
+    "Interactor without a window system", 1, CreateGenericInteractor);
 }
 
 const char* vtkPenumbraHeadlessFactory::GetVTKSourceVersion()
@@ -67,6 +77,7 @@ void vtkPenumbraHeadlessFactory::Install()
   vtkRenderingOpenGL2_AutoInit_Construct();
   // Disable everyone else's vtkRenderWindow override (VTK's X window) before adding ours.
   vtkObjectFactory::SetAllEnableFlags(0, "vtkRenderWindow");
+  vtkObjectFactory::SetAllEnableFlags(0, "vtkRenderWindowInteractor");
   InstalledFactory = vtkPenumbraHeadlessFactory::New();
   vtkObjectFactory::RegisterFactory(InstalledFactory);
 }
@@ -81,6 +92,7 @@ void vtkPenumbraHeadlessFactory::Uninstall()
   InstalledFactory->Delete();
   InstalledFactory = nullptr;
   vtkObjectFactory::SetAllEnableFlags(1, "vtkRenderWindow");
+  vtkObjectFactory::SetAllEnableFlags(1, "vtkRenderWindowInteractor");
 }
 
 bool vtkPenumbraHeadlessFactory::IsInstalled()

@@ -10,8 +10,11 @@
  *  - unset: use it exactly when `DISPLAY` is unset or empty, i.e. when VTK's X window could
  *    only fail with "bad X server connection".
  *
- * When installed, the override of every other factory for vtkRenderWindow (VTK's
- * vtkXOpenGLRenderWindow) is disabled, so the choice does not depend on load order.
+ * When installed, vtkRenderWindowInteractor::New() also returns a
+ * vtkGenericRenderWindowInteractor, because VTK's X interactor opens the missing X display
+ * as soon as a window initialises it (vtkContextView does). The overrides of every other
+ * factory for both classes (VTK's X classes) are disabled, so the choice does not depend on
+ * load order.
  */
 
 #ifndef vtkPenumbraHeadlessFactory_h

@@ -3,7 +3,10 @@
 #include "vtkCameraPass.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPenumbraRayTracedShadows.h"
+#include "vtkPenumbraShadowPass.h"
 #include "vtkRenderPassCollection.h"
+#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSequencePass.h"
 #include "vtkShadowMapBakerPass.h"
@@ -80,6 +83,18 @@ private:
   std::vector<std::string> Known;
 };
 
+// A pass dropped while it still holds GL objects leaks them (VTK's shadow baker even reports
+// it as an error), so the outgoing pass releases its resources first.
+void InstallPass(vtkRenderer* ren, vtkRenderPass* pass)
+{
+  vtkRenderPass* old = ren->GetPass();
+  if (old && old != pass && ren->GetRenderWindow())
+  {
+    old->ReleaseGraphicsResources(ren->GetRenderWindow());
+  }
+  ren->SetPass(pass);
+}
+
 struct Technique
 {
   const char* Name;
@@ -90,7 +105,7 @@ struct Technique
 void InstallNone(vtkRenderer* ren, Options& opts)
 {
   opts.RejectUnknown();
-  ren->SetPass(nullptr);
+  InstallPass(ren, nullptr);
 }
 
 void InstallVTKShadowMap(vtkRenderer* ren, Options& opts)
@@ -107,7 +122,17 @@ void InstallVTKShadowMap(vtkRenderer* ren, Options& opts)
   sequence->SetPasses(passes);
   vtkNew<vtkCameraPass> camera;
   camera->SetDelegatePass(sequence);
-  ren->SetPass(camera);
+  InstallPass(ren, camera);
+}
+
+void InstallRayTraced(vtkRenderer* ren, Options& opts)
+{
+  opts.RejectUnknown();
+  vtkNew<vtkPenumbraShadowPass> shadows;
+  shadows->SetTechnique(vtkNew<vtkPenumbraRayTracedShadows>());
+  vtkNew<vtkCameraPass> camera;
+  camera->SetDelegatePass(shadows);
+  InstallPass(ren, camera);
 }
 
 const std::vector<Technique>& Registry()
@@ -116,6 +141,8 @@ const std::vector<Technique>& Registry()
     { "none", "plain VTK rendering without shadows", InstallNone },
     { "vtk-shadowmap", "VTK's vtkShadowMapPass (exponential shadow map; peer for comparison)",
       InstallVTKShadowMap },
+    { "raytraced", "exact shadows ray traced on the CPU for every view sample (Embree reference)",
+      InstallRayTraced },
   };
   return techniques;
 }

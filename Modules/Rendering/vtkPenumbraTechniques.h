@@ -12,6 +12,8 @@
  *  - `vtk-shadowmap`: VTK's own vtkShadowMapPass (exponential shadow maps; directional
  *    lights and spot lights under 90 degrees only; opaque geometry only). Options:
  *    `resolution` (integer texels per side, default 1024, 16..16384).
+ *  - `raytraced`: vtkPenumbraShadowPass with vtkPenumbraRayTracedShadows: exact shadows from
+ *    every light type, one CPU ray per view sample and light sample. No options.
  *
  * Options are JSON text (an object); unknown options and out-of-range values are rejected
  * with a message naming the option.

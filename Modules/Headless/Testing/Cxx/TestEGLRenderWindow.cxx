@@ -9,6 +9,7 @@
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
+#include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
@@ -86,6 +87,13 @@ int TestEGLRenderWindow(int, char*[])
   // The factory override: plain VTK code gets the headless window.
   vtkSmartPointer<vtkRenderWindow> win = vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
   CHECK(vtkPenumbraEGLRenderWindow::SafeDownCast(win) != nullptr);
+
+  // Interactors need no X server either: a window with one initialises and renders.
+  vtkSmartPointer<vtkRenderWindowInteractor> iren =
+    vtkSmartPointer<vtkRenderWindowInteractor>::Take(vtkRenderWindowInteractor::New());
+  CHECK(iren->IsA("vtkGenericRenderWindowInteractor"));
+  win->SetInteractor(iren);
+  iren->Initialize();
 
   // Square and very non-square windows, both larger than typical screens in one axis.
   const double square = RedFraction(win, 128, 128);

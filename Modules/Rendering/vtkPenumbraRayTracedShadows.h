@@ -1,0 +1,44 @@
+/**
+ * @class   vtkPenumbraRayTracedShadows
+ * @brief   Shadows ray traced on the CPU for every view sample, with the exact reference.
+ *
+ * Runs vtkPenumbraReference (Embree) as a technique: one shadow ray per sample for point,
+ * spot and directional lights, the light's fixed k x k samples for area and linear lights.
+ * It is exact by construction and is the baseline every other technique is timed against.
+ */
+
+#ifndef vtkPenumbraRayTracedShadows_h
+#define vtkPenumbraRayTracedShadows_h
+
+#include "vtkPenumbraRenderingModule.h" // For export macro
+#include "vtkPenumbraShadowTechnique.h"
+
+class vtkPenumbraReference;
+
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraRayTracedShadows : public vtkPenumbraShadowTechnique
+{
+public:
+  static vtkPenumbraRayTracedShadows* New();
+  vtkTypeMacro(vtkPenumbraRayTracedShadows, vtkPenumbraShadowTechnique);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
+
+  /**
+   * The ray tracer (exposed for its statistics and epsilon settings).
+   */
+  vtkPenumbraReference* GetReference() { return this->Reference; }
+
+protected:
+  vtkPenumbraRayTracedShadows();
+  ~vtkPenumbraRayTracedShadows() override;
+
+  vtkPenumbraReference* Reference;
+
+private:
+  vtkPenumbraRayTracedShadows(const vtkPenumbraRayTracedShadows&) = delete;
+  void operator=(const vtkPenumbraRayTracedShadows&) = delete;
+};
+
+#endif

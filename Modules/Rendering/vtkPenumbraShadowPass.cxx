@@ -1,0 +1,430 @@
+#include "vtkPenumbraShadowPass.h"
+
+#include "vtkActor.h"
+#include "vtkFloatArray.h"
+#include "vtkProperty.h"
+#include "vtkIntArray.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkLightsPass.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpaquePass.h"
+#include "vtkOpenGLPolyDataMapper.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
+#include "vtkOverlayPass.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraShadowKeys.h"
+#include "vtkPenumbraShadowTechnique.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkPenumbraViewSamplesPass.h"
+#include "vtkRenderPassCollection.h"
+#include "vtkRenderState.h"
+#include "vtkRenderer.h"
+#include "vtkSequencePass.h"
+#include "vtkShaderProgram.h"
+#include "vtkSmartPointer.h"
+#include "vtkTextureObject.h"
+#include "vtkTimerLog.h"
+#include "vtkTranslucentPass.h"
+#include "vtkVolumetricPass.h"
+#include "vtk_glew.h"
+
+#include "vtkPenumbraVisibilityDec.h"
+
+#include <string>
+#include <vector>
+
+namespace
+{
+double Now()
+{
+  return vtkTimerLog::GetUniversalTime();
+}
+}
+
+struct vtkPenumbraShadowPass::Internals
+{
+  vtkSmartPointer<vtkPenumbraShadowTechnique> Technique;
+  vtkSmartPointer<vtkRenderPass> Delegate;
+  vtkSmartPointer<vtkPenumbraSceneGeometry> Geometry =
+    vtkSmartPointer<vtkPenumbraSceneGeometry>::New();
+  vtkSmartPointer<vtkPenumbraViewSamplesPass> SamplesPass =
+    vtkSmartPointer<vtkPenumbraViewSamplesPass>::New();
+
+  std::vector<vtkSmartPointer<vtkLight>> Lights;            // switched-on, shader order
+  std::vector<vtkSmartPointer<vtkFloatArray>> Visibility;   // per light; null = no shadow
+  std::vector<vtkSmartPointer<vtkTextureObject>> Textures;  // 4 lights per RGBA texture
+  std::vector<std::string> SamplerNames;
+
+  // Number of lights whose colour the shaders scale; shader code depends on it.
+  int InjectedLights = 0;
+  vtkTimeStamp ShaderTime;
+
+  double ExtractionMs = 0, SamplesMs = 0, TechniqueMs = 0, ShadingMs = 0;
+
+  void SetInjectedLights(int n)
+  {
+    if (n != this->InjectedLights)
+    {
+      this->InjectedLights = n;
+      this->ShaderTime.Modified();
+      this->SamplerNames.clear();
+      for (int k = 0; k < (n + 3) / 4; ++k)
+      {
+        this->SamplerNames.push_back("penumbraVisibility" + std::to_string(k));
+      }
+    }
+  }
+
+  static bool CastsLight(vtkLight* light)
+  {
+    const double* c = light->GetDiffuseColor();
+    const double* s = light->GetSpecularColor();
+    return light->GetIntensity() > 0.0 && (c[0] > 0 || c[1] > 0 || c[2] > 0 || s[0] > 0 ||
+                                             s[1] > 0 || s[2] > 0);
+  }
+};
+
+vtkStandardNewMacro(vtkPenumbraShadowPass);
+
+vtkPenumbraShadowPass::vtkPenumbraShadowPass()
+  : Impl(new Internals)
+{
+  // The same steps vtkRenderStepsPass runs, so translucent props, volumes and overlays are
+  // still drawn (VTK's UseShadows drops translucent geometry).
+  vtkNew<vtkRenderPassCollection> steps;
+  steps->AddItem(vtkNew<vtkLightsPass>());
+  steps->AddItem(vtkNew<vtkOpaquePass>());
+  steps->AddItem(vtkNew<vtkTranslucentPass>());
+  steps->AddItem(vtkNew<vtkVolumetricPass>());
+  steps->AddItem(vtkNew<vtkOverlayPass>());
+  vtkNew<vtkSequencePass> sequence;
+  sequence->SetPasses(steps);
+  this->Impl->Delegate = sequence;
+}
+
+vtkPenumbraShadowPass::~vtkPenumbraShadowPass() = default;
+
+void vtkPenumbraShadowPass::SetTechnique(vtkPenumbraShadowTechnique* technique)
+{
+  if (this->Impl->Technique != technique)
+  {
+    this->Impl->Technique = technique;
+    this->Modified();
+  }
+}
+
+vtkPenumbraShadowTechnique* vtkPenumbraShadowPass::GetTechnique()
+{
+  return this->Impl->Technique;
+}
+
+void vtkPenumbraShadowPass::SetDelegatePass(vtkRenderPass* pass)
+{
+  if (this->Impl->Delegate != pass)
+  {
+    this->Impl->Delegate = pass;
+    this->Modified();
+  }
+}
+
+vtkRenderPass* vtkPenumbraShadowPass::GetDelegatePass()
+{
+  return this->Impl->Delegate;
+}
+
+vtkPenumbraSceneGeometry* vtkPenumbraShadowPass::GetGeometry()
+{
+  return this->Impl->Geometry;
+}
+
+vtkPenumbraViewSamplesPass* vtkPenumbraShadowPass::GetViewSamplesPass()
+{
+  return this->Impl->SamplesPass;
+}
+
+vtkPenumbraViewSamples* vtkPenumbraShadowPass::GetViewSamples()
+{
+  return this->Impl->SamplesPass->GetSamples();
+}
+
+int vtkPenumbraShadowPass::GetNumberOfLights()
+{
+  return static_cast<int>(this->Impl->Lights.size());
+}
+
+vtkLight* vtkPenumbraShadowPass::GetLight(int index)
+{
+  return (index >= 0 && index < this->GetNumberOfLights())
+    ? this->Impl->Lights[static_cast<size_t>(index)].Get()
+    : nullptr;
+}
+
+vtkFloatArray* vtkPenumbraShadowPass::GetVisibility(int index)
+{
+  return (index >= 0 && index < static_cast<int>(this->Impl->Visibility.size()))
+    ? this->Impl->Visibility[static_cast<size_t>(index)].Get()
+    : nullptr;
+}
+
+double vtkPenumbraShadowPass::GetExtractionTimeMs()
+{
+  return this->Impl->ExtractionMs;
+}
+
+double vtkPenumbraShadowPass::GetSamplesTimeMs()
+{
+  return this->Impl->SamplesMs;
+}
+
+double vtkPenumbraShadowPass::GetTechniqueTimeMs()
+{
+  return this->Impl->TechniqueMs;
+}
+
+double vtkPenumbraShadowPass::GetShadingTimeMs()
+{
+  return this->Impl->ShadingMs;
+}
+
+void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
+{
+  Internals& impl = *this->Impl;
+  this->NumberOfRenderedProps = 0;
+  vtkRenderer* ren = s->GetRenderer();
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!impl.Delegate || !win)
+  {
+    vtkErrorMacro("vtkPenumbraShadowPass needs a delegate pass and an OpenGL render window");
+    return;
+  }
+
+  // Light positions must be final (headlights follow the camera) before shadows are cast.
+  this->UpdateLightGeometry(ren);
+  impl.Lights.clear();
+  vtkLightCollection* lights = ren->GetLights();
+  vtkCollectionSimpleIterator it;
+  lights->InitTraversal(it);
+  while (vtkLight* light = lights->GetNextLight(it))
+  {
+    if (light->GetSwitch())
+    {
+      impl.Lights.emplace_back(light);
+    }
+  }
+  impl.Visibility.assign(impl.Lights.size(), nullptr);
+  bool anyShadowed = false;
+  for (auto& light : impl.Lights)
+  {
+    anyShadowed = anyShadowed || (impl.Technique && Internals::CastsLight(light));
+  }
+
+  impl.ExtractionMs = impl.SamplesMs = impl.TechniqueMs = 0.0;
+  double t = Now();
+  bool geometryOk = false;
+  if (anyShadowed)
+  {
+    geometryOk = impl.Geometry->Update(ren) != 0;
+    if (!geometryOk)
+    {
+      vtkErrorMacro("Shadows disabled for this frame: " << impl.Geometry->GetErrorMessage());
+    }
+  }
+  impl.ExtractionMs = 1000.0 * (Now() - t);
+
+  int w = 0, h = 0, x = 0, y = 0;
+  ren->GetTiledSizeAndOrigin(&w, &h, &x, &y);
+  if (anyShadowed && geometryOk && w > 0 && h > 0)
+  {
+    t = Now();
+    impl.SamplesPass->SetGeometry(impl.Geometry);
+    impl.SamplesPass->Render(s);
+    win->WaitForCompletion();
+    impl.SamplesMs = 1000.0 * (Now() - t);
+
+    t = Now();
+    vtkPenumbraViewSamples* samples = impl.SamplesPass->GetSamples();
+    for (size_t i = 0; i < impl.Lights.size(); ++i)
+    {
+      if (!Internals::CastsLight(impl.Lights[i]))
+      {
+        continue; // black or zero-intensity light: nothing to shadow
+      }
+      auto vis = vtkSmartPointer<vtkFloatArray>::New();
+      if (impl.Technique->ComputeVisibility(ren, impl.Geometry, samples, impl.Lights[i], vis) &&
+        vis->GetNumberOfTuples() == samples->GetNumberOfSamples())
+      {
+        impl.Visibility[i] = vis;
+      }
+      else
+      {
+        vtkErrorMacro("Light " << i << " rendered without shadows: the technique failed");
+      }
+    }
+    impl.TechniqueMs = 1000.0 * (Now() - t);
+  }
+
+  // Upload: 4 lights per RGBA texture; unshadowed lights and background read 1.
+  int injected = 0;
+  for (size_t i = 0; i < impl.Visibility.size(); ++i)
+  {
+    if (impl.Visibility[i])
+    {
+      injected = static_cast<int>(i) + 1;
+    }
+  }
+  impl.SetInjectedLights(injected);
+  const int textures = (injected + 3) / 4;
+  impl.Textures.resize(static_cast<size_t>(textures));
+  std::vector<float> texels;
+  for (int k = 0; k < textures; ++k)
+  {
+    const vtkIdType n = static_cast<vtkIdType>(w) * h;
+    texels.assign(static_cast<size_t>(4 * n), 1.0f);
+    for (int c = 0; c < 4; ++c)
+    {
+      const size_t light = static_cast<size_t>(4 * k + c);
+      vtkFloatArray* vis = light < impl.Visibility.size() ? impl.Visibility[light].Get() : nullptr;
+      if (!vis)
+      {
+        continue;
+      }
+      const float* v = vis->GetPointer(0);
+      for (vtkIdType p = 0; p < n; ++p)
+      {
+        texels[static_cast<size_t>(4 * p + c)] = v[p] < 0.0f ? 1.0f : v[p];
+      }
+    }
+    auto& tex = impl.Textures[static_cast<size_t>(k)];
+    if (!tex)
+    {
+      tex = vtkSmartPointer<vtkTextureObject>::New();
+      tex->SetContext(win);
+      tex->SetMinificationFilter(vtkTextureObject::Nearest);
+      tex->SetMagnificationFilter(vtkTextureObject::Nearest);
+      tex->SetWrapS(vtkTextureObject::ClampToEdge);
+      tex->SetWrapT(vtkTextureObject::ClampToEdge);
+    }
+    tex->SetInternalFormat(GL_RGBA32F);
+    tex->SetFormat(GL_RGBA);
+    tex->SetDataType(GL_FLOAT);
+    tex->Create2DFromRaw(w, h, 4, VTK_FLOAT, texels.data());
+  }
+
+  t = Now();
+  for (auto& tex : impl.Textures)
+  {
+    tex->Activate();
+  }
+  this->PreRender(s);
+  impl.Delegate->Render(s);
+  this->NumberOfRenderedProps = impl.Delegate->GetNumberOfRenderedProps();
+  this->PostRender(s);
+  for (auto& tex : impl.Textures)
+  {
+    tex->Deactivate();
+  }
+  win->WaitForCompletion();
+  impl.ShadingMs = 1000.0 * (Now() - t);
+}
+
+vtkMTimeType vtkPenumbraShadowPass::GetShaderStageMTime()
+{
+  return this->Impl->ShaderTime.GetMTime();
+}
+
+bool vtkPenumbraShadowPass::PreReplaceShaderValues(std::string&, std::string&,
+  std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
+{
+  // Translucent props are lit unshadowed for now: the view samples hold the opaque surface
+  // behind them, whose visibility would darken them wrongly.
+  auto* actor = vtkActor::SafeDownCast(prop);
+  const bool translucent = actor && actor->GetProperty()->GetOpacity() < 1.0;
+  if (this->Impl->InjectedLights > 0 && vtkOpenGLPolyDataMapper::SafeDownCast(mapper) &&
+    vtkPenumbraShadowKeys::ReceivesShadows(prop) && !translucent)
+  {
+    vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Dec",
+      "//VTK::Light::Dec\n//PENUMBRA::Visibility::Dec\n", false);
+  }
+  return true;
+}
+
+bool vtkPenumbraShadowPass::PostReplaceShaderValues(
+  std::string&, std::string&, std::string& fragmentShader, vtkAbstractMapper*, vtkProp*)
+{
+  const std::string tag = "//PENUMBRA::Visibility::Dec";
+  if (fragmentShader.find(tag) == std::string::npos)
+  {
+    return true;
+  }
+  // After VTK's light uniforms: rename each shadowed light's colour to colour x visibility.
+  // A macro naming itself is not expanded again, so `lightColorN` inside it is the uniform.
+  std::string dec = vtkPenumbraVisibilityDec;
+  const Internals& impl = *this->Impl;
+  for (const auto& name : impl.SamplerNames)
+  {
+    dec += "uniform sampler2D " + name + ";\n";
+  }
+  const char channels[] = "rgba";
+  for (int i = 0; i < impl.InjectedLights; ++i)
+  {
+    const std::string color = "lightColor" + std::to_string(i);
+    if (fragmentShader.find("uniform vec3 " + color + ";") == std::string::npos)
+    {
+      continue; // this shader does not light with light i
+    }
+    dec += "#define " + color + " (" + color + " * texelFetch(" + impl.SamplerNames[i / 4] +
+      ", penumbraTexel(), 0)." + channels[i % 4] + ")\n";
+  }
+  vtkShaderProgram::Substitute(fragmentShader, tag, dec, false);
+  return true;
+}
+
+bool vtkPenumbraShadowPass::SetShaderParameters(
+  vtkShaderProgram* program, vtkAbstractMapper*, vtkProp*, vtkOpenGLVertexArrayObject*)
+{
+  Internals& impl = *this->Impl;
+  if (impl.InjectedLights == 0 || !program->IsUniformUsed("penumbraViewportOrigin"))
+  {
+    return true;
+  }
+  // The visibility texel of a pixel is its offset from the current viewport's corner; this
+  // holds for the window and for the translucency passes' own framebuffers alike.
+  GLint viewport[4] = { 0, 0, 0, 0 };
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  const int origin[2] = { viewport[0], viewport[1] };
+  program->SetUniform2i("penumbraViewportOrigin", origin);
+  for (size_t k = 0; k < impl.Textures.size(); ++k)
+  {
+    if (program->IsUniformUsed(impl.SamplerNames[k].c_str()))
+    {
+      program->SetUniformi(impl.SamplerNames[k].c_str(), impl.Textures[k]->GetTextureUnit());
+    }
+  }
+  return true;
+}
+
+void vtkPenumbraShadowPass::ReleaseGraphicsResources(vtkWindow* w)
+{
+  Internals& impl = *this->Impl;
+  if (impl.Delegate)
+  {
+    impl.Delegate->ReleaseGraphicsResources(w);
+  }
+  impl.SamplesPass->ReleaseGraphicsResources(w);
+  for (auto& tex : impl.Textures)
+  {
+    tex->ReleaseGraphicsResources(w);
+  }
+  impl.Textures.clear();
+}
+
+void vtkPenumbraShadowPass::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Technique: " << (this->Impl->Technique ? this->Impl->Technique->GetClassName() : "(none)")
+     << "\n";
+  os << indent << "Lights: " << this->Impl->Lights.size() << "\n";
+}

@@ -1,0 +1,114 @@
+/**
+ * @class   vtkPenumbraShadowPass
+ * @brief   Drop-in shadow pass: view samples, a technique's visibility, VTK's own lighting.
+ *
+ * The one data flow every Penumbra technique shares (see the design guide):
+ *
+ *  1. the scene's triangles are extracted in double precision (vtkPenumbraSceneGeometry,
+ *     cached by MTime: unchanged props are not re-extracted);
+ *  2. the view samples are rendered (vtkPenumbraViewSamplesPass);
+ *  3. the technique computes, for each light that is on and not black, the visibility of
+ *     every sample; lights that are off or black get no shadow work at all;
+ *  4. the delegate renders the scene as usual (default: lights, opaque, translucent,
+ *     volumetric and overlay steps) with each shadowed light's colour multiplied by its
+ *     visibility at the pixel, which shadows diffuse and specular terms alike, for Phong and
+ *     PBR receivers. Props marked as non-receivers (vtkPenumbraShadowKeys) are lit as if
+ *     nothing blocked. Translucent props are still drawn, lit without shadows: the view
+ *     samples hold the opaque surface behind them, whose visibility does not apply to them.
+ *
+ * Use it inside a vtkCameraPass: `camera->SetDelegatePass(shadowPass); renderer->SetPass(camera)`.
+ * The last frame's geometry, samples and per-light visibility are kept for analysis.
+ */
+
+#ifndef vtkPenumbraShadowPass_h
+#define vtkPenumbraShadowPass_h
+
+#include "vtkOpenGLRenderPass.h"
+#include "vtkPenumbraRenderingModule.h" // For export macro
+
+#include <memory> // For std::unique_ptr
+
+class vtkFloatArray;
+class vtkLight;
+class vtkPenumbraSceneGeometry;
+class vtkPenumbraShadowTechnique;
+class vtkPenumbraViewSamples;
+class vtkPenumbraViewSamplesPass;
+class vtkWindow;
+
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraShadowPass : public vtkOpenGLRenderPass
+{
+public:
+  static vtkPenumbraShadowPass* New();
+  vtkTypeMacro(vtkPenumbraShadowPass, vtkOpenGLRenderPass);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The technique that computes visibility. Default: none (the scene renders unshadowed).
+   */
+  void SetTechnique(vtkPenumbraShadowTechnique* technique);
+  vtkPenumbraShadowTechnique* GetTechnique();
+  ///@}
+
+  ///@{
+  /**
+   * The pass that draws the shaded scene. Default: a sequence of vtkLightsPass,
+   * vtkOpaquePass, vtkTranslucentPass, vtkVolumetricPass and vtkOverlayPass.
+   */
+  void SetDelegatePass(vtkRenderPass* pass);
+  vtkRenderPass* GetDelegatePass();
+  ///@}
+
+  vtkPenumbraSceneGeometry* GetGeometry();
+  vtkPenumbraViewSamplesPass* GetViewSamplesPass();
+  vtkPenumbraViewSamples* GetViewSamples();
+
+  /**
+   * Lights of the last frame as VTK numbers them in its shaders (switched-on lights only,
+   * in renderer order).
+   */
+  int GetNumberOfLights();
+  vtkLight* GetLight(int index);
+
+  /**
+   * Visibility of light `index` (see GetNumberOfLights) per view sample in the last frame,
+   * or nullptr if that light got no shadow work (black light) or the technique failed.
+   */
+  vtkFloatArray* GetVisibility(int index);
+
+  ///@{
+  /**
+   * Times of the last frame's phases, in milliseconds (after glFinish where GPU work is
+   * involved): scene extraction, view samples, technique (all lights), shaded render.
+   */
+  double GetExtractionTimeMs();
+  double GetSamplesTimeMs();
+  double GetTechniqueTimeMs();
+  double GetShadingTimeMs();
+  ///@}
+
+  void Render(const vtkRenderState* s) override;
+  void ReleaseGraphicsResources(vtkWindow* w) override;
+
+  bool PreReplaceShaderValues(std::string& vertexShader, std::string& geometryShader,
+    std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop) override;
+  bool PostReplaceShaderValues(std::string& vertexShader, std::string& geometryShader,
+    std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop) override;
+  bool SetShaderParameters(vtkShaderProgram* program, vtkAbstractMapper* mapper, vtkProp* prop,
+    vtkOpenGLVertexArrayObject* VAO = nullptr) override;
+  vtkMTimeType GetShaderStageMTime() override;
+
+protected:
+  vtkPenumbraShadowPass();
+  ~vtkPenumbraShadowPass() override;
+
+private:
+  vtkPenumbraShadowPass(const vtkPenumbraShadowPass&) = delete;
+  void operator=(const vtkPenumbraShadowPass&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif

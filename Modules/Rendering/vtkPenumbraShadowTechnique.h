@@ -1,0 +1,57 @@
+/**
+ * @class   vtkPenumbraShadowTechnique
+ * @brief   What every shadow technique provides: per light, a visibility for each view sample.
+ *
+ * A technique answers one question per frame and light: how much of the light reaches each
+ * view sample (0 or 1 for hard shadows, a fraction for area and linear lights). It does not
+ * shade; vtkPenumbraShadowPass applies the answer to VTK's own Phong or PBR lighting, and
+ * the benchmark compares the same answer against the exact reference on the same samples.
+ *
+ * Visibility convention, per sample: 1 fully lit, 0 fully shadowed (including samples facing
+ * away from the light and samples outside a spot light's cone), values in between for soft
+ * shadows, and -1 for samples without a surface (background).
+ */
+
+#ifndef vtkPenumbraShadowTechnique_h
+#define vtkPenumbraShadowTechnique_h
+
+#include "vtkObject.h"
+#include "vtkPenumbraRenderingModule.h" // For export macro
+
+class vtkFloatArray;
+class vtkLight;
+class vtkPenumbraSceneGeometry;
+class vtkPenumbraViewSamples;
+class vtkRenderer;
+
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraShadowTechnique : public vtkObject
+{
+public:
+  vtkTypeMacro(vtkPenumbraShadowTechnique, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Fills `visibility` (one value per sample, see the class description) for `light`.
+   * Returns 1 on success, 0 on failure (with an error reported); the caller then renders
+   * without shadows for that light rather than with wrong ones.
+   */
+  virtual int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) = 0;
+
+  /**
+   * Wall-clock time of the last ComputeVisibility call, in milliseconds.
+   */
+  vtkGetMacro(LastTimeMs, double);
+
+protected:
+  vtkPenumbraShadowTechnique() = default;
+  ~vtkPenumbraShadowTechnique() override = default;
+
+  double LastTimeMs = 0.0;
+
+private:
+  vtkPenumbraShadowTechnique(const vtkPenumbraShadowTechnique&) = delete;
+  void operator=(const vtkPenumbraShadowTechnique&) = delete;
+};
+
+#endif

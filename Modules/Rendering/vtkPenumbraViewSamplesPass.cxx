@@ -1,0 +1,351 @@
+#include "vtkPenumbraViewSamplesPass.h"
+
+#include "vtkCamera.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpaquePass.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLPolyDataMapper.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkProp.h"
+#include "vtkRenderState.h"
+#include "vtkRenderer.h"
+#include "vtkShaderProgram.h"
+#include "vtkSmartPointer.h"
+#include "vtkTextureObject.h"
+#include "vtk_glew.h"
+
+#include "vtkPenumbraViewSamplesDec.h"
+#include "vtkPenumbraViewSamplesImpl.h"
+
+#include <map>
+#include <vector>
+
+struct vtkPenumbraViewSamplesPass::Internals
+{
+  vtkSmartPointer<vtkPenumbraSceneGeometry> Geometry;
+  vtkSmartPointer<vtkPenumbraViewSamples> Samples = vtkSmartPointer<vtkPenumbraViewSamples>::New();
+  vtkSmartPointer<vtkOpaquePass> Opaque = vtkSmartPointer<vtkOpaquePass>::New();
+  vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
+  vtkSmartPointer<vtkTextureObject> Textures[3];
+  vtkSmartPointer<vtkTextureObject> Depth;
+  std::map<vtkProp*, int> PropIndex;
+
+  // Per-frame uniforms, computed once in double precision.
+  vtkNew<vtkMatrix4x4> VCToRebasedTransposed;
+  float CameraRebased[3] = { 0, 0, 0 };
+  float ViewDirection[3] = { 0, 0, -1 };
+  int Parallel = 0;
+
+  void Allocate(vtkOpenGLRenderWindow* win, int w, int h)
+  {
+    if (!this->FBO)
+    {
+      this->FBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+      this->FBO->SetContext(win);
+    }
+    for (auto& tex : this->Textures)
+    {
+      if (!tex)
+      {
+        tex = vtkSmartPointer<vtkTextureObject>::New();
+        tex->SetContext(win);
+        tex->SetFormat(GL_RGBA);
+        tex->SetInternalFormat(GL_RGBA32F);
+        tex->SetDataType(GL_FLOAT);
+        tex->SetMinificationFilter(vtkTextureObject::Nearest);
+        tex->SetMagnificationFilter(vtkTextureObject::Nearest);
+        tex->SetWrapS(vtkTextureObject::ClampToEdge);
+        tex->SetWrapT(vtkTextureObject::ClampToEdge);
+        tex->Allocate2D(w, h, 4, VTK_FLOAT);
+      }
+      else if (static_cast<int>(tex->GetWidth()) != w || static_cast<int>(tex->GetHeight()) != h)
+      {
+        tex->Resize(w, h);
+      }
+    }
+    if (!this->Depth)
+    {
+      this->Depth = vtkSmartPointer<vtkTextureObject>::New();
+      this->Depth->SetContext(win);
+      this->Depth->AllocateDepth(w, h, vtkTextureObject::Float32);
+    }
+    else if (static_cast<int>(this->Depth->GetWidth()) != w ||
+      static_cast<int>(this->Depth->GetHeight()) != h)
+    {
+      this->Depth->Resize(w, h);
+    }
+  }
+};
+
+vtkStandardNewMacro(vtkPenumbraViewSamplesPass);
+
+vtkPenumbraViewSamplesPass::vtkPenumbraViewSamplesPass()
+  : ReadBack(true)
+  , Impl(new Internals)
+{
+  this->ActiveDrawBuffers = 3;
+}
+
+vtkPenumbraViewSamplesPass::~vtkPenumbraViewSamplesPass() = default;
+
+void vtkPenumbraViewSamplesPass::SetGeometry(vtkPenumbraSceneGeometry* geometry)
+{
+  if (this->Impl->Geometry != geometry)
+  {
+    this->Impl->Geometry = geometry;
+    this->Modified();
+  }
+}
+
+vtkPenumbraSceneGeometry* vtkPenumbraViewSamplesPass::GetGeometry()
+{
+  return this->Impl->Geometry;
+}
+
+vtkPenumbraViewSamples* vtkPenumbraViewSamplesPass::GetSamples()
+{
+  return this->Impl->Samples;
+}
+
+vtkTextureObject* vtkPenumbraViewSamplesPass::GetPositionTexture()
+{
+  return this->Impl->Textures[0];
+}
+
+vtkTextureObject* vtkPenumbraViewSamplesPass::GetNormalTexture()
+{
+  return this->Impl->Textures[1];
+}
+
+vtkTextureObject* vtkPenumbraViewSamplesPass::GetPrimitiveTexture()
+{
+  return this->Impl->Textures[2];
+}
+
+void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
+{
+  Internals& impl = *this->Impl;
+  this->NumberOfRenderedProps = 0;
+  vtkRenderer* ren = s->GetRenderer();
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!impl.Geometry || !win)
+  {
+    vtkErrorMacro("View samples need a scene geometry and an OpenGL render window");
+    return;
+  }
+  int w = 0, h = 0, x = 0, y = 0;
+  ren->GetTiledSizeAndOrigin(&w, &h, &x, &y);
+  if (w < 1 || h < 1)
+  {
+    return;
+  }
+  impl.Allocate(win, w, h);
+  // The mapper only emits view-space positions and normals for lit shaders, and decides
+  // that from the renderer's lighting complexity, which VTK computes when lights update.
+  this->UpdateLightGeometry(ren);
+  this->UpdateLights(ren);
+
+  impl.PropIndex.clear();
+  for (int i = 0; i < impl.Geometry->GetNumberOfProps(); ++i)
+  {
+    impl.PropIndex[impl.Geometry->GetProp(i)] = i;
+  }
+
+  // View coordinates -> world -> minus origin, composed in double and sent once as float.
+  vtkCamera* cam = ren->GetActiveCamera();
+  double origin[3];
+  impl.Geometry->GetOrigin(origin);
+  vtkNew<vtkMatrix4x4> vcToWorld;
+  vtkMatrix4x4::Invert(cam->GetModelViewTransformMatrix(), vcToWorld);
+  for (int r = 0; r < 3; ++r)
+  {
+    vcToWorld->SetElement(r, 3, vcToWorld->GetElement(r, 3) - origin[r]);
+  }
+  // vtkShaderProgram uploads row-major data as GLSL's column-major matrices.
+  vtkMatrix4x4::Transpose(vcToWorld, impl.VCToRebasedTransposed);
+  double camPos[3], dop[3];
+  cam->GetPosition(camPos);
+  cam->GetDirectionOfProjection(dop);
+  for (int c = 0; c < 3; ++c)
+  {
+    impl.CameraRebased[c] = static_cast<float>(camPos[c] - origin[c]);
+    impl.ViewDirection[c] = static_cast<float>(dop[c]);
+  }
+  impl.Parallel = cam->GetParallelProjection() ? 1 : 0;
+
+  vtkOpenGLState* ostate = win->GetState();
+  vtkOpenGLState::ScopedglEnableDisable blendSaver(ostate, GL_BLEND);
+  vtkOpenGLState::ScopedglEnableDisable depthSaver(ostate, GL_DEPTH_TEST);
+  vtkOpenGLState::ScopedglEnableDisable scissorSaver(ostate, GL_SCISSOR_TEST);
+  vtkOpenGLState::ScopedglViewport viewportSaver(ostate);
+  vtkOpenGLState::ScopedglScissor scissorBoxSaver(ostate);
+  vtkOpenGLState::ScopedglClearColor clearSaver(ostate);
+
+  ostate->PushFramebufferBindings();
+  impl.FBO->Bind();
+  impl.FBO->AddColorAttachment(0, impl.Textures[0]);
+  impl.FBO->AddColorAttachment(1, impl.Textures[1]);
+  impl.FBO->AddColorAttachment(2, impl.Textures[2]);
+  impl.FBO->AddDepthAttachment(impl.Depth);
+  impl.FBO->ActivateDrawBuffers(3);
+  ostate->vtkglViewport(0, 0, w, h);
+  ostate->vtkglScissor(0, 0, w, h);
+  ostate->vtkglDisable(GL_SCISSOR_TEST);
+  // Ids are stored as exact float values: blending must never touch them.
+  ostate->vtkglDisable(GL_BLEND);
+  ostate->vtkglEnable(GL_DEPTH_TEST);
+  ostate->vtkglDepthMask(GL_TRUE);
+  ostate->vtkglClearColor(0.0, 0.0, 0.0, 0.0);
+  ostate->vtkglClearDepth(1.0);
+  ostate->vtkglClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+  this->PreRender(s);
+  impl.Opaque->Render(s);
+  this->NumberOfRenderedProps = impl.Opaque->GetNumberOfRenderedProps();
+  this->PostRender(s);
+
+  if (this->ReadBack)
+  {
+    vtkPenumbraViewSamples* samples = impl.Samples;
+    samples->SetSize(w, h);
+    samples->SetOrigin(origin);
+    samples->SetCameraPosition(camPos);
+    const vtkIdType n = static_cast<vtkIdType>(w) * h;
+    std::vector<float> buffers[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      buffers[a].resize(static_cast<size_t>(n) * 4);
+      impl.FBO->ActivateReadBuffer(a);
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, buffers[a].data());
+    }
+    float* pos = samples->GetPositions()->GetPointer(0);
+    float* nrm = samples->GetNormals()->GetPointer(0);
+    int* props = samples->GetPropIndices()->GetPointer(0);
+    vtkIdType* tris = samples->GetTriangleIds()->GetPointer(0);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      const float* p = &buffers[0][static_cast<size_t>(4 * i)];
+      const float* q = &buffers[1][static_cast<size_t>(4 * i)];
+      const float* t = &buffers[2][static_cast<size_t>(4 * i)];
+      const int prop = (p[3] > 0.5f) ? static_cast<int>(q[3]) : -1;
+      props[i] = prop;
+      for (int c = 0; c < 3; ++c)
+      {
+        pos[3 * i + c] = p[c];
+        nrm[3 * i + c] = q[c];
+      }
+      const vtkIdType prim = static_cast<vtkIdType>(t[0]) + (static_cast<vtkIdType>(t[1]) << 16);
+      tris[i] = prop >= 0 ? impl.Geometry->MapPrimitiveId(prop, prim) : -1;
+    }
+    samples->Modified();
+  }
+  ostate->PopFramebufferBindings();
+}
+
+bool vtkPenumbraViewSamplesPass::PreReplaceShaderValues(std::string&, std::string&,
+  std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp*)
+{
+  if (vtkOpenGLPolyDataMapper::SafeDownCast(mapper))
+  {
+    // Our code goes after VTK's lighting, where vertexVC and the outputs exist.
+    vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Dec",
+      "//VTK::Light::Dec\n//PENUMBRA::Samples::Dec\n", false);
+    vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Impl",
+      "//VTK::Light::Impl\n//PENUMBRA::Samples::Impl\n", false);
+  }
+  return true;
+}
+
+bool vtkPenumbraViewSamplesPass::PostReplaceShaderValues(std::string&, std::string&,
+  std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp*)
+{
+  if (!vtkOpenGLPolyDataMapper::SafeDownCast(mapper))
+  {
+    return true;
+  }
+  const bool hasPosition = fragmentShader.find("vec4 vertexVC") != std::string::npos;
+  if (hasPosition)
+  {
+    std::string dec = vtkPenumbraViewSamplesDec;
+    if (fragmentShader.find("uniform int PrimitiveIDOffset") == std::string::npos)
+    {
+      dec += "uniform int PrimitiveIDOffset;\n";
+    }
+    vtkShaderProgram::Substitute(fragmentShader, "//PENUMBRA::Samples::Dec", dec, false);
+    vtkShaderProgram::Substitute(
+      fragmentShader, "//PENUMBRA::Samples::Impl", vtkPenumbraViewSamplesImpl, false);
+  }
+  else
+  {
+    // Unlit props: occlude, but give no sample.
+    vtkShaderProgram::Substitute(fragmentShader, "//PENUMBRA::Samples::Dec", "", false);
+    vtkShaderProgram::Substitute(fragmentShader, "//PENUMBRA::Samples::Impl",
+      "  gl_FragData[0] = vec4(0.0);\n  gl_FragData[1] = vec4(0.0, 0.0, 0.0, -1.0);\n"
+      "  gl_FragData[2] = vec4(0.0);\n",
+      false);
+  }
+  return true;
+}
+
+bool vtkPenumbraViewSamplesPass::SetShaderParameters(
+  vtkShaderProgram* program, vtkAbstractMapper* mapper, vtkProp* prop, vtkOpenGLVertexArrayObject*)
+{
+  Internals& impl = *this->Impl;
+  if (!vtkOpenGLPolyDataMapper::SafeDownCast(mapper))
+  {
+    return true;
+  }
+  if (impl.FBO)
+  {
+    impl.FBO->ActivateDrawBuffers(3);
+  }
+  if (program->IsUniformUsed("penumbraVCToRebased"))
+  {
+    auto it = impl.PropIndex.find(prop);
+    program->SetUniformMatrix("penumbraVCToRebased", impl.VCToRebasedTransposed);
+    program->SetUniform3f("penumbraCameraRebased", impl.CameraRebased);
+    program->SetUniform3f("penumbraViewDirection", impl.ViewDirection);
+    program->SetUniformi("penumbraParallel", impl.Parallel);
+    program->SetUniformf(
+      "penumbraPropIndex", it == impl.PropIndex.end() ? -1.0f : static_cast<float>(it->second));
+  }
+  return true;
+}
+
+void vtkPenumbraViewSamplesPass::ReleaseGraphicsResources(vtkWindow* w)
+{
+  Internals& impl = *this->Impl;
+  impl.Opaque->ReleaseGraphicsResources(w);
+  for (auto& tex : impl.Textures)
+  {
+    if (tex)
+    {
+      tex->ReleaseGraphicsResources(w);
+    }
+    tex = nullptr;
+  }
+  if (impl.Depth)
+  {
+    impl.Depth->ReleaseGraphicsResources(w);
+  }
+  impl.Depth = nullptr;
+  if (impl.FBO)
+  {
+    impl.FBO->ReleaseGraphicsResources(w);
+  }
+  impl.FBO = nullptr;
+}
+
+void vtkPenumbraViewSamplesPass::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ReadBack: " << this->ReadBack << "\n";
+}

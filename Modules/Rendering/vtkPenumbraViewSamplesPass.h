@@ -1,0 +1,97 @@
+/**
+ * @class   vtkPenumbraViewSamplesPass
+ * @brief   Renders the view samples (G-buffer) of the opaque props for shadow techniques.
+ *
+ * For every pixel of the renderer's viewport the pass records what the camera sees: the
+ * surface position relative to the scene geometry's rebasing origin (32-bit float, so city
+ * coordinates around 1e6 m keep centimetre precision; the 16-bit positions VTK's SSAO pass
+ * keeps are not enough), its facet normal turned toward the camera, the index of its prop in
+ * the vtkPenumbraSceneGeometry, and the mapper's primitive id, which the geometry maps to its
+ * own triangle index so techniques and the reference can exclude a sample's own triangle.
+ *
+ * The samples stay on the GPU as textures and, when ReadBack is on (default), are also read
+ * into a vtkPenumbraViewSamples for CPU techniques and for the exact reference.
+ *
+ * Props whose shader has no view-space position (lighting turned off) still occlude but give
+ * invalid samples (they receive no light, so no shadow either).
+ */
+
+#ifndef vtkPenumbraViewSamplesPass_h
+#define vtkPenumbraViewSamplesPass_h
+
+#include "vtkOpenGLRenderPass.h"
+#include "vtkPenumbraRenderingModule.h" // For export macro
+
+#include <memory> // For std::unique_ptr
+
+class vtkPenumbraSceneGeometry;
+class vtkPenumbraViewSamples;
+class vtkTextureObject;
+class vtkWindow;
+
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraViewSamplesPass : public vtkOpenGLRenderPass
+{
+public:
+  static vtkPenumbraViewSamplesPass* New();
+  vtkTypeMacro(vtkPenumbraViewSamplesPass, vtkOpenGLRenderPass);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The extracted scene the samples refer to (origin, prop indices, triangle ids). It must
+   * be up to date before Render(). Default: none (Render() then reports an error).
+   */
+  void SetGeometry(vtkPenumbraSceneGeometry* geometry);
+  vtkPenumbraSceneGeometry* GetGeometry();
+  ///@}
+
+  ///@{
+  /**
+   * Read the samples back into GetSamples() after rendering. Default on; a technique that
+   * works on the GPU textures alone can turn it off.
+   */
+  vtkSetMacro(ReadBack, bool);
+  vtkGetMacro(ReadBack, bool);
+  vtkBooleanMacro(ReadBack, bool);
+  ///@}
+
+  /**
+   * The samples of the last Render() (when ReadBack is on).
+   */
+  vtkPenumbraViewSamples* GetSamples();
+
+  ///@{
+  /**
+   * GPU copies of the last Render(): RGBA32F position (xyz, w = 1 where valid), RGBA32F
+   * normal (xyz) with the prop index in w, RGBA32F primitive id as two exact 16-bit halves.
+   */
+  vtkTextureObject* GetPositionTexture();
+  vtkTextureObject* GetNormalTexture();
+  vtkTextureObject* GetPrimitiveTexture();
+  ///@}
+
+  void Render(const vtkRenderState* s) override;
+  void ReleaseGraphicsResources(vtkWindow* w) override;
+
+  bool PreReplaceShaderValues(std::string& vertexShader, std::string& geometryShader,
+    std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop) override;
+  bool PostReplaceShaderValues(std::string& vertexShader, std::string& geometryShader,
+    std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop) override;
+  bool SetShaderParameters(vtkShaderProgram* program, vtkAbstractMapper* mapper, vtkProp* prop,
+    vtkOpenGLVertexArrayObject* VAO = nullptr) override;
+
+protected:
+  vtkPenumbraViewSamplesPass();
+  ~vtkPenumbraViewSamplesPass() override;
+
+  bool ReadBack;
+
+private:
+  vtkPenumbraViewSamplesPass(const vtkPenumbraViewSamplesPass&) = delete;
+  void operator=(const vtkPenumbraViewSamplesPass&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
