@@ -5,19 +5,18 @@
 // Prints the time of each phase on stdout. Any problem with the arguments or the scene gives
 // one message on stderr, exit status 2, and no output file.
 
-#include "vtkCallbackCommand.h"
+#include "PenumbraCLI.h"
+
 #include "vtkCommand.h"
+#include "vtkCallbackCommand.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
-#include "vtkOpenGLRenderWindow.h"
-#include "vtkOutputWindow.h"
 #include "vtkPenumbraImageIO.h"
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraTechniques.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
-#include "vtkWindowToImageFilter.h"
 
 #include <nlohmann/json.hpp>
 
@@ -30,12 +29,8 @@
 
 namespace
 {
-using Clock = std::chrono::steady_clock;
-
-double Ms(Clock::time_point since)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
-}
+using penumbra_cli::Clock;
+using penumbra_cli::MsSince;
 
 int Usage(const char* why)
 {
@@ -47,24 +42,6 @@ int Usage(const char* why)
                " [--option KEY=VALUE]...\n"
                "       penumbra-render --list-techniques\n";
   return 2;
-}
-
-// VTK errors during rendering (shader compile failures, GL errors) must fail the run, not
-// produce a silently wrong image.
-struct ErrorFlag
-{
-  bool Raised = false;
-  std::string First;
-};
-
-void OnError(vtkObject*, unsigned long, void* client, void* data)
-{
-  auto* flag = static_cast<ErrorFlag*>(client);
-  if (!flag->Raised && data)
-  {
-    flag->First = static_cast<const char*>(data);
-  }
-  flag->Raised = true;
 }
 }
 
@@ -144,21 +121,10 @@ int main(int argc, char* argv[])
     return Usage("no output file given (-o OUT.png)");
   }
   int width = 0, height = 0;
-  if (!sizeArg.empty())
+  if (!sizeArg.empty() && !penumbra_cli::ParseSize(sizeArg, width, height))
   {
-    char tail = 0;
-    if (std::sscanf(sizeArg.c_str(), "%dx%d%c", &width, &height, &tail) != 2 || width < 1 ||
-      height < 1 || width > 16384 || height > 16384)
-    {
-      return Usage("--size expects WxH with 1..16384 pixels per side, e.g. 800x600");
-    }
+    return Usage("--size expects WxH with 1..16384 pixels per side, e.g. 800x600");
   }
-
-  // Our own messages are the user-facing ones; keep VTK's duplicates off stderr.
-  ErrorFlag errors;
-  vtkNew<vtkCallbackCommand> onError;
-  onError->SetCallback(OnError);
-  onError->SetClientData(&errors);
 
   const auto t0 = Clock::now();
   vtkNew<vtkPenumbraSceneReader> reader;
@@ -169,7 +135,7 @@ int main(int argc, char* argv[])
     std::cerr << "penumbra-render: " << reader->GetErrorMessage() << "\n";
     return 2;
   }
-  const double loadMs = Ms(t0);
+  const double loadMs = MsSince(t0);
 
   const auto t1 = Clock::now();
   vtkRenderer* ren = reader->GetRenderer();
@@ -189,49 +155,38 @@ int main(int argc, char* argv[])
               << techniques->GetErrorMessage() << "\n";
     return 2;
   }
-  const double setupMs = Ms(t1);
+  const double setupMs = MsSince(t1);
 
   const auto t2 = Clock::now();
-  vtkSmartPointer<vtkRenderWindow> win =
-    vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
-  win->AddObserver(vtkCommand::ErrorEvent, onError);
-  ren->AddObserver(vtkCommand::ErrorEvent, onError);
-  win->SetOffScreenRendering(1);
-  win->SetStencilCapable(1);
-  win->SetMultiSamples(0);
-  win->SetSize(width ? width : reader->GetWidth(), height ? height : reader->GetHeight());
-  win->AddRenderer(ren);
-  vtkOutputWindow::GetInstance()->AddObserver(vtkCommand::ErrorEvent, onError);
+  penumbra_cli::ErrorLog errors;
+  vtkSmartPointer<vtkRenderWindow> win = penumbra_cli::MakeWindow(
+    width ? width : reader->GetWidth(), height ? height : reader->GetHeight(), ren, errors);
   win->Render();
   win->WaitForCompletion(); // glFinish: time the work, not its submission
-  const double firstMs = Ms(t2);
-  if (errors.Raised)
+  const double firstMs = MsSince(t2);
+  if (errors.Raised())
   {
-    std::cerr << "penumbra-render: rendering failed: " << errors.First << "\n";
+    std::cerr << "penumbra-render: rendering failed: " << errors.FirstError() << "\n";
     return 3;
   }
 
   const auto t3 = Clock::now();
   win->Render();
   win->WaitForCompletion(); // glFinish: time the work, not its submission
-  const double frameMs = Ms(t3);
+  const double frameMs = MsSince(t3);
 
   const auto t4 = Clock::now();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(win);
-  grab->SetInputBufferTypeToRGB();
-  grab->ReadFrontBufferOff();
-  grab->Update();
+  vtkSmartPointer<vtkImageData> image = penumbra_cli::GrabRGB(win);
   vtkNew<vtkPenumbraImageIO> io;
-  if (errors.Raised || !io->Write(grab->GetOutput(), outPath.c_str()))
+  if (errors.Raised() || !io->Write(image, outPath.c_str()))
   {
     std::cerr << "penumbra-render: "
-              << (errors.Raised ? "reading the image back failed: " + errors.First
-                                : std::string(io->GetErrorMessage()))
+              << (errors.Raised() ? "reading the image back failed: " + errors.FirstError()
+                                  : std::string(io->GetErrorMessage()))
               << "\n";
     return 3;
   }
-  const double writeMs = Ms(t4);
+  const double writeMs = MsSince(t4);
 
   int* size = win->GetSize();
   std::cout << "scene      " << reader->GetSceneLabel() << " (" << reader->GetNumberOfObjects()
@@ -241,7 +196,7 @@ int main(int argc, char* argv[])
   std::printf("first      %9.1f ms  (context, upload, shader compile, shadows, frame)\n", firstMs);
   std::printf("frame      %9.1f ms  (second frame, steady state)\n", frameMs);
   std::printf("write      %9.1f ms  (read back, encode)\n", writeMs);
-  std::printf("total      %9.1f ms\n", Ms(t0));
+  std::printf("total      %9.1f ms\n", MsSince(t0));
   std::cout << "wrote      " << outPath << "\n";
   return 0;
 }

@@ -1,0 +1,105 @@
+#include "PenumbraCLI.h"
+
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkOutputWindow.h"
+#include "vtkPointData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <cstdio>
+
+namespace penumbra_cli
+{
+ErrorLog::ErrorLog()
+  : Command(vtkSmartPointer<vtkCallbackCommand>::New())
+{
+  this->Command->SetCallback(&ErrorLog::OnError);
+  this->Command->SetClientData(this);
+  this->Watch(vtkOutputWindow::GetInstance());
+}
+
+ErrorLog::~ErrorLog()
+{
+  vtkOutputWindow::GetInstance()->RemoveObserver(this->Command);
+}
+
+void ErrorLog::Watch(vtkObject* object)
+{
+  object->AddObserver(vtkCommand::ErrorEvent, this->Command);
+}
+
+void ErrorLog::OnError(vtkObject*, unsigned long, void* client, void* data)
+{
+  auto* log = static_cast<ErrorLog*>(client);
+  if (log->First.empty())
+  {
+    log->First = data ? static_cast<const char*>(data) : "unknown VTK error";
+    while (!log->First.empty() && (log->First.back() == '\n' || log->First.back() == ' '))
+    {
+      log->First.pop_back();
+    }
+  }
+}
+
+vtkSmartPointer<vtkRenderWindow> MakeWindow(int width, int height, vtkRenderer* renderer, ErrorLog& log)
+{
+  auto window = vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
+  log.Watch(window);
+  log.Watch(renderer);
+  window->SetOffScreenRendering(1);
+  window->SetStencilCapable(1);
+  window->SetMultiSamples(0);
+  window->SetSize(width, height);
+  window->AddRenderer(renderer);
+  return window;
+}
+
+vtkSmartPointer<vtkImageData> GrabRGB(vtkRenderWindow* window)
+{
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->DeepCopy(grab->GetOutput());
+  return image;
+}
+
+vtkSmartPointer<vtkImageData> GrabLuminance(vtkRenderWindow* window)
+{
+  vtkSmartPointer<vtkImageData> rgb = GrabRGB(window);
+  int dims[3];
+  rgb->GetDimensions(dims);
+  auto lum = vtkSmartPointer<vtkImageData>::New();
+  lum->SetDimensions(dims[0], dims[1], 1);
+  lum->AllocateScalars(VTK_FLOAT, 1);
+  auto* in = vtkUnsignedCharArray::SafeDownCast(rgb->GetPointData()->GetScalars());
+  auto* out = vtkFloatArray::SafeDownCast(lum->GetPointData()->GetScalars());
+  for (vtkIdType i = 0; i < out->GetNumberOfTuples(); ++i)
+  {
+    const unsigned char* p = in->GetPointer(3 * i);
+    out->SetValue(i, (p[0] + p[1] + p[2]) / (3.0f * 255.0f));
+  }
+  return lum;
+}
+
+bool ParseSize(const std::string& text, int& width, int& height)
+{
+  char tail = 0;
+  int w = 0, h = 0;
+  if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 ||
+    h > 16384)
+  {
+    return false;
+  }
+  width = w;
+  height = h;
+  return true;
+}
+}

@@ -1,0 +1,57 @@
+// Pieces the command-line programs share: error capture, the headless window, read-back,
+// argument parsing. Not a public API.
+#ifndef PenumbraCLI_h
+#define PenumbraCLI_h
+
+#include "vtkSmartPointer.h"
+
+#include <chrono>
+#include <string>
+
+class vtkCallbackCommand;
+class vtkObject;
+class vtkImageData;
+class vtkRenderWindow;
+class vtkRenderer;
+
+namespace penumbra_cli
+{
+using Clock = std::chrono::steady_clock;
+
+inline double MsSince(Clock::time_point since)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
+}
+
+// Records VTK errors raised while rendering (shader compile failures, GL errors) so a run
+// fails instead of producing a silently wrong image. VTK's own printing is kept off stderr.
+class ErrorLog
+{
+public:
+  ErrorLog();
+  ~ErrorLog();
+  void Watch(vtkObject* object);
+  bool Raised() const { return !this->First.empty(); }
+  const std::string& FirstError() const { return this->First; }
+
+private:
+  static void OnError(vtkObject*, unsigned long, void* client, void* data);
+  vtkSmartPointer<vtkCallbackCommand> Command;
+  std::string First;
+};
+
+// Offscreen window (the headless EGL window when no X display is set) with a stencil buffer
+// and no multisampling, so pixels map one to one onto view samples.
+vtkSmartPointer<vtkRenderWindow> MakeWindow(int width, int height, vtkRenderer* renderer, ErrorLog& log);
+
+// The last frame: RGB unsigned char, rows bottom-up.
+vtkSmartPointer<vtkImageData> GrabRGB(vtkRenderWindow* window);
+
+// The last frame as float luminance per pixel (mean of RGB in [0, 1]), rows bottom-up.
+vtkSmartPointer<vtkImageData> GrabLuminance(vtkRenderWindow* window);
+
+// "WxH" with 1..16384 per side.
+bool ParseSize(const std::string& text, int& width, int& height);
+}
+
+#endif

@@ -1,0 +1,71 @@
+"""penumbra-bench smoke run on tiny images: the CSV has a row per point with finite values,
+the reference scores itself exactly, and the table and chart are written."""
+
+import csv
+import math
+import os
+import subprocess
+import tempfile
+import unittest
+
+from penumbra_testing import SCENES_DIR
+
+BENCH = os.environ.get("PENUMBRA_BENCH", "penumbra-bench")
+COLUMNS = ("scene", "technique", "setting", "median_ms", "mismatch_rate", "mae", "false_lit",
+           "false_shadow", "ties", "ratio_to_no_shadow", "extraction_ms", "technique_ms")
+
+
+def run_bench(out, *args):
+    proc = subprocess.run([BENCH, "--out", out, "--size", "96x72", "--frames", "1", "--warmup", "0",
+                           *args], capture_output=True, text=True, timeout=600)
+    return proc.returncode, proc.stdout, proc.stderr
+
+
+class BenchTest(unittest.TestCase):
+    def test_smoke(self):
+        with tempfile.TemporaryDirectory() as out:
+            code, stdout, stderr = run_bench(
+                out, "--scenes", "default,torture/tiny_area_light",
+                "--techniques", "none,vtk-shadowmap:resolution=512,raytraced")
+            self.assertEqual(code, 0, stderr)
+            self.assertIn("| scene | technique |", stdout)
+            with open(os.path.join(out, "results.csv")) as f:
+                rows = list(csv.DictReader(f))
+            self.assertEqual(len(rows), 6)
+            for col in COLUMNS:
+                self.assertIn(col, rows[0])
+            for row in rows:
+                for col in ("median_ms", "mismatch_rate", "mae", "ratio_to_no_shadow"):
+                    self.assertTrue(math.isfinite(float(row[col])), (row["technique"], col))
+                self.assertGreater(float(row["median_ms"]), 0.0)
+            by = {(r["scene"], r["technique"]): r for r in rows}
+            # The ray-traced technique is the reference for hard lights: exact.
+            ref = by[("default", "raytraced")]
+            self.assertEqual(float(ref["mismatch_rate"]), 0.0)
+            self.assertEqual(int(ref["false_lit"]) + int(ref["false_shadow"]), 0)
+            self.assertGreaterEqual(float(ref["technique_ms"]), 0.0)
+            # No shadows at all is wrong wherever the scene has shadows.
+            self.assertGreater(int(by[("default", "none")]["false_lit"]), 0)
+            self.assertEqual(int(by[("default", "none")]["false_shadow"]), 0)
+            # An area light is scored softly against the converged estimate; a 1e-6 m light
+            # is a point light, so its 4 x 4 samples agree with 64 x 64 ones.
+            soft = by[("tiny_area_light", "raytraced")]
+            self.assertEqual(soft["error_kind"], "soft")
+            self.assertLess(float(soft["mae"]), 1e-3)
+            self.assertGreater(os.path.getsize(os.path.join(out, "chart.png")), 2000)
+            self.assertTrue(os.path.exists(os.path.join(out, "results.md")))
+            self.assertTrue(os.path.exists(os.path.join(out, "default__raytraced_default_error.png")))
+
+    def test_bad_arguments(self):
+        with tempfile.TemporaryDirectory() as out:
+            for args, fragment in ((("--techniques", "magic"), "unknown technique"),
+                                   (("--scenes", "no_such_scene"), "cannot open"),
+                                   (("--frames", "0"), "--frames")):
+                with self.subTest(args=args):
+                    code, _, stderr = run_bench(out, *args)
+                    self.assertEqual(code, 2)
+                    self.assertIn(fragment, stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
