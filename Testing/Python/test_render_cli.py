@@ -33,16 +33,18 @@ class RenderCliTest(unittest.TestCase):
     def test_default_scene_has_shadows(self):
         with tempfile.TemporaryDirectory() as tmp:
             lit = self.render(tmp, "none")
-            shadowed = self.render(tmp, "vtk-shadowmap")
-        pixels = [(a, b) for ra, rb in zip(lit, shadowed) for a, b in zip(ra, rb)]
-        # Not blank: the scene covers most of the frame with varied shading.
-        values = sorted(a for a, _ in pixels)
-        self.assertGreater(values[int(0.9 * len(values))] - values[int(0.1 * len(values))], 30)
-        # Shadows only ever darken, and they darken a real part of the image.
-        darker = sum(1 for a, b in pixels if b < a - 25)
-        brighter = sum(1 for a, b in pixels if b > a + 25)
-        self.assertGreater(darker, 0.03 * len(pixels), "too few shadowed pixels")
-        self.assertLess(brighter, 0.002 * len(pixels), "shadowing must not brighten pixels")
+            for technique in ("raytraced", "vtk-shadowmap"):
+                with self.subTest(technique=technique):
+                    shadowed = self.render(tmp, technique)
+                    pixels = [(a, b) for ra, rb in zip(lit, shadowed) for a, b in zip(ra, rb)]
+                    # Not blank: the scene covers most of the frame with varied shading.
+                    values = sorted(a for a, _ in pixels)
+                    self.assertGreater(values[int(0.9 * len(values))] - values[int(0.1 * len(values))], 30)
+                    # Shadows only ever darken, and they darken a real part of the image.
+                    darker = sum(1 for a, b in pixels if b < a - 25)
+                    brighter = sum(1 for a, b in pixels if b > a + 25)
+                    self.assertGreater(darker, 0.03 * len(pixels), "too few shadowed pixels")
+                    self.assertLess(brighter, 0.002 * len(pixels), "shadowing must not brighten pixels")
 
     def test_size_and_technique_arguments_are_checked(self):
         with tempfile.TemporaryDirectory() as tmp:
