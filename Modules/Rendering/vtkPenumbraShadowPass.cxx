@@ -3,6 +3,7 @@
 #include "vtkActor.h"
 #include "vtkFloatArray.h"
 #include "vtkProperty.h"
+#include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
@@ -246,6 +247,27 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
 
     t = Now();
     vtkPenumbraViewSamples* samples = impl.SamplesPass->GetSamples();
+    // Props that do not receive are lit unshadowed: their samples need no shadow work.
+    std::vector<char> receives(static_cast<size_t>(impl.Geometry->GetNumberOfProps()), 1);
+    bool anyNonReceiver = false;
+    for (size_t p = 0; p < receives.size(); ++p)
+    {
+      receives[p] = vtkPenumbraShadowKeys::ReceivesShadows(impl.Geometry->GetProp(static_cast<int>(p)));
+      anyNonReceiver = anyNonReceiver || !receives[p];
+    }
+    if (anyNonReceiver)
+    {
+      int* props = samples->GetPropIndices()->GetPointer(0);
+      vtkIdType* tris = samples->GetTriangleIds()->GetPointer(0);
+      for (vtkIdType i = 0; i < samples->GetNumberOfSamples(); ++i)
+      {
+        if (props[i] >= 0 && props[i] < static_cast<int>(receives.size()) && !receives[static_cast<size_t>(props[i])])
+        {
+          props[i] = -1;
+          tris[i] = -1;
+        }
+      }
+    }
     for (size_t i = 0; i < impl.Lights.size(); ++i)
     {
       if (!Internals::CastsLight(impl.Lights[i]))

@@ -13,8 +13,10 @@
  *     volumetric and overlay steps) with each shadowed light's colour multiplied by its
  *     visibility at the pixel, which shadows diffuse and specular terms alike, for Phong and
  *     PBR receivers. Props marked as non-receivers (vtkPenumbraShadowKeys) are lit as if
- *     nothing blocked. Translucent props are still drawn, lit without shadows: the view
- *     samples hold the opaque surface behind them, whose visibility does not apply to them.
+ *     nothing blocked, and their view samples get no shadow work (they are marked as
+ *     background before the technique runs). Translucent props are still drawn, lit
+ *     without shadows: the view samples hold the opaque surface behind them, whose
+ *     visibility does not apply to them.
  *
  * Use it inside a vtkCameraPass: `camera->SetDelegatePass(shadowPass); renderer->SetPass(camera)`.
  * The last frame's geometry, samples and per-light visibility are kept for analysis.

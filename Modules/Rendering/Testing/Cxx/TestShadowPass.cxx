@@ -222,6 +222,9 @@ int CheckReceiversAndLights()
   vtkPenumbraShadowKeys::SetReceivesShadows(scene.Plane, false);
   scene.Window->Render();
   CHECK(scene.Luminance(-1.0, 0.0) > 0.8 * scene.Luminance(1.5, 0.5));
+  // ... and its samples cost no shadow work: only the occluder's top remains to be traced.
+  vtkPenumbraViewSamples* samples = scene.Pass()->GetViewSamples();
+  CHECK(samples->GetNumberOfValidSamples() < samples->GetNumberOfSamples() / 10);
   vtkPenumbraShadowKeys::SetReceivesShadows(scene.Plane, true);
 
   // A black light costs nothing: no visibility computed.
