@@ -44,6 +44,7 @@
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowPass.h"
+#include "vtkPenumbraShadowTechnique.h"
 #include "vtkPenumbraTechniques.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPlot.h"
@@ -92,6 +93,8 @@ struct Row
   double MedianMs = 0, MinMs = 0;
   double ExtractionMs = -1, SamplesMs = -1, TechniqueMs = -1, ShadingMs = -1;
   double MismatchRate = 0, MAE = 0, RMSE = 0, MaxError = 0, P95 = 0;
+  // Hybrid techniques: share of samples handed to the exact fallback; -1 = not applicable.
+  double UncertainShare = -1;
   vtkIdType FalseLit = 0, FalseShadow = 0, Candidates = 0, Ties = 0;
   double RatioToNoShadow = 0;
 };
@@ -301,7 +304,7 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
   std::ofstream out(path);
   out << "scene,technique,setting,width,height,median_ms,min_ms,extraction_ms,samples_ms,"
          "technique_ms,shading_ms,ratio_to_no_shadow,error_kind,mismatch_rate,false_lit,"
-         "false_shadow,candidates,ties,mae,rmse,max_error,p95_error\n";
+         "false_shadow,candidates,ties,mae,rmse,max_error,p95_error,uncertain_share\n";
   for (const Row& r : rows)
   {
     out << r.Scene << "," << r.Technique << ",\"" << r.Setting << "\"," << r.Width << ","
@@ -309,7 +312,8 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
         << r.SamplesMs << "," << r.TechniqueMs << "," << r.ShadingMs << "," << r.RatioToNoShadow
         << "," << r.ErrorKind << "," << r.MismatchRate << "," << r.FalseLit << ","
         << r.FalseShadow << "," << r.Candidates << "," << r.Ties << "," << r.MAE << "," << r.RMSE
-        << "," << r.MaxError << "," << r.P95 << "\n";
+        << "," << r.MaxError << "," << r.P95 << ","
+        << (r.UncertainShare < 0 ? std::string() : std::to_string(r.UncertainShare)) << "\n";
   }
 }
 
@@ -323,8 +327,8 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows, int fr
          "rate over lit-candidate samples for hard lights (near-ties excluded), mean absolute "
          "error of visibility for area/linear lights.\n\n"
       << "| scene | technique | setting | size | median ms | × no-shadow | extract | samples | "
-         "technique | shading | mismatch | false lit | false shadow | ties | MAE | p95 |\n"
-      << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+         "technique | shading | mismatch | false lit | false shadow | ties | MAE | p95 | uncertain |\n"
+      << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   auto phase = [](double v) { return v < 0 ? std::string("–") : Fixed(v, 1); };
   for (const Row& r : rows)
   {
@@ -333,7 +337,9 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows, int fr
         << Fixed(r.RatioToNoShadow, 2) << " | " << phase(r.ExtractionMs) << " | "
         << phase(r.SamplesMs) << " | " << phase(r.TechniqueMs) << " | " << phase(r.ShadingMs)
         << " | " << Sci(r.MismatchRate) << " | " << r.FalseLit << " | " << r.FalseShadow << " | "
-        << r.Ties << " | " << Fixed(r.MAE, 4) << " | " << Fixed(r.P95, 3) << " |\n";
+        << r.Ties << " | " << Fixed(r.MAE, 4) << " | " << Fixed(r.P95, 3) << " | "
+        << (r.UncertainShare < 0 ? std::string("–") : Fixed(100.0 * r.UncertainShare, 2) + " %")
+        << " |\n";
   }
 }
 
@@ -433,7 +439,8 @@ int main(int argc, char* argv[])
 {
   std::vector<std::string> sceneNames = { "default", "isosurface" };
   std::vector<std::string> techniqueTexts = { "none", "vtk-shadowmap:resolution=1024",
-    "vtk-shadowmap:resolution=2048", "vtk-shadowmap:resolution=4096", "raytraced" };
+    "vtk-shadowmap:resolution=2048", "vtk-shadowmap:resolution=4096", "raytraced",
+    "conservative:resolution=1024", "conservative:resolution=2048" };
   std::string outDir;
   int width = 640, height = 480, frames = 5, warmup = 1;
   bool images = true;
@@ -630,6 +637,12 @@ int main(int argc, char* argv[])
         row.SamplesMs = pass->GetSamplesTimeMs();
         row.TechniqueMs = pass->GetTechniqueTimeMs();
         row.ShadingMs = pass->GetShadingTimeMs();
+        if (vtkPenumbraShadowTechnique* technique = pass->GetTechnique())
+        {
+          // The share of the last light the technique handled in the last frame (the
+          // measured light in single-light scenes).
+          row.UncertainShare = technique->GetUncertainFraction();
+        }
         estimate = vtkSmartPointer<vtkFloatArray>::New();
         if (vtkFloatArray* v = pass->GetVisibility(lightIndex))
         {

@@ -287,6 +287,36 @@ std::string CheckSamples(vtkPenumbraViewSamples* samples, SampleInput& in)
 int vtkPenumbraReference::ComputeVisibility(
   vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility)
 {
+  return this->ComputeHardVisibility(samples, light, visibility, nullptr);
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraReference::ComputeVisibility(vtkPenumbraViewSamples* samples, vtkLight* light,
+  vtkFloatArray* visibility, vtkUnsignedCharArray* mask)
+{
+  this->Impl->Error.clear();
+  if (!mask)
+  {
+    PENUMBRA_REFERENCE_FAIL("no sample mask (null vtkUnsignedCharArray)");
+  }
+  if (!samples || !visibility)
+  {
+    PENUMBRA_REFERENCE_FAIL("no view samples or no visibility array");
+  }
+  const vtkIdType n = samples->GetNumberOfSamples();
+  if (mask->GetNumberOfTuples() != n || mask->GetNumberOfComponents() != 1 ||
+    visibility->GetNumberOfTuples() != n || visibility->GetNumberOfComponents() != 1)
+  {
+    PENUMBRA_REFERENCE_FAIL("the sample mask and the visibility array must have one "
+                            "component and one tuple per view sample");
+  }
+  return this->ComputeHardVisibility(samples, light, visibility, mask);
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraReference::ComputeHardVisibility(vtkPenumbraViewSamples* samples,
+  vtkLight* light, vtkFloatArray* visibility, vtkUnsignedCharArray* mask)
+{
   const auto start = Clock::now();
   this->Impl->Error.clear();
   if (!light)
@@ -358,7 +388,8 @@ int vtkPenumbraReference::ComputeVisibility(
     }
   }
   rays.Off = !light->GetSwitch() || light->GetIntensity() == 0.0;
-  const int ok = this->Run(samples, rays, visibility, nullptr);
+  const int ok =
+    this->Run(samples, rays, visibility, nullptr, mask && mask->GetNumberOfTuples() ? mask->GetPointer(0) : nullptr);
   if (ok)
   {
     this->LastTimeMs = ElapsedMs(start);
@@ -512,19 +543,9 @@ int vtkPenumbraReference::EnsureScene()
   impl.PrimitiveToTriangle.clear();
   impl.TriangleToPrimitive.assign(static_cast<size_t>(nTriangles), NoPrimitive);
   const double* v = nTriangles ? vertices->GetPointer(0) : nullptr;
-  const unsigned char* f = nTriangles ? flags->GetPointer(0) : nullptr;
   for (vtkIdType t = 0; t < nTriangles; ++t)
   {
-    if (!(f[t] & vtkPenumbraSceneGeometry::CASTS_SHADOWS))
-    {
-      continue;
-    }
-    const double* p = v + 9 * t;
-    const double e1[3] = { p[3] - p[0], p[4] - p[1], p[5] - p[2] };
-    const double e2[3] = { p[6] - p[0], p[7] - p[1], p[8] - p[2] };
-    double cross[3];
-    vtkMath::Cross(e1, e2, cross);
-    if (vtkMath::Dot(cross, cross) == 0.0 || !std::isfinite(vtkMath::Dot(cross, cross)))
+    if (!geometry->IsOccluder(t))
     {
       continue;
     }
@@ -602,7 +623,7 @@ int vtkPenumbraReference::EnsureScene()
 
 //------------------------------------------------------------------------------
 int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& light,
-  vtkFloatArray* visibility, vtkTypeUInt32Array* masks)
+  vtkFloatArray* visibility, vtkTypeUInt32Array* masks, const unsigned char* subset)
 {
   Internals& impl = *this->Impl;
   SampleInput in;
@@ -682,6 +703,10 @@ int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& 
     for (vtkIdType s = begin; s < end; ++s)
     {
       ties[s] = 0;
+      if (subset && !subset[s])
+      {
+        continue; // not ours to decide: the caller's value stays
+      }
       double p[3], normal[3];
       for (int c = 0; c < 3; ++c)
       {

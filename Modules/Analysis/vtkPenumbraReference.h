@@ -124,6 +124,17 @@ public:
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility);
 
   /**
+   * The same rules as ComputeVisibility() for the samples whose `mask` value is nonzero
+   * only; every other sample keeps the value `visibility` already holds (and is no tie).
+   * For hybrid techniques that classify most samples themselves and trace the rest.
+   * `visibility` must already have one component and one tuple per sample, `mask` one
+   * tuple per sample. GetNumberOfRays() counts the rays of the masked samples only.
+   * Returns 1 on success, 0 on bad input (outputs untouched).
+   */
+  int ComputeVisibility(vtkPenumbraViewSamples* samples, vtkLight* light,
+    vtkFloatArray* visibility, vtkUnsignedCharArray* mask);
+
+  /**
    * Per-sample light-sample bit masks for an area light: ceil(n / 32) 32-bit words per sample
    * (the components of `masks`), bit j % 32 of word j / 32 set when light sample j is above
    * the tangent plane and unoccluded. Invalid samples get all-zero masks. Ties and
@@ -210,7 +221,9 @@ private:
   struct LightRays;
   int EnsureScene();
   int Run(vtkPenumbraViewSamples* samples, const LightRays& light, vtkFloatArray* visibility,
-    vtkTypeUInt32Array* masks);
+    vtkTypeUInt32Array* masks, const unsigned char* subset = nullptr);
+  int ComputeHardVisibility(vtkPenumbraViewSamples* samples, vtkLight* light,
+    vtkFloatArray* visibility, vtkUnsignedCharArray* mask);
 };
 
 #endif

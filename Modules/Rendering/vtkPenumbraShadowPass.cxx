@@ -436,6 +436,10 @@ void vtkPenumbraShadowPass::ReleaseGraphicsResources(vtkWindow* w)
     impl.Delegate->ReleaseGraphicsResources(w);
   }
   impl.SamplesPass->ReleaseGraphicsResources(w);
+  if (impl.Technique)
+  {
+    impl.Technique->ReleaseGraphicsResources(w);
+  }
   for (auto& tex : impl.Textures)
   {
     tex->ReleaseGraphicsResources(w);

@@ -23,6 +23,7 @@ class vtkLight;
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
 class vtkRenderer;
+class vtkWindow;
 
 class VTKPENUMBRARENDERING_EXPORT vtkPenumbraShadowTechnique : public vtkObject
 {
@@ -37,6 +38,21 @@ public:
    */
   virtual int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) = 0;
+
+  /**
+   * Frees the GL objects the technique holds for `window` (default: none). Called by
+   * vtkPenumbraShadowPass::ReleaseGraphicsResources while the context can still be made
+   * current.
+   */
+  virtual void ReleaseGraphicsResources(vtkWindow*) {}
+
+  /**
+   * Share of the last call's valid samples the technique could not decide by itself and
+   * handed to an exact fallback (hybrid techniques: the uncertain samples that were ray
+   * traced), in [0, 1]; -1 (the default) for techniques without such a split. Reported by
+   * the benchmark.
+   */
+  virtual double GetUncertainFraction() { return -1.0; }
 
   /**
    * Wall-clock time of the last ComputeVisibility call, in milliseconds.

@@ -3,6 +3,7 @@
 #include "vtkCameraPass.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPenumbraConservativeShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkRenderPassCollection.h"
@@ -135,6 +136,21 @@ void InstallRayTraced(vtkRenderer* ren, Options& opts)
   InstallPass(ren, camera);
 }
 
+void InstallConservative(vtkRenderer* ren, Options& opts)
+{
+  const int resolution = opts.Integer("resolution", 1024, 64, 8192);
+  const int layers = opts.Integer("layers", 2, 2, 4);
+  opts.RejectUnknown();
+  vtkNew<vtkPenumbraConservativeShadows> technique;
+  technique->SetResolution(resolution);
+  technique->SetLayers(layers);
+  vtkNew<vtkPenumbraShadowPass> shadows;
+  shadows->SetTechnique(technique);
+  vtkNew<vtkCameraPass> camera;
+  camera->SetDelegatePass(shadows);
+  InstallPass(ren, camera);
+}
+
 const std::vector<Technique>& Registry()
 {
   static const std::vector<Technique> techniques = {
@@ -143,6 +159,10 @@ const std::vector<Technique>& Registry()
       InstallVTKShadowMap },
     { "raytraced", "exact shadows ray traced on the CPU for every view sample (Embree reference)",
       InstallRayTraced },
+    { "conservative",
+      "exact hard shadows: conservative shadow map classifies, CPU rays resolve the uncertain "
+      "samples (seed 000)",
+      InstallConservative },
   };
   return techniques;
 }

@@ -14,6 +14,12 @@
  *    `resolution` (integer texels per side, default 1024, 16..16384).
  *  - `raytraced`: vtkPenumbraShadowPass with vtkPenumbraRayTracedShadows: exact shadows from
  *    every light type, one CPU ray per view sample and light sample. No options.
+ *  - `conservative`: vtkPenumbraShadowPass with vtkPenumbraConservativeShadows (seed 000):
+ *    exact hard shadows from point, spot and directional lights; a conservative shadow map
+ *    classifies the samples and only the uncertain ones are ray traced. Options:
+ *    `resolution` (integer CSM texels per side, per cube face for point lights, default
+ *    1024, 64..8192) and `layers` (integer depth-peeled map layers, default 2, 2..4; more
+ *    layers let more samples look past their own and neighbouring triangles).
  *
  * Options are JSON text (an object); unknown options and out-of-range values are rejected
  * with a message naming the option.

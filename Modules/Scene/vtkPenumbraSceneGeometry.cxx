@@ -917,6 +917,23 @@ int vtkPenumbraSceneGeometry::GetNumberOfPropsExtractedLastUpdate()
 }
 
 //------------------------------------------------------------------------------
+bool vtkPenumbraSceneGeometry::IsOccluder(vtkIdType index)
+{
+  if (index < 0 || index >= this->GetNumberOfTriangles() ||
+    !(this->GetFlags()->GetValue(index) & CASTS_SHADOWS))
+  {
+    return false;
+  }
+  const double* p = this->GetVertices()->GetPointer(9 * index);
+  const double e1[3] = { p[3] - p[0], p[4] - p[1], p[5] - p[2] };
+  const double e2[3] = { p[6] - p[0], p[7] - p[1], p[8] - p[2] };
+  double cross[3];
+  vtkMath::Cross(e1, e2, cross);
+  const double a2 = vtkMath::Dot(cross, cross);
+  return a2 > 0.0 && std::isfinite(a2);
+}
+
+//------------------------------------------------------------------------------
 vtkIdType vtkPenumbraSceneGeometry::GetNumberOfDegenerateTriangles()
 {
   return this->Impl->Degenerate;

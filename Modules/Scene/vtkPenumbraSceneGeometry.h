@@ -206,6 +206,13 @@ public:
   vtkIdType GetNumberOfDegenerateTriangles();
 
   /**
+   * Whether triangle `index` can block light: it casts shadows and has a non-zero, finite
+   * area (zero-area triangles cover no solid angle). Every technique and the reference use
+   * this one rule to pick occluders.
+   */
+  bool IsOccluder(vtkIdType index);
+
+  /**
    * World bounds (xmin, xmax, ymin, ymax, zmin, zmax) of all triangles; uninitialized bounds
    * (vtkMath::UninitializeBounds) when there are none.
    */

@@ -1,0 +1,1092 @@
+#include "vtkPenumbraConservativeShadows.h"
+
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkLight.h"
+#include "vtkMath.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLState.h"
+#include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraReference.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkRenderer.h"
+#include "vtkSMPTools.h"
+#include "vtkShaderProgram.h"
+#include "vtkSmartPointer.h"
+#include "vtkTextureObject.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkWeakPointer.h"
+#include "vtk_glew.h"
+
+#include "vtkPenumbraConservativeMapFS.h"
+#include "vtkPenumbraConservativeMapGS.h"
+#include "vtkPenumbraConservativeMapVS.h"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkPenumbraConservativeShadows);
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+double ElapsedMs(Clock::time_point start)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+bool Finite3(const double v[3])
+{
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+// Per-sample classification states.
+enum : unsigned char
+{
+  Decided = 0,
+  Pending = 1,  // needs a map lookup
+  Uncertain = 2 // will be traced
+};
+
+constexpr std::uint32_t FullBit = 0x80000000u;
+constexpr std::uint32_t IdMask = 0x7fffffffu;
+
+// One light camera. Rows map the geometry's rebased frame to the clip space the vertex
+// stage produces: orthographic views give (s, t, linear depth, 1), perspective ones
+// (s * w, t * w, 0, w) with w the distance along the view axis.
+struct View
+{
+  bool Perspective = false;
+  double Row[4][4] = {};
+  double Far = 1.0;  // perspective: stored depth = w / Far
+  double NearW = 0.0; // perspective: apex region the geometry stage treats conservatively
+
+  double Dot(int r, const double p[3]) const
+  {
+    return this->Row[r][0] * p[0] + this->Row[r][1] * p[1] + this->Row[r][2] * p[2] +
+      this->Row[r][3];
+  }
+
+  // Map coordinates in [-1, 1] and the stored-depth value of a point; false when the point
+  // is not in front of a perspective view.
+  bool Project(const double p[3], double& s, double& t, double& depth) const
+  {
+    if (this->Perspective)
+    {
+      const double w = this->Dot(3, p);
+      if (!(w > 0.0))
+      {
+        return false;
+      }
+      s = this->Dot(0, p) / w;
+      t = this->Dot(1, p) / w;
+      depth = w / this->Far;
+      return true;
+    }
+    s = this->Dot(0, p);
+    t = this->Dot(1, p);
+    depth = this->Dot(2, p);
+    return true;
+  }
+};
+
+// An orthonormal right/up pair for a forward axis.
+void Basis(const double f[3], double r[3], double u[3])
+{
+  const double helper[3] = { std::fabs(f[0]) < 0.9 ? 1.0 : 0.0, std::fabs(f[0]) < 0.9 ? 0.0 : 1.0,
+    0.0 };
+  vtkMath::Cross(f, helper, r);
+  vtkMath::Normalize(r);
+  vtkMath::Cross(r, f, u);
+  vtkMath::Normalize(u);
+}
+
+View PerspectiveView(const double apex[3], const double f[3], double tanHalf,
+  const double box[6])
+{
+  View v;
+  v.Perspective = true;
+  double r[3], u[3];
+  Basis(f, r, u);
+  const double* axes[3] = { r, u, f };
+  for (int a = 0; a < 2; ++a)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      v.Row[a][c] = axes[a][c] / tanHalf;
+    }
+    v.Row[a][3] = -vtkMath::Dot(apex, axes[a]) / tanHalf;
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    v.Row[3][c] = f[c];
+  }
+  v.Row[3][3] = -vtkMath::Dot(apex, f);
+  double far = 0.0;
+  for (int i = 0; i < 8; ++i)
+  {
+    const double corner[3] = { box[i & 1], box[2 + ((i >> 1) & 1)], box[4 + ((i >> 2) & 1)] };
+    far = std::max(far, std::sqrt(vtkMath::Distance2BetweenPoints(corner, apex)));
+  }
+  v.Far = far > 0.0 ? 1.01 * far : 1.0;
+  // The apex region is where float projection loses too much (see the geometry stage).
+  v.NearW = 2e-3 * v.Far;
+  return v;
+}
+
+View OrthographicView(const double f[3], const double box[6])
+{
+  View v;
+  double r[3], u[3];
+  Basis(f, r, u);
+  const double* axes[3] = { r, u, f };
+  double diagonal = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    diagonal += (box[2 * a + 1] - box[2 * a]) * (box[2 * a + 1] - box[2 * a]);
+  }
+  diagonal = std::sqrt(diagonal);
+  for (int a = 0; a < 3; ++a)
+  {
+    double lo = std::numeric_limits<double>::max();
+    double hi = -lo;
+    for (int i = 0; i < 8; ++i)
+    {
+      const double corner[3] = { box[i & 1], box[2 + ((i >> 1) & 1)], box[4 + ((i >> 2) & 1)] };
+      const double d = vtkMath::Dot(corner, axes[a]);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    // Samples on the box faces stay strictly inside the map and the depth range.
+    const double pad = 1e-3 * std::max(hi - lo, diagonal) + 1e-12;
+    lo -= pad;
+    hi += pad;
+    const double scale = a < 2 ? 2.0 / (hi - lo) : 1.0 / (hi - lo);
+    const double shift = a < 2 ? -1.0 : 0.0;
+    for (int c = 0; c < 3; ++c)
+    {
+      v.Row[a][c] = axes[a][c] * scale;
+    }
+    v.Row[a][3] = -lo * scale + shift;
+  }
+  v.Row[3][3] = 1.0;
+  return v;
+}
+
+enum class Hit
+{
+  Clear,  // the ray provably hits the triangle beyond the tie band: the sample is shadowed
+  Miss,   // the ray provably does not hit it where the reference would count a blocker
+  Unknown // too close to call in double against the float ray tracer: trace it
+};
+
+// Seed 000 §1.3 rule 5 made exact: the shadow ray o + t d (d unit) against one triangle, in
+// double. The reference (float Embree) counts a blocker for t in [tieLimit, tmax), calls
+// [tnear, tieLimit) a tie and ignores t < tnear. errPos bounds how far the float ray and
+// vertices may differ from ours (a length); every decision keeps that much margin, grown by
+// 1/|cos| where a shifted ray slides along the plane.
+Hit TestRay(const double o[3], const double d[3], double tnear, double tieLimit, double tmax,
+  const double* tri, double errPos)
+{
+  const double* v0 = tri;
+  const double* v1 = tri + 3;
+  const double* v2 = tri + 6;
+  double e1[3], e2[3], n[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    e1[c] = v1[c] - v0[c];
+    e2[c] = v2[c] - v0[c];
+  }
+  vtkMath::Cross(e1, e2, n);
+  const double area2 = vtkMath::Norm(n);
+  if (!(area2 > 0.0) || !std::isfinite(area2))
+  {
+    return Hit::Unknown;
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    n[c] /= area2;
+  }
+  const double cosine = vtkMath::Dot(d, n);
+  const double toPlane[3] = { v0[0] - o[0], v0[1] - o[1], v0[2] - o[2] };
+  const double height = vtkMath::Dot(toPlane, n); // signed distance of the plane from o
+  if (!(std::fabs(cosine) > 1e-6))
+  {
+    // Grazing: a float rounding of the direction may move the hit anywhere.
+    (void)height;
+    return Hit::Unknown;
+  }
+  const double slack = errPos * (1.0 + 1.0 / std::fabs(cosine));
+  const double t = height / cosine;
+  if (t < tnear - slack || t > tmax + slack)
+  {
+    return Hit::Miss;
+  }
+  const bool clearT = t > tieLimit + slack && t < tmax - slack;
+  const double x[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
+  const double* verts[3] = { v0, v1, v2 };
+  bool inside = true;
+  for (int i = 0; i < 3; ++i)
+  {
+    const double* a = verts[(i + 1) % 3];
+    const double* b = verts[(i + 2) % 3];
+    const double ab[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+    const double ax[3] = { x[0] - a[0], x[1] - a[1], x[2] - a[2] };
+    double c[3];
+    vtkMath::Cross(ab, ax, c);
+    const double len = vtkMath::Norm(ab);
+    // Signed distance of x to edge ab inside the triangle's plane (positive inside).
+    const double distance = len > 0.0 ? vtkMath::Dot(c, n) / len : -1.0;
+    if (distance < -slack)
+    {
+      return Hit::Miss;
+    }
+    inside = inside && distance > slack;
+  }
+  return inside && clearT ? Hit::Clear : Hit::Unknown;
+}
+}
+
+struct vtkPenumbraConservativeShadows::Internals
+{
+  vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+  GLuint VertexArray = 0;
+  GLuint Positions = 0;
+  GLuint Ids = 0;
+  GLuint Indices = 0;
+  GLsizei VertexCount = 0;
+  // CPU copy of the uploaded vertices, for culling triangles per view.
+  std::vector<float> Vertices;
+  std::vector<GLuint> ViewIndices;
+
+  // What the uploaded buffers hold.
+  bool Uploaded = false;
+  vtkPenumbraSceneGeometry* UploadedGeometry = nullptr;
+  vtkMTimeType UploadedGeometryTime = 0;
+  vtkMTimeType UploadedFlagsTime = 0;
+  vtkIdType UploadedTriangles = -1;
+  double UploadedOrigin[3] = { 0, 0, 0 };
+  double CasterBounds[6] = { 1, -1, 1, -1, 1, -1 };
+
+  vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
+  static constexpr int MaxLayers = 4;
+  vtkSmartPointer<vtkTextureObject> IdTextures[MaxLayers];
+  vtkSmartPointer<vtkTextureObject> Depth;
+  int MapSize = 0;
+
+  std::vector<float> LayerDepth[MaxLayers];
+  std::vector<std::uint32_t> LayerIds[MaxLayers];
+  vtkNew<vtkUnsignedCharArray> Mask;
+
+  void ReleaseBuffers()
+  {
+    if (this->VertexArray)
+    {
+      glDeleteVertexArrays(1, &this->VertexArray);
+    }
+    if (this->Positions)
+    {
+      glDeleteBuffers(1, &this->Positions);
+    }
+    if (this->Ids)
+    {
+      glDeleteBuffers(1, &this->Ids);
+    }
+    if (this->Indices)
+    {
+      glDeleteBuffers(1, &this->Indices);
+    }
+    this->VertexArray = this->Positions = this->Ids = this->Indices = 0;
+    this->Uploaded = false;
+  }
+
+  void Release(vtkWindow* window)
+  {
+    if (this->Window && (!window || window == this->Window))
+    {
+      this->Window->MakeCurrent();
+      this->ReleaseBuffers();
+      for (auto& tex : this->IdTextures)
+      {
+        if (tex)
+        {
+          tex->ReleaseGraphicsResources(this->Window);
+        }
+      }
+      if (this->Depth)
+      {
+        this->Depth->ReleaseGraphicsResources(this->Window);
+      }
+      if (this->FBO)
+      {
+        this->FBO->ReleaseGraphicsResources(this->Window);
+      }
+    }
+    this->VertexArray = this->Positions = this->Ids = this->Indices = 0;
+    this->Uploaded = false;
+    this->FBO = nullptr;
+    for (auto& tex : this->IdTextures)
+    {
+      tex = nullptr;
+    }
+    this->Depth = nullptr;
+    this->MapSize = 0;
+    this->Window = nullptr;
+  }
+
+  void AllocateMaps(vtkOpenGLRenderWindow* win, int size)
+  {
+    if (this->FBO && this->MapSize == size)
+    {
+      return;
+    }
+    this->FBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+    this->FBO->SetContext(win);
+    for (auto& tex : this->IdTextures)
+    {
+      tex = vtkSmartPointer<vtkTextureObject>::New();
+      tex->SetContext(win);
+      tex->SetRequireTextureInteger(true);
+      tex->SetInternalFormat(GL_R32UI);
+      tex->SetFormat(GL_RED_INTEGER);
+      tex->SetDataType(GL_UNSIGNED_INT);
+      tex->SetMinificationFilter(vtkTextureObject::Nearest);
+      tex->SetMagnificationFilter(vtkTextureObject::Nearest);
+      tex->SetWrapS(vtkTextureObject::ClampToEdge);
+      tex->SetWrapT(vtkTextureObject::ClampToEdge);
+      tex->Allocate2D(size, size, 1, VTK_UNSIGNED_INT);
+    }
+    this->Depth = vtkSmartPointer<vtkTextureObject>::New();
+    this->Depth->SetContext(win);
+    this->Depth->AllocateDepth(size, size, vtkTextureObject::Float32);
+    this->MapSize = size;
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkPenumbraConservativeShadows::vtkPenumbraConservativeShadows()
+  : Reference(vtkPenumbraReference::New())
+  , Impl(new Internals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkPenumbraConservativeShadows::~vtkPenumbraConservativeShadows()
+{
+  this->Impl->Release(nullptr);
+  this->Reference->Delete();
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraConservativeShadows::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Impl->Release(window);
+}
+
+//------------------------------------------------------------------------------
+#define PENUMBRA_CSM_FAIL(text)                                                                  \
+  do                                                                                             \
+  {                                                                                              \
+    vtkErrorMacro(<< text);                                                                      \
+    return 0;                                                                                    \
+  } while (false)
+
+//------------------------------------------------------------------------------
+int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
+  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
+  vtkFloatArray* visibility)
+{
+  const auto start = Clock::now();
+  Internals& impl = *this->Impl;
+  this->NumberOfLitSamples = this->NumberOfShadowedSamples = this->NumberOfUncertainSamples = 0;
+  this->NumberOfRays = 0;
+  this->MapTimeMs = this->ClassifyTimeMs = this->TraceTimeMs = 0.0;
+  this->NumberOfViews = 0;
+
+  // ---- Input checks: nothing is written before they pass.
+  if (!renderer || !geometry || !samples || !light || !visibility)
+  {
+    PENUMBRA_CSM_FAIL("conservative shadows need a renderer, geometry, samples, a light and an "
+                      "output array");
+  }
+  if (vtkPenumbraAreaLight::SafeDownCast(light))
+  {
+    PENUMBRA_CSM_FAIL("conservative shadows handle point, spot and directional lights only, not "
+                      "area lights");
+  }
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
+  if (!win)
+  {
+    PENUMBRA_CSM_FAIL("conservative shadows need an OpenGL render window");
+  }
+  const vtkIdType n = samples->GetNumberOfSamples();
+  vtkFloatArray* posArray = samples->GetPositions();
+  vtkFloatArray* nrmArray = samples->GetNormals();
+  vtkIntArray* propArray = samples->GetPropIndices();
+  vtkIdTypeArray* triArray = samples->GetTriangleIds();
+  if (!posArray || !nrmArray || !propArray || !triArray ||
+    posArray->GetNumberOfComponents() != 3 || nrmArray->GetNumberOfComponents() != 3 ||
+    posArray->GetNumberOfTuples() != n || nrmArray->GetNumberOfTuples() != n ||
+    propArray->GetNumberOfTuples() != n || triArray->GetNumberOfTuples() != n)
+  {
+    PENUMBRA_CSM_FAIL("view sample arrays are missing or do not match the sample count " << n);
+  }
+  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
+  vtkDoubleArray* vertexArray = geometry->GetVertices();
+  vtkUnsignedCharArray* flagArray = geometry->GetFlags();
+  if (nTriangles > 0 &&
+    (!vertexArray || !flagArray || vertexArray->GetNumberOfComponents() != 9 ||
+      vertexArray->GetNumberOfTuples() != nTriangles ||
+      flagArray->GetNumberOfTuples() != nTriangles))
+  {
+    PENUMBRA_CSM_FAIL("scene geometry is inconsistent: vertex or flag arrays do not match its "
+                      "number of triangles");
+  }
+  if (nTriangles >= static_cast<vtkIdType>(IdMask))
+  {
+    PENUMBRA_CSM_FAIL("scene geometry has too many triangles for 31-bit map ids: " << nTriangles);
+  }
+
+  // ---- The light, reduced exactly as vtkPenumbraReference does (same expressions, so the
+  // facing and cone decisions are bit for bit the reference's).
+  double geometryOrigin[3], samplesOrigin[3];
+  geometry->GetOrigin(geometryOrigin);
+  samples->GetOrigin(samplesOrigin);
+  if (!Finite3(geometryOrigin) || !Finite3(samplesOrigin))
+  {
+    PENUMBRA_CSM_FAIL("geometry or samples have a non-finite origin");
+  }
+  double shift[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    shift[c] = samplesOrigin[c] - geometryOrigin[c];
+  }
+  enum class Kind
+  {
+    Directional,
+    Point,
+    Spot
+  } kind = Kind::Point;
+  double direction[3] = { 0, 0, 0 }, position[3] = { 0, 0, 0 }, axis[3] = { 0, 0, 0 };
+  double cosCone = -1.0;
+  double cone = 180.0;
+  {
+    double lp[3], lf[3];
+    light->GetTransformedPosition(lp);
+    light->GetTransformedFocalPoint(lf);
+    if (!Finite3(lp) || !Finite3(lf))
+    {
+      PENUMBRA_CSM_FAIL("light position or focal point is not finite");
+    }
+    if (!light->GetPositional())
+    {
+      kind = Kind::Directional;
+      for (int c = 0; c < 3; ++c)
+      {
+        direction[c] = lp[c] - lf[c];
+      }
+      if (!(vtkMath::Normalize(direction) > 0.0))
+      {
+        PENUMBRA_CSM_FAIL("directional light has no direction (position equals focal point)");
+      }
+    }
+    else
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        position[c] = lp[c];
+      }
+      cone = light->GetConeAngle();
+      kind = cone < 90.0 ? Kind::Spot : Kind::Point;
+      if (kind == Kind::Spot)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          axis[c] = lf[c] - lp[c];
+        }
+        if (!(vtkMath::Normalize(axis) > 0.0))
+        {
+          PENUMBRA_CSM_FAIL("spot light has no axis (position equals focal point)");
+        }
+        cosCone = std::cos(vtkMath::RadiansFromDegrees(cone));
+      }
+      for (int c = 0; c < 3; ++c)
+      {
+        position[c] -= geometryOrigin[c];
+      }
+    }
+  }
+  const bool off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+
+  visibility->SetNumberOfComponents(1);
+  visibility->SetNumberOfTuples(n);
+  float* vis = n ? visibility->GetPointer(0) : nullptr;
+  impl.Mask->SetNumberOfComponents(1);
+  impl.Mask->SetNumberOfTuples(n);
+  unsigned char* state = n ? impl.Mask->GetPointer(0) : nullptr;
+  const float* pos = n ? posArray->GetPointer(0) : nullptr;
+  const float* nrm = n ? nrmArray->GetPointer(0) : nullptr;
+  const int* props = n ? propArray->GetPointer(0) : nullptr;
+  const vtkIdType* tris = n ? triArray->GetPointer(0) : nullptr;
+
+  // ---- Upload the casters once per geometry change (seed 000 §3 #14).
+  const auto mapStart = Clock::now();
+  win->MakeCurrent();
+  if (impl.Window && impl.Window != win)
+  {
+    impl.Release(nullptr);
+  }
+  impl.Window = win;
+  if (!impl.Uploaded || impl.UploadedGeometry != geometry ||
+    impl.UploadedGeometryTime != geometry->GetGeometryTime() ||
+    impl.UploadedFlagsTime != geometry->GetFlagsTime() || impl.UploadedTriangles != nTriangles ||
+    !std::equal(geometryOrigin, geometryOrigin + 3, impl.UploadedOrigin))
+  {
+    std::vector<float> xyz;
+    std::vector<std::uint32_t> ids;
+    double* bounds = impl.CasterBounds;
+    bounds[0] = bounds[2] = bounds[4] = std::numeric_limits<double>::max();
+    bounds[1] = bounds[3] = bounds[5] = -std::numeric_limits<double>::max();
+    const double* v = nTriangles ? vertexArray->GetPointer(0) : nullptr;
+    for (vtkIdType t = 0; t < nTriangles; ++t)
+    {
+      // The reference's rule: casters with area (seed 000 §3 #4).
+      if (!geometry->IsOccluder(t))
+      {
+        continue;
+      }
+      const double* p = v + 9 * t;
+      for (int c = 0; c < 9; ++c)
+      {
+        xyz.push_back(static_cast<float>(p[c]));
+        bounds[2 * (c % 3)] = std::min(bounds[2 * (c % 3)], p[c]);
+        bounds[2 * (c % 3) + 1] = std::max(bounds[2 * (c % 3) + 1], p[c]);
+      }
+      for (int c = 0; c < 3; ++c)
+      {
+        ids.push_back(static_cast<std::uint32_t>(t));
+      }
+    }
+    if (!impl.VertexArray)
+    {
+      glGenVertexArrays(1, &impl.VertexArray);
+      glGenBuffers(1, &impl.Positions);
+      glGenBuffers(1, &impl.Ids);
+      glGenBuffers(1, &impl.Indices);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, impl.Positions);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(xyz.size() * sizeof(float)),
+      xyz.empty() ? nullptr : xyz.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, impl.Ids);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ids.size() * sizeof(std::uint32_t)),
+      ids.empty() ? nullptr : ids.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    impl.VertexCount = static_cast<GLsizei>(ids.size());
+    impl.Vertices.swap(xyz);
+    impl.Uploaded = true;
+    impl.UploadedGeometry = geometry;
+    impl.UploadedGeometryTime = geometry->GetGeometryTime();
+    impl.UploadedFlagsTime = geometry->GetFlagsTime();
+    impl.UploadedTriangles = nTriangles;
+    std::copy(geometryOrigin, geometryOrigin + 3, impl.UploadedOrigin);
+    ++this->NumberOfUploads;
+  }
+  const bool anyCaster = impl.VertexCount > 0;
+  const double uploadMs = ElapsedMs(mapStart);
+
+  // ---- Pass A (seed 000 §1.3 rules 1-2, plus the reference's light rules): decide what
+  // needs no map, and find the box the light cameras must cover.
+  double diagonal = 0.0;
+  {
+    double gb[6];
+    geometry->GetBounds(gb);
+    if (vtkMath::AreBoundsInitialized(gb))
+    {
+      diagonal = std::sqrt((gb[1] - gb[0]) * (gb[1] - gb[0]) + (gb[3] - gb[2]) * (gb[3] - gb[2]) +
+        (gb[5] - gb[4]) * (gb[5] - gb[4]));
+    }
+    diagonal = std::isfinite(diagonal) && diagonal > 0.0 ? diagonal : 1.0;
+  }
+  std::atomic<vtkIdType> lit(0), shadowed(0), pending(0);
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    vtkIdType localLit = 0, localShadowed = 0, localPending = 0;
+    for (vtkIdType s = begin; s < end; ++s)
+    {
+      state[s] = Decided;
+      double p[3], normal[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
+        normal[c] = nrm[3 * s + c];
+      }
+      if (props[s] < 0 || !Finite3(p) || !Finite3(normal))
+      {
+        vis[s] = -1.0f;
+        continue;
+      }
+      if (off)
+      {
+        vis[s] = 1.0f;
+        ++localLit;
+        continue;
+      }
+      double toLight[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        toLight[c] = kind == Kind::Directional ? direction[c] : position[c] - p[c];
+      }
+      bool facing = vtkMath::Dot(normal, toLight) > 0.0;
+      if (facing && kind == Kind::Spot)
+      {
+        double fromLight[3] = { -toLight[0], -toLight[1], -toLight[2] };
+        facing = vtkMath::Normalize(fromLight) > 0.0 && vtkMath::Dot(fromLight, axis) >= cosCone;
+      }
+      if (!facing)
+      {
+        vis[s] = 0.0f; // rule 1: facing away (or outside the cone) is shadowed
+        ++localShadowed;
+        continue;
+      }
+      if (!anyCaster)
+      {
+        vis[s] = 1.0f;
+        ++localLit;
+        continue;
+      }
+      vis[s] = 1.0f;
+      state[s] = Pending;
+      ++localPending;
+    }
+    lit += localLit;
+    shadowed += localShadowed;
+    pending += localPending;
+  });
+
+  // ---- Light cameras.
+  std::vector<View> views;
+  std::vector<signed char> sampleView;
+  if (pending.load() > 0)
+  {
+    double box[6];
+    std::copy(impl.CasterBounds, impl.CasterBounds + 6, box);
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      if (state[s] == Pending)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          const double v = static_cast<double>(pos[3 * s + c]) + shift[c];
+          box[2 * c] = std::min(box[2 * c], v);
+          box[2 * c + 1] = std::max(box[2 * c + 1], v);
+        }
+      }
+    }
+    if (kind == Kind::Directional)
+    {
+      const double travel[3] = { -direction[0], -direction[1], -direction[2] };
+      views.push_back(OrthographicView(travel, box));
+    }
+    else if (kind == Kind::Spot && cone <= 60.0)
+    {
+      // The square frustum circumscribes the cone with a degree to spare.
+      views.push_back(
+        PerspectiveView(position, axis, std::tan(vtkMath::RadiansFromDegrees(cone + 1.0)), box));
+    }
+    else
+    {
+      for (int face = 0; face < 6; ++face)
+      {
+        double f[3] = { 0, 0, 0 };
+        f[face / 2] = (face % 2) ? -1.0 : 1.0;
+        views.push_back(PerspectiveView(position, f, 1.0, box));
+      }
+    }
+    sampleView.assign(static_cast<size_t>(n), -1);
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      if (state[s] != Pending)
+      {
+        continue;
+      }
+      if (views.size() == 1)
+      {
+        sampleView[static_cast<size_t>(s)] = 0;
+        continue;
+      }
+      double v[3];
+      int best = 0;
+      for (int c = 0; c < 3; ++c)
+      {
+        v[c] = static_cast<double>(pos[3 * s + c]) + shift[c] - position[c];
+        best = std::fabs(v[c]) > std::fabs(v[best]) ? c : best;
+      }
+      sampleView[static_cast<size_t>(s)] = static_cast<signed char>(2 * best + (v[best] < 0.0));
+    }
+  }
+  this->NumberOfViews = static_cast<int>(views.size());
+
+  // ---- Per view: render both CSM layers, read them back, classify its samples.
+  double classifyMs = 0.0;
+  double mapMs = 0.0;
+  if (!views.empty())
+  {
+    const int size = this->Resolution;
+    vtkShaderProgram* program = win->GetShaderCache()->ReadyShaderProgram(
+      vtkPenumbraConservativeMapVS, vtkPenumbraConservativeMapFS, vtkPenumbraConservativeMapGS);
+    if (!program || !program->GetCompiled())
+    {
+      PENUMBRA_CSM_FAIL("the conservative shadow map shaders do not compile or link on this "
+                        "OpenGL implementation (a geometry shader is required)");
+    }
+    const int layers = this->Layers;
+    impl.AllocateMaps(win, size);
+    for (int k = 0; k < Internals::MaxLayers; ++k)
+    {
+      const size_t texels = k < layers ? static_cast<size_t>(size) * size : 0;
+      impl.LayerDepth[k].resize(texels);
+      impl.LayerIds[k].resize(texels);
+      impl.LayerDepth[k].shrink_to_fit();
+      impl.LayerIds[k].shrink_to_fit();
+    }
+
+    const double* tv = vertexArray->GetPointer(0);
+    const double epsilon = this->Reference->GetRelativeEpsilon();
+    const double tieFactor = this->Reference->GetTieFactor();
+    std::atomic<vtkIdType> viewLit(0), viewShadowed(0);
+
+    for (size_t vi = 0; vi < views.size(); ++vi)
+    {
+      const View& view = views[vi];
+      const auto renderStart = Clock::now();
+      {
+        vtkOpenGLState* ostate = win->GetState();
+        vtkOpenGLState::ScopedglEnableDisable blendSaver(ostate, GL_BLEND);
+        vtkOpenGLState::ScopedglEnableDisable depthSaver(ostate, GL_DEPTH_TEST);
+        vtkOpenGLState::ScopedglEnableDisable scissorSaver(ostate, GL_SCISSOR_TEST);
+        vtkOpenGLState::ScopedglEnableDisable cullSaver(ostate, GL_CULL_FACE);
+        vtkOpenGLState::ScopedglViewport viewportSaver(ostate);
+        vtkOpenGLState::ScopedglDepthFunc depthFuncSaver(ostate);
+        vtkOpenGLState::ScopedglDepthMask depthMaskSaver(ostate);
+        vtkOpenGLState::ScopedglColorMask colorMaskSaver(ostate);
+        ostate->PushFramebufferBindings();
+        impl.FBO->Bind();
+        ostate->vtkglViewport(0, 0, size, size);
+        ostate->vtkglDisable(GL_SCISSOR_TEST);
+        ostate->vtkglDisable(GL_BLEND);
+        ostate->vtkglDisable(GL_CULL_FACE); // both windings cast (open meshes, seed 000 §1.3)
+        ostate->vtkglEnable(GL_DEPTH_TEST);
+        ostate->vtkglDepthFunc(GL_LESS);
+        ostate->vtkglDepthMask(GL_TRUE);
+        ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        // Depth is written explicitly and clamped in the shader; clamping is on as a second
+        // line of defence (seed 000 §3 #8).
+        const GLboolean hadClamp = glIsEnabled(GL_DEPTH_CLAMP);
+        glEnable(GL_DEPTH_CLAMP);
+
+        program = win->GetShaderCache()->ReadyShaderProgram(
+          vtkPenumbraConservativeMapVS, vtkPenumbraConservativeMapFS, vtkPenumbraConservativeMapGS);
+        float matrix[16];
+        for (int r = 0; r < 4; ++r)
+        {
+          for (int c = 0; c < 4; ++c)
+          {
+            matrix[4 * c + r] = static_cast<float>(view.Row[r][c]); // column-major for GLSL
+          }
+        }
+        program->SetUniformMatrix4x4("lightMatrix", matrix);
+        const float mapSize[2] = { static_cast<float>(size), static_cast<float>(size) };
+        program->SetUniform2f("mapSize", mapSize);
+        program->SetUniformi("perspective", view.Perspective ? 1 : 0);
+        program->SetUniformf("nearW", static_cast<float>(view.NearW));
+        program->SetUniformf("frustumSlack", static_cast<float>(1.0 + 8.0 / size));
+        // Half the texel diagonal (seed 000 §1.1.3 errata) plus a quarter texel for the float
+        // rounding between the GPU projection and the classifier's double one (§3 #10).
+        program->SetUniformf("keepRadius", static_cast<float>(0.5 * std::sqrt(2.0) + 0.25));
+        program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
+
+        // Perspective views draw only the triangles that reach their frustum: a cube face
+        // sees about a sixth of the scene, and llvmpipe pays per primitive in the geometry
+        // stage. Only triangles wholly outside one of the shader's side planes (by more than
+        // its rounding) are dropped, so nothing the shader would keep is lost. Indices only; the
+        // vertices stay uploaded.
+        GLsizei drawCount = impl.VertexCount;
+        if (view.Perspective)
+        {
+          const double slack = 1.0 + 8.0 / size; // the shader's frustumSlack
+          impl.ViewIndices.clear();
+          const float* xyz = impl.Vertices.data();
+          for (GLsizei tri = 0; tri < impl.VertexCount / 3; ++tri)
+          {
+            int outside[4] = { 0, 0, 0, 0 };
+            for (int k = 0; k < 3; ++k)
+            {
+              const float* fv = xyz + 9 * static_cast<size_t>(tri) + 3 * k;
+              const double pv[3] = { fv[0], fv[1], fv[2] };
+              const double x = view.Dot(0, pv);
+              const double y = view.Dot(1, pv);
+              const double w = slack * view.Dot(3, pv);
+              // Outside by more than the float rounding of the shader's plane test.
+              const double margin = 1e-5 * (std::fabs(x) + std::fabs(y) + std::fabs(w));
+              outside[0] += x - w > margin;
+              outside[1] += -x - w > margin;
+              outside[2] += y - w > margin;
+              outside[3] += -y - w > margin;
+            }
+            if (outside[0] < 3 && outside[1] < 3 && outside[2] < 3 && outside[3] < 3)
+            {
+              for (GLuint k = 0; k < 3; ++k)
+              {
+                impl.ViewIndices.push_back(3 * static_cast<GLuint>(tri) + k);
+              }
+            }
+          }
+          drawCount = static_cast<GLsizei>(impl.ViewIndices.size());
+        }
+        glBindVertexArray(impl.VertexArray);
+        if (view.Perspective)
+        {
+          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, impl.Indices);
+          glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+            static_cast<GLsizeiptr>(impl.ViewIndices.size() * sizeof(GLuint)),
+            impl.ViewIndices.empty() ? nullptr : impl.ViewIndices.data(), GL_STREAM_DRAW);
+        }
+        const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
+        const GLint idLoc = glGetAttribLocation(program->GetHandle(), "triangleId");
+        if (posLoc >= 0)
+        {
+          glBindBuffer(GL_ARRAY_BUFFER, impl.Positions);
+          glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
+          glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+        }
+        if (idLoc >= 0)
+        {
+          glBindBuffer(GL_ARRAY_BUFFER, impl.Ids);
+          glEnableVertexAttribArray(static_cast<GLuint>(idLoc));
+          glVertexAttribIPointer(static_cast<GLuint>(idLoc), 1, GL_UNSIGNED_INT, 0, nullptr);
+        }
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
+
+        const char* previousNames[] = { "layer1", "layer2", "layer3" };
+        for (int layer = 0; layer < layers; ++layer)
+        {
+          impl.FBO->AddColorAttachment(0, impl.IdTextures[layer]);
+          impl.FBO->AddDepthAttachment(impl.Depth);
+          impl.FBO->ActivateDrawBuffers(1);
+          const GLuint zero[4] = { 0, 0, 0, 0 };
+          const GLfloat one = 1.0f;
+          glClearBufferuiv(GL_COLOR, 0, zero);
+          glClearBufferfv(GL_DEPTH, 0, &one);
+          program->SetUniformi("peel", layer);
+          // Option (ii) of the note (seed 000 §1.3b): the nearest triangles not yet stored.
+          for (int k = 0; k < layer; ++k)
+          {
+            impl.IdTextures[k]->Activate();
+            program->SetUniformi(previousNames[k], impl.IdTextures[k]->GetTextureUnit());
+          }
+          if (view.Perspective)
+          {
+            glDrawElements(GL_TRIANGLES, drawCount, GL_UNSIGNED_INT, nullptr);
+          }
+          else
+          {
+            glDrawArrays(GL_TRIANGLES, 0, drawCount);
+          }
+          for (int k = 0; k < layer; ++k)
+          {
+            impl.IdTextures[k]->Deactivate();
+          }
+          impl.FBO->ActivateReadBuffer(0);
+          glPixelStorei(GL_PACK_ALIGNMENT, 1);
+          glReadPixels(0, 0, size, size, GL_RED_INTEGER, GL_UNSIGNED_INT,
+            impl.LayerIds[layer].data());
+          glReadPixels(
+            0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, impl.LayerDepth[layer].data());
+        }
+        glBindVertexArray(0);
+        if (!hadClamp)
+        {
+          glDisable(GL_DEPTH_CLAMP);
+        }
+        ostate->PopFramebufferBindings();
+      }
+      mapMs += ElapsedMs(renderStart);
+
+      // Seed 000 §1.3, rules as made exact by the note (sections 1.3b, 3 and 7 errata):
+      //  1. facing away from the light / outside the spot cone -> shadowed (pass A above);
+      //  2. project into the map (double); outside the map or behind the apex -> uncertain;
+      //  3. walk the texel's layers k = 1..Layers (layer k: the nearest triangle no earlier
+      //     layer holds, with its conservative depth z_k):
+      //     a. empty, or z_k > sample depth + margin -> lit: every triangle not yet seen is
+      //        deeper than the sample, and the shadow ray projects to this one texel, so
+      //        only seen triangles could block it;
+      //     b. the sample's own triangle -> skip it (the reference never lets it block;
+      //        replaces the paper's inexact "own id -> lit", rule 6);
+      //     c. exact double-precision ray-triangle test with margins beyond the tie band
+      //        and float rounding: clear hit -> shadowed (the conservative depth alone
+      //        never shadows, "fully covered" or not: rule 4 is not exact); clear miss ->
+      //        skip it (e.g. a coplanar neighbour at a shared edge); else uncertain;
+      //  4. layers exhausted -> uncertain (traced).
+      const auto classifyStart = Clock::now();
+      const signed char viewIndex = static_cast<signed char>(vi);
+      vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+        vtkIdType localLit = 0, localShadowed = 0;
+        for (vtkIdType s = begin; s < end; ++s)
+        {
+          if (state[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
+          {
+            continue;
+          }
+          state[s] = Uncertain;
+          double p[3];
+          for (int c = 0; c < 3; ++c)
+          {
+            p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
+          }
+          double ms, mt, depth;
+          if (!view.Project(p, ms, mt, depth) || !(std::fabs(ms) <= 1.0) ||
+            !(std::fabs(mt) <= 1.0))
+          {
+            continue;
+          }
+          const int ix = std::min(size - 1, std::max(0, static_cast<int>((ms * 0.5 + 0.5) * size)));
+          const int iy = std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
+          const size_t texel = static_cast<size_t>(iy) * size + ix;
+          const double margin = 1e-6 * (1.0 + std::fabs(depth));
+          const vtkIdType own = tris[s];
+
+          // The reference's ray: same direction, same scale-relative epsilons.
+          double d[3];
+          double tmax = std::numeric_limits<double>::infinity();
+          bool rayOk = true;
+          if (kind == Kind::Directional)
+          {
+            std::copy(direction, direction + 3, d);
+          }
+          else
+          {
+            for (int c = 0; c < 3; ++c)
+            {
+              d[c] = position[c] - p[c];
+            }
+            const double distance = vtkMath::Normalize(d);
+            rayOk = distance > 0.0;
+            tmax = distance * (1.0 - epsilon);
+          }
+          const double scale = std::max(vtkMath::Norm(p), diagonal);
+          const double tnear = epsilon * scale;
+          const double tieLimit = tieFactor * tnear;
+          const double errPos = 4e-6 * scale;
+
+          for (int k = 0; k < layers && rayOk; ++k)
+          {
+            const std::uint32_t id = impl.LayerIds[k][texel] & IdMask;
+            if (id == 0 || impl.LayerDepth[k][texel] > depth + margin)
+            {
+              state[s] = Decided;
+              ++localLit;
+              break;
+            }
+            const vtkIdType blocker = static_cast<vtkIdType>(id) - 1;
+            if (blocker == own)
+            {
+              continue;
+            }
+            if (blocker >= nTriangles)
+            {
+              break;
+            }
+            const Hit hit = TestRay(p, d, tnear, tieLimit, tmax, tv + 9 * blocker, errPos);
+            if (hit == Hit::Clear)
+            {
+              vis[s] = 0.0f;
+              state[s] = Decided;
+              ++localShadowed;
+              break;
+            }
+            if (hit == Hit::Unknown)
+            {
+              break;
+            }
+          }
+        }
+        viewLit += localLit;
+        viewShadowed += localShadowed;
+      });
+      classifyMs += ElapsedMs(classifyStart);
+    }
+    lit += viewLit.load();
+    shadowed += viewShadowed.load();
+  }
+
+  // ---- Rays only for the uncertain samples. On the CPU with Embree rather than the paper's
+  // GPU kD-tree (seed 000 §1.4): on llvmpipe the "GPU" runs on the same two cores, and a
+  // divergent per-fragment traversal in its SIMD fragment pipeline loses to Embree's
+  // SIMD-optimised BVH over a compact list of samples (note §7.3).
+  const auto traceStart = Clock::now();
+  vtkIdType uncertain = 0;
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    // Samples still pending here had no view (cannot happen with full coverage) and are
+    // traced too, so nothing is ever left undecided.
+    state[s] = (state[s] == Uncertain || state[s] == Pending) ? 1 : 0;
+    uncertain += state[s];
+  }
+  if (uncertain > 0)
+  {
+    this->Reference->SetGeometry(geometry);
+    if (!this->Reference->ComputeVisibility(samples, light, visibility, impl.Mask))
+    {
+      PENUMBRA_CSM_FAIL(
+        "tracing the uncertain samples failed: " << this->Reference->GetErrorMessage());
+    }
+  }
+  this->TraceTimeMs = uncertain > 0 ? ElapsedMs(traceStart) : 0.0;
+  this->MapTimeMs = uploadMs + mapMs;
+  this->ClassifyTimeMs = classifyMs;
+  this->NumberOfLitSamples = lit.load();
+  this->NumberOfShadowedSamples = shadowed.load();
+  this->NumberOfUncertainSamples = uncertain;
+  this->NumberOfRays = uncertain;
+  visibility->Modified();
+  this->LastTimeMs = ElapsedMs(start);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+double vtkPenumbraConservativeShadows::GetUncertainFraction()
+{
+  const vtkIdType valid =
+    this->NumberOfLitSamples + this->NumberOfShadowedSamples + this->NumberOfUncertainSamples;
+  return valid > 0 ? static_cast<double>(this->NumberOfUncertainSamples) / valid : 0.0;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraConservativeShadows::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Resolution: " << this->Resolution << "\n";
+  os << indent << "NumberOfLitSamples: " << this->NumberOfLitSamples << "\n";
+  os << indent << "NumberOfShadowedSamples: " << this->NumberOfShadowedSamples << "\n";
+  os << indent << "NumberOfUncertainSamples: " << this->NumberOfUncertainSamples << "\n";
+  os << indent << "NumberOfRays: " << this->NumberOfRays << "\n";
+  os << indent << "MapTimeMs: " << this->MapTimeMs << "\n";
+  os << indent << "ClassifyTimeMs: " << this->ClassifyTimeMs << "\n";
+  os << indent << "TraceTimeMs: " << this->TraceTimeMs << "\n";
+  os << indent << "NumberOfUploads: " << this->NumberOfUploads << "\n";
+  os << indent << "NumberOfViews: " << this->NumberOfViews << "\n";
+}
