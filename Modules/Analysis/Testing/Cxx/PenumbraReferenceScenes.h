@@ -11,6 +11,7 @@
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPolyDataAlgorithm.h"
+#include "vtkPlaneSource.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
@@ -32,6 +33,18 @@ inline vtkSmartPointer<vtkActor> AddActor(
   actor->SetPosition(position[0], position[1], position[2]);
   renderer->AddActor(actor);
   return actor;
+}
+
+// Adds the rectangle [x0, x1] x [y0, y1] at height z (normal +z) as an actor at the origin.
+inline vtkSmartPointer<vtkActor> AddRectangle(
+  vtkRenderer* renderer, double x0, double x1, double y0, double y1, double z)
+{
+  vtkNew<vtkPlaneSource> plane;
+  plane->SetOrigin(x0, y0, z);
+  plane->SetPoint1(x1, y0, z);
+  plane->SetPoint2(x0, y1, z);
+  const double zero[3] = { 0, 0, 0 };
+  return AddActor(renderer, plane, zero);
 }
 
 // Global index of a triangle of prop `propIndex` containing (x, y) in the xy projection

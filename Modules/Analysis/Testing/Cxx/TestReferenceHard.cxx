@@ -355,18 +355,9 @@ int Ties()
   // Ground [-1, 1]^2; tie squares at z = 5e-5 (tnear = 1e-5 * diagonal ~ 2.9e-5, band up to
   // ~4.6e-4); blocker squares at z = 0.5.
   vtkNew<vtkRenderer> renderer;
-  const double zero[3] = { 0, 0, 0 };
-  vtkNew<vtkPlaneSource> ground;
-  ground->SetOrigin(-1, -1, 0);
-  ground->SetPoint1(1, -1, 0);
-  ground->SetPoint2(-1, 1, 0);
-  auto groundActor = AddActor(renderer, ground, zero);
+  auto groundActor = AddRectangle(renderer, -1, 1, -1, 1, 0);
   auto square = [&](double x0, double y0, double z) {
-    vtkNew<vtkPlaneSource> s;
-    s->SetOrigin(x0, y0, z);
-    s->SetPoint1(x0 + 0.2, y0, z);
-    s->SetPoint2(x0, y0 + 0.2, z);
-    AddActor(renderer, s, zero);
+    AddRectangle(renderer, x0, x0 + 0.2, y0, y0 + 0.2, z);
   };
   square(0.2, 0.2, 5e-5);   // over sample A: tie, nothing else -> lit + tie
   square(-0.4, -0.4, 0.5);  // over sample B: real blocker -> shadowed, no tie

@@ -47,17 +47,8 @@ double SampleX(int i)
 int EdgePenumbra()
 {
   vtkNew<vtkRenderer> renderer;
-  const double zero[3] = { 0, 0, 0 };
-  vtkNew<vtkPlaneSource> ground;
-  ground->SetOrigin(-10, -10, 0);
-  ground->SetPoint1(10, -10, 0);
-  ground->SetPoint2(-10, 10, 0);
-  auto groundActor = AddActor(renderer, ground, zero);
-  vtkNew<vtkPlaneSource> blocker;
-  blocker->SetOrigin(-20, -20, h);
-  blocker->SetPoint1(0, -20, h);
-  blocker->SetPoint2(-20, 20, h);
-  AddActor(renderer, blocker, zero);
+  auto groundActor = AddRectangle(renderer, -10, 10, -10, 10, 0);
+  AddRectangle(renderer, -20, 0, -20, 20, h);
   vtkNew<vtkPenumbraSceneGeometry> geometry;
   CHECK(geometry->Update(renderer));
 
@@ -188,11 +179,7 @@ int LightSizeLimits()
 {
   vtkNew<vtkRenderer> renderer;
   const double zero[3] = { 0, 0, 0 };
-  vtkNew<vtkPlaneSource> ground;
-  ground->SetOrigin(-4, -4, 0);
-  ground->SetPoint1(4, -4, 0);
-  ground->SetPoint2(-4, 4, 0);
-  auto groundActor = AddActor(renderer, ground, zero);
+  auto groundActor = AddRectangle(renderer, -4, 4, -4, 4, 0);
   vtkNew<vtkCubeSource> box;
   box->SetCenter(0, 0, 1);
   box->SetXLength(2);
@@ -264,12 +251,7 @@ int LightSizeLimits()
 int TangentPlane()
 {
   vtkNew<vtkRenderer> renderer;
-  const double zero[3] = { 0, 0, 0 };
-  vtkNew<vtkPlaneSource> ground;
-  ground->SetOrigin(-1, -1, 0);
-  ground->SetPoint1(1, -1, 0);
-  ground->SetPoint2(-1, 1, 0);
-  auto groundActor = AddActor(renderer, ground, zero);
+  auto groundActor = AddRectangle(renderer, -1, 1, -1, 1, 0);
   vtkNew<vtkPenumbraSceneGeometry> geometry;
   CHECK(geometry->Update(renderer));
   vtkNew<vtkPenumbraViewSamples> samples;
