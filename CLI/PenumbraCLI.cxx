@@ -5,6 +5,7 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkOutputWindow.h"
+#include "vtkPenumbraEGLRenderWindow.h"
 #include "vtkPointData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
@@ -12,6 +13,7 @@
 #include "vtkWindowToImageFilter.h"
 
 #include <cstdio>
+#include <cstdlib>
 
 namespace penumbra_cli
 {
@@ -46,9 +48,17 @@ void ErrorLog::OnError(vtkObject*, unsigned long, void* client, void* data)
   }
 }
 
-vtkSmartPointer<vtkRenderWindow> MakeWindow(int width, int height, vtkRenderer* renderer, ErrorLog& log)
+vtkSmartPointer<vtkRenderWindow> MakeWindow(
+  int width, int height, vtkRenderer* renderer, ErrorLog& log, std::string& error)
 {
   auto window = vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
+  const char* display = std::getenv("DISPLAY");
+  if (!vtkPenumbraEGLRenderWindow::SafeDownCast(window) && (!display || !*display))
+  {
+    error = "no X display is set but VTK's X window was requested (PENUMBRA_HEADLESS=0); "
+            "unset PENUMBRA_HEADLESS to render headless";
+    return nullptr;
+  }
   log.Watch(window);
   log.Watch(renderer);
   window->SetOffScreenRendering(1);

@@ -41,8 +41,11 @@ private:
 };
 
 // Offscreen window (the headless EGL window when no X display is set) with a stencil buffer
-// and no multisampling, so pixels map one to one onto view samples.
-vtkSmartPointer<vtkRenderWindow> MakeWindow(int width, int height, vtkRenderer* renderer, ErrorLog& log);
+// and no multisampling, so pixels map one to one onto view samples. Returns nullptr with
+// `error` set when no window can work (VTK's X window forced without an X display, which
+// VTK would answer with an abort).
+vtkSmartPointer<vtkRenderWindow> MakeWindow(
+  int width, int height, vtkRenderer* renderer, ErrorLog& log, std::string& error);
 
 // The last frame: RGB unsigned char, rows bottom-up.
 vtkSmartPointer<vtkImageData> GrabRGB(vtkRenderWindow* window);

@@ -547,7 +547,14 @@ int main(int argc, char* argv[])
     }
     vtkRenderer* ren = reader->GetRenderer();
     penumbra_cli::ErrorLog errors;
-    vtkSmartPointer<vtkRenderWindow> win = penumbra_cli::MakeWindow(width, height, ren, errors);
+    std::string windowError;
+    vtkSmartPointer<vtkRenderWindow> win =
+      penumbra_cli::MakeWindow(width, height, ren, errors, windowError);
+    if (!win)
+    {
+      std::cerr << "\npenumbra-bench: " << windowError << "\n";
+      return 3;
+    }
 
     // Reference: view samples and exact visibility of the measured light.
     Progress(done, total, label + ": reference");

@@ -159,8 +159,14 @@ int main(int argc, char* argv[])
 
   const auto t2 = Clock::now();
   penumbra_cli::ErrorLog errors;
+  std::string windowError;
   vtkSmartPointer<vtkRenderWindow> win = penumbra_cli::MakeWindow(
-    width ? width : reader->GetWidth(), height ? height : reader->GetHeight(), ren, errors);
+    width ? width : reader->GetWidth(), height ? height : reader->GetHeight(), ren, errors, windowError);
+  if (!win)
+  {
+    std::cerr << "penumbra-render: " << windowError << "\n";
+    return 3;
+  }
   win->Render();
   win->WaitForCompletion(); // glFinish: time the work, not its submission
   const double firstMs = MsSince(t2);

@@ -11,9 +11,11 @@ SCENES_DIR = os.path.join(SOURCE_DIR, "Data", "Scenes")
 BAD_SCENES_DIR = os.path.join(SOURCE_DIR, "Testing", "Scenes", "bad")
 
 
-def run_render(*args):
-    """Runs penumbra-render; returns (exit code, stdout, stderr)."""
-    proc = subprocess.run([RENDER, *map(str, args)], capture_output=True, text=True, timeout=600)
+def run_render(*args, env=None):
+    """Runs penumbra-render (optionally with extra environment); returns (code, stdout, stderr)."""
+    full_env = dict(os.environ, **(env or {}))
+    proc = subprocess.run([RENDER, *map(str, args)], capture_output=True, text=True, timeout=600,
+                          env=full_env)
     return proc.returncode, proc.stdout, proc.stderr
 
 

@@ -46,6 +46,15 @@ class RenderCliTest(unittest.TestCase):
                     self.assertGreater(darker, 0.03 * len(pixels), "too few shadowed pixels")
                     self.assertLess(brighter, 0.002 * len(pixels), "shadowing must not brighten pixels")
 
+    def test_forced_x_window_without_display_fails_clearly(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "x.png")
+            code, _, stderr = run_render(os.path.join(SCENES_DIR, "default.json"), "-o", out,
+                                         env={"PENUMBRA_HEADLESS": "0"})
+            self.assertEqual(code, 3)
+            self.assertIn("no X display", stderr)
+            self.assertFalse(os.path.exists(out))
+
     def test_size_and_technique_arguments_are_checked(self):
         with tempfile.TemporaryDirectory() as tmp:
             out = os.path.join(tmp, "x.png")
