@@ -440,7 +440,9 @@ int main(int argc, char* argv[])
   std::vector<std::string> sceneNames = { "default", "isosurface" };
   std::vector<std::string> techniqueTexts = { "none", "vtk-shadowmap:resolution=1024",
     "vtk-shadowmap:resolution=2048", "vtk-shadowmap:resolution=4096", "raytraced",
-    "conservative:resolution=1024", "conservative:resolution=2048" };
+    "conservative:resolution=1024", "conservative:resolution=2048",
+    "shadowmap:resolution=1024", "shadowmap:resolution=4096",
+    "shadowmap:resolution=2048;filter=pcf" };
   std::string outDir;
   int width = 640, height = 480, frames = 5, warmup = 1;
   bool images = true;

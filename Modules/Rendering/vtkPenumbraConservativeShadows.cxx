@@ -28,6 +28,7 @@
 #include "vtkPenumbraConservativeMapFS.h"
 #include "vtkPenumbraConservativeMapGS.h"
 #include "vtkPenumbraConservativeMapVS.h"
+#include "vtkPenumbraLightViews.h"
 
 #include <algorithm>
 #include <array>
@@ -41,6 +42,9 @@
 
 vtkStandardNewMacro(vtkPenumbraConservativeShadows);
 
+using penumbra_light_views::LightSetup;
+using penumbra_light_views::View;
+
 namespace
 {
 using Clock = std::chrono::steady_clock;
@@ -48,11 +52,6 @@ using Clock = std::chrono::steady_clock;
 double ElapsedMs(Clock::time_point start)
 {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-bool Finite3(const double v[3])
-{
-  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
 }
 
 // Per-sample classification states.
@@ -65,128 +64,6 @@ enum : unsigned char
 
 constexpr std::uint32_t FullBit = 0x80000000u;
 constexpr std::uint32_t IdMask = 0x7fffffffu;
-
-// One light camera. Rows map the geometry's rebased frame to the clip space the vertex
-// stage produces: orthographic views give (s, t, linear depth, 1), perspective ones
-// (s * w, t * w, 0, w) with w the distance along the view axis.
-struct View
-{
-  bool Perspective = false;
-  double Row[4][4] = {};
-  double Far = 1.0;  // perspective: stored depth = w / Far
-  double NearW = 0.0; // perspective: apex region the geometry stage treats conservatively
-
-  double Dot(int r, const double p[3]) const
-  {
-    return this->Row[r][0] * p[0] + this->Row[r][1] * p[1] + this->Row[r][2] * p[2] +
-      this->Row[r][3];
-  }
-
-  // Map coordinates in [-1, 1] and the stored-depth value of a point; false when the point
-  // is not in front of a perspective view.
-  bool Project(const double p[3], double& s, double& t, double& depth) const
-  {
-    if (this->Perspective)
-    {
-      const double w = this->Dot(3, p);
-      if (!(w > 0.0))
-      {
-        return false;
-      }
-      s = this->Dot(0, p) / w;
-      t = this->Dot(1, p) / w;
-      depth = w / this->Far;
-      return true;
-    }
-    s = this->Dot(0, p);
-    t = this->Dot(1, p);
-    depth = this->Dot(2, p);
-    return true;
-  }
-};
-
-// An orthonormal right/up pair for a forward axis.
-void Basis(const double f[3], double r[3], double u[3])
-{
-  const double helper[3] = { std::fabs(f[0]) < 0.9 ? 1.0 : 0.0, std::fabs(f[0]) < 0.9 ? 0.0 : 1.0,
-    0.0 };
-  vtkMath::Cross(f, helper, r);
-  vtkMath::Normalize(r);
-  vtkMath::Cross(r, f, u);
-  vtkMath::Normalize(u);
-}
-
-View PerspectiveView(const double apex[3], const double f[3], double tanHalf,
-  const double box[6])
-{
-  View v;
-  v.Perspective = true;
-  double r[3], u[3];
-  Basis(f, r, u);
-  const double* axes[3] = { r, u, f };
-  for (int a = 0; a < 2; ++a)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      v.Row[a][c] = axes[a][c] / tanHalf;
-    }
-    v.Row[a][3] = -vtkMath::Dot(apex, axes[a]) / tanHalf;
-  }
-  for (int c = 0; c < 3; ++c)
-  {
-    v.Row[3][c] = f[c];
-  }
-  v.Row[3][3] = -vtkMath::Dot(apex, f);
-  double far = 0.0;
-  for (int i = 0; i < 8; ++i)
-  {
-    const double corner[3] = { box[i & 1], box[2 + ((i >> 1) & 1)], box[4 + ((i >> 2) & 1)] };
-    far = std::max(far, std::sqrt(vtkMath::Distance2BetweenPoints(corner, apex)));
-  }
-  v.Far = far > 0.0 ? 1.01 * far : 1.0;
-  // The apex region is where float projection loses too much (see the geometry stage).
-  v.NearW = 2e-3 * v.Far;
-  return v;
-}
-
-View OrthographicView(const double f[3], const double box[6])
-{
-  View v;
-  double r[3], u[3];
-  Basis(f, r, u);
-  const double* axes[3] = { r, u, f };
-  double diagonal = 0.0;
-  for (int a = 0; a < 3; ++a)
-  {
-    diagonal += (box[2 * a + 1] - box[2 * a]) * (box[2 * a + 1] - box[2 * a]);
-  }
-  diagonal = std::sqrt(diagonal);
-  for (int a = 0; a < 3; ++a)
-  {
-    double lo = std::numeric_limits<double>::max();
-    double hi = -lo;
-    for (int i = 0; i < 8; ++i)
-    {
-      const double corner[3] = { box[i & 1], box[2 + ((i >> 1) & 1)], box[4 + ((i >> 2) & 1)] };
-      const double d = vtkMath::Dot(corner, axes[a]);
-      lo = std::min(lo, d);
-      hi = std::max(hi, d);
-    }
-    // Samples on the box faces stay strictly inside the map and the depth range.
-    const double pad = 1e-3 * std::max(hi - lo, diagonal) + 1e-12;
-    lo -= pad;
-    hi += pad;
-    const double scale = a < 2 ? 2.0 / (hi - lo) : 1.0 / (hi - lo);
-    const double shift = a < 2 ? -1.0 : 0.0;
-    for (int c = 0; c < 3; ++c)
-    {
-      v.Row[a][c] = axes[a][c] * scale;
-    }
-    v.Row[a][3] = -lo * scale + shift;
-  }
-  v.Row[3][3] = 1.0;
-  return v;
-}
 
 enum class Hit
 {
@@ -265,23 +142,9 @@ Hit TestRay(const double o[3], const double d[3], double tnear, double tieLimit,
 struct vtkPenumbraConservativeShadows::Internals
 {
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
-  GLuint VertexArray = 0;
-  GLuint Positions = 0;
-  GLuint Ids = 0;
-  GLuint Indices = 0;
-  GLsizei VertexCount = 0;
-  // CPU copy of the uploaded vertices, for culling triangles per view.
-  std::vector<float> Vertices;
+  // The caster triangles on the GPU (shared upload code, seed 000 §3 #14).
+  penumbra_light_views::CasterBuffers Casters;
   std::vector<GLuint> ViewIndices;
-
-  // What the uploaded buffers hold.
-  bool Uploaded = false;
-  vtkPenumbraSceneGeometry* UploadedGeometry = nullptr;
-  vtkMTimeType UploadedGeometryTime = 0;
-  vtkMTimeType UploadedFlagsTime = 0;
-  vtkIdType UploadedTriangles = -1;
-  double UploadedOrigin[3] = { 0, 0, 0 };
-  double CasterBounds[6] = { 1, -1, 1, -1, 1, -1 };
 
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   static constexpr int MaxLayers = 4;
@@ -293,34 +156,12 @@ struct vtkPenumbraConservativeShadows::Internals
   std::vector<std::uint32_t> LayerIds[MaxLayers];
   vtkNew<vtkUnsignedCharArray> Mask;
 
-  void ReleaseBuffers()
-  {
-    if (this->VertexArray)
-    {
-      glDeleteVertexArrays(1, &this->VertexArray);
-    }
-    if (this->Positions)
-    {
-      glDeleteBuffers(1, &this->Positions);
-    }
-    if (this->Ids)
-    {
-      glDeleteBuffers(1, &this->Ids);
-    }
-    if (this->Indices)
-    {
-      glDeleteBuffers(1, &this->Indices);
-    }
-    this->VertexArray = this->Positions = this->Ids = this->Indices = 0;
-    this->Uploaded = false;
-  }
-
   void Release(vtkWindow* window)
   {
     if (this->Window && (!window || window == this->Window))
     {
       this->Window->MakeCurrent();
-      this->ReleaseBuffers();
+      this->Casters.Release();
       for (auto& tex : this->IdTextures)
       {
         if (tex)
@@ -337,8 +178,7 @@ struct vtkPenumbraConservativeShadows::Internals
         this->FBO->ReleaseGraphicsResources(this->Window);
       }
     }
-    this->VertexArray = this->Positions = this->Ids = this->Indices = 0;
-    this->Uploaded = false;
+    this->Casters.Forget();
     this->FBO = nullptr;
     for (auto& tex : this->IdTextures)
     {
@@ -434,104 +274,27 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   {
     PENUMBRA_CSM_FAIL("conservative shadows need an OpenGL render window");
   }
-  const vtkIdType n = samples->GetNumberOfSamples();
-  vtkFloatArray* posArray = samples->GetPositions();
-  vtkFloatArray* nrmArray = samples->GetNormals();
-  vtkIntArray* propArray = samples->GetPropIndices();
-  vtkIdTypeArray* triArray = samples->GetTriangleIds();
-  if (!posArray || !nrmArray || !propArray || !triArray ||
-    posArray->GetNumberOfComponents() != 3 || nrmArray->GetNumberOfComponents() != 3 ||
-    posArray->GetNumberOfTuples() != n || nrmArray->GetNumberOfTuples() != n ||
-    propArray->GetNumberOfTuples() != n || triArray->GetNumberOfTuples() != n)
+  penumbra_light_views::FrameInputs in;
   {
-    PENUMBRA_CSM_FAIL("view sample arrays are missing or do not match the sample count " << n);
+    std::string inputError;
+    if (!in.Read(geometry, samples, light, inputError))
+    {
+      PENUMBRA_CSM_FAIL(inputError);
+    }
   }
-  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
-  vtkDoubleArray* vertexArray = geometry->GetVertices();
-  vtkUnsignedCharArray* flagArray = geometry->GetFlags();
-  if (nTriangles > 0 &&
-    (!vertexArray || !flagArray || vertexArray->GetNumberOfComponents() != 9 ||
-      vertexArray->GetNumberOfTuples() != nTriangles ||
-      flagArray->GetNumberOfTuples() != nTriangles))
-  {
-    PENUMBRA_CSM_FAIL("scene geometry is inconsistent: vertex or flag arrays do not match its "
-                      "number of triangles");
-  }
+  const vtkIdType n = in.NumberOfSamples;
+  const vtkIdType nTriangles = in.NumberOfTriangles;
   if (nTriangles >= static_cast<vtkIdType>(IdMask))
   {
     PENUMBRA_CSM_FAIL("scene geometry has too many triangles for 31-bit map ids: " << nTriangles);
   }
-
-  // ---- The light, reduced exactly as vtkPenumbraReference does (same expressions, so the
-  // facing and cone decisions are bit for bit the reference's).
-  double geometryOrigin[3], samplesOrigin[3];
-  geometry->GetOrigin(geometryOrigin);
-  samples->GetOrigin(samplesOrigin);
-  if (!Finite3(geometryOrigin) || !Finite3(samplesOrigin))
-  {
-    PENUMBRA_CSM_FAIL("geometry or samples have a non-finite origin");
-  }
-  double shift[3];
-  for (int c = 0; c < 3; ++c)
-  {
-    shift[c] = samplesOrigin[c] - geometryOrigin[c];
-  }
-  enum class Kind
-  {
-    Directional,
-    Point,
-    Spot
-  } kind = Kind::Point;
-  double direction[3] = { 0, 0, 0 }, position[3] = { 0, 0, 0 }, axis[3] = { 0, 0, 0 };
-  double cosCone = -1.0;
-  double cone = 180.0;
-  {
-    double lp[3], lf[3];
-    light->GetTransformedPosition(lp);
-    light->GetTransformedFocalPoint(lf);
-    if (!Finite3(lp) || !Finite3(lf))
-    {
-      PENUMBRA_CSM_FAIL("light position or focal point is not finite");
-    }
-    if (!light->GetPositional())
-    {
-      kind = Kind::Directional;
-      for (int c = 0; c < 3; ++c)
-      {
-        direction[c] = lp[c] - lf[c];
-      }
-      if (!(vtkMath::Normalize(direction) > 0.0))
-      {
-        PENUMBRA_CSM_FAIL("directional light has no direction (position equals focal point)");
-      }
-    }
-    else
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        position[c] = lp[c];
-      }
-      cone = light->GetConeAngle();
-      kind = cone < 90.0 ? Kind::Spot : Kind::Point;
-      if (kind == Kind::Spot)
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          axis[c] = lf[c] - lp[c];
-        }
-        if (!(vtkMath::Normalize(axis) > 0.0))
-        {
-          PENUMBRA_CSM_FAIL("spot light has no axis (position equals focal point)");
-        }
-        cosCone = std::cos(vtkMath::RadiansFromDegrees(cone));
-      }
-      for (int c = 0; c < 3; ++c)
-      {
-        position[c] -= geometryOrigin[c];
-      }
-    }
-  }
-  const bool off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  const double* shift = in.Shift;
+  const LightSetup& setup = in.Light;
+  using Kind = LightSetup::Kind;
+  const Kind kind = setup.Type;
+  const double* direction = setup.Direction;
+  const double* position = setup.Position;
+  const double cone = setup.Cone;
 
   visibility->SetNumberOfComponents(1);
   visibility->SetNumberOfTuples(n);
@@ -539,10 +302,10 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   impl.Mask->SetNumberOfComponents(1);
   impl.Mask->SetNumberOfTuples(n);
   unsigned char* state = n ? impl.Mask->GetPointer(0) : nullptr;
-  const float* pos = n ? posArray->GetPointer(0) : nullptr;
-  const float* nrm = n ? nrmArray->GetPointer(0) : nullptr;
-  const int* props = n ? propArray->GetPointer(0) : nullptr;
-  const vtkIdType* tris = n ? triArray->GetPointer(0) : nullptr;
+  const float* pos = in.Positions;
+  const float* nrm = in.Normals;
+  const int* props = in.Props;
+  const vtkIdType* tris = in.Triangles;
 
   // ---- Upload the casters once per geometry change (seed 000 §3 #14).
   const auto mapStart = Clock::now();
@@ -552,61 +315,11 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     impl.Release(nullptr);
   }
   impl.Window = win;
-  if (!impl.Uploaded || impl.UploadedGeometry != geometry ||
-    impl.UploadedGeometryTime != geometry->GetGeometryTime() ||
-    impl.UploadedFlagsTime != geometry->GetFlagsTime() || impl.UploadedTriangles != nTriangles ||
-    !std::equal(geometryOrigin, geometryOrigin + 3, impl.UploadedOrigin))
+  if (impl.Casters.Update(geometry))
   {
-    std::vector<float> xyz;
-    std::vector<std::uint32_t> ids;
-    double* bounds = impl.CasterBounds;
-    bounds[0] = bounds[2] = bounds[4] = std::numeric_limits<double>::max();
-    bounds[1] = bounds[3] = bounds[5] = -std::numeric_limits<double>::max();
-    const double* v = nTriangles ? vertexArray->GetPointer(0) : nullptr;
-    for (vtkIdType t = 0; t < nTriangles; ++t)
-    {
-      // The reference's rule: casters with area (seed 000 §3 #4).
-      if (!geometry->IsOccluder(t))
-      {
-        continue;
-      }
-      const double* p = v + 9 * t;
-      for (int c = 0; c < 9; ++c)
-      {
-        xyz.push_back(static_cast<float>(p[c]));
-        bounds[2 * (c % 3)] = std::min(bounds[2 * (c % 3)], p[c]);
-        bounds[2 * (c % 3) + 1] = std::max(bounds[2 * (c % 3) + 1], p[c]);
-      }
-      for (int c = 0; c < 3; ++c)
-      {
-        ids.push_back(static_cast<std::uint32_t>(t));
-      }
-    }
-    if (!impl.VertexArray)
-    {
-      glGenVertexArrays(1, &impl.VertexArray);
-      glGenBuffers(1, &impl.Positions);
-      glGenBuffers(1, &impl.Ids);
-      glGenBuffers(1, &impl.Indices);
-    }
-    glBindBuffer(GL_ARRAY_BUFFER, impl.Positions);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(xyz.size() * sizeof(float)),
-      xyz.empty() ? nullptr : xyz.data(), GL_STATIC_DRAW);
-    glBindBuffer(GL_ARRAY_BUFFER, impl.Ids);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ids.size() * sizeof(std::uint32_t)),
-      ids.empty() ? nullptr : ids.data(), GL_STATIC_DRAW);
-    glBindBuffer(GL_ARRAY_BUFFER, 0);
-    impl.VertexCount = static_cast<GLsizei>(ids.size());
-    impl.Vertices.swap(xyz);
-    impl.Uploaded = true;
-    impl.UploadedGeometry = geometry;
-    impl.UploadedGeometryTime = geometry->GetGeometryTime();
-    impl.UploadedFlagsTime = geometry->GetFlagsTime();
-    impl.UploadedTriangles = nTriangles;
-    std::copy(geometryOrigin, geometryOrigin + 3, impl.UploadedOrigin);
     ++this->NumberOfUploads;
   }
-  const bool anyCaster = impl.VertexCount > 0;
+  const bool anyCaster = impl.Casters.VertexCount > 0;
   const double uploadMs = ElapsedMs(mapStart);
 
   // ---- Pass A (seed 000 §1.3 rules 1-2, plus the reference's light rules): decide what
@@ -622,68 +335,17 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     }
     diagonal = std::isfinite(diagonal) && diagonal > 0.0 ? diagonal : 1.0;
   }
-  std::atomic<vtkIdType> lit(0), shadowed(0), pending(0);
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    vtkIdType localLit = 0, localShadowed = 0, localPending = 0;
-    for (vtkIdType s = begin; s < end; ++s)
-    {
-      state[s] = Decided;
-      double p[3], normal[3];
-      for (int c = 0; c < 3; ++c)
-      {
-        p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
-        normal[c] = nrm[3 * s + c];
-      }
-      if (props[s] < 0 || !Finite3(p) || !Finite3(normal))
-      {
-        vis[s] = -1.0f;
-        continue;
-      }
-      if (off)
-      {
-        vis[s] = 1.0f;
-        ++localLit;
-        continue;
-      }
-      double toLight[3];
-      for (int c = 0; c < 3; ++c)
-      {
-        toLight[c] = kind == Kind::Directional ? direction[c] : position[c] - p[c];
-      }
-      bool facing = vtkMath::Dot(normal, toLight) > 0.0;
-      if (facing && kind == Kind::Spot)
-      {
-        double fromLight[3] = { -toLight[0], -toLight[1], -toLight[2] };
-        facing = vtkMath::Normalize(fromLight) > 0.0 && vtkMath::Dot(fromLight, axis) >= cosCone;
-      }
-      if (!facing)
-      {
-        vis[s] = 0.0f; // rule 1: facing away (or outside the cone) is shadowed
-        ++localShadowed;
-        continue;
-      }
-      if (!anyCaster)
-      {
-        vis[s] = 1.0f;
-        ++localLit;
-        continue;
-      }
-      vis[s] = 1.0f;
-      state[s] = Pending;
-      ++localPending;
-    }
-    lit += localLit;
-    shadowed += localShadowed;
-    pending += localPending;
-  });
+  const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(setup, n,
+    pos, nrm, props, shift, anyCaster, vis, state, Pending, Decided);
+  std::atomic<vtkIdType> lit(facing.Lit), shadowed(facing.Shadowed);
 
   // ---- Light cameras.
   std::vector<View> views;
   std::vector<signed char> sampleView;
-  if (pending.load() > 0)
+  if (facing.Pending > 0)
   {
     double box[6];
-    std::copy(impl.CasterBounds, impl.CasterBounds + 6, box);
+    std::copy(impl.Casters.Bounds, impl.Casters.Bounds + 6, box);
     for (vtkIdType s = 0; s < n; ++s)
     {
       if (state[s] == Pending)
@@ -699,13 +361,14 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     if (kind == Kind::Directional)
     {
       const double travel[3] = { -direction[0], -direction[1], -direction[2] };
-      views.push_back(OrthographicView(travel, box));
+      views.push_back(penumbra_light_views::OrthographicView(travel, box));
     }
     else if (kind == Kind::Spot && cone <= 60.0)
     {
       // The square frustum circumscribes the cone with a degree to spare.
       views.push_back(
-        PerspectiveView(position, axis, std::tan(vtkMath::RadiansFromDegrees(cone + 1.0)), box));
+        penumbra_light_views::PerspectiveView(
+          position, setup.Axis, std::tan(vtkMath::RadiansFromDegrees(cone + 1.0)), box));
     }
     else
     {
@@ -713,7 +376,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
       {
         double f[3] = { 0, 0, 0 };
         f[face / 2] = (face % 2) ? -1.0 : 1.0;
-        views.push_back(PerspectiveView(position, f, 1.0, box));
+        views.push_back(penumbra_light_views::PerspectiveView(position, f, 1.0, box));
       }
     }
     sampleView.assign(static_cast<size_t>(n), -1);
@@ -764,7 +427,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
       impl.LayerIds[k].shrink_to_fit();
     }
 
-    const double* tv = vertexArray->GetPointer(0);
+    const double* tv = in.TriangleVertices;
     const double epsilon = this->Reference->GetRelativeEpsilon();
     const double tieFactor = this->Reference->GetTieFactor();
     std::atomic<vtkIdType> viewLit(0), viewShadowed(0);
@@ -774,40 +437,14 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
       const View& view = views[vi];
       const auto renderStart = Clock::now();
       {
-        vtkOpenGLState* ostate = win->GetState();
-        vtkOpenGLState::ScopedglEnableDisable blendSaver(ostate, GL_BLEND);
-        vtkOpenGLState::ScopedglEnableDisable depthSaver(ostate, GL_DEPTH_TEST);
-        vtkOpenGLState::ScopedglEnableDisable scissorSaver(ostate, GL_SCISSOR_TEST);
-        vtkOpenGLState::ScopedglEnableDisable cullSaver(ostate, GL_CULL_FACE);
-        vtkOpenGLState::ScopedglViewport viewportSaver(ostate);
-        vtkOpenGLState::ScopedglDepthFunc depthFuncSaver(ostate);
-        vtkOpenGLState::ScopedglDepthMask depthMaskSaver(ostate);
-        vtkOpenGLState::ScopedglColorMask colorMaskSaver(ostate);
-        ostate->PushFramebufferBindings();
-        impl.FBO->Bind();
-        ostate->vtkglViewport(0, 0, size, size);
-        ostate->vtkglDisable(GL_SCISSOR_TEST);
-        ostate->vtkglDisable(GL_BLEND);
-        ostate->vtkglDisable(GL_CULL_FACE); // both windings cast (open meshes, seed 000 §1.3)
-        ostate->vtkglEnable(GL_DEPTH_TEST);
-        ostate->vtkglDepthFunc(GL_LESS);
-        ostate->vtkglDepthMask(GL_TRUE);
-        ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         // Depth is written explicitly and clamped in the shader; clamping is on as a second
-        // line of defence (seed 000 §3 #8).
-        const GLboolean hadClamp = glIsEnabled(GL_DEPTH_CLAMP);
-        glEnable(GL_DEPTH_CLAMP);
+        // line of defence (seed 000 §3 #8). Colour (the id layers) is written.
+        penumbra_light_views::MapRenderState renderState(win->GetState(), impl.FBO, size, true);
 
         program = win->GetShaderCache()->ReadyShaderProgram(
           vtkPenumbraConservativeMapVS, vtkPenumbraConservativeMapFS, vtkPenumbraConservativeMapGS);
         float matrix[16];
-        for (int r = 0; r < 4; ++r)
-        {
-          for (int c = 0; c < 4; ++c)
-          {
-            matrix[4 * c + r] = static_cast<float>(view.Row[r][c]); // column-major for GLSL
-          }
-        }
+        view.ToFloatMatrix(matrix);
         program->SetUniformMatrix4x4("lightMatrix", matrix);
         const float mapSize[2] = { static_cast<float>(size), static_cast<float>(size) };
         program->SetUniform2f("mapSize", mapSize);
@@ -824,13 +461,13 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
         // stage. Only triangles wholly outside one of the shader's side planes (by more than
         // its rounding) are dropped, so nothing the shader would keep is lost. Indices only; the
         // vertices stay uploaded.
-        GLsizei drawCount = impl.VertexCount;
+        GLsizei drawCount = impl.Casters.VertexCount;
         if (view.Perspective)
         {
           const double slack = 1.0 + 8.0 / size; // the shader's frustumSlack
           impl.ViewIndices.clear();
-          const float* xyz = impl.Vertices.data();
-          for (GLsizei tri = 0; tri < impl.VertexCount / 3; ++tri)
+          const float* xyz = impl.Casters.Vertices.data();
+          for (GLsizei tri = 0; tri < impl.Casters.VertexCount / 3; ++tri)
           {
             int outside[4] = { 0, 0, 0, 0 };
             for (int k = 0; k < 3; ++k)
@@ -857,10 +494,10 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
           }
           drawCount = static_cast<GLsizei>(impl.ViewIndices.size());
         }
-        glBindVertexArray(impl.VertexArray);
+        glBindVertexArray(impl.Casters.VertexArray);
         if (view.Perspective)
         {
-          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, impl.Indices);
+          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, impl.Casters.Indices);
           glBufferData(GL_ELEMENT_ARRAY_BUFFER,
             static_cast<GLsizeiptr>(impl.ViewIndices.size() * sizeof(GLuint)),
             impl.ViewIndices.empty() ? nullptr : impl.ViewIndices.data(), GL_STREAM_DRAW);
@@ -869,13 +506,13 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
         const GLint idLoc = glGetAttribLocation(program->GetHandle(), "triangleId");
         if (posLoc >= 0)
         {
-          glBindBuffer(GL_ARRAY_BUFFER, impl.Positions);
+          glBindBuffer(GL_ARRAY_BUFFER, impl.Casters.Positions);
           glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
           glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
         }
         if (idLoc >= 0)
         {
-          glBindBuffer(GL_ARRAY_BUFFER, impl.Ids);
+          glBindBuffer(GL_ARRAY_BUFFER, impl.Casters.Ids);
           glEnableVertexAttribArray(static_cast<GLuint>(idLoc));
           glVertexAttribIPointer(static_cast<GLuint>(idLoc), 1, GL_UNSIGNED_INT, 0, nullptr);
         }
@@ -917,12 +554,6 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
           glReadPixels(
             0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, impl.LayerDepth[layer].data());
         }
-        glBindVertexArray(0);
-        if (!hadClamp)
-        {
-          glDisable(GL_DEPTH_CLAMP);
-        }
-        ostate->PopFramebufferBindings();
       }
       mapMs += ElapsedMs(renderStart);
 

@@ -5,6 +5,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPenumbraConservativeShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
+#include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkRenderPassCollection.h"
 #include "vtkRenderWindow.h"
@@ -54,6 +55,46 @@ public:
         ", " + std::to_string(hi) + "], got " + v.dump());
     }
     return static_cast<int>(v.get<long long>());
+  }
+
+  double Number(const char* key, double def, double lo, double hi)
+  {
+    this->Known.emplace_back(key);
+    if (!this->J.contains(key))
+    {
+      return def;
+    }
+    const json& v = this->J.at(key);
+    if (!v.is_number() || !(v.get<double>() >= lo) || !(v.get<double>() <= hi))
+    {
+      throw OptionError(std::string(key) + ": expected a number in [" + json(lo).dump() + ", " +
+        json(hi).dump() + "], got " + v.dump());
+    }
+    return v.get<double>();
+  }
+
+  // One of `choices` (index returned); the first choice is the default.
+  int Choice(const char* key, const std::vector<std::string>& choices)
+  {
+    this->Known.emplace_back(key);
+    if (!this->J.contains(key))
+    {
+      return 0;
+    }
+    const json& v = this->J.at(key);
+    for (size_t i = 0; v.is_string() && i < choices.size(); ++i)
+    {
+      if (v.get<std::string>() == choices[i])
+      {
+        return static_cast<int>(i);
+      }
+    }
+    std::string allowed;
+    for (const auto& c : choices)
+    {
+      allowed += (allowed.empty() ? "\"" : ", \"") + c + "\"";
+    }
+    throw OptionError(std::string(key) + ": expected one of " + allowed + ", got " + v.dump());
   }
 
   void RejectUnknown() const
@@ -151,6 +192,38 @@ void InstallConservative(vtkRenderer* ren, Options& opts)
   InstallPass(ren, camera);
 }
 
+void InstallShadowMap(vtkRenderer* ren, Options& opts)
+{
+  const int resolution = opts.Integer("resolution", 2048, 64, 8192);
+  const int filter = opts.Choice("filter", { "none", "pcf" });
+  const int kernel = opts.Integer("pcf_kernel", 3, 3, 9);
+  if (kernel % 2 == 0)
+  {
+    throw OptionError("pcf_kernel: expected an odd integer in [3, 9], got " + std::to_string(kernel));
+  }
+  const double bias = opts.Number("bias", 1e-4, 0.0, 0.1);
+  const double slopeBias = opts.Number("slope_bias", 1.0, 0.0, 16.0);
+  const int depth = opts.Choice("depth", { "linear", "midpoint" });
+  const int point = opts.Choice("point", { "cube", "paraboloid" });
+  opts.RejectUnknown();
+  vtkNew<vtkPenumbraShadowMapShadows> technique;
+  technique->SetResolution(resolution);
+  technique->SetFilter(filter == 1 ? vtkPenumbraShadowMapShadows::FILTER_PCF
+                                   : vtkPenumbraShadowMapShadows::FILTER_NONE);
+  technique->SetPCFKernel(kernel);
+  technique->SetBias(bias);
+  technique->SetSlopeBias(slopeBias);
+  technique->SetDepthMode(depth == 1 ? vtkPenumbraShadowMapShadows::DEPTH_MIDPOINT
+                                     : vtkPenumbraShadowMapShadows::DEPTH_LINEAR);
+  technique->SetPointMode(point == 1 ? vtkPenumbraShadowMapShadows::POINT_PARABOLOID
+                                     : vtkPenumbraShadowMapShadows::POINT_CUBE);
+  vtkNew<vtkPenumbraShadowPass> shadows;
+  shadows->SetTechnique(technique);
+  vtkNew<vtkCameraPass> camera;
+  camera->SetDelegatePass(shadows);
+  InstallPass(ren, camera);
+}
+
 const std::vector<Technique>& Registry()
 {
   static const std::vector<Technique> techniques = {
@@ -163,6 +236,10 @@ const std::vector<Technique>& Registry()
       "exact hard shadows: conservative shadow map classifies, CPU rays resolve the uncertain "
       "samples (seed 000)",
       InstallConservative },
+    { "shadowmap",
+      "practical shadow maps (seed 004): linear depth, fitted to the visible receivers, PCF, "
+      "cube or dual-paraboloid maps for point lights",
+      InstallShadowMap },
   };
   return techniques;
 }

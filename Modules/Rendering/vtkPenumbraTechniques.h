@@ -20,6 +20,18 @@
  *    `resolution` (integer CSM texels per side, per cube face for point lights, default
  *    1024, 64..8192) and `layers` (integer depth-peeled map layers, default 2, 2..4; more
  *    layers let more samples look past their own and neighbouring triangles).
+ *  - `shadowmap`: vtkPenumbraShadowPass with vtkPenumbraShadowMapShadows (seed 004 ch. 4-6):
+ *    classical depth-compare shadow maps with linear 32-bit float depth, fitted to the
+ *    visible receivers, depth clamping. Options: `resolution` (integer texels per side, per
+ *    cube face / hemisphere for point lights, default 2048, 64..8192); `filter` ("none",
+ *    default: one nearest texel, 0/1 like a hardware compare; or "pcf": percentage-closer
+ *    filtering, fractional visibility); `pcf_kernel` (odd integer kernel width in texels,
+ *    default 3, 3..9, used with "pcf"); `bias` (constant bias as a fraction of the light
+ *    view's depth range, i.e. unit-free, default 1e-4, 0..0.1); `slope_bias` (slope-scaled
+ *    bias in texel footprints, default 1.0, 0..16); `depth` ("linear", default, or
+ *    "midpoint": Woo's midpoint of the first two surfaces, one more pass per view);
+ *    `point` ("cube", default: six faces, or "paraboloid": two dual-paraboloid hemispheres,
+ *    exact per-sample projection).
  *
  * Options are JSON text (an object); unknown options and out-of-range values are rejected
  * with a message naming the option.

@@ -1,0 +1,503 @@
+// vtkPenumbraShadowMapShadows (seed 004 ch. 4-6) against the exact reference on the same view
+// samples: the mismatch rate falls as the map resolution rises and is small at 4096^2; a
+// point light inside a closed room shadows every visible face with cube and dual-paraboloid
+// maps; a wide window agrees with a square one; a PBR receiver is darkened; the paraboloid
+// mapping round-trips; lights that are off get no map; unchanged frames render no map.
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCameraPass.h"
+#include "vtkCubeSource.h"
+#include "vtkFloatArray.h"
+#include "vtkIntArray.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMath.h"
+#include "vtkNew.h"
+#include "vtkPenumbraMetrics.h"
+#include "vtkPenumbraReference.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraSceneReader.h"
+#include "vtkPenumbraShadowMapShadows.h"
+#include "vtkPenumbraShadowPass.h"
+#include "vtkPenumbraTechniques.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkPlaneSource.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "PenumbraTestMacros.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace
+{
+vtkPenumbraShadowPass* ShadowPassOf(vtkRenderer* renderer)
+{
+  auto* camera = vtkCameraPass::SafeDownCast(renderer->GetPass());
+  return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+}
+
+vtkPenumbraShadowMapShadows* TechniqueOf(vtkRenderer* renderer)
+{
+  vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
+  return pass ? vtkPenumbraShadowMapShadows::SafeDownCast(pass->GetTechnique()) : nullptr;
+}
+
+// A plane (z = 0, 8 x 6 m) with a box (1 x 1 x 0.5 m, 1 m above it) lit by a directional
+// light from (1.5, 0.7, 3), seen obliquely.
+vtkSmartPointer<vtkRenderer> PlaneAndBox(vtkActor** planeActor = nullptr)
+{
+  auto renderer = vtkSmartPointer<vtkRenderer>::New();
+  vtkNew<vtkPlaneSource> plane;
+  plane->SetOrigin(-4, -3, 0);
+  plane->SetPoint1(4, -3, 0);
+  plane->SetPoint2(-4, 3, 0);
+  vtkNew<vtkCubeSource> box;
+  box->SetBounds(-0.5, 0.5, -0.5, 0.5, 1.0, 1.5);
+  vtkPolyDataAlgorithm* sources[] = { plane, box };
+  for (int i = 0; i < 2; ++i)
+  {
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputConnection(sources[i]->GetOutputPort());
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    actor->GetProperty()->SetAmbient(0.1);
+    actor->GetProperty()->SetDiffuse(0.9);
+    actor->GetProperty()->SetSpecular(0.0);
+    renderer->AddActor(actor);
+    if (i == 0 && planeActor)
+    {
+      *planeActor = actor;
+    }
+  }
+  vtkNew<vtkLight> light;
+  light->SetLightTypeToSceneLight();
+  light->SetPositional(false);
+  light->SetPosition(1.5, 0.7, 3.0);
+  light->SetFocalPoint(0, 0, 0);
+  renderer->AddLight(light);
+  renderer->SetBackground(0, 0, 0);
+  vtkCamera* cam = renderer->GetActiveCamera();
+  cam->SetPosition(0.5, -6, 8);
+  cam->SetFocalPoint(0, 0, 0);
+  cam->SetViewUp(0, 0, 1);
+  renderer->ResetCamera();
+  cam->Dolly(1.8); // the plane and the shadow fill the view
+  renderer->ResetCameraClippingRange();
+  return renderer;
+}
+
+vtkSmartPointer<vtkRenderWindow> WindowFor(vtkRenderer* renderer, int width, int height)
+{
+  auto window = vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
+  window->SetSize(width, height);
+  window->SetMultiSamples(0);
+  window->AddRenderer(renderer);
+  return window;
+}
+
+struct Comparison
+{
+  double MismatchRate = 1.0;
+  vtkIdType Mismatches = 0;
+  vtkIdType Valid = 0;
+};
+
+// Mismatch of light `index`'s visibility against the exact reference on the same samples
+// (reference ties excluded).
+int Compare(vtkRenderer* renderer, int index, Comparison& out, vtkFloatArray* refOut = nullptr)
+{
+  vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
+  CHECK(pass != nullptr);
+  CHECK(pass->GetNumberOfLights() > index);
+  vtkFloatArray* test = pass->GetVisibility(index);
+  CHECK(test != nullptr);
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(pass->GetGeometry());
+  vtkNew<vtkFloatArray> ref;
+  CHECK(reference->ComputeVisibility(pass->GetViewSamples(), pass->GetLight(index), ref));
+  vtkNew<vtkPenumbraMetrics> metrics;
+  CHECK(metrics->CompareHard(test, ref, reference->GetTies()));
+  out.MismatchRate = metrics->GetMismatchRate();
+  out.Mismatches = metrics->GetFalseLit() + metrics->GetFalseShadow();
+  out.Valid = pass->GetViewSamples()->GetNumberOfValidSamples();
+  if (refOut)
+  {
+    refOut->DeepCopy(ref);
+  }
+  return EXIT_SUCCESS;
+}
+
+int RenderAndCompare(vtkRenderer* renderer, const std::string& options, int width, int height,
+  Comparison& out, const char* label)
+{
+  auto window = WindowFor(renderer, width, height);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, "shadowmap", options.c_str()));
+  window->Render();
+  RUN(Compare(renderer, 0, out));
+  vtkPenumbraShadowMapShadows* technique = TechniqueOf(renderer);
+  CHECK(technique != nullptr);
+  std::printf("%-40s %-44s valid %7lld mismatches %6lld rate %.5f views %d map %.1f ms lookup "
+              "%.1f ms\n",
+    label, options.c_str(), static_cast<long long>(out.Valid),
+    static_cast<long long>(out.Mismatches), out.MismatchRate, technique->GetNumberOfViews(),
+    technique->GetMapTimeMs(), technique->GetLookupTimeMs());
+  window->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
+// The mismatch rate falls as the resolution rises (seed 004: aliasing shrinks with the texel).
+int CheckResolutionSeries()
+{
+  const int resolutions[] = { 256, 1024, 4096 };
+  double rates[3];
+  for (int i = 0; i < 3; ++i)
+  {
+    auto renderer = PlaneAndBox();
+    Comparison c;
+    RUN(RenderAndCompare(renderer, "{\"resolution\": " + std::to_string(resolutions[i]) + "}",
+      320, 240, c, "plane+box directional"));
+    CHECK(c.Valid > 50000);
+    rates[i] = c.MismatchRate;
+  }
+  CHECK(rates[0] >= rates[1] && rates[1] >= rates[2]);
+  CHECK(rates[0] > rates[2]);
+  // At 4096^2 a texel is about 2 mm here, far below a view sample's footprint.
+  CHECK(rates[2] < 0.0005); // measured 7e-5
+  // Filtered, midpoint and slope-bias-free variants stay usable on the same scene.
+  for (const char* options : { "{\"filter\": \"pcf\", \"pcf_kernel\": 5}",
+         "{\"depth\": \"midpoint\"}", "{\"depth\": \"midpoint\", \"bias\": 0, \"slope_bias\": 0}" })
+  {
+    auto renderer = PlaneAndBox();
+    Comparison c;
+    RUN(RenderAndCompare(renderer, options, 320, 240, c, "plane+box directional"));
+    CHECK(c.MismatchRate < 0.02);
+  }
+  // A spot light (35-degree half-angle) over the same scene: one perspective map fitted to
+  // the receivers in the cone; samples outside the cone are shadowed as in the reference.
+  {
+    auto renderer = PlaneAndBox();
+    renderer->RemoveAllLights();
+    vtkNew<vtkLight> spot;
+    spot->SetLightTypeToSceneLight();
+    spot->SetPositional(true);
+    spot->SetPosition(1.5, 0.7, 3.0);
+    spot->SetFocalPoint(0, 0, 0);
+    spot->SetConeAngle(35.0);
+    renderer->AddLight(spot);
+    Comparison c;
+    RUN(RenderAndCompare(renderer, "{\"resolution\": 2048}", 320, 240, c, "plane+box spot"));
+    CHECK(c.MismatchRate < 0.001);
+  }
+  return EXIT_SUCCESS;
+}
+
+// The same scene in a 256 x 128 and a 128 x 128 window: the rates agree.
+int CheckNonSquare()
+{
+  double rates[2];
+  const int widths[2] = { 256, 128 };
+  for (int i = 0; i < 2; ++i)
+  {
+    auto renderer = PlaneAndBox();
+    Comparison c;
+    RUN(RenderAndCompare(renderer, "{\"resolution\": 2048}", widths[i], 128, c,
+      widths[i] == 256 ? "plane+box 256x128" : "plane+box 128x128"));
+    CHECK(ShadowPassOf(renderer)->GetViewSamples()->GetNumberOfSamples() == widths[i] * 128);
+    rates[i] = c.MismatchRate;
+  }
+  CHECK(rates[0] < 0.01 && rates[1] < 0.01);
+  CHECK(std::fabs(rates[0] - rates[1]) < 0.005);
+  return EXIT_SUCCESS;
+}
+
+// torture/point_light_in_room.json: a point light in a closed room. Every room face the
+// camera sees gets shadow samples (from the furniture), with cube and paraboloid maps.
+int CheckPointLightInRoom()
+{
+  for (const char* point : { "cube", "paraboloid" })
+  {
+    vtkNew<vtkPenumbraSceneReader> reader;
+    reader->SetFileName((std::string(PENUMBRA_SCENES_DIR) + "/torture/point_light_in_room.json").c_str());
+    CHECK(reader->Read());
+    vtkRenderer* renderer = reader->GetRenderer();
+    auto window = WindowFor(renderer, 240, 180);
+    vtkNew<vtkPenumbraTechniques> techniques;
+    const std::string options = std::string("{\"point\": \"") + point + "\"}";
+    CHECK(techniques->Apply(renderer, "shadowmap", options.c_str()));
+    window->Render();
+    Comparison c;
+    vtkNew<vtkFloatArray> ref;
+    RUN(Compare(renderer, 0, c, ref));
+    vtkPenumbraShadowMapShadows* technique = TechniqueOf(renderer);
+    CHECK(technique != nullptr);
+    std::printf("point_light_in_room %-10s valid %lld mismatches %lld rate %.5f views %d\n", point,
+      static_cast<long long>(c.Valid), static_cast<long long>(c.Mismatches), c.MismatchRate,
+      technique->GetNumberOfViews());
+    CHECK(technique->GetNumberOfViews() >= 2);
+    CHECK(c.MismatchRate < 0.002); // measured 1e-4 (cube), 4e-4 (paraboloid)
+    // Per room face (dominant normal axis and sign): samples seen, shadowed by technique
+    // and reference. Only the room's faces (the prop with the largest bounds) count.
+    vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
+    vtkPenumbraViewSamples* samples = pass->GetViewSamples();
+    vtkFloatArray* vis = pass->GetVisibility(0);
+    int roomProp = -1;
+    double roomSize = -1.0;
+    for (int i = 0; i < pass->GetGeometry()->GetNumberOfProps(); ++i)
+    {
+      const double* b = pass->GetGeometry()->GetProp(i)->GetBounds();
+      const double size = (b[1] - b[0]) + (b[3] - b[2]) + (b[5] - b[4]);
+      if (size > roomSize)
+      {
+        roomSize = size;
+        roomProp = i;
+      }
+    }
+    vtkIdType seen[6] = { 0 }, shadowed[6] = { 0 }, refShadowed[6] = { 0 };
+    int facesSeen = 0;
+    for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
+    {
+      if (samples->GetPropIndices()->GetValue(s) != roomProp)
+      {
+        continue;
+      }
+      double nrm[3];
+      samples->GetNormals()->GetTuple(s, nrm);
+      int axis = 0;
+      for (int a = 1; a < 3; ++a)
+      {
+        axis = std::fabs(nrm[a]) > std::fabs(nrm[axis]) ? a : axis;
+      }
+      const int face = 2 * axis + (nrm[axis] < 0.0);
+      ++seen[face];
+      shadowed[face] += vis->GetValue(s) == 0.0f;
+      refShadowed[face] += ref->GetValue(s) == 0.0f;
+    }
+    for (int face = 0; face < 6; ++face)
+    {
+      std::printf("  face %d: seen %lld, shadowed %lld (reference %lld)\n", face,
+        static_cast<long long>(seen[face]), static_cast<long long>(shadowed[face]),
+        static_cast<long long>(refShadowed[face]));
+      if (seen[face] >= 100)
+      {
+        ++facesSeen;
+        CHECK(refShadowed[face] > 0);
+        CHECK(shadowed[face] > 0);
+      }
+    }
+    CHECK(facesSeen >= 3);
+    window->RemoveRenderer(renderer);
+    window->Finalize();
+  }
+  return EXIT_SUCCESS;
+}
+
+// A PBR receiver is darkened in the shadow (pixel statistics through the shadow pass): the
+// plane's shadowed samples are much darker than its lit ones on screen.
+int CheckPBRReceiver()
+{
+  vtkActor* plane = nullptr;
+  auto renderer = PlaneAndBox(&plane);
+  plane->GetProperty()->SetInterpolationToPBR();
+  plane->GetProperty()->SetRoughness(0.6);
+  plane->GetProperty()->SetMetallic(0.0);
+  vtkCamera* cam = renderer->GetActiveCamera();
+  cam->ParallelProjectionOn();
+  cam->SetPosition(0, 0, 10);
+  cam->SetFocalPoint(0, 0, 0);
+  cam->SetViewUp(0, 1, 0);
+  cam->SetParallelScale(3.0);
+  renderer->ResetCameraClippingRange();
+  const int w = 160, h = 160;
+  auto window = WindowFor(renderer, w, h);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, "shadowmap", "{\"resolution\": 1024}"));
+  window->Render();
+  vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
+  vtkFloatArray* vis = pass->GetVisibility(0);
+  CHECK(vis != nullptr);
+  vtkNew<vtkUnsignedCharArray> pixels;
+  window->GetPixelData(0, 0, w - 1, h - 1, 0, pixels);
+  // Samples are stored row by row from the bottom, like the pixels.
+  vtkPenumbraViewSamples* samples = pass->GetViewSamples();
+  CHECK(samples->GetNumberOfSamples() == w * h);
+  double sum[2] = { 0, 0 };
+  vtkIdType count[2] = { 0, 0 };
+  int planeProp = -1;
+  for (int i = 0; i < pass->GetGeometry()->GetNumberOfProps(); ++i)
+  {
+    if (pass->GetGeometry()->GetProp(i) == plane)
+    {
+      planeProp = i;
+    }
+  }
+  CHECK(planeProp >= 0);
+  for (vtkIdType s = 0; s < w * h; ++s)
+  {
+    if (samples->GetPropIndices()->GetValue(s) != planeProp)
+    {
+      continue;
+    }
+    const float v = vis->GetValue(s);
+    if (v != 0.0f && v != 1.0f)
+    {
+      continue;
+    }
+    const unsigned char* p = pixels->GetPointer(3 * s);
+    const int lit = v == 1.0f;
+    sum[lit] += (p[0] + p[1] + p[2]) / 3.0;
+    ++count[lit];
+  }
+  CHECK(count[0] > 100 && count[1] > 100);
+  const double shadowMean = sum[0] / count[0], litMean = sum[1] / count[1];
+  std::printf("PBR plane: shadowed %lld px mean %.1f, lit %lld px mean %.1f\n",
+    static_cast<long long>(count[0]), shadowMean, static_cast<long long>(count[1]), litMean);
+  CHECK(litMean > 2.0 * shadowMean + 20.0);
+  window->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
+// Maps are rendered again only when the light, the casters or the camera change; lights
+// that are off get none.
+int CheckMapCache()
+{
+  auto renderer = PlaneAndBox();
+  auto window = WindowFor(renderer, 128, 96);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, "shadowmap", "{\"resolution\": 512}"));
+  window->Render();
+  vtkPenumbraShadowMapShadows* technique = TechniqueOf(renderer);
+  CHECK(technique != nullptr);
+  const int first = technique->GetNumberOfMapRenders();
+  CHECK(first == 1);
+  window->Render(); // nothing changed
+  CHECK(technique->GetNumberOfMapRenders() == first);
+  auto* light = vtkLight::SafeDownCast(renderer->GetLights()->GetItemAsObject(0));
+  CHECK(light != nullptr);
+  light->SetPosition(1.4, 0.8, 3.0); // the light moved
+  window->Render();
+  CHECK(technique->GetNumberOfMapRenders() == first + 1);
+  renderer->GetActiveCamera()->Azimuth(10.0); // the view (and the fit) changed
+  renderer->ResetCameraClippingRange();
+  window->Render();
+  CHECK(technique->GetNumberOfMapRenders() == first + 2);
+  window->Render();
+  CHECK(technique->GetNumberOfMapRenders() == first + 2);
+
+  // Off: lit everywhere and no map, whether or not the pass asks the technique at all.
+  light->SwitchOff();
+  window->Render();
+  CHECK(technique->GetNumberOfMapRenders() == first + 2);
+  vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
+  vtkNew<vtkFloatArray> vis;
+  CHECK(technique->ComputeVisibility(
+    renderer, pass->GetGeometry(), pass->GetViewSamples(), light, vis));
+  CHECK(technique->GetNumberOfMapRenders() == first + 2);
+  CHECK(technique->GetNumberOfViews() == 0);
+  CHECK(vis->GetNumberOfTuples() == pass->GetViewSamples()->GetNumberOfSamples());
+  for (vtkIdType s = 0; s < vis->GetNumberOfTuples(); ++s)
+  {
+    CHECK(vis->GetValue(s) == -1.0f || vis->GetValue(s) == 1.0f);
+  }
+  window->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
+// Direction -> paraboloid coordinates -> direction, including the z -> -1 pole of the front
+// paraboloid and the equator seam between the hemispheres.
+int CheckParaboloidRoundTrip()
+{
+  std::vector<std::array<double, 3>> directions;
+  const int count = 20000;
+  for (int i = 0; i < count; ++i)
+  {
+    // Fibonacci sphere.
+    const double z = 1.0 - 2.0 * (i + 0.5) / count;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const double phi = i * 2.399963229728653;
+    directions.push_back({ r * std::cos(phi), r * std::sin(phi), z });
+  }
+  for (double e : { 0.0, 1e-12, 1e-9, 1e-6, 1e-3, 1e-2 })
+  {
+    for (int k = 0; k < 16; ++k)
+    {
+      const double phi = k * 0.3926990816987241;
+      const double r = std::sin(e);
+      // Near the pole z -> -1 (and +1) and near the seam z -> 0 from both sides.
+      directions.push_back({ r * std::cos(phi), r * std::sin(phi), -std::cos(e) });
+      directions.push_back({ r * std::cos(phi), r * std::sin(phi), std::cos(e) });
+      directions.push_back({ std::cos(e) * std::cos(phi), std::cos(e) * std::sin(phi), -r });
+      directions.push_back({ std::cos(e) * std::cos(phi), std::cos(e) * std::sin(phi), r });
+    }
+  }
+  double worst = 0.0;
+  for (const auto& d : directions)
+  {
+    double xy[2], back[3];
+    const int hemisphere = vtkPenumbraShadowMapShadows::ParaboloidFromDirection(d.data(), xy);
+    CHECK(hemisphere == (d[2] >= 0.0 ? 0 : 1));
+    CHECK(xy[0] * xy[0] + xy[1] * xy[1] <= 1.0 + 1e-12);
+    vtkPenumbraShadowMapShadows::DirectionFromParaboloid(xy, hemisphere, back);
+    worst = std::max(worst, std::sqrt(vtkMath::Distance2BetweenPoints(d.data(), back)));
+  }
+  std::printf("paraboloid round trip: %zu directions, worst error %.3g\n", directions.size(), worst);
+  CHECK(worst < 1e-5);
+  return EXIT_SUCCESS;
+}
+
+int CheckBadInput()
+{
+  vtkNew<vtkPenumbraShadowMapShadows> technique;
+  vtkNew<vtkFloatArray> out;
+  vtkNew<vtkLight> light;
+  const int display = vtkObject::GetGlobalWarningDisplay();
+  vtkObject::GlobalWarningDisplayOff();
+  const int refused = technique->ComputeVisibility(nullptr, nullptr, nullptr, light, out);
+  vtkObject::SetGlobalWarningDisplay(display);
+  CHECK(refused == 0);
+  CHECK(technique->GetNumberOfMapRenders() == 0);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  vtkNew<vtkRenderer> renderer;
+  CHECK(techniques->Apply(renderer, "shadowmap", "{\"resolution\": 32}") == 0);
+  CHECK(techniques->Apply(renderer, "shadowmap", "{\"filter\": \"box\"}") == 0);
+  CHECK(techniques->Apply(renderer, "shadowmap", "{\"pcf_kernel\": 4}") == 0);
+  CHECK(techniques->Apply(renderer, "shadowmap", "{\"bias\": -1}") == 0);
+  CHECK(techniques->Apply(renderer, "shadowmap", "{\"point\": \"sphere\"}") == 0);
+  CHECK(techniques->Apply(renderer, "shadowmap", "{\"resolutoin\": 512}") == 0);
+  CHECK(techniques->Apply(renderer, "shadowmap",
+          "{\"resolution\": 512, \"filter\": \"pcf\", \"pcf_kernel\": 7, \"bias\": 0.001, "
+          "\"slope_bias\": 2, \"depth\": \"midpoint\", \"point\": \"paraboloid\"}") == 1);
+  vtkPenumbraShadowMapShadows* applied = TechniqueOf(renderer);
+  CHECK(applied != nullptr);
+  CHECK(applied->GetResolution() == 512 && applied->GetPCFKernel() == 7);
+  CHECK(applied->GetFilter() == vtkPenumbraShadowMapShadows::FILTER_PCF);
+  CHECK(applied->GetDepthMode() == vtkPenumbraShadowMapShadows::DEPTH_MIDPOINT);
+  CHECK(applied->GetPointMode() == vtkPenumbraShadowMapShadows::POINT_PARABOLOID);
+  return EXIT_SUCCESS;
+}
+}
+
+int TestShadowMapShadows(int, char*[])
+{
+  RUN(CheckBadInput());
+  RUN(CheckParaboloidRoundTrip());
+  RUN(CheckMapCache());
+  RUN(CheckResolutionSeries());
+  RUN(CheckNonSquare());
+  RUN(CheckPBRReceiver());
+  RUN(CheckPointLightInRoom());
+  return EXIT_SUCCESS;
+}

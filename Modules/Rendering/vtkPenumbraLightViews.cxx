@@ -1,0 +1,443 @@
+#include "vtkPenumbraLightViews.h"
+
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkLight.h"
+#include "vtkMath.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkSMPTools.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace penumbra_light_views
+{
+namespace
+{
+bool Finite3(const double v[3])
+{
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+}
+
+//------------------------------------------------------------------------------
+bool View::Project(const double p[3], double& s, double& t, double& depth) const
+{
+  if (this->Perspective)
+  {
+    const double w = this->Dot(3, p);
+    if (!(w > 0.0))
+    {
+      return false;
+    }
+    s = this->Dot(0, p) / w;
+    t = this->Dot(1, p) / w;
+    depth = w / this->Far;
+    return true;
+  }
+  s = this->Dot(0, p);
+  t = this->Dot(1, p);
+  depth = this->Dot(2, p);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void View::ToFloatMatrix(float matrix[16]) const
+{
+  for (int r = 0; r < 4; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      matrix[4 * c + r] = static_cast<float>(this->Row[r][c]); // column-major for GLSL
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void Basis(const double f[3], double r[3], double u[3])
+{
+  const double helper[3] = { std::fabs(f[0]) < 0.9 ? 1.0 : 0.0, std::fabs(f[0]) < 0.9 ? 0.0 : 1.0,
+    0.0 };
+  vtkMath::Cross(f, helper, r);
+  vtkMath::Normalize(r);
+  vtkMath::Cross(r, f, u);
+  vtkMath::Normalize(u);
+}
+
+//------------------------------------------------------------------------------
+View PerspectiveView(const double apex[3], const double f[3], double tanHalf, const double box[6])
+{
+  View v;
+  v.Perspective = true;
+  v.TanHalf = tanHalf;
+  double r[3], u[3];
+  Basis(f, r, u);
+  const double* axes[3] = { r, u, f };
+  for (int a = 0; a < 2; ++a)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      v.Row[a][c] = axes[a][c] / tanHalf;
+    }
+    v.Row[a][3] = -vtkMath::Dot(apex, axes[a]) / tanHalf;
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    v.Row[3][c] = f[c];
+  }
+  v.Row[3][3] = -vtkMath::Dot(apex, f);
+  double far = 0.0;
+  for (int i = 0; i < 8; ++i)
+  {
+    const double corner[3] = { box[i & 1], box[2 + ((i >> 1) & 1)], box[4 + ((i >> 2) & 1)] };
+    far = std::max(far, std::sqrt(vtkMath::Distance2BetweenPoints(corner, apex)));
+  }
+  v.Far = far > 0.0 ? 1.01 * far : 1.0;
+  // The apex region is where float projection loses too much (see the conservative
+  // geometry stage).
+  v.NearW = 2e-3 * v.Far;
+  return v;
+}
+
+//------------------------------------------------------------------------------
+View OrthographicView(const double f[3], const double box[6])
+{
+  View v;
+  double r[3], u[3];
+  Basis(f, r, u);
+  const double* axes[3] = { r, u, f };
+  double diagonal = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    diagonal += (box[2 * a + 1] - box[2 * a]) * (box[2 * a + 1] - box[2 * a]);
+  }
+  diagonal = std::sqrt(diagonal);
+  for (int a = 0; a < 3; ++a)
+  {
+    double lo = std::numeric_limits<double>::max();
+    double hi = -lo;
+    for (int i = 0; i < 8; ++i)
+    {
+      const double corner[3] = { box[i & 1], box[2 + ((i >> 1) & 1)], box[4 + ((i >> 2) & 1)] };
+      const double d = vtkMath::Dot(corner, axes[a]);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    // Samples on the box faces stay strictly inside the map and the depth range.
+    const double pad = 1e-3 * std::max(hi - lo, diagonal) + 1e-12;
+    lo -= pad;
+    hi += pad;
+    const double scale = a < 2 ? 2.0 / (hi - lo) : 1.0 / (hi - lo);
+    const double shift = a < 2 ? -1.0 : 0.0;
+    for (int c = 0; c < 3; ++c)
+    {
+      v.Row[a][c] = axes[a][c] * scale;
+    }
+    v.Row[a][3] = -lo * scale + shift;
+  }
+  v.Row[3][3] = 1.0;
+  return v;
+}
+
+//------------------------------------------------------------------------------
+bool LightSetup::Read(vtkLight* light, const double geometryOrigin[3], std::string& error)
+{
+  double lp[3], lf[3];
+  light->GetTransformedPosition(lp);
+  light->GetTransformedFocalPoint(lf);
+  if (!Finite3(lp) || !Finite3(lf))
+  {
+    error = "light position or focal point is not finite";
+    return false;
+  }
+  this->Off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  if (!light->GetPositional())
+  {
+    this->Type = Kind::Directional;
+    for (int c = 0; c < 3; ++c)
+    {
+      this->Direction[c] = lp[c] - lf[c];
+    }
+    if (!(vtkMath::Normalize(this->Direction) > 0.0))
+    {
+      error = "directional light has no direction (position equals focal point)";
+      return false;
+    }
+    return true;
+  }
+  std::copy(lp, lp + 3, this->Position);
+  this->Cone = light->GetConeAngle();
+  this->Type = this->Cone < 90.0 ? Kind::Spot : Kind::Point;
+  if (this->Type == Kind::Spot)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      this->Axis[c] = lf[c] - lp[c];
+    }
+    if (!(vtkMath::Normalize(this->Axis) > 0.0))
+    {
+      error = "spot light has no axis (position equals focal point)";
+      return false;
+    }
+    this->CosCone = std::cos(vtkMath::RadiansFromDegrees(this->Cone));
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    this->Position[c] -= geometryOrigin[c];
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool FrameInputs::Read(vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples,
+  vtkLight* light, std::string& error)
+{
+  const vtkIdType n = samples->GetNumberOfSamples();
+  vtkFloatArray* posArray = samples->GetPositions();
+  vtkFloatArray* nrmArray = samples->GetNormals();
+  vtkIntArray* propArray = samples->GetPropIndices();
+  vtkIdTypeArray* triArray = samples->GetTriangleIds();
+  if (n < 0 || !posArray || !nrmArray || !propArray || !triArray ||
+    posArray->GetNumberOfComponents() != 3 || nrmArray->GetNumberOfComponents() != 3 ||
+    posArray->GetNumberOfTuples() != n || nrmArray->GetNumberOfTuples() != n ||
+    propArray->GetNumberOfTuples() != n || triArray->GetNumberOfTuples() != n)
+  {
+    error = "view sample arrays are missing or do not match the sample count " + std::to_string(n);
+    return false;
+  }
+  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
+  vtkDoubleArray* vertexArray = geometry->GetVertices();
+  vtkUnsignedCharArray* flagArray = geometry->GetFlags();
+  if (nTriangles > 0 &&
+    (!vertexArray || !flagArray || vertexArray->GetNumberOfComponents() != 9 ||
+      vertexArray->GetNumberOfTuples() != nTriangles ||
+      flagArray->GetNumberOfTuples() != nTriangles))
+  {
+    error = "scene geometry is inconsistent: vertex or flag arrays do not match its number of "
+            "triangles";
+    return false;
+  }
+  double samplesOrigin[3];
+  geometry->GetOrigin(this->GeometryOrigin);
+  samples->GetOrigin(samplesOrigin);
+  if (!Finite3(this->GeometryOrigin) || !Finite3(samplesOrigin))
+  {
+    error = "geometry or samples have a non-finite origin";
+    return false;
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    this->Shift[c] = samplesOrigin[c] - this->GeometryOrigin[c];
+  }
+  if (!this->Light.Read(light, this->GeometryOrigin, error))
+  {
+    return false;
+  }
+  this->NumberOfSamples = n;
+  this->Positions = n ? posArray->GetPointer(0) : nullptr;
+  this->Normals = n ? nrmArray->GetPointer(0) : nullptr;
+  this->Props = n ? propArray->GetPointer(0) : nullptr;
+  this->Triangles = n ? triArray->GetPointer(0) : nullptr;
+  this->NumberOfTriangles = nTriangles;
+  this->TriangleVertices = nTriangles > 0 ? vertexArray->GetPointer(0) : nullptr;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* pos,
+  const float* nrm, const int* props, const double shift[3], bool anyCaster, float* vis,
+  unsigned char* pending, unsigned char pendingValue, unsigned char decidedValue)
+{
+  std::atomic<vtkIdType> lit(0), shadowed(0), waiting(0);
+  const bool directional = light.Type == LightSetup::Kind::Directional;
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    vtkIdType localLit = 0, localShadowed = 0, localPending = 0;
+    for (vtkIdType s = begin; s < end; ++s)
+    {
+      pending[s] = decidedValue;
+      double p[3], normal[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
+        normal[c] = nrm[3 * s + c];
+      }
+      if (props[s] < 0 || !Finite3(p) || !Finite3(normal))
+      {
+        vis[s] = -1.0f;
+        continue;
+      }
+      if (light.Off)
+      {
+        vis[s] = 1.0f;
+        ++localLit;
+        continue;
+      }
+      double toLight[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        toLight[c] = directional ? light.Direction[c] : light.Position[c] - p[c];
+      }
+      bool facing = vtkMath::Dot(normal, toLight) > 0.0;
+      if (facing && light.Type == LightSetup::Kind::Spot)
+      {
+        double fromLight[3] = { -toLight[0], -toLight[1], -toLight[2] };
+        facing =
+          vtkMath::Normalize(fromLight) > 0.0 && vtkMath::Dot(fromLight, light.Axis) >= light.CosCone;
+      }
+      if (!facing)
+      {
+        vis[s] = 0.0f; // facing away (or outside the cone) is shadowed, as in the reference
+        ++localShadowed;
+        continue;
+      }
+      vis[s] = 1.0f;
+      if (!anyCaster)
+      {
+        ++localLit;
+        continue;
+      }
+      pending[s] = pendingValue;
+      ++localPending;
+    }
+    lit += localLit;
+    shadowed += localShadowed;
+    waiting += localPending;
+  });
+  FacingCounts counts;
+  counts.Lit = lit.load();
+  counts.Shadowed = shadowed.load();
+  counts.Pending = waiting.load();
+  return counts;
+}
+
+//------------------------------------------------------------------------------
+MapRenderState::MapRenderState(
+  vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int size, bool colorWrites)
+  : State(state)
+  , Blend(state, GL_BLEND)
+  , DepthTest(state, GL_DEPTH_TEST)
+  , Scissor(state, GL_SCISSOR_TEST)
+  , Cull(state, GL_CULL_FACE)
+  , Viewport(state)
+  , DepthFunc(state)
+  , DepthMask(state)
+  , ColorMask(state)
+{
+  state->PushFramebufferBindings();
+  fbo->Bind();
+  state->vtkglViewport(0, 0, size, size);
+  state->vtkglDisable(GL_SCISSOR_TEST);
+  state->vtkglDisable(GL_BLEND);
+  state->vtkglDisable(GL_CULL_FACE);
+  state->vtkglEnable(GL_DEPTH_TEST);
+  state->vtkglDepthFunc(GL_LESS);
+  state->vtkglDepthMask(GL_TRUE);
+  const GLboolean color = colorWrites ? GL_TRUE : GL_FALSE;
+  state->vtkglColorMask(color, color, color, color);
+  this->HadClamp = glIsEnabled(GL_DEPTH_CLAMP) == GL_TRUE;
+  glEnable(GL_DEPTH_CLAMP);
+}
+
+//------------------------------------------------------------------------------
+MapRenderState::~MapRenderState()
+{
+  glBindVertexArray(0);
+  if (!this->HadClamp)
+  {
+    glDisable(GL_DEPTH_CLAMP);
+  }
+  this->State->PopFramebufferBindings();
+}
+
+//------------------------------------------------------------------------------
+bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry)
+{
+  double origin[3];
+  geometry->GetOrigin(origin);
+  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
+  if (this->Uploaded && this->Geometry == geometry &&
+    this->GeometryTime == geometry->GetGeometryTime() &&
+    this->FlagsTime == geometry->GetFlagsTime() && this->Triangles == nTriangles &&
+    std::equal(origin, origin + 3, this->Origin))
+  {
+    return false;
+  }
+  std::vector<float> xyz;
+  std::vector<std::uint32_t> ids;
+  double* bounds = this->Bounds;
+  bounds[0] = bounds[2] = bounds[4] = std::numeric_limits<double>::max();
+  bounds[1] = bounds[3] = bounds[5] = -std::numeric_limits<double>::max();
+  vtkDoubleArray* vertexArray = geometry->GetVertices();
+  const double* v = nTriangles && vertexArray ? vertexArray->GetPointer(0) : nullptr;
+  for (vtkIdType t = 0; v && t < nTriangles; ++t)
+  {
+    // The reference's rule: casters with area (seed 000 §3 #4).
+    if (!geometry->IsOccluder(t))
+    {
+      continue;
+    }
+    const double* p = v + 9 * t;
+    for (int c = 0; c < 9; ++c)
+    {
+      xyz.push_back(static_cast<float>(p[c]));
+      bounds[2 * (c % 3)] = std::min(bounds[2 * (c % 3)], p[c]);
+      bounds[2 * (c % 3) + 1] = std::max(bounds[2 * (c % 3) + 1], p[c]);
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      ids.push_back(static_cast<std::uint32_t>(t));
+    }
+  }
+  if (!this->VertexArray)
+  {
+    glGenVertexArrays(1, &this->VertexArray);
+    glGenBuffers(1, &this->Positions);
+    glGenBuffers(1, &this->Ids);
+    glGenBuffers(1, &this->Indices);
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, this->Positions);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(xyz.size() * sizeof(float)),
+    xyz.empty() ? nullptr : xyz.data(), GL_STATIC_DRAW);
+  glBindBuffer(GL_ARRAY_BUFFER, this->Ids);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ids.size() * sizeof(std::uint32_t)),
+    ids.empty() ? nullptr : ids.data(), GL_STATIC_DRAW);
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+  this->VertexCount = static_cast<GLsizei>(ids.size());
+  this->Vertices.swap(xyz);
+  this->Uploaded = true;
+  this->Geometry = geometry;
+  this->GeometryTime = geometry->GetGeometryTime();
+  this->FlagsTime = geometry->GetFlagsTime();
+  this->Triangles = nTriangles;
+  std::copy(origin, origin + 3, this->Origin);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void CasterBuffers::Release()
+{
+  if (this->VertexArray)
+  {
+    glDeleteVertexArrays(1, &this->VertexArray);
+    glDeleteBuffers(1, &this->Positions);
+    glDeleteBuffers(1, &this->Ids);
+    glDeleteBuffers(1, &this->Indices);
+  }
+  this->Forget();
+}
+
+//------------------------------------------------------------------------------
+void CasterBuffers::Forget()
+{
+  this->VertexArray = this->Positions = this->Ids = this->Indices = 0;
+  this->Uploaded = false;
+  this->Geometry = nullptr;
+}
+}

@@ -1,0 +1,199 @@
+/**
+ * @file    vtkPenumbraLightViews.h
+ * @brief   Private machinery shared by the shadow-map based techniques
+ *          (vtkPenumbraConservativeShadows, vtkPenumbraShadowMapShadows): the light reduced
+ *          to the reference's conventions, the light cameras, the per-sample facing / cone
+ *          pass, and the cached upload of the caster triangles.
+ *
+ * Not wrapped and not installed: both techniques must make the same decisions as
+ * vtkPenumbraReference for facing-away samples and spot cones, so that their errors measure
+ * only what the shadow map itself gets wrong; keeping that code in one place keeps them
+ * agreeing.
+ */
+
+#ifndef vtkPenumbraLightViews_h
+#define vtkPenumbraLightViews_h
+
+#include "vtkOpenGLState.h" // For the scoped state savers
+#include "vtkType.h"
+#include "vtk_glew.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+class vtkLight;
+class vtkOpenGLFramebufferObject;
+class vtkPenumbraSceneGeometry;
+class vtkPenumbraViewSamples;
+
+namespace penumbra_light_views
+{
+/**
+ * One light camera. Rows map the geometry's rebased frame to the clip space the vertex stage
+ * produces: orthographic views give (s, t, linear depth, 1), perspective ones
+ * (s * w, t * w, 0, w) with w the distance along the view axis.
+ */
+struct View
+{
+  bool Perspective = false;
+  double Row[4][4] = {};
+  double Far = 1.0;   // perspective: stored depth = w / Far
+  double NearW = 0.0; // perspective: apex region the conservative geometry stage handles
+  double TanHalf = 1.0; // perspective: tangent of the half field of view
+
+  double Dot(int r, const double p[3]) const
+  {
+    return this->Row[r][0] * p[0] + this->Row[r][1] * p[1] + this->Row[r][2] * p[2] +
+      this->Row[r][3];
+  }
+
+  /**
+   * Map coordinates in [-1, 1] and the stored-depth value of a point; false when the point
+   * is not in front of a perspective view.
+   */
+  bool Project(const double p[3], double& s, double& t, double& depth) const;
+
+  /** Column-major float copy of Row, for a GLSL mat4 uniform. */
+  void ToFloatMatrix(float matrix[16]) const;
+};
+
+/** An orthonormal right/up pair for a forward axis. */
+void Basis(const double f[3], double r[3], double u[3]);
+
+/** A perspective view from `apex` along unit `f`; Far reaches the farthest corner of `box`. */
+View PerspectiveView(const double apex[3], const double f[3], double tanHalf, const double box[6]);
+
+/** An orthographic view travelling along unit `f` that encloses `box` (slightly padded). */
+View OrthographicView(const double f[3], const double box[6]);
+
+/**
+ * A light reduced exactly as vtkPenumbraReference reduces it (same expressions, so facing
+ * and cone decisions are bit for bit the reference's). Positions are in the geometry's
+ * rebased frame.
+ */
+struct LightSetup
+{
+  enum class Kind
+  {
+    Directional,
+    Point,
+    Spot
+  };
+  Kind Type = Kind::Point;
+  double Direction[3] = { 0, 0, 0 }; // directional: unit vector towards the light
+  double Position[3] = { 0, 0, 0 };  // positional: rebased position
+  double Axis[3] = { 0, 0, 0 };      // spot: unit axis away from the light
+  double CosCone = -1.0;
+  double Cone = 180.0; // degrees, VTK's half-angle
+  bool Off = false;    // switched off or zero intensity: lit everywhere, no map
+
+  /** Reads `light`; false with `error` set for non-finite or degenerate lights. */
+  bool Read(vtkLight* light, const double geometryOrigin[3], std::string& error);
+};
+
+/**
+ * One call's checked inputs: the sample arrays (raw pointers, valid while the samples
+ * live), the scene triangles, the frames' origins and the light.
+ */
+struct FrameInputs
+{
+  vtkIdType NumberOfSamples = 0;
+  const float* Positions = nullptr; // relative to the samples' origin
+  const float* Normals = nullptr;
+  const int* Props = nullptr;
+  const vtkIdType* Triangles = nullptr;
+  vtkIdType NumberOfTriangles = 0;
+  const double* TriangleVertices = nullptr; // 9 per triangle, rebased
+  double GeometryOrigin[3] = { 0, 0, 0 };
+  double Shift[3] = { 0, 0, 0 }; // samples' frame -> geometry's frame
+  LightSetup Light;
+
+  /**
+   * Checks that the arrays exist and agree in size, the origins are finite and the light is
+   * usable; false with `error` set otherwise (nothing is written).
+   */
+  bool Read(vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
+    std::string& error);
+};
+
+/**
+ * Per-sample pass shared by the techniques: background -> -1; light off -> 1; facing away
+ * or outside a spot cone -> 0 (the reference's rule); no casters -> 1; otherwise
+ * `pending[s] = 1` and visibility 1 until a map says otherwise. `shift` moves sample
+ * positions into the geometry's frame.
+ */
+struct FacingCounts
+{
+  vtkIdType Lit = 0;
+  vtkIdType Shadowed = 0;
+  vtkIdType Pending = 0;
+};
+FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* pos,
+  const float* nrm, const int* props, const double shift[3], bool anyCaster, float* vis,
+  unsigned char* pending, unsigned char pendingValue, unsigned char decidedValue);
+
+/**
+ * GL state for drawing a light view into `fbo` (size x size): no blending, scissor or
+ * culling (both windings cast: open meshes have no back faces), depth test LESS with
+ * writes, colour writes as asked, and GL_DEPTH_CLAMP so that casters before the near plane
+ * are clamped, not clipped (seed 004 ch. 4.1.2, seed 000 §3 #8). Everything, including the
+ * framebuffer bindings, is restored when the object goes out of scope.
+ */
+class MapRenderState
+{
+public:
+  MapRenderState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int size, bool colorWrites);
+  ~MapRenderState();
+  MapRenderState(const MapRenderState&) = delete;
+  MapRenderState& operator=(const MapRenderState&) = delete;
+
+private:
+  vtkOpenGLState* State;
+  vtkOpenGLState::ScopedglEnableDisable Blend;
+  vtkOpenGLState::ScopedglEnableDisable DepthTest;
+  vtkOpenGLState::ScopedglEnableDisable Scissor;
+  vtkOpenGLState::ScopedglEnableDisable Cull;
+  vtkOpenGLState::ScopedglViewport Viewport;
+  vtkOpenGLState::ScopedglDepthFunc DepthFunc;
+  vtkOpenGLState::ScopedglDepthMask DepthMask;
+  vtkOpenGLState::ScopedglColorMask ColorMask;
+  bool HadClamp = false;
+};
+
+/**
+ * The caster triangles (IsOccluder, the reference's rule) of a scene geometry as GL vertex
+ * buffers: positions (3 floats, rebased) and triangle ids (one uint per vertex). Uploaded
+ * again only when the geometry, its flags or its origin change.
+ */
+struct CasterBuffers
+{
+  GLuint VertexArray = 0;
+  GLuint Positions = 0;
+  GLuint Ids = 0;
+  GLuint Indices = 0;
+  GLsizei VertexCount = 0;
+  std::vector<float> Vertices; // CPU copy of Positions
+  double Bounds[6] = { 1, -1, 1, -1, 1, -1 };
+
+  /** Uploads if anything changed (context current); true when it uploaded. */
+  bool Update(vtkPenumbraSceneGeometry* geometry);
+
+  /** Frees the GL objects (context current) and forgets what was uploaded. */
+  void Release();
+
+  /** Forgets the GL objects without freeing them (their context is gone). */
+  void Forget();
+
+private:
+  bool Uploaded = false;
+  vtkPenumbraSceneGeometry* Geometry = nullptr;
+  vtkMTimeType GeometryTime = 0;
+  vtkMTimeType FlagsTime = 0;
+  vtkIdType Triangles = -1;
+  double Origin[3] = { 0, 0, 0 };
+};
+}
+
+#endif
+// VTK-HeaderTest-Exclude: vtkPenumbraLightViews.h

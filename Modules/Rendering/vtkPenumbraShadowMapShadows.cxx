@@ -1,0 +1,870 @@
+#include "vtkPenumbraShadowMapShadows.h"
+
+#include "vtkCamera.h"
+#include "vtkFloatArray.h"
+#include "vtkLight.h"
+#include "vtkMath.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLState.h"
+#include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraLightViews.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkRenderer.h"
+#include "vtkSMPTools.h"
+#include "vtkShaderProgram.h"
+#include "vtkSmartPointer.h"
+#include "vtkTextureObject.h"
+#include "vtkWeakPointer.h"
+#include "vtk_glew.h"
+
+#include "vtkPenumbraShadowMapFS.h"
+#include "vtkPenumbraShadowMapParaboloidFS.h"
+#include "vtkPenumbraShadowMapParaboloidVS.h"
+#include "vtkPenumbraShadowMapVS.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkPenumbraShadowMapShadows);
+
+using penumbra_light_views::LightSetup;
+using penumbra_light_views::View;
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+double ElapsedMs(Clock::time_point start)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+constexpr unsigned char Decided = 0;
+constexpr unsigned char Pending = 1;
+
+// Paraboloid tessellation (seed 004 ch. 6, "tessellated fine enough"): no sub-edge spans more
+// than this angle seen from the light, up to MaxSubdivisions per triangle edge. A 2-degree
+// chord deviates from its arc by 1.5e-4 of the map radius: 0.15 texel at 2048^2.
+constexpr double ParaboloidStepRadians = 2.0 * 3.14159265358979323846 / 180.0;
+constexpr int MaxSubdivisions = 32;
+
+// Slope-scaled bias stops growing here (about 87 degrees): grazing receivers would otherwise
+// get a bias longer than the scene.
+constexpr double MaxTangent = 20.0;
+
+// One light's maps, kept until the light, the casters, the view or the settings change.
+// Slots: 0 (directional, spot), 2 * axis + negative (cube faces), hemisphere (paraboloid).
+struct LightMaps
+{
+  vtkWeakPointer<vtkLight> Light;
+  std::vector<double> Key;
+  bool Valid = false;
+  bool Paraboloid = false;
+  int Size = 0;
+  std::vector<View> Views;
+  std::vector<std::vector<float>> Maps;
+  double Centre[3] = { 0, 0, 0 }; // paraboloid: the light, rebased
+  double Far = 1.0;               // paraboloid: depth = distance / Far
+  double MapScale = 1.0;          // paraboloid: paraboloid coordinates -> NDC
+};
+
+double Norm3(const double* v)
+{
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+}
+
+struct vtkPenumbraShadowMapShadows::Internals
+{
+  vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+  penumbra_light_views::CasterBuffers Casters;
+  vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
+  vtkSmartPointer<vtkTextureObject> DepthTextures[2]; // first layer, second (midpoint) layer
+  int MapSize = 0;
+
+  // Paraboloid casters: per hemisphere, clipped and tessellated, relative to the light
+  // (3 floats position + 4 floats plane per vertex).
+  GLuint ParaboloidArray = 0;
+  GLuint ParaboloidBuffers[2] = { 0, 0 };
+  GLsizei ParaboloidCounts[2] = { 0, 0 };
+  std::vector<double> ParaboloidKey;
+
+  std::vector<LightMaps> Cache;
+  std::vector<unsigned char> State;
+  std::vector<float> SecondLayer;
+
+  void Release(vtkWindow* window)
+  {
+    if (this->Window && (!window || window == this->Window))
+    {
+      this->Window->MakeCurrent();
+      this->Casters.Release();
+      if (this->ParaboloidArray)
+      {
+        glDeleteVertexArrays(1, &this->ParaboloidArray);
+        glDeleteBuffers(2, this->ParaboloidBuffers);
+      }
+      for (auto& tex : this->DepthTextures)
+      {
+        if (tex)
+        {
+          tex->ReleaseGraphicsResources(this->Window);
+        }
+      }
+      if (this->FBO)
+      {
+        this->FBO->ReleaseGraphicsResources(this->Window);
+      }
+    }
+    this->Casters.Forget();
+    this->ParaboloidArray = 0;
+    this->ParaboloidBuffers[0] = this->ParaboloidBuffers[1] = 0;
+    this->ParaboloidKey.clear();
+    this->FBO = nullptr;
+    for (auto& tex : this->DepthTextures)
+    {
+      tex = nullptr;
+    }
+    this->MapSize = 0;
+    this->Window = nullptr;
+    // Cached maps are CPU data, but they were fitted to this window's samples.
+    this->Cache.clear();
+  }
+
+  void AllocateMaps(vtkOpenGLRenderWindow* win, int size)
+  {
+    if (this->FBO && this->MapSize == size)
+    {
+      return;
+    }
+    this->FBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+    this->FBO->SetContext(win);
+    for (auto& tex : this->DepthTextures)
+    {
+      tex = vtkSmartPointer<vtkTextureObject>::New();
+      tex->SetContext(win);
+      tex->SetMinificationFilter(vtkTextureObject::Nearest);
+      tex->SetMagnificationFilter(vtkTextureObject::Nearest);
+      tex->SetWrapS(vtkTextureObject::ClampToEdge);
+      tex->SetWrapT(vtkTextureObject::ClampToEdge);
+      tex->AllocateDepth(size, size, vtkTextureObject::Float32);
+    }
+    this->MapSize = size;
+  }
+
+  // Clips every caster against each hemisphere's equator plane (in light space, before the
+  // mapping: the note's fix for triangles straddling z = 0, whose far vertices would map
+  // near the singularity) and tessellates what is left (seed 004 ch. 6).
+  void BuildParaboloidCasters(const double centre[3])
+  {
+    std::vector<float> data[2];
+    const std::vector<float>& v = this->Casters.Vertices;
+    for (size_t tri = 0; tri + 9 <= v.size(); tri += 9)
+    {
+      for (int h = 0; h < 2; ++h)
+      {
+        const double sign = h ? -1.0 : 1.0;
+        double q[3][3];
+        for (int k = 0; k < 3; ++k)
+        {
+          for (int c = 0; c < 3; ++c)
+          {
+            q[k][c] = static_cast<double>(v[tri + 3 * k + c]) - centre[c];
+          }
+          q[k][2] *= sign;
+        }
+        double e1[3], e2[3], n[3];
+        for (int c = 0; c < 3; ++c)
+        {
+          e1[c] = q[1][c] - q[0][c];
+          e2[c] = q[2][c] - q[0][c];
+        }
+        vtkMath::Cross(e1, e2, n);
+        if (!(vtkMath::Normalize(n) > 0.0))
+        {
+          continue;
+        }
+        const double planeC = vtkMath::Dot(n, q[0]);
+        // Sutherland-Hodgman against z >= 0.
+        std::array<std::array<double, 3>, 4> poly;
+        int count = 0;
+        for (int k = 0; k < 3; ++k)
+        {
+          const double* a = q[k];
+          const double* b = q[(k + 1) % 3];
+          if (a[2] >= 0.0)
+          {
+            poly[count++] = { a[0], a[1], a[2] };
+          }
+          if ((a[2] >= 0.0) != (b[2] >= 0.0))
+          {
+            const double t = a[2] / (a[2] - b[2]);
+            poly[count++] = { a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), 0.0 };
+          }
+        }
+        for (int f = 1; f + 1 < count; ++f)
+        {
+          const double* corner[3] = { poly[0].data(), poly[f].data(), poly[f + 1].data() };
+          double widest = 0.0;
+          for (int k = 0; k < 3; ++k)
+          {
+            const double* a = corner[k];
+            const double* b = corner[(k + 1) % 3];
+            const double la = Norm3(a), lb = Norm3(b);
+            if (la > 0.0 && lb > 0.0)
+            {
+              const double cosine = std::max(-1.0, std::min(1.0, vtkMath::Dot(a, b) / (la * lb)));
+              widest = std::max(widest, std::acos(cosine));
+            }
+            else
+            {
+              widest = 3.2; // touches the light: as fine as allowed
+            }
+          }
+          const int steps = std::max(
+            1, std::min(MaxSubdivisions, static_cast<int>(std::ceil(widest / ParaboloidStepRadians))));
+          auto emit = [&](int i, int j) {
+            for (int c = 0; c < 3; ++c)
+            {
+              const double x = corner[0][c] + (corner[1][c] - corner[0][c]) * i / steps +
+                (corner[2][c] - corner[0][c]) * j / steps;
+              data[h].push_back(static_cast<float>(x));
+            }
+            for (int c = 0; c < 3; ++c)
+            {
+              data[h].push_back(static_cast<float>(n[c]));
+            }
+            data[h].push_back(static_cast<float>(planeC));
+          };
+          for (int j = 0; j < steps; ++j)
+          {
+            for (int i = 0; i + j < steps; ++i)
+            {
+              emit(i, j);
+              emit(i + 1, j);
+              emit(i, j + 1);
+              if (i + j + 2 <= steps)
+              {
+                emit(i + 1, j);
+                emit(i + 1, j + 1);
+                emit(i, j + 1);
+              }
+            }
+          }
+        }
+      }
+    }
+    if (!this->ParaboloidArray)
+    {
+      glGenVertexArrays(1, &this->ParaboloidArray);
+      glGenBuffers(2, this->ParaboloidBuffers);
+    }
+    for (int h = 0; h < 2; ++h)
+    {
+      glBindBuffer(GL_ARRAY_BUFFER, this->ParaboloidBuffers[h]);
+      glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data[h].size() * sizeof(float)),
+        data[h].empty() ? nullptr : data[h].data(), GL_STATIC_DRAW);
+      this->ParaboloidCounts[h] = static_cast<GLsizei>(data[h].size() / 7);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkPenumbraShadowMapShadows::vtkPenumbraShadowMapShadows()
+  : Impl(new Internals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkPenumbraShadowMapShadows::~vtkPenumbraShadowMapShadows()
+{
+  this->Impl->Release(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraShadowMapShadows::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Impl->Release(window);
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraShadowMapShadows::ParaboloidFromDirection(const double d[3], double xy[2])
+{
+  const int hemisphere = d[2] >= 0.0 ? 0 : 1;
+  const double denominator = 1.0 + std::fabs(d[2]);
+  xy[0] = d[0] / denominator;
+  xy[1] = d[1] / denominator;
+  return hemisphere;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraShadowMapShadows::DirectionFromParaboloid(
+  const double xy[2], int hemisphere, double d[3])
+{
+  const double r2 = xy[0] * xy[0] + xy[1] * xy[1];
+  d[0] = 2.0 * xy[0] / (1.0 + r2);
+  d[1] = 2.0 * xy[1] / (1.0 + r2);
+  d[2] = (1.0 - r2) / (1.0 + r2) * (hemisphere ? -1.0 : 1.0);
+}
+
+//------------------------------------------------------------------------------
+#define PENUMBRA_SM_FAIL(text)                                                                   \
+  do                                                                                             \
+  {                                                                                              \
+    vtkErrorMacro(<< text);                                                                      \
+    return 0;                                                                                    \
+  } while (false)
+
+//------------------------------------------------------------------------------
+int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
+  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
+  vtkFloatArray* visibility)
+{
+  const auto start = Clock::now();
+  Internals& impl = *this->Impl;
+  this->NumberOfViews = 0;
+  this->MapTimeMs = this->LookupTimeMs = 0.0;
+
+  // ---- Input checks: nothing is written before they pass.
+  if (!renderer || !geometry || !samples || !light || !visibility)
+  {
+    PENUMBRA_SM_FAIL("shadow maps need a renderer, geometry, samples, a light and an output array");
+  }
+  if (vtkPenumbraAreaLight::SafeDownCast(light))
+  {
+    PENUMBRA_SM_FAIL("shadow maps handle point, spot and directional lights only, not area lights");
+  }
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
+  if (!win)
+  {
+    PENUMBRA_SM_FAIL("shadow maps need an OpenGL render window");
+  }
+  penumbra_light_views::FrameInputs in;
+  {
+    std::string inputError;
+    if (!in.Read(geometry, samples, light, inputError))
+    {
+      PENUMBRA_SM_FAIL(inputError);
+    }
+  }
+  const LightSetup& setup = in.Light;
+  const vtkIdType n = in.NumberOfSamples;
+  const float* pos = in.Positions;
+  const float* nrm = in.Normals;
+  const double* shift = in.Shift;
+
+  // ---- Casters (not for lights that are off: they get no map at all).
+  bool anyCaster = false;
+  if (!setup.Off)
+  {
+    win->MakeCurrent();
+    if (impl.Window && impl.Window != win)
+    {
+      impl.Release(nullptr);
+    }
+    impl.Window = win;
+    if (impl.Casters.Update(geometry))
+    {
+      ++this->NumberOfUploads;
+    }
+    anyCaster = impl.Casters.VertexCount > 0;
+  }
+
+  visibility->SetNumberOfComponents(1);
+  visibility->SetNumberOfTuples(n);
+  float* vis = n ? visibility->GetPointer(0) : nullptr;
+  impl.State.resize(static_cast<size_t>(n));
+  unsigned char* state = impl.State.data();
+  const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(
+    setup, n, pos, nrm, in.Props, shift, anyCaster, vis, state, Pending, Decided);
+  if (facing.Pending == 0)
+  {
+    visibility->Modified();
+    this->LastTimeMs = ElapsedMs(start);
+    return 1;
+  }
+  auto samplePoint = [&](vtkIdType s, double p[3]) {
+    for (int c = 0; c < 3; ++c)
+    {
+      p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
+    }
+  };
+
+  // ---- The cache key: everything the maps depend on, by value (a spurious Modified() on the
+  // camera or light does not force a re-render; a real change always does).
+  std::vector<double> key;
+  {
+    double lp[3], lf[3];
+    light->GetTransformedPosition(lp);
+    light->GetTransformedFocalPoint(lf);
+    key.insert(key.end(), lp, lp + 3);
+    key.insert(key.end(), lf, lf + 3);
+    key.push_back(light->GetPositional());
+    key.push_back(light->GetConeAngle());
+    key.push_back(static_cast<double>(geometry->GetGeometryTime()));
+    key.push_back(static_cast<double>(geometry->GetFlagsTime()));
+    key.insert(key.end(), in.GeometryOrigin, in.GeometryOrigin + 3);
+    key.insert(key.end(), in.Shift, in.Shift + 3);
+    key.push_back(static_cast<double>(n));
+    key.push_back(static_cast<double>(facing.Pending));
+    vtkCamera* camera = renderer->GetActiveCamera();
+    if (camera)
+    {
+      key.insert(key.end(), camera->GetPosition(), camera->GetPosition() + 3);
+      key.insert(key.end(), camera->GetFocalPoint(), camera->GetFocalPoint() + 3);
+      key.insert(key.end(), camera->GetViewUp(), camera->GetViewUp() + 3);
+      key.push_back(camera->GetViewAngle());
+      key.push_back(camera->GetParallelProjection());
+      key.push_back(camera->GetParallelScale());
+      key.insert(key.end(), camera->GetClippingRange(), camera->GetClippingRange() + 2);
+    }
+    const int* size = renderer->GetSize();
+    key.push_back(size[0]);
+    key.push_back(size[1]);
+    key.push_back(static_cast<double>(this->GetMTime()));
+  }
+  LightMaps* maps = nullptr;
+  for (auto& entry : impl.Cache)
+  {
+    if (entry.Light == light)
+    {
+      maps = &entry;
+    }
+  }
+  if (!maps)
+  {
+    // Entries of deleted lights are reused first.
+    for (auto& entry : impl.Cache)
+    {
+      if (!entry.Light)
+      {
+        maps = &entry;
+      }
+    }
+    if (!maps)
+    {
+      impl.Cache.emplace_back();
+      maps = &impl.Cache.back();
+    }
+    *maps = LightMaps();
+    maps->Light = light;
+  }
+
+  const bool cube = setup.Type == LightSetup::Kind::Point && this->PointMode == POINT_CUBE;
+  const bool paraboloid =
+    setup.Type == LightSetup::Kind::Point && this->PointMode == POINT_PARABOLOID;
+  auto slotOf = [&](const double p[3]) -> int {
+    if (cube || paraboloid)
+    {
+      double v[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        v[c] = p[c] - setup.Position[c];
+      }
+      if (paraboloid)
+      {
+        return v[2] >= 0.0 ? 0 : 1;
+      }
+      int best = 0;
+      for (int c = 1; c < 3; ++c)
+      {
+        best = std::fabs(v[c]) > std::fabs(v[best]) ? c : best;
+      }
+      return 2 * best + (v[best] < 0.0);
+    }
+    return 0;
+  };
+
+  const int size = this->Resolution;
+  if (!maps->Valid || maps->Key != key || maps->Size != size)
+  {
+    const auto mapStart = Clock::now();
+    maps->Valid = false;
+    maps->Key = key;
+    maps->Size = size;
+    maps->Paraboloid = paraboloid;
+    const int slots = cube ? 6 : (paraboloid ? 2 : 1);
+    maps->Views.assign(static_cast<size_t>(slots), View());
+    maps->Maps.assign(static_cast<size_t>(slots), std::vector<float>());
+
+    // ---- Fit the light views to the receivers (seed 004 ch. 4.2): the valid samples that
+    // face the light, exactly (no control texture needed: the samples are on the CPU).
+    std::vector<char> used(static_cast<size_t>(slots), 0);
+    double box[6] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+      std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+      std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
+    double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+      std::numeric_limits<double>::max() };
+    double hi[3] = { -lo[0], -lo[1], -lo[2] };
+    double axes[3][3];
+    double spotTan = 0.0;
+    double farthest = 0.0;
+    if (setup.Type == LightSetup::Kind::Directional)
+    {
+      const double travel[3] = { -setup.Direction[0], -setup.Direction[1], -setup.Direction[2] };
+      penumbra_light_views::Basis(travel, axes[0], axes[1]);
+      std::copy(travel, travel + 3, axes[2]);
+    }
+    else if (setup.Type == LightSetup::Kind::Spot)
+    {
+      penumbra_light_views::Basis(setup.Axis, axes[0], axes[1]);
+      std::copy(setup.Axis, setup.Axis + 3, axes[2]);
+    }
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      if (state[s] != Pending)
+      {
+        continue;
+      }
+      double p[3];
+      samplePoint(s, p);
+      used[static_cast<size_t>(slotOf(p))] = 1;
+      for (int c = 0; c < 3; ++c)
+      {
+        box[2 * c] = std::min(box[2 * c], p[c]);
+        box[2 * c + 1] = std::max(box[2 * c + 1], p[c]);
+      }
+      if (setup.Type == LightSetup::Kind::Directional)
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          const double d = vtkMath::Dot(p, axes[a]);
+          lo[a] = std::min(lo[a], d);
+          hi[a] = std::max(hi[a], d);
+        }
+      }
+      else
+      {
+        const double q[3] = { p[0] - setup.Position[0], p[1] - setup.Position[1],
+          p[2] - setup.Position[2] };
+        farthest = std::max(farthest, Norm3(q));
+        if (setup.Type == LightSetup::Kind::Spot)
+        {
+          const double w = vtkMath::Dot(q, axes[2]);
+          if (w > 0.0)
+          {
+            spotTan = std::max(spotTan,
+              std::max(std::fabs(vtkMath::Dot(q, axes[0])), std::fabs(vtkMath::Dot(q, axes[1]))) /
+                w);
+          }
+        }
+      }
+    }
+    if (setup.Type == LightSetup::Kind::Directional)
+    {
+      // Orthographic rows fitted to the receivers' light-space rectangle and depth span.
+      // Casters in front of the near plane clamp to depth 0 (ch. 4.1.2): they still shadow.
+      View v;
+      double extent = 0.0;
+      for (int a = 0; a < 3; ++a)
+      {
+        extent = std::max(extent, hi[a] - lo[a]);
+      }
+      const double pad = 1e-3 * extent + 1e-9 * (1.0 + Norm3(box));
+      for (int a = 0; a < 3; ++a)
+      {
+        const double l = lo[a] - pad, h = hi[a] + pad;
+        const double scale = a < 2 ? 2.0 / (h - l) : 1.0 / (h - l);
+        for (int c = 0; c < 3; ++c)
+        {
+          v.Row[a][c] = axes[a][c] * scale;
+        }
+        v.Row[a][3] = -l * scale + (a < 2 ? -1.0 : 0.0);
+      }
+      v.Row[3][3] = 1.0;
+      maps->Views[0] = v;
+    }
+    else if (setup.Type == LightSetup::Kind::Spot)
+    {
+      // The field of view fitted to the receivers in the cone, never wider than the cone.
+      const double coneTan = std::tan(vtkMath::RadiansFromDegrees(std::min(setup.Cone + 1.0, 89.9)));
+      const double tanHalf = std::max(1e-6, std::min(coneTan, 1.01 * spotTan + 1e-9));
+      maps->Views[0] = penumbra_light_views::PerspectiveView(setup.Position, setup.Axis, tanHalf, box);
+    }
+    else if (cube)
+    {
+      for (int face = 0; face < 6; ++face)
+      {
+        double f[3] = { 0, 0, 0 };
+        f[face / 2] = (face % 2) ? -1.0 : 1.0;
+        maps->Views[static_cast<size_t>(face)] =
+          penumbra_light_views::PerspectiveView(setup.Position, f, 1.0, box);
+      }
+    }
+    else
+    {
+      std::copy(setup.Position, setup.Position + 3, maps->Centre);
+      maps->Far = farthest > 0.0 ? 1.01 * farthest : 1.0;
+      // The rim (radius 1) sits one texel inside the map edge.
+      maps->MapScale = 1.0 / (1.0 + 2.0 / size);
+    }
+
+    // ---- Render and read back every used slot.
+    vtkShaderProgram* program = paraboloid
+      ? win->GetShaderCache()->ReadyShaderProgram(
+          vtkPenumbraShadowMapParaboloidVS, vtkPenumbraShadowMapParaboloidFS, "")
+      : win->GetShaderCache()->ReadyShaderProgram(vtkPenumbraShadowMapVS, vtkPenumbraShadowMapFS, "");
+    if (!program || !program->GetCompiled())
+    {
+      maps->Valid = false;
+      PENUMBRA_SM_FAIL("the shadow map shaders do not compile or link on this OpenGL implementation");
+    }
+    if (paraboloid)
+    {
+      std::vector<double> paraboloidKey = { setup.Position[0], setup.Position[1],
+        setup.Position[2], static_cast<double>(geometry->GetGeometryTime()),
+        static_cast<double>(geometry->GetFlagsTime()), in.GeometryOrigin[0],
+        in.GeometryOrigin[1], in.GeometryOrigin[2] };
+      if (paraboloidKey != impl.ParaboloidKey || !impl.ParaboloidArray)
+      {
+        impl.BuildParaboloidCasters(setup.Position);
+        impl.ParaboloidKey = paraboloidKey;
+      }
+    }
+    impl.AllocateMaps(win, size);
+    const bool midpoint = this->DepthMode == DEPTH_MIDPOINT;
+    const float peelGap = static_cast<float>(std::max(this->Bias, 1e-6));
+    vtkOpenGLState* ostate = win->GetState();
+    penumbra_light_views::MapRenderState renderState(ostate, impl.FBO, size, false);
+    const float mapSize[2] = { static_cast<float>(size), static_cast<float>(size) };
+    if (paraboloid)
+    {
+      program->SetUniformf("mapScale", static_cast<float>(maps->MapScale));
+      program->SetUniformf("invMapScale", static_cast<float>(1.0 / maps->MapScale));
+      program->SetUniformf("invFar", static_cast<float>(1.0 / maps->Far));
+      program->SetUniform2f("mapSize", mapSize);
+      glBindVertexArray(impl.ParaboloidArray);
+    }
+    else
+    {
+      glBindVertexArray(impl.Casters.VertexArray);
+      const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
+      if (posLoc >= 0)
+      {
+        glBindBuffer(GL_ARRAY_BUFFER, impl.Casters.Positions);
+        glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
+        glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
+      }
+    }
+    program->SetUniformf("peelGap", peelGap);
+    const size_t texels = static_cast<size_t>(size) * size;
+    for (int slot = 0; slot < slots; ++slot)
+    {
+      if (!used[static_cast<size_t>(slot)])
+      {
+        continue;
+      }
+      GLsizei count = impl.Casters.VertexCount;
+      if (paraboloid)
+      {
+        const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexLight");
+        const GLint planeLoc = glGetAttribLocation(program->GetHandle(), "trianglePlane");
+        glBindBuffer(GL_ARRAY_BUFFER, impl.ParaboloidBuffers[slot]);
+        const GLsizei stride = 7 * sizeof(float);
+        if (posLoc >= 0)
+        {
+          glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
+          glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+        }
+        if (planeLoc >= 0)
+        {
+          glEnableVertexAttribArray(static_cast<GLuint>(planeLoc));
+          glVertexAttribPointer(static_cast<GLuint>(planeLoc), 4, GL_FLOAT, GL_FALSE, stride,
+            reinterpret_cast<const void*>(3 * sizeof(float)));
+        }
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
+        count = impl.ParaboloidCounts[slot];
+      }
+      else
+      {
+        const View& view = maps->Views[static_cast<size_t>(slot)];
+        float matrix[16];
+        view.ToFloatMatrix(matrix);
+        program->SetUniformMatrix4x4("lightMatrix", matrix);
+        program->SetUniformi("perspective", view.Perspective ? 1 : 0);
+        program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
+      }
+      std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
+      map.resize(texels);
+      for (int layer = 0; layer < (midpoint ? 2 : 1); ++layer)
+      {
+        impl.FBO->AddDepthAttachment(impl.DepthTextures[layer]);
+        ostate->vtkglDrawBuffer(GL_NONE);
+        ostate->vtkglReadBuffer(GL_NONE);
+        const GLfloat one = 1.0f;
+        glClearBufferfv(GL_DEPTH, 0, &one);
+        program->SetUniformi("peel", layer);
+        if (layer == 1)
+        {
+          impl.DepthTextures[0]->Activate();
+          program->SetUniformi("firstLayer", impl.DepthTextures[0]->GetTextureUnit());
+        }
+        if (count > 0)
+        {
+          glDrawArrays(GL_TRIANGLES, 0, count);
+        }
+        if (layer == 1)
+        {
+          impl.DepthTextures[0]->Deactivate();
+        }
+        glPixelStorei(GL_PACK_ALIGNMENT, 4);
+        float* target = map.data();
+        if (layer == 1)
+        {
+          impl.SecondLayer.resize(texels);
+          target = impl.SecondLayer.data();
+        }
+        glReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, target);
+      }
+      if (midpoint)
+      {
+        // Woo's midpoint (ch. 4.1.1); no second surface leaves the far value 1 as the
+        // second depth, so a lone surface stays lit by a half-range margin.
+        const float* second = impl.SecondLayer.data();
+        vtkSMPTools::For(0, static_cast<vtkIdType>(texels), [&](vtkIdType b, vtkIdType e) {
+          for (vtkIdType i = b; i < e; ++i)
+          {
+            map[static_cast<size_t>(i)] = 0.5f * (map[static_cast<size_t>(i)] + second[i]);
+          }
+        });
+      }
+      ++this->NumberOfMapRenders;
+    }
+    maps->Valid = true;
+    this->MapTimeMs = ElapsedMs(mapStart);
+  }
+  for (const auto& map : maps->Maps)
+  {
+    this->NumberOfViews += map.empty() ? 0 : 1;
+  }
+
+  // ---- Per-sample lookup on the CPU, double precision (see the class description).
+  const auto lookupStart = Clock::now();
+  const int radius = this->Filter == FILTER_PCF ? (this->PCFKernel | 1) / 2 : 0;
+  const double slopeBias = this->SlopeBias * (1.0 + radius);
+  const double constantBias = this->Bias;
+  const LightMaps& m = *maps;
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType s = begin; s < end; ++s)
+    {
+      if (state[s] != Pending)
+      {
+        continue;
+      }
+      double p[3];
+      samplePoint(s, p);
+      const int slot = slotOf(p);
+      const std::vector<float>& map = m.Maps[static_cast<size_t>(slot)];
+      if (map.empty())
+      {
+        continue; // cannot happen: every pending sample's slot was rendered
+      }
+      double ms = 0.0, mt = 0.0, depth = 0.0, footprint = 0.0, depthPerLength = 1.0;
+      double toLight[3] = { 0, 0, 0 };
+      if (m.Paraboloid)
+      {
+        double q[3] = { p[0] - m.Centre[0], p[1] - m.Centre[1], p[2] - m.Centre[2] };
+        const double distance = Norm3(q);
+        if (!(distance > 0.0))
+        {
+          continue;
+        }
+        for (int c = 0; c < 3; ++c)
+        {
+          q[c] /= distance;
+          toLight[c] = -q[c];
+        }
+        double xy[2];
+        ParaboloidFromDirection(q, xy);
+        ms = xy[0] * m.MapScale;
+        mt = xy[1] * m.MapScale;
+        depth = distance / m.Far;
+        depthPerLength = 1.0 / m.Far;
+        // d(angle)/d(radius) = 2 / (1 + r^2) on the paraboloid.
+        footprint = distance * 2.0 / (1.0 + xy[0] * xy[0] + xy[1] * xy[1]) * 2.0 /
+          (size * m.MapScale);
+      }
+      else
+      {
+        const View& view = m.Views[static_cast<size_t>(slot)];
+        if (!view.Project(p, ms, mt, depth))
+        {
+          continue;
+        }
+        if (view.Perspective)
+        {
+          depthPerLength = 1.0 / view.Far;
+          footprint = 2.0 * view.TanHalf * depth * view.Far / size;
+          for (int c = 0; c < 3; ++c)
+          {
+            toLight[c] = setup.Position[c] - p[c];
+          }
+        }
+        else
+        {
+          depthPerLength = Norm3(view.Row[2]);
+          footprint = 2.0 / (Norm3(view.Row[0]) * size);
+          std::copy(setup.Direction, setup.Direction + 3, toLight);
+        }
+      }
+      double normal[3] = { nrm[3 * s], nrm[3 * s + 1], nrm[3 * s + 2] };
+      vtkMath::Normalize(normal);
+      vtkMath::Normalize(toLight);
+      const double cosine = std::max(1e-9, vtkMath::Dot(normal, toLight));
+      const double tangent =
+        std::min(MaxTangent, std::sqrt(std::max(0.0, 1.0 - cosine * cosine)) / cosine);
+      const double threshold =
+        depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
+      const int ix = std::min(size - 1, std::max(0, static_cast<int>(std::floor((ms * 0.5 + 0.5) * size))));
+      const int iy = std::min(size - 1, std::max(0, static_cast<int>(std::floor((mt * 0.5 + 0.5) * size))));
+      int litTaps = 0, taps = 0;
+      for (int dy = -radius; dy <= radius; ++dy)
+      {
+        // PCF stays inside the map: it never reads across a cube face or paraboloid rim.
+        const int y = std::min(size - 1, std::max(0, iy + dy));
+        for (int dx = -radius; dx <= radius; ++dx)
+        {
+          const int x = std::min(size - 1, std::max(0, ix + dx));
+          litTaps += map[static_cast<size_t>(y) * size + x] >= threshold;
+          ++taps;
+        }
+      }
+      vis[s] = static_cast<float>(litTaps) / static_cast<float>(taps);
+    }
+  });
+  this->LookupTimeMs = ElapsedMs(lookupStart);
+  visibility->Modified();
+  this->LastTimeMs = ElapsedMs(start);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Resolution: " << this->Resolution << "\n";
+  os << indent << "Filter: " << (this->Filter == FILTER_PCF ? "pcf" : "none") << "\n";
+  os << indent << "PCFKernel: " << this->PCFKernel << "\n";
+  os << indent << "Bias: " << this->Bias << "\n";
+  os << indent << "SlopeBias: " << this->SlopeBias << "\n";
+  os << indent << "DepthMode: " << (this->DepthMode == DEPTH_MIDPOINT ? "midpoint" : "linear")
+     << "\n";
+  os << indent << "PointMode: " << (this->PointMode == POINT_PARABOLOID ? "paraboloid" : "cube")
+     << "\n";
+  os << indent << "NumberOfMapRenders: " << this->NumberOfMapRenders << "\n";
+  os << indent << "NumberOfViews: " << this->NumberOfViews << "\n";
+  os << indent << "NumberOfUploads: " << this->NumberOfUploads << "\n";
+  os << indent << "MapTimeMs: " << this->MapTimeMs << "\n";
+  os << indent << "LookupTimeMs: " << this->LookupTimeMs << "\n";
+}

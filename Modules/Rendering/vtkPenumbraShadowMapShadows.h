@@ -1,0 +1,215 @@
+/**
+ * @class   vtkPenumbraShadowMapShadows
+ * @brief   Classical shadow maps done the practical way of seed 004 (Brabec): linear depth,
+ *          optional second-depth (midpoint) maps, near/far and extent fitted to the visible
+ *          receivers with depth clamping, PCF, and cube or dual-paraboloid maps for point
+ *          lights.
+ *
+ * Per light (maps are cached, see below):
+ * - Directional lights: one orthographic map whose s/t extent and depth range are fitted
+ *   to the valid view samples that face the light (seed 004 ch. 4.2, axis-aligned
+ *   rectangle in light space, computed exactly from the samples instead of a control
+ *   texture). Casters in front of the fitted near plane are not clipped but clamped to depth
+ *   0 (GL_DEPTH_CLAMP plus gl_FragDepth clamping, ch. 4.1.2), so they still shadow.
+ * - Spot lights (VTK cone half-angle below 90 degrees): one perspective map along the axis,
+ *   its field of view fitted to the receivers inside the cone (never wider than the cone).
+ * - Point lights (positional, cone >= 90): six 90-degree cube faces (`Point` = cube,
+ *   only the faces that hold receivers are rendered) or two paraboloid hemispheres
+ *   (ch. 6). Paraboloid maps: casters are clipped against each hemisphere's equator plane
+ *   and tessellated on the CPU so that no edge spans more than about 2 degrees from the
+ *   light (the straight rasterized edges then follow the curved images of the true edges to
+ *   a fraction of a texel at 2048^2), and the fragment stage writes the exact distance
+ *   along the texel centre's direction to the triangle's plane. The lookup projects each
+ *   sample exactly (per sample, no per-vertex interpolation). What remains approximate is
+ *   the coverage of a texel near a triangle edge (chord vs arc, below 0.2 texel).
+ * - Depth is linear everywhere (ch. 4.1): orthographic depth over the fitted range,
+ *   perspective depth = distance along the view axis / Far, paraboloid depth = distance
+ *   from the light / Far, Far = the farthest receiver. Stored as 32-bit float.
+ * - `Depth` = midpoint (ch. 4.1.1, Woo): a second depth-peeled layer is rendered and the map
+ *   stores the midpoint of the first two surfaces (the far value 1 when there is no second
+ *   surface), which moves the comparison away from the lit surface itself.
+ *
+ * The depth comparison runs per view sample on the CPU (vtkSMPTools, double precision) after
+ * reading the map back: on llvmpipe the "GPU" is the same two cores, and the CPU lookup uses
+ * exactly the reference's samples, facing and spot-cone rules (samples facing away or
+ * outside the cone are shadowed, lights that are off are lit everywhere and get no map), so
+ * the error against vtkPenumbraReference measures shadow-map aliasing only. A sample is
+ * shadowed when stored depth < sample depth - bias, with
+ *   bias = Bias + SlopeBias * (1 + r) * texel footprint * tan(angle to the light) / range,
+ * r the PCF kernel radius in texels (0 without PCF) and tan clamped to 20.
+ *
+ * Caching: a light's maps are rendered again only when the light (position, focal point,
+ * cone, positional flag, switched on), the casters (geometry or flags time), the camera or
+ * window size (the maps are fitted to the view samples) or this object's settings change.
+ * GetNumberOfMapRenders() counts rendered views (faces, hemispheres) since construction.
+ * Memory: the cached maps keep 4 bytes per texel and view, e.g. 16 MiB per view at 2048^2
+ * (96 MiB for a cube at 2048^2), per light.
+ *
+ * Area lights are rejected (error; the pass renders that light unshadowed).
+ */
+
+#ifndef vtkPenumbraShadowMapShadows_h
+#define vtkPenumbraShadowMapShadows_h
+
+#include "vtkPenumbraRenderingModule.h" // For export macro
+#include "vtkPenumbraShadowTechnique.h"
+
+#include <memory> // For std::unique_ptr
+
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraShadowMapShadows : public vtkPenumbraShadowTechnique
+{
+public:
+  static vtkPenumbraShadowMapShadows* New();
+  vtkTypeMacro(vtkPenumbraShadowMapShadows, vtkPenumbraShadowTechnique);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
+
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  enum FilterModes
+  {
+    FILTER_NONE = 0, ///< one nearest texel, 0 or 1 (what a hardware depth compare gives)
+    FILTER_PCF = 1   ///< percentage-closer filtering over PCFKernel^2 nearest texels (ch. 5)
+  };
+  enum DepthModes
+  {
+    DEPTH_LINEAR = 0,  ///< the nearest surface, linear depth (ch. 4.1)
+    DEPTH_MIDPOINT = 1 ///< midpoint of the first two surfaces (ch. 4.1.1)
+  };
+  enum PointModes
+  {
+    POINT_CUBE = 0,      ///< six perspective cube faces
+    POINT_PARABOLOID = 1 ///< two paraboloid hemispheres (ch. 6)
+  };
+
+  ///@{
+  /**
+   * Map texels per side (per cube face / hemisphere for point lights). Default 2048,
+   * clamped to [64, 8192].
+   */
+  vtkSetClampMacro(Resolution, int, 64, 8192);
+  vtkGetMacro(Resolution, int);
+  ///@}
+
+  ///@{
+  /**
+   * FILTER_NONE (default) or FILTER_PCF. PCF returns the fraction of lit taps, so
+   * visibility takes values between 0 and 1 at shadow edges.
+   */
+  vtkSetClampMacro(Filter, int, FILTER_NONE, FILTER_PCF);
+  vtkGetMacro(Filter, int);
+  ///@}
+
+  ///@{
+  /**
+   * PCF kernel width in texels, odd, default 3, clamped to [3, 9] (even values are rounded
+   * up to the next odd one when used).
+   */
+  vtkSetClampMacro(PCFKernel, int, 3, 9);
+  vtkGetMacro(PCFKernel, int);
+  ///@}
+
+  ///@{
+  /**
+   * Constant depth bias as a fraction of the light view's depth range (orthographic: the
+   * fitted receiver depth span; perspective and paraboloid: Far, the farthest receiver's
+   * distance), so it is independent of the scene's units. Default 1e-4 (1 mm for a 10 m
+   * range), clamped to [0, 0.1]. Linear float depth needs little: its main purpose is the
+   * float rounding of the rasterizer.
+   */
+  vtkSetClampMacro(Bias, double, 0.0, 0.1);
+  vtkGetMacro(Bias, double);
+  ///@}
+
+  ///@{
+  /**
+   * Slope-scaled bias in texel footprints: the receiver's depth change across
+   * SlopeBias * (1 + PCF radius) texels at its angle to the light is added to the bias.
+   * Default 1.0 (covers the half texel diagonal of nearest lookup with margin), clamped to
+   * [0, 16].
+   */
+  vtkSetClampMacro(SlopeBias, double, 0.0, 16.0);
+  vtkGetMacro(SlopeBias, double);
+  ///@}
+
+  ///@{
+  /**
+   * DEPTH_LINEAR (default) or DEPTH_MIDPOINT (one more depth-peeled pass per view).
+   */
+  vtkSetClampMacro(DepthMode, int, DEPTH_LINEAR, DEPTH_MIDPOINT);
+  vtkGetMacro(DepthMode, int);
+  ///@}
+
+  ///@{
+  /**
+   * POINT_CUBE (default) or POINT_PARABOLOID for point lights.
+   */
+  vtkSetClampMacro(PointMode, int, POINT_CUBE, POINT_PARABOLOID);
+  vtkGetMacro(PointMode, int);
+  ///@}
+
+  /**
+   * Views (faces, hemispheres) rendered since construction; cached maps do not count.
+   */
+  vtkGetMacro(NumberOfMapRenders, int);
+
+  /**
+   * Views the last call used (rendered or cached): 1, up to 6 cube faces or 2 hemispheres,
+   * 0 when no map was needed (light off, nothing facing the light, no casters).
+   */
+  vtkGetMacro(NumberOfViews, int);
+
+  /**
+   * How many times the caster vertices were uploaded to the GPU since construction.
+   */
+  vtkGetMacro(NumberOfUploads, int);
+
+  ///@{
+  /**
+   * Phase times of the last call in milliseconds: map rendering and read back (0 when the
+   * cached maps were used), and the per-sample lookup.
+   */
+  vtkGetMacro(MapTimeMs, double);
+  vtkGetMacro(LookupTimeMs, double);
+  ///@}
+
+  ///@{
+  /**
+   * The dual-paraboloid mapping (seed 004 ch. 6, Eq. 6.3 in closed form). A unit direction
+   * d goes to hemisphere 0 (d_z >= 0, axis +z) or 1 (d_z < 0, axis -z, mirrored in z only)
+   * and to paraboloid coordinates xy = (d_x, d_y) / (1 + |d_z|) inside the unit disk. The
+   * hemisphere is chosen by the sign of d_z, so 1 + |d_z| >= 1 and the z -> -1 singularity of
+   * a single paraboloid is never evaluated. The inverse returns a unit direction.
+   */
+  static int ParaboloidFromDirection(const double d[3], double xy[2]);
+  static void DirectionFromParaboloid(const double xy[2], int hemisphere, double d[3]);
+  ///@}
+
+protected:
+  vtkPenumbraShadowMapShadows();
+  ~vtkPenumbraShadowMapShadows() override;
+
+  int Resolution = 2048;
+  int Filter = FILTER_NONE;
+  int PCFKernel = 3;
+  double Bias = 1e-4;
+  double SlopeBias = 1.0;
+  int DepthMode = DEPTH_LINEAR;
+  int PointMode = POINT_CUBE;
+  int NumberOfMapRenders = 0;
+  int NumberOfViews = 0;
+  int NumberOfUploads = 0;
+  double MapTimeMs = 0.0;
+  double LookupTimeMs = 0.0;
+
+private:
+  vtkPenumbraShadowMapShadows(const vtkPenumbraShadowMapShadows&) = delete;
+  void operator=(const vtkPenumbraShadowMapShadows&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
