@@ -43,12 +43,28 @@ double Now()
 {
   return vtkTimerLog::GetUniversalTime();
 }
+
+// Stands where VTK's vtkShadowMapBakerPass stands in existing pipelines; see
+// GetShadowMapBakerPass().
+class NoBakingPass : public vtkRenderPass
+{
+public:
+  static NoBakingPass* New();
+  vtkTypeMacro(NoBakingPass, vtkRenderPass);
+  void Render(const vtkRenderState*) override { this->NumberOfRenderedProps = 0; }
+
+protected:
+  NoBakingPass() = default;
+  ~NoBakingPass() override = default;
+};
+vtkStandardNewMacro(NoBakingPass);
 }
 
 struct vtkPenumbraShadowPass::Internals
 {
   vtkSmartPointer<vtkPenumbraShadowTechnique> Technique;
   vtkSmartPointer<vtkRenderPass> Delegate;
+  vtkSmartPointer<vtkRenderPass> Baker = vtkSmartPointer<NoBakingPass>::New();
   vtkSmartPointer<vtkPenumbraSceneGeometry> Geometry =
     vtkSmartPointer<vtkPenumbraSceneGeometry>::New();
   vtkSmartPointer<vtkPenumbraViewSamplesPass> SamplesPass =
@@ -139,6 +155,11 @@ vtkRenderPass* vtkPenumbraShadowPass::GetDelegatePass()
 vtkPenumbraSceneGeometry* vtkPenumbraShadowPass::GetGeometry()
 {
   return this->Impl->Geometry;
+}
+
+vtkRenderPass* vtkPenumbraShadowPass::GetShadowMapBakerPass()
+{
+  return this->Impl->Baker;
 }
 
 vtkPenumbraViewSamplesPass* vtkPenumbraShadowPass::GetViewSamplesPass()

@@ -64,6 +64,14 @@ public:
 
   vtkPenumbraSceneGeometry* GetGeometry();
   vtkPenumbraViewSamplesPass* GetViewSamplesPass();
+
+  /**
+   * A pass that does nothing, so code written for VTK's shadows,
+   * `Sequence[shadows->GetShadowMapBakerPass(), shadows]` inside a vtkCameraPass, keeps
+   * working when vtkShadowMapPass is replaced by this class: this pass prepares its own
+   * shadows when it renders, so there is nothing to bake beforehand.
+   */
+  vtkRenderPass* GetShadowMapBakerPass();
   vtkPenumbraViewSamples* GetViewSamples();
 
   /**

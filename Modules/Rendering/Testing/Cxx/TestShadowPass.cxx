@@ -25,6 +25,8 @@
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
 #include "vtkCameraPass.h"
+#include "vtkRenderPassCollection.h"
+#include "vtkSequencePass.h"
 #include "vtkUnsignedCharArray.h"
 
 #include "PenumbraTestMacros.h"
@@ -241,8 +243,32 @@ int CheckReceiversAndLights()
 }
 }
 
+// Code written for VTK's vtkShadowMapPass keeps its composition:
+// CameraPass -> Sequence[shadows->GetShadowMapBakerPass(), shadows].
+int CheckVTKComposition()
+{
+  Scene scene(128, 64);
+  vtkNew<vtkPenumbraShadowPass> shadows;
+  shadows->SetTechnique(vtkNew<vtkPenumbraRayTracedShadows>());
+  vtkNew<vtkRenderPassCollection> passes;
+  passes->AddItem(shadows->GetShadowMapBakerPass());
+  passes->AddItem(shadows);
+  vtkNew<vtkSequencePass> sequence;
+  sequence->SetPasses(passes);
+  vtkNew<vtkCameraPass> camera;
+  camera->SetDelegatePass(sequence);
+  scene.Renderer->SetPass(camera);
+  scene.Window->Render();
+  CHECK(ShadowedPlaneSamples(shadows) == 256);
+  CHECK(scene.Luminance(-1.0, 0.0) < 40.0);
+  CHECK(scene.Luminance(1.2, 0.0) > 150.0);
+  scene.Renderer->ReleaseGraphicsResources(scene.Window);
+  return EXIT_SUCCESS;
+}
+
 int TestShadowPass(int, char*[])
 {
+  RUN(CheckVTKComposition());
   RUN(CheckFootprint(128, 64));
   RUN(CheckFootprint(256, 64)); // wide window: same footprint, no distortion
   RUN(CheckReceiversAndLights());
