@@ -259,29 +259,15 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfViews = 0;
 
   // ---- Input checks: nothing is written before they pass.
-  if (!renderer || !geometry || !samples || !light || !visibility)
-  {
-    PENUMBRA_CSM_FAIL("conservative shadows need a renderer, geometry, samples, a light and an "
-                      "output array");
-  }
-  if (vtkPenumbraAreaLight::SafeDownCast(light))
-  {
-    PENUMBRA_CSM_FAIL("conservative shadows handle point, spot and directional lights only, not "
-                      "area lights");
-  }
-  auto* win = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
-  if (!win)
-  {
-    PENUMBRA_CSM_FAIL("conservative shadows need an OpenGL render window");
-  }
   penumbra_light_views::FrameInputs in;
   {
     std::string inputError;
-    if (!in.Read(geometry, samples, light, inputError))
+    if (!in.Read(renderer, geometry, samples, light, visibility, inputError))
     {
-      PENUMBRA_CSM_FAIL(inputError);
+      PENUMBRA_CSM_FAIL("conservative shadows: " << inputError);
     }
   }
+  vtkOpenGLRenderWindow* win = in.Window;
   const vtkIdType n = in.NumberOfSamples;
   const vtkIdType nTriangles = in.NumberOfTriangles;
   if (nTriangles >= static_cast<vtkIdType>(IdMask))

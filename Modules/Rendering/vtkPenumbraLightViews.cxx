@@ -7,6 +7,9 @@
 #include "vtkLight.h"
 #include "vtkMath.h"
 #include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkPenumbraAreaLight.h"
+#include "vtkRenderer.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkUnsignedCharArray.h"
@@ -196,9 +199,25 @@ bool LightSetup::Read(vtkLight* light, const double geometryOrigin[3], std::stri
 }
 
 //------------------------------------------------------------------------------
-bool FrameInputs::Read(vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples,
-  vtkLight* light, std::string& error)
+bool FrameInputs::Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+  vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility, std::string& error)
 {
+  if (!renderer || !geometry || !samples || !light || !visibility)
+  {
+    error = "a renderer, geometry, samples, a light and an output array are all required";
+    return false;
+  }
+  if (vtkPenumbraAreaLight::SafeDownCast(light))
+  {
+    error = "only point, spot and directional lights are handled, not area or linear lights";
+    return false;
+  }
+  this->Window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
+  if (!this->Window)
+  {
+    error = "an OpenGL render window is required";
+    return false;
+  }
   const vtkIdType n = samples->GetNumberOfSamples();
   vtkFloatArray* posArray = samples->GetPositions();
   vtkFloatArray* nrmArray = samples->GetNormals();

@@ -22,7 +22,10 @@
 #include <string>
 #include <vector>
 
+class vtkFloatArray;
 class vtkLight;
+class vtkOpenGLRenderWindow;
+class vtkRenderer;
 class vtkOpenGLFramebufferObject;
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
@@ -108,12 +111,16 @@ struct FrameInputs
   double GeometryOrigin[3] = { 0, 0, 0 };
   double Shift[3] = { 0, 0, 0 }; // samples' frame -> geometry's frame
   LightSetup Light;
+  vtkOpenGLRenderWindow* Window = nullptr;
 
   /**
-   * Checks that the arrays exist and agree in size, the origins are finite and the light is
-   * usable; false with `error` set otherwise (nothing is written).
+   * Checks every input of a map-based technique's ComputeVisibility: all present, an OpenGL
+   * window, a hard light (area and linear lights need other techniques), arrays that exist
+   * and agree in size, finite origins, a usable light. False with `error` set otherwise
+   * (nothing is written).
    */
-  bool Read(vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
+  bool Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility,
     std::string& error);
 };
 

@@ -336,27 +336,15 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   this->MapTimeMs = this->LookupTimeMs = 0.0;
 
   // ---- Input checks: nothing is written before they pass.
-  if (!renderer || !geometry || !samples || !light || !visibility)
-  {
-    PENUMBRA_SM_FAIL("shadow maps need a renderer, geometry, samples, a light and an output array");
-  }
-  if (vtkPenumbraAreaLight::SafeDownCast(light))
-  {
-    PENUMBRA_SM_FAIL("shadow maps handle point, spot and directional lights only, not area lights");
-  }
-  auto* win = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
-  if (!win)
-  {
-    PENUMBRA_SM_FAIL("shadow maps need an OpenGL render window");
-  }
   penumbra_light_views::FrameInputs in;
   {
     std::string inputError;
-    if (!in.Read(geometry, samples, light, inputError))
+    if (!in.Read(renderer, geometry, samples, light, visibility, inputError))
     {
-      PENUMBRA_SM_FAIL(inputError);
+      PENUMBRA_SM_FAIL("shadow maps: " << inputError);
     }
   }
+  vtkOpenGLRenderWindow* win = in.Window;
   const LightSetup& setup = in.Light;
   const vtkIdType n = in.NumberOfSamples;
   const float* pos = in.Positions;
