@@ -28,6 +28,7 @@
 #include "vtkPenumbraConservativeMapFS.h"
 #include "vtkPenumbraConservativeMapGS.h"
 #include "vtkPenumbraConservativeMapVS.h"
+#include "vtkPenumbraConservativeMapCPU.h"
 #include "vtkPenumbraLightViews.h"
 
 #include <algorithm>
@@ -153,6 +154,9 @@ struct vtkPenumbraConservativeShadows::Internals
   int MapSize = 0;
 
   std::vector<float> LayerDepth[MaxLayers];
+  // CPU builder: triangles in the apex region of the current view, tested per sample.
+  static constexpr size_t MaxNearTriangles = 64;
+  std::vector<vtkIdType> NearTriangles;
   std::vector<std::uint32_t> LayerIds[MaxLayers];
   vtkNew<vtkUnsignedCharArray> Mask;
 
@@ -257,6 +261,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfRays = 0;
   this->MapTimeMs = this->ClassifyTimeMs = this->TraceTimeMs = 0.0;
   this->NumberOfViews = 0;
+  this->NumberOfTexelWrites = 0;
 
   // ---- Input checks: nothing is written before they pass.
   penumbra_light_views::FrameInputs in;
@@ -301,7 +306,8 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     impl.Release(nullptr);
   }
   impl.Window = win;
-  if (impl.Casters.Update(geometry))
+  const bool gpu = this->MapBuilder == MAP_GPU;
+  if (impl.Casters.Update(geometry, gpu))
   {
     ++this->NumberOfUploads;
   }
@@ -395,15 +401,20 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   if (!views.empty())
   {
     const int size = this->Resolution;
-    vtkShaderProgram* program = win->GetShaderCache()->ReadyShaderProgram(
-      vtkPenumbraConservativeMapVS, vtkPenumbraConservativeMapFS, vtkPenumbraConservativeMapGS);
-    if (!program || !program->GetCompiled())
+    vtkShaderProgram* program = gpu
+      ? win->GetShaderCache()->ReadyShaderProgram(
+          vtkPenumbraConservativeMapVS, vtkPenumbraConservativeMapFS, vtkPenumbraConservativeMapGS)
+      : nullptr;
+    if (gpu && (!program || !program->GetCompiled()))
     {
       PENUMBRA_CSM_FAIL("the conservative shadow map shaders do not compile or link on this "
                         "OpenGL implementation (a geometry shader is required)");
     }
     const int layers = this->Layers;
-    impl.AllocateMaps(win, size);
+    if (gpu)
+    {
+      impl.AllocateMaps(win, size);
+    }
     for (int k = 0; k < Internals::MaxLayers; ++k)
     {
       const size_t texels = k < layers ? static_cast<size_t>(size) * size : 0;
@@ -422,6 +433,15 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     {
       const View& view = views[vi];
       const auto renderStart = Clock::now();
+      impl.NearTriangles.clear();
+      if (!gpu)
+      {
+        const penumbra_conservative::CpuMapStats stats =
+          penumbra_conservative::BuildConservativeMap(view, size, layers, tv,
+            impl.Casters.TriangleIds, impl.LayerDepth, impl.LayerIds, impl.NearTriangles);
+        this->NumberOfTexelWrites += stats.TexelWrites;
+      }
+      else
       {
         // Depth is written explicitly and clamped in the shader; clamping is on as a second
         // line of defence (seed 000 §3 #8). Colour (the id layers) is written.
@@ -558,6 +578,12 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
       //        never shadows, "fully covered" or not: rule 4 is not exact); clear miss ->
       //        skip it (e.g. a coplanar neighbour at a shared edge); else uncertain;
       //  4. layers exhausted -> uncertain (traced).
+      // The CPU builder keeps the triangles that reach a perspective view's apex region out
+      // of the map (they would cover all of it); each is tested exactly against the sample's
+      // ray first, with rule 3b/3c above. Beyond MaxNearTriangles of them the view's samples
+      // are all traced.
+      const std::vector<vtkIdType>& nearTriangles = impl.NearTriangles;
+      const bool nearTestable = nearTriangles.size() <= Internals::MaxNearTriangles;
       const auto classifyStart = Clock::now();
       const signed char viewIndex = static_cast<signed char>(vi);
       vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
@@ -609,7 +635,22 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
           const double tieLimit = tieFactor * tnear;
           const double errPos = 4e-6 * scale;
 
-          for (int k = 0; k < layers && rayOk; ++k)
+          bool nearClear = true;
+          for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
+          {
+            const vtkIdType blocker = nearTriangles[k];
+            const Hit hit = nearTestable && blocker != own
+              ? TestRay(p, d, tnear, tieLimit, tmax, tv + 9 * blocker, errPos)
+              : (blocker == own ? Hit::Miss : Hit::Unknown);
+            if (hit == Hit::Clear)
+            {
+              vis[s] = 0.0f;
+              state[s] = Decided;
+              ++localShadowed;
+            }
+            nearClear = hit == Hit::Miss;
+          }
+          for (int k = 0; k < layers && rayOk && nearClear; ++k)
           {
             const std::uint32_t id = impl.LayerIds[k][texel] & IdMask;
             if (id == 0 || impl.LayerDepth[k][texel] > depth + margin)
@@ -697,6 +738,8 @@ void vtkPenumbraConservativeShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Resolution: " << this->Resolution << "\n";
+  os << indent << "MapBuilder: " << (this->MapBuilder == MAP_GPU ? "gpu" : "cpu") << "\n";
+  os << indent << "NumberOfTexelWrites: " << this->NumberOfTexelWrites << "\n";
   os << indent << "NumberOfLitSamples: " << this->NumberOfLitSamples << "\n";
   os << indent << "NumberOfShadowedSamples: " << this->NumberOfShadowedSamples << "\n";
   os << indent << "NumberOfUncertainSamples: " << this->NumberOfUncertainSamples << "\n";

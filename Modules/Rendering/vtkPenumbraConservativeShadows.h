@@ -4,39 +4,41 @@
  *          view samples as lit, shadowed or uncertain, and only uncertain ones are ray traced.
  *
  * Per light and frame:
- * 1. Conservative shadow map (CSM) on the rasterizer (seed 000 §1.1): a dedicated
- *    vertex + geometry + fragment program draws the caster triangles of the scene geometry
- *    (uploaded once per geometry/flags change, see GetNumberOfUploads()) into an R32UI id
- *    buffer (triangle id + 1, bit 31 "fully covered") and a 32-bit float depth buffer that
- *    holds, per texel, the smallest *conservative* linear light depth of every triangle whose
- *    projection comes within half a texel diagonal of the texel centre. The geometry stage
- *    enlarges each triangle by the texel diagonal (§1.1.2, clipped to its grown bounding box),
- *    the fragment stage keeps texels by true point-to-segment distance (the note's fix of
- *    §1.1.3) and writes max(plane minimum over the texel, vertex minimum) - epsilon (§1.1.4).
- *    Further depth-peeled layers store the next nearest *other* triangles at each texel (the
- *    note's exact option (ii) for §1.3 rule 6, see SetLayers()).
+ * 1. Conservative shadow map (CSM, seed 000 §1.1): per texel, the Layers nearest caster
+ *    triangles whose projection touches the texel, each with a *conservative* (never too
+ *    large) linear light depth over the texel (§1.1.4). Two builders, see SetMapBuilder():
+ *    - CPU (default): exact conservative rasterization in double precision
+ *      (vtkPenumbraConservativeMapCPU.h): separating-axis texel/triangle overlap on binned
+ *      tiles with vtkSMPTools, all layers in one pass, no read back.
+ *    - GPU: a vertex + geometry + fragment program draws the casters (uploaded once per
+ *      geometry/flags change, see GetNumberOfUploads()) into an R32UI id buffer and a float
+ *      depth buffer; the geometry stage enlarges each triangle by the texel diagonal
+ *      (§1.1.2), the fragment stage keeps texels by true point-to-segment distance (the
+ *      note's fix of §1.1.3) and writes max(plane minimum over the texel, vertex minimum)
+ *      - epsilon; further depth-peeled draws store the next nearest *other* triangles (the
+ *      note's exact option (ii) for §1.3 rule 6, see SetLayers()).
  *    Light cameras: directional lights get an orthographic view along the light fitted to
  *    the casters and the valid samples; spot lights with a cone of at most 60 degrees one
  *    perspective view covering the cone; wider spots and point lights six 90-degree cube
- *    faces (each drawing only the triangles that reach its frustum). Inside a face's frustum,
- *    triangles that come closer to the light than 0.2 % of the view's depth range (a light
- *    sitting on or very close to geometry) cover the whole face at depth 0: conservative,
- *    but samples there are mostly uncertain (see torture/point_light_on_surface.json).
- * 2. Classification on the CPU (vtkSMPTools, double precision) of the read-back layers; see
- *    the rule list in the implementation. Every decision is provable; anything else is
- *    "uncertain".
+ *    faces. Triangles that come closer to a perspective view's apex than 0.2 % of its depth
+ *    range (a light on or very near geometry): the GPU builder covers the whole face with
+ *    them at depth 0; the CPU builder tests each exactly against every sample's ray instead
+ *    (up to 64 of them; beyond, the face's samples are traced).
+ * 2. Classification on the CPU (vtkSMPTools, double precision) of the layers; see the rule
+ *    list in the implementation. Every decision is provable; anything else is "uncertain".
  * 3. Uncertain samples are ray traced by vtkPenumbraReference on the CPU (Embree), which also
  *    defines the answer the technique must match exactly.
  *
  * Area lights are rejected (error, the pass renders that light unshadowed).
  *
- * Cost on llvmpipe: the map (one full draw per layer and view, with explicit depth writes and
- * so no early depth test) dominates; Embree traces the few uncertain rays in well under a
- * millisecond. On the two-core llvmpipe target this technique is therefore slower than
- * vtkPenumbraRayTracedShadows; it is exact, and its split pays on a real GPU rasterizer.
+ * Cost on the CPU-only llvmpipe target (README has the figures): the CPU builder is 3-80x
+ * faster than the geometry-shader one, but Embree traces a coherent shadow ray per view
+ * sample in about the time the classifier needs for a map lookup per sample, so the hybrid
+ * does not beat vtkPenumbraRayTracedShadows here; its split pays where a hardware rasterizer
+ * builds the map and rays are expensive.
  *
- * Memory: Layers x 8 bytes per texel, i.e. 16 MiB at the default 1024^2 and 2 layers, are
- * read back per view; cube faces are processed one after the other.
+ * Memory: Layers x 8 bytes per texel, i.e. 24 MiB at the default 1024^2 and 3 layers, per
+ * view; cube faces are processed one after the other.
  */
 
 #ifndef vtkPenumbraConservativeShadows_h
@@ -71,14 +73,38 @@ public:
   vtkGetMacro(Resolution, int);
   ///@}
 
+  /**
+   * Who builds the conservative map.
+   * - MAP_CPU (default): exact conservative rasterization in double precision on the CPU
+   *   (vtkSMPTools over binned tiles, separating-axis texel tests; see
+   *   vtkPenumbraConservativeMapCPU.h). All layers in one pass, no read back; triangles in
+   *   a point light's apex region are tested exactly per sample instead of filling the map.
+   * - MAP_GPU: the geometry-shader program described above (one draw per layer, read back).
+   * Both give maps the same classification rules use, so both are exact; they differ in
+   * cost. Measured on llvmpipe (2 cores), city scene 1280x720, 1024^2: see README.
+   */
+  enum MapBuilders
+  {
+    MAP_CPU = 0,
+    MAP_GPU = 1
+  };
+  vtkSetClampMacro(MapBuilder, int, MAP_CPU, MAP_GPU);
+  vtkGetMacro(MapBuilder, int);
+
+  /**
+   * CPU builder: texel/triangle pairs written into the map by the last call (all views).
+   */
+  vtkGetMacro(NumberOfTexelWrites, vtkIdType);
+
   ///@{
   /**
    * Depth-peeled CSM layers. Layer k stores the nearest triangle no earlier layer stores at
    * that texel, so a sample can look past its own triangle and past neighbours that provably
    * miss its shadow ray (coplanar neighbours at shared edges). Default 2 (the note's option
-   * (ii) for seed 000 §1.3b), clamped to [2, 4]. Each layer costs one more full draw and 8
-   * bytes per texel; a third layer typically cuts the uncertain share several-fold (e.g.
-   * 6.5 % -> 0.7 % on default.json), which pays where the rasterizer is cheaper than rays.
+   * (ii) for seed 000 §1.3b), clamped to [2, 4]. Default 3: a third layer typically cuts
+   * the uncertain share several-fold (5.8 % -> 0.7 % on default.json at 1280x720) and costs
+   * the CPU builder little (8 bytes per texel, no extra pass); the GPU builder pays one more
+   * full draw per layer.
    */
   vtkSetClampMacro(Layers, int, 2, 4);
   vtkGetMacro(Layers, int);
@@ -135,7 +161,9 @@ protected:
   ~vtkPenumbraConservativeShadows() override;
 
   int Resolution = 1024;
-  int Layers = 2;
+  int Layers = 3;
+  int MapBuilder = MAP_CPU;
+  vtkIdType NumberOfTexelWrites = 0;
   vtkIdType NumberOfLitSamples = 0;
   vtkIdType NumberOfShadowedSamples = 0;
   vtkIdType NumberOfUncertainSamples = 0;

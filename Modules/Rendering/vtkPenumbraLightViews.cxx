@@ -376,43 +376,60 @@ MapRenderState::~MapRenderState()
 }
 
 //------------------------------------------------------------------------------
-bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry)
+bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
 {
   double origin[3];
   geometry->GetOrigin(origin);
   const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
-  if (this->Uploaded && this->Geometry == geometry &&
+  const bool current = this->Current && this->Geometry == geometry &&
     this->GeometryTime == geometry->GetGeometryTime() &&
     this->FlagsTime == geometry->GetFlagsTime() && this->Triangles == nTriangles &&
-    std::equal(origin, origin + 3, this->Origin))
+    std::equal(origin, origin + 3, this->Origin);
+  if (!current)
+  {
+    std::vector<float> xyz;
+    std::vector<vtkIdType> casters;
+    double* bounds = this->Bounds;
+    bounds[0] = bounds[2] = bounds[4] = std::numeric_limits<double>::max();
+    bounds[1] = bounds[3] = bounds[5] = -std::numeric_limits<double>::max();
+    vtkDoubleArray* vertexArray = geometry->GetVertices();
+    const double* v = nTriangles && vertexArray ? vertexArray->GetPointer(0) : nullptr;
+    for (vtkIdType t = 0; v && t < nTriangles; ++t)
+    {
+      // The reference's rule: casters with area (seed 000 §3 #4).
+      if (!geometry->IsOccluder(t))
+      {
+        continue;
+      }
+      const double* p = v + 9 * t;
+      for (int c = 0; c < 9; ++c)
+      {
+        xyz.push_back(static_cast<float>(p[c]));
+        bounds[2 * (c % 3)] = std::min(bounds[2 * (c % 3)], p[c]);
+        bounds[2 * (c % 3) + 1] = std::max(bounds[2 * (c % 3) + 1], p[c]);
+      }
+      casters.push_back(t);
+    }
+    this->VertexCount = static_cast<GLsizei>(xyz.size() / 3);
+    this->Vertices.swap(xyz);
+    this->TriangleIds.swap(casters);
+    this->Current = true;
+    this->OnGPU = false;
+    this->Geometry = geometry;
+    this->GeometryTime = geometry->GetGeometryTime();
+    this->FlagsTime = geometry->GetFlagsTime();
+    this->Triangles = nTriangles;
+    std::copy(origin, origin + 3, this->Origin);
+  }
+  if (!upload || this->OnGPU)
   {
     return false;
   }
-  std::vector<float> xyz;
   std::vector<std::uint32_t> ids;
-  double* bounds = this->Bounds;
-  bounds[0] = bounds[2] = bounds[4] = std::numeric_limits<double>::max();
-  bounds[1] = bounds[3] = bounds[5] = -std::numeric_limits<double>::max();
-  vtkDoubleArray* vertexArray = geometry->GetVertices();
-  const double* v = nTriangles && vertexArray ? vertexArray->GetPointer(0) : nullptr;
-  for (vtkIdType t = 0; v && t < nTriangles; ++t)
+  ids.reserve(this->Vertices.size() / 3);
+  for (vtkIdType t : this->TriangleIds)
   {
-    // The reference's rule: casters with area (seed 000 §3 #4).
-    if (!geometry->IsOccluder(t))
-    {
-      continue;
-    }
-    const double* p = v + 9 * t;
-    for (int c = 0; c < 9; ++c)
-    {
-      xyz.push_back(static_cast<float>(p[c]));
-      bounds[2 * (c % 3)] = std::min(bounds[2 * (c % 3)], p[c]);
-      bounds[2 * (c % 3) + 1] = std::max(bounds[2 * (c % 3) + 1], p[c]);
-    }
-    for (int c = 0; c < 3; ++c)
-    {
-      ids.push_back(static_cast<std::uint32_t>(t));
-    }
+    ids.insert(ids.end(), 3, static_cast<std::uint32_t>(t));
   }
   if (!this->VertexArray)
   {
@@ -422,20 +439,13 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry)
     glGenBuffers(1, &this->Indices);
   }
   glBindBuffer(GL_ARRAY_BUFFER, this->Positions);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(xyz.size() * sizeof(float)),
-    xyz.empty() ? nullptr : xyz.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(this->Vertices.size() * sizeof(float)),
+    this->Vertices.empty() ? nullptr : this->Vertices.data(), GL_STATIC_DRAW);
   glBindBuffer(GL_ARRAY_BUFFER, this->Ids);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ids.size() * sizeof(std::uint32_t)),
     ids.empty() ? nullptr : ids.data(), GL_STATIC_DRAW);
   glBindBuffer(GL_ARRAY_BUFFER, 0);
-  this->VertexCount = static_cast<GLsizei>(ids.size());
-  this->Vertices.swap(xyz);
-  this->Uploaded = true;
-  this->Geometry = geometry;
-  this->GeometryTime = geometry->GetGeometryTime();
-  this->FlagsTime = geometry->GetFlagsTime();
-  this->Triangles = nTriangles;
-  std::copy(origin, origin + 3, this->Origin);
+  this->OnGPU = true;
   return true;
 }
 
@@ -456,7 +466,6 @@ void CasterBuffers::Release()
 void CasterBuffers::Forget()
 {
   this->VertexArray = this->Positions = this->Ids = this->Indices = 0;
-  this->Uploaded = false;
-  this->Geometry = nullptr;
+  this->OnGPU = false;
 }
 }

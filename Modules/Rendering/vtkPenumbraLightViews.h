@@ -169,9 +169,10 @@ private:
 };
 
 /**
- * The caster triangles (IsOccluder, the reference's rule) of a scene geometry as GL vertex
- * buffers: positions (3 floats, rebased) and triangle ids (one uint per vertex). Uploaded
- * again only when the geometry, its flags or its origin change.
+ * The caster triangles (IsOccluder, the reference's rule) of a scene geometry: their ids and
+ * bounds on the CPU, and on request as GL vertex buffers (positions, 3 floats rebased, and
+ * triangle ids, one uint per vertex). Rebuilt only when the geometry, its flags or its
+ * origin change; uploaded only when asked and not yet on the GPU.
  */
 struct CasterBuffers
 {
@@ -179,12 +180,16 @@ struct CasterBuffers
   GLuint Positions = 0;
   GLuint Ids = 0;
   GLuint Indices = 0;
-  GLsizei VertexCount = 0;
-  std::vector<float> Vertices; // CPU copy of Positions
+  GLsizei VertexCount = 0;              // 3 per caster
+  std::vector<float> Vertices;          // CPU copy of Positions
+  std::vector<vtkIdType> TriangleIds;   // the casters, ascending
   double Bounds[6] = { 1, -1, 1, -1, 1, -1 };
 
-  /** Uploads if anything changed (context current); true when it uploaded. */
-  bool Update(vtkPenumbraSceneGeometry* geometry);
+  /**
+   * Brings the caster list up to date and, with `upload` (context current), the GL buffers;
+   * true when it uploaded.
+   */
+  bool Update(vtkPenumbraSceneGeometry* geometry, bool upload = true);
 
   /** Frees the GL objects (context current) and forgets what was uploaded. */
   void Release();
@@ -193,7 +198,8 @@ struct CasterBuffers
   void Forget();
 
 private:
-  bool Uploaded = false;
+  bool Current = false; // the CPU lists match Geometry
+  bool OnGPU = false;   // the GL buffers match the CPU lists
   vtkPenumbraSceneGeometry* Geometry = nullptr;
   vtkMTimeType GeometryTime = 0;
   vtkMTimeType FlagsTime = 0;

@@ -180,11 +180,14 @@ void InstallRayTraced(vtkRenderer* ren, Options& opts)
 void InstallConservative(vtkRenderer* ren, Options& opts)
 {
   const int resolution = opts.Integer("resolution", 1024, 64, 8192);
-  const int layers = opts.Integer("layers", 2, 2, 4);
+  const int layers = opts.Integer("layers", 3, 2, 4);
+  const int map = opts.Choice("map", { "cpu", "gpu" });
   opts.RejectUnknown();
   vtkNew<vtkPenumbraConservativeShadows> technique;
   technique->SetResolution(resolution);
   technique->SetLayers(layers);
+  technique->SetMapBuilder(map == 1 ? vtkPenumbraConservativeShadows::MAP_GPU
+                                    : vtkPenumbraConservativeShadows::MAP_CPU);
   vtkNew<vtkPenumbraShadowPass> shadows;
   shadows->SetTechnique(technique);
   vtkNew<vtkCameraPass> camera;

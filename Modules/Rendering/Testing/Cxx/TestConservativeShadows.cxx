@@ -86,6 +86,9 @@ struct Outcome
   vtkIdType RefShadowed = 0; // samples the reference shadows
 };
 
+// The map builder under test ("cpu" or "gpu"), set by TestConservativeShadows.
+std::string Map = "cpu";
+
 // Renders `renderer` with the conservative technique and compares every light's visibility
 // with the reference on the same samples. Fails on any non-tie mismatch or bad counters.
 int CompareWithReference(const std::string& label, vtkRenderer* renderer, int resolution,
@@ -98,7 +101,7 @@ int CompareWithReference(const std::string& label, vtkRenderer* renderer, int re
   window->AddRenderer(renderer);
   vtkNew<vtkPenumbraTechniques> techniques;
   const std::string options = "{\"resolution\": " + std::to_string(resolution) +
-    ", \"layers\": " + std::to_string(layers) + "}";
+    ", \"layers\": " + std::to_string(layers) + ", \"map\": \"" + Map + "\"}";
   CHECK(techniques->Apply(renderer, "conservative", options.c_str()));
   window->Render();
   vtkPenumbraShadowPass* pass = ShadowPass(renderer);
@@ -107,6 +110,8 @@ int CompareWithReference(const std::string& label, vtkRenderer* renderer, int re
   CHECK(technique != nullptr);
   CHECK(technique->GetResolution() == resolution);
   CHECK(technique->GetLayers() == layers);
+  CHECK(technique->GetMapBuilder() ==
+    (Map == "gpu" ? vtkPenumbraConservativeShadows::MAP_GPU : vtkPenumbraConservativeShadows::MAP_CPU));
   CHECK(pass->GetNumberOfLights() >= 1);
   vtkPenumbraViewSamples* samples = pass->GetViewSamples();
   CHECK(samples->GetNumberOfValidSamples() > 0);
@@ -164,7 +169,7 @@ int CompareWithReference(const std::string& label, vtkRenderer* renderer, int re
     std::printf("%-34s light %d: valid %lld, lit %lld, shadowed %lld, uncertain %lld "
                 "(%.1f%%), ties %lld, mismatches %lld (direct %lld), views %d, "
                 "map %.1f ms, classify %.1f ms, trace %.1f ms\n",
-      label.c_str(), i, static_cast<long long>(valid), static_cast<long long>(lit),
+      (Map + " " + label).c_str(), i, static_cast<long long>(valid), static_cast<long long>(lit),
       static_cast<long long>(shadowed), static_cast<long long>(uncertain),
       valid ? 100.0 * uncertain / valid : 0.0, static_cast<long long>(reference->GetNumberOfTies()),
       static_cast<long long>(mismatches), static_cast<long long>(directMismatches),
@@ -187,9 +192,10 @@ int CompareWithReference(const std::string& label, vtkRenderer* renderer, int re
     }
   }
 
-  // Nothing changed: the next frame reuses the uploaded casters.
+  // Nothing changed: the next frame reuses the uploaded casters. The CPU builder uploads
+  // nothing.
   const int uploads = technique->GetNumberOfUploads();
-  CHECK(uploads >= 1);
+  CHECK(Map == "gpu" ? uploads >= 1 : uploads == 0);
   window->Render();
   CHECK(technique->GetNumberOfUploads() == uploads);
   renderer->GetRenderWindow()->RemoveRenderer(renderer);
@@ -346,6 +352,8 @@ int CheckBadInput()
   CHECK(techniques->Apply(renderer, "conservative", "{\"resolution\": 32}") == 0);
   CHECK(techniques->Apply(renderer, "conservative", "{\"resolutoin\": 512}") == 0);
   CHECK(techniques->Apply(renderer, "conservative", "{\"resolution\": 512}") == 1);
+  CHECK(techniques->Apply(renderer, "conservative", "{\"map\": \"fpga\"}") == 0);
+  CHECK(techniques->Apply(renderer, "conservative", "{\"map\": \"gpu\"}") == 1);
   return EXIT_SUCCESS;
 }
 }
@@ -353,9 +361,14 @@ int CheckBadInput()
 int TestConservativeShadows(int, char*[])
 {
   RUN(CheckBadInput());
-  RUN(CheckPlane());
-  RUN(CheckThinWire());
-  RUN(CheckDefaultScene());
-  RUN(CheckTortureScenes());
+  // Both map builders, every scene: they must agree with the reference, not just each other.
+  for (const char* map : { "cpu", "gpu" })
+  {
+    Map = map;
+    RUN(CheckPlane());
+    RUN(CheckThinWire());
+    RUN(CheckDefaultScene());
+    RUN(CheckTortureScenes());
+  }
   return EXIT_SUCCESS;
 }

@@ -1,0 +1,416 @@
+#include "vtkPenumbraConservativeMapCPU.h"
+
+#include "vtkPenumbraLightViews.h"
+#include "vtkSMPTools.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace penumbra_conservative
+{
+namespace
+{
+// A texel is kept when its square, grown by this many texels on each side, overlaps the
+// triangle's projection: the float rounding between the reference's rays and our double
+// projection (seed 000 §3 #10, the same quarter texel the GPU program allows).
+constexpr double Grow = 0.25;
+constexpr int TileSize = 64;
+constexpr int MaxPolygon = 8; // a triangle clipped by four planes has at most 7 vertices
+
+// One caster triangle's projection into the view, ready to rasterize.
+struct Footprint
+{
+  vtkIdType Id = -1;
+  int NumEdges = 0;
+  bool Line = false;               // degenerate projection: Edge[0] is a two-sided line
+  double Edge[MaxPolygon][3] = {}; // a x + b y + c >= 0 inside (texel units)
+  int X0 = 0, X1 = -1, Y0 = 0, Y1 = -1; // texel range, inclusive
+  bool PlaneOk = false;
+  double Plane[3] = { 0, 0, 0 }; // orthographic: depth; perspective: 1 / depth, affine in x, y
+  double VertexMin = 0.0;        // smallest stored depth over the clipped polygon
+};
+
+struct Clip
+{
+  double P[4]; // x, y, stored depth (orthographic) or unused, w
+};
+
+// Clips `poly` against a * x + b * y + s * w >= 0 (homogeneous; the view's side planes).
+int ClipAgainst(Clip* poly, int n, double a, double b, double s)
+{
+  Clip out[MaxPolygon];
+  int m = 0;
+  for (int i = 0; i < n && m < MaxPolygon; ++i)
+  {
+    const Clip& p = poly[i];
+    const Clip& q = poly[(i + 1) % n];
+    const double dp = a * p.P[0] + b * p.P[1] + s * p.P[3];
+    const double dq = a * q.P[0] + b * q.P[1] + s * q.P[3];
+    if (dp >= 0.0)
+    {
+      out[m++] = p;
+    }
+    if ((dp >= 0.0) != (dq >= 0.0) && m < MaxPolygon)
+    {
+      const double t = dp / (dp - dq);
+      Clip r;
+      for (int c = 0; c < 4; ++c)
+      {
+        r.P[c] = p.P[c] + t * (q.P[c] - p.P[c]);
+      }
+      out[m++] = r;
+    }
+  }
+  std::copy(out, out + m, poly);
+  return m;
+}
+
+// Projects triangle `id` into `view`. Returns 0 when it misses the view, 1 when `fp` is
+// ready to rasterize, 2 when it reaches the apex region (perspective views).
+int MakeFootprint(const penumbra_light_views::View& view, int size, const double* tri,
+  vtkIdType id, Footprint& fp)
+{
+  const double slack = 1.0 + 2.0 / size; // one texel beyond the map on each side
+  Clip poly[MaxPolygon];
+  double wMin = std::numeric_limits<double>::infinity();
+  double wMax = -wMin;
+  int outside[4] = { 0, 0, 0, 0 };
+  for (int k = 0; k < 3; ++k)
+  {
+    const double* p = tri + 3 * k;
+    Clip& c = poly[k];
+    c.P[0] = view.Dot(0, p);
+    c.P[1] = view.Dot(1, p);
+    c.P[2] = view.Perspective ? 0.0 : view.Dot(2, p);
+    c.P[3] = view.Perspective ? view.Dot(3, p) : 1.0;
+    const double w = slack * c.P[3];
+    outside[0] += c.P[0] > w;
+    outside[1] += -c.P[0] > w;
+    outside[2] += c.P[1] > w;
+    outside[3] += -c.P[1] > w;
+    wMin = std::min(wMin, c.P[3]);
+    wMax = std::max(wMax, c.P[3]);
+  }
+  if (outside[0] == 3 || outside[1] == 3 || outside[2] == 3 || outside[3] == 3 ||
+    !(wMax > 0.0))
+  {
+    return 0; // wholly outside one side plane, or behind the apex
+  }
+  if (view.Perspective && !(wMin >= view.NearW))
+  {
+    return 2;
+  }
+  // The plane of the depth quantity, from the unclipped vertices (affine in x, y: the depth
+  // itself for orthographic views, 1 / (w / Far) for perspective ones).
+  double X[3], Y[3], Q[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    const Clip& c = poly[k];
+    X[k] = (c.P[0] / c.P[3] * 0.5 + 0.5) * size;
+    Y[k] = (c.P[1] / c.P[3] * 0.5 + 0.5) * size;
+    Q[k] = view.Perspective ? view.Far / c.P[3] : c.P[2];
+  }
+  {
+    const double ex1 = X[1] - X[0], ey1 = Y[1] - Y[0], eq1 = Q[1] - Q[0];
+    const double ex2 = X[2] - X[0], ey2 = Y[2] - Y[0], eq2 = Q[2] - Q[0];
+    const double det = ex1 * ey2 - ex2 * ey1;
+    const double scale = std::max({ ex1 * ex1 + ey1 * ey1, ex2 * ex2 + ey2 * ey2, 1e-300 });
+    if (std::fabs(det) > 1e-6 * scale)
+    {
+      fp.Plane[0] = (eq1 * ey2 - eq2 * ey1) / det;
+      fp.Plane[1] = (ex1 * eq2 - ex2 * eq1) / det;
+      fp.Plane[2] = Q[0] - fp.Plane[0] * X[0] - fp.Plane[1] * Y[0];
+      fp.PlaneOk = std::isfinite(fp.Plane[0]) && std::isfinite(fp.Plane[1]) &&
+        std::isfinite(fp.Plane[2]);
+    }
+  }
+  int n = 3;
+  n = ClipAgainst(poly, n, -1.0, 0.0, slack);
+  n = n ? ClipAgainst(poly, n, 1.0, 0.0, slack) : 0;
+  n = n ? ClipAgainst(poly, n, 0.0, -1.0, slack) : 0;
+  n = n ? ClipAgainst(poly, n, 0.0, 1.0, slack) : 0;
+  if (n == 0)
+  {
+    return 0;
+  }
+  double px[MaxPolygon], py[MaxPolygon];
+  double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin;
+  double ymin = xmin, ymax = -xmin;
+  fp.VertexMin = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n; ++k)
+  {
+    const Clip& c = poly[k];
+    px[k] = (c.P[0] / c.P[3] * 0.5 + 0.5) * size;
+    py[k] = (c.P[1] / c.P[3] * 0.5 + 0.5) * size;
+    xmin = std::min(xmin, px[k]);
+    xmax = std::max(xmax, px[k]);
+    ymin = std::min(ymin, py[k]);
+    ymax = std::max(ymax, py[k]);
+    fp.VertexMin =
+      std::min(fp.VertexMin, view.Perspective ? c.P[3] / view.Far : c.P[2]);
+  }
+  if (!std::isfinite(xmin + xmax + ymin + ymax + fp.VertexMin))
+  {
+    // Cannot happen for finite input past the checks above; never lose a caster silently.
+    xmin = ymin = 0.0;
+    xmax = ymax = size;
+    fp.VertexMin = -std::numeric_limits<double>::infinity();
+    fp.PlaneOk = false;
+    n = 0;
+  }
+  fp.Id = id;
+  fp.X0 = std::max(0, static_cast<int>(std::floor(xmin - Grow)));
+  fp.X1 = std::min(size - 1, static_cast<int>(std::floor(xmax + Grow)));
+  fp.Y0 = std::max(0, static_cast<int>(std::floor(ymin - Grow)));
+  fp.Y1 = std::min(size - 1, static_cast<int>(std::floor(ymax + Grow)));
+  if (fp.X0 > fp.X1 || fp.Y0 > fp.Y1)
+  {
+    return 0;
+  }
+  // Separating axes of a convex polygon and a square: the square's axes (the texel range
+  // above) and the polygon's edge normals. A projection without area (edge-on triangle) is
+  // a segment: its line is the remaining axis.
+  double area = 0.0;
+  for (int k = 0; k < n; ++k)
+  {
+    area += px[k] * py[(k + 1) % n] - px[(k + 1) % n] * py[k];
+  }
+  const double extent = std::max(xmax - xmin, ymax - ymin);
+  fp.NumEdges = 0;
+  fp.Line = !(std::fabs(area) > 1e-9 * extent * extent);
+  if (!fp.Line)
+  {
+    const double orient = area > 0.0 ? 1.0 : -1.0;
+    for (int k = 0; k < n; ++k)
+    {
+      const int j = (k + 1) % n;
+      const double a = -(py[j] - py[k]) * orient;
+      const double b = (px[j] - px[k]) * orient;
+      if (a == 0.0 && b == 0.0)
+      {
+        continue; // repeated vertex
+      }
+      double* e = fp.Edge[fp.NumEdges++];
+      e[0] = a;
+      e[1] = b;
+      e[2] = -(a * px[k] + b * py[k]);
+    }
+  }
+  else if (n > 0)
+  {
+    // The two farthest-apart vertices span the segment.
+    int ia = 0, ib = 0;
+    double best = -1.0;
+    for (int k = 0; k < n; ++k)
+    {
+      for (int j = k + 1; j < n; ++j)
+      {
+        const double d = (px[j] - px[k]) * (px[j] - px[k]) + (py[j] - py[k]) * (py[j] - py[k]);
+        if (d > best)
+        {
+          best = d;
+          ia = k;
+          ib = j;
+        }
+      }
+    }
+    if (best > 0.0)
+    {
+      double* e = fp.Edge[fp.NumEdges++];
+      e[0] = -(py[ib] - py[ia]);
+      e[1] = px[ib] - px[ia];
+      e[2] = -(e[0] * px[ia] + e[1] * py[ia]);
+    }
+  }
+  return 1;
+}
+
+// Conservative overlap of texel square [x0, x1] x [y0, y1] with the footprint.
+bool Overlaps(const Footprint& fp, double x0, double x1, double y0, double y1)
+{
+  for (int k = 0; k < fp.NumEdges; ++k)
+  {
+    const double* e = fp.Edge[k];
+    const double hi = e[2] + e[0] * (e[0] > 0.0 ? x1 : x0) + e[1] * (e[1] > 0.0 ? y1 : y0);
+    if (hi < 0.0)
+    {
+      return false;
+    }
+    if (fp.Line)
+    {
+      const double lo = e[2] + e[0] * (e[0] > 0.0 ? x0 : x1) + e[1] * (e[1] > 0.0 ? y0 : y1);
+      if (lo > 0.0)
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+// Seed 000 §1.1.4: a lower bound of the triangle's stored depth over the square, never
+// below its smallest vertex depth. The depth quantity is affine over the square, so its
+// extreme is at a corner; a float result is rounded down.
+float ConservativeDepth(const Footprint& fp, bool perspective, double x0, double x1, double y0,
+  double y1)
+{
+  double depth = fp.VertexMin;
+  if (fp.PlaneOk)
+  {
+    const double* p = fp.Plane;
+    if (perspective)
+    {
+      // 1 / depth is affine: its maximum gives the minimum depth, if positive throughout.
+      const double qmax = p[2] + p[0] * (p[0] > 0.0 ? x1 : x0) + p[1] * (p[1] > 0.0 ? y1 : y0);
+      const double qmin = p[2] + p[0] * (p[0] > 0.0 ? x0 : x1) + p[1] * (p[1] > 0.0 ? y0 : y1);
+      if (qmin > 0.0 && qmax > 0.0)
+      {
+        depth = std::max(depth, (1.0 / qmax) * (1.0 - 1e-9));
+      }
+    }
+    else
+    {
+      const double dmin = p[2] + p[0] * (p[0] > 0.0 ? x0 : x1) + p[1] * (p[1] > 0.0 ? y0 : y1);
+      depth = std::max(depth, dmin - 1e-9 * (1.0 + std::fabs(dmin)));
+    }
+  }
+  float f = static_cast<float>(depth);
+  if (static_cast<double>(f) > depth)
+  {
+    f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  }
+  return f;
+}
+}
+
+//------------------------------------------------------------------------------
+CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int size, int layers,
+  const double* vertices, const std::vector<vtkIdType>& casters, std::vector<float>* depth,
+  std::vector<std::uint32_t>* ids, std::vector<vtkIdType>& nearTriangles)
+{
+  CpuMapStats stats;
+  const size_t texels = static_cast<size_t>(size) * size;
+  for (int k = 0; k < layers; ++k)
+  {
+    depth[k].assign(texels, std::numeric_limits<float>::infinity());
+    ids[k].assign(texels, 0u);
+  }
+
+  // 1. Footprints, in parallel (the caster order is kept, so the map is deterministic).
+  const vtkIdType nc = static_cast<vtkIdType>(casters.size());
+  std::vector<Footprint> footprints(casters.size());
+  std::vector<unsigned char> status(casters.size(), 0);
+  vtkSMPTools::For(0, nc, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const vtkIdType id = casters[static_cast<size_t>(i)];
+      status[static_cast<size_t>(i)] = static_cast<unsigned char>(
+        MakeFootprint(view, size, vertices + 9 * id, id, footprints[static_cast<size_t>(i)]));
+    }
+  });
+
+  // 2. Bin them to tiles (counting sort, in caster order).
+  const int tiles = (size + TileSize - 1) / TileSize;
+  std::vector<vtkIdType> start(static_cast<size_t>(tiles) * tiles + 1, 0);
+  for (size_t i = 0; i < footprints.size(); ++i)
+  {
+    if (status[i] == 2)
+    {
+      nearTriangles.push_back(casters[i]);
+      continue;
+    }
+    if (status[i] != 1)
+    {
+      continue;
+    }
+    ++stats.Triangles;
+    const Footprint& fp = footprints[i];
+    for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
+    {
+      for (int tx = fp.X0 / TileSize; tx <= fp.X1 / TileSize; ++tx)
+      {
+        ++start[static_cast<size_t>(ty) * tiles + tx + 1];
+      }
+    }
+  }
+  for (size_t t = 1; t < start.size(); ++t)
+  {
+    start[t] += start[t - 1];
+  }
+  std::vector<vtkIdType> fill(start.begin(), start.end() - 1);
+  std::vector<std::uint32_t> binned(static_cast<size_t>(start.back()));
+  for (size_t i = 0; i < footprints.size(); ++i)
+  {
+    if (status[i] != 1)
+    {
+      continue;
+    }
+    const Footprint& fp = footprints[i];
+    for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
+    {
+      for (int tx = fp.X0 / TileSize; tx <= fp.X1 / TileSize; ++tx)
+      {
+        binned[static_cast<size_t>(fill[static_cast<size_t>(ty) * tiles + tx]++)] =
+          static_cast<std::uint32_t>(i);
+      }
+    }
+  }
+
+  // 3. Rasterize tile by tile: each texel keeps its `layers` smallest conservative depths.
+  std::atomic<vtkIdType> tests(0), writes(0);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(tiles) * tiles, [&](vtkIdType begin, vtkIdType end) {
+    vtkIdType localTests = 0, localWrites = 0;
+    for (vtkIdType tile = begin; tile < end; ++tile)
+    {
+      const int tx0 = static_cast<int>(tile % tiles) * TileSize;
+      const int ty0 = static_cast<int>(tile / tiles) * TileSize;
+      const int tx1 = std::min(size - 1, tx0 + TileSize - 1);
+      const int ty1 = std::min(size - 1, ty0 + TileSize - 1);
+      for (vtkIdType b = start[static_cast<size_t>(tile)]; b < start[static_cast<size_t>(tile) + 1];
+           ++b)
+      {
+        const Footprint& fp = footprints[binned[static_cast<size_t>(b)]];
+        const std::uint32_t id = static_cast<std::uint32_t>(fp.Id) + 1u;
+        for (int y = std::max(ty0, fp.Y0); y <= std::min(ty1, fp.Y1); ++y)
+        {
+          const double y0 = y - Grow, y1 = y + 1 + Grow;
+          for (int x = std::max(tx0, fp.X0); x <= std::min(tx1, fp.X1); ++x)
+          {
+            const double x0 = x - Grow, x1 = x + 1 + Grow;
+            ++localTests;
+            if (!Overlaps(fp, x0, x1, y0, y1))
+            {
+              continue;
+            }
+            ++localWrites;
+            const float d = ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1);
+            const size_t texel = static_cast<size_t>(y) * size + x;
+            // Sorted insertion; equal depths keep caster order.
+            for (int k = 0; k < layers; ++k)
+            {
+              if (d < depth[k][texel])
+              {
+                for (int j = layers - 1; j > k; --j)
+                {
+                  depth[j][texel] = depth[j - 1][texel];
+                  ids[j][texel] = ids[j - 1][texel];
+                }
+                depth[k][texel] = d;
+                ids[k][texel] = id;
+                break;
+              }
+            }
+          }
+        }
+      }
+    }
+    tests += localTests;
+    writes += localWrites;
+  });
+  stats.TexelTests = tests.load();
+  stats.TexelWrites = writes.load();
+  return stats;
+}
+}

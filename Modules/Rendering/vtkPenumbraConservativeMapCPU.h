@@ -1,0 +1,63 @@
+/**
+ * @file    vtkPenumbraConservativeMapCPU.h
+ * @brief   Conservative shadow map layers built on the CPU (private to
+ *          vtkPenumbraConservativeShadows).
+ *
+ * The same map the conservative technique's geometry-shader program draws (seed 000 §1.1),
+ * produced by exact conservative rasterization in double precision with vtkSMPTools:
+ * per texel, the `layers` nearest caster triangles whose projection overlaps the texel
+ * square (grown by a quarter texel for the float rounding of the reference's rays, §3 #10),
+ * each with a conservative minimum light depth over that square (§1.1.4). Separating-axis
+ * overlap instead of the paper's enlarged triangle (§1.1.2-1.1.3), so no texel is kept that
+ * the square does not touch, and no explicit depth writes that defeat a rasterizer's early
+ * depth test.
+ *
+ * Why on the CPU: the target rasterizer is Mesa's llvmpipe, i.e. the same two CPU cores.
+ * There the geometry-shader path pays for every primitive and texel in the GL pipeline
+ * (explicit gl_FragDepth, one full draw per peeled layer, a full read back); the CPU builds
+ * all layers in one pass over binned tiles, in double precision and without a read back.
+ *
+ * Triangles that reach the apex region of a perspective view (w < NearW: a light on or very
+ * near a surface) are not rasterized; they are returned in `nearTriangles` for an exact
+ * per-sample test, since their projection would cover (almost) the whole view.
+ *
+ * Not wrapped and not installed.
+ */
+
+#ifndef vtkPenumbraConservativeMapCPU_h
+#define vtkPenumbraConservativeMapCPU_h
+
+#include "vtkType.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace penumbra_light_views
+{
+struct View;
+}
+
+namespace penumbra_conservative
+{
+/** Statistics of one map build. */
+struct CpuMapStats
+{
+  vtkIdType Triangles = 0;   // casters that reached the view's frustum
+  vtkIdType TexelTests = 0;  // texel/triangle overlap tests
+  vtkIdType TexelWrites = 0; // texel/triangle pairs that overlapped
+};
+
+/**
+ * Builds `layers` map layers of size x size texels for `view`: depth[k][texel] (the view's
+ * stored-depth unit, +inf when empty) and ids[k][texel] (triangle id + 1, 0 when empty),
+ * sorted by depth per texel. `vertices` holds 9 doubles per triangle (rebased frame),
+ * `casters` the ids of the triangles that cast. Triangles reaching the apex region are
+ * appended to `nearTriangles` instead.
+ */
+CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int size, int layers,
+  const double* vertices, const std::vector<vtkIdType>& casters, std::vector<float>* depth,
+  std::vector<std::uint32_t>* ids, std::vector<vtkIdType>& nearTriangles);
+}
+
+#endif
+// VTK-HeaderTest-Exclude: vtkPenumbraConservativeMapCPU.h
