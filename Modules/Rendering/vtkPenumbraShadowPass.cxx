@@ -34,6 +34,7 @@
 
 #include "vtkPenumbraVisibilityDec.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,77 @@ protected:
   ~NoBakingPass() override = default;
 };
 vtkStandardNewMacro(NoBakingPass);
+
+// What VTK draws in its translucent pass, for a receiver: the props whose nearest
+// translucent surface gets its own view samples and visibility.
+bool IsTranslucentReceiver(vtkProp* prop)
+{
+  auto* actor = vtkActor::SafeDownCast(prop);
+  return actor && actor->GetVisibility() && actor->HasTranslucentPolygonalGeometry() &&
+    vtkPenumbraShadowKeys::ReceivesShadows(prop);
+}
+
+// Samples of props that do not receive are lit unshadowed: they get no shadow work.
+void DropNonReceivers(vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples)
+{
+  std::vector<char> receives(static_cast<size_t>(geometry->GetNumberOfProps()), 1);
+  bool anyNonReceiver = false;
+  for (size_t p = 0; p < receives.size(); ++p)
+  {
+    receives[p] = vtkPenumbraShadowKeys::ReceivesShadows(geometry->GetProp(static_cast<int>(p)));
+    anyNonReceiver = anyNonReceiver || !receives[p];
+  }
+  if (!anyNonReceiver)
+  {
+    return;
+  }
+  int* props = samples->GetPropIndices()->GetPointer(0);
+  vtkIdType* tris = samples->GetTriangleIds()->GetPointer(0);
+  for (vtkIdType i = 0; i < samples->GetNumberOfSamples(); ++i)
+  {
+    if (props[i] >= 0 && props[i] < static_cast<int>(receives.size()) &&
+      !receives[static_cast<size_t>(props[i])])
+    {
+      props[i] = -1;
+      tris[i] = -1;
+    }
+  }
+}
+
+// `out` = the rows of `a` followed by the rows of `b` (same width and origin), so that one
+// technique call serves both sample layers (and per-light caches stay valid).
+void Stack(vtkPenumbraViewSamples* a, vtkPenumbraViewSamples* b, vtkPenumbraViewSamples* out)
+{
+  out->SetSize(a->GetWidth(), a->GetHeight() + b->GetHeight());
+  out->SetOrigin(a->GetOrigin());
+  out->SetCameraPosition(a->GetCameraPosition());
+  const vtkIdType na = a->GetNumberOfSamples();
+  const vtkIdType nb = b->GetNumberOfSamples();
+  auto copy = [&](auto* dst, auto* srcA, auto* srcB, int components) {
+    std::copy(srcA->GetPointer(0), srcA->GetPointer(0) + components * na, dst->GetPointer(0));
+    std::copy(
+      srcB->GetPointer(0), srcB->GetPointer(0) + components * nb, dst->GetPointer(components * na));
+  };
+  copy(out->GetPositions(), a->GetPositions(), b->GetPositions(), 3);
+  copy(out->GetNormals(), a->GetNormals(), b->GetNormals(), 3);
+  copy(out->GetPropIndices(), a->GetPropIndices(), b->GetPropIndices(), 1);
+  copy(out->GetTriangleIds(), a->GetTriangleIds(), b->GetTriangleIds(), 1);
+  out->Modified();
+}
+
+// The values [begin, begin + n) of `in` as a new array.
+vtkSmartPointer<vtkFloatArray> Slice(vtkFloatArray* in, vtkIdType begin, vtkIdType n)
+{
+  auto out = vtkSmartPointer<vtkFloatArray>::New();
+  out->SetNumberOfTuples(n);
+  std::copy(in->GetPointer(begin), in->GetPointer(begin) + n, out->GetPointer(0));
+  return out;
+}
+
+// Shader tags of the two sample layers and the prefixes of their visibility samplers.
+const char* const LayerTags[2] = { "//PENUMBRA::Visibility::Dec",
+  "//PENUMBRA::TranslucentVisibility::Dec" };
+const char* const LayerSamplers[2] = { "penumbraVisibility", "penumbraTranslucentVisibility" };
 }
 
 struct vtkPenumbraShadowPass::Internals
@@ -69,11 +141,17 @@ struct vtkPenumbraShadowPass::Internals
     vtkSmartPointer<vtkPenumbraSceneGeometry>::New();
   vtkSmartPointer<vtkPenumbraViewSamplesPass> SamplesPass =
     vtkSmartPointer<vtkPenumbraViewSamplesPass>::New();
+  // Nearest translucent surface per pixel, sampled only when translucent receivers exist.
+  vtkSmartPointer<vtkPenumbraViewSamplesPass> TranslucentSamplesPass;
+  vtkSmartPointer<vtkPenumbraViewSamples> Stacked; // opaque rows, then translucent rows
+  bool HasTranslucentLayer = false;
 
-  std::vector<vtkSmartPointer<vtkLight>> Lights;            // switched-on, shader order
-  std::vector<vtkSmartPointer<vtkFloatArray>> Visibility;   // per light; null = no shadow
-  std::vector<vtkSmartPointer<vtkTextureObject>> Textures;  // 4 lights per RGBA texture
-  std::vector<std::string> SamplerNames;
+  std::vector<vtkSmartPointer<vtkLight>> Lights; // switched-on, shader order
+  // Per layer (0 opaque, 1 translucent) and light: visibility, null = no shadow.
+  std::vector<vtkSmartPointer<vtkFloatArray>> Visibility[2];
+  // Per layer: 4 lights per RGBA texture, and the samplers' names.
+  std::vector<vtkSmartPointer<vtkTextureObject>> Textures[2];
+  std::vector<std::string> SamplerNames[2];
 
   // Number of lights whose colour the shaders scale; shader code depends on it.
   int InjectedLights = 0;
@@ -87,10 +165,13 @@ struct vtkPenumbraShadowPass::Internals
     {
       this->InjectedLights = n;
       this->ShaderTime.Modified();
-      this->SamplerNames.clear();
-      for (int k = 0; k < (n + 3) / 4; ++k)
+      for (int layer = 0; layer < 2; ++layer)
       {
-        this->SamplerNames.push_back("penumbraVisibility" + std::to_string(k));
+        this->SamplerNames[layer].clear();
+        for (int k = 0; k < (n + 3) / 4; ++k)
+        {
+          this->SamplerNames[layer].push_back(LayerSamplers[layer] + std::to_string(k));
+        }
       }
     }
   }
@@ -186,8 +267,22 @@ vtkLight* vtkPenumbraShadowPass::GetLight(int index)
 
 vtkFloatArray* vtkPenumbraShadowPass::GetVisibility(int index)
 {
-  return (index >= 0 && index < static_cast<int>(this->Impl->Visibility.size()))
-    ? this->Impl->Visibility[static_cast<size_t>(index)].Get()
+  return (index >= 0 && index < static_cast<int>(this->Impl->Visibility[0].size()))
+    ? this->Impl->Visibility[0][static_cast<size_t>(index)].Get()
+    : nullptr;
+}
+
+vtkPenumbraViewSamples* vtkPenumbraShadowPass::GetTranslucentViewSamples()
+{
+  return this->Impl->HasTranslucentLayer ? this->Impl->TranslucentSamplesPass->GetSamples()
+                                         : nullptr;
+}
+
+vtkFloatArray* vtkPenumbraShadowPass::GetTranslucentVisibility(int index)
+{
+  return (this->Impl->HasTranslucentLayer && index >= 0 &&
+           index < static_cast<int>(this->Impl->Visibility[1].size()))
+    ? this->Impl->Visibility[1][static_cast<size_t>(index)].Get()
     : nullptr;
 }
 
@@ -236,7 +331,9 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
       impl.Lights.emplace_back(light);
     }
   }
-  impl.Visibility.assign(impl.Lights.size(), nullptr);
+  impl.Visibility[0].assign(impl.Lights.size(), nullptr);
+  impl.Visibility[1].assign(impl.Lights.size(), nullptr);
+  impl.HasTranslucentLayer = false;
   bool anyShadowed = false;
   for (auto& light : impl.Lights)
   {
@@ -264,31 +361,40 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     impl.SamplesPass->SetGeometry(impl.Geometry);
     impl.SamplesPass->Render(s);
     win->WaitForCompletion();
+
+    // Translucent receivers: their nearest surface per pixel is a second sample layer
+    // (translucent props are drawn after the opaque ones, over them, and need their own
+    // visibility; the opaque samples hold the surface behind them).
+    for (int i = 0; i < s->GetPropArrayCount() && !impl.HasTranslucentLayer; ++i)
+    {
+      impl.HasTranslucentLayer = IsTranslucentReceiver(s->GetPropArray()[i]);
+    }
+    if (impl.HasTranslucentLayer)
+    {
+      if (!impl.TranslucentSamplesPass)
+      {
+        impl.TranslucentSamplesPass = vtkSmartPointer<vtkPenumbraViewSamplesPass>::New();
+        impl.TranslucentSamplesPass->TranslucentOn();
+        impl.Stacked = vtkSmartPointer<vtkPenumbraViewSamples>::New();
+      }
+      impl.TranslucentSamplesPass->SetGeometry(impl.Geometry);
+      impl.TranslucentSamplesPass->Render(s);
+      win->WaitForCompletion();
+    }
     impl.SamplesMs = 1000.0 * (Now() - t);
 
     t = Now();
     vtkPenumbraViewSamples* samples = impl.SamplesPass->GetSamples();
-    // Props that do not receive are lit unshadowed: their samples need no shadow work.
-    std::vector<char> receives(static_cast<size_t>(impl.Geometry->GetNumberOfProps()), 1);
-    bool anyNonReceiver = false;
-    for (size_t p = 0; p < receives.size(); ++p)
+    DropNonReceivers(impl.Geometry, samples);
+    vtkPenumbraViewSamples* work = samples;
+    if (impl.HasTranslucentLayer)
     {
-      receives[p] = vtkPenumbraShadowKeys::ReceivesShadows(impl.Geometry->GetProp(static_cast<int>(p)));
-      anyNonReceiver = anyNonReceiver || !receives[p];
+      vtkPenumbraViewSamples* translucent = impl.TranslucentSamplesPass->GetSamples();
+      DropNonReceivers(impl.Geometry, translucent);
+      Stack(samples, translucent, impl.Stacked);
+      work = impl.Stacked;
     }
-    if (anyNonReceiver)
-    {
-      int* props = samples->GetPropIndices()->GetPointer(0);
-      vtkIdType* tris = samples->GetTriangleIds()->GetPointer(0);
-      for (vtkIdType i = 0; i < samples->GetNumberOfSamples(); ++i)
-      {
-        if (props[i] >= 0 && props[i] < static_cast<int>(receives.size()) && !receives[static_cast<size_t>(props[i])])
-        {
-          props[i] = -1;
-          tris[i] = -1;
-        }
-      }
-    }
+    const vtkIdType n = samples->GetNumberOfSamples();
     for (size_t i = 0; i < impl.Lights.size(); ++i)
     {
       if (!Internals::CastsLight(impl.Lights[i]))
@@ -296,10 +402,18 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
         continue; // black or zero-intensity light: nothing to shadow
       }
       auto vis = vtkSmartPointer<vtkFloatArray>::New();
-      if (impl.Technique->ComputeVisibility(ren, impl.Geometry, samples, impl.Lights[i], vis) &&
-        vis->GetNumberOfTuples() == samples->GetNumberOfSamples())
+      if (impl.Technique->ComputeVisibility(ren, impl.Geometry, work, impl.Lights[i], vis) &&
+        vis->GetNumberOfTuples() == work->GetNumberOfSamples())
       {
-        impl.Visibility[i] = vis;
+        if (impl.HasTranslucentLayer)
+        {
+          impl.Visibility[0][i] = Slice(vis, 0, n);
+          impl.Visibility[1][i] = Slice(vis, n, work->GetNumberOfSamples() - n);
+        }
+        else
+        {
+          impl.Visibility[0][i] = vis;
+        }
       }
       else
       {
@@ -309,38 +423,42 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     impl.TechniqueMs = 1000.0 * (Now() - t);
   }
 
-  // Upload: 4 lights per RGBA texture; unshadowed lights and background read 1.
+  // Upload: 4 lights per RGBA texture and layer; unshadowed lights and background read 1.
   int injected = 0;
-  for (size_t i = 0; i < impl.Visibility.size(); ++i)
+  for (size_t i = 0; i < impl.Visibility[0].size(); ++i)
   {
-    if (impl.Visibility[i])
+    if (impl.Visibility[0][i])
     {
       injected = static_cast<int>(i) + 1;
     }
   }
   impl.SetInjectedLights(injected);
   const int textures = (injected + 3) / 4;
-  impl.Textures.resize(static_cast<size_t>(textures));
   std::vector<float> texels;
-  for (int k = 0; k < textures; ++k)
+  for (int layer = 0; layer < 2; ++layer)
   {
-    const vtkIdType n = static_cast<vtkIdType>(w) * h;
-    texels.assign(static_cast<size_t>(4 * n), 1.0f);
-    for (int c = 0; c < 4; ++c)
+    const bool used = layer == 0 || impl.HasTranslucentLayer;
+    impl.Textures[layer].resize(used ? static_cast<size_t>(textures) : 0);
+    for (int k = 0; used && k < textures; ++k)
     {
-      const size_t light = static_cast<size_t>(4 * k + c);
-      vtkFloatArray* vis = light < impl.Visibility.size() ? impl.Visibility[light].Get() : nullptr;
-      if (!vis)
+      const vtkIdType n = static_cast<vtkIdType>(w) * h;
+      texels.assign(static_cast<size_t>(4 * n), 1.0f);
+      for (int c = 0; c < 4; ++c)
       {
-        continue;
+        const size_t light = static_cast<size_t>(4 * k + c);
+        vtkFloatArray* vis =
+          light < impl.Visibility[layer].size() ? impl.Visibility[layer][light].Get() : nullptr;
+        if (!vis)
+        {
+          continue;
+        }
+        const float* v = vis->GetPointer(0);
+        for (vtkIdType p = 0; p < n; ++p)
+        {
+          texels[static_cast<size_t>(4 * p + c)] = v[p] < 0.0f ? 1.0f : v[p];
+        }
       }
-      const float* v = vis->GetPointer(0);
-      for (vtkIdType p = 0; p < n; ++p)
-      {
-        texels[static_cast<size_t>(4 * p + c)] = v[p] < 0.0f ? 1.0f : v[p];
-      }
-    }
-    auto& tex = impl.Textures[static_cast<size_t>(k)];
+      auto& tex = impl.Textures[layer][static_cast<size_t>(k)];
     if (!tex)
     {
       tex = vtkSmartPointer<vtkTextureObject>::New();
@@ -354,20 +472,27 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     tex->SetFormat(GL_RGBA);
     tex->SetDataType(GL_FLOAT);
     tex->Create2DFromRaw(w, h, 4, VTK_FLOAT, texels.data());
+    }
   }
 
   t = Now();
-  for (auto& tex : impl.Textures)
+  for (auto& layer : impl.Textures)
   {
-    tex->Activate();
+    for (auto& tex : layer)
+    {
+      tex->Activate();
+    }
   }
   this->PreRender(s);
   impl.Delegate->Render(s);
   this->NumberOfRenderedProps = impl.Delegate->GetNumberOfRenderedProps();
   this->PostRender(s);
-  for (auto& tex : impl.Textures)
+  for (auto& layer : impl.Textures)
   {
-    tex->Deactivate();
+    for (auto& tex : layer)
+    {
+      tex->Deactivate();
+    }
   }
   win->WaitForCompletion();
   impl.ShadingMs = 1000.0 * (Now() - t);
@@ -381,15 +506,14 @@ vtkMTimeType vtkPenumbraShadowPass::GetShaderStageMTime()
 bool vtkPenumbraShadowPass::PreReplaceShaderValues(std::string&, std::string&,
   std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
 {
-  // Translucent props are lit unshadowed for now: the view samples hold the opaque surface
-  // behind them, whose visibility would darken them wrongly.
-  auto* actor = vtkActor::SafeDownCast(prop);
-  const bool translucent = actor && actor->GetProperty()->GetOpacity() < 1.0;
+  // Translucent props read the translucent layer's visibility: the opaque samples hold the
+  // surface behind them.
   if (this->Impl->InjectedLights > 0 && vtkOpenGLPolyDataMapper::SafeDownCast(mapper) &&
-    vtkPenumbraShadowKeys::ReceivesShadows(prop) && !translucent)
+    vtkPenumbraShadowKeys::ReceivesShadows(prop))
   {
+    const int layer = IsTranslucentReceiver(prop) ? 1 : 0;
     vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Dec",
-      "//VTK::Light::Dec\n//PENUMBRA::Visibility::Dec\n", false);
+      std::string("//VTK::Light::Dec\n") + LayerTags[layer] + "\n", false);
   }
   return true;
 }
@@ -397,16 +521,22 @@ bool vtkPenumbraShadowPass::PreReplaceShaderValues(std::string&, std::string&,
 bool vtkPenumbraShadowPass::PostReplaceShaderValues(
   std::string&, std::string&, std::string& fragmentShader, vtkAbstractMapper*, vtkProp*)
 {
-  const std::string tag = "//PENUMBRA::Visibility::Dec";
-  if (fragmentShader.find(tag) == std::string::npos)
+  int layer = 0;
+  while (layer < 2 && fragmentShader.find(LayerTags[layer]) == std::string::npos)
+  {
+    ++layer;
+  }
+  if (layer == 2)
   {
     return true;
   }
+  const std::string tag = LayerTags[layer];
   // After VTK's light uniforms: rename each shadowed light's colour to colour x visibility.
   // A macro naming itself is not expanded again, so `lightColorN` inside it is the uniform.
   std::string dec = vtkPenumbraVisibilityDec;
   const Internals& impl = *this->Impl;
-  for (const auto& name : impl.SamplerNames)
+  const std::vector<std::string>& samplers = impl.SamplerNames[layer];
+  for (const auto& name : samplers)
   {
     dec += "uniform sampler2D " + name + ";\n";
   }
@@ -418,7 +548,7 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
     {
       continue; // this shader does not light with light i
     }
-    dec += "#define " + color + " (" + color + " * texelFetch(" + impl.SamplerNames[i / 4] +
+    dec += "#define " + color + " (" + color + " * texelFetch(" + samplers[i / 4] +
       ", penumbraTexel(), 0)." + channels[i % 4] + ")\n";
   }
   vtkShaderProgram::Substitute(fragmentShader, tag, dec, false);
@@ -439,11 +569,15 @@ bool vtkPenumbraShadowPass::SetShaderParameters(
   glGetIntegerv(GL_VIEWPORT, viewport);
   const int origin[2] = { viewport[0], viewport[1] };
   program->SetUniform2i("penumbraViewportOrigin", origin);
-  for (size_t k = 0; k < impl.Textures.size(); ++k)
+  for (int layer = 0; layer < 2; ++layer)
   {
-    if (program->IsUniformUsed(impl.SamplerNames[k].c_str()))
+    for (size_t k = 0; k < impl.Textures[layer].size(); ++k)
     {
-      program->SetUniformi(impl.SamplerNames[k].c_str(), impl.Textures[k]->GetTextureUnit());
+      const char* name = impl.SamplerNames[layer][k].c_str();
+      if (program->IsUniformUsed(name))
+      {
+        program->SetUniformi(name, impl.Textures[layer][k]->GetTextureUnit());
+      }
     }
   }
   return true;
@@ -457,15 +591,22 @@ void vtkPenumbraShadowPass::ReleaseGraphicsResources(vtkWindow* w)
     impl.Delegate->ReleaseGraphicsResources(w);
   }
   impl.SamplesPass->ReleaseGraphicsResources(w);
+  if (impl.TranslucentSamplesPass)
+  {
+    impl.TranslucentSamplesPass->ReleaseGraphicsResources(w);
+  }
   if (impl.Technique)
   {
     impl.Technique->ReleaseGraphicsResources(w);
   }
-  for (auto& tex : impl.Textures)
+  for (auto& layer : impl.Textures)
   {
-    tex->ReleaseGraphicsResources(w);
+    for (auto& tex : layer)
+    {
+      tex->ReleaseGraphicsResources(w);
+    }
+    layer.clear();
   }
-  impl.Textures.clear();
 }
 
 void vtkPenumbraShadowPass::PrintSelf(ostream& os, vtkIndent indent)

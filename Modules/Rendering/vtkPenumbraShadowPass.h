@@ -14,9 +14,11 @@
  *     visibility at the pixel, which shadows diffuse and specular terms alike, for Phong and
  *     PBR receivers. Props marked as non-receivers (vtkPenumbraShadowKeys) are lit as if
  *     nothing blocked, and their view samples get no shadow work (they are marked as
- *     background before the technique runs). Translucent props are still drawn, lit
- *     without shadows: the view samples hold the opaque surface behind them, whose
- *     visibility does not apply to them.
+ *     background before the technique runs). Translucent props are drawn and shadowed:
+ *     when translucent receivers are visible, a second sample layer holds the nearest
+ *     translucent surface per pixel, the technique computes its visibility in the same
+ *     call (both layers stacked), and translucent props are shaded with it (see
+ *     GetTranslucentViewSamples()).
  *
  * Use it inside a vtkCameraPass: `camera->SetDelegatePass(shadowPass); renderer->SetPass(camera)`.
  * The last frame's geometry, samples and per-light visibility are kept for analysis.
@@ -86,6 +88,19 @@ public:
    * or nullptr if that light got no shadow work (black light) or the technique failed.
    */
   vtkFloatArray* GetVisibility(int index);
+
+  ///@{
+  /**
+   * The second sample layer, present in frames with translucent receivers (visible actors
+   * with translucent geometry that receive shadows): per pixel, the nearest translucent
+   * surface, and each light's visibility there; nullptr otherwise. Translucent props are
+   * shaded with this layer, so they are shadowed like opaque ones (and cast shadows like
+   * opaque ones). Where several translucent surfaces overlap, the ones behind the nearest
+   * take its visibility.
+   */
+  vtkPenumbraViewSamples* GetTranslucentViewSamples();
+  vtkFloatArray* GetTranslucentVisibility(int index);
+  ///@}
 
   ///@{
   /**

@@ -1,6 +1,9 @@
 #include "vtkPenumbraViewSamplesPass.h"
 
+#include "vtkActor.h"
 #include "vtkCamera.h"
+#include "vtkInformation.h"
+#include "vtkOpenGLActor.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
@@ -19,6 +22,7 @@
 #include "vtkShaderProgram.h"
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
+#include "vtkTranslucentPass.h"
 #include "vtk_glew.h"
 
 #include "vtkPenumbraViewSamplesDec.h"
@@ -32,6 +36,8 @@ struct vtkPenumbraViewSamplesPass::Internals
   vtkSmartPointer<vtkPenumbraSceneGeometry> Geometry;
   vtkSmartPointer<vtkPenumbraViewSamples> Samples = vtkSmartPointer<vtkPenumbraViewSamples>::New();
   vtkSmartPointer<vtkOpaquePass> Opaque = vtkSmartPointer<vtkOpaquePass>::New();
+  vtkSmartPointer<vtkTranslucentPass> TranslucentPass =
+    vtkSmartPointer<vtkTranslucentPass>::New();
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   vtkSmartPointer<vtkTextureObject> Textures[3];
   vtkSmartPointer<vtkTextureObject> Depth;
@@ -207,8 +213,39 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
   ostate->vtkglClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
   this->PreRender(s);
-  impl.Opaque->Render(s);
-  this->NumberOfRenderedProps = impl.Opaque->GetNumberOfRenderedProps();
+  if (this->Translucent)
+  {
+    // vtkOpenGLActor turns depth writes off for translucent geometry unless told otherwise;
+    // the nearest surface per pixel needs them (the override is removed afterwards).
+    std::vector<vtkActor*> overridden;
+    for (int i = 0; i < s->GetPropArrayCount(); ++i)
+    {
+      auto* actor = vtkActor::SafeDownCast(s->GetPropArray()[i]);
+      if (actor && actor->GetVisibility() && actor->HasTranslucentPolygonalGeometry())
+      {
+        if (!actor->GetPropertyKeys())
+        {
+          actor->SetPropertyKeys(vtkNew<vtkInformation>());
+        }
+        if (!actor->GetPropertyKeys()->Has(vtkOpenGLActor::GLDepthMaskOverride()))
+        {
+          actor->GetPropertyKeys()->Set(vtkOpenGLActor::GLDepthMaskOverride(), 1);
+          overridden.push_back(actor);
+        }
+      }
+    }
+    impl.TranslucentPass->Render(s);
+    this->NumberOfRenderedProps = impl.TranslucentPass->GetNumberOfRenderedProps();
+    for (vtkActor* actor : overridden)
+    {
+      actor->GetPropertyKeys()->Remove(vtkOpenGLActor::GLDepthMaskOverride());
+    }
+  }
+  else
+  {
+    impl.Opaque->Render(s);
+    this->NumberOfRenderedProps = impl.Opaque->GetNumberOfRenderedProps();
+  }
   this->PostRender(s);
 
   if (this->ReadBack)
@@ -324,6 +361,7 @@ void vtkPenumbraViewSamplesPass::ReleaseGraphicsResources(vtkWindow* w)
 {
   Internals& impl = *this->Impl;
   impl.Opaque->ReleaseGraphicsResources(w);
+  impl.TranslucentPass->ReleaseGraphicsResources(w);
   for (auto& tex : impl.Textures)
   {
     if (tex)
@@ -348,4 +386,5 @@ void vtkPenumbraViewSamplesPass::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ReadBack: " << this->ReadBack << "\n";
+  os << indent << "Translucent: " << this->Translucent << "\n";
 }

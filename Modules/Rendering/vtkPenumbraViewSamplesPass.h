@@ -1,6 +1,7 @@
 /**
  * @class   vtkPenumbraViewSamplesPass
- * @brief   Renders the view samples (G-buffer) of the opaque props for shadow techniques.
+ * @brief   Renders the view samples (G-buffer) of the opaque props, or of the nearest
+ *          translucent surface, for shadow techniques.
  *
  * For every pixel of the renderer's viewport the pass records what the camera sees: the
  * surface position relative to the scene geometry's rebasing origin (32-bit float, so city
@@ -14,6 +15,10 @@
  *
  * Props whose shader has no view-space position (lighting turned off) still occlude but give
  * invalid samples (they receive no light, so no shadow either).
+ *
+ * With Translucent on, the pass renders the translucent geometry instead (VTK's translucent
+ * pass, with depth writes forced on and blending off) and keeps, per pixel, the nearest
+ * translucent surface, so that techniques can shadow translucent props too.
  */
 
 #ifndef vtkPenumbraViewSamplesPass_h
@@ -55,6 +60,16 @@ public:
   vtkBooleanMacro(ReadBack, bool);
   ///@}
 
+  ///@{
+  /**
+   * Sample the translucent geometry (nearest translucent surface per pixel) instead of the
+   * opaque props. Default off.
+   */
+  vtkSetMacro(Translucent, bool);
+  vtkGetMacro(Translucent, bool);
+  vtkBooleanMacro(Translucent, bool);
+  ///@}
+
   /**
    * The samples of the last Render() (when ReadBack is on).
    */
@@ -85,6 +100,7 @@ protected:
   ~vtkPenumbraViewSamplesPass() override;
 
   bool ReadBack;
+  bool Translucent = false;
 
 private:
   vtkPenumbraViewSamplesPass(const vtkPenumbraViewSamplesPass&) = delete;
