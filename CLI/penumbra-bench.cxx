@@ -2,7 +2,7 @@
 // view samples, next to its peers (no shadows, VTK's vtkShadowMapPass, the exact reference).
 //
 //   penumbra-bench [--scenes A,B,...] [--techniques T[:k=v;k=v],...] [--size WxH]
-//                  [--frames N] [--warmup N] [--no-images] --out DIR
+//                  [--frames N] [--warmup N] [--moving-light] [--no-images] --out DIR
 //
 // Writes DIR/results.csv, DIR/results.md and DIR/chart.png (and, unless --no-images, each
 // point's image and error image). Scenes are names of files in Data/Scenes or paths to scene
@@ -14,7 +14,11 @@
 //    light: a converged 64 x 64-sample estimate; for hard lights: one exact ray per sample,
 //    near-ties reported and excluded);
 //  - each technique renders `warmup` frames, then `frames` timed frames (glFinish before the
-//    clock stops); the median is reported, with the phases of vtkPenumbraShadowPass;
+//    clock stops); the median is reported, with the phases of vtkPenumbraShadowPass. Nothing
+//    moves by default, so techniques that cache (shadow maps) are timed on reuse; with
+//    --moving-light the measured light moves by a negligible amount before every frame
+//    (1e-9 of its position's scale), which invalidates such caches, and is put back for one
+//    untimed frame before the error is measured;
 //  - its visibility for that light is read from the pass, or, for passes that do not expose
 //    one (VTK's vtkShadowMapPass), recovered as the ratio of a white, diffuse-only render
 //    with shadows to the same render without, lit by that light alone.
@@ -106,7 +110,8 @@ int Usage(const char* why)
     std::cerr << "penumbra-bench: " << why << "\n";
   }
   std::cerr << "usage: penumbra-bench [--scenes A,B,...] [--techniques T[:k=v;k=v],...]"
-               " [--size WxH] [--frames N] [--warmup N] [--no-images] --out DIR\n";
+               " [--size WxH] [--frames N] [--warmup N] [--moving-light] [--no-images]"
+               " --out DIR\n";
   return 2;
 }
 
@@ -317,12 +322,16 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
   }
 }
 
-void WriteMarkdown(const std::string& path, const std::vector<Row>& rows, int frames, int warmup)
+void WriteMarkdown(const std::string& path, const std::vector<Row>& rows, int frames, int warmup,
+  bool movingLight)
 {
   std::ofstream out(path);
   out << "# Shadow techniques: error against run time\n\n"
       << "Median of " << frames << " frames after " << warmup
-      << " warm-up frame(s), glFinish before each clock reading. Error is measured on the "
+      << " warm-up frame(s), glFinish before each clock reading, "
+      << (movingLight ? "the light moving before every frame (no cached shadow maps). "
+                      : "nothing moving (cached shadow maps are reused). ")
+      << "Error is measured on the "
          "scene's first light against the exact reference on the same view samples: mismatch "
          "rate over lit-candidate samples for hard lights (near-ties excluded), mean absolute "
          "error of visibility for area/linear lights.\n\n"
@@ -446,6 +455,7 @@ int main(int argc, char* argv[])
   std::string outDir;
   int width = 640, height = 480, frames = 5, warmup = 1;
   bool images = true;
+  bool movingLight = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -485,6 +495,10 @@ int main(int argc, char* argv[])
     else if (a == "--out")
     {
       outDir = value();
+    }
+    else if (a == "--moving-light")
+    {
+      movingLight = true;
     }
     else if (a == "--no-images")
     {
@@ -603,18 +617,34 @@ int main(int argc, char* argv[])
                   << registry->GetErrorMessage() << "\n";
         return 2;
       }
-      for (int f = 0; f < warmup; ++f)
-      {
+      // --moving-light: a new light position for every frame, restored afterwards.
+      double home[3];
+      light->GetPosition(home);
+      const double scale = 1e-9 * (1.0 + std::fabs(home[0]) + std::fabs(home[1]) + std::fabs(home[2]));
+      auto frame = [&](int f) {
+        if (movingLight)
+        {
+          light->SetPosition(home[0] + (f + 1) * scale, home[1], home[2]);
+        }
         win->Render();
         win->WaitForCompletion();
+      };
+      for (int f = 0; f < warmup; ++f)
+      {
+        frame(f);
       }
       std::vector<double> times;
       for (int f = 0; f < frames; ++f)
       {
         const auto t0 = Clock::now();
+        frame(warmup + f);
+        times.push_back(MsSince(t0));
+      }
+      if (movingLight)
+      {
+        light->SetPosition(home);
         win->Render();
         win->WaitForCompletion();
-        times.push_back(MsSince(t0));
       }
       if (errors.Raised())
       {
@@ -711,7 +741,7 @@ int main(int argc, char* argv[])
   Progress(total, total, "writing results");
 
   WriteCSV(outDir + "/results.csv", rows);
-  WriteMarkdown(outDir + "/results.md", rows, frames, warmup);
+  WriteMarkdown(outDir + "/results.md", rows, frames, warmup, movingLight);
   std::string chartError;
   if (!WriteChart(outDir + "/chart.png", rows, chartError))
   {
