@@ -6,6 +6,7 @@
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLQuadHelper.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
@@ -22,6 +23,8 @@
 #include "vtk_glew.h"
 
 #include "vtkPenumbraShadowMapFS.h"
+#include "vtkPenumbraShadowMapLookupFS.h"
+#include "vtkPenumbraShadowMapMidpointFS.h"
 #include "vtkPenumbraShadowMapParaboloidFS.h"
 #include "vtkPenumbraShadowMapParaboloidVS.h"
 #include "vtkPenumbraShadowMapVS.h"
@@ -31,6 +34,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -71,7 +75,8 @@ struct LightMaps
   bool Paraboloid = false;
   int Size = 0;
   std::vector<View> Views;
-  std::vector<std::vector<float>> Maps;
+  std::vector<std::vector<float>> Maps;                      // CPU lookup
+  std::vector<vtkSmartPointer<vtkTextureObject>> Textures;  // GPU lookup (compare mode)
   double Centre[3] = { 0, 0, 0 }; // paraboloid: the light, rebased
   double Far = 1.0;               // paraboloid: depth = distance / Far
   double MapScale = 1.0;          // paraboloid: paraboloid coordinates -> NDC
@@ -102,6 +107,32 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<unsigned char> State;
   std::vector<float> SecondLayer;
 
+  // GPU lookup: the compacted pending samples, their visibility, and the programs.
+  vtkSmartPointer<vtkOpenGLFramebufferObject> LookupFBO;
+  vtkSmartPointer<vtkTextureObject> ListPositions, ListNormals, ListVisibility;
+  std::unique_ptr<vtkOpenGLQuadHelper> LookupQuad, MidpointQuad;
+
+  static vtkSmartPointer<vtkTextureObject> FloatTexture(vtkOpenGLRenderWindow* win)
+  {
+    auto tex = vtkSmartPointer<vtkTextureObject>::New();
+    tex->SetContext(win);
+    tex->SetMinificationFilter(vtkTextureObject::Nearest);
+    tex->SetMagnificationFilter(vtkTextureObject::Nearest);
+    tex->SetWrapS(vtkTextureObject::ClampToEdge);
+    tex->SetWrapT(vtkTextureObject::ClampToEdge);
+    return tex;
+  }
+
+  // A depth texture the lookup samples with the hardware compare.
+  static vtkSmartPointer<vtkTextureObject> CompareTexture(vtkOpenGLRenderWindow* win, int size)
+  {
+    auto tex = FloatTexture(win);
+    tex->SetDepthTextureCompare(true);
+    tex->SetDepthTextureCompareFunction(vtkTextureObject::Lequal);
+    tex->AllocateDepth(size, size, vtkTextureObject::Float32);
+    return tex;
+  }
+
   void Release(vtkWindow* window)
   {
     if (this->Window && (!window || window == this->Window))
@@ -124,7 +155,40 @@ struct vtkPenumbraShadowMapShadows::Internals
       {
         this->FBO->ReleaseGraphicsResources(this->Window);
       }
+      for (auto& entry : this->Cache)
+      {
+        for (auto& tex : entry.Textures)
+        {
+          if (tex)
+          {
+            tex->ReleaseGraphicsResources(this->Window);
+          }
+        }
+      }
+      for (vtkTextureObject* tex :
+        { this->ListPositions.Get(), this->ListNormals.Get(), this->ListVisibility.Get() })
+      {
+        if (tex)
+        {
+          tex->ReleaseGraphicsResources(this->Window);
+        }
+      }
+      if (this->LookupFBO)
+      {
+        this->LookupFBO->ReleaseGraphicsResources(this->Window);
+      }
+      for (auto* quad : { this->LookupQuad.get(), this->MidpointQuad.get() })
+      {
+        if (quad)
+        {
+          quad->ReleaseGraphicsResources(this->Window);
+        }
+      }
     }
+    this->LookupFBO = nullptr;
+    this->ListPositions = this->ListNormals = this->ListVisibility = nullptr;
+    this->LookupQuad.reset();
+    this->MidpointQuad.reset();
     this->Casters.Forget();
     this->ParaboloidArray = 0;
     this->ParaboloidBuffers[0] = this->ParaboloidBuffers[1] = 0;
@@ -136,7 +200,7 @@ struct vtkPenumbraShadowMapShadows::Internals
     }
     this->MapSize = 0;
     this->Window = nullptr;
-    // Cached maps are CPU data, but they were fitted to this window's samples.
+    // Cached maps were fitted to this window's samples (and their textures are gone).
     this->Cache.clear();
   }
 
@@ -484,6 +548,14 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     const int slots = cube ? 6 : (paraboloid ? 2 : 1);
     maps->Views.assign(static_cast<size_t>(slots), View());
     maps->Maps.assign(static_cast<size_t>(slots), std::vector<float>());
+    for (auto& tex : maps->Textures)
+    {
+      if (tex)
+      {
+        tex->ReleaseGraphicsResources(win);
+      }
+    }
+    maps->Textures.assign(static_cast<size_t>(slots), nullptr);
 
     // ---- Fit the light views to the receivers (seed 004 ch. 4.2): the valid samples that
     // face the light, exactly (no control texture needed: the samples are on the CPU).
@@ -647,12 +719,27 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     }
     program->SetUniformf("peelGap", peelGap);
     const size_t texels = static_cast<size_t>(size) * size;
+    const bool gpuLookup = this->Lookup == LOOKUP_GPU;
+    if (gpuLookup && midpoint && !impl.MidpointQuad)
+    {
+      impl.MidpointQuad.reset(
+        new vtkOpenGLQuadHelper(win, nullptr, vtkPenumbraShadowMapMidpointFS, ""));
+      // Building it bound its program; the map program draws next.
+      win->GetShaderCache()->ReadyShaderProgram(program);
+    }
     for (int slot = 0; slot < slots; ++slot)
     {
       if (!used[static_cast<size_t>(slot)])
       {
         continue;
       }
+      // The midpoint pass below draws with its own vertex array.
+      glBindVertexArray(paraboloid ? impl.ParaboloidArray : impl.Casters.VertexArray);
+      if (gpuLookup)
+      {
+        maps->Textures[static_cast<size_t>(slot)] = Internals::CompareTexture(win, size);
+      }
+      vtkTextureObject* slotTexture = maps->Textures[static_cast<size_t>(slot)];
       GLsizei count = impl.Casters.VertexCount;
       if (paraboloid)
       {
@@ -684,10 +771,12 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
         program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
       }
       std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
-      map.resize(texels);
+      map.resize(gpuLookup ? 0 : texels);
       for (int layer = 0; layer < (midpoint ? 2 : 1); ++layer)
       {
-        impl.FBO->AddDepthAttachment(impl.DepthTextures[layer]);
+        // GPU lookup, linear depth: straight into the slot's compare texture.
+        impl.FBO->AddDepthAttachment(
+          gpuLookup && !midpoint ? slotTexture : impl.DepthTextures[layer].Get());
         ostate->vtkglDrawBuffer(GL_NONE);
         ostate->vtkglReadBuffer(GL_NONE);
         const GLfloat one = 1.0f;
@@ -706,6 +795,10 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
         {
           impl.DepthTextures[0]->Deactivate();
         }
+        if (gpuLookup)
+        {
+          continue; // the maps stay on the GPU
+        }
         glPixelStorei(GL_PACK_ALIGNMENT, 4);
         float* target = map.data();
         if (layer == 1)
@@ -715,7 +808,25 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
         }
         glReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, target);
       }
-      if (midpoint)
+      if (midpoint && gpuLookup)
+      {
+        // The same midpoint on the GPU, written as the slot's depth.
+        vtkOpenGLQuadHelper& quad = *impl.MidpointQuad;
+        win->GetShaderCache()->ReadyShaderProgram(quad.Program);
+        impl.FBO->AddDepthAttachment(slotTexture);
+        ostate->vtkglDepthFunc(GL_ALWAYS);
+        impl.DepthTextures[0]->Activate();
+        impl.DepthTextures[1]->Activate();
+        quad.Program->SetUniformi("firstLayer", impl.DepthTextures[0]->GetTextureUnit());
+        quad.Program->SetUniformi("secondLayer", impl.DepthTextures[1]->GetTextureUnit());
+        quad.Render();
+        impl.DepthTextures[0]->Deactivate();
+        impl.DepthTextures[1]->Deactivate();
+        ostate->vtkglDepthFunc(GL_LESS);
+        // The map program is current again for the next slot.
+        win->GetShaderCache()->ReadyShaderProgram(program);
+      }
+      else if (midpoint)
       {
         // Woo's midpoint (ch. 4.1.1); no second surface leaves the far value 1 as the
         // second depth, so a lone surface stays lit by a half-range margin.
@@ -732,17 +843,164 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     maps->Valid = true;
     this->MapTimeMs = ElapsedMs(mapStart);
   }
-  for (const auto& map : maps->Maps)
+  for (size_t slot = 0; slot < maps->Maps.size(); ++slot)
   {
-    this->NumberOfViews += map.empty() ? 0 : 1;
+    this->NumberOfViews += maps->Maps[slot].empty() && !maps->Textures[slot] ? 0 : 1;
   }
 
-  // ---- Per-sample lookup on the CPU, double precision (see the class description).
   const auto lookupStart = Clock::now();
   const int radius = this->Filter == FILTER_PCF ? (this->PCFKernel | 1) / 2 : 0;
   const double slopeBias = this->SlopeBias * (1.0 + radius);
   const double constantBias = this->Bias;
   const LightMaps& m = *maps;
+  if (this->Lookup == LOOKUP_GPU)
+  {
+    // ---- Per-sample lookup on the GPU (seed 004 ch. 5: hardware depth compare): the
+    // pending samples as a compacted list, one fragment each, one draw per slot.
+    std::vector<vtkIdType> list;
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      if (state[s] == Pending)
+      {
+        list.push_back(s);
+      }
+    }
+    const vtkIdType count = static_cast<vtkIdType>(list.size());
+    const int listWidth = static_cast<int>(std::min<vtkIdType>(count, 2048));
+    const int listHeight = static_cast<int>((count + listWidth - 1) / listWidth);
+    std::vector<float> positions(static_cast<size_t>(4) * listWidth * listHeight, 0.0f);
+    std::vector<float> normals(positions.size(), 0.0f);
+    vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        const vtkIdType s = list[static_cast<size_t>(i)];
+        double p[3];
+        samplePoint(s, p);
+        for (int c = 0; c < 3; ++c)
+        {
+          positions[static_cast<size_t>(4 * i + c)] = static_cast<float>(p[c]);
+          normals[static_cast<size_t>(4 * i + c)] = nrm[3 * s + c];
+        }
+      }
+    });
+    if (!impl.LookupFBO)
+    {
+      impl.LookupFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+      impl.LookupFBO->SetContext(win);
+      impl.ListPositions = Internals::FloatTexture(win);
+      impl.ListNormals = Internals::FloatTexture(win);
+      impl.ListVisibility = Internals::FloatTexture(win);
+      impl.LookupQuad.reset(new vtkOpenGLQuadHelper(win, nullptr, vtkPenumbraShadowMapLookupFS, ""));
+    }
+    for (vtkTextureObject* tex : { impl.ListPositions.Get(), impl.ListNormals.Get() })
+    {
+      tex->SetInternalFormat(GL_RGBA32F);
+      tex->SetFormat(GL_RGBA);
+      tex->SetDataType(GL_FLOAT);
+    }
+    impl.ListPositions->Create2DFromRaw(listWidth, listHeight, 4, VTK_FLOAT, positions.data());
+    impl.ListNormals->Create2DFromRaw(listWidth, listHeight, 4, VTK_FLOAT, normals.data());
+    impl.ListVisibility->SetInternalFormat(GL_R32F);
+    impl.ListVisibility->SetFormat(GL_RED);
+    impl.ListVisibility->SetDataType(GL_FLOAT);
+    impl.ListVisibility->Allocate2D(listWidth, listHeight, 1, VTK_FLOAT);
+
+    vtkOpenGLQuadHelper& quad = *impl.LookupQuad;
+    win->GetShaderCache()->ReadyShaderProgram(quad.Program);
+    vtkShaderProgram* program = quad.Program;
+    if (!program || !program->GetCompiled())
+    {
+      PENUMBRA_SM_FAIL("the shadow map lookup program does not compile or link on this OpenGL "
+                       "implementation (sampler2DShadow is required)");
+    }
+    std::vector<float> result(static_cast<size_t>(listWidth) * listHeight, 1.0f);
+    {
+      vtkOpenGLState* ostate = win->GetState();
+      vtkOpenGLState::ScopedglEnableDisable blend(ostate, GL_BLEND);
+      vtkOpenGLState::ScopedglEnableDisable depthTest(ostate, GL_DEPTH_TEST);
+      vtkOpenGLState::ScopedglEnableDisable scissor(ostate, GL_SCISSOR_TEST);
+      vtkOpenGLState::ScopedglViewport viewport(ostate);
+      vtkOpenGLState::ScopedglClearColor clearColor(ostate);
+      ostate->PushFramebufferBindings();
+      impl.LookupFBO->Bind();
+      impl.LookupFBO->AddColorAttachment(0, impl.ListVisibility);
+      impl.LookupFBO->RemoveDepthAttachment();
+      impl.LookupFBO->ActivateDrawBuffers(1);
+      ostate->vtkglDisable(GL_BLEND);
+      ostate->vtkglDisable(GL_DEPTH_TEST);
+      ostate->vtkglDisable(GL_SCISSOR_TEST);
+      ostate->vtkglViewport(0, 0, listWidth, listHeight);
+      ostate->vtkglClearColor(1.0, 1.0, 1.0, 1.0);
+      ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+
+      impl.ListPositions->Activate();
+      impl.ListNormals->Activate();
+      program->SetUniformi("samplePositions", impl.ListPositions->GetTextureUnit());
+      program->SetUniformi("sampleNormals", impl.ListNormals->GetTextureUnit());
+      program->SetUniformi("sampleCount", static_cast<int>(count));
+      program->SetUniformi("listWidth", listWidth);
+      const bool cubeMaps = !m.Paraboloid && m.Views.size() == 6;
+      program->SetUniformi("slotMode", m.Paraboloid ? 2 : (cubeMaps ? 1 : 0));
+      const float centre[3] = { static_cast<float>(setup.Position[0]),
+        static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
+      const float toLight[3] = { static_cast<float>(setup.Direction[0]),
+        static_cast<float>(setup.Direction[1]), static_cast<float>(setup.Direction[2]) };
+      program->SetUniform3f("lightPosition", centre);
+      program->SetUniform3f("toLightDirection", toLight);
+      program->SetUniformf("mapScale", static_cast<float>(m.MapScale));
+      program->SetUniformf("mapSize", static_cast<float>(size));
+      program->SetUniformf("constantBias", static_cast<float>(constantBias));
+      program->SetUniformf("slopeBias", static_cast<float>(slopeBias));
+      program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
+      program->SetUniformi("radius", radius);
+      for (size_t slot = 0; slot < m.Textures.size(); ++slot)
+      {
+        vtkTextureObject* map = m.Textures[slot];
+        if (!map)
+        {
+          continue; // no pending sample falls into this slot
+        }
+        program->SetUniformi("slot", static_cast<int>(slot));
+        if (m.Paraboloid)
+        {
+          program->SetUniformf("invFar", static_cast<float>(1.0 / m.Far));
+        }
+        else
+        {
+          const View& view = m.Views[slot];
+          float matrix[16];
+          view.ToFloatMatrix(matrix);
+          program->SetUniformMatrix4x4("lightMatrix", matrix);
+          program->SetUniformi("perspective", view.Perspective ? 1 : 0);
+          program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
+          program->SetUniformf("tanHalf", static_cast<float>(view.TanHalf));
+          program->SetUniformf(
+            "footprintScale", static_cast<float>(2.0 / (Norm3(view.Row[0]) * size)));
+          program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(view.Row[2])));
+        }
+        map->Activate();
+        program->SetUniformi("shadowMap", map->GetTextureUnit());
+        quad.Render();
+        map->Deactivate();
+      }
+      impl.ListPositions->Deactivate();
+      impl.ListNormals->Deactivate();
+      impl.LookupFBO->ActivateReadBuffer(0);
+      glPixelStorei(GL_PACK_ALIGNMENT, 4);
+      glReadPixels(0, 0, listWidth, listHeight, GL_RED, GL_FLOAT, result.data());
+      ostate->PopFramebufferBindings();
+    }
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      vis[list[static_cast<size_t>(i)]] = result[static_cast<size_t>(i)];
+    }
+    this->LookupTimeMs = ElapsedMs(lookupStart);
+    visibility->Modified();
+    this->LastTimeMs = ElapsedMs(start);
+    return 1;
+  }
+
+  // ---- Per-sample lookup on the CPU, double precision (see the class description).
   vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType s = begin; s < end; ++s)
     {

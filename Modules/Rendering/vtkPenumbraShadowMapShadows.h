@@ -29,12 +29,14 @@
  *   stores the midpoint of the first two surfaces (the far value 1 when there is no second
  *   surface), which moves the comparison away from the lit surface itself.
  *
- * The depth comparison runs per view sample on the CPU (vtkSMPTools, double precision) after
- * reading the map back: on llvmpipe the "GPU" is the same two cores, and the CPU lookup uses
- * exactly the reference's samples, facing and spot-cone rules (samples facing away or
- * outside the cone are shadowed, lights that are off are lit everywhere and get no map), so
- * the error against vtkPenumbraReference measures shadow-map aliasing only. A sample is
- * shadowed when stored depth < sample depth - bias, with
+ * The depth comparison runs per view sample, after the reference's facing and spot-cone rules
+ * (samples facing away or outside the cone are shadowed, lights that are off are lit
+ * everywhere and get no map), so the error against vtkPenumbraReference measures shadow-map
+ * aliasing only. Two lookups (SetLookup()): on the GPU (default) with the hardware depth
+ * compare (sampler2DShadow, LEQUAL, nearest texels; PCF averages the compared taps), the maps
+ * staying on the GPU and only the visibility of the pending samples read back; or on the
+ * CPU (vtkSMPTools, double precision) after reading the maps back. A sample is shadowed
+ * when stored depth < sample depth - bias, with
  *   bias = Bias + SlopeBias * (1 + r) * texel footprint * tan(angle to the light) / range,
  * r the PCF kernel radius in texels (0 without PCF) and tan clamped to 20.
  *
@@ -43,7 +45,7 @@
  * window size (the maps are fitted to the view samples) or this object's settings change.
  * GetNumberOfMapRenders() counts rendered views (faces, hemispheres) since construction.
  * Memory: the cached maps keep 4 bytes per texel and view, e.g. 16 MiB per view at 2048^2
- * (96 MiB for a cube at 2048^2), per light.
+ * (96 MiB for a cube at 2048^2), per light, as GPU textures (GPU lookup) or CPU arrays.
  *
  * Area lights are rejected (error; the pass renders that light unshadowed).
  */
@@ -142,6 +144,22 @@ public:
   vtkGetMacro(DepthMode, int);
   ///@}
 
+  enum LookupModes
+  {
+    LOOKUP_GPU = 0, ///< hardware depth compare in a fragment program (default)
+    LOOKUP_CPU = 1  ///< maps read back, compared in double precision with vtkSMPTools
+  };
+
+  ///@{
+  /**
+   * Where the per-sample depth comparison runs (see the class description). Both give the
+   * same answers up to float rounding of the projection; the GPU lookup avoids reading the
+   * maps back, which dominates at high resolutions (README has the figures).
+   */
+  vtkSetClampMacro(Lookup, int, LOOKUP_GPU, LOOKUP_CPU);
+  vtkGetMacro(Lookup, int);
+  ///@}
+
   ///@{
   /**
    * POINT_CUBE (default) or POINT_PARABOLOID for point lights.
@@ -198,6 +216,7 @@ protected:
   double SlopeBias = 1.0;
   int DepthMode = DEPTH_LINEAR;
   int PointMode = POINT_CUBE;
+  int Lookup = LOOKUP_GPU;
   int NumberOfMapRenders = 0;
   int NumberOfViews = 0;
   int NumberOfUploads = 0;

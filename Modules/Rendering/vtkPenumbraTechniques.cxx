@@ -208,6 +208,7 @@ void InstallShadowMap(vtkRenderer* ren, Options& opts)
   const double slopeBias = opts.Number("slope_bias", 1.0, 0.0, 16.0);
   const int depth = opts.Choice("depth", { "linear", "midpoint" });
   const int point = opts.Choice("point", { "cube", "paraboloid" });
+  const int lookup = opts.Choice("lookup", { "gpu", "cpu" });
   opts.RejectUnknown();
   vtkNew<vtkPenumbraShadowMapShadows> technique;
   technique->SetResolution(resolution);
@@ -220,6 +221,8 @@ void InstallShadowMap(vtkRenderer* ren, Options& opts)
                                      : vtkPenumbraShadowMapShadows::DEPTH_LINEAR);
   technique->SetPointMode(point == 1 ? vtkPenumbraShadowMapShadows::POINT_PARABOLOID
                                      : vtkPenumbraShadowMapShadows::POINT_CUBE);
+  technique->SetLookup(lookup == 1 ? vtkPenumbraShadowMapShadows::LOOKUP_CPU
+                                   : vtkPenumbraShadowMapShadows::LOOKUP_GPU);
   vtkNew<vtkPenumbraShadowPass> shadows;
   shadows->SetTechnique(technique);
   vtkNew<vtkCameraPass> camera;
