@@ -336,8 +336,13 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   std::vector<signed char> sampleView;
   if (facing.Pending > 0)
   {
-    double box[6];
-    std::copy(impl.Casters.Bounds, impl.Casters.Bounds + 6, box);
+    // The views cover the pending samples only: a shadow ray projects to its sample's own
+    // map point, so casters outside that footprint cannot block any of them, and casters
+    // nearer the light than the samples' depth range keep a conservative (clamped or
+    // negative) depth. A map fitted to the whole scene would waste its texels.
+    double box[6] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+      std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+      std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
     for (vtkIdType s = 0; s < n; ++s)
     {
       if (state[s] == Pending)
