@@ -23,8 +23,12 @@
 #include "vtkPenumbraShadowVolumeFS.h"
 #include "vtkPenumbraShadowVolumeVS.h"
 
+// GCC 12 reports a false -Wmaybe-uninitialized inside OpenMesh's property push_back.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
+#pragma GCC diagnostic pop
 
 #include <algorithm>
 #include <array>
@@ -536,6 +540,9 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   this->ConnectivityTimeMs = this->VolumeTimeMs = this->StencilTimeMs = 0.0;
   this->NumberOfVolumeTriangles = this->NumberOfPassedFragments = 0;
   this->UsedZPass = false;
+  this->NumberOfFillFragments = -1;
+  this->NumberOfCountedSamples = 0;
+  this->NumberOfResolvedSamples = 0;
 
   // ---- Input checks (shared with the other map-based techniques).
   penumbra_light_views::FrameInputs in;
@@ -599,6 +606,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   const penumbra_light_views::FacingCounts facing =
     penumbra_light_views::ClassifyFacing(setup, n, in.Positions, in.Normals, in.Props, shift,
       mesh.Casters > 0, vis, state.data(), Pending, Decided);
+  this->NumberOfCountedSamples = facing.Pending;
   if (facing.Pending == 0)
   {
     visibility->Modified();
@@ -1106,6 +1114,23 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         glDrawArrays(GL_TRIANGLES, impl.CapVertices, impl.AllVertices - impl.CapVertices);
       }
       glEndQuery(GL_SAMPLES_PASSED);
+      GLuint passed = 0;
+      glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &passed);
+      this->NumberOfPassedFragments = static_cast<vtkIdType>(passed);
+      if (this->MeasureFill)
+      {
+        // Every rasterized volume fragment, with the stencil left as counted.
+        ostate->vtkglDepthFunc(GL_ALWAYS);
+        ostate->vtkglStencilMask(0x00);
+        program->SetUniformf("capScale", 1.0f);
+        glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
+        glDrawArrays(GL_TRIANGLES, 0, impl.AllVertices);
+        glEndQuery(GL_SAMPLES_PASSED);
+        GLuint fill = 0;
+        glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &fill);
+        this->NumberOfFillFragments = static_cast<vtkIdType>(fill);
+        ostate->vtkglStencilMask(0xff);
+      }
       glBindBuffer(GL_ARRAY_BUFFER, 0);
       glBindVertexArray(0);
 
@@ -1120,9 +1145,6 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       impl.Stencil.resize(static_cast<size_t>(n));
       glPixelStorei(GL_PACK_ALIGNMENT, 1);
       glReadPixels(0, 0, width, height, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, impl.Stencil.data());
-      GLuint passed = 0;
-      glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &passed);
-      this->NumberOfPassedFragments = static_cast<vtkIdType>(passed);
     }
   }
   ostate->PopFramebufferBindings();
@@ -1144,7 +1166,6 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   // on the wrong side of it. The count is constant in screen space away from such edges, so
   // any wrong sample differs from a neighbour or sits next to a sample that is not counted
   // (background, facing away): those samples, and only those, are traced exactly.
-  this->NumberOfResolvedSamples = 0;
   this->ResolveTimeMs = 0.0;
   if (this->Resolve)
   {
@@ -1213,6 +1234,14 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   visibility->Modified();
   this->LastTimeMs = ElapsedMs(start);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+double vtkPenumbraShadowVolumeShadows::GetUncertainFraction()
+{
+  return this->NumberOfCountedSamples > 0
+    ? static_cast<double>(this->NumberOfResolvedSamples) / this->NumberOfCountedSamples
+    : 0.0;
 }
 
 //------------------------------------------------------------------------------

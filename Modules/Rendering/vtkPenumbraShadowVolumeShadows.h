@@ -132,6 +132,28 @@ public:
   ///@}
 
   /**
+   * Share of the last call's counted (light-facing, lit-candidate) samples that the edge
+   * resolve traced, in [0, 1].
+   */
+  double GetUncertainFraction() override;
+
+  ///@{
+  /**
+   * Measure the fill: draw the volumes a second time with the depth test off and count the
+   * fragments (GL_SAMPLES_PASSED), reported by GetNumberOfFillFragments(). Costs a second
+   * draw, so it is for benchmarks only. Default off.
+   */
+  vtkSetMacro(MeasureFill, bool);
+  vtkGetMacro(MeasureFill, bool);
+  vtkBooleanMacro(MeasureFill, bool);
+  ///@}
+
+  /**
+   * Volume fragments rasterized by the last call (stencil fill), -1 unless MeasureFill.
+   */
+  vtkGetMacro(NumberOfFillFragments, vtkIdType);
+
+  /**
    * Samples traced by the edge resolve in the last call, and its time in milliseconds.
    */
   vtkGetMacro(NumberOfResolvedSamples, vtkIdType);
@@ -206,6 +228,9 @@ protected:
   bool Silhouettes = true;
   double CapOffset = 1.0 / 131072.0;
   bool Resolve = true;
+  bool MeasureFill = false;
+  vtkIdType NumberOfFillFragments = -1;
+  vtkIdType NumberOfCountedSamples = 0;
   vtkIdType NumberOfResolvedSamples = 0;
   double ResolveTimeMs = 0.0;
   vtkPenumbraReference* Reference;

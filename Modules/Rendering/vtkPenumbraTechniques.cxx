@@ -247,6 +247,7 @@ void InstallVolumes(vtkRenderer* ren, Options& opts)
   const bool cull = opts.Boolean("cull", true);
   const double capOffset = opts.Number("cap_offset", 1.0 / 131072.0, 0.0, 1e-3);
   const bool resolve = opts.Boolean("resolve", true);
+  const bool measureFill = opts.Boolean("measure_fill", false);
   opts.RejectUnknown();
   vtkNew<vtkPenumbraShadowVolumeShadows> technique;
   technique->SetSilhouettes(silhouettes == 0);
@@ -256,6 +257,7 @@ void InstallVolumes(vtkRenderer* ren, Options& opts)
   technique->SetCull(cull);
   technique->SetCapOffset(capOffset);
   technique->SetResolve(resolve);
+  technique->SetMeasureFill(measureFill);
   vtkNew<vtkPenumbraShadowPass> shadows;
   shadows->SetTechnique(technique);
   vtkNew<vtkCameraPass> camera;
