@@ -448,7 +448,7 @@ int main(int argc, char* argv[])
     "vtk-shadowmap:resolution=2048", "vtk-shadowmap:resolution=4096", "raytraced",
     "conservative:resolution=1024", "conservative:resolution=2048",
     "shadowmap:resolution=1024", "shadowmap:resolution=4096",
-    "shadowmap:resolution=2048;filter=pcf", "volumes", "volumes:silhouettes=none",
+    "shadowmap:resolution=2048;filter=pcf", "volumes", "volumes:silhouettes=gpu", "volumes:silhouettes=none",
     "volumes:cull=false", "volumes:resolve=false", "volumes:measure_fill=true" };
   std::string outDir;
   int width = 640, height = 480, frames = 5, warmup = 1;

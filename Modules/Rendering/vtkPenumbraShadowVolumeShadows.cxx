@@ -20,6 +20,8 @@
 #include "vtk_glew.h"
 
 #include "vtkPenumbraLightViews.h"
+#include "vtkPenumbraShadowVolumeAdjacencyGS.h"
+#include "vtkPenumbraShadowVolumeAdjacencyVS.h"
 #include "vtkPenumbraShadowVolumeFS.h"
 #include "vtkPenumbraShadowVolumeVS.h"
 
@@ -89,6 +91,9 @@ struct Connectivity
     std::vector<std::array<int, 3>> Faces;
     // Edges: v0 -> v1 as in face F0's (outward) winding, v1 -> v0 in F1's; indices into Faces.
     std::vector<std::array<int, 4>> Edges;
+    // Per face, GL_TRIANGLES_ADJACENCY order: v0, opposite of (v0, v1), v1, opposite of
+    // (v1, v2), v2, opposite of (v2, v0) (the GPU silhouette path).
+    std::vector<std::array<int, 6>> Adjacency;
     double Bounds[6] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX,
       VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
   };
@@ -266,6 +271,26 @@ struct Connectivity
             }
           }
         }
+        {
+          std::map<std::pair<int, int>, int> third; // directed edge -> third vertex of its face
+          for (const auto& t : c.Faces)
+          {
+            for (int k = 0; k < 3; ++k)
+            {
+              third[{ t[k], t[(k + 1) % 3] }] = t[(k + 2) % 3];
+            }
+          }
+          for (const auto& t : c.Faces)
+          {
+            std::array<int, 6> a;
+            for (int k = 0; k < 3; ++k)
+            {
+              a[static_cast<size_t>(2 * k)] = t[k];
+              a[static_cast<size_t>(2 * k + 1)] = third[{ t[(k + 1) % 3], t[k] }];
+            }
+            c.Adjacency.push_back(a);
+          }
+        }
         if (volume == 0.0)
         {
           // Flat closed surfaces (two coincident sheets): no inside, use per-triangle volumes.
@@ -410,6 +435,12 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   GLuint VertexArray = 0;
   GLuint Buffer = 0;
   GLuint Query = 0;
+  GLuint PointArray = 0;   // GPU silhouettes: VAO of the welded points + adjacency indices
+  GLuint PointBuffer = 0;
+  GLuint AdjacencyBuffer = 0;
+  bool PointsUploaded = false;
+  std::vector<GLuint> AdjacencyIndices;
+  GLsizei AdjacencyCount = 0;
   int Width = 0;
   int Height = 0;
 
@@ -430,6 +461,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   bool VolumesValid = false;
   std::vector<double> VolumeKey;
   bool Uploaded = false;
+  int VolumeBuilds = 0;         // counts volume builds, to know when indices are stale
+  int AdjacencyUploadedFor = -1;
   vtkIdType SilhouetteEdges = 0;
   vtkIdType Culled = 0;
 
@@ -462,8 +495,16 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       {
         glDeleteQueries(1, &this->Query);
       }
+      if (this->PointArray)
+      {
+        glDeleteVertexArrays(1, &this->PointArray);
+        glDeleteBuffers(1, &this->PointBuffer);
+        glDeleteBuffers(1, &this->AdjacencyBuffer);
+      }
     }
     this->Framebuffer = this->DepthStencil = this->VertexArray = this->Buffer = this->Query = 0;
+    this->PointArray = this->PointBuffer = this->AdjacencyBuffer = 0;
+    this->PointsUploaded = false;
     this->Width = this->Height = 0;
     this->Uploaded = false;
     this->Window = nullptr;
@@ -483,6 +524,9 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       glGenVertexArrays(1, &this->VertexArray);
       glGenBuffers(1, &this->Buffer);
       glGenQueries(1, &this->Query);
+      glGenVertexArrays(1, &this->PointArray);
+      glGenBuffers(1, &this->PointBuffer);
+      glGenBuffers(1, &this->AdjacencyBuffer);
     }
     glBindTexture(GL_TEXTURE_2D, this->DepthStencil);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -587,6 +631,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       std::copy(origin, origin + 3, impl.Origin);
       impl.BuiltWithSilhouettes = this->Silhouettes;
       impl.VolumesValid = false;
+      impl.PointsUploaded = false;
       ++this->NumberOfConnectivityBuilds;
       this->ConnectivityTimeMs = ElapsedMs(connectivityStart);
     }
@@ -667,7 +712,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   {
     std::vector<double> key = { vl.Directional ? 1.0 : 0.0, vl.Direction[0], vl.Direction[1],
       vl.Direction[2], vl.Position[0], vl.Position[1], vl.Position[2], vl.Extrusion,
-      this->Cull ? 1.0 : 0.0 };
+      this->Cull ? 1.0 : 0.0, this->GPUSilhouettes ? 1.0 : 0.0 };
     if (this->Cull)
     {
       key.insert(key.end(), box, box + 6);
@@ -677,9 +722,11 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       impl.VolumeKey = key;
       impl.VolumesValid = true;
       impl.Uploaded = false;
+      ++impl.VolumeBuilds;
       ++this->NumberOfVolumeBuilds;
       std::vector<float> caps, sides;
       vtkIdType culled = 0, edges = 0;
+      impl.AdjacencyIndices.clear();
       auto put = [](std::vector<float>& out, const Vec3& p, double w) {
         out.push_back(static_cast<float>(p[0]));
         out.push_back(static_cast<float>(p[1]));
@@ -763,6 +810,15 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         {
           inside = vl.Position[a] >= c.Bounds[2 * a] && vl.Position[a] <= c.Bounds[2 * a + 1];
         }
+        if (this->GPUSilhouettes && !inside)
+        {
+          // Silhouettes, caps and sides come from the geometry stage: no CPU facing at all.
+          for (const auto& a : c.Adjacency)
+          {
+            impl.AdjacencyIndices.insert(impl.AdjacencyIndices.end(), a.begin(), a.end());
+          }
+          continue;
+        }
         front.assign(c.Faces.size(), 0);
         bool reaches = !this->Cull;
         for (size_t i = 0; i < c.Faces.size(); ++i)
@@ -824,7 +880,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       impl.AllVertices = static_cast<GLsizei>((caps.size() + sides.size()) / 4);
       impl.Vertices.swap(caps);
       impl.Vertices.insert(impl.Vertices.end(), sides.begin(), sides.end());
-      impl.SilhouetteEdges = edges;
+      impl.SilhouetteEdges = this->GPUSilhouettes && !impl.AdjacencyIndices.empty() ? -1 : edges;
+      impl.AdjacencyCount = static_cast<GLsizei>(impl.AdjacencyIndices.size());
       impl.Culled = culled;
       this->VolumeTimeMs = ElapsedMs(volumeStart);
     }
@@ -1005,6 +1062,13 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       }
       outside = !SegmentMayTouch(vl, eye, v, tol);
     }
+    // GPU components: their front faces are not known here, so every face must stay clear.
+    for (size_t i = 0; i + 5 < impl.AdjacencyIndices.size() && outside; i += 6)
+    {
+      const Vec3 v[3] = { mesh.Points[impl.AdjacencyIndices[i]],
+        mesh.Points[impl.AdjacencyIndices[i + 2]], mesh.Points[impl.AdjacencyIndices[i + 4]] };
+      outside = !SegmentMayTouch(vl, eye, v, tol);
+    }
     zpass = outside;
   }
   this->UsedZPass = zpass;
@@ -1026,6 +1090,17 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   if (!program || !program->GetCompiled())
   {
     PENUMBRA_SV_FAIL("the shadow volume shaders do not compile or link");
+  }
+  vtkShaderProgram* gsProgram = nullptr;
+  if (impl.AdjacencyCount > 0)
+  {
+    gsProgram = win->GetShaderCache()->ReadyShaderProgram(vtkPenumbraShadowVolumeAdjacencyVS,
+      vtkPenumbraShadowVolumeFS, vtkPenumbraShadowVolumeAdjacencyGS);
+    if (!gsProgram || !gsProgram->GetCompiled())
+    {
+      PENUMBRA_SV_FAIL("GPU silhouettes need a geometry shader with triangles_adjacency input, "
+                       "which does not compile or link here; use CPU silhouettes");
+    }
   }
   vtkOpenGLState* ostate = win->GetState();
   ostate->PushFramebufferBindings();
@@ -1086,7 +1161,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
           matrix[4 * c + r] = static_cast<float>(rows[r][c]);
         }
       }
-      program->SetUniformMatrix4x4("worldToClip", matrix);
+      // Upload what changed: CPU volumes, and for GPU silhouettes the welded points and the
+      // adjacency indices.
       glBindVertexArray(impl.VertexArray);
       glBindBuffer(GL_ARRAY_BUFFER, impl.Buffer);
       if (!impl.Uploaded)
@@ -1102,17 +1178,72 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         glEnableVertexAttribArray(static_cast<GLuint>(loc));
         glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
       }
+      if (gsProgram)
+      {
+        glBindVertexArray(impl.PointArray);
+        glBindBuffer(GL_ARRAY_BUFFER, impl.PointBuffer);
+        if (!impl.PointsUploaded)
+        {
+          std::vector<float> points;
+          points.reserve(3 * mesh.Points.size());
+          for (const Vec3& p : mesh.Points)
+          {
+            points.insert(points.end(),
+              { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]) });
+          }
+          glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(points.size() * sizeof(float)),
+            points.empty() ? nullptr : points.data(), GL_STATIC_DRAW);
+          impl.PointsUploaded = true;
+        }
+        const GLint pointLoc = glGetAttribLocation(gsProgram->GetHandle(), "vertexRebased");
+        if (pointLoc >= 0)
+        {
+          glEnableVertexAttribArray(static_cast<GLuint>(pointLoc));
+          glVertexAttribPointer(static_cast<GLuint>(pointLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+        }
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, impl.AdjacencyBuffer);
+        if (impl.AdjacencyUploadedFor != impl.VolumeBuilds)
+        {
+          glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+            static_cast<GLsizeiptr>(impl.AdjacencyIndices.size() * sizeof(GLuint)),
+            impl.AdjacencyIndices.data(), GL_STATIC_DRAW);
+          impl.AdjacencyUploadedFor = impl.VolumeBuilds;
+        }
+      }
+      const float lightUniform[4] = {
+        static_cast<float>(vl.Directional ? vl.Direction[0] : vl.Position[0]),
+        static_cast<float>(vl.Directional ? vl.Direction[1] : vl.Position[1]),
+        static_cast<float>(vl.Directional ? vl.Direction[2] : vl.Position[2]),
+        vl.Directional ? 0.0f : 1.0f
+      };
+      // Every volume once; light caps pushed back by `capScale` (1: not at all).
+      auto drawVolumes = [&](float capScale) {
+        win->GetShaderCache()->ReadyShaderProgram(program);
+        program->SetUniformMatrix4x4("worldToClip", matrix);
+        glBindVertexArray(impl.VertexArray);
+        if (impl.CapVertices > 0)
+        {
+          program->SetUniformf("capScale", capScale);
+          glDrawArrays(GL_TRIANGLES, 0, impl.CapVertices);
+        }
+        if (impl.AllVertices > impl.CapVertices)
+        {
+          program->SetUniformf("capScale", 1.0f);
+          glDrawArrays(GL_TRIANGLES, impl.CapVertices, impl.AllVertices - impl.CapVertices);
+        }
+        if (gsProgram)
+        {
+          win->GetShaderCache()->ReadyShaderProgram(gsProgram);
+          gsProgram->SetUniformMatrix4x4("worldToClip", matrix);
+          gsProgram->SetUniformf("capScale", capScale);
+          gsProgram->SetUniform4f("light", lightUniform);
+          gsProgram->SetUniformf("extrusion", static_cast<float>(vl.Extrusion));
+          glBindVertexArray(impl.PointArray);
+          glDrawElements(GL_TRIANGLES_ADJACENCY, impl.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
+        }
+      };
       glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
-      if (impl.CapVertices > 0)
-      {
-        program->SetUniformf("capScale", static_cast<float>(1.0 - this->CapOffset));
-        glDrawArrays(GL_TRIANGLES, 0, impl.CapVertices);
-      }
-      if (impl.AllVertices > impl.CapVertices)
-      {
-        program->SetUniformf("capScale", 1.0f);
-        glDrawArrays(GL_TRIANGLES, impl.CapVertices, impl.AllVertices - impl.CapVertices);
-      }
+      drawVolumes(static_cast<float>(1.0 - this->CapOffset));
       glEndQuery(GL_SAMPLES_PASSED);
       GLuint passed = 0;
       glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &passed);
@@ -1122,9 +1253,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         // Every rasterized volume fragment, with the stencil left as counted.
         ostate->vtkglDepthFunc(GL_ALWAYS);
         ostate->vtkglStencilMask(0x00);
-        program->SetUniformf("capScale", 1.0f);
         glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
-        glDrawArrays(GL_TRIANGLES, 0, impl.AllVertices);
+        drawVolumes(1.0f);
         glEndQuery(GL_SAMPLES_PASSED);
         GLuint fill = 0;
         glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &fill);
@@ -1251,6 +1381,7 @@ void vtkPenumbraShadowVolumeShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Method: " << this->Method << "\n";
   os << indent << "Cull: " << this->Cull << "\n";
   os << indent << "Silhouettes: " << this->Silhouettes << "\n";
+  os << indent << "GPUSilhouettes: " << this->GPUSilhouettes << "\n";
   os << indent << "CapOffset: " << this->CapOffset << "\n";
   os << indent << "NumberOfCasterTriangles: " << this->NumberOfCasterTriangles << "\n";
   os << indent << "NumberOfComplexFaces: " << this->NumberOfComplexFaces << "\n";

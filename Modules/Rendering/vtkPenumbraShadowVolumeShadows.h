@@ -53,9 +53,11 @@
  * light unshadowed): glClipControl (GL 4.5 / ARB_clip_control), depth clamp, a complete
  * DEPTH32F_STENCIL8 framebuffer.
  *
- * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap); the GPU
- * silhouette path (geometry shader with adjacency), multi-light RGBA masks and goniometric
- * lights of seed 004 ch. 8-9 are not implemented.
+ * GPU silhouettes (GPUSilhouettes): closed components go through a geometry shader with
+ * triangle adjacency instead of the CPU silhouette loop (seed 004 ch. 9).
+ *
+ * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap); multi-light
+ * RGBA masks and goniometric lights of seed 004 ch. 8 are not implemented.
  */
 
 #ifndef vtkPenumbraShadowVolumeShadows_h
@@ -166,6 +168,20 @@ public:
 
   ///@{
   /**
+   * Find silhouettes on the GPU (seed 004 ch. 9): closed components are drawn as
+   * GL_TRIANGLES_ADJACENCY (indices from the OpenMesh connectivity) and a geometry shader
+   * decides facing per face (in float, one canonical evaluation per face shared by both
+   * sides of every edge), emitting caps and side quads. Per-triangle volumes, components
+   * around a positional light and culling stay on the CPU; closed components are not culled
+   * on this path, and GetNumberOfSilhouetteEdges() is -1 (not counted). Default off.
+   */
+  vtkSetMacro(GPUSilhouettes, bool);
+  vtkGetMacro(GPUSilhouettes, bool);
+  vtkBooleanMacro(GPUSilhouettes, bool);
+  ///@}
+
+  ///@{
+  /**
    * How far light caps are pushed back, relative to their eye depth (no unit). Default
    * 2^-17 (about 7.6e-6, 64 float32 steps), clamped to [0, 1e-3]. It must exceed the float
    * rounding between the CPU sample depth and the rasterized cap, and stay below the
@@ -228,6 +244,7 @@ protected:
   bool Silhouettes = true;
   double CapOffset = 1.0 / 131072.0;
   bool Resolve = true;
+  bool GPUSilhouettes = false;
   bool MeasureFill = false;
   vtkIdType NumberOfFillFragments = -1;
   vtkIdType NumberOfCountedSamples = 0;

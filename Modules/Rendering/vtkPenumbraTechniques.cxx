@@ -242,7 +242,7 @@ void InstallShadowMap(vtkRenderer* ren, Options& opts)
 
 void InstallVolumes(vtkRenderer* ren, Options& opts)
 {
-  const int silhouettes = opts.Choice("silhouettes", { "cpu", "none" });
+  const int silhouettes = opts.Choice("silhouettes", { "cpu", "gpu", "none" });
   const int method = opts.Choice("method", { "auto", "zfail", "zpass" });
   const bool cull = opts.Boolean("cull", true);
   const double capOffset = opts.Number("cap_offset", 1.0 / 131072.0, 0.0, 1e-3);
@@ -250,7 +250,8 @@ void InstallVolumes(vtkRenderer* ren, Options& opts)
   const bool measureFill = opts.Boolean("measure_fill", false);
   opts.RejectUnknown();
   vtkNew<vtkPenumbraShadowVolumeShadows> technique;
-  technique->SetSilhouettes(silhouettes == 0);
+  technique->SetSilhouettes(silhouettes != 2);
+  technique->SetGPUSilhouettes(silhouettes == 1);
   technique->SetMethod(method == 1 ? vtkPenumbraShadowVolumeShadows::METHOD_ZFAIL
       : method == 2                ? vtkPenumbraShadowVolumeShadows::METHOD_ZPASS
                                    : vtkPenumbraShadowVolumeShadows::METHOD_AUTO);

@@ -59,6 +59,7 @@ struct Result
   bool ZPass = false;
   vtkIdType Valid = 0;
   vtkIdType Resolved = 0;
+  vtkIdType SilhouetteEdges = 0;
 };
 
 // Renders `renderer` with the volumes technique and `options`, and compares every light's
@@ -131,6 +132,7 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
     result.Closed = technique->GetNumberOfClosedComponents();
     result.PerTriangle = technique->GetNumberOfPerTriangleVolumes();
     result.ZPass = technique->GetUsedZPass();
+    result.SilhouetteEdges = technique->GetNumberOfSilhouetteEdges();
     result.Valid += samples->GetNumberOfValidSamples();
     result.Resolved += technique->GetNumberOfResolvedSamples();
   }
@@ -321,7 +323,7 @@ int CheckMeshes()
     for (LightType type : HardTypes)
     {
       for (const char* options : { "{}", "{\"silhouettes\": \"none\"}",
-             "{\"method\": \"zfail\", \"cull\": false}" })
+             "{\"method\": \"zfail\", \"cull\": false}", "{\"silhouettes\": \"gpu\"}" })
       {
         auto renderer = Scene(c.Casters, type, From);
         Result result;
@@ -335,6 +337,11 @@ int CheckMeshes()
           // The ground (8 x 6 quads, open, 96 triangles) always adds 28 boundary edges.
           CHECK((result.Boundary > 28) == c.ExpectBoundary);
           CHECK(c.ExpectClosed || result.PerTriangle > 96);
+        }
+        // GPU silhouettes do not count their edges: -1 tells the geometry stage ran.
+        if (std::string(options).find("gpu") != std::string::npos)
+        {
+          CHECK((result.SilhouetteEdges == -1) == c.ExpectClosed);
         }
       }
     }
@@ -371,6 +378,10 @@ int CheckCameraInsideVolume()
     RUN(CompareExact(std::string("camera in volume ") + Name(type) + " zfail", renderer,
       "{\"method\": \"zfail\"}"));
     renderer = make();
+    RUN(CompareExact(std::string("camera in volume ") + Name(type) + " gpu", renderer,
+      "{\"silhouettes\": \"gpu\"}", &result));
+    CHECK(!result.ZPass);
+    renderer = make();
     Result wrong;
     RUN(Compare(std::string("camera in volume ") + Name(type) + " forced zpass", renderer,
       "{\"method\": \"zpass\"}", wrong));
@@ -392,13 +403,19 @@ int CheckScenes()
     vtkSmartPointer<vtkRenderer> renderer = DefaultSceneWith(type, reader, 50.0);
     CHECK(renderer != nullptr);
     RUN(CompareExact(std::string("default.json ") + Name(type), renderer, "{}"));
+    vtkNew<vtkPenumbraSceneReader> again;
+    renderer = DefaultSceneWith(type, again, 50.0);
+    CHECK(renderer != nullptr);
+    RUN(CompareExact(
+      std::string("default.json gpu ") + Name(type), renderer, "{\"silhouettes\": \"gpu\"}"));
   }
   const char* scenes[] = { "thin_occluders.json", "grazing_light.json", "coplanar_contact.json",
     "bad_triangles.json", "georef_1e7.json", "point_light_in_room.json",
     "point_light_on_surface.json", "zenith_light.json", "depth_range.json" };
   for (const char* scene : scenes)
   {
-    for (const char* options : { "{}", "{\"silhouettes\": \"none\"}" })
+    for (const char* options :
+      { "{}", "{\"silhouettes\": \"none\"}", "{\"silhouettes\": \"gpu\"}" })
     {
       vtkNew<vtkPenumbraSceneReader> reader;
       vtkSmartPointer<vtkRenderer> renderer = ReadScene(std::string("torture/") + scene, reader);
@@ -429,13 +446,17 @@ int CheckPureStencil()
     mismatches += result.Mismatches / 2; // counted for the pass and the direct call
     valid += result.Valid;
   }
-  vtkNew<vtkPenumbraSceneReader> reader;
-  vtkSmartPointer<vtkRenderer> renderer = ReadScene("default.json", reader);
-  CHECK(renderer != nullptr);
-  Result result;
-  RUN(Compare("pure stencil default.json", renderer, "{\"resolve\": false}", result));
-  mismatches += result.Mismatches / 2;
-  valid += result.Valid;
+  for (const char* options :
+    { "{\"resolve\": false}", "{\"resolve\": false, \"silhouettes\": \"gpu\"}" })
+  {
+    vtkNew<vtkPenumbraSceneReader> reader;
+    vtkSmartPointer<vtkRenderer> renderer = ReadScene("default.json", reader);
+    CHECK(renderer != nullptr);
+    Result result;
+    RUN(Compare(std::string("pure stencil default.json ") + options, renderer, options, result));
+    mismatches += result.Mismatches / 2;
+    valid += result.Valid;
+  }
   std::printf("pure stencil: %lld mismatches in %lld valid samples\n",
     static_cast<long long>(mismatches), static_cast<long long>(valid));
   CHECK(mismatches * 1000 <= valid);
