@@ -582,6 +582,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   const auto start = Clock::now();
   Internals& impl = *this->Impl;
   this->ConnectivityTimeMs = this->VolumeTimeMs = this->StencilTimeMs = 0.0;
+  this->SampleDepthTimeMs = 0.0;
   this->NumberOfVolumeTriangles = this->NumberOfPassedFragments = 0;
   this->UsedZPass = false;
   this->NumberOfFillFragments = -1;
@@ -1039,6 +1040,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         static_cast<float>(std::min(1.0, std::max(0.0, d)));
     }
   }
+
+  this->SampleDepthTimeMs = ElapsedMs(stencilStart);
 
   // z-pass needs a camera outside every volume (seed 004 §2.1); prove it for perspective
   // cameras from the volumes actually drawn.

@@ -228,11 +228,13 @@ public:
   ///@{
   /**
    * Phase times of the last call in milliseconds: connectivity (0 when cached), volume
-   * generation (0 when cached), stencil counting incl. upload and read back.
+   * generation (0 when cached), stencil counting (sample depths, upload, drawing, read
+   * back), and the sample-depth part of it alone (CPU, double precision).
    */
   vtkGetMacro(ConnectivityTimeMs, double);
   vtkGetMacro(VolumeTimeMs, double);
   vtkGetMacro(StencilTimeMs, double);
+  vtkGetMacro(SampleDepthTimeMs, double);
   ///@}
 
 protected:
@@ -266,6 +268,7 @@ protected:
   double ConnectivityTimeMs = 0.0;
   double VolumeTimeMs = 0.0;
   double StencilTimeMs = 0.0;
+  double SampleDepthTimeMs = 0.0;
 
 private:
   vtkPenumbraShadowVolumeShadows(const vtkPenumbraShadowVolumeShadows&) = delete;

@@ -463,6 +463,41 @@ int CheckPureStencil()
   return EXIT_SUCCESS;
 }
 
+// Connectivity is built once per geometry change, volumes once per light change (without
+// culling the camera does not matter to them); both stay exact across the changes.
+int CheckCaching()
+{
+  auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6) },
+    LightType::Point, From);
+  vtkSmartPointer<vtkRenderWindow> window =
+    vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
+  window->SetSize(96, 64);
+  window->SetMultiSamples(0);
+  window->AddRenderer(renderer);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, "volumes", "{\"cull\": false}"));
+  window->Render();
+  auto* technique = vtkPenumbraShadowVolumeShadows::SafeDownCast(ShadowPass(renderer)->GetTechnique());
+  CHECK(technique != nullptr);
+  CHECK(technique->GetNumberOfConnectivityBuilds() == 1);
+  CHECK(technique->GetNumberOfVolumeBuilds() == 1);
+  renderer->GetActiveCamera()->Azimuth(20.0);
+  window->Render();
+  CHECK(technique->GetNumberOfConnectivityBuilds() == 1);
+  CHECK(technique->GetNumberOfVolumeBuilds() == 1);
+  vtkLight* light = ShadowPass(renderer)->GetLight(0);
+  CHECK(light != nullptr);
+  light->SetPosition(-1.0, 0.5, 3.5);
+  window->Render();
+  CHECK(technique->GetNumberOfConnectivityBuilds() == 1);
+  CHECK(technique->GetNumberOfVolumeBuilds() == 2);
+  renderer->GetRenderWindow()->RemoveRenderer(renderer);
+  window->Finalize();
+  // And still exact after the changes.
+  RUN(CompareExact("after camera and light moves", renderer, "{\"cull\": false}"));
+  return EXIT_SUCCESS;
+}
+
 int CheckBadInput()
 {
   vtkNew<vtkPenumbraShadowVolumeShadows> technique;
@@ -485,6 +520,7 @@ int TestShadowVolumeShadows(int, char*[])
   RUN(CheckMeshes());
   RUN(CheckCameraInsideVolume());
   RUN(CheckPureStencil());
+  RUN(CheckCaching());
   RUN(CheckScenes());
   return EXIT_SUCCESS;
 }
