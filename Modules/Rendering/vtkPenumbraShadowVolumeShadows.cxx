@@ -675,22 +675,16 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       }
     }
   }
-  double scale = 0.0;
+  // Scene scale from the geometry alone (every sample lies on it), so that the extrusion
+  // length and with it the cached volumes do not depend on the camera.
+  double scale = 1.0;
   {
     double all[6];
-    std::copy(box, box + 6, all);
-    for (const Vec3& p : mesh.Points)
+    geometry->GetBounds(all);
+    for (int c = 0; c < 3 && vtkMath::AreBoundsInitialized(all); ++c)
     {
-      for (int c = 0; c < 3; ++c)
-      {
-        all[2 * c] = std::min(all[2 * c], p[c]);
-        all[2 * c + 1] = std::max(all[2 * c + 1], p[c]);
-      }
-    }
-    for (int c = 0; c < 3; ++c)
-    {
-      scale = std::max({ scale, std::fabs(all[2 * c]), std::fabs(all[2 * c + 1]),
-        all[2 * c + 1] - all[2 * c] });
+      const double lo = all[2 * c] - impl.Origin[c], hi = all[2 * c + 1] - impl.Origin[c];
+      scale = std::max({ scale, std::fabs(lo), std::fabs(hi), hi - lo });
     }
     // Grow the culling box by the float rounding of the samples (they are float32).
     const double pad = 1e-5 * scale;
