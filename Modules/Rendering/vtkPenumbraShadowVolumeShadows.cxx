@@ -86,10 +86,14 @@ struct Connectivity
 {
   struct Component
   {
-    // Faces as welded vertex triples, already turned so that their winding is outward
-    // (components of negative volume are reversed once here).
+    // Closed (no boundary edge, non-zero volume): silhouette volumes of the light-facing
+    // faces suffice. Open: both face sets are needed (see the volume builder).
+    bool Closed = false;
+    // Faces as welded vertex triples; closed components are already turned so that their
+    // winding is outward (components of negative volume are reversed once here).
     std::vector<std::array<int, 3>> Faces;
-    // Edges: v0 -> v1 as in face F0's (outward) winding, v1 -> v0 in F1's; indices into Faces.
+    // Edges: v0 -> v1 as in face F0's winding, v1 -> v0 in F1's; indices into Faces; F1 is
+    // -1 on a boundary edge.
     std::vector<std::array<int, 4>> Edges;
     // Per face, GL_TRIANGLES_ADJACENCY order: v0, opposite of (v0, v1), v1, opposite of
     // (v1, v2), v2, opposite of (v2, v0) (the GPU silhouette path).
@@ -216,27 +220,39 @@ struct Connectivity
         }
       }
       Component c;
-      if (closed)
+      c.Closed = closed;
+      for (int f : faces)
       {
-        for (int f : faces)
+        local[static_cast<size_t>(f)] = static_cast<int>(c.Faces.size());
+        c.Faces.push_back(tris[static_cast<size_t>(faceTri[static_cast<size_t>(f)])]);
+      }
+      for (int f : faces)
+      {
+        for (Mesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
         {
-          local[static_cast<size_t>(f)] = static_cast<int>(c.Faces.size());
-          c.Faces.push_back(tris[static_cast<size_t>(faceTri[static_cast<size_t>(f)])]);
-        }
-        for (int f : faces)
-        {
-          for (Mesh::HalfedgeHandle h :
-            mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
+          const Mesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
+          const int g = mesh.is_boundary(o) ? -1 : mesh.face_handle(o).idx();
+          if (g < 0 || f < g) // each edge once
           {
-            const Mesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
-            const int g = mesh.face_handle(o).idx();
-            if (f < g) // each edge once
-            {
-              c.Edges.push_back({ mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx(),
-                local[static_cast<size_t>(f)], local[static_cast<size_t>(g)] });
-            }
+            c.Edges.push_back({ mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx(),
+              local[static_cast<size_t>(f)], g < 0 ? -1 : local[static_cast<size_t>(g)] });
           }
         }
+      }
+      for (const auto& t : c.Faces)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          const Vec3& p = this->Points[static_cast<size_t>(t[k])];
+          for (int a = 0; a < 3; ++a)
+          {
+            c.Bounds[2 * a] = std::min(c.Bounds[2 * a], p[a]);
+            c.Bounds[2 * a + 1] = std::max(c.Bounds[2 * a + 1], p[a]);
+          }
+        }
+      }
+      if (closed)
+      {
         // Orientation: a closed mesh with inward normals has negative signed volume; turn it
         // once so that "light-facing" means the outward side (seed 004 §2.3).
         double volume = 0.0;
@@ -259,52 +275,29 @@ struct Connectivity
             std::swap(e[0], e[1]);
           }
         }
+        // Flat closed surfaces (two coincident sheets) have no inside: treat them as open.
+        c.Closed = volume != 0.0;
+      }
+      if (c.Closed)
+      {
+        std::map<std::pair<int, int>, int> third; // directed edge -> third vertex of its face
         for (const auto& t : c.Faces)
         {
           for (int k = 0; k < 3; ++k)
           {
-            const Vec3& p = this->Points[static_cast<size_t>(t[k])];
-            for (int a = 0; a < 3; ++a)
-            {
-              c.Bounds[2 * a] = std::min(c.Bounds[2 * a], p[a]);
-              c.Bounds[2 * a + 1] = std::max(c.Bounds[2 * a + 1], p[a]);
-            }
+            third[{ t[k], t[(k + 1) % 3] }] = t[(k + 2) % 3];
           }
         }
+        for (const auto& t : c.Faces)
         {
-          std::map<std::pair<int, int>, int> third; // directed edge -> third vertex of its face
-          for (const auto& t : c.Faces)
+          std::array<int, 6> a;
+          for (int k = 0; k < 3; ++k)
           {
-            for (int k = 0; k < 3; ++k)
-            {
-              third[{ t[k], t[(k + 1) % 3] }] = t[(k + 2) % 3];
-            }
+            a[static_cast<size_t>(2 * k)] = t[k];
+            a[static_cast<size_t>(2 * k + 1)] = third[{ t[(k + 1) % 3], t[k] }];
           }
-          for (const auto& t : c.Faces)
-          {
-            std::array<int, 6> a;
-            for (int k = 0; k < 3; ++k)
-            {
-              a[static_cast<size_t>(2 * k)] = t[k];
-              a[static_cast<size_t>(2 * k + 1)] = third[{ t[(k + 1) % 3], t[k] }];
-            }
-            c.Adjacency.push_back(a);
-          }
+          c.Adjacency.push_back(a);
         }
-        if (volume == 0.0)
-        {
-          // Flat closed surfaces (two coincident sheets): no inside, use per-triangle volumes.
-          this->Loose.insert(this->Loose.end(), c.Faces.begin(), c.Faces.end());
-          continue;
-        }
-      }
-      else
-      {
-        for (int f : faces)
-        {
-          this->Loose.push_back(tris[static_cast<size_t>(faceTri[static_cast<size_t>(f)])]);
-        }
-        continue;
       }
       this->Components.push_back(std::move(c));
     }
@@ -641,7 +634,10 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfCasterTriangles = mesh.Casters;
   this->NumberOfComplexFaces = mesh.Complex;
   this->NumberOfBoundaryEdges = mesh.BoundaryEdges;
-  this->NumberOfClosedComponents = static_cast<vtkIdType>(mesh.Components.size());
+  this->NumberOfClosedComponents = static_cast<vtkIdType>(std::count_if(mesh.Components.begin(),
+    mesh.Components.end(), [](const Connectivity::Component& c) { return c.Closed; }));
+  this->NumberOfOpenComponents =
+    static_cast<vtkIdType>(mesh.Components.size()) - this->NumberOfClosedComponents;
   this->NumberOfPerTriangleVolumes = static_cast<vtkIdType>(mesh.Loose.size());
 
   // ---- Facing, spot cone, lights that are off, background: the reference's rules.
@@ -796,8 +792,17 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
           P[static_cast<size_t>(t[2])] };
         perTriangle(v, vl.Facing(v[0], v[1], v[2]));
       }
-      // Silhouette volumes of closed components (seed 004 §2.1, ch. 8; CPU silhouettes).
-      std::vector<char> front;
+      // Silhouette volumes of the components (seed 004 §2.1, ch. 8; CPU silhouettes). The
+      // stencil count of a set of per-triangle volumes is the number of its triangles the
+      // segment to the light crosses; where two triangles of the set share an edge with
+      // opposite windings (both turned toward the light), their side quads cancel, so only
+      // the set's caps and the sides on its border edges need drawing. Closed components
+      // with the light outside: the light-facing set alone is crossed whenever the mesh is.
+      // Open components, or a positional light inside the component's box (maybe inside
+      // the mesh, where light-facing caps do not close, seed 004 §2.3): the light-facing set
+      // plus the back-facing set turned toward the light, i.e. every triangle, as per-triangle
+      // volumes would, but with sides only on silhouette and boundary edges.
+      std::vector<signed char> set;
       for (const auto& c : mesh.Components)
       {
         bool inside = !vl.Directional;
@@ -805,7 +810,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         {
           inside = vl.Position[a] >= c.Bounds[2 * a] && vl.Position[a] <= c.Bounds[2 * a + 1];
         }
-        if (this->GPUSilhouettes && !inside)
+        const bool bothSets = !c.Closed || inside;
+        if (this->GPUSilhouettes && !bothSets)
         {
           // Silhouettes, caps and sides come from the geometry stage: no CPU facing at all.
           for (const auto& a : c.Adjacency)
@@ -814,60 +820,58 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
           }
           continue;
         }
-        front.assign(c.Faces.size(), 0);
-        bool reaches = !this->Cull;
+        // Per face: +1 light-facing set, -1 back-facing set (turned), 0 none. Facing is one
+        // decision per face, ties (edge-on) in no set (seed 004 §8.3). A culled face leaves
+        // its set: the sum of the remaining volumes stays a valid count.
+        set.assign(c.Faces.size(), 0);
+        bool any = false;
         for (size_t i = 0; i < c.Faces.size(); ++i)
         {
           const auto& t = c.Faces[i];
-          const Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
+          Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
             P[static_cast<size_t>(t[2])] };
           const double f = vl.Facing(v[0], v[1], v[2]);
-          front[i] = f > 0.0; // ties are back-facing (seed 004 §8.3), one decision per face
-          if (inside)
+          signed char si = f > 0.0 ? 1 : (bothSets && f < 0.0 ? -1 : 0);
+          if (si < 0)
           {
-            // A light inside the component's box may be inside the mesh, where light-facing
-            // caps do not close the volume (seed 004 §2.3): per-triangle volumes instead.
-            Vec3 w[3] = { v[0], v[1], v[2] };
-            perTriangle(w, f);
-            continue;
+            std::swap(v[1], v[2]);
           }
-          reaches = reaches || (front[i] && !VolumeMissesBox(vl, v, box));
+          if (si != 0 && this->Cull && VolumeMissesBox(vl, v, box))
+          {
+            ++culled;
+            si = 0;
+          }
+          if (si != 0)
+          {
+            capAndDark(v[0], v[1], v[2]);
+            any = true;
+          }
+          set[i] = si;
         }
-        if (inside)
+        if (!any)
         {
           continue;
-        }
-        if (!reaches)
-        {
-          ++culled;
-          continue;
-        }
-        for (size_t i = 0; i < c.Faces.size(); ++i)
-        {
-          if (front[i])
-          {
-            const auto& t = c.Faces[i];
-            capAndDark(P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
-              P[static_cast<size_t>(t[2])]);
-          }
         }
         for (const auto& e : c.Edges)
         {
-          const bool f0 = front[static_cast<size_t>(e[2])] != 0;
-          const bool f1 = front[static_cast<size_t>(e[3])] != 0;
-          if (f0 == f1)
+          const Vec3& p0 = P[static_cast<size_t>(e[0])];
+          const Vec3& p1 = P[static_cast<size_t>(e[1])];
+          const signed char s0 = set[static_cast<size_t>(e[2])];
+          const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
+          if (s0 == s1)
           {
             continue;
           }
           ++edges;
-          // Keep the winding of the light-facing face (seed 004 §2.1).
-          if (f0)
+          // Keep the winding of the face as turned toward the light (seed 004 §2.1): F0
+          // runs v0 -> v1, F1 v1 -> v0, each reversed when turned.
+          if (s0 != 0)
           {
-            side(P[static_cast<size_t>(e[0])], P[static_cast<size_t>(e[1])]);
+            s0 > 0 ? side(p0, p1) : side(p1, p0);
           }
-          else
+          if (s1 != 0)
           {
-            side(P[static_cast<size_t>(e[1])], P[static_cast<size_t>(e[0])]);
+            s1 > 0 ? side(p1, p0) : side(p0, p1);
           }
         }
       }
@@ -1384,6 +1388,7 @@ void vtkPenumbraShadowVolumeShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfComplexFaces: " << this->NumberOfComplexFaces << "\n";
   os << indent << "NumberOfBoundaryEdges: " << this->NumberOfBoundaryEdges << "\n";
   os << indent << "NumberOfClosedComponents: " << this->NumberOfClosedComponents << "\n";
+  os << indent << "NumberOfOpenComponents: " << this->NumberOfOpenComponents << "\n";
   os << indent << "NumberOfPerTriangleVolumes: " << this->NumberOfPerTriangleVolumes << "\n";
   os << indent << "NumberOfSilhouetteEdges: " << this->NumberOfSilhouetteEdges << "\n";
   os << indent << "NumberOfVolumeTriangles: " << this->NumberOfVolumeTriangles << "\n";

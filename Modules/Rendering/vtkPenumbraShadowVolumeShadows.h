@@ -10,22 +10,25 @@
  *    by exactly equal vertex coordinates and added to an OpenMesh triangle mesh. OpenMesh
  *    refuses faces that would make an edge complex (non-manifold: a third face on an edge,
  *    a duplicate face, a face oriented against its neighbours); those are counted
- *    (GetNumberOfComplexFaces()) and go to per-triangle volumes. Connected components
- *    without boundary edges are closed, consistently oriented 2-manifolds; only they use
- *    silhouette volumes. Open components (boundary edges) use per-triangle volumes too.
- * 2. Volumes (rebuilt only when the light or the connectivity changes): a closed component
- *    whose bounding box does not contain a positional light gets its light-facing triangles
- *    as light cap, the same triangles extruded and reversed as dark cap, and one quad per
- *    silhouette edge (an edge between a light-facing and a back-facing triangle, each face
- *    classified once in double, ties counted as back-facing, seed 004 §8.3). Its stencil
- *    count at a point is then the number of its light-facing triangles the segment to the
- *    light crosses, which is non-zero exactly when the segment crosses the mesh. Components
- *    with inward orientation (negative volume) swap the roles of front and back. All other
- *    casters get per-triangle volumes: the triangle turned toward the light, its extrusion
- *    and its three sides (always correct, for any input). Positional lights extrude to
- *    infinity (w = 0); directional lights extrude by a finite length beyond every sample and
- *    caster (a prism), which keeps parallel cameras free of points at infinity on the view
- *    axis.
+ *    (GetNumberOfComplexFaces()) and get per-triangle volumes: the triangle turned toward
+ *    the light, its extrusion and its three sides (always correct, for any input). The
+ *    accepted faces form consistently oriented components, closed (no boundary edge) or
+ *    open.
+ * 2. Volumes (rebuilt only when the light, the connectivity or, with culling, the box of
+ *    the lit-candidate samples changes). The stencil count of a set of per-triangle volumes
+ *    is the number of its triangles the segment to the light crosses; sides shared by two
+ *    triangles of the set cancel, so a set needs only its caps and the side quads on its
+ *    border edges. A closed component whose bounding box does not contain a positional
+ *    light uses its light-facing triangles (light cap, extruded and reversed as dark cap,
+ *    one quad per silhouette edge; each face classified once in double, ties back-facing,
+ *    seed 004 §8.3): the segment crosses the mesh exactly when it crosses one of them.
+ *    Components with inward orientation (negative volume) swap front and back. Open
+ *    components, and closed ones that may hold the light, use both sets (the back-facing
+ *    triangles turned toward the light too), which counts every crossing like per-triangle
+ *    volumes but with sides only on silhouette and boundary edges. Positional lights
+ *    extrude to infinity (w = 0); directional lights extrude by a finite length beyond
+ *    every caster (a prism), which keeps parallel cameras free of points at infinity on the
+ *    view axis.
  * 3. Counting in an own framebuffer (window size, 32-bit float depth + 8-bit stencil): the
  *    depth buffer receives, per pixel, the depth of the point where the pixel-centre ray
  *    meets the sample's own triangle (double precision on the CPU, uploaded together with a
@@ -42,10 +45,10 @@
  *    sub-pixel grid, not exactly; the few samples next to a change of the result are traced
  *    with vtkPenumbraReference (see SetResolve()). Everything else is the stencil's answer.
  *
- * Culling (Cull, default on; seed 001 §1.3, CC shadow volumes): a per-triangle volume is
- * drawn only if no separating plane (the sample box faces, the triangle's plane, its three
- * side planes) puts it apart from the box of the light-facing samples; a closed component is
- * drawn only if one of its light-facing triangles survives.
+ * Culling (Cull, default on; seed 001 §1.3, CC shadow volumes): a triangle's volume is
+ * dropped when a separating plane (the sample box faces, the triangle's plane, its three
+ * side planes) puts it apart from the box of the light-facing samples; in a component the
+ * triangle then simply leaves its set, and the remaining sum stays a valid count.
  *
  * Facing-away samples, spot cones, lights that are off and background samples follow the
  * reference's rules (shared code with the other map-based techniques). Area lights are
@@ -194,13 +197,15 @@ public:
   ///@{
   /**
    * Statistics of the connectivity (valid after a call): caster triangles, faces OpenMesh
-   * refused (complex/non-manifold or inconsistently oriented), boundary edges, closed
-   * components (silhouette volumes) and triangles that use per-triangle volumes.
+   * refused (complex/non-manifold or inconsistently oriented), boundary edges, closed and
+   * open components (silhouette volumes of one or both face sets) and triangles that use
+   * per-triangle volumes (the refused faces; every caster without Silhouettes).
    */
   vtkGetMacro(NumberOfCasterTriangles, vtkIdType);
   vtkGetMacro(NumberOfComplexFaces, vtkIdType);
   vtkGetMacro(NumberOfBoundaryEdges, vtkIdType);
   vtkGetMacro(NumberOfClosedComponents, vtkIdType);
+  vtkGetMacro(NumberOfOpenComponents, vtkIdType);
   vtkGetMacro(NumberOfPerTriangleVolumes, vtkIdType);
   ///@}
 
@@ -257,6 +262,7 @@ protected:
   vtkIdType NumberOfComplexFaces = 0;
   vtkIdType NumberOfBoundaryEdges = 0;
   vtkIdType NumberOfClosedComponents = 0;
+  vtkIdType NumberOfOpenComponents = 0;
   vtkIdType NumberOfPerTriangleVolumes = 0;
   vtkIdType NumberOfSilhouetteEdges = 0;
   vtkIdType NumberOfVolumeTriangles = 0;
