@@ -3,6 +3,8 @@
 #include "vtkCamera.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
@@ -432,8 +434,6 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   GLuint PointBuffer = 0;
   GLuint AdjacencyBuffer = 0;
   bool PointsUploaded = false;
-  std::vector<GLuint> AdjacencyIndices;
-  GLsizei AdjacencyCount = 0;
   int Width = 0;
   int Height = 0;
 
@@ -446,19 +446,30 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   double Origin[3] = { 0, 0, 0 };
   bool BuiltWithSilhouettes = true;
 
-  // Volume cache: rebuilt when the light, the connectivity, the sample box or the options
-  // change.
-  std::vector<float> Vertices; // xyzw, caps first
-  GLsizei CapVertices = 0;
-  GLsizei AllVertices = 0;
-  bool VolumesValid = false;
-  std::vector<double> VolumeKey;
-  bool Uploaded = false;
-  int VolumeBuilds = 0;         // counts volume builds, to know when indices are stale
-  int AdjacencyUploadedFor = -1;
-  vtkIdType SilhouetteEdges = 0;
-  vtkIdType Culled = 0;
+  // Volume cache, one entry per light (a few lights render every frame): rebuilt when the
+  // light, the connectivity, the sample box (with culling) or the options change.
+  struct VolumeSet
+  {
+    std::vector<double> Key;
+    int Id = 0;                  // unique per build: tells whether the GL buffers hold it
+    std::vector<float> Vertices; // xyzw, caps first
+    GLsizei CapVertices = 0;
+    GLsizei AllVertices = 0;
+    std::vector<GLuint> AdjacencyIndices; // GPU silhouettes
+    GLsizei AdjacencyCount = 0;
+    vtkIdType SilhouetteEdges = 0;
+    vtkIdType Culled = 0;
+  };
+  static constexpr size_t MaxVolumeSets = 8;
+  std::vector<VolumeSet> Volumes;
+  int NextVolumeId = 0;
+  int UploadedVolumes = -1;   // Id of the set in Buffer
+  int UploadedAdjacency = -1; // Id of the set in AdjacencyBuffer
 
+  // Per-frame camera data shared by every light (see ComputeVisibility).
+  std::vector<double> DepthKey;
+  double Rows[4][4] = {};
+  bool DepthUploaded = false;
   std::vector<float> DepthStencilData; // float depth + uint32 (stencil in the low byte)
   std::vector<unsigned char> Stencil;
   vtkNew<vtkUnsignedCharArray> Mask;
@@ -499,7 +510,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     this->PointArray = this->PointBuffer = this->AdjacencyBuffer = 0;
     this->PointsUploaded = false;
     this->Width = this->Height = 0;
-    this->Uploaded = false;
+    this->UploadedVolumes = this->UploadedAdjacency = -1;
+    this->DepthUploaded = false;
     this->Window = nullptr;
   }
 
@@ -526,6 +538,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH32F_STENCIL8, w, h, 0, GL_DEPTH_STENCIL,
       GL_FLOAT_32_UNSIGNED_INT_24_8_REV, nullptr);
+    this->DepthUploaded = false;
     glBindTexture(GL_TEXTURE_2D, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, this->Framebuffer);
     glFramebufferTexture2D(
@@ -624,7 +637,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       impl.FlagsTime = geometry->GetFlagsTime();
       std::copy(origin, origin + 3, impl.Origin);
       impl.BuiltWithSilhouettes = this->Silhouettes;
-      impl.VolumesValid = false;
+      impl.Volumes.clear();
       impl.PointsUploaded = false;
       ++this->NumberOfConnectivityBuilds;
       this->ConnectivityTimeMs = ElapsedMs(connectivityStart);
@@ -700,6 +713,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
 
   // ---- Volumes, once per light / connectivity / sample box / option change.
   const auto volumeStart = Clock::now();
+  size_t volumeIndex = 0;
   {
     std::vector<double> key = { vl.Directional ? 1.0 : 0.0, vl.Direction[0], vl.Direction[1],
       vl.Direction[2], vl.Position[0], vl.Position[1], vl.Position[2], vl.Extrusion,
@@ -708,16 +722,22 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     {
       key.insert(key.end(), box, box + 6);
     }
-    if (!impl.VolumesValid || key != impl.VolumeKey)
+    auto found = std::find_if(impl.Volumes.begin(), impl.Volumes.end(),
+      [&](const Internals::VolumeSet& v) { return v.Key == key; });
+    if (found == impl.Volumes.end())
     {
-      impl.VolumeKey = key;
-      impl.VolumesValid = true;
-      impl.Uploaded = false;
-      ++impl.VolumeBuilds;
+      if (impl.Volumes.size() >= Internals::MaxVolumeSets)
+      {
+        impl.Volumes.erase(impl.Volumes.begin()); // the oldest
+      }
+      impl.Volumes.emplace_back();
+      found = impl.Volumes.end() - 1;
+      Internals::VolumeSet& build = *found;
+      build.Key = key;
+      build.Id = impl.NextVolumeId++;
       ++this->NumberOfVolumeBuilds;
       std::vector<float> caps, sides;
       vtkIdType culled = 0, edges = 0;
-      impl.AdjacencyIndices.clear();
       auto put = [](std::vector<float>& out, const Vec3& p, double w) {
         out.push_back(static_cast<float>(p[0]));
         out.push_back(static_cast<float>(p[1]));
@@ -816,7 +836,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
           // Silhouettes, caps and sides come from the geometry stage: no CPU facing at all.
           for (const auto& a : c.Adjacency)
           {
-            impl.AdjacencyIndices.insert(impl.AdjacencyIndices.end(), a.begin(), a.end());
+            build.AdjacencyIndices.insert(build.AdjacencyIndices.end(), a.begin(), a.end());
           }
           continue;
         }
@@ -875,167 +895,190 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
           }
         }
       }
-      impl.CapVertices = static_cast<GLsizei>(caps.size() / 4);
-      impl.AllVertices = static_cast<GLsizei>((caps.size() + sides.size()) / 4);
-      impl.Vertices.swap(caps);
-      impl.Vertices.insert(impl.Vertices.end(), sides.begin(), sides.end());
-      impl.SilhouetteEdges = this->GPUSilhouettes && !impl.AdjacencyIndices.empty() ? -1 : edges;
-      impl.AdjacencyCount = static_cast<GLsizei>(impl.AdjacencyIndices.size());
-      impl.Culled = culled;
+      build.CapVertices = static_cast<GLsizei>(caps.size() / 4);
+      build.AllVertices = static_cast<GLsizei>((caps.size() + sides.size()) / 4);
+      build.Vertices.swap(caps);
+      build.Vertices.insert(build.Vertices.end(), sides.begin(), sides.end());
+      build.SilhouetteEdges =
+        this->GPUSilhouettes && !build.AdjacencyIndices.empty() ? -1 : edges;
+      build.AdjacencyCount = static_cast<GLsizei>(build.AdjacencyIndices.size());
+      build.Culled = culled;
       this->VolumeTimeMs = ElapsedMs(volumeStart);
     }
+    volumeIndex = static_cast<size_t>(found - impl.Volumes.begin());
   }
-  this->NumberOfSilhouetteEdges = impl.SilhouetteEdges;
-  this->NumberOfCulledVolumes = impl.Culled;
-  this->NumberOfVolumeTriangles = impl.AllVertices / 3;
+  const Internals::VolumeSet& vs = impl.Volumes[volumeIndex];
+  this->NumberOfSilhouetteEdges = vs.SilhouetteEdges;
+  this->NumberOfCulledVolumes = vs.Culled;
+  this->NumberOfVolumeTriangles = vs.AllVertices / 3;
 
   // ---- Camera: VTK's world -> clip for this image, rebased, with a reversed float depth.
   const auto stencilStart = Clock::now();
   const bool parallel = camera->GetParallelProjection() != 0;
-  double rows[4][4];
-  double unproject[4][4];
+  // The camera matrix and the sample depths depend on the samples and the camera only: one
+  // computation and one upload per frame serve every light (seed 004 ch. 8: the scene depth
+  // once, then per light a cleared stencil and its volumes).
+  auto address = [](const void* p) {
+    return static_cast<double>(reinterpret_cast<std::uintptr_t>(p));
+  };
+  const std::vector<double> depthKey = { address(samples),
+    static_cast<double>(samples->GetMTime()),
+    static_cast<double>(samples->GetPositions()->GetMTime()),
+    static_cast<double>(samples->GetPropIndices()->GetMTime()),
+    static_cast<double>(samples->GetTriangleIds()->GetMTime()),
+    static_cast<double>(camera->GetMTime()), address(geometry),
+    static_cast<double>(geometry->GetGeometryTime()), impl.Origin[0], impl.Origin[1],
+    impl.Origin[2], static_cast<double>(width), static_cast<double>(height) };
+  double (&rows)[4][4] = impl.Rows;
+  if (depthKey != impl.DepthKey)
   {
-    const double aspect = static_cast<double>(width) / height;
-    vtkMatrix4x4* m = camera->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
-    vtkNew<vtkMatrix4x4> inverse;
-    vtkMatrix4x4::Invert(m, inverse);
-    for (int r = 0; r < 4; ++r)
+    impl.DepthKey = depthKey;
+    impl.DepthUploaded = false;
+    ++this->NumberOfDepthComputations;
+    double unproject[4][4];
     {
+      const double aspect = static_cast<double>(width) / height;
+      vtkMatrix4x4* m = camera->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
+      vtkNew<vtkMatrix4x4> inverse;
+      vtkMatrix4x4::Invert(m, inverse);
+      for (int r = 0; r < 4; ++r)
+      {
+        for (int c = 0; c < 4; ++c)
+        {
+          unproject[r][c] = inverse->GetElement(r, c);
+        }
+      }
+      vtkMatrix4x4* view = camera->GetViewTransformMatrix();
+      for (int r = 0; r < 4; ++r)
+      {
+        for (int c = 0; c < 4; ++c)
+        {
+          rows[r][c] = m->GetElement(r, c);
+        }
+      }
+      // Rebase: x_world = x_rebased + origin.
+      for (int r = 0; r < 4; ++r)
+      {
+        rows[r][3] += rows[r][0] * impl.Origin[0] + rows[r][1] * impl.Origin[1] +
+          rows[r][2] * impl.Origin[2];
+      }
+      // Eye depth (positive in front) as a row of the rebased frame.
+      double eye[4];
       for (int c = 0; c < 4; ++c)
       {
-        unproject[r][c] = inverse->GetElement(r, c);
+        eye[c] = -view->GetElement(2, c);
+      }
+      eye[3] += eye[0] * impl.Origin[0] + eye[1] * impl.Origin[1] + eye[2] * impl.Origin[2];
+      double nearest = VTK_DOUBLE_MAX, farthest = 0.0;
+      for (vtkIdType s = 0; s < n; ++s)
+      {
+        if (in.Props[s] >= 0)
+        {
+          double z = eye[3];
+          for (int c = 0; c < 3; ++c)
+          {
+            z += eye[c] * (static_cast<double>(in.Positions[3 * s + c]) + shift[c]);
+          }
+          nearest = std::min(nearest, z);
+          farthest = std::max(farthest, z);
+        }
+      }
+      if (!parallel)
+      {
+        // d = nearPlane / eye depth (w row unchanged): 1 at half the nearest sample, 0 at
+        // infinity; depth clamp keeps what lies closer.
+        const double nearPlane = std::max(0.5 * nearest, 1e-9 * (1.0 + std::fabs(farthest)));
+        // z_clip = nearPlane * w_vertex: a point at infinity (w = 0) gets depth 0.
+        rows[2][0] = rows[2][1] = rows[2][2] = 0.0;
+        rows[2][3] = nearPlane;
+      }
+      else
+      {
+        const double margin = 0.25 * (farthest - nearest) + 1e-6 * (1.0 + std::fabs(farthest));
+        const double zn = nearest - margin, zf = farthest + margin;
+        // d = (zf - eye depth) / (zf - zn).
+        for (int c = 0; c < 4; ++c)
+        {
+          rows[2][c] = (c == 3 ? zf : 0.0) - eye[c];
+          rows[2][c] /= (zf - zn);
+        }
       }
     }
-    vtkMatrix4x4* view = camera->GetViewTransformMatrix();
-    for (int r = 0; r < 4; ++r)
-    {
-      for (int c = 0; c < 4; ++c)
+    auto clipOf = [&](const double p[3], double clip[4]) {
+      for (int r = 0; r < 4; ++r)
       {
-        rows[r][c] = m->GetElement(r, c);
+        clip[r] = rows[r][0] * p[0] + rows[r][1] * p[1] + rows[r][2] * p[2] + rows[r][3];
       }
-    }
-    // Rebase: x_world = x_rebased + origin.
-    for (int r = 0; r < 4; ++r)
+    };
+
+    // Per pixel: the depth of the point where the pixel-centre ray meets the sample's own
+    // triangle, so that the own cap is rasterized at (nearly) the same depth.
+    impl.DepthStencilData.assign(2 * static_cast<size_t>(n), 0.0f);
+    const double* tv = in.TriangleVertices;
+    for (int y = 0; y < height; ++y)
     {
-      rows[r][3] += rows[r][0] * impl.Origin[0] + rows[r][1] * impl.Origin[1] +
-        rows[r][2] * impl.Origin[2];
-    }
-    // Eye depth (positive in front) as a row of the rebased frame.
-    double eye[4];
-    for (int c = 0; c < 4; ++c)
-    {
-      eye[c] = -view->GetElement(2, c);
-    }
-    eye[3] += eye[0] * impl.Origin[0] + eye[1] * impl.Origin[1] + eye[2] * impl.Origin[2];
-    double nearest = VTK_DOUBLE_MAX, farthest = 0.0;
-    for (vtkIdType s = 0; s < n; ++s)
-    {
-      if (state[static_cast<size_t>(s)] == Pending)
+      for (int x = 0; x < width; ++x)
       {
-        double z = eye[3];
+        const vtkIdType s = static_cast<vtkIdType>(y) * width + x;
+        if (in.Props[s] < 0)
+        {
+          continue;
+        }
+        double p[3];
         for (int c = 0; c < 3; ++c)
         {
-          z += eye[c] * (static_cast<double>(in.Positions[3 * s + c]) + shift[c]);
+          p[c] = static_cast<double>(in.Positions[3 * s + c]) + shift[c];
         }
-        nearest = std::min(nearest, z);
-        farthest = std::max(farthest, z);
-      }
-    }
-    if (!parallel)
-    {
-      // d = nearPlane / eye depth (w row unchanged): 1 at half the nearest sample, 0 at
-      // infinity; depth clamp keeps what lies closer.
-      const double nearPlane = std::max(0.5 * nearest, 1e-9 * (1.0 + std::fabs(farthest)));
-      // z_clip = nearPlane * w_vertex: a point at infinity (w = 0) gets depth 0.
-      rows[2][0] = rows[2][1] = rows[2][2] = 0.0;
-      rows[2][3] = nearPlane;
-    }
-    else
-    {
-      const double margin = 0.25 * (farthest - nearest) + 1e-6 * (1.0 + std::fabs(farthest));
-      const double zn = nearest - margin, zf = farthest + margin;
-      // d = (zf - eye depth) / (zf - zn).
-      for (int c = 0; c < 4; ++c)
-      {
-        rows[2][c] = (c == 3 ? zf : 0.0) - eye[c];
-        rows[2][c] /= (zf - zn);
-      }
-    }
-  }
-  auto clipOf = [&](const double p[3], double clip[4]) {
-    for (int r = 0; r < 4; ++r)
-    {
-      clip[r] = rows[r][0] * p[0] + rows[r][1] * p[1] + rows[r][2] * p[2] + rows[r][3];
-    }
-  };
-
-  // Per pixel: the depth of the point where the pixel-centre ray meets the sample's own
-  // triangle, so that the own cap is rasterized at (nearly) the same depth.
-  impl.DepthStencilData.assign(2 * static_cast<size_t>(n), 0.0f);
-  const double* tv = in.TriangleVertices;
-  for (int y = 0; y < height; ++y)
-  {
-    for (int x = 0; x < width; ++x)
-    {
-      const vtkIdType s = static_cast<vtkIdType>(y) * width + x;
-      if (state[static_cast<size_t>(s)] != Pending)
-      {
-        continue;
-      }
-      double p[3];
-      for (int c = 0; c < 3; ++c)
-      {
-        p[c] = static_cast<double>(in.Positions[3 * s + c]) + shift[c];
-      }
-      const vtkIdType t = in.Triangles[s];
-      if (t >= 0 && t < in.NumberOfTriangles)
-      {
-        const double* a = tv + 9 * t;
-        const Vec3 va = { a[0], a[1], a[2] };
-        const Vec3 nrm = Cross(Sub({ a[3], a[4], a[5] }, va), Sub({ a[6], a[7], a[8] }, va));
-        // Pixel-centre ray in world coordinates, rebased.
-        const double ndc[2] = { (x + 0.5) * 2.0 / width - 1.0, (y + 0.5) * 2.0 / height - 1.0 };
-        double ends[2][3];
-        for (int e = 0; e < 2; ++e)
+        const vtkIdType t = in.Triangles[s];
+        if (t >= 0 && t < in.NumberOfTriangles)
         {
-          const double q[4] = { ndc[0], ndc[1], e == 0 ? -1.0 : 1.0, 1.0 };
-          double h[4];
-          for (int r = 0; r < 4; ++r)
+          const double* a = tv + 9 * t;
+          const Vec3 va = { a[0], a[1], a[2] };
+          const Vec3 nrm = Cross(Sub({ a[3], a[4], a[5] }, va), Sub({ a[6], a[7], a[8] }, va));
+          // Pixel-centre ray in world coordinates, rebased.
+          const double ndc[2] = { (x + 0.5) * 2.0 / width - 1.0, (y + 0.5) * 2.0 / height - 1.0 };
+          double ends[2][3];
+          for (int e = 0; e < 2; ++e)
           {
-            h[r] = unproject[r][0] * q[0] + unproject[r][1] * q[1] + unproject[r][2] * q[2] +
-              unproject[r][3] * q[3];
+            const double q[4] = { ndc[0], ndc[1], e == 0 ? -1.0 : 1.0, 1.0 };
+            double h[4];
+            for (int r = 0; r < 4; ++r)
+            {
+              h[r] = unproject[r][0] * q[0] + unproject[r][1] * q[1] + unproject[r][2] * q[2] +
+                unproject[r][3] * q[3];
+            }
+            for (int c = 0; c < 3; ++c)
+            {
+              ends[e][c] = h[c] / h[3] - impl.Origin[c];
+            }
           }
-          for (int c = 0; c < 3; ++c)
+          const Vec3 dir = { ends[1][0] - ends[0][0], ends[1][1] - ends[0][1],
+            ends[1][2] - ends[0][2] };
+          const double denom = Dot(nrm, dir);
+          if (std::fabs(denom) > 1e-12 * std::sqrt(Dot(nrm, nrm) * Dot(dir, dir)))
           {
-            ends[e][c] = h[c] / h[3] - impl.Origin[c];
+            const double u = Dot(nrm, Sub(va, { ends[0][0], ends[0][1], ends[0][2] })) / denom;
+            double q[3];
+            for (int c = 0; c < 3; ++c)
+            {
+              q[c] = ends[0][c] + u * dir[c];
+            }
+            // Only when the intersection stays near the sample (it is the same surface point
+            // up to the G-buffer's float rounding).
+            const double d2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+              (q[2] - p[2]) * (q[2] - p[2]);
+            if (d2 <= 1e-6 * scale * scale)
+            {
+              std::copy(q, q + 3, p);
+            }
           }
         }
-        const Vec3 dir = { ends[1][0] - ends[0][0], ends[1][1] - ends[0][1],
-          ends[1][2] - ends[0][2] };
-        const double denom = Dot(nrm, dir);
-        if (std::fabs(denom) > 1e-12 * std::sqrt(Dot(nrm, nrm) * Dot(dir, dir)))
-        {
-          const double u = Dot(nrm, Sub(va, { ends[0][0], ends[0][1], ends[0][2] })) / denom;
-          double q[3];
-          for (int c = 0; c < 3; ++c)
-          {
-            q[c] = ends[0][c] + u * dir[c];
-          }
-          // Only when the intersection stays near the sample (it is the same surface point
-          // up to the G-buffer's float rounding).
-          const double d2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
-            (q[2] - p[2]) * (q[2] - p[2]);
-          if (d2 <= 1e-6 * scale * scale)
-          {
-            std::copy(q, q + 3, p);
-          }
-        }
+        double clip[4];
+        clipOf(p, clip);
+        const double d = clip[2] / clip[3];
+        impl.DepthStencilData[2 * static_cast<size_t>(s)] =
+          static_cast<float>(std::min(1.0, std::max(0.0, d)));
       }
-      double clip[4];
-      clipOf(p, clip);
-      const double d = clip[2] / clip[3];
-      impl.DepthStencilData[2 * static_cast<size_t>(s)] =
-        static_cast<float>(std::min(1.0, std::max(0.0, d)));
     }
   }
 
@@ -1052,8 +1095,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       eyeWorld[2] - impl.Origin[2] };
     const double tol = 1e-5 * scale;
     bool outside = true;
-    const std::vector<float>& V = impl.Vertices;
-    for (GLsizei i = 0; i + 2 < impl.CapVertices && outside; i += 3)
+    const std::vector<float>& V = vs.Vertices;
+    for (GLsizei i = 0; i + 2 < vs.CapVertices && outside; i += 3)
     {
       Vec3 v[3];
       for (int k = 0; k < 3; ++k)
@@ -1064,10 +1107,10 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       outside = !SegmentMayTouch(vl, eye, v, tol);
     }
     // GPU components: their front faces are not known here, so every face must stay clear.
-    for (size_t i = 0; i + 5 < impl.AdjacencyIndices.size() && outside; i += 6)
+    for (size_t i = 0; i + 5 < vs.AdjacencyIndices.size() && outside; i += 6)
     {
-      const Vec3 v[3] = { mesh.Points[impl.AdjacencyIndices[i]],
-        mesh.Points[impl.AdjacencyIndices[i + 2]], mesh.Points[impl.AdjacencyIndices[i + 4]] };
+      const Vec3 v[3] = { mesh.Points[vs.AdjacencyIndices[i]],
+        mesh.Points[vs.AdjacencyIndices[i + 2]], mesh.Points[vs.AdjacencyIndices[i + 4]] };
       outside = !SegmentMayTouch(vl, eye, v, tol);
     }
     zpass = outside;
@@ -1093,7 +1136,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     PENUMBRA_SV_FAIL("the shadow volume shaders do not compile or link");
   }
   vtkShaderProgram* gsProgram = nullptr;
-  if (impl.AdjacencyCount > 0)
+  if (vs.AdjacencyCount > 0)
   {
     gsProgram = win->GetShaderCache()->ReadyShaderProgram(vtkPenumbraShadowVolumeAdjacencyVS,
       vtkPenumbraShadowVolumeFS, vtkPenumbraShadowVolumeAdjacencyGS);
@@ -1120,11 +1163,22 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     if (complete)
     {
       ostate->vtkglBindFramebuffer(GL_FRAMEBUFFER, impl.Framebuffer);
-      glBindTexture(GL_TEXTURE_2D, impl.DepthStencil);
-      glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_DEPTH_STENCIL,
-        GL_FLOAT_32_UNSIGNED_INT_24_8_REV, impl.DepthStencilData.data());
-      glBindTexture(GL_TEXTURE_2D, 0);
+      ostate->vtkglStencilMask(0xff);
+      if (!impl.DepthUploaded)
+      {
+        // Depth and a zero stencil in one upload.
+        glBindTexture(GL_TEXTURE_2D, impl.DepthStencil);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_DEPTH_STENCIL,
+          GL_FLOAT_32_UNSIGNED_INT_24_8_REV, impl.DepthStencilData.data());
+        glBindTexture(GL_TEXTURE_2D, 0);
+        impl.DepthUploaded = true;
+      }
+      else
+      {
+        const GLint zero = 0;
+        glClearBufferiv(GL_STENCIL, 0, &zero);
+      }
 
       ostate->vtkglDisable(GL_BLEND);
       ostate->vtkglDisable(GL_SCISSOR_TEST);
@@ -1166,12 +1220,11 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       // adjacency indices.
       glBindVertexArray(impl.VertexArray);
       glBindBuffer(GL_ARRAY_BUFFER, impl.Buffer);
-      if (!impl.Uploaded)
+      if (impl.UploadedVolumes != vs.Id)
       {
-        glBufferData(GL_ARRAY_BUFFER,
-          static_cast<GLsizeiptr>(impl.Vertices.size() * sizeof(float)),
-          impl.Vertices.empty() ? nullptr : impl.Vertices.data(), GL_STATIC_DRAW);
-        impl.Uploaded = true;
+        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vs.Vertices.size() * sizeof(float)),
+          vs.Vertices.empty() ? nullptr : vs.Vertices.data(), GL_STATIC_DRAW);
+        impl.UploadedVolumes = vs.Id;
       }
       const GLint loc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
       if (loc >= 0)
@@ -1203,12 +1256,12 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
           glVertexAttribPointer(static_cast<GLuint>(pointLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
         }
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, impl.AdjacencyBuffer);
-        if (impl.AdjacencyUploadedFor != impl.VolumeBuilds)
+        if (impl.UploadedAdjacency != vs.Id)
         {
           glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-            static_cast<GLsizeiptr>(impl.AdjacencyIndices.size() * sizeof(GLuint)),
-            impl.AdjacencyIndices.data(), GL_STATIC_DRAW);
-          impl.AdjacencyUploadedFor = impl.VolumeBuilds;
+            static_cast<GLsizeiptr>(vs.AdjacencyIndices.size() * sizeof(GLuint)),
+            vs.AdjacencyIndices.data(), GL_STATIC_DRAW);
+          impl.UploadedAdjacency = vs.Id;
         }
       }
       const float lightUniform[4] = {
@@ -1222,15 +1275,15 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         win->GetShaderCache()->ReadyShaderProgram(program);
         program->SetUniformMatrix4x4("worldToClip", matrix);
         glBindVertexArray(impl.VertexArray);
-        if (impl.CapVertices > 0)
+        if (vs.CapVertices > 0)
         {
           program->SetUniformf("capScale", capScale);
-          glDrawArrays(GL_TRIANGLES, 0, impl.CapVertices);
+          glDrawArrays(GL_TRIANGLES, 0, vs.CapVertices);
         }
-        if (impl.AllVertices > impl.CapVertices)
+        if (vs.AllVertices > vs.CapVertices)
         {
           program->SetUniformf("capScale", 1.0f);
-          glDrawArrays(GL_TRIANGLES, impl.CapVertices, impl.AllVertices - impl.CapVertices);
+          glDrawArrays(GL_TRIANGLES, vs.CapVertices, vs.AllVertices - vs.CapVertices);
         }
         if (gsProgram)
         {
@@ -1240,7 +1293,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
           gsProgram->SetUniform4f("light", lightUniform);
           gsProgram->SetUniformf("extrusion", static_cast<float>(vl.Extrusion));
           glBindVertexArray(impl.PointArray);
-          glDrawElements(GL_TRIANGLES_ADJACENCY, impl.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
+          glDrawElements(GL_TRIANGLES_ADJACENCY, vs.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
         }
       };
       glBeginQuery(GL_SAMPLES_PASSED, impl.Query);

@@ -224,10 +224,13 @@ public:
 
   ///@{
   /**
-   * How many times the connectivity and the volumes were built since construction.
+   * How many times the connectivity, the volumes (one cached set per light, up to 8) and
+   * the per-pixel sample depths (once per frame and camera, shared by all lights) were
+   * built since construction.
    */
   vtkGetMacro(NumberOfConnectivityBuilds, int);
   vtkGetMacro(NumberOfVolumeBuilds, int);
+  vtkGetMacro(NumberOfDepthComputations, int);
   ///@}
 
   ///@{
@@ -271,6 +274,7 @@ protected:
   bool UsedZPass = false;
   int NumberOfConnectivityBuilds = 0;
   int NumberOfVolumeBuilds = 0;
+  int NumberOfDepthComputations = 0;
   double ConnectivityTimeMs = 0.0;
   double VolumeTimeMs = 0.0;
   double StencilTimeMs = 0.0;

@@ -476,11 +476,18 @@ int CheckPureStencil()
 }
 
 // Connectivity is built once per geometry change, volumes once per light change (without
-// culling the camera does not matter to them); both stay exact across the changes.
+// culling the camera does not matter to them), the sample depths once per frame for all
+// lights; all stays exact across the changes.
 int CheckCaching()
 {
   auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6) },
     LightType::Point, From);
+  vtkNew<vtkLight> second;
+  second->SetLightTypeToSceneLight();
+  second->SetPositional(false);
+  second->SetPosition(-2.0, -1.0, 3.0);
+  second->SetFocalPoint(0.0, 0.0, 0.0);
+  renderer->AddLight(second);
   vtkSmartPointer<vtkRenderWindow> window =
     vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
   window->SetSize(96, 64);
@@ -489,20 +496,25 @@ int CheckCaching()
   vtkNew<vtkPenumbraTechniques> techniques;
   CHECK(techniques->Apply(renderer, "volumes", "{\"cull\": false}"));
   window->Render();
-  auto* technique = vtkPenumbraShadowVolumeShadows::SafeDownCast(ShadowPass(renderer)->GetTechnique());
+  auto* technique =
+    vtkPenumbraShadowVolumeShadows::SafeDownCast(ShadowPass(renderer)->GetTechnique());
   CHECK(technique != nullptr);
+  CHECK(ShadowPass(renderer)->GetNumberOfLights() == 2);
   CHECK(technique->GetNumberOfConnectivityBuilds() == 1);
-  CHECK(technique->GetNumberOfVolumeBuilds() == 1);
+  CHECK(technique->GetNumberOfVolumeBuilds() == 2);
+  CHECK(technique->GetNumberOfDepthComputations() == 1);
   renderer->GetActiveCamera()->Azimuth(20.0);
   window->Render();
   CHECK(technique->GetNumberOfConnectivityBuilds() == 1);
-  CHECK(technique->GetNumberOfVolumeBuilds() == 1);
+  CHECK(technique->GetNumberOfVolumeBuilds() == 2);
+  CHECK(technique->GetNumberOfDepthComputations() == 2);
   vtkLight* light = ShadowPass(renderer)->GetLight(0);
   CHECK(light != nullptr);
   light->SetPosition(-1.0, 0.5, 3.5);
   window->Render();
   CHECK(technique->GetNumberOfConnectivityBuilds() == 1);
-  CHECK(technique->GetNumberOfVolumeBuilds() == 2);
+  CHECK(technique->GetNumberOfVolumeBuilds() == 3);
+  CHECK(technique->GetNumberOfDepthComputations() == 3);
   renderer->GetRenderWindow()->RemoveRenderer(renderer);
   window->Finalize();
   // And still exact after the changes.
