@@ -12,6 +12,7 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
+#include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
@@ -420,6 +421,33 @@ bool SegmentMayTouch(const VolumeLight& light, const Vec3& eye, const Vec3 v[3],
   }
   return true;
 }
+
+// Goniometric diagram (seed 004 §8.3.1): the lit samples get the light's relative intensity
+// toward them, as the thesis scales its shadow mask by the diagram's value.
+void ApplyGoniometric(
+  vtkLight* light, vtkPenumbraViewSamples* samples, const float* positions, float* vis)
+{
+  auto* gonio = vtkPenumbraGoniometricLight::SafeDownCast(light);
+  if (!gonio)
+  {
+    return;
+  }
+  double lightWorld[3], samplesOrigin[3];
+  gonio->GetTransformedPosition(lightWorld);
+  samples->GetOrigin(samplesOrigin);
+  for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
+  {
+    if (vis[s] > 0.0f)
+    {
+      double d[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        d[c] = static_cast<double>(positions[3 * s + c]) + samplesOrigin[c] - lightWorld[c];
+      }
+      vis[s] = static_cast<float>(vis[s] * gonio->GetRelativeIntensity(d));
+    }
+  }
+}
 }
 
 struct vtkPenumbraShadowVolumeShadows::Internals
@@ -664,6 +692,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfCountedSamples = facing.Pending;
   if (facing.Pending == 0)
   {
+    ApplyGoniometric(light, samples, in.Positions, vis);
     visibility->Modified();
     this->LastTimeMs = ElapsedMs(start);
     return 1;
@@ -1415,6 +1444,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     this->NumberOfResolvedSamples = count;
     this->ResolveTimeMs = ElapsedMs(resolveStart);
   }
+
+  ApplyGoniometric(light, samples, in.Positions, vis);
   visibility->Modified();
   this->LastTimeMs = ElapsedMs(start);
   return 1;

@@ -59,8 +59,16 @@
  * GPU silhouettes (GPUSilhouettes): closed components go through a geometry shader with
  * triangle adjacency instead of the CPU silhouette loop (seed 004 ch. 9).
  *
- * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap); multi-light
- * RGBA masks and goniometric lights of seed 004 ch. 8 are not implemented.
+ * Several lights (seed 004 ch. 8): the sample depths are computed and uploaded once per
+ * frame and camera; each light then only clears the stencil and draws its (cached) volumes.
+ * Goniometric lights (vtkPenumbraGoniometricLight, seed 004 §8.3.1): the lit samples'
+ * visibility is scaled by the diagram's relative intensity toward them, as the thesis scales
+ * its shadow mask; shadowed samples stay 0.
+ *
+ * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap). The stencil
+ * result is read back per light; the thesis's copy of four lights' stencil counts into one
+ * RGBA mask on the GPU is not done (vtkPenumbraShadowPass already packs four lights'
+ * visibility per RGBA texture for shading, and read-back is a memory copy on llvmpipe).
  */
 
 #ifndef vtkPenumbraShadowVolumeShadows_h

@@ -10,6 +10,7 @@
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowTechnique.h"
+#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 
@@ -65,6 +66,17 @@ inline void SetLight(vtkRenderer* renderer, LightType type, const double from[3]
   light->SetPositional(type != LightType::Directional);
   light->SetConeAngle(type == LightType::Spot ? spotCone : 180.0);
   renderer->AddLight(light);
+}
+
+// A width x height window without multisampling that renders `renderer`.
+inline vtkSmartPointer<vtkRenderWindow> TestWindow(vtkRenderer* renderer, int width, int height)
+{
+  vtkSmartPointer<vtkRenderWindow> window =
+    vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
+  window->SetSize(width, height);
+  window->SetMultiSamples(0);
+  window->AddRenderer(renderer);
+  return window;
 }
 
 // True when `technique` refuses null inputs with an error (silenced here: ctest fails on

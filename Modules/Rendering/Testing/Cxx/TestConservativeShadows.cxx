@@ -54,11 +54,7 @@ struct Outcome
 int CompareWithReference(const std::string& label, vtkRenderer* renderer, int resolution,
   Outcome* outcome = nullptr, int layers = 2)
 {
-  vtkSmartPointer<vtkRenderWindow> window =
-    vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
-  window->SetSize(128, 96);
-  window->SetMultiSamples(0);
-  window->AddRenderer(renderer);
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
   vtkNew<vtkPenumbraTechniques> techniques;
   const std::string options = "{\"resolution\": " + std::to_string(resolution) +
     ", \"layers\": " + std::to_string(layers) + "}";

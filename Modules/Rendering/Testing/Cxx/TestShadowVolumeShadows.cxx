@@ -12,6 +12,8 @@
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
+#include "vtkMath.h"
+#include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -34,6 +36,8 @@
 #include "PenumbraTechniqueTests.h"
 #include "PenumbraTestMacros.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -67,11 +71,7 @@ struct Result
 int Compare(const std::string& label, vtkRenderer* renderer, const std::string& options,
   Result& result, int width = 128, int height = 96)
 {
-  vtkSmartPointer<vtkRenderWindow> window =
-    vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
-  window->SetSize(width, height);
-  window->SetMultiSamples(0);
-  window->AddRenderer(renderer);
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, width, height);
   vtkNew<vtkPenumbraTechniques> techniques;
   CHECK(techniques->Apply(renderer, "volumes", options.c_str()));
   window->Render();
@@ -488,11 +488,7 @@ int CheckCaching()
   second->SetPosition(-2.0, -1.0, 3.0);
   second->SetFocalPoint(0.0, 0.0, 0.0);
   renderer->AddLight(second);
-  vtkSmartPointer<vtkRenderWindow> window =
-    vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
-  window->SetSize(96, 64);
-  window->SetMultiSamples(0);
-  window->AddRenderer(renderer);
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 96, 64);
   vtkNew<vtkPenumbraTechniques> techniques;
   CHECK(techniques->Apply(renderer, "volumes", "{\"cull\": false}"));
   window->Render();
@@ -522,6 +518,97 @@ int CheckCaching()
   return EXIT_SUCCESS;
 }
 
+// A goniometric light (seed 004 §8.3.1) from Data/Lights/spot_pattern.gonio over the ground
+// and a box: the shadowed samples are exactly the reference's, and every lit sample carries
+// the diagram's relative intensity, which for that separable table is f(theta) * a(phi) with
+// f and a piecewise linear (see the file).
+int CheckGoniometric()
+{
+  auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0) }, LightType::Point, From);
+  renderer->RemoveAllLights();
+  vtkNew<vtkPenumbraGoniometricLight> light;
+  light->SetLightTypeToSceneLight();
+  const double position[3] = { 0.3, 0.2, 3.0 };
+  light->SetPosition(position);
+  light->SetFocalPoint(0.3, 0.2, 0.0);
+  light->SetUp(0.0, 1.0, 0.0);
+  const std::string file = std::string(PENUMBRA_SCENES_DIR) + "/../Lights/spot_pattern.gonio";
+  if (!light->ReadFile(file.c_str()))
+  {
+    std::cerr << light->GetErrorMessage() << std::endl;
+    return EXIT_FAILURE;
+  }
+  renderer->AddLight(light);
+
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, "volumes", "{}"));
+  window->Render();
+  vtkPenumbraShadowPass* pass = ShadowPass(renderer);
+  CHECK(pass != nullptr && pass->GetNumberOfLights() == 1);
+  vtkPenumbraViewSamples* samples = pass->GetViewSamples();
+  vtkFloatArray* test = pass->GetVisibility(0);
+  CHECK(test != nullptr);
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(pass->GetGeometry());
+  vtkNew<vtkFloatArray> ref;
+  CHECK(reference->ComputeVisibility(samples, light, ref));
+
+  // Piecewise linear factors of the example table (angles in degrees).
+  auto f = [](double theta) { return theta >= 60.0 ? 0.0 : 1.0 - theta / 60.0; };
+  auto a = [](double phi) {
+    const double m = std::fmod(phi, 180.0);
+    return m <= 90.0 ? 1.0 - 0.5 * m / 90.0 : 0.5 + 0.5 * (m - 90.0) / 90.0;
+  };
+  vtkIdType shadowed = 0, partial = 0, checked = 0;
+  double worst = 0.0;
+  for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
+  {
+    const float r = ref->GetValue(s);
+    if (r < 0.0f || reference->GetTies()->GetValue(s))
+    {
+      continue;
+    }
+    const float v = test->GetValue(s);
+    if (r == 0.0f)
+    {
+      CHECK(v == 0.0f);
+      ++shadowed;
+      continue;
+    }
+    double w[3];
+    samples->GetWorldPosition(s, w);
+    const double d[3] = { w[0] - position[0], w[1] - position[1], w[2] - position[2] };
+    // Axis -z, U = +y, V = A x U = +x.
+    const double theta =
+      vtkMath::DegreesFromRadians(std::atan2(std::hypot(d[0], d[1]), -d[2]));
+    double phi = vtkMath::DegreesFromRadians(std::atan2(d[0], d[1]));
+    phi = phi < 0.0 ? phi + 360.0 : phi;
+    const double expected = f(theta) * a(phi);
+    worst = std::max(worst, std::fabs(v - expected));
+    partial += expected > 0.2 && expected < 0.8;
+    ++checked;
+  }
+  std::printf("goniometric: %lld shadowed, %lld lit checked (%lld partial), worst %.2g\n",
+    static_cast<long long>(shadowed), static_cast<long long>(checked),
+    static_cast<long long>(partial), worst);
+  CHECK(shadowed > 0);
+  CHECK(partial > 100);
+  CHECK(worst < 1e-5);
+
+  // Bad tables are refused with a message, the table kept.
+  vtkNew<vtkPenumbraGoniometricLight> bad;
+  CHECK(!bad->SetTable({ 0, 90 }, { 0 }, { 1 }));
+  CHECK(!bad->SetTable({ 10, 90 }, { 0 }, { 1, 1 }));
+  CHECK(!bad->SetTable({ 0, 90 }, { 0 }, { 0, 0 }));
+  CHECK(!bad->ReadFile("/nonexistent.gonio"));
+  CHECK(std::string(bad->GetErrorMessage()).find("cannot open") != std::string::npos);
+  CHECK(!bad->HasTable());
+  renderer->GetRenderWindow()->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
 int CheckBadInput()
 {
   vtkNew<vtkPenumbraShadowVolumeShadows> technique;
@@ -545,6 +632,7 @@ int TestShadowVolumeShadows(int, char*[])
   RUN(CheckCameraInsideVolume());
   RUN(CheckPureStencil());
   RUN(CheckCaching());
+  RUN(CheckGoniometric());
   RUN(CheckScenes());
   return EXIT_SUCCESS;
 }
