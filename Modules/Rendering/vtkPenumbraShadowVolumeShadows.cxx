@@ -1153,6 +1153,24 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     impl.Release(nullptr);
   }
   impl.Window = win;
+  {
+    // Depth clamping (GL 3.2 core, or ARB_depth_clamp) keeps the volumes' far parts.
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    bool clamp = major * 10 + minor >= 32;
+    GLint count = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+    for (GLint i = 0; i < count && !clamp; ++i)
+    {
+      const GLubyte* name = glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
+      clamp = name && std::strcmp(reinterpret_cast<const char*>(name), "GL_ARB_depth_clamp") == 0;
+    }
+    if (!clamp)
+    {
+      PENUMBRA_SV_FAIL("depth clamping (OpenGL 3.2 or ARB_depth_clamp) is required");
+    }
+  }
   if (!glClipControl)
   {
     PENUMBRA_SV_FAIL("glClipControl (OpenGL 4.5 or ARB_clip_control) is required for the "

@@ -1,8 +1,9 @@
 /**
  * @class   vtkPenumbraShadowVolumeShadows
  * @brief   Exact hard shadows with stencil shadow volumes (seed 004 ch. 3, 8, 9; seed 001
- *          §1.3): silhouette volumes of closed meshes from OpenMesh connectivity, one closed
- *          volume per triangle for everything else.
+ *          §1.3): silhouette volumes from OpenMesh connectivity (the light-facing faces of
+ *          closed meshes, both face sets of open ones), one closed volume per triangle for
+ *          the faces OpenMesh refuses (non-manifold, flipped against their neighbours).
  *
  * Per light and frame:
  * 1. Connectivity (rebuilt only when the geometry, its flags or its origin change): the
@@ -31,8 +32,8 @@
  *    view axis.
  * 3. Counting in an own framebuffer (window size, 32-bit float depth + 8-bit stencil): the
  *    depth buffer receives, per pixel, the depth of the point where the pixel-centre ray
- *    meets the sample's own triangle (double precision on the CPU, uploaded together with a
- *    zero stencil), so the depth test sees exactly the sampled surfaces. The volumes are then
+ *    meets the sample's own triangle (double precision on the CPU, once per frame for all
+ *    lights), so the depth test sees exactly the sampled surfaces. The volumes are then
  *    drawn with two-sided stencil operations, depth writes off, GL_DEPTH_CLAMP on and a
  *    reversed float depth (glClipControl zero-to-one): z-fail by default (back faces
  *    increment and front faces decrement where the depth test fails, Carmack's reverse with
