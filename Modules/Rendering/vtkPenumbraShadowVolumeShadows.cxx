@@ -1426,7 +1426,9 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
               continue;
             }
             const vtkIdType t = static_cast<vtkIdType>(ny) * width + nx;
-            edge = state[static_cast<size_t>(t)] == Pending ? vis[t] != vis[s] : vis[t] < 0.0f;
+            // A background neighbour: an outline. A facing-away one: the light's terminator,
+            // where the sample's own caster has a silhouette edge and its side quads start.
+            edge = state[static_cast<size_t>(t)] != Pending || vis[t] != vis[s];
           }
         }
         if (!edge)

@@ -147,9 +147,11 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
   return EXIT_SUCCESS;
 }
 
-// `maxResolved`: the largest share of valid samples the edge resolve may trace.
+// `maxResolved`: the largest share of valid samples the edge resolve may trace. At the
+// tests' 128 x 96 most outlines and terminators are a large share of the image (at 640 x 480
+// the share is about a quarter of this).
 int CompareExact(const std::string& label, vtkRenderer* renderer, const std::string& options,
-  Result* out = nullptr, double maxResolved = 0.25)
+  Result* out = nullptr, double maxResolved = 0.4)
 {
   Result result;
   RUN(Compare(label, renderer, options, result));
@@ -419,7 +421,7 @@ int CheckScenes()
     CHECK(renderer != nullptr);
     // The carotid's thin vessels at 128 x 96: almost every sample is next to an edge.
     RUN(CompareExact(scene, renderer, "{}", nullptr,
-      std::string(scene) == "carotid.json" ? 0.6 : 0.25));
+      std::string(scene) == "carotid.json" ? 0.7 : 0.4));
   }
   const char* scenes[] = { "thin_occluders.json", "grazing_light.json", "coplanar_contact.json",
     "bad_triangles.json", "georef_1e7.json", "point_light_in_room.json",
@@ -435,7 +437,7 @@ int CheckScenes()
       // A light lying in the ground plane grazes the whole ground: all of it is traced.
       const bool onSurface = std::string(scene) == "point_light_on_surface.json";
       RUN(CompareExact(std::string("torture/") + scene + " " + options, renderer, options, nullptr,
-        onSurface ? 1.0 : 0.25));
+        onSurface ? 1.0 : 0.4));
     }
   }
   return EXIT_SUCCESS;
