@@ -49,6 +49,7 @@
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowTechnique.h"
+#include "vtkPenumbraShadowVolumeShadows.h"
 #include "vtkPenumbraTechniques.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPlot.h"
@@ -99,6 +100,8 @@ struct Row
   double MismatchRate = 0, MAE = 0, RMSE = 0, MaxError = 0, P95 = 0;
   // Hybrid techniques: share of samples handed to the exact fallback; -1 = not applicable.
   double UncertainShare = -1;
+  // Shadow volumes with measure_fill: rasterized volume fragments per frame; -1 = not measured.
+  long long FillFragments = -1;
   vtkIdType FalseLit = 0, FalseShadow = 0, Candidates = 0, Ties = 0;
   double RatioToNoShadow = 0;
 };
@@ -309,7 +312,7 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
   std::ofstream out(path);
   out << "scene,technique,setting,width,height,median_ms,min_ms,extraction_ms,samples_ms,"
          "technique_ms,shading_ms,ratio_to_no_shadow,error_kind,mismatch_rate,false_lit,"
-         "false_shadow,candidates,ties,mae,rmse,max_error,p95_error,uncertain_share\n";
+         "false_shadow,candidates,ties,mae,rmse,max_error,p95_error,uncertain_share,fill_fragments\n";
   for (const Row& r : rows)
   {
     out << r.Scene << "," << r.Technique << ",\"" << r.Setting << "\"," << r.Width << ","
@@ -318,7 +321,8 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
         << "," << r.ErrorKind << "," << r.MismatchRate << "," << r.FalseLit << ","
         << r.FalseShadow << "," << r.Candidates << "," << r.Ties << "," << r.MAE << "," << r.RMSE
         << "," << r.MaxError << "," << r.P95 << ","
-        << (r.UncertainShare < 0 ? std::string() : std::to_string(r.UncertainShare)) << "\n";
+        << (r.UncertainShare < 0 ? std::string() : std::to_string(r.UncertainShare)) << ","
+        << (r.FillFragments < 0 ? std::string() : std::to_string(r.FillFragments)) << "\n";
   }
 }
 
@@ -336,8 +340,9 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows, int fr
          "rate over lit-candidate samples for hard lights (near-ties excluded), mean absolute "
          "error of visibility for area/linear lights.\n\n"
       << "| scene | technique | setting | size | median ms | × no-shadow | extract | samples | "
-         "technique | shading | mismatch | false lit | false shadow | ties | MAE | p95 | uncertain |\n"
-      << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+         "technique | shading | mismatch | false lit | false shadow | ties | MAE | p95 | uncertain | "
+         "fill |\n"
+      << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   auto phase = [](double v) { return v < 0 ? std::string("–") : Fixed(v, 1); };
   for (const Row& r : rows)
   {
@@ -348,6 +353,7 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows, int fr
         << " | " << Sci(r.MismatchRate) << " | " << r.FalseLit << " | " << r.FalseShadow << " | "
         << r.Ties << " | " << Fixed(r.MAE, 4) << " | " << Fixed(r.P95, 3) << " | "
         << (r.UncertainShare < 0 ? std::string("–") : Fixed(100.0 * r.UncertainShare, 2) + " %")
+        << " | " << (r.FillFragments < 0 ? std::string("–") : std::to_string(r.FillFragments))
         << " |\n";
   }
 }
@@ -451,7 +457,8 @@ int main(int argc, char* argv[])
     "vtk-shadowmap:resolution=2048", "vtk-shadowmap:resolution=4096", "raytraced",
     "conservative:resolution=1024", "conservative:resolution=2048",
     "shadowmap:resolution=1024", "shadowmap:resolution=4096",
-    "shadowmap:resolution=2048;filter=pcf" };
+    "shadowmap:resolution=2048;filter=pcf", "volumes", "volumes:silhouettes=gpu", "volumes:silhouettes=none",
+    "volumes:cull=false", "volumes:resolve=false", "volumes:measure_fill=true" };
   std::string outDir;
   int width = 640, height = 480, frames = 5, warmup = 1;
   bool images = true;
@@ -681,6 +688,10 @@ int main(int argc, char* argv[])
           // The share of the last light the technique handled in the last frame (the
           // measured light in single-light scenes).
           row.UncertainShare = technique->GetUncertainFraction();
+          if (auto* volumes = vtkPenumbraShadowVolumeShadows::SafeDownCast(technique))
+          {
+            row.FillFragments = volumes->GetNumberOfFillFragments();
+          }
         }
         estimate = vtkSmartPointer<vtkFloatArray>::New();
         if (vtkFloatArray* v = pass->GetVisibility(lightIndex))

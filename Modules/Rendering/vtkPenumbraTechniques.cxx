@@ -7,6 +7,7 @@
 #include "vtkPenumbraRayTracedShadows.h"
 #include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
+#include "vtkPenumbraShadowVolumeShadows.h"
 #include "vtkRenderPassCollection.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
@@ -71,6 +72,21 @@ public:
         json(hi).dump() + "], got " + v.dump());
     }
     return v.get<double>();
+  }
+
+  bool Boolean(const char* key, bool def)
+  {
+    this->Known.emplace_back(key);
+    if (!this->J.contains(key))
+    {
+      return def;
+    }
+    const json& v = this->J.at(key);
+    if (!v.is_boolean())
+    {
+      throw OptionError(std::string(key) + ": expected true or false, got " + v.dump());
+    }
+    return v.get<bool>();
   }
 
   // One of `choices` (index returned); the first choice is the default.
@@ -230,6 +246,32 @@ void InstallShadowMap(vtkRenderer* ren, Options& opts)
   InstallPass(ren, camera);
 }
 
+void InstallVolumes(vtkRenderer* ren, Options& opts)
+{
+  const int silhouettes = opts.Choice("silhouettes", { "cpu", "gpu", "none" });
+  const int method = opts.Choice("method", { "auto", "zfail", "zpass" });
+  const bool cull = opts.Boolean("cull", true);
+  const double capOffset = opts.Number("cap_offset", 1.0 / 131072.0, 0.0, 1e-3);
+  const bool resolve = opts.Boolean("resolve", true);
+  const bool measureFill = opts.Boolean("measure_fill", false);
+  opts.RejectUnknown();
+  vtkNew<vtkPenumbraShadowVolumeShadows> technique;
+  technique->SetSilhouettes(silhouettes != 2);
+  technique->SetGPUSilhouettes(silhouettes == 1);
+  technique->SetMethod(method == 1 ? vtkPenumbraShadowVolumeShadows::METHOD_ZFAIL
+      : method == 2                ? vtkPenumbraShadowVolumeShadows::METHOD_ZPASS
+                                   : vtkPenumbraShadowVolumeShadows::METHOD_AUTO);
+  technique->SetCull(cull);
+  technique->SetCapOffset(capOffset);
+  technique->SetResolve(resolve);
+  technique->SetMeasureFill(measureFill);
+  vtkNew<vtkPenumbraShadowPass> shadows;
+  shadows->SetTechnique(technique);
+  vtkNew<vtkCameraPass> camera;
+  camera->SetDelegatePass(shadows);
+  InstallPass(ren, camera);
+}
+
 const std::vector<Technique>& Registry()
 {
   static const std::vector<Technique> techniques = {
@@ -246,6 +288,11 @@ const std::vector<Technique>& Registry()
       "practical shadow maps (seed 004): linear depth, fitted to the visible receivers, PCF, "
       "cube or dual-paraboloid maps for point lights",
       InstallShadowMap },
+    { "volumes",
+      "exact hard shadows with stencil shadow volumes (seed 004 ch. 3, 8, 9): OpenMesh "
+      "silhouettes for closed meshes, per-triangle volumes otherwise, z-fail with caps and "
+      "depth clamp",
+      InstallVolumes },
   };
   return techniques;
 }

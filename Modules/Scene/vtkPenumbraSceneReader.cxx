@@ -1,6 +1,7 @@
 #include "vtkPenumbraSceneReader.h"
 
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraCityBlockSource.h"
 #include "vtkPenumbraIsosurfaceSource.h"
 #include "vtkPenumbraRoomSource.h"
@@ -843,6 +844,32 @@ void vtkPenumbraSceneReader::Internals::BuildLight(const Ctx& ctx, const json& o
       light->SetConeAngle(180.0);
     }
   }
+  else if (type == "goniometric")
+  {
+    // A point light with a tabulated intensity diagram (vtkPenumbraGoniometricLight).
+    keys({ "position", "focal_point", "up", "file" });
+    auto pos = ctx.Vector(obj, field, "position", 3, {}, true);
+    auto fp = ctx.Vector(obj, field, "focal_point", 3, {}, true);
+    if (fp == pos)
+    {
+      ctx.Fail(Ctx::Sub(field, "focal_point"), "must differ from the position");
+    }
+    auto up = ctx.Vector(obj, field, "up", 3, { 0, 0, 1 });
+    if (!NonZero(up))
+    {
+      ctx.Fail(Ctx::Sub(field, "up"), "must be a non-zero vector");
+    }
+    auto gonio = vtkSmartPointer<vtkPenumbraGoniometricLight>::New();
+    gonio->SetPosition(pos.data());
+    gonio->SetFocalPoint(fp.data());
+    gonio->SetUp(up.data());
+    const std::string path = this->Resolve(ctx.String(obj, field, "file", "", true), nullptr);
+    if (!gonio->ReadFile(path.c_str()))
+    {
+      ctx.Fail(Ctx::Sub(field, "file"), gonio->GetErrorMessage());
+    }
+    light = gonio;
+  }
   else if (type == "area" || type == "linear")
   {
     auto area = vtkSmartPointer<vtkPenumbraAreaLight>::New();
@@ -918,7 +945,8 @@ void vtkPenumbraSceneReader::Internals::BuildLight(const Ctx& ctx, const json& o
   else
   {
     ctx.Fail(Ctx::Sub(field, "type"),
-      "unknown light type " + Quote(type) + " (expected directional, spot, point, area or linear)");
+      "unknown light type " + Quote(type) +
+        " (expected directional, spot, point, goniometric, area or linear)");
   }
   light->SetLightTypeToSceneLight();
   auto color = ctx.Color(obj, field, "color", { 1, 1, 1 });

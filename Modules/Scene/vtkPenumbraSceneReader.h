@@ -10,7 +10,7 @@
  * Validation is strict and happens before anything is rendered: the first problem found is
  * reported as one message that names the file, the field and what is wrong, e.g.
  * `city.json: lights[1].type: unknown light type "sun" (expected directional, spot, point,
- * area or linear)`. Read() then returns 0 and GetErrorMessage() holds that message.
+ * goniometric, area or linear)`. Read() then returns 0 and GetErrorMessage() holds that message.
  *
  * Relative file paths are resolved against the scene file's folder. A path starting with
  * `$DATA/` is resolved against DataDirectory (default: the `PENUMBRA_DATA_DIR` environment

@@ -27,6 +27,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "PenumbraTechniqueTests.h"
 #include "PenumbraTestMacros.h"
 
 #include <cstdio>
@@ -34,50 +35,12 @@
 
 namespace
 {
-enum class LightType
-{
-  Directional,
-  Spot,
-  Point,
-  AsInScene
-};
+using namespace penumbra_technique_tests;
 
-const char* Name(LightType type)
-{
-  switch (type)
-  {
-    case LightType::Directional:
-      return "directional";
-    case LightType::Spot:
-      return "spot";
-    case LightType::Point:
-      return "point";
-    default:
-      return "scene light";
-  }
-}
-
-vtkPenumbraShadowPass* ShadowPass(vtkRenderer* renderer)
-{
-  auto* camera = vtkCameraPass::SafeDownCast(renderer->GetPass());
-  return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
-}
-
-// Replaces the renderer's lights by one of `type` aimed at `target` from `from`.
+// Spot lights of this test open by 35 degrees.
 void SetLight(vtkRenderer* renderer, LightType type, const double from[3], const double target[3])
 {
-  if (type == LightType::AsInScene)
-  {
-    return;
-  }
-  renderer->RemoveAllLights();
-  vtkNew<vtkLight> light;
-  light->SetLightTypeToSceneLight();
-  light->SetPosition(from[0], from[1], from[2]);
-  light->SetFocalPoint(target[0], target[1], target[2]);
-  light->SetPositional(type != LightType::Directional);
-  light->SetConeAngle(type == LightType::Spot ? 35.0 : 180.0);
-  renderer->AddLight(light);
+  penumbra_technique_tests::SetLight(renderer, type, from, target, 35.0);
 }
 
 struct Outcome
@@ -94,11 +57,7 @@ std::string Map = "cpu";
 int CompareWithReference(const std::string& label, vtkRenderer* renderer, int resolution,
   Outcome* outcome = nullptr, int layers = 2)
 {
-  vtkSmartPointer<vtkRenderWindow> window =
-    vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
-  window->SetSize(128, 96);
-  window->SetMultiSamples(0);
-  window->AddRenderer(renderer);
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
   vtkNew<vtkPenumbraTechniques> techniques;
   const std::string options = "{\"resolution\": " + std::to_string(resolution) +
     ", \"layers\": " + std::to_string(layers) + ", \"map\": \"" + Map + "\"}";
@@ -285,31 +244,14 @@ int CheckThinWire()
   return EXIT_SUCCESS;
 }
 
-vtkSmartPointer<vtkRenderer> ReadScene(const std::string& file, vtkPenumbraSceneReader* reader)
-{
-  reader->SetFileName((std::string(PENUMBRA_SCENES_DIR) + "/" + file).c_str());
-  if (!reader->Read())
-  {
-    std::cerr << "cannot read " << file << ": " << reader->GetErrorMessage() << std::endl;
-    return nullptr;
-  }
-  return reader->GetRenderer();
-}
-
 // (b) The default city scene with its sun, a spot and a point light.
 int CheckDefaultScene()
 {
   for (LightType type : { LightType::AsInScene, LightType::Spot, LightType::Point })
   {
     vtkNew<vtkPenumbraSceneReader> reader;
-    vtkSmartPointer<vtkRenderer> renderer = ReadScene("default.json", reader);
+    vtkSmartPointer<vtkRenderer> renderer = DefaultSceneWith(type, reader, 35.0);
     CHECK(renderer != nullptr);
-    double b[6];
-    renderer->ComputeVisiblePropBounds(b);
-    const double centre[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
-    const double above[3] = { centre[0] + 0.2 * (b[1] - b[0]), centre[1] - 0.1 * (b[3] - b[2]),
-      b[5] + 0.3 * (b[5] - b[4]) };
-    SetLight(renderer, type, above, centre);
     RUN(CompareWithReference(std::string("default.json ") + Name(type), renderer, 1024));
   }
   return EXIT_SUCCESS;
@@ -339,15 +281,7 @@ int CheckTortureScenes()
 int CheckBadInput()
 {
   vtkNew<vtkPenumbraConservativeShadows> technique;
-  vtkNew<vtkFloatArray> out;
-  vtkNew<vtkLight> light;
-  // Null inputs are refused with an error (silenced here: ctest fails on error output),
-  // never a crash.
-  const int display = vtkObject::GetGlobalWarningDisplay();
-  vtkObject::GlobalWarningDisplayOff();
-  const int refused = technique->ComputeVisibility(nullptr, nullptr, nullptr, light, out);
-  vtkObject::SetGlobalWarningDisplay(display);
-  CHECK(refused == 0);
+  CHECK(RefusesNullInputs(technique));
   vtkNew<vtkPenumbraTechniques> techniques;
   vtkNew<vtkRenderer> renderer;
   CHECK(techniques->Apply(renderer, "conservative", "{\"resolution\": 32}") == 0);

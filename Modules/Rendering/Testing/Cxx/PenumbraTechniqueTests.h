@@ -1,0 +1,127 @@
+// Helpers shared by the technique tests of this module: light types, the pass a registry
+// technique installs, a light aimed at a target, and the scene files.
+#ifndef PenumbraTechniqueTests_h
+#define PenumbraTechniqueTests_h
+
+#include "vtkCameraPass.h"
+#include "vtkFloatArray.h"
+#include "vtkLight.h"
+#include "vtkNew.h"
+#include "vtkPenumbraSceneReader.h"
+#include "vtkPenumbraShadowPass.h"
+#include "vtkPenumbraShadowTechnique.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+
+#include <iostream>
+#include <string>
+
+namespace penumbra_technique_tests
+{
+enum class LightType
+{
+  Directional,
+  Spot,
+  Point,
+  AsInScene
+};
+
+inline const char* Name(LightType type)
+{
+  switch (type)
+  {
+    case LightType::Directional:
+      return "directional";
+    case LightType::Spot:
+      return "spot";
+    case LightType::Point:
+      return "point";
+    default:
+      return "scene light";
+  }
+}
+
+// The shadow pass a registry technique installed (camera pass -> shadow pass).
+inline vtkPenumbraShadowPass* ShadowPass(vtkRenderer* renderer)
+{
+  auto* camera = vtkCameraPass::SafeDownCast(renderer->GetPass());
+  return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+}
+
+// Replaces the renderer's lights by one of `type` aimed at `target` from `from`; a spot
+// light gets `spotCone` degrees (VTK's half angle).
+inline void SetLight(vtkRenderer* renderer, LightType type, const double from[3],
+  const double target[3], double spotCone)
+{
+  if (type == LightType::AsInScene)
+  {
+    return;
+  }
+  renderer->RemoveAllLights();
+  vtkNew<vtkLight> light;
+  light->SetLightTypeToSceneLight();
+  light->SetPosition(from[0], from[1], from[2]);
+  light->SetFocalPoint(target[0], target[1], target[2]);
+  light->SetPositional(type != LightType::Directional);
+  light->SetConeAngle(type == LightType::Spot ? spotCone : 180.0);
+  renderer->AddLight(light);
+}
+
+// A width x height window without multisampling that renders `renderer`.
+inline vtkSmartPointer<vtkRenderWindow> TestWindow(vtkRenderer* renderer, int width, int height)
+{
+  vtkSmartPointer<vtkRenderWindow> window =
+    vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
+  window->SetSize(width, height);
+  window->SetMultiSamples(0);
+  window->AddRenderer(renderer);
+  return window;
+}
+
+// True when `technique` refuses null inputs with an error (silenced here: ctest fails on
+// error output) instead of crashing.
+inline bool RefusesNullInputs(vtkPenumbraShadowTechnique* technique)
+{
+  vtkNew<vtkFloatArray> out;
+  vtkNew<vtkLight> light;
+  const int display = vtkObject::GetGlobalWarningDisplay();
+  vtkObject::GlobalWarningDisplayOff();
+  const int refused = technique->ComputeVisibility(nullptr, nullptr, nullptr, light, out);
+  vtkObject::SetGlobalWarningDisplay(display);
+  return refused == 0;
+}
+
+// Reads Data/Scenes/`file` (PENUMBRA_SCENES_DIR); null with a message on failure.
+inline vtkSmartPointer<vtkRenderer> ReadScene(
+  const std::string& file, vtkPenumbraSceneReader* reader)
+{
+  reader->SetFileName((std::string(PENUMBRA_SCENES_DIR) + "/" + file).c_str());
+  if (!reader->Read())
+  {
+    std::cerr << "cannot read " << file << ": " << reader->GetErrorMessage() << std::endl;
+    return nullptr;
+  }
+  return reader->GetRenderer();
+}
+
+// The default city scene (default.json) with its own sun (AsInScene), or with a light of
+// `type` above and off the centre of the block, aimed at the centre.
+inline vtkSmartPointer<vtkRenderer> DefaultSceneWith(
+  LightType type, vtkPenumbraSceneReader* reader, double spotCone)
+{
+  vtkSmartPointer<vtkRenderer> renderer = ReadScene("default.json", reader);
+  if (renderer)
+  {
+    double b[6];
+    renderer->ComputeVisiblePropBounds(b);
+    const double centre[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+    const double above[3] = { centre[0] + 0.2 * (b[1] - b[0]), centre[1] - 0.1 * (b[3] - b[2]),
+      b[5] + 0.3 * (b[5] - b[4]) };
+    SetLight(renderer, type, above, centre, spotCone);
+  }
+  return renderer;
+}
+}
+
+#endif

@@ -1,0 +1,640 @@
+// vtkPenumbraShadowVolumeShadows (seed 004 ch. 3, 8, 9) against the exact reference on the
+// same view samples: zero mismatches outside reference ties for directional, spot and point
+// lights on closed, open, non-manifold and partly flipped meshes, with silhouette and
+// per-triangle volumes, z-fail and z-pass; a camera inside a shadow volume stays exact with
+// z-fail (and forced z-pass is shown to break there, so the comparison can fail); the
+// default city scene and the torture scenes; connectivity statistics; caching.
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCameraPass.h"
+#include "vtkCellArray.h"
+#include "vtkCubeSource.h"
+#include "vtkFloatArray.h"
+#include "vtkLight.h"
+#include "vtkNew.h"
+#include "vtkMath.h"
+#include "vtkPenumbraGoniometricLight.h"
+#include "vtkPenumbraMetrics.h"
+#include "vtkPenumbraReference.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraSceneReader.h"
+#include "vtkPenumbraShadowPass.h"
+#include "vtkPenumbraShadowVolumeShadows.h"
+#include "vtkPenumbraTechniques.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkPlaneSource.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+#include "vtkSphereSource.h"
+#include "vtkTriangleFilter.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "PenumbraTechniqueTests.h"
+#include "PenumbraTestMacros.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace
+{
+using namespace penumbra_technique_tests;
+
+// Spot lights of this test open by 50 degrees.
+void SetLight(vtkRenderer* renderer, LightType type, const double from[3], const double target[3])
+{
+  penumbra_technique_tests::SetLight(renderer, type, from, target, 50.0);
+}
+
+struct Result
+{
+  vtkIdType Mismatches = 0;
+  vtkIdType RefShadowed = 0;
+  vtkIdType Complex = 0;
+  vtkIdType Boundary = 0;
+  vtkIdType Closed = 0;
+  vtkIdType PerTriangle = 0;
+  bool ZPass = false;
+  vtkIdType Valid = 0;
+  vtkIdType Resolved = 0;
+  vtkIdType SilhouetteEdges = 0;
+};
+
+// Renders `renderer` with the volumes technique and `options`, and compares every light's
+// visibility with the reference on the same samples.
+int Compare(const std::string& label, vtkRenderer* renderer, const std::string& options,
+  Result& result, int width = 128, int height = 96)
+{
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, width, height);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, "volumes", options.c_str()));
+  window->Render();
+  vtkPenumbraShadowPass* pass = ShadowPass(renderer);
+  CHECK(pass != nullptr);
+  auto* technique = vtkPenumbraShadowVolumeShadows::SafeDownCast(pass->GetTechnique());
+  CHECK(technique != nullptr);
+  CHECK(pass->GetNumberOfLights() >= 1);
+  vtkPenumbraViewSamples* samples = pass->GetViewSamples();
+  CHECK(samples->GetNumberOfValidSamples() > 0);
+
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(pass->GetGeometry());
+  vtkNew<vtkPenumbraMetrics> metrics;
+  result = Result();
+  for (int i = 0; i < pass->GetNumberOfLights(); ++i)
+  {
+    vtkFloatArray* test = pass->GetVisibility(i);
+    CHECK(test != nullptr);
+    vtkNew<vtkFloatArray> ref;
+    CHECK(reference->ComputeVisibility(samples, pass->GetLight(i), ref));
+    // The statistics belong to the last light the pass handled: recompute this one.
+    vtkNew<vtkFloatArray> direct;
+    CHECK(technique->ComputeVisibility(
+      renderer, pass->GetGeometry(), samples, pass->GetLight(i), direct));
+    CHECK(metrics->CompareHard(test, ref, reference->GetTies()));
+    const vtkIdType mismatches = metrics->GetFalseLit() + metrics->GetFalseShadow();
+    CHECK(metrics->CompareHard(direct, ref, reference->GetTies()));
+    const vtkIdType directMismatches = metrics->GetFalseLit() + metrics->GetFalseShadow();
+    vtkIdType refShadowed = 0;
+    for (vtkIdType s = 0; s < ref->GetNumberOfTuples(); ++s)
+    {
+      refShadowed += ref->GetValue(s) == 0.0f && !reference->GetTies()->GetValue(s);
+    }
+    std::printf("%-44s light %d: valid %lld, ref shadowed %lld, ties %lld, mismatches %lld "
+                "(direct %lld; false lit %lld, false shadow %lld), casters %lld, complex %lld, "
+                "boundary edges %lld, closed %lld, per-triangle %lld, silhouette edges %lld, "
+                "volume triangles %lld, culled %lld, %s, resolved %lld, %.1f ms\n",
+      label.c_str(), i, static_cast<long long>(samples->GetNumberOfValidSamples()),
+      static_cast<long long>(refShadowed), static_cast<long long>(reference->GetNumberOfTies()),
+      static_cast<long long>(mismatches), static_cast<long long>(directMismatches),
+      static_cast<long long>(metrics->GetFalseLit()),
+      static_cast<long long>(metrics->GetFalseShadow()),
+      static_cast<long long>(technique->GetNumberOfCasterTriangles()),
+      static_cast<long long>(technique->GetNumberOfComplexFaces()),
+      static_cast<long long>(technique->GetNumberOfBoundaryEdges()),
+      static_cast<long long>(technique->GetNumberOfClosedComponents()),
+      static_cast<long long>(technique->GetNumberOfPerTriangleVolumes()),
+      static_cast<long long>(technique->GetNumberOfSilhouetteEdges()),
+      static_cast<long long>(technique->GetNumberOfVolumeTriangles()),
+      static_cast<long long>(technique->GetNumberOfCulledVolumes()),
+      technique->GetUsedZPass() ? "z-pass" : "z-fail",
+      static_cast<long long>(technique->GetNumberOfResolvedSamples()), technique->GetLastTimeMs());
+    result.Mismatches += mismatches + directMismatches;
+    result.RefShadowed += refShadowed;
+    result.Complex = technique->GetNumberOfComplexFaces();
+    result.Boundary = technique->GetNumberOfBoundaryEdges();
+    result.Closed = technique->GetNumberOfClosedComponents();
+    result.PerTriangle = technique->GetNumberOfPerTriangleVolumes();
+    result.ZPass = technique->GetUsedZPass();
+    result.SilhouetteEdges = technique->GetNumberOfSilhouetteEdges();
+    result.Valid += samples->GetNumberOfValidSamples();
+    result.Resolved += technique->GetNumberOfResolvedSamples();
+  }
+
+  // Nothing changed: the next frame reuses connectivity and volumes.
+  const int connectivity = technique->GetNumberOfConnectivityBuilds();
+  CHECK(connectivity >= 1);
+  window->Render();
+  CHECK(technique->GetNumberOfConnectivityBuilds() == connectivity);
+  renderer->GetRenderWindow()->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
+// `maxResolved`: the largest share of valid samples the edge resolve may trace. At the
+// tests' 128 x 96 most outlines and terminators are a large share of the image (at 640 x 480
+// the share is about a quarter of this).
+int CompareExact(const std::string& label, vtkRenderer* renderer, const std::string& options,
+  Result* out = nullptr, double maxResolved = 0.4)
+{
+  Result result;
+  RUN(Compare(label, renderer, options, result));
+  CHECK(result.Mismatches == 0);
+  // The stencil decides; the ray tracer only settles samples at result edges.
+  CHECK(result.Resolved <= maxResolved * result.Valid);
+  if (out)
+  {
+    *out = result;
+  }
+  return EXIT_SUCCESS;
+}
+
+void AddPolyData(vtkRenderer* renderer, vtkPolyData* poly)
+{
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(poly);
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  renderer->AddActor(actor);
+}
+
+vtkSmartPointer<vtkPolyData> Ground()
+{
+  vtkNew<vtkPlaneSource> plane;
+  plane->SetOrigin(-4, -3, 0);
+  plane->SetPoint1(4, -3, 0);
+  plane->SetPoint2(-4, 3, 0);
+  plane->SetResolution(8, 6);
+  plane->Update();
+  return plane->GetOutput();
+}
+
+vtkSmartPointer<vtkPolyData> Triangulated(vtkPolyDataAlgorithm* source)
+{
+  vtkNew<vtkTriangleFilter> triangles;
+  triangles->SetInputConnection(source->GetOutputPort());
+  triangles->Update();
+  return triangles->GetOutput();
+}
+
+// A closed box (faces share their points after triangulation? vtkCubeSource duplicates
+// points per face for normals: welding in the technique must join them).
+vtkSmartPointer<vtkPolyData> Box(double x0, double x1, double y0, double y1, double z0, double z1)
+{
+  vtkNew<vtkCubeSource> box;
+  box->SetBounds(x0, x1, y0, y1, z0, z1);
+  return Triangulated(box);
+}
+
+vtkSmartPointer<vtkPolyData> Sphere(double cx, double cy, double cz, double r)
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetCenter(cx, cy, cz);
+  sphere->SetRadius(r);
+  sphere->SetThetaResolution(16);
+  sphere->SetPhiResolution(12);
+  return Triangulated(sphere);
+}
+
+// A copy of `poly` with every `stride`-th triangle reversed (keep == -1: all of them), or
+// with every `stride`-th triangle removed (an open mesh).
+vtkSmartPointer<vtkPolyData> Edited(vtkPolyData* poly, int stride, bool flip)
+{
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->SetPoints(poly->GetPoints());
+  vtkNew<vtkCellArray> polys;
+  vtkIdType count = 0;
+  const vtkIdType* ids;
+  vtkIdType npts;
+  vtkCellArray* in = poly->GetPolys();
+  for (in->InitTraversal(); in->GetNextCell(npts, ids); ++count)
+  {
+    const bool hit = stride <= 1 || count % stride == 0;
+    if (hit && !flip)
+    {
+      continue;
+    }
+    if (hit && flip && npts == 3)
+    {
+      const vtkIdType r[3] = { ids[0], ids[2], ids[1] };
+      polys->InsertNextCell(3, r);
+    }
+    else
+    {
+      polys->InsertNextCell(npts, ids);
+    }
+  }
+  out->SetPolys(polys);
+  return out;
+}
+
+// Three quads sharing one edge (a non-manifold "book" of pages), plus a duplicated triangle.
+vtkSmartPointer<vtkPolyData> NonManifold()
+{
+  vtkNew<vtkPoints> points;
+  points->InsertNextPoint(-0.5, 0.0, 1.2); // 0: spine
+  points->InsertNextPoint(0.5, 0.0, 1.2);  // 1: spine
+  points->InsertNextPoint(-0.5, 0.6, 1.2); // 2: page 1
+  points->InsertNextPoint(0.5, 0.6, 1.2);
+  points->InsertNextPoint(-0.5, -0.4, 1.6); // 4: page 2
+  points->InsertNextPoint(0.5, -0.4, 1.6);
+  points->InsertNextPoint(-0.5, -0.3, 0.8); // 6: page 3
+  points->InsertNextPoint(0.5, -0.3, 0.8);
+  vtkNew<vtkCellArray> polys;
+  const vtkIdType t[][3] = { { 0, 1, 3 }, { 0, 3, 2 }, { 0, 1, 5 }, { 0, 5, 4 }, { 1, 0, 6 },
+    { 1, 6, 7 }, { 0, 1, 3 } };
+  for (const auto& tri : t)
+  {
+    polys->InsertNextCell(3, tri);
+  }
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->SetPoints(points);
+  out->SetPolys(polys);
+  return out;
+}
+
+vtkSmartPointer<vtkRenderer> Scene(const std::vector<vtkSmartPointer<vtkPolyData>>& casters,
+  LightType type, const double from[3])
+{
+  auto renderer = vtkSmartPointer<vtkRenderer>::New();
+  AddPolyData(renderer, Ground());
+  for (const auto& c : casters)
+  {
+    AddPolyData(renderer, c);
+  }
+  vtkCamera* cam = renderer->GetActiveCamera();
+  cam->SetPosition(0.5, -6, 8);
+  cam->SetFocalPoint(0, 0, 0);
+  cam->SetViewUp(0, 0, 1);
+  renderer->ResetCamera();
+  const double target[3] = { 0, 0, 0 };
+  SetLight(renderer, type, from, target);
+  return renderer;
+}
+
+const LightType HardTypes[] = { LightType::Directional, LightType::Spot, LightType::Point };
+const double From[3] = { 1.5, 0.7, 3.0 };
+
+int CheckMeshes()
+{
+  struct Case
+  {
+    const char* Name;
+    std::vector<vtkSmartPointer<vtkPolyData>> Casters;
+    bool ExpectClosed;
+    bool ExpectComplex;
+    bool ExpectBoundary;
+  };
+  auto sphere = Sphere(-1.0, 0.5, 1.0, 0.6);
+  std::vector<Case> cases;
+  cases.push_back({ "closed box + sphere", { Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), sphere }, true,
+    false, false });
+  cases.push_back({ "open sphere + open plane",
+    { Edited(sphere, 7, false),
+      [] {
+        vtkNew<vtkPlaneSource> p;
+        p->SetOrigin(0.2, -0.6, 1.3);
+        p->SetPoint1(1.0, -0.6, 1.5);
+        p->SetPoint2(0.2, 0.4, 1.3);
+        p->SetResolution(3, 2);
+        return Triangulated(p);
+      }() },
+    false, false, true });
+  cases.push_back({ "non-manifold book", { NonManifold() }, false, true, true });
+  cases.push_back({ "sphere with flipped faces", { Edited(sphere, 5, true) }, false, true, true });
+  cases.push_back({ "inside-out sphere + box", { Edited(sphere, 1, true),
+    Box(0.0, 0.6, -0.8, -0.2, 0.0, 0.9) }, true, false, false });
+  for (const Case& c : cases)
+  {
+    for (LightType type : HardTypes)
+    {
+      for (const char* options : { "{}", "{\"silhouettes\": \"none\"}",
+             "{\"method\": \"zfail\", \"cull\": false}", "{\"silhouettes\": \"gpu\"}" })
+      {
+        auto renderer = Scene(c.Casters, type, From);
+        Result result;
+        RUN(CompareExact(std::string(c.Name) + " " + Name(type) + " " + options, renderer,
+          options, &result));
+        CHECK(result.RefShadowed > 0);
+        if (std::string(options) == "{}")
+        {
+          CHECK((result.Closed > 0) == c.ExpectClosed);
+          CHECK((result.Complex > 0) == c.ExpectComplex);
+          // The ground (8 x 6 quads, open, 96 triangles) always adds 28 boundary edges.
+          CHECK((result.Boundary > 28) == c.ExpectBoundary);
+          // Only faces OpenMesh refused get per-triangle volumes.
+          CHECK(result.PerTriangle == result.Complex);
+        }
+        // GPU silhouettes do not count their edges: -1 tells the geometry stage ran.
+        if (std::string(options).find("gpu") != std::string::npos)
+        {
+          CHECK((result.SilhouetteEdges == -1) == c.ExpectClosed);
+        }
+      }
+    }
+  }
+  return EXIT_SUCCESS;
+}
+
+// The camera sits in the shadow of a box under a point light and looks at the ground: every
+// volume through it is clipped by the near plane for z-pass. z-fail (and AUTO, which must
+// notice the camera is inside) stays exact; forced z-pass goes wrong, proving the
+// comparison sees the difference.
+int CheckCameraInsideVolume()
+{
+  for (LightType type : { LightType::Point, LightType::Directional })
+  {
+    const double from[3] = { 0.0, 0.0, 4.0 };
+    auto make = [&]() {
+      auto renderer = Scene({ Box(-1.5, 1.5, -1.5, 1.5, 2.4, 2.6) }, type, from);
+      vtkCamera* cam = renderer->GetActiveCamera();
+      cam->SetPosition(0.2, -0.3, 1.5); // under the box: in its shadow volume
+      cam->SetFocalPoint(0.5, 1.5, 0.0);
+      cam->SetViewUp(0, 0, 1);
+      cam->SetViewAngle(70.0);
+      renderer->ResetCameraClippingRange();
+      return renderer;
+    };
+    Result result;
+    auto renderer = make();
+    RUN(CompareExact(std::string("camera in volume ") + Name(type) + " auto", renderer, "{}",
+      &result));
+    CHECK(!result.ZPass);
+    CHECK(result.RefShadowed > 0);
+    renderer = make();
+    RUN(CompareExact(std::string("camera in volume ") + Name(type) + " zfail", renderer,
+      "{\"method\": \"zfail\"}"));
+    renderer = make();
+    RUN(CompareExact(std::string("camera in volume ") + Name(type) + " gpu", renderer,
+      "{\"silhouettes\": \"gpu\"}", &result));
+    CHECK(!result.ZPass);
+    renderer = make();
+    Result wrong;
+    RUN(Compare(std::string("camera in volume ") + Name(type) + " forced zpass", renderer,
+      "{\"method\": \"zpass\"}", wrong));
+    CHECK(wrong.Mismatches > 0);
+  }
+  // Outside every volume AUTO picks z-pass, and it is exact there.
+  auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0) }, LightType::Point, From);
+  Result result;
+  RUN(CompareExact("camera outside, auto", renderer, "{}", &result));
+  CHECK(result.ZPass);
+  return EXIT_SUCCESS;
+}
+
+int CheckScenes()
+{
+  for (LightType type : { LightType::AsInScene, LightType::Spot, LightType::Point })
+  {
+    vtkNew<vtkPenumbraSceneReader> reader;
+    vtkSmartPointer<vtkRenderer> renderer = DefaultSceneWith(type, reader, 50.0);
+    CHECK(renderer != nullptr);
+    RUN(CompareExact(std::string("default.json ") + Name(type), renderer, "{}"));
+    vtkNew<vtkPenumbraSceneReader> again;
+    renderer = DefaultSceneWith(type, again, 50.0);
+    CHECK(renderer != nullptr);
+    RUN(CompareExact(
+      std::string("default.json gpu ") + Name(type), renderer, "{\"silhouettes\": \"gpu\"}"));
+  }
+  // Real meshes and both lights of the isosurface scene.
+  for (const char* scene : { "isosurface.json", "bunny.json", "fzk_haus.json",
+         "room_point_light.json", "carotid.json" })
+  {
+    vtkNew<vtkPenumbraSceneReader> reader;
+    vtkSmartPointer<vtkRenderer> renderer = ReadScene(scene, reader);
+    CHECK(renderer != nullptr);
+    // The carotid's thin vessels at 128 x 96: almost every sample is next to an edge.
+    RUN(CompareExact(scene, renderer, "{}", nullptr,
+      std::string(scene) == "carotid.json" ? 0.7 : 0.4));
+  }
+  const char* scenes[] = { "thin_occluders.json", "grazing_light.json", "coplanar_contact.json",
+    "bad_triangles.json", "georef_1e7.json", "point_light_in_room.json",
+    "point_light_on_surface.json", "zenith_light.json", "depth_range.json" };
+  for (const char* scene : scenes)
+  {
+    for (const char* options :
+      { "{}", "{\"silhouettes\": \"none\"}", "{\"silhouettes\": \"gpu\"}" })
+    {
+      vtkNew<vtkPenumbraSceneReader> reader;
+      vtkSmartPointer<vtkRenderer> renderer = ReadScene(std::string("torture/") + scene, reader);
+      CHECK(renderer != nullptr);
+      // A light lying in the ground plane grazes the whole ground: all of it is traced.
+      const bool onSurface = std::string(scene) == "point_light_on_surface.json";
+      RUN(CompareExact(std::string("torture/") + scene + " " + options, renderer, options, nullptr,
+        onSurface ? 1.0 : 0.4));
+    }
+  }
+  return EXIT_SUCCESS;
+}
+
+// Without the edge resolve the answer is the stencil's alone: its mismatches come only from
+// the rasterizer's sub-pixel snapping at projected volume edges, a tiny share of the samples.
+int CheckPureStencil()
+{
+  vtkIdType mismatches = 0, valid = 0;
+  for (LightType type : HardTypes)
+  {
+    auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6),
+                            NonManifold() },
+      type, From);
+    Result result;
+    RUN(Compare(std::string("pure stencil ") + Name(type), renderer, "{\"resolve\": false}",
+      result));
+    CHECK(result.Resolved == 0);
+    mismatches += result.Mismatches / 2; // counted for the pass and the direct call
+    valid += result.Valid;
+  }
+  for (const char* options :
+    { "{\"resolve\": false}", "{\"resolve\": false, \"silhouettes\": \"gpu\"}" })
+  {
+    vtkNew<vtkPenumbraSceneReader> reader;
+    vtkSmartPointer<vtkRenderer> renderer = ReadScene("default.json", reader);
+    CHECK(renderer != nullptr);
+    Result result;
+    RUN(Compare(std::string("pure stencil default.json ") + options, renderer, options, result));
+    mismatches += result.Mismatches / 2;
+    valid += result.Valid;
+  }
+  std::printf("pure stencil: %lld mismatches in %lld valid samples\n",
+    static_cast<long long>(mismatches), static_cast<long long>(valid));
+  CHECK(mismatches * 1000 <= valid);
+  return EXIT_SUCCESS;
+}
+
+// Connectivity is built once per geometry change, volumes once per light change (without
+// culling the camera does not matter to them), the sample depths once per frame for all
+// lights; all stays exact across the changes.
+int CheckCaching()
+{
+  auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6) },
+    LightType::Point, From);
+  vtkNew<vtkLight> second;
+  second->SetLightTypeToSceneLight();
+  second->SetPositional(false);
+  second->SetPosition(-2.0, -1.0, 3.0);
+  second->SetFocalPoint(0.0, 0.0, 0.0);
+  renderer->AddLight(second);
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 96, 64);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, "volumes", "{\"cull\": false}"));
+  window->Render();
+  auto* technique =
+    vtkPenumbraShadowVolumeShadows::SafeDownCast(ShadowPass(renderer)->GetTechnique());
+  CHECK(technique != nullptr);
+  CHECK(ShadowPass(renderer)->GetNumberOfLights() == 2);
+  CHECK(technique->GetNumberOfConnectivityBuilds() == 1);
+  CHECK(technique->GetNumberOfVolumeBuilds() == 2);
+  CHECK(technique->GetNumberOfDepthComputations() == 1);
+  renderer->GetActiveCamera()->Azimuth(20.0);
+  window->Render();
+  CHECK(technique->GetNumberOfConnectivityBuilds() == 1);
+  CHECK(technique->GetNumberOfVolumeBuilds() == 2);
+  CHECK(technique->GetNumberOfDepthComputations() == 2);
+  vtkLight* light = ShadowPass(renderer)->GetLight(0);
+  CHECK(light != nullptr);
+  light->SetPosition(-1.0, 0.5, 3.5);
+  window->Render();
+  CHECK(technique->GetNumberOfConnectivityBuilds() == 1);
+  CHECK(technique->GetNumberOfVolumeBuilds() == 3);
+  CHECK(technique->GetNumberOfDepthComputations() == 3);
+  renderer->GetRenderWindow()->RemoveRenderer(renderer);
+  window->Finalize();
+  // And still exact after the changes.
+  RUN(CompareExact("after camera and light moves", renderer, "{\"cull\": false}"));
+  return EXIT_SUCCESS;
+}
+
+// A goniometric light (seed 004 §8.3.1) from Data/Lights/spot_pattern.gonio over the ground
+// and a box: the shadowed samples are exactly the reference's, and every lit sample carries
+// the diagram's relative intensity, which for that separable table is f(theta) * a(phi) with
+// f and a piecewise linear (see the file).
+int CheckGoniometric()
+{
+  auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0) }, LightType::Point, From);
+  renderer->RemoveAllLights();
+  vtkNew<vtkPenumbraGoniometricLight> light;
+  light->SetLightTypeToSceneLight();
+  const double position[3] = { 0.3, 0.2, 3.0 };
+  light->SetPosition(position);
+  light->SetFocalPoint(0.3, 0.2, 0.0);
+  light->SetUp(0.0, 1.0, 0.0);
+  const std::string file = std::string(PENUMBRA_SCENES_DIR) + "/../Lights/spot_pattern.gonio";
+  if (!light->ReadFile(file.c_str()))
+  {
+    std::cerr << light->GetErrorMessage() << std::endl;
+    return EXIT_FAILURE;
+  }
+  renderer->AddLight(light);
+
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, "volumes", "{}"));
+  window->Render();
+  vtkPenumbraShadowPass* pass = ShadowPass(renderer);
+  CHECK(pass != nullptr && pass->GetNumberOfLights() == 1);
+  vtkPenumbraViewSamples* samples = pass->GetViewSamples();
+  vtkFloatArray* test = pass->GetVisibility(0);
+  CHECK(test != nullptr);
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(pass->GetGeometry());
+  vtkNew<vtkFloatArray> ref;
+  CHECK(reference->ComputeVisibility(samples, light, ref));
+
+  // Piecewise linear factors of the example table (angles in degrees).
+  auto f = [](double theta) { return theta >= 60.0 ? 0.0 : 1.0 - theta / 60.0; };
+  auto a = [](double phi) {
+    const double m = std::fmod(phi, 180.0);
+    return m <= 90.0 ? 1.0 - 0.5 * m / 90.0 : 0.5 + 0.5 * (m - 90.0) / 90.0;
+  };
+  vtkIdType shadowed = 0, partial = 0, checked = 0;
+  double worst = 0.0;
+  for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
+  {
+    const float r = ref->GetValue(s);
+    if (r < 0.0f || reference->GetTies()->GetValue(s))
+    {
+      continue;
+    }
+    const float v = test->GetValue(s);
+    if (r == 0.0f)
+    {
+      CHECK(v == 0.0f);
+      ++shadowed;
+      continue;
+    }
+    double w[3];
+    samples->GetWorldPosition(s, w);
+    const double d[3] = { w[0] - position[0], w[1] - position[1], w[2] - position[2] };
+    // Axis -z, U = +y, V = A x U = +x.
+    const double theta =
+      vtkMath::DegreesFromRadians(std::atan2(std::hypot(d[0], d[1]), -d[2]));
+    double phi = vtkMath::DegreesFromRadians(std::atan2(d[0], d[1]));
+    phi = phi < 0.0 ? phi + 360.0 : phi;
+    const double expected = f(theta) * a(phi);
+    worst = std::max(worst, std::fabs(v - expected));
+    partial += expected > 0.2 && expected < 0.8;
+    ++checked;
+  }
+  std::printf("goniometric: %lld shadowed, %lld lit checked (%lld partial), worst %.2g\n",
+    static_cast<long long>(shadowed), static_cast<long long>(checked),
+    static_cast<long long>(partial), worst);
+  CHECK(shadowed > 0);
+  CHECK(partial > 100);
+  CHECK(worst < 1e-5);
+
+  // Bad tables are refused with a message, the table kept.
+  vtkNew<vtkPenumbraGoniometricLight> bad;
+  CHECK(!bad->SetTable({ 0, 90 }, { 0 }, { 1 }));
+  CHECK(!bad->SetTable({ 10, 90 }, { 0 }, { 1, 1 }));
+  CHECK(!bad->SetTable({ 0, 90 }, { 0 }, { 0, 0 }));
+  CHECK(!bad->ReadFile("/nonexistent.gonio"));
+  CHECK(std::string(bad->GetErrorMessage()).find("cannot open") != std::string::npos);
+  CHECK(!bad->HasTable());
+  renderer->GetRenderWindow()->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
+int CheckBadInput()
+{
+  vtkNew<vtkPenumbraShadowVolumeShadows> technique;
+  CHECK(RefusesNullInputs(technique));
+  vtkNew<vtkPenumbraTechniques> techniques;
+  vtkNew<vtkRenderer> renderer;
+  CHECK(techniques->Apply(renderer, "volumes", "{\"method\": \"zmiddle\"}") == 0);
+  CHECK(techniques->Apply(renderer, "volumes", "{\"cull\": \"yes\"}") == 0);
+  CHECK(techniques->Apply(renderer, "volumes", "{\"cap_offset\": 0.5}") == 0);
+  CHECK(techniques->Apply(renderer, "volumes", "{\"silhouette\": \"cpu\"}") == 0);
+  CHECK(techniques->Apply(renderer, "volumes",
+          "{\"silhouettes\": \"cpu\", \"method\": \"auto\", \"cull\": false}") == 1);
+  return EXIT_SUCCESS;
+}
+}
+
+int TestShadowVolumeShadows(int, char*[])
+{
+  RUN(CheckBadInput());
+  RUN(CheckMeshes());
+  RUN(CheckCameraInsideVolume());
+  RUN(CheckPureStencil());
+  RUN(CheckCaching());
+  RUN(CheckGoniometric());
+  RUN(CheckScenes());
+  return EXIT_SUCCESS;
+}

@@ -1,0 +1,1503 @@
+#include "vtkPenumbraShadowVolumeShadows.h"
+
+#include "vtkCamera.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLState.h"
+#include "vtkPenumbraGoniometricLight.h"
+#include "vtkPenumbraReference.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkRenderer.h"
+#include "vtkShaderProgram.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkWeakPointer.h"
+#include "vtk_glew.h"
+
+#include "vtkPenumbraLightViews.h"
+#include "vtkPenumbraShadowVolumeAdjacencyGS.h"
+#include "vtkPenumbraShadowVolumeAdjacencyVS.h"
+#include "vtkPenumbraShadowVolumeFS.h"
+#include "vtkPenumbraShadowVolumeVS.h"
+
+// GCC 12 reports a false -Wmaybe-uninitialized inside OpenMesh's property push_back.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+#pragma GCC diagnostic pop
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkPenumbraShadowVolumeShadows);
+
+using penumbra_light_views::LightSetup;
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+using Vec3 = std::array<double, 3>;
+
+double ElapsedMs(Clock::time_point start)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+Vec3 Sub(const Vec3& a, const Vec3& b)
+{
+  return { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
+}
+Vec3 Cross(const Vec3& a, const Vec3& b)
+{
+  return { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
+}
+double Dot(const Vec3& a, const Vec3& b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// Below this cosine between the sample normal and the light direction a sample is traced
+// (see the edge resolve): about 0.06 degrees from grazing.
+constexpr double GrazingCosine = 1e-3;
+
+enum : unsigned char
+{
+  Decided = 0,
+  Pending = 1
+};
+
+// Caster connectivity (seed 004 §13 OpenMesh notes): welded vertices, closed components for
+// silhouette volumes, everything else as loose triangles for per-triangle volumes.
+struct Connectivity
+{
+  struct Component
+  {
+    // Closed (no boundary edge, non-zero volume): silhouette volumes of the light-facing
+    // faces suffice. Open: both face sets are needed (see the volume builder).
+    bool Closed = false;
+    // Faces as welded vertex triples; closed components are already turned so that their
+    // winding is outward (components of negative volume are reversed once here).
+    std::vector<std::array<int, 3>> Faces;
+    // Edges: v0 -> v1 as in face F0's winding, v1 -> v0 in F1's; indices into Faces; F1 is
+    // -1 on a boundary edge.
+    std::vector<std::array<int, 4>> Edges;
+    // Per face, GL_TRIANGLES_ADJACENCY order: v0, opposite of (v0, v1), v1, opposite of
+    // (v1, v2), v2, opposite of (v2, v0) (the GPU silhouette path).
+    std::vector<std::array<int, 6>> Adjacency;
+    double Bounds[6] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX,
+      VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  };
+  std::vector<Vec3> Points;
+  std::vector<Component> Components;
+  std::vector<std::array<int, 3>> Loose;
+  vtkIdType Casters = 0;
+  vtkIdType Complex = 0;
+  vtkIdType BoundaryEdges = 0;
+
+  void Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes)
+  {
+    *this = Connectivity();
+    const vtkIdType nt = geometry->GetNumberOfTriangles();
+    const double* tv = nt > 0 ? geometry->GetVertices()->GetPointer(0) : nullptr;
+    // Weld exactly equal coordinates only: anything looser would move geometry and the
+    // reference sees the unwelded triangles.
+    std::map<Vec3, int> weld;
+    std::vector<std::array<int, 3>> tris;
+    for (vtkIdType t = 0; t < nt; ++t)
+    {
+      if (!geometry->IsOccluder(t))
+      {
+        continue;
+      }
+      std::array<int, 3> idx;
+      Vec3 v[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        v[k] = { tv[9 * t + 3 * k], tv[9 * t + 3 * k + 1], tv[9 * t + 3 * k + 2] };
+      }
+      const Vec3 n = Cross(Sub(v[1], v[0]), Sub(v[2], v[0]));
+      if (!(Dot(n, n) > 0.0)) // zero-area: the reference skips them too
+      {
+        continue;
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        auto it = weld.emplace(v[k], static_cast<int>(this->Points.size()));
+        if (it.second)
+        {
+          this->Points.push_back(v[k]);
+        }
+        idx[k] = it.first->second;
+      }
+      tris.push_back(idx);
+    }
+    this->Casters = static_cast<vtkIdType>(tris.size());
+    if (!silhouettes)
+    {
+      this->Loose = tris;
+      return;
+    }
+
+    using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
+    Mesh mesh;
+    std::vector<Mesh::VertexHandle> handles;
+    handles.reserve(this->Points.size());
+    for (const Vec3& p : this->Points)
+    {
+      handles.push_back(mesh.add_vertex(Mesh::Point(
+        static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]))));
+    }
+    std::vector<int> faceTri; // OpenMesh face index -> index into tris
+    // OpenMesh reports every refused face on its error stream; we count them instead.
+    omerr().disable();
+    for (size_t i = 0; i < tris.size(); ++i)
+    {
+      const auto& t = tris[i];
+      Mesh::FaceHandle f = mesh.add_face(handles[t[0]], handles[t[1]], handles[t[2]]);
+      if (!f.is_valid())
+      {
+        ++this->Complex;
+        this->Loose.push_back(t);
+      }
+      else
+      {
+        faceTri.resize(static_cast<size_t>(f.idx()) + 1, -1);
+        faceTri[static_cast<size_t>(f.idx())] = static_cast<int>(i);
+      }
+    }
+    omerr().enable();
+
+    // Components by flood fill over shared edges.
+    const int nf = static_cast<int>(mesh.n_faces());
+    std::vector<int> component(static_cast<size_t>(nf), -1);
+    std::vector<int> stack;
+    std::vector<int> local(static_cast<size_t>(nf), -1); // face -> index in its component
+    for (int seed = 0; seed < nf; ++seed)
+    {
+      if (component[static_cast<size_t>(seed)] >= 0)
+      {
+        continue;
+      }
+      std::vector<int> faces;
+      bool closed = true;
+      const int id = static_cast<int>(this->Components.size());
+      component[static_cast<size_t>(seed)] = id;
+      stack.assign(1, seed);
+      while (!stack.empty())
+      {
+        const int f = stack.back();
+        stack.pop_back();
+        faces.push_back(f);
+        for (Mesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
+        {
+          const Mesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
+          if (mesh.is_boundary(o))
+          {
+            closed = false;
+            ++this->BoundaryEdges;
+            continue;
+          }
+          const int g = mesh.face_handle(o).idx();
+          if (component[static_cast<size_t>(g)] < 0)
+          {
+            component[static_cast<size_t>(g)] = id;
+            stack.push_back(g);
+          }
+        }
+      }
+      Component c;
+      c.Closed = closed;
+      for (int f : faces)
+      {
+        local[static_cast<size_t>(f)] = static_cast<int>(c.Faces.size());
+        c.Faces.push_back(tris[static_cast<size_t>(faceTri[static_cast<size_t>(f)])]);
+      }
+      for (int f : faces)
+      {
+        for (Mesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
+        {
+          const Mesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
+          const int g = mesh.is_boundary(o) ? -1 : mesh.face_handle(o).idx();
+          if (g < 0 || f < g) // each edge once
+          {
+            c.Edges.push_back({ mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx(),
+              local[static_cast<size_t>(f)], g < 0 ? -1 : local[static_cast<size_t>(g)] });
+          }
+        }
+      }
+      for (const auto& t : c.Faces)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          const Vec3& p = this->Points[static_cast<size_t>(t[k])];
+          for (int a = 0; a < 3; ++a)
+          {
+            c.Bounds[2 * a] = std::min(c.Bounds[2 * a], p[a]);
+            c.Bounds[2 * a + 1] = std::max(c.Bounds[2 * a + 1], p[a]);
+          }
+        }
+      }
+      if (closed)
+      {
+        // Orientation: a closed mesh with inward normals has negative signed volume; turn it
+        // once so that "light-facing" means the outward side (seed 004 §2.3).
+        double volume = 0.0;
+        const Vec3& ref = this->Points[static_cast<size_t>(c.Faces[0][0])];
+        for (const auto& t : c.Faces)
+        {
+          const Vec3 a = Sub(this->Points[static_cast<size_t>(t[0])], ref);
+          const Vec3 b = Sub(this->Points[static_cast<size_t>(t[1])], ref);
+          const Vec3 d = Sub(this->Points[static_cast<size_t>(t[2])], ref);
+          volume += Dot(a, Cross(b, d));
+        }
+        if (volume < 0.0)
+        {
+          for (auto& t : c.Faces)
+          {
+            std::swap(t[1], t[2]);
+          }
+          for (auto& e : c.Edges)
+          {
+            std::swap(e[0], e[1]);
+          }
+        }
+        // Flat closed surfaces (two coincident sheets) have no inside: treat them as open.
+        c.Closed = volume != 0.0;
+      }
+      if (c.Closed)
+      {
+        std::map<std::pair<int, int>, int> third; // directed edge -> third vertex of its face
+        for (const auto& t : c.Faces)
+        {
+          for (int k = 0; k < 3; ++k)
+          {
+            third[{ t[k], t[(k + 1) % 3] }] = t[(k + 2) % 3];
+          }
+        }
+        for (const auto& t : c.Faces)
+        {
+          std::array<int, 6> a;
+          for (int k = 0; k < 3; ++k)
+          {
+            a[static_cast<size_t>(2 * k)] = t[k];
+            a[static_cast<size_t>(2 * k + 1)] = third[{ t[(k + 1) % 3], t[k] }];
+          }
+          c.Adjacency.push_back(a);
+        }
+      }
+      this->Components.push_back(std::move(c));
+    }
+  }
+};
+
+// The light as the volume builder needs it: a direction toward a directional light or a
+// rebased position.
+struct VolumeLight
+{
+  bool Directional = true;
+  Vec3 Direction = { 0, 0, 1 };
+  Vec3 Position = { 0, 0, 0 };
+  double Extrusion = 1.0; // directional: prism length beyond everything
+
+  // Outward facing test value of an oriented triangle: > 0 means it faces the light.
+  double Facing(const Vec3& a, const Vec3& b, const Vec3& c) const
+  {
+    const Vec3 n = Cross(Sub(b, a), Sub(c, a));
+    return this->Directional ? Dot(n, this->Direction) : Dot(n, Sub(this->Position, a));
+  }
+  // Direction of extrusion at v (away from the light), not normalized.
+  Vec3 Away(const Vec3& v) const
+  {
+    return this->Directional
+      ? Vec3{ -this->Direction[0], -this->Direction[1], -this->Direction[2] }
+      : Sub(v, this->Position);
+  }
+};
+
+// Seed 001 §1.3 / CC shadow volumes: true when a separating plane proves that the volume of
+// the light-facing oriented triangle (a, b, c) misses `box`.
+bool VolumeMissesBox(const VolumeLight& light, const Vec3 v[3], const double box[6])
+{
+  auto minOver = [&](const Vec3& n, const Vec3& p) {
+    double m = 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      m += n[a] * ((n[a] >= 0.0 ? box[2 * a] : box[2 * a + 1]) - p[a]);
+    }
+    return m;
+  };
+  // The triangle's plane: the volume lies behind it.
+  const Vec3 n = Cross(Sub(v[1], v[0]), Sub(v[2], v[0]));
+  if (minOver(n, v[0]) > 0.0)
+  {
+    return true;
+  }
+  // Side planes through each edge and the light.
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec3& u = v[k];
+    const Vec3& w = v[(k + 1) % 3];
+    const Vec3 m = Cross(light.Away(u), Sub(w, u));
+    if (minOver(m, u) > 0.0)
+    {
+      return true;
+    }
+  }
+  // Box faces.
+  for (int a = 0; a < 3; ++a)
+  {
+    bool above = true, below = true;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double d = light.Away(v[k])[a];
+      above = above && v[k][a] > box[2 * a + 1] && d >= 0.0;
+      below = below && v[k][a] < box[2 * a] && d <= 0.0;
+    }
+    if (above || below)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+// True unless the segment from `eye` to the light provably stays clear (by `tol`) of the
+// oriented triangle: used to prove the camera is outside its volume (z-pass is then exact).
+bool SegmentMayTouch(const VolumeLight& light, const Vec3& eye, const Vec3 v[3], double tol)
+{
+  const Vec3 far = light.Directional
+    ? Vec3{ eye[0] + light.Extrusion * light.Direction[0],
+        eye[1] + light.Extrusion * light.Direction[1],
+        eye[2] + light.Extrusion * light.Direction[2] }
+    : light.Position;
+  Vec3 n = Cross(Sub(v[1], v[0]), Sub(v[2], v[0]));
+  const double len = std::sqrt(Dot(n, n));
+  if (!(len > 0.0))
+  {
+    return true;
+  }
+  for (double& x : n)
+  {
+    x /= len;
+  }
+  const double d0 = Dot(n, Sub(eye, v[0]));
+  const double d1 = Dot(n, Sub(far, v[0]));
+  if ((d0 > tol && d1 > tol) || (d0 < -tol && d1 < -tol))
+  {
+    return false;
+  }
+  if (std::fabs(d0 - d1) <= tol)
+  {
+    return true; // nearly in the plane: not provable cheaply
+  }
+  const double t = std::min(1.0, std::max(0.0, d0 / (d0 - d1)));
+  const Vec3 x = { eye[0] + t * (far[0] - eye[0]), eye[1] + t * (far[1] - eye[1]),
+    eye[2] + t * (far[2] - eye[2]) };
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec3 e = Sub(v[(k + 1) % 3], v[k]);
+    const double el = std::sqrt(Dot(e, e));
+    if (el > 0.0 && Dot(Cross(e, Sub(x, v[k])), n) / el < -tol)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Goniometric diagram (seed 004 §8.3.1): the lit samples get the light's relative intensity
+// toward them, as the thesis scales its shadow mask by the diagram's value.
+void ApplyGoniometric(
+  vtkLight* light, vtkPenumbraViewSamples* samples, const float* positions, float* vis)
+{
+  auto* gonio = vtkPenumbraGoniometricLight::SafeDownCast(light);
+  if (!gonio)
+  {
+    return;
+  }
+  double lightWorld[3], samplesOrigin[3];
+  gonio->GetTransformedPosition(lightWorld);
+  samples->GetOrigin(samplesOrigin);
+  for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
+  {
+    if (vis[s] > 0.0f)
+    {
+      double d[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        d[c] = static_cast<double>(positions[3 * s + c]) + samplesOrigin[c] - lightWorld[c];
+      }
+      vis[s] = static_cast<float>(vis[s] * gonio->GetRelativeIntensity(d));
+    }
+  }
+}
+}
+
+struct vtkPenumbraShadowVolumeShadows::Internals
+{
+  vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+  GLuint Framebuffer = 0;
+  GLuint DepthStencil = 0;
+  GLuint VertexArray = 0;
+  GLuint Buffer = 0;
+  GLuint Query = 0;
+  GLuint PointArray = 0;   // GPU silhouettes: VAO of the welded points + adjacency indices
+  GLuint PointBuffer = 0;
+  GLuint AdjacencyBuffer = 0;
+  bool PointsUploaded = false;
+  int Width = 0;
+  int Height = 0;
+
+  // Connectivity cache.
+  Connectivity Mesh;
+  bool HaveMesh = false;
+  vtkPenumbraSceneGeometry* Geometry = nullptr;
+  vtkMTimeType GeometryTime = 0;
+  vtkMTimeType FlagsTime = 0;
+  double Origin[3] = { 0, 0, 0 };
+  bool BuiltWithSilhouettes = true;
+
+  // Volume cache, one entry per light (a few lights render every frame): rebuilt when the
+  // light, the connectivity, the sample box (with culling) or the options change.
+  struct VolumeSet
+  {
+    std::vector<double> Key;
+    int Id = 0;                  // unique per build: tells whether the GL buffers hold it
+    std::vector<float> Vertices; // xyzw, caps first
+    GLsizei CapVertices = 0;
+    GLsizei AllVertices = 0;
+    std::vector<GLuint> AdjacencyIndices; // GPU silhouettes
+    GLsizei AdjacencyCount = 0;
+    vtkIdType SilhouetteEdges = 0;
+    vtkIdType Culled = 0;
+  };
+  static constexpr size_t MaxVolumeSets = 8;
+  std::vector<VolumeSet> Volumes;
+  int NextVolumeId = 0;
+  int UploadedVolumes = -1;   // Id of the set in Buffer
+  int UploadedAdjacency = -1; // Id of the set in AdjacencyBuffer
+
+  // Per-frame camera data shared by every light (see ComputeVisibility).
+  std::vector<double> DepthKey;
+  double Rows[4][4] = {};
+  bool DepthUploaded = false;
+  std::vector<float> DepthStencilData; // float depth + uint32 (stencil in the low byte)
+  std::vector<unsigned char> Stencil;
+  vtkNew<vtkUnsignedCharArray> Mask;
+
+  void Release(vtkWindow* window)
+  {
+    if (this->Window && (!window || window == this->Window))
+    {
+      this->Window->MakeCurrent();
+      if (this->Framebuffer)
+      {
+        glDeleteFramebuffers(1, &this->Framebuffer);
+      }
+      if (this->DepthStencil)
+      {
+        glDeleteTextures(1, &this->DepthStencil);
+      }
+      if (this->VertexArray)
+      {
+        glDeleteVertexArrays(1, &this->VertexArray);
+      }
+      if (this->Buffer)
+      {
+        glDeleteBuffers(1, &this->Buffer);
+      }
+      if (this->Query)
+      {
+        glDeleteQueries(1, &this->Query);
+      }
+      if (this->PointArray)
+      {
+        glDeleteVertexArrays(1, &this->PointArray);
+        glDeleteBuffers(1, &this->PointBuffer);
+        glDeleteBuffers(1, &this->AdjacencyBuffer);
+      }
+    }
+    this->Framebuffer = this->DepthStencil = this->VertexArray = this->Buffer = this->Query = 0;
+    this->PointArray = this->PointBuffer = this->AdjacencyBuffer = 0;
+    this->PointsUploaded = false;
+    this->Width = this->Height = 0;
+    this->UploadedVolumes = this->UploadedAdjacency = -1;
+    this->DepthUploaded = false;
+    this->Window = nullptr;
+  }
+
+  // The counting framebuffer: DEPTH32F_STENCIL8 only. Returns false when incomplete.
+  bool Allocate(int w, int h)
+  {
+    if (this->Framebuffer && this->Width == w && this->Height == h)
+    {
+      return true;
+    }
+    if (!this->Framebuffer)
+    {
+      glGenFramebuffers(1, &this->Framebuffer);
+      glGenTextures(1, &this->DepthStencil);
+      glGenVertexArrays(1, &this->VertexArray);
+      glGenBuffers(1, &this->Buffer);
+      glGenQueries(1, &this->Query);
+      glGenVertexArrays(1, &this->PointArray);
+      glGenBuffers(1, &this->PointBuffer);
+      glGenBuffers(1, &this->AdjacencyBuffer);
+    }
+    glBindTexture(GL_TEXTURE_2D, this->DepthStencil);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH32F_STENCIL8, w, h, 0, GL_DEPTH_STENCIL,
+      GL_FLOAT_32_UNSIGNED_INT_24_8_REV, nullptr);
+    this->DepthUploaded = false;
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, this->Framebuffer);
+    glFramebufferTexture2D(
+      GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_TEXTURE_2D, this->DepthStencil, 0);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+    const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    this->Width = w;
+    this->Height = h;
+    return complete;
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkPenumbraShadowVolumeShadows::vtkPenumbraShadowVolumeShadows()
+  : Reference(vtkPenumbraReference::New())
+  , Impl(new Internals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkPenumbraShadowVolumeShadows::~vtkPenumbraShadowVolumeShadows()
+{
+  this->Impl->Release(nullptr);
+  this->Reference->Delete();
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraShadowVolumeShadows::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Impl->Release(window);
+}
+
+//------------------------------------------------------------------------------
+#define PENUMBRA_SV_FAIL(text)                                                                   \
+  do                                                                                             \
+  {                                                                                              \
+    vtkErrorMacro(<< "shadow volumes: " << text);                                                \
+    return 0;                                                                                    \
+  } while (false)
+
+//------------------------------------------------------------------------------
+int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
+  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
+  vtkFloatArray* visibility)
+{
+  const auto start = Clock::now();
+  Internals& impl = *this->Impl;
+  this->ConnectivityTimeMs = this->VolumeTimeMs = this->StencilTimeMs = 0.0;
+  this->SampleDepthTimeMs = 0.0;
+  this->NumberOfVolumeTriangles = this->NumberOfPassedFragments = 0;
+  this->UsedZPass = false;
+  this->NumberOfFillFragments = -1;
+  this->NumberOfCountedSamples = 0;
+  this->NumberOfResolvedSamples = 0;
+
+  // ---- Input checks (shared with the other map-based techniques).
+  penumbra_light_views::FrameInputs in;
+  {
+    std::string inputError;
+    if (!in.Read(renderer, geometry, samples, light, visibility, inputError))
+    {
+      PENUMBRA_SV_FAIL(inputError);
+    }
+  }
+  vtkOpenGLRenderWindow* win = in.Window;
+  const vtkIdType n = in.NumberOfSamples;
+  const int width = samples->GetWidth();
+  const int height = samples->GetHeight();
+  if (static_cast<vtkIdType>(width) * height != n)
+  {
+    PENUMBRA_SV_FAIL("view samples are not a width x height image");
+  }
+  vtkCamera* camera = renderer->GetActiveCamera();
+  if (!camera)
+  {
+    PENUMBRA_SV_FAIL("the renderer has no camera");
+  }
+  const double* shift = in.Shift;
+  const LightSetup& setup = in.Light;
+
+  // ---- Connectivity, once per geometry change.
+  const auto connectivityStart = Clock::now();
+  {
+    double origin[3];
+    geometry->GetOrigin(origin);
+    if (!impl.HaveMesh || impl.Geometry != geometry ||
+      impl.GeometryTime != geometry->GetGeometryTime() ||
+      impl.FlagsTime != geometry->GetFlagsTime() || !std::equal(origin, origin + 3, impl.Origin) ||
+      impl.BuiltWithSilhouettes != this->Silhouettes)
+    {
+      impl.Mesh.Build(geometry, this->Silhouettes);
+      impl.HaveMesh = true;
+      impl.Geometry = geometry;
+      impl.GeometryTime = geometry->GetGeometryTime();
+      impl.FlagsTime = geometry->GetFlagsTime();
+      std::copy(origin, origin + 3, impl.Origin);
+      impl.BuiltWithSilhouettes = this->Silhouettes;
+      impl.Volumes.clear();
+      impl.PointsUploaded = false;
+      ++this->NumberOfConnectivityBuilds;
+      this->ConnectivityTimeMs = ElapsedMs(connectivityStart);
+    }
+  }
+  const Connectivity& mesh = impl.Mesh;
+  this->NumberOfCasterTriangles = mesh.Casters;
+  this->NumberOfComplexFaces = mesh.Complex;
+  this->NumberOfBoundaryEdges = mesh.BoundaryEdges;
+  this->NumberOfClosedComponents = static_cast<vtkIdType>(std::count_if(mesh.Components.begin(),
+    mesh.Components.end(), [](const Connectivity::Component& c) { return c.Closed; }));
+  this->NumberOfOpenComponents =
+    static_cast<vtkIdType>(mesh.Components.size()) - this->NumberOfClosedComponents;
+  this->NumberOfPerTriangleVolumes = static_cast<vtkIdType>(mesh.Loose.size());
+
+  // ---- Facing, spot cone, lights that are off, background: the reference's rules.
+  visibility->SetNumberOfComponents(1);
+  visibility->SetNumberOfTuples(n);
+  float* vis = n ? visibility->GetPointer(0) : nullptr;
+  std::vector<unsigned char> state(static_cast<size_t>(n));
+  const penumbra_light_views::FacingCounts facing =
+    penumbra_light_views::ClassifyFacing(setup, n, in.Positions, in.Normals, in.Props, shift,
+      mesh.Casters > 0, vis, state.data(), Pending, Decided);
+  this->NumberOfCountedSamples = facing.Pending;
+  if (facing.Pending == 0)
+  {
+    ApplyGoniometric(light, samples, in.Positions, vis);
+    visibility->Modified();
+    this->LastTimeMs = ElapsedMs(start);
+    return 1;
+  }
+
+  // Box of the pending samples in the geometry's frame (culling, extrusion length).
+  double box[6] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX,
+    VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    if (state[static_cast<size_t>(s)] == Pending)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        const double p = static_cast<double>(in.Positions[3 * s + c]) + shift[c];
+        box[2 * c] = std::min(box[2 * c], p);
+        box[2 * c + 1] = std::max(box[2 * c + 1], p);
+      }
+    }
+  }
+  // Scene scale from the geometry alone (every sample lies on it), so that the extrusion
+  // length and with it the cached volumes do not depend on the camera.
+  double scale = 1.0;
+  {
+    double all[6];
+    geometry->GetBounds(all);
+    for (int c = 0; c < 3 && vtkMath::AreBoundsInitialized(all); ++c)
+    {
+      const double lo = all[2 * c] - impl.Origin[c], hi = all[2 * c + 1] - impl.Origin[c];
+      scale = std::max({ scale, std::fabs(lo), std::fabs(hi), hi - lo });
+    }
+    // Grow the culling box by the float rounding of the samples (they are float32).
+    const double pad = 1e-5 * scale;
+    for (int c = 0; c < 3; ++c)
+    {
+      box[2 * c] -= pad;
+      box[2 * c + 1] += pad;
+    }
+  }
+
+  VolumeLight vl;
+  vl.Directional = setup.Type == LightSetup::Kind::Directional;
+  std::copy(setup.Direction, setup.Direction + 3, vl.Direction.begin());
+  std::copy(setup.Position, setup.Position + 3, vl.Position.begin());
+  // A prism longer than four times the whole scene's extent reaches past every sample.
+  vl.Extrusion = 4.0 * scale + 1.0;
+
+  // ---- Volumes, once per light / connectivity / sample box / option change.
+  const auto volumeStart = Clock::now();
+  size_t volumeIndex = 0;
+  {
+    std::vector<double> key = { vl.Directional ? 1.0 : 0.0, vl.Direction[0], vl.Direction[1],
+      vl.Direction[2], vl.Position[0], vl.Position[1], vl.Position[2], vl.Extrusion,
+      this->Cull ? 1.0 : 0.0, this->GPUSilhouettes ? 1.0 : 0.0 };
+    if (this->Cull)
+    {
+      key.insert(key.end(), box, box + 6);
+    }
+    auto found = std::find_if(impl.Volumes.begin(), impl.Volumes.end(),
+      [&](const Internals::VolumeSet& v) { return v.Key == key; });
+    if (found == impl.Volumes.end())
+    {
+      if (impl.Volumes.size() >= Internals::MaxVolumeSets)
+      {
+        impl.Volumes.erase(impl.Volumes.begin()); // the oldest
+      }
+      impl.Volumes.emplace_back();
+      found = impl.Volumes.end() - 1;
+      Internals::VolumeSet& build = *found;
+      build.Key = key;
+      build.Id = impl.NextVolumeId++;
+      ++this->NumberOfVolumeBuilds;
+      std::vector<float> caps, sides;
+      vtkIdType culled = 0, edges = 0;
+      auto put = [](std::vector<float>& out, const Vec3& p, double w) {
+        out.push_back(static_cast<float>(p[0]));
+        out.push_back(static_cast<float>(p[1]));
+        out.push_back(static_cast<float>(p[2]));
+        out.push_back(static_cast<float>(w));
+      };
+      // Extruded copy of v: a finite prism for directional lights, the point at infinity
+      // (w = 0) away from a positional light.
+      auto putFar = [&](std::vector<float>& out, const Vec3& v) {
+        if (vl.Directional)
+        {
+          put(out,
+            { v[0] - vl.Extrusion * vl.Direction[0], v[1] - vl.Extrusion * vl.Direction[1],
+              v[2] - vl.Extrusion * vl.Direction[2] },
+            1.0);
+        }
+        else
+        {
+          const Vec3 d = Sub(v, vl.Position);
+          if (Dot(d, d) > 0.0)
+          {
+            put(out, d, 0.0);
+          }
+          else
+          {
+            put(out, v, 1.0); // a vertex on the light stays where it is
+          }
+        }
+      };
+      // One side quad for edge u -> v of a light-facing oriented face (outward winding).
+      auto side = [&](const Vec3& u, const Vec3& v) {
+        put(sides, u, 1.0);
+        putFar(sides, u);
+        putFar(sides, v);
+        put(sides, u, 1.0);
+        putFar(sides, v);
+        put(sides, v, 1.0);
+      };
+      auto capAndDark = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+        put(caps, a, 1.0);
+        put(caps, b, 1.0);
+        put(caps, c, 1.0);
+        putFar(sides, a);
+        putFar(sides, c);
+        putFar(sides, b);
+      };
+      // Per-triangle volume (seed 004 §2.1 brute force; correct for any input): the triangle
+      // turned toward the light, its extrusion and its three sides. `f` is its facing value.
+      auto perTriangle = [&](Vec3 v[3], double f) {
+        if (!(f != 0.0)) // edge-on to the light: a flat volume, blocks nothing
+        {
+          return;
+        }
+        if (f < 0.0)
+        {
+          std::swap(v[1], v[2]);
+        }
+        if (this->Cull && VolumeMissesBox(vl, v, box))
+        {
+          ++culled;
+          return;
+        }
+        capAndDark(v[0], v[1], v[2]);
+        side(v[0], v[1]);
+        side(v[1], v[2]);
+        side(v[2], v[0]);
+      };
+      const auto& P = mesh.Points;
+      for (const auto& t : mesh.Loose)
+      {
+        Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
+          P[static_cast<size_t>(t[2])] };
+        perTriangle(v, vl.Facing(v[0], v[1], v[2]));
+      }
+      // Silhouette volumes of the components (seed 004 §2.1, ch. 8; CPU silhouettes). The
+      // stencil count of a set of per-triangle volumes is the number of its triangles the
+      // segment to the light crosses; where two triangles of the set share an edge with
+      // opposite windings (both turned toward the light), their side quads cancel, so only
+      // the set's caps and the sides on its border edges need drawing. Closed components
+      // with the light outside: the light-facing set alone is crossed whenever the mesh is.
+      // Open components, or a positional light inside the component's box (maybe inside
+      // the mesh, where light-facing caps do not close, seed 004 §2.3): the light-facing set
+      // plus the back-facing set turned toward the light, i.e. every triangle, as per-triangle
+      // volumes would, but with sides only on silhouette and boundary edges.
+      std::vector<signed char> set;
+      for (const auto& c : mesh.Components)
+      {
+        bool inside = !vl.Directional;
+        for (int a = 0; a < 3 && inside; ++a)
+        {
+          inside = vl.Position[a] >= c.Bounds[2 * a] && vl.Position[a] <= c.Bounds[2 * a + 1];
+        }
+        const bool bothSets = !c.Closed || inside;
+        if (this->GPUSilhouettes && !bothSets)
+        {
+          // Silhouettes, caps and sides come from the geometry stage: no CPU facing at all.
+          for (const auto& a : c.Adjacency)
+          {
+            build.AdjacencyIndices.insert(build.AdjacencyIndices.end(), a.begin(), a.end());
+          }
+          continue;
+        }
+        // Per face: +1 light-facing set, -1 back-facing set (turned), 0 none. Facing is one
+        // decision per face, ties (edge-on) in no set (seed 004 §8.3). A culled face leaves
+        // its set: the sum of the remaining volumes stays a valid count.
+        set.assign(c.Faces.size(), 0);
+        bool any = false;
+        for (size_t i = 0; i < c.Faces.size(); ++i)
+        {
+          const auto& t = c.Faces[i];
+          Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
+            P[static_cast<size_t>(t[2])] };
+          const double f = vl.Facing(v[0], v[1], v[2]);
+          signed char si = f > 0.0 ? 1 : (bothSets && f < 0.0 ? -1 : 0);
+          if (si < 0)
+          {
+            std::swap(v[1], v[2]);
+          }
+          if (si != 0 && this->Cull && VolumeMissesBox(vl, v, box))
+          {
+            ++culled;
+            si = 0;
+          }
+          if (si != 0)
+          {
+            capAndDark(v[0], v[1], v[2]);
+            any = true;
+          }
+          set[i] = si;
+        }
+        if (!any)
+        {
+          continue;
+        }
+        for (const auto& e : c.Edges)
+        {
+          const Vec3& p0 = P[static_cast<size_t>(e[0])];
+          const Vec3& p1 = P[static_cast<size_t>(e[1])];
+          const signed char s0 = set[static_cast<size_t>(e[2])];
+          const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
+          if (s0 == s1)
+          {
+            continue;
+          }
+          ++edges;
+          // Keep the winding of the face as turned toward the light (seed 004 §2.1): F0
+          // runs v0 -> v1, F1 v1 -> v0, each reversed when turned.
+          if (s0 != 0)
+          {
+            s0 > 0 ? side(p0, p1) : side(p1, p0);
+          }
+          if (s1 != 0)
+          {
+            s1 > 0 ? side(p1, p0) : side(p0, p1);
+          }
+        }
+      }
+      build.CapVertices = static_cast<GLsizei>(caps.size() / 4);
+      build.AllVertices = static_cast<GLsizei>((caps.size() + sides.size()) / 4);
+      build.Vertices.swap(caps);
+      build.Vertices.insert(build.Vertices.end(), sides.begin(), sides.end());
+      build.SilhouetteEdges =
+        this->GPUSilhouettes && !build.AdjacencyIndices.empty() ? -1 : edges;
+      build.AdjacencyCount = static_cast<GLsizei>(build.AdjacencyIndices.size());
+      build.Culled = culled;
+      this->VolumeTimeMs = ElapsedMs(volumeStart);
+    }
+    volumeIndex = static_cast<size_t>(found - impl.Volumes.begin());
+  }
+  const Internals::VolumeSet& vs = impl.Volumes[volumeIndex];
+  this->NumberOfSilhouetteEdges = vs.SilhouetteEdges;
+  this->NumberOfCulledVolumes = vs.Culled;
+  this->NumberOfVolumeTriangles = vs.AllVertices / 3;
+
+  // ---- Camera: VTK's world -> clip for this image, rebased, with a reversed float depth.
+  const auto stencilStart = Clock::now();
+  const bool parallel = camera->GetParallelProjection() != 0;
+  // The camera matrix and the sample depths depend on the samples and the camera only: one
+  // computation and one upload per frame serve every light (seed 004 ch. 8: the scene depth
+  // once, then per light a cleared stencil and its volumes).
+  auto address = [](const void* p) {
+    return static_cast<double>(reinterpret_cast<std::uintptr_t>(p));
+  };
+  const std::vector<double> depthKey = { address(samples),
+    static_cast<double>(samples->GetMTime()),
+    static_cast<double>(samples->GetPositions()->GetMTime()),
+    static_cast<double>(samples->GetPropIndices()->GetMTime()),
+    static_cast<double>(samples->GetTriangleIds()->GetMTime()),
+    static_cast<double>(camera->GetMTime()), address(geometry),
+    static_cast<double>(geometry->GetGeometryTime()), impl.Origin[0], impl.Origin[1],
+    impl.Origin[2], static_cast<double>(width), static_cast<double>(height) };
+  double (&rows)[4][4] = impl.Rows;
+  if (depthKey != impl.DepthKey)
+  {
+    impl.DepthKey = depthKey;
+    impl.DepthUploaded = false;
+    ++this->NumberOfDepthComputations;
+    double unproject[4][4];
+    {
+      const double aspect = static_cast<double>(width) / height;
+      vtkMatrix4x4* m = camera->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
+      vtkNew<vtkMatrix4x4> inverse;
+      vtkMatrix4x4::Invert(m, inverse);
+      for (int r = 0; r < 4; ++r)
+      {
+        for (int c = 0; c < 4; ++c)
+        {
+          unproject[r][c] = inverse->GetElement(r, c);
+        }
+      }
+      vtkMatrix4x4* view = camera->GetViewTransformMatrix();
+      for (int r = 0; r < 4; ++r)
+      {
+        for (int c = 0; c < 4; ++c)
+        {
+          rows[r][c] = m->GetElement(r, c);
+        }
+      }
+      // Rebase: x_world = x_rebased + origin.
+      for (int r = 0; r < 4; ++r)
+      {
+        rows[r][3] += rows[r][0] * impl.Origin[0] + rows[r][1] * impl.Origin[1] +
+          rows[r][2] * impl.Origin[2];
+      }
+      // Eye depth (positive in front) as a row of the rebased frame.
+      double eye[4];
+      for (int c = 0; c < 4; ++c)
+      {
+        eye[c] = -view->GetElement(2, c);
+      }
+      eye[3] += eye[0] * impl.Origin[0] + eye[1] * impl.Origin[1] + eye[2] * impl.Origin[2];
+      double nearest = VTK_DOUBLE_MAX, farthest = 0.0;
+      for (vtkIdType s = 0; s < n; ++s)
+      {
+        if (in.Props[s] >= 0)
+        {
+          double z = eye[3];
+          for (int c = 0; c < 3; ++c)
+          {
+            z += eye[c] * (static_cast<double>(in.Positions[3 * s + c]) + shift[c]);
+          }
+          nearest = std::min(nearest, z);
+          farthest = std::max(farthest, z);
+        }
+      }
+      if (!parallel)
+      {
+        // d = nearPlane / eye depth (w row unchanged): 1 at half the nearest sample, 0 at
+        // infinity; depth clamp keeps what lies closer.
+        const double nearPlane = std::max(0.5 * nearest, 1e-9 * (1.0 + std::fabs(farthest)));
+        // z_clip = nearPlane * w_vertex: a point at infinity (w = 0) gets depth 0.
+        rows[2][0] = rows[2][1] = rows[2][2] = 0.0;
+        rows[2][3] = nearPlane;
+      }
+      else
+      {
+        const double margin = 0.25 * (farthest - nearest) + 1e-6 * (1.0 + std::fabs(farthest));
+        const double zn = nearest - margin, zf = farthest + margin;
+        // d = (zf - eye depth) / (zf - zn).
+        for (int c = 0; c < 4; ++c)
+        {
+          rows[2][c] = (c == 3 ? zf : 0.0) - eye[c];
+          rows[2][c] /= (zf - zn);
+        }
+      }
+    }
+    auto clipOf = [&](const double p[3], double clip[4]) {
+      for (int r = 0; r < 4; ++r)
+      {
+        clip[r] = rows[r][0] * p[0] + rows[r][1] * p[1] + rows[r][2] * p[2] + rows[r][3];
+      }
+    };
+
+    // Per pixel: the depth of the point where the pixel-centre ray meets the sample's own
+    // triangle, so that the own cap is rasterized at (nearly) the same depth.
+    impl.DepthStencilData.assign(2 * static_cast<size_t>(n), 0.0f);
+    const double* tv = in.TriangleVertices;
+    for (int y = 0; y < height; ++y)
+    {
+      for (int x = 0; x < width; ++x)
+      {
+        const vtkIdType s = static_cast<vtkIdType>(y) * width + x;
+        if (in.Props[s] < 0)
+        {
+          continue;
+        }
+        double p[3];
+        for (int c = 0; c < 3; ++c)
+        {
+          p[c] = static_cast<double>(in.Positions[3 * s + c]) + shift[c];
+        }
+        const vtkIdType t = in.Triangles[s];
+        if (t >= 0 && t < in.NumberOfTriangles)
+        {
+          const double* a = tv + 9 * t;
+          const Vec3 va = { a[0], a[1], a[2] };
+          const Vec3 nrm = Cross(Sub({ a[3], a[4], a[5] }, va), Sub({ a[6], a[7], a[8] }, va));
+          // Pixel-centre ray in world coordinates, rebased.
+          const double ndc[2] = { (x + 0.5) * 2.0 / width - 1.0, (y + 0.5) * 2.0 / height - 1.0 };
+          double ends[2][3];
+          for (int e = 0; e < 2; ++e)
+          {
+            const double q[4] = { ndc[0], ndc[1], e == 0 ? -1.0 : 1.0, 1.0 };
+            double h[4];
+            for (int r = 0; r < 4; ++r)
+            {
+              h[r] = unproject[r][0] * q[0] + unproject[r][1] * q[1] + unproject[r][2] * q[2] +
+                unproject[r][3] * q[3];
+            }
+            for (int c = 0; c < 3; ++c)
+            {
+              ends[e][c] = h[c] / h[3] - impl.Origin[c];
+            }
+          }
+          const Vec3 dir = { ends[1][0] - ends[0][0], ends[1][1] - ends[0][1],
+            ends[1][2] - ends[0][2] };
+          const double denom = Dot(nrm, dir);
+          if (std::fabs(denom) > 1e-12 * std::sqrt(Dot(nrm, nrm) * Dot(dir, dir)))
+          {
+            const double u = Dot(nrm, Sub(va, { ends[0][0], ends[0][1], ends[0][2] })) / denom;
+            double q[3];
+            for (int c = 0; c < 3; ++c)
+            {
+              q[c] = ends[0][c] + u * dir[c];
+            }
+            // Only when the intersection stays near the sample (it is the same surface point
+            // up to the G-buffer's float rounding).
+            const double d2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+              (q[2] - p[2]) * (q[2] - p[2]);
+            if (d2 <= 1e-6 * scale * scale)
+            {
+              std::copy(q, q + 3, p);
+            }
+          }
+        }
+        double clip[4];
+        clipOf(p, clip);
+        const double d = clip[2] / clip[3];
+        impl.DepthStencilData[2 * static_cast<size_t>(s)] =
+          static_cast<float>(std::min(1.0, std::max(0.0, d)));
+      }
+    }
+  }
+
+  this->SampleDepthTimeMs = ElapsedMs(stencilStart);
+
+  // z-pass needs a camera outside every volume (seed 004 §2.1); prove it for perspective
+  // cameras from the volumes actually drawn.
+  bool zpass = this->Method == METHOD_ZPASS;
+  if (this->Method == METHOD_AUTO && !parallel)
+  {
+    double eyeWorld[3];
+    camera->GetPosition(eyeWorld);
+    const Vec3 eye = { eyeWorld[0] - impl.Origin[0], eyeWorld[1] - impl.Origin[1],
+      eyeWorld[2] - impl.Origin[2] };
+    const double tol = 1e-5 * scale;
+    bool outside = true;
+    const std::vector<float>& V = vs.Vertices;
+    for (GLsizei i = 0; i + 2 < vs.CapVertices && outside; i += 3)
+    {
+      Vec3 v[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        const float* f = V.data() + 4 * static_cast<size_t>(i + k);
+        v[k] = { f[0], f[1], f[2] };
+      }
+      outside = !SegmentMayTouch(vl, eye, v, tol);
+    }
+    // GPU components: their front faces are not known here, so every face must stay clear.
+    for (size_t i = 0; i + 5 < vs.AdjacencyIndices.size() && outside; i += 6)
+    {
+      const Vec3 v[3] = { mesh.Points[vs.AdjacencyIndices[i]],
+        mesh.Points[vs.AdjacencyIndices[i + 2]], mesh.Points[vs.AdjacencyIndices[i + 4]] };
+      outside = !SegmentMayTouch(vl, eye, v, tol);
+    }
+    zpass = outside;
+  }
+  this->UsedZPass = zpass;
+
+  // ---- GL: count in the stencil.
+  win->MakeCurrent();
+  if (impl.Window && impl.Window != win)
+  {
+    impl.Release(nullptr);
+  }
+  impl.Window = win;
+  {
+    // Depth clamping (GL 3.2 core, or ARB_depth_clamp) keeps the volumes' far parts.
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    bool clamp = major * 10 + minor >= 32;
+    GLint count = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+    for (GLint i = 0; i < count && !clamp; ++i)
+    {
+      const GLubyte* name = glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
+      clamp = name && std::strcmp(reinterpret_cast<const char*>(name), "GL_ARB_depth_clamp") == 0;
+    }
+    if (!clamp)
+    {
+      PENUMBRA_SV_FAIL("depth clamping (OpenGL 3.2 or ARB_depth_clamp) is required");
+    }
+  }
+  if (!glClipControl)
+  {
+    PENUMBRA_SV_FAIL("glClipControl (OpenGL 4.5 or ARB_clip_control) is required for the "
+                     "reversed float depth");
+  }
+  vtkShaderProgram* program = win->GetShaderCache()->ReadyShaderProgram(
+    vtkPenumbraShadowVolumeVS, vtkPenumbraShadowVolumeFS, "");
+  if (!program || !program->GetCompiled())
+  {
+    PENUMBRA_SV_FAIL("the shadow volume shaders do not compile or link");
+  }
+  vtkShaderProgram* gsProgram = nullptr;
+  if (vs.AdjacencyCount > 0)
+  {
+    gsProgram = win->GetShaderCache()->ReadyShaderProgram(vtkPenumbraShadowVolumeAdjacencyVS,
+      vtkPenumbraShadowVolumeFS, vtkPenumbraShadowVolumeAdjacencyGS);
+    if (!gsProgram || !gsProgram->GetCompiled())
+    {
+      PENUMBRA_SV_FAIL("GPU silhouettes need a geometry shader with triangles_adjacency input, "
+                       "which does not compile or link here; use CPU silhouettes");
+    }
+  }
+  vtkOpenGLState* ostate = win->GetState();
+  ostate->PushFramebufferBindings();
+  bool complete;
+  {
+    vtkOpenGLState::ScopedglEnableDisable blend(ostate, GL_BLEND);
+    vtkOpenGLState::ScopedglEnableDisable depthTest(ostate, GL_DEPTH_TEST);
+    vtkOpenGLState::ScopedglEnableDisable scissor(ostate, GL_SCISSOR_TEST);
+    vtkOpenGLState::ScopedglEnableDisable cull(ostate, GL_CULL_FACE);
+    vtkOpenGLState::ScopedglEnableDisable stencilTest(ostate, GL_STENCIL_TEST);
+    vtkOpenGLState::ScopedglViewport viewport(ostate);
+    vtkOpenGLState::ScopedglDepthFunc depthFunc(ostate);
+    vtkOpenGLState::ScopedglDepthMask depthMask(ostate);
+    vtkOpenGLState::ScopedglColorMask colorMask(ostate);
+    complete = impl.Allocate(width, height);
+    if (complete)
+    {
+      ostate->vtkglBindFramebuffer(GL_FRAMEBUFFER, impl.Framebuffer);
+      ostate->vtkglStencilMask(0xff);
+      if (!impl.DepthUploaded)
+      {
+        // Depth and a zero stencil in one upload.
+        glBindTexture(GL_TEXTURE_2D, impl.DepthStencil);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_DEPTH_STENCIL,
+          GL_FLOAT_32_UNSIGNED_INT_24_8_REV, impl.DepthStencilData.data());
+        glBindTexture(GL_TEXTURE_2D, 0);
+        impl.DepthUploaded = true;
+      }
+      else
+      {
+        const GLint zero = 0;
+        glClearBufferiv(GL_STENCIL, 0, &zero);
+      }
+
+      ostate->vtkglDisable(GL_BLEND);
+      ostate->vtkglDisable(GL_SCISSOR_TEST);
+      ostate->vtkglDisable(GL_CULL_FACE);
+      ostate->vtkglEnable(GL_DEPTH_TEST);
+      ostate->vtkglEnable(GL_STENCIL_TEST);
+      ostate->vtkglViewport(0, 0, width, height);
+      ostate->vtkglDepthMask(GL_FALSE);
+      ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      // Reversed depth: nearer is greater.
+      ostate->vtkglDepthFunc(GL_GREATER);
+      ostate->vtkglStencilMask(0xff);
+      ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
+      if (zpass)
+      {
+        // Count faces in front of the sample: entering +1, leaving -1.
+        ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
+        ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
+      }
+      else
+      {
+        // Carmack's reverse: count faces behind the sample (depth fails).
+        ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+        ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
+      }
+      const GLboolean hadClamp = glIsEnabled(GL_DEPTH_CLAMP);
+      glEnable(GL_DEPTH_CLAMP);
+      glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+
+      float matrix[16];
+      for (int r = 0; r < 4; ++r)
+      {
+        for (int c = 0; c < 4; ++c)
+        {
+          matrix[4 * c + r] = static_cast<float>(rows[r][c]);
+        }
+      }
+      // Upload what changed: CPU volumes, and for GPU silhouettes the welded points and the
+      // adjacency indices.
+      glBindVertexArray(impl.VertexArray);
+      glBindBuffer(GL_ARRAY_BUFFER, impl.Buffer);
+      if (impl.UploadedVolumes != vs.Id)
+      {
+        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vs.Vertices.size() * sizeof(float)),
+          vs.Vertices.empty() ? nullptr : vs.Vertices.data(), GL_STATIC_DRAW);
+        impl.UploadedVolumes = vs.Id;
+      }
+      const GLint loc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
+      if (loc >= 0)
+      {
+        glEnableVertexAttribArray(static_cast<GLuint>(loc));
+        glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+      }
+      if (gsProgram)
+      {
+        glBindVertexArray(impl.PointArray);
+        glBindBuffer(GL_ARRAY_BUFFER, impl.PointBuffer);
+        if (!impl.PointsUploaded)
+        {
+          std::vector<float> points;
+          points.reserve(3 * mesh.Points.size());
+          for (const Vec3& p : mesh.Points)
+          {
+            points.insert(points.end(),
+              { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]) });
+          }
+          glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(points.size() * sizeof(float)),
+            points.empty() ? nullptr : points.data(), GL_STATIC_DRAW);
+          impl.PointsUploaded = true;
+        }
+        const GLint pointLoc = glGetAttribLocation(gsProgram->GetHandle(), "vertexRebased");
+        if (pointLoc >= 0)
+        {
+          glEnableVertexAttribArray(static_cast<GLuint>(pointLoc));
+          glVertexAttribPointer(static_cast<GLuint>(pointLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+        }
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, impl.AdjacencyBuffer);
+        if (impl.UploadedAdjacency != vs.Id)
+        {
+          glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+            static_cast<GLsizeiptr>(vs.AdjacencyIndices.size() * sizeof(GLuint)),
+            vs.AdjacencyIndices.data(), GL_STATIC_DRAW);
+          impl.UploadedAdjacency = vs.Id;
+        }
+      }
+      const float lightUniform[4] = {
+        static_cast<float>(vl.Directional ? vl.Direction[0] : vl.Position[0]),
+        static_cast<float>(vl.Directional ? vl.Direction[1] : vl.Position[1]),
+        static_cast<float>(vl.Directional ? vl.Direction[2] : vl.Position[2]),
+        vl.Directional ? 0.0f : 1.0f
+      };
+      // Every volume once; light caps pushed back by `capScale` (1: not at all).
+      auto drawVolumes = [&](float capScale) {
+        win->GetShaderCache()->ReadyShaderProgram(program);
+        program->SetUniformMatrix4x4("worldToClip", matrix);
+        glBindVertexArray(impl.VertexArray);
+        if (vs.CapVertices > 0)
+        {
+          program->SetUniformf("capScale", capScale);
+          glDrawArrays(GL_TRIANGLES, 0, vs.CapVertices);
+        }
+        if (vs.AllVertices > vs.CapVertices)
+        {
+          program->SetUniformf("capScale", 1.0f);
+          glDrawArrays(GL_TRIANGLES, vs.CapVertices, vs.AllVertices - vs.CapVertices);
+        }
+        if (gsProgram)
+        {
+          win->GetShaderCache()->ReadyShaderProgram(gsProgram);
+          gsProgram->SetUniformMatrix4x4("worldToClip", matrix);
+          gsProgram->SetUniformf("capScale", capScale);
+          gsProgram->SetUniform4f("light", lightUniform);
+          gsProgram->SetUniformf("extrusion", static_cast<float>(vl.Extrusion));
+          glBindVertexArray(impl.PointArray);
+          glDrawElements(GL_TRIANGLES_ADJACENCY, vs.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
+        }
+      };
+      glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
+      drawVolumes(static_cast<float>(1.0 - this->CapOffset));
+      glEndQuery(GL_SAMPLES_PASSED);
+      GLuint passed = 0;
+      glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &passed);
+      this->NumberOfPassedFragments = static_cast<vtkIdType>(passed);
+      if (this->MeasureFill)
+      {
+        // Every rasterized volume fragment, with the stencil left as counted.
+        ostate->vtkglDepthFunc(GL_ALWAYS);
+        ostate->vtkglStencilMask(0x00);
+        glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
+        drawVolumes(1.0f);
+        glEndQuery(GL_SAMPLES_PASSED);
+        GLuint fill = 0;
+        glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &fill);
+        this->NumberOfFillFragments = static_cast<vtkIdType>(fill);
+        ostate->vtkglStencilMask(0xff);
+      }
+      glBindBuffer(GL_ARRAY_BUFFER, 0);
+      glBindVertexArray(0);
+
+      glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+      if (!hadClamp)
+      {
+        glDisable(GL_DEPTH_CLAMP);
+      }
+      ostate->vtkglStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
+      ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
+
+      impl.Stencil.resize(static_cast<size_t>(n));
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      glReadPixels(0, 0, width, height, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, impl.Stencil.data());
+    }
+  }
+  ostate->PopFramebufferBindings();
+  if (!complete)
+  {
+    PENUMBRA_SV_FAIL("a DEPTH32F_STENCIL8 framebuffer is not supported here");
+  }
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    if (state[static_cast<size_t>(s)] == Pending)
+    {
+      vis[s] = impl.Stencil[static_cast<size_t>(s)] != 0 ? 0.0f : 1.0f;
+    }
+  }
+  this->StencilTimeMs = ElapsedMs(stencilStart);
+
+  // ---- Edge resolve. The rasterizer snaps vertices to a sub-pixel grid (1/256 pixel on
+  // llvmpipe), so a pixel centre closer than that to a projected volume edge may be counted
+  // on the wrong side of it. The count is constant in screen space away from such edges, so
+  // any wrong sample differs from a neighbour or sits next to a sample that is not counted
+  // (background, facing away): those samples, and only those, are traced exactly.
+  this->ResolveTimeMs = 0.0;
+  if (this->Resolve)
+  {
+    const auto resolveStart = Clock::now();
+    impl.Mask->SetNumberOfComponents(1);
+    impl.Mask->SetNumberOfTuples(n);
+    unsigned char* mask = impl.Mask->GetPointer(0);
+    vtkIdType count = 0;
+    for (int y = 0; y < height; ++y)
+    {
+      for (int x = 0; x < width; ++x)
+      {
+        const vtkIdType s = static_cast<vtkIdType>(y) * width + x;
+        mask[s] = 0;
+        if (state[static_cast<size_t>(s)] != Pending)
+        {
+          continue;
+        }
+        bool edge = false;
+        for (int dy = -1; dy <= 1 && !edge; ++dy)
+        {
+          for (int dx = -1; dx <= 1 && !edge; ++dx)
+          {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= width || ny >= height)
+            {
+              continue;
+            }
+            const vtkIdType t = static_cast<vtkIdType>(ny) * width + nx;
+            // A background neighbour: an outline. A facing-away one: the light's terminator,
+            // where the sample's own caster has a silhouette edge and its side quads start.
+            edge = state[static_cast<size_t>(t)] != Pending || vis[t] != vis[s];
+          }
+        }
+        if (!edge)
+        {
+          // A light grazing the surface (the note's N.L ~ 0 case): the shadow boundary then
+          // slides along the surface with every rounding of the sample (the G-buffer's float
+          // position vs. the exact plane the stencil tests), so only a ray decides it as the
+          // reference does.
+          const float* nn = in.Normals + 3 * s;
+          double l[3];
+          for (int c = 0; c < 3; ++c)
+          {
+            l[c] = vl.Directional
+              ? vl.Direction[c]
+              : vl.Position[c] - (static_cast<double>(in.Positions[3 * s + c]) + shift[c]);
+          }
+          const double len = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+          const double cosine = (nn[0] * l[0] + nn[1] * l[1] + nn[2] * l[2]) / len;
+          edge = !(cosine > GrazingCosine);
+        }
+        mask[s] = edge ? 1 : 0;
+        count += edge;
+      }
+    }
+    if (count > 0)
+    {
+      this->Reference->SetGeometry(geometry);
+      if (!this->Reference->ComputeVisibility(samples, light, visibility, impl.Mask))
+      {
+        PENUMBRA_SV_FAIL("tracing the edge samples failed: " << this->Reference->GetErrorMessage());
+      }
+    }
+    this->NumberOfResolvedSamples = count;
+    this->ResolveTimeMs = ElapsedMs(resolveStart);
+  }
+
+  ApplyGoniometric(light, samples, in.Positions, vis);
+  visibility->Modified();
+  this->LastTimeMs = ElapsedMs(start);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+double vtkPenumbraShadowVolumeShadows::GetUncertainFraction()
+{
+  return this->NumberOfCountedSamples > 0
+    ? static_cast<double>(this->NumberOfResolvedSamples) / this->NumberOfCountedSamples
+    : 0.0;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraShadowVolumeShadows::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Method: " << this->Method << "\n";
+  os << indent << "Cull: " << this->Cull << "\n";
+  os << indent << "Silhouettes: " << this->Silhouettes << "\n";
+  os << indent << "GPUSilhouettes: " << this->GPUSilhouettes << "\n";
+  os << indent << "CapOffset: " << this->CapOffset << "\n";
+  os << indent << "NumberOfCasterTriangles: " << this->NumberOfCasterTriangles << "\n";
+  os << indent << "NumberOfComplexFaces: " << this->NumberOfComplexFaces << "\n";
+  os << indent << "NumberOfBoundaryEdges: " << this->NumberOfBoundaryEdges << "\n";
+  os << indent << "NumberOfClosedComponents: " << this->NumberOfClosedComponents << "\n";
+  os << indent << "NumberOfOpenComponents: " << this->NumberOfOpenComponents << "\n";
+  os << indent << "NumberOfPerTriangleVolumes: " << this->NumberOfPerTriangleVolumes << "\n";
+  os << indent << "NumberOfSilhouetteEdges: " << this->NumberOfSilhouetteEdges << "\n";
+  os << indent << "NumberOfVolumeTriangles: " << this->NumberOfVolumeTriangles << "\n";
+  os << indent << "NumberOfCulledVolumes: " << this->NumberOfCulledVolumes << "\n";
+  os << indent << "UsedZPass: " << this->UsedZPass << "\n";
+  os << indent << "Resolve: " << this->Resolve << "\n";
+  os << indent << "NumberOfResolvedSamples: " << this->NumberOfResolvedSamples << "\n";
+}

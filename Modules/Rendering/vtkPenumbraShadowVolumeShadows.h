@@ -1,0 +1,300 @@
+/**
+ * @class   vtkPenumbraShadowVolumeShadows
+ * @brief   Exact hard shadows with stencil shadow volumes (seed 004 ch. 3, 8, 9; seed 001
+ *          §1.3): silhouette volumes from OpenMesh connectivity (the light-facing faces of
+ *          closed meshes, both face sets of open ones), one closed volume per triangle for
+ *          the faces OpenMesh refuses (non-manifold, flipped against their neighbours).
+ *
+ * Per light and frame:
+ * 1. Connectivity (rebuilt only when the geometry, its flags or its origin change): the
+ *    caster triangles (IsOccluder, zero-area ones skipped like the reference does) are welded
+ *    by exactly equal vertex coordinates and added to an OpenMesh triangle mesh. OpenMesh
+ *    refuses faces that would make an edge complex (non-manifold: a third face on an edge,
+ *    a duplicate face, a face oriented against its neighbours); those are counted
+ *    (GetNumberOfComplexFaces()) and get per-triangle volumes: the triangle turned toward
+ *    the light, its extrusion and its three sides (always correct, for any input). The
+ *    accepted faces form consistently oriented components, closed (no boundary edge) or
+ *    open.
+ * 2. Volumes (rebuilt only when the light, the connectivity or, with culling, the box of
+ *    the lit-candidate samples changes). The stencil count of a set of per-triangle volumes
+ *    is the number of its triangles the segment to the light crosses; sides shared by two
+ *    triangles of the set cancel, so a set needs only its caps and the side quads on its
+ *    border edges. A closed component whose bounding box does not contain a positional
+ *    light uses its light-facing triangles (light cap, extruded and reversed as dark cap,
+ *    one quad per silhouette edge; each face classified once in double, ties back-facing,
+ *    seed 004 §8.3): the segment crosses the mesh exactly when it crosses one of them.
+ *    Components with inward orientation (negative volume) swap front and back. Open
+ *    components, and closed ones that may hold the light, use both sets (the back-facing
+ *    triangles turned toward the light too), which counts every crossing like per-triangle
+ *    volumes but with sides only on silhouette and boundary edges. Positional lights
+ *    extrude to infinity (w = 0); directional lights extrude by a finite length beyond
+ *    every caster (a prism), which keeps parallel cameras free of points at infinity on the
+ *    view axis.
+ * 3. Counting in an own framebuffer (window size, 32-bit float depth + 8-bit stencil): the
+ *    depth buffer receives, per pixel, the depth of the point where the pixel-centre ray
+ *    meets the sample's own triangle (double precision on the CPU, once per frame for all
+ *    lights), so the depth test sees exactly the sampled surfaces. The volumes are then
+ *    drawn with two-sided stencil operations, depth writes off, GL_DEPTH_CLAMP on and a
+ *    reversed float depth (glClipControl zero-to-one): z-fail by default (back faces
+ *    increment and front faces decrement where the depth test fails, Carmack's reverse with
+ *    caps, seed 004 §2.1), or z-pass when the camera is provably outside every volume
+ *    (Method AUTO) or when asked (ZPASS). Light caps are pushed back by CapOffset so that a
+ *    sample on a caster's lit surface is outside that caster's volume, which is the
+ *    reference's "own triangle never blocks" rule and its tnear epsilon.
+ * 4. Read back: a non-zero stencil count (modulo 256, wrap operations) is shadow.
+ * 5. Edge resolve (Resolve, default on): the rasterizer decides coverage on a snapped
+ *    sub-pixel grid, not exactly; the few samples next to a change of the result are traced
+ *    with vtkPenumbraReference (see SetResolve()). Everything else is the stencil's answer.
+ *
+ * Culling (Cull, default on; seed 001 §1.3, CC shadow volumes): a triangle's volume is
+ * dropped when a separating plane (the sample box faces, the triangle's plane, its three
+ * side planes) puts it apart from the box of the light-facing samples; in a component the
+ * triangle then simply leaves its set, and the remaining sum stays a valid count.
+ *
+ * Facing-away samples, spot cones, lights that are off and background samples follow the
+ * reference's rules (shared code with the other map-based techniques). Area lights are
+ * rejected. Requirements checked at run time with a clear error (the pass then renders the
+ * light unshadowed): glClipControl (GL 4.5 / ARB_clip_control), depth clamp, a complete
+ * DEPTH32F_STENCIL8 framebuffer.
+ *
+ * GPU silhouettes (GPUSilhouettes): closed components go through a geometry shader with
+ * triangle adjacency instead of the CPU silhouette loop (seed 004 ch. 9).
+ *
+ * Several lights (seed 004 ch. 8): the sample depths are computed and uploaded once per
+ * frame and camera; each light then only clears the stencil and draws its (cached) volumes.
+ * Goniometric lights (vtkPenumbraGoniometricLight, seed 004 §8.3.1): the lit samples'
+ * visibility is scaled by the diagram's relative intensity toward them, as the thesis scales
+ * its shadow mask; shadowed samples stay 0.
+ *
+ * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap). The stencil
+ * result is read back per light; the thesis's copy of four lights' stencil counts into one
+ * RGBA mask on the GPU is not done (vtkPenumbraShadowPass already packs four lights'
+ * visibility per RGBA texture for shading, and read-back is a memory copy on llvmpipe).
+ */
+
+#ifndef vtkPenumbraShadowVolumeShadows_h
+#define vtkPenumbraShadowVolumeShadows_h
+
+#include "vtkPenumbraRenderingModule.h" // For export macro
+#include "vtkPenumbraShadowTechnique.h"
+
+#include <memory> // For std::unique_ptr
+
+class vtkPenumbraReference;
+
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraShadowVolumeShadows
+  : public vtkPenumbraShadowTechnique
+{
+public:
+  static vtkPenumbraShadowVolumeShadows* New();
+  vtkTypeMacro(vtkPenumbraShadowVolumeShadows, vtkPenumbraShadowTechnique);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
+
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  enum CountingMethod
+  {
+    METHOD_AUTO = 0, // z-pass when the camera is provably outside every volume, else z-fail
+    METHOD_ZFAIL = 1,
+    METHOD_ZPASS = 2 // always z-pass: wrong where the camera is inside a volume (for studies)
+  };
+
+  ///@{
+  /**
+   * Stencil counting method, see CountingMethod. Default METHOD_AUTO.
+   */
+  vtkSetClampMacro(Method, int, METHOD_AUTO, METHOD_ZPASS);
+  vtkGetMacro(Method, int);
+  ///@}
+
+  ///@{
+  /**
+   * Skip volumes that cannot reach the box of the light-facing samples. Default on.
+   */
+  vtkSetMacro(Cull, bool);
+  vtkGetMacro(Cull, bool);
+  vtkBooleanMacro(Cull, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Use silhouette volumes for closed components (on) or per-triangle volumes for every
+   * caster (off, the brute-force baseline of seed 004 §2.1). Default on.
+   */
+  vtkSetMacro(Silhouettes, bool);
+  vtkGetMacro(Silhouettes, bool);
+  vtkBooleanMacro(Silhouettes, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Trace the samples next to a change of the stencil result (or next to background and
+   * facing-away samples) exactly with vtkPenumbraReference. The rasterizer snaps vertices to
+   * a sub-pixel grid (1/256 pixel on llvmpipe), so a sample whose pixel centre lies closer
+   * than that to a projected volume edge may be counted on the wrong side; away from such
+   * edges the count is constant in screen space, so every such error is next to a
+   * neighbour with another result. Samples the light grazes (cosine below 1e-3) are traced
+   * too: their answer hangs on the float rounding of the sample position. Default on; off
+   * gives the pure stencil answer.
+   */
+  vtkSetMacro(Resolve, bool);
+  vtkGetMacro(Resolve, bool);
+  vtkBooleanMacro(Resolve, bool);
+  ///@}
+
+  /**
+   * Share of the last call's counted (light-facing, lit-candidate) samples that the edge
+   * resolve traced, in [0, 1].
+   */
+  double GetUncertainFraction() override;
+
+  ///@{
+  /**
+   * Measure the fill: draw the volumes a second time with the depth test off and count the
+   * fragments (GL_SAMPLES_PASSED), reported by GetNumberOfFillFragments(). Costs a second
+   * draw, so it is for benchmarks only. Default off.
+   */
+  vtkSetMacro(MeasureFill, bool);
+  vtkGetMacro(MeasureFill, bool);
+  vtkBooleanMacro(MeasureFill, bool);
+  ///@}
+
+  /**
+   * Volume fragments rasterized by the last call (stencil fill), -1 unless MeasureFill.
+   */
+  vtkGetMacro(NumberOfFillFragments, vtkIdType);
+
+  /**
+   * Samples traced by the edge resolve in the last call, and its time in milliseconds.
+   */
+  vtkGetMacro(NumberOfResolvedSamples, vtkIdType);
+  vtkGetMacro(ResolveTimeMs, double);
+
+  /**
+   * The ray tracer of the edge resolve (exposed for its statistics and epsilons).
+   */
+  vtkPenumbraReference* GetReference() { return this->Reference; }
+
+  ///@{
+  /**
+   * Find silhouettes on the GPU (seed 004 ch. 9): closed components are drawn as
+   * GL_TRIANGLES_ADJACENCY (indices from the OpenMesh connectivity) and a geometry shader
+   * decides facing per face (in float, one canonical evaluation per face shared by both
+   * sides of every edge), emitting caps and side quads. Per-triangle volumes, components
+   * around a positional light and culling stay on the CPU; closed components are not culled
+   * on this path, and GetNumberOfSilhouetteEdges() is -1 (not counted). Default off.
+   */
+  vtkSetMacro(GPUSilhouettes, bool);
+  vtkGetMacro(GPUSilhouettes, bool);
+  vtkBooleanMacro(GPUSilhouettes, bool);
+  ///@}
+
+  ///@{
+  /**
+   * How far light caps are pushed back, relative to their eye depth (no unit). Default
+   * 2^-17 (about 7.6e-6, 64 float32 steps), clamped to [0, 1e-3]. It must exceed the float
+   * rounding between the CPU sample depth and the rasterized cap, and stay below the
+   * reference's tie band (16 x 1e-5 of the scene scale).
+   */
+  vtkSetClampMacro(CapOffset, double, 0.0, 1e-3);
+  vtkGetMacro(CapOffset, double);
+  ///@}
+
+  ///@{
+  /**
+   * Statistics of the connectivity (valid after a call): caster triangles, faces OpenMesh
+   * refused (complex/non-manifold or inconsistently oriented), boundary edges, closed and
+   * open components (silhouette volumes of one or both face sets) and triangles that use
+   * per-triangle volumes (the refused faces; every caster without Silhouettes).
+   */
+  vtkGetMacro(NumberOfCasterTriangles, vtkIdType);
+  vtkGetMacro(NumberOfComplexFaces, vtkIdType);
+  vtkGetMacro(NumberOfBoundaryEdges, vtkIdType);
+  vtkGetMacro(NumberOfClosedComponents, vtkIdType);
+  vtkGetMacro(NumberOfOpenComponents, vtkIdType);
+  vtkGetMacro(NumberOfPerTriangleVolumes, vtkIdType);
+  ///@}
+
+  ///@{
+  /**
+   * Statistics of the last call: silhouette edges extruded, volume triangles drawn, volumes
+   * culled (per-triangle volumes and closed components), fragments that passed the depth
+   * test while counting (GL_SAMPLES_PASSED), whether z-pass was used.
+   */
+  vtkGetMacro(NumberOfSilhouetteEdges, vtkIdType);
+  vtkGetMacro(NumberOfVolumeTriangles, vtkIdType);
+  vtkGetMacro(NumberOfCulledVolumes, vtkIdType);
+  vtkGetMacro(NumberOfPassedFragments, vtkIdType);
+  vtkGetMacro(UsedZPass, bool);
+  ///@}
+
+  ///@{
+  /**
+   * How many times the connectivity, the volumes (one cached set per light, up to 8) and
+   * the per-pixel sample depths (once per frame and camera, shared by all lights) were
+   * built since construction.
+   */
+  vtkGetMacro(NumberOfConnectivityBuilds, int);
+  vtkGetMacro(NumberOfVolumeBuilds, int);
+  vtkGetMacro(NumberOfDepthComputations, int);
+  ///@}
+
+  ///@{
+  /**
+   * Phase times of the last call in milliseconds: connectivity (0 when cached), volume
+   * generation (0 when cached), stencil counting (sample depths, upload, drawing, read
+   * back), and the sample-depth part of it alone (CPU, double precision).
+   */
+  vtkGetMacro(ConnectivityTimeMs, double);
+  vtkGetMacro(VolumeTimeMs, double);
+  vtkGetMacro(StencilTimeMs, double);
+  vtkGetMacro(SampleDepthTimeMs, double);
+  ///@}
+
+protected:
+  vtkPenumbraShadowVolumeShadows();
+  ~vtkPenumbraShadowVolumeShadows() override;
+
+  int Method = METHOD_AUTO;
+  bool Cull = true;
+  bool Silhouettes = true;
+  double CapOffset = 1.0 / 131072.0;
+  bool Resolve = true;
+  bool GPUSilhouettes = false;
+  bool MeasureFill = false;
+  vtkIdType NumberOfFillFragments = -1;
+  vtkIdType NumberOfCountedSamples = 0;
+  vtkIdType NumberOfResolvedSamples = 0;
+  double ResolveTimeMs = 0.0;
+  vtkPenumbraReference* Reference;
+  vtkIdType NumberOfCasterTriangles = 0;
+  vtkIdType NumberOfComplexFaces = 0;
+  vtkIdType NumberOfBoundaryEdges = 0;
+  vtkIdType NumberOfClosedComponents = 0;
+  vtkIdType NumberOfOpenComponents = 0;
+  vtkIdType NumberOfPerTriangleVolumes = 0;
+  vtkIdType NumberOfSilhouetteEdges = 0;
+  vtkIdType NumberOfVolumeTriangles = 0;
+  vtkIdType NumberOfCulledVolumes = 0;
+  vtkIdType NumberOfPassedFragments = 0;
+  bool UsedZPass = false;
+  int NumberOfConnectivityBuilds = 0;
+  int NumberOfVolumeBuilds = 0;
+  int NumberOfDepthComputations = 0;
+  double ConnectivityTimeMs = 0.0;
+  double VolumeTimeMs = 0.0;
+  double StencilTimeMs = 0.0;
+  double SampleDepthTimeMs = 0.0;
+
+private:
+  vtkPenumbraShadowVolumeShadows(const vtkPenumbraShadowVolumeShadows&) = delete;
+  void operator=(const vtkPenumbraShadowVolumeShadows&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
