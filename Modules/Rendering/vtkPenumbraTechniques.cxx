@@ -4,6 +4,7 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPenumbraConservativeShadows.h"
+#include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
 #include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
@@ -137,6 +138,16 @@ void InstallPass(vtkRenderer* ren, vtkRenderPass* pass)
   ren->SetPass(pass);
 }
 
+// The Penumbra composition every technique of ours uses: camera pass -> shadow pass.
+void InstallShadowPass(vtkRenderer* ren, vtkPenumbraShadowTechnique* technique)
+{
+  vtkNew<vtkPenumbraShadowPass> shadows;
+  shadows->SetTechnique(technique);
+  vtkNew<vtkCameraPass> camera;
+  camera->SetDelegatePass(shadows);
+  InstallPass(ren, camera);
+}
+
 struct Technique
 {
   const char* Name;
@@ -167,14 +178,26 @@ void InstallVTKShadowMap(vtkRenderer* ren, Options& opts)
   InstallPass(ren, camera);
 }
 
+// Light samples per axis for area/linear lights: 0 keeps the light's own k; otherwise one of
+// the values seed 002 measures, so GEARS and the ray tracer can be compared at equal k.
+int SamplesOption(Options& opts)
+{
+  const int k = opts.Integer("samples", 0, 0, 32);
+  if (k != 0 && k != 4 && k != 8 && k != 16 && k != 32)
+  {
+    throw OptionError("samples: expected 0 (the light's own) or one of 4, 8, 16, 32, got " +
+      std::to_string(k));
+  }
+  return k;
+}
+
 void InstallRayTraced(vtkRenderer* ren, Options& opts)
 {
+  const int samples = SamplesOption(opts);
   opts.RejectUnknown();
-  vtkNew<vtkPenumbraShadowPass> shadows;
-  shadows->SetTechnique(vtkNew<vtkPenumbraRayTracedShadows>());
-  vtkNew<vtkCameraPass> camera;
-  camera->SetDelegatePass(shadows);
-  InstallPass(ren, camera);
+  vtkNew<vtkPenumbraRayTracedShadows> technique;
+  technique->SetSamplesPerAxis(samples);
+  InstallShadowPass(ren, technique);
 }
 
 void InstallConservative(vtkRenderer* ren, Options& opts)
@@ -185,11 +208,7 @@ void InstallConservative(vtkRenderer* ren, Options& opts)
   vtkNew<vtkPenumbraConservativeShadows> technique;
   technique->SetResolution(resolution);
   technique->SetLayers(layers);
-  vtkNew<vtkPenumbraShadowPass> shadows;
-  shadows->SetTechnique(technique);
-  vtkNew<vtkCameraPass> camera;
-  camera->SetDelegatePass(shadows);
-  InstallPass(ren, camera);
+  InstallShadowPass(ren, technique);
 }
 
 void InstallShadowMap(vtkRenderer* ren, Options& opts)
@@ -217,11 +236,20 @@ void InstallShadowMap(vtkRenderer* ren, Options& opts)
                                      : vtkPenumbraShadowMapShadows::DEPTH_LINEAR);
   technique->SetPointMode(point == 1 ? vtkPenumbraShadowMapShadows::POINT_PARABOLOID
                                      : vtkPenumbraShadowMapShadows::POINT_CUBE);
-  vtkNew<vtkPenumbraShadowPass> shadows;
-  shadows->SetTechnique(technique);
-  vtkNew<vtkCameraPass> camera;
-  camera->SetDelegatePass(shadows);
-  InstallPass(ren, camera);
+  InstallShadowPass(ren, technique);
+}
+
+void InstallGears(vtkRenderer* ren, Options& opts)
+{
+  const int samples = SamplesOption(opts);
+  const int grid = opts.Integer("grid", 128, 1, 4096);
+  const double cameraDistance = opts.Number("camera_distance", 1.0, 0.01, 100.0);
+  opts.RejectUnknown();
+  vtkNew<vtkPenumbraGearsShadows> technique;
+  technique->SetSamplesPerAxis(samples);
+  technique->SetGridResolution(grid);
+  technique->SetCameraDistanceFactor(cameraDistance);
+  InstallShadowPass(ren, technique);
 }
 
 const std::vector<Technique>& Registry()
@@ -240,6 +268,10 @@ const std::vector<Technique>& Registry()
       "practical shadow maps (seed 004): linear depth, fitted to the visible receivers, PCF, "
       "cube or dual-paraboloid maps for point lights",
       InstallShadowMap },
+    { "gears",
+      "exact soft shadows from area and linear lights (seed 002 GEARS): per-cell lists of "
+      "potential blockers, k x k light-sample masks on the CPU",
+      InstallGears },
   };
   return techniques;
 }
