@@ -40,7 +40,7 @@ constexpr int MaxK = 64; // vtkPenumbraAreaLight's SamplesPerAxis limit: one 64-
 // Position tolerance of the double-precision decisions against Embree's float32 ray, relative
 // to the reference's scene scale max(|p|, bounds diagonal): the value the conservative
 // technique validated for the same reference (seed 000 rule 5).
-constexpr double RelativePositionTolerance = 4e-6;
+constexpr double RelativePositionTolerance = 1e-6;
 
 // A caster in the geometry's rebased frame with the float32 rounding Embree's copy has, and
 // what the per-ray test needs precomputed.
@@ -247,6 +247,7 @@ struct LightSamples
 // Per-sample constants of the reference's rays.
 struct SampleRays
 {
+  double Z; // distance from the light plane, on this sample's side
   double P[3];
   double Normal[3];
   vtkIdType Own;
@@ -269,6 +270,11 @@ struct MaskBuilder
   std::vector<std::uint32_t> EdgeOwner;
   std::vector<unsigned char> EdgeIndex;
   bool Open = false;
+  // Nearest vertex of a caster to the light plane, and the margin for comparing it with a
+  // sample's depth (the note's cheap reject: a triangle wholly farther from the light than
+  // the sample cannot touch its segments).
+  const double* ZMin = nullptr;
+  double FarSlack = 0.0;
   double Reach = 0.0; // largest distance from the sample to a light sample (at a corner)
   vtkIdType Assignments = 0, Necessary = 0, Tests = 0;
 
@@ -357,6 +363,10 @@ struct MaskBuilder
     if (tri.Id == r.Own)
     {
       return; // the reference never lets a sample's own triangle block it
+    }
+    if (this->ZMin[index] > r.Z + this->FarSlack)
+    {
+      return;
     }
     // Signed distances to the triangle's plane: of P, and (affine) of the light samples.
     const double h = vtkMath::Dot(tri.N, r.P) - vtkMath::Dot(tri.N, tri.V[0]);
@@ -1002,6 +1012,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
       double Box[4];
       int State; // 0 culled, 1 global, 2 cells
     };
+    std::vector<double> zNear(static_cast<size_t>(nCasters)); // nearest vertex to the light
     std::vector<Footprint> foot(static_cast<size_t>(nCasters));
     vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
       for (vtkIdType t = begin; t < end; ++t)
@@ -1016,6 +1027,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
           zmin = std::min(zmin, f[i][2]);
           zmax = std::max(zmax, f[i][2]);
         }
+        zNear[static_cast<size_t>(t)] = zmin;
         if (zmax < -tolerance || zmin > zFar + tolerance)
         {
           fp.State = 0; // wholly behind the light plane or beyond every sample
@@ -1246,6 +1258,8 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
     const vtkIdType busy = static_cast<vtkIdType>(occupied.size());
     vtkSMPTools::For(0, busy, [&](vtkIdType begin, vtkIdType end) {
       MaskBuilder builder(ls, impl.Casters, epsilon);
+      builder.ZMin = zNear.data();
+      builder.FarSlack = tolerance;
       for (vtkIdType b = begin; b < end; ++b)
       {
         const std::int32_t cell = occupied[static_cast<size_t>(b)];
@@ -1256,6 +1270,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
           const vtkIdType s = ids[sampleOrder[o]];
           SampleRays r;
           loadSample(s, r);
+          r.Z = frame[3 * static_cast<size_t>(sampleOrder[o]) + 2];
           builder.Assignments += listSize + static_cast<vtkIdType>(globalList.size());
           if (!builder.Start(r))
           {

@@ -198,7 +198,23 @@ int CheckSceneLight(const std::string& file, vtkPenumbraSceneReader* reader, Fra
   return CompareWithReference(file, frame, light, 128, maxUncertainShare);
 }
 
-// (b) A 1e-6 m light: the same shadows as a point light at its centre, and GEARS matches
+// (b) The city block under a 30 m x 20 m light (long building edges, contact with the
+// ground, a 200 m scale), at k = 4, 8 and the file's 16.
+int CheckCityScene()
+{
+  vtkNew<vtkPenumbraSceneReader> reader;
+  Frame frame;
+  vtkPenumbraAreaLight* light = nullptr;
+  RUN(CheckSceneLight("city_area_light.json", reader, frame, light, 0.05));
+  for (int k : { 4, 8 })
+  {
+    light->SetSamplesPerAxis(k);
+    RUN(CompareWithReference("city_area_light.json", frame, light, 128, 0.05));
+  }
+  return EXIT_SUCCESS;
+}
+
+// (c) A 1e-6 m light: the same shadows as a point light at its centre, and GEARS matches
 // the reference at the light's own k.
 int CheckTinyLight()
 {
@@ -240,7 +256,7 @@ int CheckTinyLight()
   return EXIT_SUCCESS;
 }
 
-// (c) A 1 km light 500 m up: every sample finite in [0, 1], no umbra on the ground, and the
+// (d) A 1 km light 500 m up: every sample finite in [0, 1], no umbra on the ground, and the
 // visibility varies slowly from pixel to pixel.
 int CheckHugeLight()
 {
@@ -287,7 +303,7 @@ int CheckHugeLight()
   return EXIT_SUCCESS;
 }
 
-// (d) Straight occluder edge: a square light of width w facing down at height H, a plate at
+// (e) Straight occluder edge: a square light of width w facing down at height H, a plate at
 // height hp covering x < 0, ground samples along y = 0. A light sample at su (along x) is
 // visible from ground point x exactly when the ray passes the plate's edge plane x = 0 above
 // the plate: x + (su - x) hp / H > 0, i.e. su > -x (H - hp) / hp. So visibility is the share
@@ -403,6 +419,7 @@ int TestGearsShadows(int, char*[])
   RUN(CheckBadInput());
   RUN(CheckPenumbraWidth());
   RUN(CheckAreaLightScene());
+  RUN(CheckCityScene());
   RUN(CheckTinyLight());
   RUN(CheckHugeLight());
   return EXIT_SUCCESS;
