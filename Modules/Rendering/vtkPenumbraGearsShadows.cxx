@@ -218,6 +218,62 @@ struct Affine
   double At(int i, int j) const { return this->Base + i * this->Di + j * this->Dj; }
 };
 
+// The columns of row j where f(i, j) >= -delta, as a bound linear in j: lower (Di > 0),
+// upper (Di < 0), or a whole-row test when f does not depend on the column.
+struct ColumnBound
+{
+  enum
+  {
+    Lower,
+    Upper,
+    Row
+  } Kind = Row;
+  double X0 = 0, Step = 0; // column bound at row 0 and its change per row
+  double Base = 0, Dj = 0, Delta = 0;
+  bool Widen = true;
+
+  ColumnBound() = default;
+  ColumnBound(const Affine& f, double delta, bool widen)
+    : Base(f.Base)
+    , Dj(f.Dj)
+    , Delta(delta)
+    , Widen(widen)
+  {
+    if (std::fabs(f.Di) >= 1e-300)
+    {
+      this->Kind = f.Di > 0.0 ? Lower : Upper;
+      this->X0 = (-delta - f.Base) / f.Di;
+      this->Step = -f.Dj / f.Di;
+    }
+  }
+
+  // Same rounding rules as Narrow().
+  void Apply(int j, int k, int& lo, int& hi) const
+  {
+    if (this->Kind == Row)
+    {
+      const double bound = -this->Delta - (this->Base + j * this->Dj);
+      if (this->Widen ? 0.0 < bound : 0.0 <= bound)
+      {
+        hi = -1;
+      }
+      return;
+    }
+    const double x = this->X0 + j * this->Step;
+    const double fuzz = (this->Widen ? 1e-9 : -1e-9) * (std::fabs(x) + 1.0);
+    if (this->Kind == Lower)
+    {
+      const double c = std::ceil(x - fuzz);
+      lo = std::max(lo, c < 0.0 ? 0 : (c > k ? k : static_cast<int>(c)));
+    }
+    else
+    {
+      const double f = std::floor(x + fuzz);
+      hi = std::min(hi, f < -1.0 ? -1 : (f > k - 1 ? k - 1 : static_cast<int>(f)));
+    }
+  }
+};
+
 // What the mask loop needs about the light (rebased frame).
 struct LightSamples
 {
@@ -316,15 +372,34 @@ struct MaskBuilder
     const bool allTraced = !this->Casters.empty() &&
       static_cast<float>(plane * (1.0 - this->Epsilon) * (1.0 - 1e-6)) > r.TNearF;
     bool any = false;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 4; ++c)
+    {
+      lowest = std::min(lowest,
+        facing.At((c & 1) ? this->L.K - 1 : 0, (c & 2) ? this->L.Rows - 1 : 0));
+    }
+    if (allTraced && lowest > fuzz)
+    {
+      // The usual case: the whole light well above the tangent plane, every ray traced.
+      for (int j = 0; j < this->L.Rows; ++j)
+      {
+        this->Blocked[j] = 0;
+        this->Unknown[j] = 0;
+        this->Pending[j] = 0;
+        this->Facing[j] = this->Candidate[j] = Span(0, this->L.K - 1);
+      }
+      this->Open = true;
+      return true;
+    }
+    const ColumnBound sureFacing(facing, -fuzz, false), maybeFacing(facing, fuzz, true);
     for (int j = 0; j < this->L.Rows; ++j)
     {
       this->Blocked[j] = 0;
       this->Unknown[j] = 0;
       this->Pending[j] = 0;
       int sureLo = 0, sureHi = this->L.K - 1, maybeLo = 0, maybeHi = this->L.K - 1;
-      const double base = facing.Base + j * facing.Dj;
-      Narrow(base, facing.Di, -fuzz, this->L.K, false, sureLo, sureHi);
-      Narrow(base, facing.Di, fuzz, this->L.K, true, maybeLo, maybeHi);
+      sureFacing.Apply(j, this->L.K, sureLo, sureHi);
+      maybeFacing.Apply(j, this->L.K, maybeLo, maybeHi);
       const std::uint64_t sure = Span(sureLo, sureHi);
       this->Facing[j] = sure;
       this->Candidate[j] = allTraced ? sure : 0;
@@ -463,6 +538,17 @@ struct MaskBuilder
     {
       rows(edges[e], deltaEdge);
     }
+    // Per condition, the column bound as a linear function of the row: one division per
+    // triangle instead of one per row.
+    ColumnBound loose[4], sure[4];
+    const int nLoose = 1 + nEdges;
+    loose[0] = ColumnBound(beyond, deltaPlane, true);
+    sure[0] = ColumnBound(beyond, -surePlane, false);
+    for (int e = 0; e < nEdges; ++e)
+    {
+      loose[e + 1] = ColumnBound(edges[e], deltaEdge, true);
+      sure[e + 1] = ColumnBound(edges[e], -sureEdge, false);
+    }
     bool hitAny = false;
     for (int j = jLo; j <= jHi; ++j)
     {
@@ -471,13 +557,10 @@ struct MaskBuilder
       {
         continue;
       }
-      // Light beyond the plane as seen from P: -sgn * dL >= -delta.
-      const double pb = -sgn * (plane.Base + j * plane.Dj), ps = -sgn * plane.Di;
       int lo = 0, hi = this->L.K - 1;
-      Narrow(pb, ps, deltaPlane, this->L.K, true, lo, hi);
-      for (int e = 0; e < nEdges && lo <= hi; ++e)
+      for (int c = 0; c < nLoose && lo <= hi; ++c)
       {
-        Narrow(edges[e].Base + j * edges[e].Dj, edges[e].Di, deltaEdge, this->L.K, true, lo, hi);
+        loose[c].Apply(j, this->L.K, lo, hi);
       }
       std::uint64_t maybe = open & Span(lo, hi);
       if (!maybe)
@@ -487,16 +570,15 @@ struct MaskBuilder
       if (certainCone)
       {
         int sLo = 0, sHi = this->L.K - 1;
-        Narrow(pb, ps, -surePlane, this->L.K, false, sLo, sHi);
-        for (int e = 0; e < 3 && sLo <= sHi; ++e)
+        for (int c = 0; c < 4 && sLo <= sHi; ++c)
         {
-          Narrow(edges[e].Base + j * edges[e].Dj, edges[e].Di, -sureEdge, this->L.K, false, sLo, sHi);
+          sure[c].Apply(j, this->L.K, sLo, sHi);
         }
-        const std::uint64_t sure = maybe & Span(sLo, sHi);
-        if (sure)
+        const std::uint64_t certain = maybe & Span(sLo, sHi);
+        if (certain)
         {
-          this->Blocked[j] |= sure;
-          maybe &= ~sure;
+          this->Blocked[j] |= certain;
+          maybe &= ~certain;
           hitAny = true;
         }
       }
