@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <mutex>
 #include <vector>
 
 vtkStandardNewMacro(vtkPenumbraGearsShadows);
@@ -639,20 +640,23 @@ struct MaskBuilder
 
   // Returns false when some light sample stays undecided (the sample goes to the reference);
   // otherwise Facing becomes the lit mask.
-  bool Finish()
+  // Facing becomes the mask of the light samples known to be lit; the undecided ones (some
+  // triangle may block them within the float32 tolerance and none provably does) are
+  // appended to `undecided` as light-sample indices for the reference to trace.
+  void Finish(std::vector<int>& undecided)
   {
     for (int j = 0; j < this->L.Rows; ++j)
     {
-      if ((this->Unknown[j] | this->Pending[j]) & this->Candidate[j] & ~this->Blocked[j])
+      std::uint64_t open =
+        (this->Unknown[j] | this->Pending[j]) & this->Candidate[j] & ~this->Blocked[j];
+      this->Facing[j] &= ~(this->Blocked[j] | open);
+      while (open)
       {
-        return false;
+        const int i = __builtin_ctzll(open);
+        open &= open - 1;
+        undecided.push_back(j * this->L.K + i);
       }
     }
-    for (int j = 0; j < this->L.Rows; ++j)
-    {
-      this->Facing[j] &= ~this->Blocked[j];
-    }
-    return true;
   }
 
   float Visibility() const
@@ -749,7 +753,8 @@ vtkUnsignedCharArray* vtkPenumbraGearsShadows::GetUncertainSamples()
 double vtkPenumbraGearsShadows::GetUncertainFraction()
 {
   return this->NumberOfValidSamples > 0
-    ? static_cast<double>(this->NumberOfUncertainSamples) / this->NumberOfValidSamples
+    ? static_cast<double>(this->NumberOfUncertainSamples + this->NumberOfSamplesWithTracedRays) /
+      this->NumberOfValidSamples
     : 0.0;
 }
 
@@ -985,6 +990,12 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
     validCount += localValid;
   });
   this->NumberOfValidSamples = validCount.load();
+
+  // Undecided (view sample, light sample) pairs, appended by the mask loop in sample order
+  // within each thread's chunk.
+  std::vector<vtkIdType> traceSamples;
+  std::vector<int> traceLights;
+  std::mutex traceMutex;
 
   // ---- Per side of the light plane: grid, lists, masks.
   const int gridRequested = this->GridResolution;
@@ -1340,6 +1351,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
     const vtkIdType busy = static_cast<vtkIdType>(occupied.size());
     vtkSMPTools::For(0, busy, [&](vtkIdType begin, vtkIdType end) {
       MaskBuilder builder(ls, impl.Casters, epsilon);
+      std::vector<int> undecided;
       builder.ZMin = zNear.data();
       builder.FarSlack = tolerance;
       for (vtkIdType b = begin; b < end; ++b)
@@ -1368,13 +1380,19 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
           {
             builder.Visit(globalList[e]);
           }
-          if (!builder.Finish())
-          {
-            uncertain[s] = 1;
-            continue;
-          }
+          undecided.clear();
+          builder.Finish(undecided);
           vis[s] = builder.Visibility();
           writeMask(s, builder.Facing);
+          if (!undecided.empty())
+          {
+            std::lock_guard<std::mutex> lock(traceMutex);
+            for (const int j : undecided)
+            {
+              traceSamples.push_back(s);
+              traceLights.push_back(j);
+            }
+          }
         }
       }
       assignments += builder.Assignments;
@@ -1384,7 +1402,8 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
     maskMs += ElapsedMs(maskStart);
   }
 
-  // ---- Samples on the light plane and undecided ones: the reference traces them.
+  // ---- Samples on the light plane go to the reference whole; undecided light samples one
+  // by one, with its exact rules (seed 002 §5.1's "identical to ray tracing").
   const auto traceStart = Clock::now();
   vtkIdType nUncertain = 0;
   for (vtkIdType s = 0; s < n; ++s)
@@ -1403,7 +1422,40 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
         "tracing the uncertain samples failed: " << this->Reference->GetErrorMessage());
     }
   }
-  this->TraceTimeMs = nUncertain > 0 ? ElapsedMs(traceStart) : 0.0;
+  const vtkIdType nTrace = static_cast<vtkIdType>(traceSamples.size());
+  vtkIdType withTracedRays = 0;
+  if (nTrace > 0)
+  {
+    std::vector<unsigned char> lit(static_cast<size_t>(nTrace));
+    if (!this->Reference->TraceAreaRays(
+          samples, used, nTrace, traceSamples.data(), traceLights.data(), lit.data()))
+    {
+      PENUMBRA_GEARS_FAIL(
+        "tracing the undecided light samples failed: " << this->Reference->GetErrorMessage());
+    }
+    vtkIdType previous = -1;
+    for (vtkIdType i = 0; i < nTrace; ++i)
+    {
+      const vtkIdType s = traceSamples[static_cast<size_t>(i)];
+      withTracedRays += s != previous;
+      previous = s;
+      if (!lit[static_cast<size_t>(i)])
+      {
+        continue;
+      }
+      // vis[s] = float(lit) / float(n) with lit recovered exactly from the known part.
+      const int known = static_cast<int>(std::lround(vis[s] * ls.Count));
+      vis[s] = static_cast<float>(known + 1) / static_cast<float>(ls.Count);
+      if (masks)
+      {
+        const int j = traceLights[static_cast<size_t>(i)];
+        masks[static_cast<size_t>(s) * words + j / 32] |= 1u << (j % 32);
+      }
+    }
+  }
+  this->TraceTimeMs = nUncertain > 0 || nTrace > 0 ? ElapsedMs(traceStart) : 0.0;
+  this->NumberOfTracedRays = nTrace;
+  this->NumberOfSamplesWithTracedRays = withTracedRays;
   this->GridTimeMs = gridMs;
   this->MaskTimeMs = maskMs;
   this->NumberOfUncertainSamples = nUncertain;

@@ -30,11 +30,13 @@
  *    the light samples that the triangle can possibly block are found per mask row as one
  *    interval of the affine edge/plane functions (§1.4 of the note, with a margin), and each
  *    of them is decided by a double-precision segment test against the reference's ray
- *    (same origin, epsilons, tie band, own-triangle exclusion). A bit the double test cannot
- *    decide against Embree's float32 ray (within a scale-relative tolerance of an edge, of
- *    the tie band or of the ray end) makes the whole sample *uncertain*; uncertain samples
- *    are ray traced by vtkPenumbraReference at the end, so the visibility equals the
- *    reference's bit for bit (GetUncertainFraction() reports their share).
+ *    (same origin, epsilons, tie band, own-triangle exclusion); deep inside all intervals
+ *    whole spans are set at once. A bit the double test cannot decide against Embree's
+ *    float32 ray (within 1e-6 of the scene scale of an edge, of the tie band or of the ray
+ *    end; a ray on an edge shared by two triangles that face it from both sides counts as
+ *    blocked, as Embree's watertight test guarantees) is traced by vtkPenumbraReference
+ *    (TraceAreaRays()) with its exact rules, so the visibility equals the reference's bit
+ *    for bit. GetUncertainFraction() reports the share of samples with such rays.
  *
  * Visibility = unoccluded fraction of the k x k (Line: k) light samples, the reference's
  * float(lit) / float(n). Samples facing away from the whole light get 0 without any work.
@@ -131,13 +133,14 @@ public:
   vtkTypeUInt32Array* GetMasks();
 
   /**
-   * Per sample of the last area-light call: 1 when the sample was handed to the reference.
+   * Per sample of the last area-light call: 1 when the whole sample was handed to the
+   * reference (it lies exactly on the light plane; its mask is not kept).
    */
   vtkUnsignedCharArray* GetUncertainSamples();
 
   /**
-   * Share of the last area-light call's valid samples that were ray traced by the reference
-   * because a bit could not be decided in double precision; 0 for other lights.
+   * Share of the last area-light call's valid samples that needed the reference for at least
+   * one light sample (or whole); 0 for other lights.
    */
   double GetUncertainFraction() override;
 
@@ -153,7 +156,10 @@ public:
    * - necessary assignments: those where the triangle blocks at least one light sample that
    *   no earlier triangle of the list blocked (a sample stops early once fully shadowed, so
    *   this is a lower bound of the paper's count);
-   * - the grid resolution actually used after any overflow coarsening.
+   * - the grid resolution actually used after any overflow coarsening;
+   * - samples handed to the reference whole (on the light plane), single light-sample rays
+   *   it traced, and the samples those belong to;
+   * - segment tests run in double precision.
    */
   vtkGetMacro(NumberOfOccupiedCells, vtkIdType);
   vtkGetMacro(NumberOfCells, vtkIdType);
@@ -164,6 +170,8 @@ public:
   vtkGetMacro(NumberOfNecessaryAssignments, vtkIdType);
   vtkGetMacro(EffectiveGridResolution, int);
   vtkGetMacro(NumberOfUncertainSamples, vtkIdType);
+  vtkGetMacro(NumberOfTracedRays, vtkIdType);
+  vtkGetMacro(NumberOfSamplesWithTracedRays, vtkIdType);
   vtkGetMacro(NumberOfSegmentTests, vtkIdType);
   ///@}
 
@@ -214,6 +222,8 @@ protected:
   vtkIdType NumberOfValidSamples = 0;
   vtkIdType NumberOfUncertainSamples = 0;
   vtkIdType NumberOfSegmentTests = 0;
+  vtkIdType NumberOfTracedRays = 0;
+  vtkIdType NumberOfSamplesWithTracedRays = 0;
   double GridTimeMs = 0.0;
   double MaskTimeMs = 0.0;
   double TraceTimeMs = 0.0;

@@ -132,14 +132,15 @@ int CompareWithReference(const std::string& label, Frame& frame, vtkPenumbraArea
   }
   const vtkIdType valid = samples->GetNumberOfValidSamples();
   std::printf("%-36s k=%2d grid %4d: valid %lld, penumbra %lld, masks compared %lld, "
-              "uncertain %lld (%.3f%%), ties %lld, mask mismatches %lld (%lld bits), "
+              "uncertain %lld (%.3f%%, %lld rays), ties %lld, mask mismatches %lld (%lld bits), "
               "visibility mismatches %lld; cells %lld/%lld, tri/cell max %lld avg %.1f, "
               "global %lld, blocking share %.1f%%, tests %lld; grid %.1f ms, masks %.1f ms, "
               "trace %.1f ms (reference %.1f ms)\n",
     label.c_str(), light->GetSamplesPerAxis(), grid, static_cast<long long>(valid),
     static_cast<long long>(penumbra), static_cast<long long>(compared),
-    static_cast<long long>(gears->GetNumberOfUncertainSamples()),
-    100.0 * gears->GetUncertainFraction(), static_cast<long long>(tieCount),
+    static_cast<long long>(gears->GetNumberOfSamplesWithTracedRays()),
+    100.0 * gears->GetUncertainFraction(), static_cast<long long>(gears->GetNumberOfTracedRays()),
+    static_cast<long long>(tieCount),
     static_cast<long long>(maskMismatch), static_cast<long long>(bitMismatch),
     static_cast<long long>(visMismatch), static_cast<long long>(gears->GetNumberOfOccupiedCells()),
     static_cast<long long>(gears->GetNumberOfCells()),
@@ -382,6 +383,7 @@ int CheckPenumbraWidth()
     static_cast<long long>(gears->GetNumberOfUncertainSamples()));
   CHECK(wrong == 0);
   CHECK(gears->GetNumberOfUncertainSamples() == 0);
+  CHECK(gears->GetNumberOfTracedRays() == 0);
   // Within one sample spacing (1/256 m) at either end.
   CHECK(std::fabs((last - first) - sampled) <= 2.0 / 256.0);
   return EXIT_SUCCESS;
