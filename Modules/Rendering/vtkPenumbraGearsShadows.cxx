@@ -54,6 +54,14 @@ struct Caster
   vtkIdType Id;    // global triangle index (own-triangle exclusion)
 };
 
+// A caster's bounding sphere, kept apart from the casters so the cheap rejects touch 32 bytes
+// per triangle instead of a whole Caster.
+struct Sphere
+{
+  double Centre[3];
+  double Radius;
+};
+
 enum class Hit
 {
   Clear,   // the reference's ray provably hits beyond the tie band and before its end
@@ -331,8 +339,12 @@ struct MaskBuilder
   // sample's depth (the note's cheap reject: a triangle wholly farther from the light than
   // the sample cannot touch its segments).
   const double* ZMin = nullptr;
+  const Sphere* Bounds = nullptr;
   double FarSlack = 0.0;
   double Reach = 0.0; // largest distance from the sample to a light sample (at a corner)
+  double Axis[3] = { 0, 0, 1 };
+  double ConeCos = -1.0, ConeSin = 0.0;
+  bool ConeValid = false;
   vtkIdType Assignments = 0, Necessary = 0, Tests = 0;
 
   MaskBuilder(const LightSamples& l, const std::vector<Caster>& casters, double epsilon)
@@ -366,6 +378,23 @@ struct MaskBuilder
       reach = std::max(reach, vtkMath::Norm(d));
     }
     this->Reach = reach;
+    // The cone from P around the light samples: axis toward their centre, half-angle to the
+    // farthest corner (every light sample lies inside, the rectangle being convex).
+    const double toCentre[3] = { this->L.Centre[0] - r.P[0], this->L.Centre[1] - r.P[1],
+      this->L.Centre[2] - r.P[2] };
+    std::copy(toCentre, toCentre + 3, this->Axis);
+    this->ConeValid = vtkMath::Normalize(this->Axis) > 0.0;
+    double cosCone = 1.0;
+    for (int c = 0; c < 4 && this->ConeValid; ++c)
+    {
+      const double* q = this->L.Corner(c);
+      double d[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
+      this->ConeValid = vtkMath::Normalize(d) > 0.0;
+      cosCone = std::min(cosCone, vtkMath::Dot(d, this->Axis));
+    }
+    this->ConeCos = cosCone;
+    this->ConeSin = std::sqrt(std::max(0.0, 1.0 - cosCone * cosCone));
+    this->ConeValid = this->ConeValid && cosCone > 0.0;
     const Affine facing =
       this->L.Along(n, vtkMath::Dot(n, this->L.Centre) - vtkMath::Dot(n, r.P));
     const double fuzz = 1e-12 * reach * (1.0 + vtkMath::Norm(n));
@@ -434,15 +463,37 @@ struct MaskBuilder
   // inside the certain intervals it provably blocks, in between the segment test decides.
   void Visit(std::uint32_t index)
   {
-    const Caster& tri = this->Casters[index];
     const SampleRays& r = *this->R;
-    if (tri.Id == r.Own)
-    {
-      return; // the reference never lets a sample's own triangle block it
-    }
     if (this->ZMin[index] > r.Z + this->FarSlack)
     {
       return;
+    }
+    // The triangle's bounding sphere (grown by the tolerance) wholly outside the cone from P
+    // around the light: no segment to a light sample comes near it.
+    if (this->ConeValid)
+    {
+      const Sphere& bound = this->Bounds[index];
+      const double v[3] = { bound.Centre[0] - r.P[0], bound.Centre[1] - r.P[1],
+        bound.Centre[2] - r.P[2] };
+      const double distance = vtkMath::Norm(v);
+      const double radius = bound.Radius + 4.0 * r.ErrPos;
+      if (distance > radius)
+      {
+        const double sinB = radius / distance;
+        const double cosB = std::sqrt(1.0 - sinB * sinB);
+        const double cosA = vtkMath::Dot(v, this->Axis) / distance;
+        // angle(axis, v) > cone + asin(radius / distance), with cone + that < 90 degrees
+        const double cosSum = this->ConeCos * cosB - this->ConeSin * sinB;
+        if (cosSum > 0.0 && cosA < cosSum - 1e-12)
+        {
+          return;
+        }
+      }
+    }
+    const Caster& tri = this->Casters[index];
+    if (tri.Id == r.Own)
+    {
+      return; // the reference never lets a sample's own triangle block it
     }
     // Signed distances to the triangle's plane: of P, and (affine) of the light samples.
     const double h = vtkMath::Dot(tri.N, r.P) - vtkMath::Dot(tri.N, tri.V[0]);
@@ -529,6 +580,8 @@ struct MaskBuilder
     // Rows where every condition can hold somewhere (each is affine: its row maximum is at
     // the first or last column); usually a few rows, often none.
     const Affine beyond = { -sgn * plane.Base, -sgn * plane.Di, -sgn * plane.Dj };
+    // Rows where every condition can hold somewhere (each is affine: its row maximum is at
+    // the first or last column); usually a few rows, often none.
     int jLo = 0, jHi = this->L.Rows - 1;
     auto rows = [&](const Affine& f, double delta) {
       const double best = f.Base + std::max(0.0, (this->L.K - 1) * f.Di);
@@ -675,6 +728,7 @@ struct vtkPenumbraGearsShadows::Internals
 {
   // Casters, rebuilt when the geometry changes (same rule as the reference's scene).
   std::vector<Caster> Casters;
+  std::vector<Sphere> Bounds;
   vtkMTimeType GeometryTime = 0;
   vtkMTimeType FlagsTime = 0;
   double Origin[3] = { 0, 0, 0 };
@@ -696,6 +750,7 @@ struct vtkPenumbraGearsShadows::Internals
       return;
     }
     this->Casters.clear();
+    this->Bounds.clear();
     vtkDoubleArray* vertices = geometry->GetVertices();
     const double* v = n && vertices ? vertices->GetPointer(0) : nullptr;
     for (vtkIdType t = 0; v && t < n; ++t)
@@ -704,6 +759,19 @@ struct vtkPenumbraGearsShadows::Internals
       if (geometry->IsOccluder(t) && MakeCaster(v + 9 * t, t, c))
       {
         this->Casters.push_back(c);
+        Sphere b;
+        b.Radius = 0.0;
+        for (int k = 0; k < 3; ++k)
+        {
+          b.Centre[k] = (c.V[0][k] + c.V[1][k] + c.V[2][k]) / 3.0;
+        }
+        for (int i = 0; i < 3; ++i)
+        {
+          const double d[3] = { c.V[i][0] - b.Centre[0], c.V[i][1] - b.Centre[1],
+            c.V[i][2] - b.Centre[2] };
+          b.Radius = std::max(b.Radius, vtkMath::Norm(d));
+        }
+        this->Bounds.push_back(b);
       }
     }
     double bounds[6];
@@ -1353,6 +1421,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
       MaskBuilder builder(ls, impl.Casters, epsilon);
       std::vector<int> undecided;
       builder.ZMin = zNear.data();
+      builder.Bounds = impl.Bounds.data();
       builder.FarSlack = tolerance;
       for (vtkIdType b = begin; b < end; ++b)
       {

@@ -156,6 +156,51 @@ int CompareWithReference(const std::string& label, Frame& frame, vtkPenumbraArea
   return EXIT_SUCCESS;
 }
 
+// List overflow: with room for only 1024 entries the grid is coarsened with a warning and
+// the answer does not change. A point light is ray traced by the reference.
+int CheckOverflowAndOtherLights(Frame& frame)
+{
+  vtkPenumbraSceneGeometry* geometry = frame.Pass->GetGeometry();
+  vtkPenumbraViewSamples* samples = frame.Pass->GetViewSamples();
+  vtkLight* light = frame.Pass->GetLight(0);
+  vtkNew<vtkPenumbraGearsShadows> roomy;
+  vtkNew<vtkFloatArray> expected;
+  CHECK(roomy->ComputeVisibility(nullptr, geometry, samples, light, expected));
+  CHECK(roomy->GetEffectiveGridResolution() == 128);
+  vtkNew<vtkPenumbraGearsShadows> cramped;
+  cramped->SetMaxListEntries(1024);
+  vtkNew<vtkFloatArray> degraded;
+  const int display = vtkObject::GetGlobalWarningDisplay();
+  vtkObject::GlobalWarningDisplayOff(); // the coarsening warning is expected here
+  CHECK(cramped->ComputeVisibility(nullptr, geometry, samples, light, degraded));
+  vtkObject::SetGlobalWarningDisplay(display);
+  std::printf("overflow: grid %d -> %d, %lld global triangles\n", cramped->GetGridResolution(),
+    cramped->GetEffectiveGridResolution(),
+    static_cast<long long>(cramped->GetNumberOfGlobalTriangles()));
+  CHECK(cramped->GetEffectiveGridResolution() < 128);
+  for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
+  {
+    CHECK(degraded->GetValue(s) == expected->GetValue(s));
+  }
+
+  vtkNew<vtkLight> point;
+  point->SetPositional(true);
+  point->SetConeAngle(180.0);
+  point->SetPosition(1, 1, 4);
+  vtkNew<vtkFloatArray> hard;
+  CHECK(roomy->ComputeVisibility(nullptr, geometry, samples, point, hard));
+  CHECK(!roomy->GetLastLightWasArea());
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(geometry);
+  vtkNew<vtkFloatArray> ref;
+  CHECK(reference->ComputeVisibility(samples, point, ref));
+  for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
+  {
+    CHECK(hard->GetValue(s) == ref->GetValue(s));
+  }
+  return EXIT_SUCCESS;
+}
+
 // (a) The area-light scene: a rectangle (k = 8 in the file) and a line light (k = 16), each
 // at k = 4, 8, 16; the result must not depend on the grid resolution.
 int CheckAreaLightScene()
@@ -183,6 +228,7 @@ int CheckAreaLightScene()
     }
     light->SetSamplesPerAxis(original);
   }
+  RUN(CheckOverflowAndOtherLights(frame));
   return EXIT_SUCCESS;
 }
 
