@@ -354,9 +354,11 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows, int fr
     }
     if (!gears)
     {
-      out << "\nGEARS statistics of the last frame (seed 002 Tables 5-6): busy cells / cells, "
-             "triangles per busy cell (max, mean), global-list triangles, assignments and the "
-             "share that block at least one light sample, samples handed to the reference.\n\n";
+      out << "\nGEARS statistics of the last frame and the last light it handled (seed 002 "
+             "Tables 5-6): busy cells / cells, triangles per busy cell (max, mean), global-list "
+             "triangles, assignments and the share that block at least one light sample, light "
+             "samples the reference traced, phase times, and the number of view samples whose "
+             "visibility differs from the ray tracer at the same k in the same run.\n\n";
       gears = true;
     }
     out << "- " << r.Scene << " " << r.Setting << ": " << r.GearsStats << "\n";
@@ -691,8 +693,10 @@ int main(int argc, char* argv[])
                   << Fixed(gearsTechnique->GetAverageTrianglesPerCell(), 1) << ", global "
                   << gearsTechnique->GetNumberOfGlobalTriangles() << ", assignments "
                   << gearsTechnique->GetNumberOfAssignments() << " of which blocking "
-                  << Fixed(100.0 * gearsTechnique->GetBlockingShare(), 1) << " %, uncertain "
-                  << gearsTechnique->GetNumberOfUncertainSamples() << " samples; grid "
+                  << Fixed(100.0 * gearsTechnique->GetBlockingShare(), 1) << " %, "
+                  << gearsTechnique->GetNumberOfTracedRays() << " undecided light samples in "
+                  << gearsTechnique->GetNumberOfSamplesWithTracedRays()
+                  << " view samples traced by the reference; grid "
                   << Fixed(gearsTechnique->GetGridTimeMs(), 1) << " ms, masks "
                   << Fixed(gearsTechnique->GetMaskTimeMs(), 1) << " ms, trace "
                   << Fixed(gearsTechnique->GetTraceTimeMs(), 1) << " ms";
