@@ -15,6 +15,9 @@
 //    near-ties reported and excluded);
 //  - each technique renders `warmup` frames, then `frames` timed frames (glFinish before the
 //    clock stops); the median is reported, with the phases of vtkPenumbraShadowPass;
+//  - techniques with a `samples` option (k x k soft shadows: gears, raytraced) only run on
+//    scenes whose measured light is an area or linear light; GEARS points also print their
+//    grid statistics and the samples that differ from raytraced at the same k;
 //  - its visibility for that light is read from the pass, or, for passes that do not expose
 //    one (VTK's vtkShadowMapPass), recovered as the ratio of a white, diffuse-only render
 //    with shadows to the same render without, lit by that light alone.
