@@ -557,8 +557,9 @@ struct MaskBuilder
       vtkMath::Cross(a[e], a[(e + 1) % 3], cr[e]);
     }
     const double det = vtkMath::Dot(cr[0], a[2]);
-    const double mag = vtkMath::Norm(a[0]) * vtkMath::Norm(a[1]) * vtkMath::Norm(a[2]);
-    const bool cone = std::fabs(det) > 1e-12 * mag;
+    // |det| > 1e-12 |a0| |a1| |a2|, squared to spare three square roots per triangle.
+    const double mag2 = vtkMath::Dot(a[0], a[0]) * vtkMath::Dot(a[1], a[1]) * vtkMath::Dot(a[2], a[2]);
+    const bool cone = det * det > 1e-24 * mag2;
     for (int e = 0; cone && e < 3; ++e)
     {
       // Unit normal of the plane through P and edge e, pointing into the triangle's cone.
@@ -594,15 +595,18 @@ struct MaskBuilder
     }
     // Per condition, the column bound as a linear function of the row: one division per
     // triangle instead of one per row.
+    if (jLo > jHi)
+    {
+      return;
+    }
     ColumnBound loose[4], sure[4];
     const int nLoose = 1 + nEdges;
     loose[0] = ColumnBound(beyond, deltaPlane, true);
-    sure[0] = ColumnBound(beyond, -surePlane, false);
     for (int e = 0; e < nEdges; ++e)
     {
       loose[e + 1] = ColumnBound(edges[e], deltaEdge, true);
-      sure[e + 1] = ColumnBound(edges[e], -sureEdge, false);
     }
+    bool sureReady = false; // built at the first row that has candidates
     bool hitAny = false;
     for (int j = jLo; j <= jHi; ++j)
     {
@@ -623,6 +627,15 @@ struct MaskBuilder
       }
       if (certainCone)
       {
+        if (!sureReady)
+        {
+          sure[0] = ColumnBound(beyond, -surePlane, false);
+          for (int e = 0; e < 3; ++e)
+          {
+            sure[e + 1] = ColumnBound(edges[e], -sureEdge, false);
+          }
+          sureReady = true;
+        }
         int sLo = 0, sHi = this->L.K - 1;
         for (int c = 0; c < 4 && sLo <= sHi; ++c)
         {
