@@ -1413,6 +1413,20 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
           }
         }
       });
+      // Largest triangles first: a sample in umbra fills its mask and stops sooner. The
+      // order also makes the lists (and the statistics) independent of thread timing.
+      const auto& bounds = impl.Bounds;
+      vtkSMPTools::For(0, static_cast<vtkIdType>(occupied.size()), [&](vtkIdType begin, vtkIdType end) {
+        for (vtkIdType b = begin; b < end; ++b)
+        {
+          const size_t cell = static_cast<size_t>(occupied[static_cast<size_t>(b)]);
+          std::sort(cellList.begin() + cellStart[cell], cellList.begin() + cellStart[cell + 1],
+            [&](std::uint32_t x, std::uint32_t y) {
+              return bounds[x].Radius > bounds[y].Radius ||
+                (bounds[x].Radius == bounds[y].Radius && x < y);
+            });
+        }
+      });
       break;
     }
     gridUsed = std::min(gridUsed, g);
