@@ -451,6 +451,19 @@ int CheckBadInput()
   vtkObject::SetGlobalWarningDisplay(display);
   CHECK(refused == 0);
   CHECK(badLight == 0);
+  // No samples, and no triangles at all: valid input, nothing to shadow.
+  light->SetWidth(1.0);
+  light->SetPosition(0, 0, 2);
+  light->SetFocalPoint(0, 0, 0);
+  vtkNew<vtkPenumbraViewSamples> none;
+  CHECK(gears->ComputeVisibility(nullptr, geometry, none, light, out) == 1);
+  CHECK(out->GetNumberOfTuples() == 0);
+  const double p[3] = { 0.2, 0.1, 0.0 }, up[3] = { 0, 0, 1 };
+  samples->SetSample(5, p, up, 0, -1);
+  CHECK(gears->ComputeVisibility(nullptr, geometry, samples, light, out) == 1);
+  CHECK(out->GetNumberOfTuples() == 16);
+  CHECK(out->GetValue(5) == 1.0f);
+  CHECK(out->GetValue(0) == -1.0f);
   vtkNew<vtkPenumbraTechniques> techniques;
   vtkNew<vtkRenderer> renderer;
   CHECK(techniques->Apply(renderer, "gears", "{\"samples\": 12}") == 0);
