@@ -19,6 +19,9 @@
 //    --moving-light the measured light moves by a negligible amount before every frame
 //    (1e-9 of its position's scale), which invalidates such caches, and is put back for one
 //    untimed frame before the error is measured;
+//  - techniques with a `samples` option (k x k soft shadows: gears, raytraced) only run on
+//    scenes whose measured light is an area or linear light; GEARS points also print their
+//    grid statistics and the samples that differ from raytraced at the same k;
 //  - its visibility for that light is read from the pass, or, for passes that do not expose
 //    one (VTK's vtkShadowMapPass), recovered as the ratio of a white, diffuse-only render
 //    with shadows to the same render without, lit by that light alone.
@@ -42,6 +45,7 @@
 #include "vtkLightCollection.h"
 #include "vtkNew.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraImageIO.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraRayTracedShadows.h"
@@ -104,6 +108,9 @@ struct Row
   long long FillFragments = -1;
   vtkIdType FalseLit = 0, FalseShadow = 0, Candidates = 0, Ties = 0;
   double RatioToNoShadow = 0;
+  // GEARS (seed 002 Tables 5-6 analogues): per-cell loads and the share of assigned
+  // triangles that actually block; empty for other techniques.
+  std::string GearsStats;
 };
 
 int Usage(const char* why)
@@ -356,6 +363,24 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows, int fr
         << " | " << (r.FillFragments < 0 ? std::string("–") : std::to_string(r.FillFragments))
         << " |\n";
   }
+  bool gears = false;
+  for (const Row& r : rows)
+  {
+    if (r.GearsStats.empty())
+    {
+      continue;
+    }
+    if (!gears)
+    {
+      out << "\nGEARS statistics of the last frame and the last light it handled (seed 002 "
+             "Tables 5-6): busy cells / cells, triangles per busy cell (max, mean), global-list "
+             "triangles, assignments and the share that block at least one light sample, light "
+             "samples the reference traced, phase times, and the number of view samples whose "
+             "visibility differs from the ray tracer at the same k in the same run.\n\n";
+      gears = true;
+    }
+    out << "- " << r.Scene << " " << r.Setting << ": " << r.GearsStats << "\n";
+  }
 }
 
 // One log-log panel per scene: x = median frame time, y = error (0 drawn at the floor).
@@ -452,13 +477,14 @@ std::string FileSafe(std::string s)
 
 int main(int argc, char* argv[])
 {
-  std::vector<std::string> sceneNames = { "default", "isosurface" };
+  std::vector<std::string> sceneNames = { "default", "isosurface", "city_area_light" };
   std::vector<std::string> techniqueTexts = { "none", "vtk-shadowmap:resolution=1024",
     "vtk-shadowmap:resolution=2048", "vtk-shadowmap:resolution=4096", "raytraced",
     "conservative:resolution=1024", "conservative:resolution=2048",
     "shadowmap:resolution=1024", "shadowmap:resolution=4096",
-    "shadowmap:resolution=2048;filter=pcf", "volumes", "volumes:silhouettes=gpu", "volumes:silhouettes=none",
-    "volumes:cull=false", "volumes:resolve=false", "volumes:measure_fill=true" };
+    "shadowmap:resolution=2048;filter=pcf", "volumes", "volumes:silhouettes=gpu",
+    "volumes:measure_fill=true", "raytraced:samples=4", "gears:samples=4",
+    "raytraced:samples=8", "gears:samples=8", "raytraced:samples=16", "gears:samples=16" };
   std::string outDir;
   int width = 640, height = 480, frames = 5, warmup = 1;
   bool images = true;
@@ -614,9 +640,17 @@ int main(int argc, char* argv[])
     ++done;
 
     double noShadowMs = 0.0;
+    // The ray tracer's visibility per setting ("samples=16"), so a GEARS point at the same k
+    // can be checked for exactness on the full-size frame.
+    std::map<std::string, vtkSmartPointer<vtkFloatArray>> tracedAtK;
     for (const auto& spec : techniques)
     {
       const std::string what = label + ": " + spec.Name + " " + spec.Setting;
+      if (!area && spec.Options.contains("samples"))
+      {
+        ++done; // a light-sample count means nothing for a hard light
+        continue;
+      }
       Progress(done, total, what);
       if (!registry->Apply(ren, spec.Name.c_str(), spec.Options.dump().c_str()))
       {
@@ -692,11 +726,49 @@ int main(int argc, char* argv[])
           {
             row.FillFragments = volumes->GetNumberOfFillFragments();
           }
+          auto* gearsTechnique = vtkPenumbraGearsShadows::SafeDownCast(technique);
+          if (gearsTechnique && gearsTechnique->GetLastLightWasArea())
+          {
+            std::ostringstream stats;
+            stats << gearsTechnique->GetNumberOfOccupiedCells() << " / "
+                  << gearsTechnique->GetNumberOfCells() << " cells, triangles per cell max "
+                  << gearsTechnique->GetMaxTrianglesPerCell() << " mean "
+                  << Fixed(gearsTechnique->GetAverageTrianglesPerCell(), 1) << ", global "
+                  << gearsTechnique->GetNumberOfGlobalTriangles() << ", assignments "
+                  << gearsTechnique->GetNumberOfAssignments() << " of which blocking "
+                  << Fixed(100.0 * gearsTechnique->GetBlockingShare(), 1) << " %, "
+                  << gearsTechnique->GetNumberOfTracedRays() << " undecided light samples in "
+                  << gearsTechnique->GetNumberOfSamplesWithTracedRays()
+                  << " view samples traced by the reference; grid "
+                  << Fixed(gearsTechnique->GetGridTimeMs(), 1) << " ms, masks "
+                  << Fixed(gearsTechnique->GetMaskTimeMs(), 1) << " ms, trace "
+                  << Fixed(gearsTechnique->GetTraceTimeMs(), 1) << " ms";
+            auto traced = tracedAtK.find(spec.Setting);
+            vtkFloatArray* mine = pass->GetVisibility(lightIndex);
+            if (traced != tracedAtK.end() && mine &&
+              mine->GetNumberOfTuples() == traced->second->GetNumberOfTuples())
+            {
+              vtkIdType differ = 0;
+              for (vtkIdType i = 0; i < mine->GetNumberOfTuples(); ++i)
+              {
+                differ += mine->GetValue(i) != traced->second->GetValue(i);
+              }
+              stats << "; differs from raytraced " << spec.Setting << " in " << differ
+                    << " samples";
+            }
+            row.GearsStats = stats.str();
+            std::cerr << "\n" << label << " gears " << spec.Setting << ": " << row.GearsStats
+                      << "\n";
+          }
         }
         estimate = vtkSmartPointer<vtkFloatArray>::New();
         if (vtkFloatArray* v = pass->GetVisibility(lightIndex))
         {
           estimate->DeepCopy(v);
+        }
+        if (spec.Name == "raytraced")
+        {
+          tracedAtK[spec.Setting] = estimate;
         }
       }
       if (!estimate || estimate->GetNumberOfTuples() != samples->GetNumberOfSamples())

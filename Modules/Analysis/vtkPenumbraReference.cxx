@@ -138,6 +138,55 @@ struct vtkPenumbraReference::Internals
     }
   }
 
+  // One view sample's shadow rays: origin, scale-relative epsilons and own primitive.
+  struct SampleRay
+  {
+    float Origin[3];
+    float TNear, TieLimit;
+    unsigned int Own;
+  };
+
+  SampleRay MakeRay(const double p[3], vtkIdType tri, double epsilon, double tieFactor) const
+  {
+    SampleRay ray;
+    for (int c = 0; c < 3; ++c)
+    {
+      ray.Origin[c] = static_cast<float>(p[c]);
+    }
+    const double scale = std::max(vtkMath::Norm(p), this->Diagonal);
+    ray.TNear = static_cast<float>(epsilon * scale);
+    ray.TieLimit = static_cast<float>(tieFactor * epsilon * scale);
+    const vtkIdType count = static_cast<vtkIdType>(this->TriangleToPrimitive.size());
+    ray.Own = tri >= 0 && tri < count ? this->TriangleToPrimitive[static_cast<size_t>(tri)]
+                                      : NoPrimitive;
+    return ray;
+  }
+
+  // Traces from the sample along `toLight` (not normalized, its length is the distance for
+  // positional targets); returns true when the light point is visible. `rays` counts the
+  // rays actually traced.
+  bool Visible(const SampleRay& ray, const double toLight[3], bool bounded, double epsilon,
+    bool& tie, vtkIdType& rays) const
+  {
+    tie = false;
+    double d[3] = { toLight[0], toLight[1], toLight[2] };
+    const double distance = vtkMath::Normalize(d);
+    if (this->PrimitiveToTriangle.empty() || !(distance > 0.0))
+    {
+      return true;
+    }
+    const float dir[3] = { static_cast<float>(d[0]), static_cast<float>(d[1]),
+      static_cast<float>(d[2]) };
+    const float tfar = bounded ? static_cast<float>(distance * (1.0 - epsilon))
+                               : std::numeric_limits<float>::infinity();
+    if (!(tfar > ray.TNear))
+    {
+      return true;
+    }
+    ++rays;
+    return !this->Occluded(ray.Origin, dir, ray.TNear, tfar, ray.Own, ray.TieLimit, tie);
+  }
+
   bool Occluded(const float origin[3], const float direction[3], float tnear, float tfar,
     unsigned int own, float tieLimit, bool& tie) const
   {
@@ -434,6 +483,107 @@ int vtkPenumbraReference::ComputeAreaMasks(
 }
 
 //------------------------------------------------------------------------------
+int vtkPenumbraReference::TraceAreaRays(vtkPenumbraViewSamples* samples,
+  vtkPenumbraAreaLight* light, vtkIdType count, const vtkIdType* sampleIds,
+  const int* lightSamples, unsigned char* visible)
+{
+  const auto start = Clock::now();
+  Internals& impl = *this->Impl;
+  impl.Error.clear();
+  if (!light || count < 0 || (count > 0 && (!sampleIds || !lightSamples || !visible)))
+  {
+    PENUMBRA_REFERENCE_FAIL("TraceAreaRays needs an area light and count >= 0 input and output "
+                            "entries");
+  }
+  const std::string problem = light->GetValidityMessage();
+  if (!problem.empty())
+  {
+    PENUMBRA_REFERENCE_FAIL("invalid area light: " + problem);
+  }
+  SampleInput in;
+  const std::string sampleProblem = CheckSamples(samples, in);
+  if (!sampleProblem.empty())
+  {
+    PENUMBRA_REFERENCE_FAIL(sampleProblem);
+  }
+  if (!this->Geometry)
+  {
+    PENUMBRA_REFERENCE_FAIL("no scene geometry: call SetGeometry() first");
+  }
+  if (!this->EnsureScene())
+  {
+    return 0;
+  }
+  const int nLight = light->GetNumberOfSamples();
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    if (sampleIds[i] < 0 || sampleIds[i] >= in.Count || lightSamples[i] < 0 ||
+      lightSamples[i] >= nLight)
+    {
+      PENUMBRA_REFERENCE_FAIL("TraceAreaRays: entry " + std::to_string(i) +
+        " names a view sample or light sample out of range");
+    }
+  }
+  // Run()'s frame and rules, one (view sample, light sample) pair at a time.
+  double geometryOrigin[3];
+  this->Geometry->GetOrigin(geometryOrigin);
+  std::vector<double> points(3 * static_cast<size_t>(nLight));
+  for (int j = 0; j < nLight; ++j)
+  {
+    light->GetSamplePosition(j, &points[3 * static_cast<size_t>(j)]);
+    for (int c = 0; c < 3; ++c)
+    {
+      points[3 * static_cast<size_t>(j) + c] -= geometryOrigin[c];
+    }
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    in.Shift[c] -= geometryOrigin[c];
+  }
+  const bool off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  const double epsilon = this->RelativeEpsilon;
+  const double tieFactor = this->TieFactor;
+  std::atomic<vtkIdType> rayCount(0);
+  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
+    vtkIdType localRays = 0;
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const vtkIdType s = sampleIds[i];
+      double p[3], normal[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
+        normal[c] = in.Normals[3 * s + c];
+      }
+      if (in.Props[s] < 0 || !Finite3(p) || !Finite3(normal))
+      {
+        visible[i] = 0;
+        continue;
+      }
+      if (off)
+      {
+        visible[i] = 1;
+        continue;
+      }
+      const double* q = &points[3 * static_cast<size_t>(lightSamples[i])];
+      const double toLight[3] = { q[0] - p[0], q[1] - p[1], q[2] - p[2] };
+      if (!(vtkMath::Dot(normal, toLight) > 0.0))
+      {
+        visible[i] = 0;
+        continue;
+      }
+      const Internals::SampleRay ray = impl.MakeRay(p, in.Triangles[s], epsilon, tieFactor);
+      bool tie = false;
+      visible[i] = impl.Visible(ray, toLight, true, epsilon, tie, localRays) ? 1 : 0;
+    }
+    rayCount += localRays;
+  });
+  this->NumberOfRays = rayCount.load();
+  this->LastTimeMs = ElapsedMs(start);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
 int vtkPenumbraReference::ComputeConvergedVisibility(vtkPenumbraViewSamples* samples,
   vtkPenumbraAreaLight* light, int samplesPerAxis, vtkFloatArray* visibility)
 {
@@ -689,11 +839,8 @@ int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& 
   impl.Ties->SetNumberOfTuples(n);
   unsigned char* ties = n ? impl.Ties->GetPointer(0) : nullptr;
 
-  const bool anyCaster = !impl.PrimitiveToTriangle.empty();
-  const vtkIdType nTriangles = static_cast<vtkIdType>(impl.TriangleToPrimitive.size());
   const double epsilon = this->RelativeEpsilon;
   const double tieFactor = this->TieFactor;
-  const double diagonal = impl.Diagonal;
   std::atomic<vtkIdType> rayCount(0);
   std::atomic<vtkIdType> tieCount(0);
 
@@ -736,35 +883,9 @@ int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& 
         }
         continue;
       }
-      const float origin[3] = { static_cast<float>(p[0]), static_cast<float>(p[1]),
-        static_cast<float>(p[2]) };
-      const double scale = std::max(vtkMath::Norm(p), diagonal);
-      const float tnear = static_cast<float>(epsilon * scale);
-      const float tieLimit = static_cast<float>(tieFactor * epsilon * scale);
-      const vtkIdType tri = in.Triangles[s];
-      const unsigned int own =
-        tri >= 0 && tri < nTriangles ? impl.TriangleToPrimitive[static_cast<size_t>(tri)] : NoPrimitive;
-
-      // Traces from p along `toLight` (not normalized, its length is the distance for
-      // positional targets); returns 1 when the light point is visible.
+      const Internals::SampleRay ray = impl.MakeRay(p, in.Triangles[s], epsilon, tieFactor);
       auto visible = [&](const double toLight[3], bool bounded, bool& tie) -> bool {
-        tie = false;
-        double d[3] = { toLight[0], toLight[1], toLight[2] };
-        const double distance = vtkMath::Normalize(d);
-        if (!anyCaster || !(distance > 0.0))
-        {
-          return true;
-        }
-        const float dir[3] = { static_cast<float>(d[0]), static_cast<float>(d[1]),
-          static_cast<float>(d[2]) };
-        const float tfar = bounded ? static_cast<float>(distance * (1.0 - epsilon))
-                                   : std::numeric_limits<float>::infinity();
-        if (!(tfar > tnear))
-        {
-          return true;
-        }
-        ++localRays;
-        return !impl.Occluded(origin, dir, tnear, tfar, own, tieLimit, tie);
+        return impl.Visible(ray, toLight, bounded, epsilon, tie, localRays);
       };
 
       if (local.Kind == LightKind::Area)

@@ -144,6 +144,18 @@ public:
     vtkPenumbraViewSamples* samples, vtkPenumbraAreaLight* light, vtkTypeUInt32Array* masks);
 
   /**
+   * Single area-light rays with exactly the rules of ComputeAreaMasks(): for each of the
+   * `count` pairs, visible[i] = 1 when light sample lightSamples[i] of `light` counts as lit
+   * for view sample sampleIds[i] (above its tangent plane and unoccluded), else 0; an
+   * invalid view sample gives 0, a light that is off 1. Lets a technique hand over only the
+   * light samples it could not decide. Ties are not reported. Returns 1 on success, 0 on bad
+   * input (an index out of range included; outputs untouched).
+   */
+  int TraceAreaRays(vtkPenumbraViewSamples* samples, vtkPenumbraAreaLight* light,
+    vtkIdType count, const vtkIdType* sampleIds, const int* lightSamples,
+    unsigned char* visible);
+
+  /**
    * Converged soft visibility: the same rule as ComputeVisibility() with the light sampled
    * on a samplesPerAxis x samplesPerAxis grid of cell centres (samplesPerAxis points for a
    * Line), following vtkPenumbraAreaLight's cell-centre formula; with samplesPerAxis equal

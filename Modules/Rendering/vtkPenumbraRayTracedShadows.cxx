@@ -1,6 +1,7 @@
 #include "vtkPenumbraRayTracedShadows.h"
 
 #include "vtkObjectFactory.h"
+#include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraReference.h"
 #include "vtkTimerLog.h"
 
@@ -23,7 +24,20 @@ int vtkPenumbraRayTracedShadows::ComputeVisibility(vtkRenderer*,
   const double start = vtkTimerLog::GetUniversalTime();
   // SetGeometry rebuilds the acceleration structure only when the geometry changed.
   this->Reference->SetGeometry(geometry);
-  const int ok = this->Reference->ComputeVisibility(samples, light, visibility);
+  auto* area = vtkPenumbraAreaLight::SafeDownCast(light);
+  int ok = 0;
+  if (area && this->SamplesPerAxis > 0 && this->SamplesPerAxis != area->GetSamplesPerAxis())
+  {
+    // A copy of the light with the requested k: the positions follow the light's own rule.
+    vtkPenumbraAreaLight* copy = vtkPenumbraAreaLight::SafeDownCast(area->ShallowClone());
+    copy->SetSamplesPerAxis(this->SamplesPerAxis);
+    ok = this->Reference->ComputeVisibility(samples, copy, visibility);
+    copy->Delete();
+  }
+  else
+  {
+    ok = this->Reference->ComputeVisibility(samples, light, visibility);
+  }
   this->LastTimeMs = 1000.0 * (vtkTimerLog::GetUniversalTime() - start);
   return ok;
 }
@@ -31,4 +45,5 @@ int vtkPenumbraRayTracedShadows::ComputeVisibility(vtkRenderer*,
 void vtkPenumbraRayTracedShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "SamplesPerAxis: " << this->SamplesPerAxis << "\n";
 }

@@ -4,6 +4,7 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPenumbraConservativeShadows.h"
+#include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
 #include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
@@ -153,6 +154,16 @@ void InstallPass(vtkRenderer* ren, vtkRenderPass* pass)
   ren->SetPass(pass);
 }
 
+// The Penumbra composition every technique of ours uses: camera pass -> shadow pass.
+void InstallShadowPass(vtkRenderer* ren, vtkPenumbraShadowTechnique* technique)
+{
+  vtkNew<vtkPenumbraShadowPass> shadows;
+  shadows->SetTechnique(technique);
+  vtkNew<vtkCameraPass> camera;
+  camera->SetDelegatePass(shadows);
+  InstallPass(ren, camera);
+}
+
 struct Technique
 {
   const char* Name;
@@ -183,14 +194,26 @@ void InstallVTKShadowMap(vtkRenderer* ren, Options& opts)
   InstallPass(ren, camera);
 }
 
+// Light samples per axis for area/linear lights: 0 keeps the light's own k; otherwise one of
+// the values seed 002 measures, so GEARS and the ray tracer can be compared at equal k.
+int SamplesOption(Options& opts)
+{
+  const int k = opts.Integer("samples", 0, 0, 32);
+  if (k != 0 && k != 4 && k != 8 && k != 16 && k != 32)
+  {
+    throw OptionError("samples: expected 0 (the light's own) or one of 4, 8, 16, 32, got " +
+      std::to_string(k));
+  }
+  return k;
+}
+
 void InstallRayTraced(vtkRenderer* ren, Options& opts)
 {
+  const int samples = SamplesOption(opts);
   opts.RejectUnknown();
-  vtkNew<vtkPenumbraShadowPass> shadows;
-  shadows->SetTechnique(vtkNew<vtkPenumbraRayTracedShadows>());
-  vtkNew<vtkCameraPass> camera;
-  camera->SetDelegatePass(shadows);
-  InstallPass(ren, camera);
+  vtkNew<vtkPenumbraRayTracedShadows> technique;
+  technique->SetSamplesPerAxis(samples);
+  InstallShadowPass(ren, technique);
 }
 
 void InstallConservative(vtkRenderer* ren, Options& opts)
@@ -204,11 +227,7 @@ void InstallConservative(vtkRenderer* ren, Options& opts)
   technique->SetLayers(layers);
   technique->SetMapBuilder(map == 1 ? vtkPenumbraConservativeShadows::MAP_GPU
                                     : vtkPenumbraConservativeShadows::MAP_CPU);
-  vtkNew<vtkPenumbraShadowPass> shadows;
-  shadows->SetTechnique(technique);
-  vtkNew<vtkCameraPass> camera;
-  camera->SetDelegatePass(shadows);
-  InstallPass(ren, camera);
+  InstallShadowPass(ren, technique);
 }
 
 void InstallShadowMap(vtkRenderer* ren, Options& opts)
@@ -239,11 +258,7 @@ void InstallShadowMap(vtkRenderer* ren, Options& opts)
                                      : vtkPenumbraShadowMapShadows::POINT_CUBE);
   technique->SetLookup(lookup == 1 ? vtkPenumbraShadowMapShadows::LOOKUP_CPU
                                    : vtkPenumbraShadowMapShadows::LOOKUP_GPU);
-  vtkNew<vtkPenumbraShadowPass> shadows;
-  shadows->SetTechnique(technique);
-  vtkNew<vtkCameraPass> camera;
-  camera->SetDelegatePass(shadows);
-  InstallPass(ren, camera);
+  InstallShadowPass(ren, technique);
 }
 
 void InstallVolumes(vtkRenderer* ren, Options& opts)
@@ -265,11 +280,20 @@ void InstallVolumes(vtkRenderer* ren, Options& opts)
   technique->SetCapOffset(capOffset);
   technique->SetResolve(resolve);
   technique->SetMeasureFill(measureFill);
-  vtkNew<vtkPenumbraShadowPass> shadows;
-  shadows->SetTechnique(technique);
-  vtkNew<vtkCameraPass> camera;
-  camera->SetDelegatePass(shadows);
-  InstallPass(ren, camera);
+  InstallShadowPass(ren, technique);
+}
+
+void InstallGears(vtkRenderer* ren, Options& opts)
+{
+  const int samples = SamplesOption(opts);
+  const int grid = opts.Integer("grid", 128, 1, 4096);
+  const double cameraDistance = opts.Number("camera_distance", 1.0, 0.01, 100.0);
+  opts.RejectUnknown();
+  vtkNew<vtkPenumbraGearsShadows> technique;
+  technique->SetSamplesPerAxis(samples);
+  technique->SetGridResolution(grid);
+  technique->SetCameraDistanceFactor(cameraDistance);
+  InstallShadowPass(ren, technique);
 }
 
 const std::vector<Technique>& Registry()
@@ -293,6 +317,10 @@ const std::vector<Technique>& Registry()
       "silhouettes for closed meshes, per-triangle volumes otherwise, z-fail with caps and "
       "depth clamp",
       InstallVolumes },
+    { "gears",
+      "exact soft shadows from area and linear lights (seed 002 GEARS): per-cell lists of "
+      "potential blockers, k x k light-sample masks on the CPU",
+      InstallGears },
   };
   return techniques;
 }

@@ -56,6 +56,24 @@ class BenchTest(unittest.TestCase):
             self.assertTrue(os.path.exists(os.path.join(out, "results.md")))
             self.assertTrue(os.path.exists(os.path.join(out, "default__raytraced_default_error.png")))
 
+    def test_gears_points(self):
+        # Equal-k points run only on the area-light scene; GEARS equals the ray tracer there
+        # and reports its grid statistics.
+        with tempfile.TemporaryDirectory() as out:
+            code, stdout, stderr = run_bench(
+                out, "--scenes", "default,area_light", "--no-images",
+                "--techniques", "none,raytraced:samples=4,gears:samples=4")
+            self.assertEqual(code, 0, stderr)
+            with open(os.path.join(out, "results.csv")) as f:
+                rows = list(csv.DictReader(f))
+            self.assertEqual(sorted((r["scene"], r["technique"]) for r in rows),
+                             [("area_light", "gears"), ("area_light", "none"),
+                              ("area_light", "raytraced"), ("default", "none")])
+            by = {r["technique"]: r for r in rows if r["scene"] == "area_light"}
+            self.assertEqual(float(by["gears"]["mae"]), float(by["raytraced"]["mae"]))
+            self.assertIn("GEARS statistics", stdout)
+            self.assertIn("differs from raytraced samples=4 in 0 samples", stdout)
+
     def test_bad_arguments(self):
         with tempfile.TemporaryDirectory() as out:
             for args, fragment in ((("--techniques", "magic"), "unknown technique"),

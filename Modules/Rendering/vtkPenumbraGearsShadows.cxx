@@ -1,0 +1,1587 @@
+#include "vtkPenumbraGearsShadows.h"
+
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraReference.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTypeUInt32Array.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <mutex>
+#include <vector>
+
+vtkStandardNewMacro(vtkPenumbraGearsShadows);
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+double ElapsedMs(Clock::time_point start)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+constexpr int MaxK = 64; // vtkPenumbraAreaLight's SamplesPerAxis limit: one 64-bit word per row
+
+// Position tolerance of the double-precision decisions against Embree's float32 ray, relative
+// to the reference's scene scale max(|p|, bounds diagonal): the value the conservative
+// technique validated for the same reference (seed 000 rule 5).
+constexpr double RelativePositionTolerance = 1e-6;
+
+// A caster in the geometry's rebased frame with the float32 rounding Embree's copy has, and
+// what the per-ray test needs precomputed.
+struct Caster
+{
+  double V[3][3];
+  double N[3];     // unit normal
+  double M[3][3];  // unit in-plane normals of the edges (k, k+1), pointing inside
+  double MD[3];    // M[k] . V[k]
+  vtkIdType Id;    // global triangle index (own-triangle exclusion)
+};
+
+// A caster's bounding sphere, kept apart from the casters so the cheap rejects touch 32 bytes
+// per triangle instead of a whole Caster.
+struct Sphere
+{
+  double Centre[3];
+  double Radius;
+};
+
+enum class Hit
+{
+  Clear,   // the reference's ray provably hits beyond the tie band and before its end
+  Miss,    // provably no hit the reference would count
+  OnEdge,  // clear in t and inside two edges, within the tolerance of the third only
+  Unknown  // otherwise too close to call (grazing, near the tie band or the ray end)
+};
+
+// The reference's decision for one light-sample ray o + t d (d unit) and one caster, in
+// double. The reference counts a blocker for t in [tieLimit, tmax] and computes visibility
+// as if hits below tieLimit (below tnear, or near-contact ties) were not there, so anything
+// provably below tieLimit is a miss. Every decision keeps `errPos` of margin (grown by
+// 1/|cos| where a shifted ray slides along the plane). `edge` receives the edge of OnEdge.
+Hit SegmentTest(const double o[3], const double d[3], double tieLimit, double tmax,
+  const Caster& tri, double errPos, int& edge)
+{
+  const double cosine = vtkMath::Dot(d, tri.N);
+  if (!(std::fabs(cosine) > 1e-6))
+  {
+    return Hit::Unknown; // grazing: a float rounding of the direction moves the hit anywhere
+  }
+  const double height = tri.N[0] * (tri.V[0][0] - o[0]) + tri.N[1] * (tri.V[0][1] - o[1]) +
+    tri.N[2] * (tri.V[0][2] - o[2]);
+  const double slack = errPos * (1.0 + 1.0 / std::fabs(cosine));
+  const double t = height / cosine;
+  if (t < tieLimit - slack || t > tmax + slack)
+  {
+    return Hit::Miss;
+  }
+  const bool clearT = t > tieLimit + slack && t < tmax - slack;
+  const double x[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
+  int near = 0;
+  for (int e = 0; e < 3; ++e)
+  {
+    const double distance = vtkMath::Dot(tri.M[e], x) - tri.MD[e];
+    if (distance < -slack)
+    {
+      return Hit::Miss;
+    }
+    if (!(distance > slack))
+    {
+      ++near;
+      edge = e;
+    }
+  }
+  if (!clearT || near > 1)
+  {
+    return Hit::Unknown;
+  }
+  return near == 0 ? Hit::Clear : Hit::OnEdge;
+}
+
+// Embree's watertight test never lets a ray slip between two triangles that share an edge
+// (the same float vertices) and lie on opposite sides of it as seen along the ray. So a ray
+// that is OnEdge for both of them, clear in t, is blocked by one or the other.
+bool SealedEdge(const Caster& a, int ea, const Caster& b, int eb, const double d[3])
+{
+  const double* a0 = a.V[ea];
+  const double* a1 = a.V[(ea + 1) % 3];
+  const double* b0 = b.V[eb];
+  const double* b1 = b.V[(eb + 1) % 3];
+  auto same = [](const double* p, const double* q) {
+    return p[0] == q[0] && p[1] == q[1] && p[2] == q[2];
+  };
+  if (!((same(a0, b1) && same(a1, b0)) || (same(a0, b0) && same(a1, b1))))
+  {
+    return false;
+  }
+  const double along[3] = { a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2] };
+  double w[3];
+  vtkMath::Cross(along, d, w);
+  const double* ca = a.V[(ea + 2) % 3];
+  const double* cb = b.V[(eb + 2) % 3];
+  const double sa = w[0] * (ca[0] - a0[0]) + w[1] * (ca[1] - a0[1]) + w[2] * (ca[2] - a0[2]);
+  const double sb = w[0] * (cb[0] - a0[0]) + w[1] * (cb[1] - a0[1]) + w[2] * (cb[2] - a0[2]);
+  const double scale = vtkMath::Norm(w) *
+    (std::fabs(ca[0] - a0[0]) + std::fabs(ca[1] - a0[1]) + std::fabs(ca[2] - a0[2]) +
+      std::fabs(cb[0] - a0[0]) + std::fabs(cb[1] - a0[1]) + std::fabs(cb[2] - a0[2]));
+  return sa * sb < -1e-6 * scale * scale;
+}
+
+bool MakeCaster(const double* v9, vtkIdType id, Caster& c)
+{
+  for (int i = 0; i < 3; ++i)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      c.V[i][k] = static_cast<double>(static_cast<float>(v9[3 * i + k]));
+    }
+  }
+  double e1[3], e2[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    e1[k] = c.V[1][k] - c.V[0][k];
+    e2[k] = c.V[2][k] - c.V[0][k];
+  }
+  vtkMath::Cross(e1, e2, c.N);
+  const double area2 = vtkMath::Normalize(c.N);
+  if (!(area2 > 0.0) || !std::isfinite(area2))
+  {
+    return false; // zero area after rounding: Embree cannot hit it either
+  }
+  for (int e = 0; e < 3; ++e)
+  {
+    const double* a = c.V[e];
+    const double* b = c.V[(e + 1) % 3];
+    const double ab[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+    vtkMath::Cross(c.N, ab, c.M[e]); // points to the left of ab, i.e. inside for CCW
+    if (!(vtkMath::Normalize(c.M[e]) > 0.0))
+    {
+      return false;
+    }
+    c.MD[e] = vtkMath::Dot(c.M[e], a);
+  }
+  c.Id = id;
+  return true;
+}
+
+inline std::uint64_t Span(int lo, int hi)
+{
+  if (hi < lo)
+  {
+    return 0;
+  }
+  const int width = hi - lo + 1;
+  const std::uint64_t ones = width >= 64 ? ~std::uint64_t(0) : ((std::uint64_t(1) << width) - 1);
+  return ones << lo;
+}
+
+// Narrows [lo, hi] to the columns i where base + i * slope >= -delta (an affine light-plane
+// function evaluated at the light samples of one row). `widen` decides which way the index
+// rounding slack goes: outward for "possibly" intervals, inward for "certainly" ones.
+inline void Narrow(double base, double slope, double delta, int k, bool widen, int& lo, int& hi)
+{
+  const double bound = -delta - base;
+  if (std::fabs(slope) < 1e-300)
+  {
+    if (widen ? 0.0 < bound : 0.0 <= bound)
+    {
+      hi = -1;
+    }
+    return;
+  }
+  const double x = bound / slope;
+  const double fuzz = (widen ? 1e-9 : -1e-9) * (std::fabs(x) + 1.0);
+  if (slope > 0.0)
+  {
+    const double c = std::ceil(x - fuzz);
+    lo = std::max(lo, c < 0.0 ? 0 : (c > k ? k : static_cast<int>(c)));
+  }
+  else
+  {
+    const double f = std::floor(x + fuzz);
+    hi = std::min(hi, f < -1.0 ? -1 : (f > k - 1 ? k - 1 : static_cast<int>(f)));
+  }
+}
+
+// One affine function of the light-sample position L = centre + su U + sv V, written for
+// sample indices: value(i, j) = Base + i * Di + j * Dj.
+struct Affine
+{
+  double Base, Di, Dj;
+  double At(int i, int j) const { return this->Base + i * this->Di + j * this->Dj; }
+};
+
+// The columns of row j where f(i, j) >= -delta, as a bound linear in j: lower (Di > 0),
+// upper (Di < 0), or a whole-row test when f does not depend on the column.
+struct ColumnBound
+{
+  enum
+  {
+    Lower,
+    Upper,
+    Row
+  } Kind = Row;
+  double X0 = 0, Step = 0; // column bound at row 0 and its change per row
+  double Base = 0, Dj = 0, Delta = 0;
+  bool Widen = true;
+
+  ColumnBound() = default;
+  ColumnBound(const Affine& f, double delta, bool widen)
+    : Base(f.Base)
+    , Dj(f.Dj)
+    , Delta(delta)
+    , Widen(widen)
+  {
+    if (std::fabs(f.Di) >= 1e-300)
+    {
+      this->Kind = f.Di > 0.0 ? Lower : Upper;
+      this->X0 = (-delta - f.Base) / f.Di;
+      this->Step = -f.Dj / f.Di;
+    }
+  }
+
+  // Same rounding rules as Narrow().
+  void Apply(int j, int k, int& lo, int& hi) const
+  {
+    if (this->Kind == Row)
+    {
+      const double bound = -this->Delta - (this->Base + j * this->Dj);
+      if (this->Widen ? 0.0 < bound : 0.0 <= bound)
+      {
+        hi = -1;
+      }
+      return;
+    }
+    const double x = this->X0 + j * this->Step;
+    const double fuzz = (this->Widen ? 1e-9 : -1e-9) * (std::fabs(x) + 1.0);
+    if (this->Kind == Lower)
+    {
+      const double c = std::ceil(x - fuzz);
+      lo = std::max(lo, c < 0.0 ? 0 : (c > k ? k : static_cast<int>(c)));
+    }
+    else
+    {
+      const double f = std::floor(x + fuzz);
+      hi = std::min(hi, f < -1.0 ? -1 : (f > k - 1 ? k - 1 : static_cast<int>(f)));
+    }
+  }
+};
+
+// What the mask loop needs about the light (rebased frame).
+struct LightSamples
+{
+  int K = 1;     // samples per row
+  int Rows = 1;  // k for a rectangle, 1 for a line
+  int Count = 1; // K * Rows
+  std::vector<double> Points; // 3 per sample, index = j K + i
+  double Centre[3], U[3], V[3], N[3];
+  double Su0 = 0, DSu = 0, Sv0 = 0, DSv = 0; // su_i = Su0 + i DSu, sv_j = Sv0 + j DSv
+  double HalfU = 0, HalfV = 0;               // largest |su|, |sv| of a sample
+  double Diagonal = 0;                       // of the emitter rectangle
+
+  Affine Along(const double g[3], double atCentre) const
+  {
+    const double gu = vtkMath::Dot(g, this->U);
+    const double gv = vtkMath::Dot(g, this->V);
+    return { atCentre + this->Su0 * gu + this->Sv0 * gv, this->DSu * gu, this->DSv * gv };
+  }
+  const double* Corner(int c) const
+  {
+    const int i = (c & 1) ? this->K - 1 : 0;
+    const int j = (c & 2) ? this->Rows - 1 : 0;
+    return &this->Points[3 * static_cast<size_t>(j * this->K + i)];
+  }
+};
+
+// Per-sample constants of the reference's rays.
+struct SampleRays
+{
+  double Z; // distance from the light plane, on this sample's side
+  double P[3];
+  double Normal[3];
+  vtkIdType Own;
+  double TNear, TieLimit, ErrPos, Epsilon;
+  float TNearF;
+};
+
+// Step 4 for one view sample at a time (seed 002 §3 step 4, the note's §1.4 predicate made
+// exact against the reference): Facing holds the light samples above the tangent plane,
+// Candidate those the reference traces, Blocked those a triangle provably blocks, Unknown
+// those some triangle may block within the float32 tolerance.
+struct MaskBuilder
+{
+  const LightSamples& L;
+  const std::vector<Caster>& Casters;
+  const double Epsilon;
+  const SampleRays* R = nullptr;
+  std::uint64_t Facing[MaxK], Candidate[MaxK], Blocked[MaxK], Unknown[MaxK], Pending[MaxK];
+  // Per light sample with a Pending bit: the first triangle it was OnEdge for, and the edge.
+  std::vector<std::uint32_t> EdgeOwner;
+  std::vector<unsigned char> EdgeIndex;
+  bool Open = false;
+  // Nearest vertex of a caster to the light plane, and the margin for comparing it with a
+  // sample's depth (the note's cheap reject: a triangle wholly farther from the light than
+  // the sample cannot touch its segments).
+  const double* ZMin = nullptr;
+  const Sphere* Bounds = nullptr;
+  double FarSlack = 0.0;
+  double Reach = 0.0; // largest distance from the sample to a light sample (at a corner)
+  double Axis[3] = { 0, 0, 1 };
+  double ConeCos = -1.0, ConeSin = 0.0;
+  bool ConeValid = false;
+  vtkIdType Assignments = 0, Necessary = 0, Tests = 0;
+
+  MaskBuilder(const LightSamples& l, const std::vector<Caster>& casters, double epsilon)
+    : L(l)
+    , Casters(casters)
+    , Epsilon(epsilon)
+    , EdgeOwner(static_cast<size_t>(l.Count))
+    , EdgeIndex(static_cast<size_t>(l.Count))
+  {
+  }
+
+  const double* Point(int i, int j) const
+  {
+    return &this->L.Points[3 * static_cast<size_t>(j * this->L.K + i)];
+  }
+
+  // The reference's own per-light-sample rules: facing is N . (x_j - p) > 0 in its exact
+  // expression, and a ray with tfar <= tnear is not traced (counts as unoccluded). Facing is
+  // affine over the light, so only samples within rounding of the tangent plane, or close
+  // enough to the light for the second rule, are evaluated one by one. Returns false when
+  // no light sample needs a triangle.
+  bool Start(const SampleRays& r)
+  {
+    this->R = &r;
+    const double n[3] = { r.Normal[0], r.Normal[1], r.Normal[2] };
+    double reach = 0.0;
+    for (int c = 0; c < 4; ++c)
+    {
+      const double* q = this->L.Corner(c);
+      const double d[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
+      reach = std::max(reach, vtkMath::Norm(d));
+    }
+    this->Reach = reach;
+    // The cone from P around the light samples: axis toward their centre, half-angle to the
+    // farthest corner (every light sample lies inside, the rectangle being convex).
+    const double toCentre[3] = { this->L.Centre[0] - r.P[0], this->L.Centre[1] - r.P[1],
+      this->L.Centre[2] - r.P[2] };
+    std::copy(toCentre, toCentre + 3, this->Axis);
+    this->ConeValid = vtkMath::Normalize(this->Axis) > 0.0;
+    double cosCone = 1.0;
+    for (int c = 0; c < 4 && this->ConeValid; ++c)
+    {
+      const double* q = this->L.Corner(c);
+      double d[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
+      this->ConeValid = vtkMath::Normalize(d) > 0.0;
+      cosCone = std::min(cosCone, vtkMath::Dot(d, this->Axis));
+    }
+    this->ConeCos = cosCone;
+    this->ConeSin = std::sqrt(std::max(0.0, 1.0 - cosCone * cosCone));
+    this->ConeValid = this->ConeValid && cosCone > 0.0;
+    const Affine facing =
+      this->L.Along(n, vtkMath::Dot(n, this->L.Centre) - vtkMath::Dot(n, r.P));
+    const double fuzz = 1e-12 * reach * (1.0 + vtkMath::Norm(n));
+    const double plane = std::fabs(vtkMath::Dot(this->L.N, r.P) - vtkMath::Dot(this->L.N, this->L.Centre));
+    const bool allTraced = !this->Casters.empty() &&
+      static_cast<float>(plane * (1.0 - this->Epsilon) * (1.0 - 1e-6)) > r.TNearF;
+    bool any = false;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 4; ++c)
+    {
+      lowest = std::min(lowest,
+        facing.At((c & 1) ? this->L.K - 1 : 0, (c & 2) ? this->L.Rows - 1 : 0));
+    }
+    if (allTraced && lowest > fuzz)
+    {
+      // The usual case: the whole light well above the tangent plane, every ray traced.
+      for (int j = 0; j < this->L.Rows; ++j)
+      {
+        this->Blocked[j] = 0;
+        this->Unknown[j] = 0;
+        this->Pending[j] = 0;
+        this->Facing[j] = this->Candidate[j] = Span(0, this->L.K - 1);
+      }
+      this->Open = true;
+      return true;
+    }
+    const ColumnBound sureFacing(facing, -fuzz, false), maybeFacing(facing, fuzz, true);
+    for (int j = 0; j < this->L.Rows; ++j)
+    {
+      this->Blocked[j] = 0;
+      this->Unknown[j] = 0;
+      this->Pending[j] = 0;
+      int sureLo = 0, sureHi = this->L.K - 1, maybeLo = 0, maybeHi = this->L.K - 1;
+      sureFacing.Apply(j, this->L.K, sureLo, sureHi);
+      maybeFacing.Apply(j, this->L.K, maybeLo, maybeHi);
+      const std::uint64_t sure = Span(sureLo, sureHi);
+      this->Facing[j] = sure;
+      this->Candidate[j] = allTraced ? sure : 0;
+      std::uint64_t check = Span(maybeLo, maybeHi) & (allTraced ? ~sure : ~std::uint64_t(0));
+      while (check)
+      {
+        const int i = __builtin_ctzll(check);
+        check &= check - 1;
+        const double* q = this->Point(i, j);
+        double toLight[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
+        if (!(vtkMath::Dot(r.Normal, toLight) > 0.0))
+        {
+          this->Facing[j] &= ~(std::uint64_t(1) << i);
+          continue;
+        }
+        this->Facing[j] |= std::uint64_t(1) << i;
+        const double dist = vtkMath::Normalize(toLight);
+        const float tfar = static_cast<float>(dist * (1.0 - this->Epsilon));
+        if (!this->Casters.empty() && dist > 0.0 && tfar > r.TNearF)
+        {
+          this->Candidate[j] |= std::uint64_t(1) << i;
+        }
+      }
+      any = any || this->Candidate[j];
+    }
+    this->Open = any;
+    return any;
+  }
+
+  // One potential blocker: loose per-row intervals bound the light samples it may block;
+  // inside the certain intervals it provably blocks, in between the segment test decides.
+  void Visit(std::uint32_t index)
+  {
+    const SampleRays& r = *this->R;
+    if (this->ZMin[index] > r.Z + this->FarSlack)
+    {
+      return;
+    }
+    // The triangle's bounding sphere (grown by the tolerance) wholly outside the cone from P
+    // around the light: no segment to a light sample comes near it.
+    if (this->ConeValid)
+    {
+      const Sphere& bound = this->Bounds[index];
+      const double v[3] = { bound.Centre[0] - r.P[0], bound.Centre[1] - r.P[1],
+        bound.Centre[2] - r.P[2] };
+      const double distance = vtkMath::Norm(v);
+      const double radius = bound.Radius + 4.0 * r.ErrPos;
+      if (distance > radius)
+      {
+        const double sinB = radius / distance;
+        const double cosB = std::sqrt(1.0 - sinB * sinB);
+        const double cosA = vtkMath::Dot(v, this->Axis) / distance;
+        // angle(axis, v) > cone + asin(radius / distance), with cone + that < 90 degrees
+        const double cosSum = this->ConeCos * cosB - this->ConeSin * sinB;
+        if (cosSum > 0.0 && cosA < cosSum - 1e-12)
+        {
+          return;
+        }
+      }
+    }
+    const Caster& tri = this->Casters[index];
+    if (tri.Id == r.Own)
+    {
+      return; // the reference never lets a sample's own triangle block it
+    }
+    // Signed distances to the triangle's plane: of P, and (affine) of the light samples.
+    const double h = vtkMath::Dot(tri.N, r.P) - vtkMath::Dot(tri.N, tri.V[0]);
+    const Affine plane =
+      this->L.Along(tri.N, vtkMath::Dot(tri.N, this->L.Centre) - vtkMath::Dot(tri.N, tri.V[0]));
+    const double sgn = h >= 0.0 ? 1.0 : -1.0;
+    const double dMax = this->Reach;
+    double sideMin = std::numeric_limits<double>::infinity();
+    double crossMin = std::numeric_limits<double>::infinity(), crossMax = -crossMin;
+    for (int c = 0; c < 4; ++c)
+    {
+      const double dl = plane.At((c & 1) ? this->L.K - 1 : 0, (c & 2) ? this->L.Rows - 1 : 0);
+      sideMin = std::min(sideMin, sgn * dl);
+      crossMin = std::min(crossMin, dl - h);
+      crossMax = std::max(crossMax, dl - h);
+    }
+    const double absH = std::fabs(h);
+    const double err = r.ErrPos;
+    // |cos| between a ray and the plane: a crossing ray has |n . (L - P)| = |h| + |dL| >= |h|,
+    // and >= min |n . (L - P)| over the light when that keeps one sign (affine: corners).
+    const double crossAbs = crossMin > 0.0 ? crossMin : (crossMax < 0.0 ? -crossMax : 0.0);
+    const double cosMin = std::max(absH, crossAbs) / dMax;
+    // Margins. SegmentTest's slack on a ray is err (1 + 1 / cos); a hit is at t = |h| / cos;
+    // an edge plane through P at signed distance E from L is at E t / |L - P| from the hit
+    // point, and the in-plane edge distance has the same sign and is at least as large. With
+    // |n . (L - P)| <= |L - P| <= dMax, each test below reduces to a bound without cos:
+    // - no crossing: the whole light on P's side of the plane by more than 2 err;
+    if (absH > err && sideMin > 2.0 * err)
+    {
+      return;
+    }
+    // - every hit provably below the tie band: |h| + err < cos_min (tieLimit - err);
+    if (absH + err < cosMin * (r.TieLimit - err))
+    {
+      return;
+    }
+    // - a light sample can only be blocked where E >= -2 err dMax / |h| for all three edges
+    //   and the light is beyond the plane or within 2 err of it;
+    // - it is certainly blocked where E > 2 err dMax / |h| for all three edges, the light
+    //   is beyond the plane by more than epsilon dMax + 2 err (clear of the ray end), and
+    //   |h| > tieLimit + 2 err (clear of the tie band) with no grazing ray (cos > 2e-6).
+    const double deltaEdge = std::min(2.0 * err * dMax / std::max(absH, 1e-300), 4.0 * dMax);
+    const double deltaPlane = 2.0 * err;
+    const bool certainPossible = absH > r.TieLimit + 2.0 * err && cosMin > 2e-6;
+    const double sureEdge = deltaEdge + 1e-9 * dMax;
+    const double surePlane = this->Epsilon * dMax + 2.0 * err + 1e-9 * dMax;
+
+    Affine edges[3];
+    int nEdges = 0;
+    double a[3][3];
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        a[i][c] = tri.V[i][c] - r.P[c];
+      }
+    }
+    double cr[3][3];
+    for (int e = 0; e < 3; ++e)
+    {
+      vtkMath::Cross(a[e], a[(e + 1) % 3], cr[e]);
+    }
+    const double det = vtkMath::Dot(cr[0], a[2]);
+    // |det| > 1e-12 |a0| |a1| |a2|, squared to spare three square roots per triangle.
+    const double mag2 = vtkMath::Dot(a[0], a[0]) * vtkMath::Dot(a[1], a[1]) * vtkMath::Dot(a[2], a[2]);
+    const bool cone = det * det > 1e-24 * mag2;
+    for (int e = 0; cone && e < 3; ++e)
+    {
+      // Unit normal of the plane through P and edge e, pointing into the triangle's cone.
+      const double len = vtkMath::Norm(cr[e]);
+      if (!(len > 0.0))
+      {
+        continue;
+      }
+      double m[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        m[c] = (det > 0.0 ? cr[e][c] : -cr[e][c]) / len;
+      }
+      edges[nEdges++] =
+        this->L.Along(m, vtkMath::Dot(m, this->L.Centre) - vtkMath::Dot(m, r.P));
+    }
+    const bool certainCone = certainPossible && cone && nEdges == 3;
+
+    // Rows where every condition can hold somewhere (each is affine: its row maximum is at
+    // the first or last column); usually a few rows, often none.
+    const Affine beyond = { -sgn * plane.Base, -sgn * plane.Di, -sgn * plane.Dj };
+    // Rows where every condition can hold somewhere (each is affine: its row maximum is at
+    // the first or last column); usually a few rows, often none.
+    int jLo = 0, jHi = this->L.Rows - 1;
+    auto rows = [&](const Affine& f, double delta) {
+      const double best = f.Base + std::max(0.0, (this->L.K - 1) * f.Di);
+      Narrow(best, f.Dj, delta, this->L.Rows, true, jLo, jHi);
+    };
+    rows(beyond, deltaPlane);
+    for (int e = 0; e < nEdges && jLo <= jHi; ++e)
+    {
+      rows(edges[e], deltaEdge);
+    }
+    // Per condition, the column bound as a linear function of the row: one division per
+    // triangle instead of one per row.
+    if (jLo > jHi)
+    {
+      return;
+    }
+    ColumnBound loose[4], sure[4];
+    const int nLoose = 1 + nEdges;
+    loose[0] = ColumnBound(beyond, deltaPlane, true);
+    for (int e = 0; e < nEdges; ++e)
+    {
+      loose[e + 1] = ColumnBound(edges[e], deltaEdge, true);
+    }
+    bool sureReady = false; // built at the first row that has candidates
+    bool hitAny = false;
+    for (int j = jLo; j <= jHi; ++j)
+    {
+      const std::uint64_t open = this->Candidate[j] & ~this->Blocked[j];
+      if (!open)
+      {
+        continue;
+      }
+      int lo = 0, hi = this->L.K - 1;
+      for (int c = 0; c < nLoose && lo <= hi; ++c)
+      {
+        loose[c].Apply(j, this->L.K, lo, hi);
+      }
+      std::uint64_t maybe = open & Span(lo, hi);
+      if (!maybe)
+      {
+        continue;
+      }
+      if (certainCone)
+      {
+        if (!sureReady)
+        {
+          sure[0] = ColumnBound(beyond, -surePlane, false);
+          for (int e = 0; e < 3; ++e)
+          {
+            sure[e + 1] = ColumnBound(edges[e], -sureEdge, false);
+          }
+          sureReady = true;
+        }
+        int sLo = 0, sHi = this->L.K - 1;
+        for (int c = 0; c < 4 && sLo <= sHi; ++c)
+        {
+          sure[c].Apply(j, this->L.K, sLo, sHi);
+        }
+        const std::uint64_t certain = maybe & Span(sLo, sHi);
+        if (certain)
+        {
+          this->Blocked[j] |= certain;
+          maybe &= ~certain;
+          hitAny = true;
+        }
+      }
+      while (maybe)
+      {
+        const int i = __builtin_ctzll(maybe);
+        maybe &= maybe - 1;
+        const double* q = this->Point(i, j);
+        double d[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
+        const double dist = vtkMath::Normalize(d);
+        ++this->Tests;
+        int edge = 0;
+        const Hit hit =
+          SegmentTest(r.P, d, r.TieLimit, dist * (1.0 - this->Epsilon), tri, r.ErrPos, edge);
+        const std::uint64_t bit = std::uint64_t(1) << i;
+        if (hit == Hit::OnEdge)
+        {
+          const size_t slot = static_cast<size_t>(j * this->L.K + i);
+          if (!(this->Pending[j] & bit))
+          {
+            this->Pending[j] |= bit;
+            this->EdgeOwner[slot] = index;
+            this->EdgeIndex[slot] = static_cast<unsigned char>(edge);
+            continue;
+          }
+          const std::uint32_t other = this->EdgeOwner[slot];
+          if (other != index &&
+            SealedEdge(this->Casters[other], this->EdgeIndex[slot], tri, edge, d))
+          {
+            this->Blocked[j] |= bit;
+            hitAny = true;
+            continue;
+          }
+          this->Unknown[j] |= bit; // a third edge, or a silhouette: undecided
+        }
+        else if (hit == Hit::Clear)
+        {
+          this->Blocked[j] |= bit;
+          hitAny = true;
+        }
+        else if (hit == Hit::Unknown)
+        {
+          this->Unknown[j] |= bit;
+        }
+      }
+    }
+    if (hitAny)
+    {
+      ++this->Necessary;
+      bool open = false;
+      for (int j = 0; j < this->L.Rows && !open; ++j)
+      {
+        open = (this->Candidate[j] & ~this->Blocked[j]) != 0;
+      }
+      this->Open = open;
+    }
+  }
+
+  // Returns false when some light sample stays undecided (the sample goes to the reference);
+  // otherwise Facing becomes the lit mask.
+  // Facing becomes the mask of the light samples known to be lit; the undecided ones (some
+  // triangle may block them within the float32 tolerance and none provably does) are
+  // appended to `undecided` as light-sample indices for the reference to trace.
+  void Finish(std::vector<int>& undecided)
+  {
+    for (int j = 0; j < this->L.Rows; ++j)
+    {
+      std::uint64_t open =
+        (this->Unknown[j] | this->Pending[j]) & this->Candidate[j] & ~this->Blocked[j];
+      this->Facing[j] &= ~(this->Blocked[j] | open);
+      while (open)
+      {
+        const int i = __builtin_ctzll(open);
+        open &= open - 1;
+        undecided.push_back(j * this->L.K + i);
+      }
+    }
+  }
+
+  float Visibility() const
+  {
+    int lit = 0;
+    for (int j = 0; j < this->L.Rows; ++j)
+    {
+      lit += __builtin_popcountll(this->Facing[j]);
+    }
+    return static_cast<float>(lit) / static_cast<float>(this->L.Count);
+  }
+};
+}
+
+struct vtkPenumbraGearsShadows::Internals
+{
+  // Casters, rebuilt when the geometry changes (same rule as the reference's scene).
+  std::vector<Caster> Casters;
+  std::vector<Sphere> Bounds;
+  vtkMTimeType GeometryTime = 0;
+  vtkMTimeType FlagsTime = 0;
+  double Origin[3] = { 0, 0, 0 };
+  vtkIdType Triangles = -1;
+  double Diagonal = 1.0;
+
+  vtkNew<vtkTypeUInt32Array> Masks;
+  vtkNew<vtkUnsignedCharArray> Uncertain;
+
+  void UpdateCasters(vtkPenumbraSceneGeometry* geometry)
+  {
+    double origin[3];
+    geometry->GetOrigin(origin);
+    const vtkIdType n = geometry->GetNumberOfTriangles();
+    if (n == this->Triangles && geometry->GetGeometryTime() == this->GeometryTime &&
+      geometry->GetFlagsTime() == this->FlagsTime && origin[0] == this->Origin[0] &&
+      origin[1] == this->Origin[1] && origin[2] == this->Origin[2])
+    {
+      return;
+    }
+    this->Casters.clear();
+    this->Bounds.clear();
+    vtkDoubleArray* vertices = geometry->GetVertices();
+    const double* v = n && vertices ? vertices->GetPointer(0) : nullptr;
+    for (vtkIdType t = 0; v && t < n; ++t)
+    {
+      Caster c;
+      if (geometry->IsOccluder(t) && MakeCaster(v + 9 * t, t, c))
+      {
+        this->Casters.push_back(c);
+        Sphere b;
+        b.Radius = 0.0;
+        for (int k = 0; k < 3; ++k)
+        {
+          b.Centre[k] = (c.V[0][k] + c.V[1][k] + c.V[2][k]) / 3.0;
+        }
+        for (int i = 0; i < 3; ++i)
+        {
+          const double d[3] = { c.V[i][0] - b.Centre[0], c.V[i][1] - b.Centre[1],
+            c.V[i][2] - b.Centre[2] };
+          b.Radius = std::max(b.Radius, vtkMath::Norm(d));
+        }
+        this->Bounds.push_back(b);
+      }
+    }
+    double bounds[6];
+    geometry->GetBounds(bounds);
+    double diagonal = 0.0;
+    if (vtkMath::AreBoundsInitialized(bounds))
+    {
+      diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
+        (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+        (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+    }
+    // The reference's scale rule (vtkPenumbraReference::EnsureScene).
+    this->Diagonal = std::isfinite(diagonal) && diagonal > 0.0 ? diagonal : 1.0;
+    this->Triangles = n;
+    this->GeometryTime = geometry->GetGeometryTime();
+    this->FlagsTime = geometry->GetFlagsTime();
+    std::copy(origin, origin + 3, this->Origin);
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkPenumbraGearsShadows::vtkPenumbraGearsShadows()
+  : Reference(vtkPenumbraReference::New())
+  , Impl(new Internals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkPenumbraGearsShadows::~vtkPenumbraGearsShadows()
+{
+  this->Reference->Delete();
+}
+
+//------------------------------------------------------------------------------
+vtkTypeUInt32Array* vtkPenumbraGearsShadows::GetMasks()
+{
+  return this->Impl->Masks;
+}
+
+//------------------------------------------------------------------------------
+vtkUnsignedCharArray* vtkPenumbraGearsShadows::GetUncertainSamples()
+{
+  return this->Impl->Uncertain;
+}
+
+//------------------------------------------------------------------------------
+double vtkPenumbraGearsShadows::GetUncertainFraction()
+{
+  return this->NumberOfValidSamples > 0
+    ? static_cast<double>(this->NumberOfUncertainSamples + this->NumberOfSamplesWithTracedRays) /
+      this->NumberOfValidSamples
+    : 0.0;
+}
+
+//------------------------------------------------------------------------------
+double vtkPenumbraGearsShadows::GetBlockingShare()
+{
+  return this->NumberOfAssignments > 0
+    ? static_cast<double>(this->NumberOfNecessaryAssignments) / this->NumberOfAssignments
+    : 0.0;
+}
+
+#define PENUMBRA_GEARS_FAIL(text)                                                                \
+  do                                                                                             \
+  {                                                                                              \
+    vtkErrorMacro(<< text);                                                                      \
+    return 0;                                                                                    \
+  } while (false)
+
+//------------------------------------------------------------------------------
+int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeometry* geometry,
+  vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility)
+{
+  const auto start = Clock::now();
+  if (!geometry || !samples || !light || !visibility)
+  {
+    PENUMBRA_GEARS_FAIL("needs scene geometry, view samples, a light and an output array");
+  }
+  this->Reference->SetGeometry(geometry);
+  auto* area = vtkPenumbraAreaLight::SafeDownCast(light);
+  this->LastLightWasArea = area != nullptr;
+  if (!area)
+  {
+    // GEARS is an area-light algorithm; other lights get the exact one-ray answer.
+    const int ok = this->Reference->ComputeVisibility(samples, light, visibility);
+    this->LastTimeMs = ElapsedMs(start);
+    return ok;
+  }
+  const std::string problem = area->GetValidityMessage();
+  if (!problem.empty())
+  {
+    PENUMBRA_GEARS_FAIL("invalid area light: " << problem);
+  }
+  const vtkIdType n = samples->GetNumberOfSamples();
+  vtkFloatArray* posArray = samples->GetPositions();
+  vtkFloatArray* nrmArray = samples->GetNormals();
+  vtkIntArray* propArray = samples->GetPropIndices();
+  vtkIdTypeArray* triArray = samples->GetTriangleIds();
+  if (!posArray || !nrmArray || !propArray || !triArray ||
+    posArray->GetNumberOfComponents() != 3 || nrmArray->GetNumberOfComponents() != 3 ||
+    posArray->GetNumberOfTuples() != n || nrmArray->GetNumberOfTuples() != n ||
+    propArray->GetNumberOfTuples() != n || triArray->GetNumberOfTuples() != n)
+  {
+    PENUMBRA_GEARS_FAIL("view sample arrays are missing or do not match the sample count");
+  }
+
+  // ---- Light samples, in the geometry's rebased frame (differences in double, as the
+  // reference takes them).
+  Internals& impl = *this->Impl;
+  impl.UpdateCasters(geometry);
+  double origin[3], samplesOrigin[3];
+  geometry->GetOrigin(origin);
+  samples->GetOrigin(samplesOrigin);
+  vtkSmartPointer<vtkPenumbraAreaLight> used = area;
+  if (this->SamplesPerAxis > 0 && this->SamplesPerAxis != area->GetSamplesPerAxis())
+  {
+    used = vtkSmartPointer<vtkPenumbraAreaLight>::Take(
+      vtkPenumbraAreaLight::SafeDownCast(area->ShallowClone()));
+    used->SetSamplesPerAxis(this->SamplesPerAxis);
+  }
+  LightSamples ls;
+  ls.K = used->GetSamplesPerAxis();
+  const bool line = used->GetShape() == vtkPenumbraAreaLight::Line;
+  ls.Rows = line ? 1 : ls.K;
+  ls.Count = used->GetNumberOfSamples();
+  if (ls.K > MaxK || ls.Count != ls.K * ls.Rows)
+  {
+    PENUMBRA_GEARS_FAIL("unsupported light sampling: " << ls.K << " samples per axis");
+  }
+  ls.Points.resize(3 * static_cast<size_t>(ls.Count));
+  for (int j = 0; j < ls.Count; ++j)
+  {
+    double* q = &ls.Points[3 * static_cast<size_t>(j)];
+    used->GetSamplePosition(j, q);
+    for (int c = 0; c < 3; ++c)
+    {
+      q[c] -= origin[c];
+    }
+  }
+  used->GetAxes(ls.U, ls.V, ls.N);
+  used->GetPosition(ls.Centre);
+  for (int c = 0; c < 3; ++c)
+  {
+    ls.Centre[c] -= origin[c];
+  }
+  const double width = used->GetWidth();
+  const double height = line ? 0.0 : used->GetHeight();
+  ls.DSu = width / ls.K;
+  ls.Su0 = (0.5 / ls.K - 0.5) * width;
+  ls.DSv = line ? 0.0 : height / ls.K;
+  ls.Sv0 = line ? 0.0 : (0.5 / ls.K - 0.5) * height;
+  ls.HalfU = std::fabs(ls.Su0);
+  ls.HalfV = std::fabs(ls.Sv0);
+  ls.Diagonal = std::sqrt(width * width + height * height);
+  const bool off = !used->GetSwitch() || used->GetIntensity() == 0.0;
+
+  // ---- Outputs.
+  visibility->SetNumberOfComponents(1);
+  visibility->SetNumberOfTuples(n);
+  float* vis = n ? visibility->GetPointer(0) : nullptr;
+  impl.Uncertain->SetNumberOfComponents(1);
+  impl.Uncertain->SetNumberOfTuples(n);
+  unsigned char* uncertain = n ? impl.Uncertain->GetPointer(0) : nullptr;
+  if (uncertain)
+  {
+    std::fill(uncertain, uncertain + n, 0);
+  }
+  const int words = (ls.Count + 31) / 32;
+  std::uint32_t* masks = nullptr;
+  if (this->KeepMasks)
+  {
+    impl.Masks->SetNumberOfComponents(words);
+    impl.Masks->SetNumberOfTuples(n);
+    masks = n ? impl.Masks->GetPointer(0) : nullptr;
+    if (masks)
+    {
+      std::fill(masks, masks + static_cast<size_t>(n) * words, 0u);
+    }
+  }
+  else
+  {
+    impl.Masks->Initialize();
+  }
+
+  const float* pos = n ? posArray->GetPointer(0) : nullptr;
+  const float* nrm = n ? nrmArray->GetPointer(0) : nullptr;
+  const int* props = n ? propArray->GetPointer(0) : nullptr;
+  const vtkIdType* tris = n ? triArray->GetPointer(0) : nullptr;
+  double shift[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    shift[c] = samplesOrigin[c] - origin[c];
+  }
+  const double epsilon = this->Reference->GetRelativeEpsilon();
+  const double tieFactor = this->Reference->GetTieFactor();
+  const double diagonal = impl.Diagonal;
+
+  auto loadSample = [&](vtkIdType s, SampleRays& r) -> bool {
+    for (int c = 0; c < 3; ++c)
+    {
+      r.P[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
+      r.Normal[c] = nrm[3 * s + c];
+    }
+    if (props[s] < 0 || !std::isfinite(r.P[0]) || !std::isfinite(r.P[1]) ||
+      !std::isfinite(r.P[2]) || !std::isfinite(r.Normal[0]) || !std::isfinite(r.Normal[1]) ||
+      !std::isfinite(r.Normal[2]))
+    {
+      return false;
+    }
+    const double scale = std::max(vtkMath::Norm(r.P), diagonal);
+    r.Own = tris[s];
+    r.Epsilon = epsilon;
+    r.TNear = epsilon * scale;
+    r.TNearF = static_cast<float>(r.TNear);
+    r.TieLimit = static_cast<double>(static_cast<float>(tieFactor * epsilon * scale));
+    r.ErrPos = RelativePositionTolerance * scale;
+    return true;
+  };
+
+  auto writeMask = [&](vtkIdType s, const std::uint64_t* rows) {
+    if (!masks)
+    {
+      return;
+    }
+    std::uint32_t* out = masks + static_cast<size_t>(s) * words;
+    for (int j = 0; j < ls.Rows; ++j)
+    {
+      for (int i = 0; i < ls.K; ++i)
+      {
+        if (rows[j] >> i & 1u)
+        {
+          const int index = j * ls.K + i;
+          out[index / 32] |= 1u << (index % 32);
+        }
+      }
+    }
+  };
+
+  // ---- Classify the samples: invalid, light off, facing away from the whole light, or on
+  // a side of the light plane.
+  std::vector<signed char> side(static_cast<size_t>(n), 0);
+  std::atomic<vtkIdType> validCount(0);
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    vtkIdType localValid = 0;
+    std::uint64_t rows[MaxK];
+    for (vtkIdType s = begin; s < end; ++s)
+    {
+      SampleRays r;
+      if (!loadSample(s, r))
+      {
+        vis[s] = -1.0f;
+        continue;
+      }
+      ++localValid;
+      if (off)
+      {
+        vis[s] = 1.0f; // the reference's rule: nothing to shadow
+        for (int j = 0; j < ls.Rows; ++j)
+        {
+          rows[j] = Span(0, ls.K - 1);
+        }
+        writeMask(s, rows);
+        continue;
+      }
+      // Facing is affine over the light: below the tangent plane at every corner (with a
+      // margin for the per-sample rounding) means below it for every light sample.
+      double best = -std::numeric_limits<double>::infinity();
+      double reach = 0.0;
+      for (int c = 0; c < 4; ++c)
+      {
+        const double* q = ls.Corner(c);
+        const double toLight[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
+        best = std::max(best, vtkMath::Dot(r.Normal, toLight));
+        reach = std::max(reach, vtkMath::Norm(toLight));
+      }
+      if (best < -1e-9 * reach)
+      {
+        vis[s] = 0.0f;
+        continue;
+      }
+      const double z = vtkMath::Dot(ls.N, r.P) - vtkMath::Dot(ls.N, ls.Centre);
+      side[static_cast<size_t>(s)] = z > 0.0 ? 1 : (z < 0.0 ? -1 : 2);
+    }
+    validCount += localValid;
+  });
+  this->NumberOfValidSamples = validCount.load();
+
+  // Undecided (view sample, light sample) pairs, appended by the mask loop in sample order
+  // within each thread's chunk.
+  std::vector<vtkIdType> traceSamples;
+  std::vector<int> traceLights;
+  std::mutex traceMutex;
+
+  // ---- Per side of the light plane: grid, lists, masks.
+  const int gridRequested = this->GridResolution;
+  int gridUsed = gridRequested;
+  vtkIdType occupiedTotal = 0, cellsTotal = 0, maxPerCell = 0, listTotal = 0, globalTotal = 0;
+  std::atomic<vtkIdType> assignments(0), necessary(0), segmentTests(0);
+  double gridMs = 0.0, maskMs = 0.0;
+  const vtkIdType nCasters = static_cast<vtkIdType>(impl.Casters.size());
+
+  for (const int flip : { 1, -1 })
+  {
+    const auto gridStart = Clock::now();
+    // Light frame of this side: z toward the samples (seed 002 A.1; the back side mirrors).
+    double ax[3][3];
+    for (int c = 0; c < 3; ++c)
+    {
+      ax[0][c] = ls.U[c];
+      ax[1][c] = ls.V[c];
+      ax[2][c] = flip * ls.N[c];
+    }
+    auto toFrame = [&](const double w[3], double f[3]) {
+      const double d[3] = { w[0] - ls.Centre[0], w[1] - ls.Centre[1], w[2] - ls.Centre[2] };
+      for (int a = 0; a < 3; ++a)
+      {
+        f[a] = vtkMath::Dot(ax[a], d);
+      }
+    };
+    std::vector<vtkIdType> ids;
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      if (side[static_cast<size_t>(s)] == flip)
+      {
+        ids.push_back(s);
+      }
+    }
+    if (ids.empty())
+    {
+      continue;
+    }
+    const vtkIdType m = static_cast<vtkIdType>(ids.size());
+    std::vector<double> frame(3 * static_cast<size_t>(m));
+    double zFar = 0.0, maxScale = diagonal;
+    double lo3[3] = { -ls.HalfU, -ls.HalfV, 0.0 }, hi3[3] = { ls.HalfU, ls.HalfV, 0.0 };
+    for (vtkIdType q = 0; q < m; ++q)
+    {
+      const vtkIdType s = ids[static_cast<size_t>(q)];
+      double p[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
+      }
+      double* f = &frame[3 * static_cast<size_t>(q)];
+      toFrame(p, f);
+      f[2] = std::max(f[2], 0.0); // rounding of the side test; z > 0 by construction
+      zFar = std::max(zFar, f[2]);
+      maxScale = std::max(maxScale, vtkMath::Norm(p));
+      for (int c = 0; c < 3; ++c)
+      {
+        lo3[c] = std::min(lo3[c], f[c]);
+        hi3[c] = std::max(hi3[c], f[c]);
+      }
+    }
+    // Triangles within this of the light plane, the far plane or a cell border are treated
+    // as touching it: the float32 ray may hit them that much off.
+    const double tolerance = 4.0 * RelativePositionTolerance * maxScale;
+
+    // Camera C behind the light (z < 0) on the line from the AABB centre through the light
+    // centre, at CameraDistanceFactor x diagonal (seed 002 A.1); any z_C < 0 is conservative.
+    double dir[3] = { -0.5 * (lo3[0] + hi3[0]), -0.5 * (lo3[1] + hi3[1]), -0.5 * (lo3[2] + hi3[2]) };
+    if (!(vtkMath::Normalize(dir) > 0.0) || !(dir[2] < -0.25))
+    {
+      dir[0] = 0.0;
+      dir[1] = 0.0;
+      dir[2] = -1.0;
+    }
+    const double distance =
+      std::max(this->CameraDistanceFactor * ls.Diagonal, 1e-3 * std::max(zFar, 1e-300));
+    const double cam[3] = { dir[0] * distance, dir[1] * distance, dir[2] * distance };
+    auto project = [&](const double f[3], double out[2]) {
+      const double g = (zFar - cam[2]) / (f[2] - cam[2]);
+      out[0] = cam[0] + g * (f[0] - cam[0]);
+      out[1] = cam[1] + g * (f[1] - cam[1]);
+    };
+
+    int g = gridRequested;
+    std::vector<std::int32_t> sampleCell(static_cast<size_t>(m));
+    std::vector<std::uint32_t> cellStart, cellList, globalList, sampleOrder, sampleStart;
+    std::vector<std::int32_t> occupied;
+    double x0 = 0, y0 = 0, cw = 1, ch = 1;
+    std::vector<double> proj(2 * static_cast<size_t>(m));
+    double pb[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+      std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
+    for (vtkIdType q = 0; q < m; ++q)
+    {
+      double* pr = &proj[2 * static_cast<size_t>(q)];
+      project(&frame[3 * static_cast<size_t>(q)], pr);
+      pb[0] = std::min(pb[0], pr[0]);
+      pb[1] = std::max(pb[1], pr[0]);
+      pb[2] = std::min(pb[2], pr[1]);
+      pb[3] = std::max(pb[3], pr[1]);
+    }
+    const double extent = std::max({ pb[1] - pb[0], pb[3] - pb[2], 1e-9 * (zFar + distance) });
+
+    // Per caster on this side: culled (-2), global (-1) or the cell box it touches.
+    struct Footprint
+    {
+      double Box[4];
+      int State; // 0 culled, 1 global, 2 cells
+    };
+    std::vector<double> zNear(static_cast<size_t>(nCasters)); // nearest vertex to the light
+    std::vector<Footprint> foot(static_cast<size_t>(nCasters));
+    vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType t = begin; t < end; ++t)
+      {
+        const Caster& tri = impl.Casters[static_cast<size_t>(t)];
+        Footprint& fp = foot[static_cast<size_t>(t)];
+        double f[3][3];
+        double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+        for (int i = 0; i < 3; ++i)
+        {
+          toFrame(tri.V[i], f[i]);
+          zmin = std::min(zmin, f[i][2]);
+          zmax = std::max(zmax, f[i][2]);
+        }
+        zNear[static_cast<size_t>(t)] = zmin;
+        if (zmax < -tolerance || zmin > zFar + tolerance)
+        {
+          fp.State = 0; // wholly behind the light plane or beyond every sample
+          continue;
+        }
+        if (zmin <= tolerance)
+        {
+          fp.State = 1; // touches the light plane: unbounded extrusion (note §3 #2)
+          continue;
+        }
+        // Closed form of the note (§1.3): extrusion rectangles and projections from C.
+        double box[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+          std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
+        double rmax = 1.0;
+        for (int i = 0; i < 3; ++i)
+        {
+          const double r = zFar / f[i][2];
+          rmax = std::max(rmax, r);
+          const double hx = std::fabs(r - 1.0) * ls.HalfU;
+          const double hy = std::fabs(r - 1.0) * ls.HalfV;
+          box[0] = std::min(box[0], r * f[i][0] - hx);
+          box[1] = std::max(box[1], r * f[i][0] + hx);
+          box[2] = std::min(box[2], r * f[i][1] - hy);
+          box[3] = std::max(box[3], r * f[i][1] + hy);
+          double pc[2];
+          project(f[i], pc);
+          box[0] = std::min(box[0], pc[0]);
+          box[1] = std::max(box[1], pc[0]);
+          box[2] = std::min(box[2], pc[1]);
+          box[3] = std::max(box[3], pc[1]);
+        }
+        const double pad = 2.0 * tolerance * (rmax + (zFar - cam[2]) / (-cam[2])) + 1e-9 * extent;
+        fp.Box[0] = box[0] - pad;
+        fp.Box[1] = box[1] + pad;
+        fp.Box[2] = box[2] - pad;
+        fp.Box[3] = box[3] + pad;
+        fp.State = std::isfinite(pad) && std::isfinite(box[0] + box[1] + box[2] + box[3]) ? 2 : 1;
+      }
+    });
+
+    // Build the grid; coarsen while the lists would exceed MaxListEntries.
+    for (;;)
+    {
+      x0 = pb[0] - 1e-9 * extent;
+      y0 = pb[2] - 1e-9 * extent;
+      cw = std::max(pb[1] - pb[0], 1e-6 * extent) * (1.0 + 1e-7) / g;
+      ch = std::max(pb[3] - pb[2], 1e-6 * extent) * (1.0 + 1e-7) / g;
+      const size_t cells = static_cast<size_t>(g) * g;
+      auto cellOf = [&](double px, double py, int& ix, int& iy) {
+        ix = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((px - x0) / cw))));
+        iy = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((py - y0) / ch))));
+      };
+      // A.2: bin the samples (counting sort by cell).
+      std::vector<std::uint32_t> count(cells + 1, 0);
+      for (vtkIdType q = 0; q < m; ++q)
+      {
+        int ix, iy;
+        cellOf(proj[2 * q], proj[2 * q + 1], ix, iy);
+        sampleCell[static_cast<size_t>(q)] = iy * g + ix;
+        ++count[static_cast<size_t>(iy * g + ix)];
+      }
+      // Summed-area table of occupancy: cells a footprint touches, counted in O(1).
+      std::vector<std::int64_t> sat(static_cast<size_t>(g + 1) * (g + 1), 0);
+      occupied.clear();
+      for (int iy = 0; iy < g; ++iy)
+      {
+        for (int ix = 0; ix < g; ++ix)
+        {
+          const bool busy = count[static_cast<size_t>(iy * g + ix)] > 0;
+          if (busy)
+          {
+            occupied.push_back(iy * g + ix);
+          }
+          sat[static_cast<size_t>(iy + 1) * (g + 1) + ix + 1] = (busy ? 1 : 0) +
+            sat[static_cast<size_t>(iy) * (g + 1) + ix + 1] +
+            sat[static_cast<size_t>(iy + 1) * (g + 1) + ix] - sat[static_cast<size_t>(iy) * (g + 1) + ix];
+        }
+      }
+      sampleStart.assign(cells + 1, 0);
+      for (size_t c = 0; c < cells; ++c)
+      {
+        sampleStart[c + 1] = sampleStart[c] + count[c];
+      }
+      sampleOrder.resize(static_cast<size_t>(m));
+      {
+        std::vector<std::uint32_t> cursor(sampleStart.begin(), sampleStart.end() - 1);
+        for (vtkIdType q = 0; q < m; ++q)
+        {
+          sampleOrder[cursor[static_cast<size_t>(sampleCell[static_cast<size_t>(q)])]++] =
+            static_cast<std::uint32_t>(q);
+        }
+      }
+      const std::int64_t busyCells = static_cast<std::int64_t>(occupied.size());
+
+      // A.3: cell ranges per caster; big ones join the global list.
+      std::vector<int> range(4 * static_cast<size_t>(nCasters));
+      std::vector<std::int64_t> touched(static_cast<size_t>(nCasters), 0);
+      vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+        for (vtkIdType t = begin; t < end; ++t)
+        {
+          const Footprint& fp = foot[static_cast<size_t>(t)];
+          int* rg = &range[4 * static_cast<size_t>(t)];
+          if (fp.State != 2)
+          {
+            touched[static_cast<size_t>(t)] = fp.State == 1 ? -1 : 0;
+            continue;
+          }
+          const double bx0 = std::floor((fp.Box[0] - x0) / cw), bx1 = std::floor((fp.Box[1] - x0) / cw);
+          const double by0 = std::floor((fp.Box[2] - y0) / ch), by1 = std::floor((fp.Box[3] - y0) / ch);
+          if (bx1 < 0 || by1 < 0 || bx0 > g - 1 || by0 > g - 1)
+          {
+            touched[static_cast<size_t>(t)] = 0;
+            continue;
+          }
+          rg[0] = static_cast<int>(std::max(0.0, bx0));
+          rg[1] = static_cast<int>(std::min<double>(g - 1, bx1));
+          rg[2] = static_cast<int>(std::max(0.0, by0));
+          rg[3] = static_cast<int>(std::min<double>(g - 1, by1));
+          const std::int64_t c = sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[1] + 1] -
+            sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[1] + 1] -
+            sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[0]] +
+            sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[0]];
+          // A list entry in more than half the busy cells costs more than one global entry.
+          touched[static_cast<size_t>(t)] = (busyCells > 8 && 2 * c > busyCells) ? -1 : c;
+        }
+      });
+      std::int64_t total = 0;
+      globalList.clear();
+      for (vtkIdType t = 0; t < nCasters; ++t)
+      {
+        const std::int64_t c = touched[static_cast<size_t>(t)];
+        if (c < 0)
+        {
+          globalList.push_back(static_cast<std::uint32_t>(t));
+        }
+        else
+        {
+          total += c;
+        }
+      }
+      if (total > static_cast<std::int64_t>(this->MaxListEntries) && g > 1)
+      {
+        vtkWarningMacro("GEARS lists would hold " << total << " entries (limit "
+                                                  << this->MaxListEntries << ") at a " << g
+                                                  << "^2 grid; coarsening to " << g / 2 << "^2");
+        g /= 2;
+        continue;
+      }
+      if (g == 1)
+      {
+        // Every remaining caster covers the single cell: list them once, globally.
+        for (vtkIdType t = 0; t < nCasters; ++t)
+        {
+          if (touched[static_cast<size_t>(t)] > 0)
+          {
+            globalList.push_back(static_cast<std::uint32_t>(t));
+          }
+        }
+        cellStart.assign(cells + 1, 0);
+        cellList.clear();
+        total = 0;
+        break;
+      }
+      // Counting sort of (caster, cell) pairs by cell, only busy cells.
+      std::vector<std::atomic<std::uint32_t>> perCell(cells);
+      for (auto& a : perCell)
+      {
+        a.store(0, std::memory_order_relaxed);
+      }
+      auto forCells = [&](vtkIdType t, auto&& fn) {
+        const int* rg = &range[4 * static_cast<size_t>(t)];
+        for (int iy = rg[2]; iy <= rg[3]; ++iy)
+        {
+          for (int ix = rg[0]; ix <= rg[1]; ++ix)
+          {
+            const size_t cell = static_cast<size_t>(iy) * g + ix;
+            if (count[cell] > 0)
+            {
+              fn(cell);
+            }
+          }
+        }
+      };
+      vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+        for (vtkIdType t = begin; t < end; ++t)
+        {
+          if (touched[static_cast<size_t>(t)] > 0)
+          {
+            forCells(t, [&](size_t cell) { perCell[cell].fetch_add(1, std::memory_order_relaxed); });
+          }
+        }
+      });
+      cellStart.assign(cells + 1, 0);
+      for (size_t c = 0; c < cells; ++c)
+      {
+        cellStart[c + 1] = cellStart[c] + perCell[c].load(std::memory_order_relaxed);
+        perCell[c].store(cellStart[c], std::memory_order_relaxed);
+      }
+      cellList.resize(static_cast<size_t>(total));
+      vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+        for (vtkIdType t = begin; t < end; ++t)
+        {
+          if (touched[static_cast<size_t>(t)] > 0)
+          {
+            forCells(t, [&](size_t cell) {
+              cellList[perCell[cell].fetch_add(1, std::memory_order_relaxed)] =
+                static_cast<std::uint32_t>(t);
+            });
+          }
+        }
+      });
+      // Largest triangles first: a sample in umbra fills its mask and stops sooner. The
+      // order also makes the lists (and the statistics) independent of thread timing.
+      const auto& bounds = impl.Bounds;
+      vtkSMPTools::For(0, static_cast<vtkIdType>(occupied.size()), [&](vtkIdType begin, vtkIdType end) {
+        for (vtkIdType b = begin; b < end; ++b)
+        {
+          const size_t cell = static_cast<size_t>(occupied[static_cast<size_t>(b)]);
+          std::sort(cellList.begin() + cellStart[cell], cellList.begin() + cellStart[cell + 1],
+            [&](std::uint32_t x, std::uint32_t y) {
+              return bounds[x].Radius > bounds[y].Radius ||
+                (bounds[x].Radius == bounds[y].Radius && x < y);
+            });
+        }
+      });
+      break;
+    }
+    gridUsed = std::min(gridUsed, g);
+    const size_t cells = static_cast<size_t>(g) * g;
+    occupiedTotal += static_cast<vtkIdType>(occupied.size());
+    cellsTotal += static_cast<vtkIdType>(cells);
+    listTotal += static_cast<vtkIdType>(cellList.size());
+    globalTotal += static_cast<vtkIdType>(globalList.size());
+    for (const std::int32_t c : occupied)
+    {
+      maxPerCell = std::max<vtkIdType>(maxPerCell, cellStart[c + 1] - cellStart[c]);
+    }
+    gridMs += ElapsedMs(gridStart);
+
+    // ---- Step 4: masks, one busy cell after the other in parallel.
+    const auto maskStart = Clock::now();
+    const vtkIdType busy = static_cast<vtkIdType>(occupied.size());
+    vtkSMPTools::For(0, busy, [&](vtkIdType begin, vtkIdType end) {
+      MaskBuilder builder(ls, impl.Casters, epsilon);
+      std::vector<int> undecided;
+      builder.ZMin = zNear.data();
+      builder.Bounds = impl.Bounds.data();
+      builder.FarSlack = tolerance;
+      for (vtkIdType b = begin; b < end; ++b)
+      {
+        const std::int32_t cell = occupied[static_cast<size_t>(b)];
+        const std::uint32_t* list = cellList.data() + cellStart[cell];
+        const std::uint32_t listSize = cellStart[cell + 1] - cellStart[cell];
+        for (std::uint32_t o = sampleStart[cell]; o < sampleStart[cell + 1]; ++o)
+        {
+          const vtkIdType s = ids[sampleOrder[o]];
+          SampleRays r;
+          loadSample(s, r);
+          r.Z = frame[3 * static_cast<size_t>(sampleOrder[o]) + 2];
+          builder.Assignments += listSize + static_cast<vtkIdType>(globalList.size());
+          if (!builder.Start(r))
+          {
+            vis[s] = builder.Visibility();
+            writeMask(s, builder.Facing);
+            continue;
+          }
+          for (std::uint32_t e = 0; e < listSize && builder.Open; ++e)
+          {
+            builder.Visit(list[e]);
+          }
+          for (size_t e = 0; e < globalList.size() && builder.Open; ++e)
+          {
+            builder.Visit(globalList[e]);
+          }
+          undecided.clear();
+          builder.Finish(undecided);
+          vis[s] = builder.Visibility();
+          writeMask(s, builder.Facing);
+          if (!undecided.empty())
+          {
+            std::lock_guard<std::mutex> lock(traceMutex);
+            for (const int j : undecided)
+            {
+              traceSamples.push_back(s);
+              traceLights.push_back(j);
+            }
+          }
+        }
+      }
+      assignments += builder.Assignments;
+      necessary += builder.Necessary;
+      segmentTests += builder.Tests;
+    });
+    maskMs += ElapsedMs(maskStart);
+  }
+
+  // ---- Samples on the light plane go to the reference whole; undecided light samples one
+  // by one, with its exact rules (seed 002 §5.1's "identical to ray tracing").
+  const auto traceStart = Clock::now();
+  vtkIdType nUncertain = 0;
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    if (side[static_cast<size_t>(s)] == 2)
+    {
+      uncertain[s] = 1;
+    }
+    nUncertain += uncertain[s];
+  }
+  if (nUncertain > 0)
+  {
+    if (!this->Reference->ComputeVisibility(samples, used, visibility, impl.Uncertain))
+    {
+      PENUMBRA_GEARS_FAIL(
+        "tracing the uncertain samples failed: " << this->Reference->GetErrorMessage());
+    }
+  }
+  const vtkIdType nTrace = static_cast<vtkIdType>(traceSamples.size());
+  vtkIdType withTracedRays = 0;
+  if (nTrace > 0)
+  {
+    std::vector<unsigned char> lit(static_cast<size_t>(nTrace));
+    if (!this->Reference->TraceAreaRays(
+          samples, used, nTrace, traceSamples.data(), traceLights.data(), lit.data()))
+    {
+      PENUMBRA_GEARS_FAIL(
+        "tracing the undecided light samples failed: " << this->Reference->GetErrorMessage());
+    }
+    vtkIdType previous = -1;
+    for (vtkIdType i = 0; i < nTrace; ++i)
+    {
+      const vtkIdType s = traceSamples[static_cast<size_t>(i)];
+      withTracedRays += s != previous;
+      previous = s;
+      if (!lit[static_cast<size_t>(i)])
+      {
+        continue;
+      }
+      // vis[s] = float(lit) / float(n) with lit recovered exactly from the known part.
+      const int known = static_cast<int>(std::lround(vis[s] * ls.Count));
+      vis[s] = static_cast<float>(known + 1) / static_cast<float>(ls.Count);
+      if (masks)
+      {
+        const int j = traceLights[static_cast<size_t>(i)];
+        masks[static_cast<size_t>(s) * words + j / 32] |= 1u << (j % 32);
+      }
+    }
+  }
+  this->TraceTimeMs = nUncertain > 0 || nTrace > 0 ? ElapsedMs(traceStart) : 0.0;
+  this->NumberOfTracedRays = nTrace;
+  this->NumberOfSamplesWithTracedRays = withTracedRays;
+  this->GridTimeMs = gridMs;
+  this->MaskTimeMs = maskMs;
+  this->NumberOfUncertainSamples = nUncertain;
+  this->NumberOfOccupiedCells = occupiedTotal;
+  this->NumberOfCells = cellsTotal;
+  this->MaxTrianglesPerCell = maxPerCell;
+  this->AverageTrianglesPerCell =
+    occupiedTotal > 0 ? static_cast<double>(listTotal) / occupiedTotal : 0.0;
+  this->NumberOfGlobalTriangles = globalTotal;
+  this->NumberOfAssignments = assignments.load();
+  this->NumberOfNecessaryAssignments = necessary.load();
+  this->NumberOfSegmentTests = segmentTests.load();
+  this->EffectiveGridResolution = gridUsed;
+  visibility->Modified();
+  impl.Uncertain->Modified();
+  impl.Masks->Modified();
+  this->LastTimeMs = ElapsedMs(start);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraGearsShadows::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SamplesPerAxis: " << this->SamplesPerAxis << "\n";
+  os << indent << "GridResolution: " << this->GridResolution << "\n";
+  os << indent << "CameraDistanceFactor: " << this->CameraDistanceFactor << "\n";
+  os << indent << "MaxListEntries: " << this->MaxListEntries << "\n";
+  os << indent << "KeepMasks: " << this->KeepMasks << "\n";
+  os << indent << "NumberOfUncertainSamples: " << this->NumberOfUncertainSamples << "\n";
+  os << indent << "NumberOfAssignments: " << this->NumberOfAssignments << "\n";
+  os << indent << "NumberOfNecessaryAssignments: " << this->NumberOfNecessaryAssignments << "\n";
+}
