@@ -548,14 +548,15 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     const int slots = cube ? 6 : (paraboloid ? 2 : 1);
     maps->Views.assign(static_cast<size_t>(slots), View());
     maps->Maps.assign(static_cast<size_t>(slots), std::vector<float>());
-    for (auto& tex : maps->Textures)
+    // GPU lookup: the slots' compare textures are kept and redrawn when their size still fits.
+    for (size_t slot = static_cast<size_t>(slots); slot < maps->Textures.size(); ++slot)
     {
-      if (tex)
+      if (maps->Textures[slot])
       {
-        tex->ReleaseGraphicsResources(win);
+        maps->Textures[slot]->ReleaseGraphicsResources(win);
       }
     }
-    maps->Textures.assign(static_cast<size_t>(slots), nullptr);
+    maps->Textures.resize(static_cast<size_t>(slots));
 
     // ---- Fit the light views to the receivers (seed 004 ch. 4.2): the valid samples that
     // face the light, exactly (no control texture needed: the samples are on the CPU).
@@ -731,15 +732,26 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     {
       if (!used[static_cast<size_t>(slot)])
       {
+        if (maps->Textures[static_cast<size_t>(slot)])
+        {
+          maps->Textures[static_cast<size_t>(slot)]->ReleaseGraphicsResources(win);
+          maps->Textures[static_cast<size_t>(slot)] = nullptr;
+        }
         continue;
       }
       // The midpoint pass below draws with its own vertex array.
       glBindVertexArray(paraboloid ? impl.ParaboloidArray : impl.Casters.VertexArray);
-      if (gpuLookup)
+      auto& kept = maps->Textures[static_cast<size_t>(slot)];
+      if (kept && (!gpuLookup || static_cast<int>(kept->GetWidth()) != size))
       {
-        maps->Textures[static_cast<size_t>(slot)] = Internals::CompareTexture(win, size);
+        kept->ReleaseGraphicsResources(win);
+        kept = nullptr;
       }
-      vtkTextureObject* slotTexture = maps->Textures[static_cast<size_t>(slot)];
+      if (gpuLookup && !kept)
+      {
+        kept = Internals::CompareTexture(win, size);
+      }
+      vtkTextureObject* slotTexture = kept;
       GLsizei count = impl.Casters.VertexCount;
       if (paraboloid)
       {
