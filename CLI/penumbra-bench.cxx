@@ -35,6 +35,7 @@
 #include "vtkAxis.h"
 #include "vtkCameraPass.h"
 #include "vtkChartMatrix.h"
+#include "vtkChartLegend.h"
 #include "vtkChartXY.h"
 #include "vtkContextScene.h"
 #include "vtkContextView.h"
@@ -57,6 +58,7 @@
 #include "vtkPenumbraTechniques.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPlot.h"
+#include "vtkPlotPoints.h"
 #include "vtkPointData.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
@@ -70,6 +72,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -398,11 +401,14 @@ bool WriteChart(const std::string& path, const std::vector<Row>& rows, std::stri
   vtkNew<vtkContextView> view;
   view->GetRenderWindow()->SetOffScreenRendering(1);
   view->GetRenderWindow()->SetMultiSamples(0);
-  view->GetRenderWindow()->SetSize(900, 420 * static_cast<int>(scenes.size()));
+  view->GetRenderWindow()->SetSize(1100, 440 * static_cast<int>(scenes.size()));
   view->GetRenderer()->SetBackground(1, 1, 1);
   vtkNew<vtkChartMatrix> matrix;
   view->GetScene()->AddItem(matrix);
   matrix->SetSize(vtkVector2i(1, static_cast<int>(scenes.size())));
+  // Room on the left for the error axis title.
+  matrix->SetBorders(70, 45, 20, 30);
+  matrix->SetGutter(vtkVector2f(30.0f, 70.0f)); // scene title clear of the x axis title above
   const double palette[][3] = { { 0.1, 0.1, 0.1 }, { 0.85, 0.33, 0.1 }, { 0.0, 0.45, 0.74 },
     { 0.47, 0.67, 0.19 }, { 0.49, 0.18, 0.56 }, { 0.93, 0.69, 0.13 }, { 0.3, 0.75, 0.93 } };
   for (size_t s = 0; s < scenes.size(); ++s)
@@ -418,6 +424,20 @@ bool WriteChart(const std::string& path, const std::vector<Row>& rows, std::stri
     errorAxis->SetLogScale(true);
     errorAxis->SetBehavior(vtkAxis::FIXED);
     errorAxis->SetUnscaledRange(0.3 * floorError, 2.0);
+    // The time axis runs a decade past the slowest point: the legend (top right) then sits
+    // over empty space and never hides a point.
+    double tmin = std::numeric_limits<double>::max(), tmax = 0.0;
+    for (const Row& r : rows)
+    {
+      if (r.Scene == scenes[s])
+      {
+        tmin = std::min(tmin, std::max(r.MedianMs, 1e-3));
+        tmax = std::max(tmax, std::max(r.MedianMs, 1e-3));
+      }
+    }
+    vtkAxis* timeAxis = chart->GetAxis(vtkAxis::BOTTOM);
+    timeAxis->SetBehavior(vtkAxis::FIXED);
+    timeAxis->SetUnscaledRange(tmin / 1.5, tmax * 12.0);
     std::map<std::string, vtkSmartPointer<vtkTable>> series;
     for (const Row& r : rows)
     {
@@ -438,14 +458,27 @@ bool WriteChart(const std::string& path, const std::vector<Row>& rows, std::stri
       table->AddColumn(y);
       series[label] = table;
     }
-    size_t c = 0;
+    // One colour per technique, one marker per setting within it.
+    std::map<std::string, size_t> colours;
+    std::map<std::string, int> markers;
+    const int markerStyles[] = { vtkPlotPoints::CIRCLE, vtkPlotPoints::SQUARE,
+      vtkPlotPoints::DIAMOND, vtkPlotPoints::CROSS, vtkPlotPoints::PLUS };
     for (auto& entry : series)
     {
-      vtkPlot* plot = chart->AddPlot(vtkChart::POINTS);
+      const std::string technique = entry.first.substr(0, entry.first.find(' '));
+      if (!colours.count(technique))
+      {
+        const size_t next = colours.size();
+        colours[technique] = next;
+      }
+      const int marker = markers[technique]++;
+      auto* plot = vtkPlotPoints::SafeDownCast(chart->AddPlot(vtkChart::POINTS));
       plot->SetInputData(entry.second, 0, 1);
       plot->SetLabel(entry.first);
-      const double* rgb = palette[c++ % (sizeof(palette) / sizeof(palette[0]))];
+      const double* rgb = palette[colours[technique] % (sizeof(palette) / sizeof(palette[0]))];
       plot->SetColor(rgb[0], rgb[1], rgb[2]);
+      plot->SetMarkerStyle(markerStyles[marker % 5]);
+      plot->SetMarkerSize(marker % 5 >= 3 ? 14.0f : 10.0f);
       plot->SetWidth(3.0);
     }
   }
