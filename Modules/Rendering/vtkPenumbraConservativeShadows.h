@@ -37,7 +37,7 @@
  * does not beat vtkPenumbraRayTracedShadows here; its split pays where a hardware rasterizer
  * builds the map and rays are expensive.
  *
- * Memory: Layers x 8 bytes per texel, i.e. 24 MiB at the default 1024^2 and 3 layers, per
+ * Memory: Layers x 8 bytes per texel, i.e. 16 MiB at the default 1024^2 and 2 layers, per
  * view; cube faces are processed one after the other.
  */
 
@@ -101,10 +101,10 @@ public:
    * Depth-peeled CSM layers. Layer k stores the nearest triangle no earlier layer stores at
    * that texel, so a sample can look past its own triangle and past neighbours that provably
    * miss its shadow ray (coplanar neighbours at shared edges). Default 2 (the note's option
-   * (ii) for seed 000 §1.3b), clamped to [2, 4]. Default 3: a third layer typically cuts
-   * the uncertain share several-fold (5.8 % -> 0.7 % on default.json at 1280x720) and costs
-   * the CPU builder little (8 bytes per texel, no extra pass); the GPU builder pays one more
-   * full draw per layer.
+   * (ii) for seed 000 §1.3b), clamped to [2, 4]. Default 2, chosen by measurement: a third
+   * layer cuts the uncertain share several-fold (5.8 % -> 0.7 % on default.json at
+   * 1280x720), but on llvmpipe the rays it saves cost less than the layer (CPU builder:
+   * 73 ms vs 94 ms per frame there); where rays are dearer than map texels, use 3 or 4.
    */
   vtkSetClampMacro(Layers, int, 2, 4);
   vtkGetMacro(Layers, int);
@@ -161,7 +161,7 @@ protected:
   ~vtkPenumbraConservativeShadows() override;
 
   int Resolution = 1024;
-  int Layers = 3;
+  int Layers = 2;
   int MapBuilder = MAP_CPU;
   vtkIdType NumberOfTexelWrites = 0;
   vtkIdType NumberOfLitSamples = 0;

@@ -219,7 +219,7 @@ void InstallRayTraced(vtkRenderer* ren, Options& opts)
 void InstallConservative(vtkRenderer* ren, Options& opts)
 {
   const int resolution = opts.Integer("resolution", 1024, 64, 8192);
-  const int layers = opts.Integer("layers", 3, 2, 4);
+  const int layers = opts.Integer("layers", 2, 2, 4);
   const int map = opts.Choice("map", { "cpu", "gpu" });
   opts.RejectUnknown();
   vtkNew<vtkPenumbraConservativeShadows> technique;
