@@ -12,10 +12,12 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 build="${PENUMBRA_BUILD_DIR:-$here/build}"
 
+# openimageio-tools: OpenImageIO's CMake package lists /usr/bin/iconvert & co. as imported
+# targets and find_package fails without them (libopenimageio-dev does not depend on it).
 packages=(
   build-essential cmake
   libvtk9-dev python3-vtk9
-  libglm-dev libopenmesh-dev libopenimageio-dev libembree-dev nlohmann-json3-dev
+  libglm-dev libopenmesh-dev libopenimageio-dev openimageio-tools libembree-dev nlohmann-json3-dev
   libegl-dev libegl1-mesa-dev libgl1-mesa-dri libosmesa6-dev libglew-dev
 )
 
