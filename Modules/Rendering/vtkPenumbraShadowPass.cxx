@@ -1,6 +1,7 @@
 #include "vtkPenumbraShadowPass.h"
 
 #include "vtkActor.h"
+#include "vtkCollection.h"
 #include "vtkFloatArray.h"
 #include "vtkProperty.h"
 #include "vtkIdTypeArray.h"
@@ -395,15 +396,30 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
       work = impl.Stacked;
     }
     const vtkIdType n = samples->GetNumberOfSamples();
+    // Every light that casts light, in one call: techniques may share work between lights
+    // (shadow volumes count four lights per RGBA mask, seed 004 ch. 8).
+    vtkNew<vtkLightCollection> casting;
+    vtkNew<vtkCollection> results;
+    std::vector<size_t> index;
     for (size_t i = 0; i < impl.Lights.size(); ++i)
     {
       if (!Internals::CastsLight(impl.Lights[i]))
       {
         continue; // black or zero-intensity light: nothing to shadow
       }
-      auto vis = vtkSmartPointer<vtkFloatArray>::New();
-      if (impl.Technique->ComputeVisibility(ren, impl.Geometry, work, impl.Lights[i], vis) &&
-        vis->GetNumberOfTuples() == work->GetNumberOfSamples())
+      casting->AddItem(impl.Lights[i]);
+      results->AddItem(vtkSmartPointer<vtkFloatArray>::New());
+      index.push_back(i);
+    }
+    if (!index.empty())
+    {
+      impl.Technique->ComputeVisibilities(ren, impl.Geometry, work, casting, results);
+    }
+    for (size_t k = 0; k < index.size(); ++k)
+    {
+      const size_t i = index[k];
+      auto* vis = vtkFloatArray::SafeDownCast(results->GetItemAsObject(static_cast<int>(k)));
+      if (vis && vis->GetNumberOfTuples() == work->GetNumberOfSamples())
       {
         if (impl.HasTranslucentLayer)
         {

@@ -18,8 +18,10 @@
 #include "vtkObject.h"
 #include "vtkPenumbraRenderingModule.h" // For export macro
 
+class vtkCollection;
 class vtkFloatArray;
 class vtkLight;
+class vtkLightCollection;
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
 class vtkRenderer;
@@ -38,6 +40,17 @@ public:
    */
   virtual int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) = 0;
+
+  /**
+   * The same for several lights of one frame: `visibilities` holds one vtkFloatArray per
+   * light of `lights`, in the same order, and each is filled as ComputeVisibility would.
+   * Returns the number of lights that succeeded; a failed light's array is left with 0
+   * tuples. The default calls ComputeVisibility per light; techniques that share work
+   * between lights override it (shadow volumes: four lights per RGBA mask, seed 004 ch. 8).
+   * vtkPenumbraShadowPass calls this once per frame with every light that casts light.
+   */
+  virtual int ComputeVisibilities(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLightCollection* lights, vtkCollection* visibilities);
 
   /**
    * Frees the GL objects the technique holds for `window` (default: none). Called by

@@ -1,10 +1,13 @@
 #include "vtkPenumbraShadowVolumeShadows.h"
 
 #include "vtkCamera.h"
+#include "vtkCollection.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
@@ -26,6 +29,8 @@
 #include "vtkPenumbraShadowVolumeAdjacencyGS.h"
 #include "vtkPenumbraShadowVolumeAdjacencyVS.h"
 #include "vtkPenumbraShadowVolumeFS.h"
+#include "vtkPenumbraShadowVolumeMaskFS.h"
+#include "vtkPenumbraShadowVolumeMaskVS.h"
 #include "vtkPenumbraShadowVolumeVS.h"
 
 // GCC 12 reports a false -Wmaybe-uninitialized inside OpenMesh's property push_back.
@@ -43,6 +48,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -455,12 +461,11 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
   GLuint Framebuffer = 0;
   GLuint DepthStencil = 0;
+  GLuint MaskTexture = 0; // RGBA8: one light per channel, 0 = shadow (seed 004 ch. 8)
   GLuint VertexArray = 0;
-  GLuint Buffer = 0;
   GLuint Query = 0;
-  GLuint PointArray = 0;   // GPU silhouettes: VAO of the welded points + adjacency indices
+  GLuint PointArray = 0; // GPU silhouettes: VAO of the welded points
   GLuint PointBuffer = 0;
-  GLuint AdjacencyBuffer = 0;
   bool PointsUploaded = false;
   int Width = 0;
   int Height = 0;
@@ -474,12 +479,13 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   double Origin[3] = { 0, 0, 0 };
   bool BuiltWithSilhouettes = true;
 
-  // Volume cache, one entry per light (a few lights render every frame): rebuilt when the
-  // light, the connectivity, the sample box (with culling) or the options change.
+  // Volume cache, one entry per light (several lights render every frame): rebuilt when the
+  // light, the connectivity, the sample box (with culling) or the options change. Each set
+  // keeps its own GL buffers, so lights that do not move upload nothing.
   struct VolumeSet
   {
     std::vector<double> Key;
-    int Id = 0;                  // unique per build: tells whether the GL buffers hold it
+    std::uint64_t Stamp = 0;     // last use: the least recently used set is evicted
     std::vector<float> Vertices; // xyzw, caps first
     GLsizei CapVertices = 0;
     GLsizei AllVertices = 0;
@@ -487,63 +493,84 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     GLsizei AdjacencyCount = 0;
     vtkIdType SilhouetteEdges = 0;
     vtkIdType Culled = 0;
+    GLuint Buffer = 0;          // vertices, uploaded on first use
+    GLuint AdjacencyBuffer = 0; // adjacency indices, uploaded on first use
   };
+  // More sets than lights per mask: a group never evicts a set it is using.
   static constexpr size_t MaxVolumeSets = 8;
-  std::vector<VolumeSet> Volumes;
-  int NextVolumeId = 0;
-  int UploadedVolumes = -1;   // Id of the set in Buffer
-  int UploadedAdjacency = -1; // Id of the set in AdjacencyBuffer
+  std::vector<std::unique_ptr<VolumeSet>> Volumes;
+  std::uint64_t Clock = 0;
+  std::vector<GLuint> Garbage; // buffers of evicted sets, deleted when the context is current
 
-  // Per-frame camera data shared by every light (see ComputeVisibility).
+  // Per-frame camera data shared by every light (see ComputeGroup).
   std::vector<double> DepthKey;
   double Rows[4][4] = {};
   bool DepthUploaded = false;
   std::vector<float> DepthStencilData; // float depth + uint32 (stencil in the low byte)
-  std::vector<unsigned char> Stencil;
+  std::vector<unsigned char> MaskPixels;
   vtkNew<vtkUnsignedCharArray> Mask;
+
+  void Evict(size_t i)
+  {
+    for (GLuint b : { this->Volumes[i]->Buffer, this->Volumes[i]->AdjacencyBuffer })
+    {
+      if (b)
+      {
+        this->Garbage.push_back(b);
+      }
+    }
+    this->Volumes.erase(this->Volumes.begin() + static_cast<std::ptrdiff_t>(i));
+  }
+
+  void ClearVolumes()
+  {
+    while (!this->Volumes.empty())
+    {
+      this->Evict(this->Volumes.size() - 1);
+    }
+  }
 
   void Release(vtkWindow* window)
   {
     if (this->Window && (!window || window == this->Window))
     {
       this->Window->MakeCurrent();
+      this->ClearVolumes();
+      this->CollectGarbage();
       if (this->Framebuffer)
       {
         glDeleteFramebuffers(1, &this->Framebuffer);
-      }
-      if (this->DepthStencil)
-      {
         glDeleteTextures(1, &this->DepthStencil);
-      }
-      if (this->VertexArray)
-      {
+        glDeleteTextures(1, &this->MaskTexture);
         glDeleteVertexArrays(1, &this->VertexArray);
-      }
-      if (this->Buffer)
-      {
-        glDeleteBuffers(1, &this->Buffer);
-      }
-      if (this->Query)
-      {
         glDeleteQueries(1, &this->Query);
-      }
-      if (this->PointArray)
-      {
         glDeleteVertexArrays(1, &this->PointArray);
         glDeleteBuffers(1, &this->PointBuffer);
-        glDeleteBuffers(1, &this->AdjacencyBuffer);
       }
     }
-    this->Framebuffer = this->DepthStencil = this->VertexArray = this->Buffer = this->Query = 0;
-    this->PointArray = this->PointBuffer = this->AdjacencyBuffer = 0;
+    for (auto& set : this->Volumes)
+    {
+      set->Buffer = set->AdjacencyBuffer = 0; // their context is gone
+    }
+    this->Garbage.clear();
+    this->Framebuffer = this->DepthStencil = this->MaskTexture = this->VertexArray = 0;
+    this->Query = this->PointArray = this->PointBuffer = 0;
     this->PointsUploaded = false;
     this->Width = this->Height = 0;
-    this->UploadedVolumes = this->UploadedAdjacency = -1;
     this->DepthUploaded = false;
     this->Window = nullptr;
   }
 
-  // The counting framebuffer: DEPTH32F_STENCIL8 only. Returns false when incomplete.
+  void CollectGarbage()
+  {
+    if (!this->Garbage.empty())
+    {
+      glDeleteBuffers(static_cast<GLsizei>(this->Garbage.size()), this->Garbage.data());
+      this->Garbage.clear();
+    }
+  }
+
+  // The counting framebuffer: DEPTH32F_STENCIL8 and the RGBA8 mask. False when incomplete.
   bool Allocate(int w, int h)
   {
     if (this->Framebuffer && this->Width == w && this->Height == h)
@@ -554,25 +581,37 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     {
       glGenFramebuffers(1, &this->Framebuffer);
       glGenTextures(1, &this->DepthStencil);
+      glGenTextures(1, &this->MaskTexture);
       glGenVertexArrays(1, &this->VertexArray);
-      glGenBuffers(1, &this->Buffer);
       glGenQueries(1, &this->Query);
       glGenVertexArrays(1, &this->PointArray);
       glGenBuffers(1, &this->PointBuffer);
-      glGenBuffers(1, &this->AdjacencyBuffer);
     }
     glBindTexture(GL_TEXTURE_2D, this->DepthStencil);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH32F_STENCIL8, w, h, 0, GL_DEPTH_STENCIL,
-      GL_FLOAT_32_UNSIGNED_INT_24_8_REV, nullptr);
+    glTexImage2D(GL_TEXTURE_2D,
+                 0,
+                 GL_DEPTH32F_STENCIL8,
+                 w,
+                 h,
+                 0,
+                 GL_DEPTH_STENCIL,
+                 GL_FLOAT_32_UNSIGNED_INT_24_8_REV,
+                 nullptr);
+    glBindTexture(GL_TEXTURE_2D, this->MaskTexture);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
     this->DepthUploaded = false;
     glBindTexture(GL_TEXTURE_2D, 0);
     glBindFramebuffer(GL_FRAMEBUFFER, this->Framebuffer);
     glFramebufferTexture2D(
       GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_TEXTURE_2D, this->DepthStencil, 0);
-    glDrawBuffer(GL_NONE);
-    glReadBuffer(GL_NONE);
+    glFramebufferTexture2D(
+      GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, this->MaskTexture, 0);
+    glDrawBuffer(GL_COLOR_ATTACHMENT0);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
     const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
     this->Width = w;
     this->Height = h;
@@ -601,37 +640,142 @@ void vtkPenumbraShadowVolumeShadows::ReleaseGraphicsResources(vtkWindow* window)
 }
 
 //------------------------------------------------------------------------------
-#define PENUMBRA_SV_FAIL(text)                                                                   \
-  do                                                                                             \
-  {                                                                                              \
-    vtkErrorMacro(<< "shadow volumes: " << text);                                                \
-    return 0;                                                                                    \
-  } while (false)
+void vtkPenumbraShadowVolumeShadows::ResetStatistics()
+{
+  this->ConnectivityTimeMs = this->VolumeTimeMs = this->StencilTimeMs = 0.0;
+  this->SampleDepthTimeMs = this->ResolveTimeMs = 0.0;
+  this->NumberOfVolumeTriangles = this->NumberOfPassedFragments = 0;
+  this->NumberOfSilhouetteEdges = this->NumberOfCulledVolumes = 0;
+  this->UsedZPass = false;
+  this->NumberOfFillFragments = this->MeasureFill ? 0 : -1;
+  this->NumberOfCountedSamples = 0;
+  this->NumberOfResolvedSamples = 0;
+  this->NumberOfMasks = 0;
+}
 
 //------------------------------------------------------------------------------
 int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
-  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
-  vtkFloatArray* visibility)
+                                                      vtkPenumbraSceneGeometry* geometry,
+                                                      vtkPenumbraViewSamples* samples,
+                                                      vtkLight* light,
+                                                      vtkFloatArray* visibility)
 {
   const auto start = Clock::now();
-  Internals& impl = *this->Impl;
-  this->ConnectivityTimeMs = this->VolumeTimeMs = this->StencilTimeMs = 0.0;
-  this->SampleDepthTimeMs = 0.0;
-  this->NumberOfVolumeTriangles = this->NumberOfPassedFragments = 0;
-  this->UsedZPass = false;
-  this->NumberOfFillFragments = -1;
-  this->NumberOfCountedSamples = 0;
-  this->NumberOfResolvedSamples = 0;
+  this->ResetStatistics();
+  const int done = this->ComputeGroup(renderer, geometry, samples, &light, &visibility, 1);
+  this->LastTimeMs = ElapsedMs(start);
+  return done == 1 ? 1 : 0;
+}
 
-  // ---- Input checks (shared with the other map-based techniques).
-  penumbra_light_views::FrameInputs in;
+//------------------------------------------------------------------------------
+int vtkPenumbraShadowVolumeShadows::ComputeVisibilities(vtkRenderer* renderer,
+                                                        vtkPenumbraSceneGeometry* geometry,
+                                                        vtkPenumbraViewSamples* samples,
+                                                        vtkLightCollection* lights,
+                                                        vtkCollection* visibilities)
+{
+  const auto start = Clock::now();
+  this->ResetStatistics();
+  if (!lights || !visibilities || lights->GetNumberOfItems() != visibilities->GetNumberOfItems())
   {
-    std::string inputError;
-    if (!in.Read(renderer, geometry, samples, light, visibility, inputError))
-    {
-      PENUMBRA_SV_FAIL(inputError);
-    }
+    vtkErrorMacro("ComputeVisibilities needs one visibility array per light");
+    return 0;
   }
+  std::vector<vtkLight*> all;
+  std::vector<vtkFloatArray*> out;
+  for (int i = 0; i < lights->GetNumberOfItems(); ++i)
+  {
+    auto* light = vtkLight::SafeDownCast(lights->GetItemAsObject(i));
+    auto* vis = vtkFloatArray::SafeDownCast(visibilities->GetItemAsObject(i));
+    if (!light || !vis)
+    {
+      vtkErrorMacro("ComputeVisibilities: item " << i << " is not a light and a float array");
+      if (vis)
+      {
+        vis->SetNumberOfTuples(0);
+      }
+      continue;
+    }
+    all.push_back(light);
+    out.push_back(vis);
+  }
+  // Seed 004 ch. 8: groups of LightsPerMask lights share one mask (one channel each).
+  int done = 0;
+  for (size_t first = 0; first < all.size(); first += static_cast<size_t>(this->LightsPerMask))
+  {
+    const int count =
+      static_cast<int>(std::min(all.size() - first, static_cast<size_t>(this->LightsPerMask)));
+    done += this->ComputeGroup(
+      renderer, geometry, samples, all.data() + first, out.data() + first, count);
+  }
+  this->LastTimeMs = ElapsedMs(start);
+  return done;
+}
+
+//------------------------------------------------------------------------------
+#define PENUMBRA_SV_FAIL(text)                                                                     \
+  do                                                                                               \
+  {                                                                                                \
+    vtkErrorMacro(<< "shadow volumes: " << text);                                                  \
+    for (int failed = 0; failed < count; ++failed)                                                 \
+    {                                                                                              \
+      if (visibilities[failed])                                                                    \
+      {                                                                                            \
+        visibilities[failed]->SetNumberOfTuples(0);                                                \
+      }                                                                                            \
+    }                                                                                              \
+    return 0;                                                                                      \
+  } while (false)
+
+//------------------------------------------------------------------------------
+int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
+                                                 vtkPenumbraSceneGeometry* geometry,
+                                                 vtkPenumbraViewSamples* samples,
+                                                 vtkLight* const* lights,
+                                                 vtkFloatArray* const* visibilities,
+                                                 int count)
+{
+  Internals& impl = *this->Impl;
+
+  // ---- Input checks (shared with the other map-based techniques), per light: a light that
+  // cannot be shadowed here (an area light, say) fails alone.
+  struct Job
+  {
+    vtkLight* Light = nullptr;
+    vtkFloatArray* Visibility = nullptr;
+    float* Vis = nullptr;
+    penumbra_light_views::FrameInputs In;
+    std::vector<unsigned char> State;
+    VolumeLight VL;
+    Internals::VolumeSet* Volumes = nullptr; // null: nothing to count (no pending sample)
+    bool ZPass = false;
+    int Channel = -1; // its channel in the mask
+  };
+  std::vector<Job> jobs;
+  jobs.reserve(static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i)
+  {
+    Job job;
+    std::string inputError;
+    if (!job.In.Read(renderer, geometry, samples, lights[i], visibilities[i], inputError))
+    {
+      vtkErrorMacro(<< "shadow volumes: " << inputError);
+      if (visibilities[i])
+      {
+        visibilities[i]->SetNumberOfTuples(0);
+      }
+      continue;
+    }
+    job.Light = lights[i];
+    job.Visibility = visibilities[i];
+    jobs.push_back(std::move(job));
+  }
+  if (jobs.empty())
+  {
+    return 0;
+  }
+  // What depends on the samples, the geometry and the window only is the same for every job.
+  const penumbra_light_views::FrameInputs& in = jobs.front().In;
   vtkOpenGLRenderWindow* win = in.Window;
   const vtkIdType n = in.NumberOfSamples;
   const int width = samples->GetWidth();
@@ -646,7 +790,6 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     PENUMBRA_SV_FAIL("the renderer has no camera");
   }
   const double* shift = in.Shift;
-  const LightSetup& setup = in.Light;
 
   // ---- Connectivity, once per geometry change.
   const auto connectivityStart = Clock::now();
@@ -654,9 +797,10 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     double origin[3];
     geometry->GetOrigin(origin);
     if (!impl.HaveMesh || impl.Geometry != geometry ||
-      impl.GeometryTime != geometry->GetGeometryTime() ||
-      impl.FlagsTime != geometry->GetFlagsTime() || !std::equal(origin, origin + 3, impl.Origin) ||
-      impl.BuiltWithSilhouettes != this->Silhouettes)
+        impl.GeometryTime != geometry->GetGeometryTime() ||
+        impl.FlagsTime != geometry->GetFlagsTime() ||
+        !std::equal(origin, origin + 3, impl.Origin) ||
+        impl.BuiltWithSilhouettes != this->Silhouettes)
     {
       impl.Mesh.Build(geometry, this->Silhouettes);
       impl.HaveMesh = true;
@@ -675,44 +819,14 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfCasterTriangles = mesh.Casters;
   this->NumberOfComplexFaces = mesh.Complex;
   this->NumberOfBoundaryEdges = mesh.BoundaryEdges;
-  this->NumberOfClosedComponents = static_cast<vtkIdType>(std::count_if(mesh.Components.begin(),
-    mesh.Components.end(), [](const Connectivity::Component& c) { return c.Closed; }));
+  this->NumberOfClosedComponents = static_cast<vtkIdType>(
+    std::count_if(mesh.Components.begin(),
+                  mesh.Components.end(),
+                  [](const Connectivity::Component& c) { return c.Closed; }));
   this->NumberOfOpenComponents =
     static_cast<vtkIdType>(mesh.Components.size()) - this->NumberOfClosedComponents;
   this->NumberOfPerTriangleVolumes = static_cast<vtkIdType>(mesh.Loose.size());
 
-  // ---- Facing, spot cone, lights that are off, background: the reference's rules.
-  visibility->SetNumberOfComponents(1);
-  visibility->SetNumberOfTuples(n);
-  float* vis = n ? visibility->GetPointer(0) : nullptr;
-  std::vector<unsigned char> state(static_cast<size_t>(n));
-  const penumbra_light_views::FacingCounts facing =
-    penumbra_light_views::ClassifyFacing(setup, n, in.Positions, in.Normals, in.Props, shift,
-      mesh.Casters > 0, vis, state.data(), Pending, Decided);
-  this->NumberOfCountedSamples = facing.Pending;
-  if (facing.Pending == 0)
-  {
-    ApplyGoniometric(light, samples, in.Positions, vis);
-    visibility->Modified();
-    this->LastTimeMs = ElapsedMs(start);
-    return 1;
-  }
-
-  // Box of the pending samples in the geometry's frame (culling, extrusion length).
-  double box[6] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX,
-    VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
-  for (vtkIdType s = 0; s < n; ++s)
-  {
-    if (state[static_cast<size_t>(s)] == Pending)
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        const double p = static_cast<double>(in.Positions[3 * s + c]) + shift[c];
-        box[2 * c] = std::min(box[2 * c], p);
-        box[2 * c + 1] = std::max(box[2 * c + 1], p);
-      }
-    }
-  }
   // Scene scale from the geometry alone (every sample lies on it), so that the extrusion
   // length and with it the cached volumes do not depend on the camera.
   double scale = 1.0;
@@ -724,50 +838,112 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       const double lo = all[2 * c] - impl.Origin[c], hi = all[2 * c + 1] - impl.Origin[c];
       scale = std::max({ scale, std::fabs(lo), std::fabs(hi), hi - lo });
     }
-    // Grow the culling box by the float rounding of the samples (they are float32).
-    const double pad = 1e-5 * scale;
-    for (int c = 0; c < 3; ++c)
-    {
-      box[2 * c] -= pad;
-      box[2 * c + 1] += pad;
-    }
   }
 
-  VolumeLight vl;
-  vl.Directional = setup.Type == LightSetup::Kind::Directional;
-  std::copy(setup.Direction, setup.Direction + 3, vl.Direction.begin());
-  std::copy(setup.Position, setup.Position + 3, vl.Position.begin());
-  // A prism longer than four times the whole scene's extent reaches past every sample.
-  vl.Extrusion = 4.0 * scale + 1.0;
-
-  // ---- Volumes, once per light / connectivity / sample box / option change.
-  const auto volumeStart = Clock::now();
-  size_t volumeIndex = 0;
+  // ---- Per light: facing, spot cone, lights that are off, background (the reference's
+  // rules); then its volumes, once per light / connectivity / sample box / option change.
+  ++impl.Clock;
+  int counted = 0; // lights with samples to count, one mask channel each
+  for (Job& job : jobs)
   {
-    std::vector<double> key = { vl.Directional ? 1.0 : 0.0, vl.Direction[0], vl.Direction[1],
-      vl.Direction[2], vl.Position[0], vl.Position[1], vl.Position[2], vl.Extrusion,
-      this->Cull ? 1.0 : 0.0, this->GPUSilhouettes ? 1.0 : 0.0 };
+    const LightSetup& setup = job.In.Light;
+    vtkLight* light = job.Light;
+    vtkFloatArray* visibility = job.Visibility;
+    visibility->SetNumberOfComponents(1);
+    visibility->SetNumberOfTuples(n);
+    float* vis = n ? visibility->GetPointer(0) : nullptr;
+    job.Vis = vis;
+    job.State.assign(static_cast<size_t>(n), Decided);
+    std::vector<unsigned char>& state = job.State;
+    const penumbra_light_views::FacingCounts facing =
+      penumbra_light_views::ClassifyFacing(setup,
+                                           n,
+                                           in.Positions,
+                                           in.Normals,
+                                           in.Props,
+                                           shift,
+                                           mesh.Casters > 0,
+                                           vis,
+                                           state.data(),
+                                           Pending,
+                                           Decided);
+    this->NumberOfCountedSamples += facing.Pending;
+    if (facing.Pending == 0)
+    {
+      ApplyGoniometric(light, samples, in.Positions, vis);
+      visibility->Modified();
+      continue;
+    }
+
+    // Box of the pending samples in the geometry's frame (culling, extrusion length), grown
+    // by the float rounding of the samples (they are float32).
+    double box[6] = { VTK_DOUBLE_MAX,  -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
+                      -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,  -VTK_DOUBLE_MAX };
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      if (state[static_cast<size_t>(s)] == Pending)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          const double p = static_cast<double>(in.Positions[3 * s + c]) + shift[c];
+          box[2 * c] = std::min(box[2 * c], p);
+          box[2 * c + 1] = std::max(box[2 * c + 1], p);
+        }
+      }
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      box[2 * c] -= 1e-5 * scale;
+      box[2 * c + 1] += 1e-5 * scale;
+    }
+
+    VolumeLight& vl = job.VL;
+    vl.Directional = setup.Type == LightSetup::Kind::Directional;
+    std::copy(setup.Direction, setup.Direction + 3, vl.Direction.begin());
+    std::copy(setup.Position, setup.Position + 3, vl.Position.begin());
+    // A prism longer than four times the whole scene's extent reaches past every sample.
+    vl.Extrusion = 4.0 * scale + 1.0;
+
+    const auto volumeStart = Clock::now();
+    std::vector<double> key = { vl.Directional ? 1.0 : 0.0,
+                                vl.Direction[0],
+                                vl.Direction[1],
+                                vl.Direction[2],
+                                vl.Position[0],
+                                vl.Position[1],
+                                vl.Position[2],
+                                vl.Extrusion,
+                                this->Cull ? 1.0 : 0.0,
+                                this->GPUSilhouettes ? 1.0 : 0.0 };
     if (this->Cull)
     {
       key.insert(key.end(), box, box + 6);
     }
-    auto found = std::find_if(impl.Volumes.begin(), impl.Volumes.end(),
-      [&](const Internals::VolumeSet& v) { return v.Key == key; });
+    auto found =
+      std::find_if(impl.Volumes.begin(),
+                   impl.Volumes.end(),
+                   [&](const std::unique_ptr<Internals::VolumeSet>& v) { return v->Key == key; });
     if (found == impl.Volumes.end())
     {
       if (impl.Volumes.size() >= Internals::MaxVolumeSets)
       {
-        impl.Volumes.erase(impl.Volumes.begin()); // the oldest
+        // The least recently used set; the sets of this group are the newest, so stay.
+        auto oldest = std::min_element(impl.Volumes.begin(),
+                                       impl.Volumes.end(),
+                                       [](const std::unique_ptr<Internals::VolumeSet>& a,
+                                          const std::unique_ptr<Internals::VolumeSet>& b)
+                                       { return a->Stamp < b->Stamp; });
+        impl.Evict(static_cast<size_t>(oldest - impl.Volumes.begin()));
       }
-      impl.Volumes.emplace_back();
+      impl.Volumes.push_back(std::unique_ptr<Internals::VolumeSet>(new Internals::VolumeSet));
       found = impl.Volumes.end() - 1;
-      Internals::VolumeSet& build = *found;
+      Internals::VolumeSet& build = **found;
       build.Key = key;
-      build.Id = impl.NextVolumeId++;
       ++this->NumberOfVolumeBuilds;
       std::vector<float> caps, sides;
       vtkIdType culled = 0, edges = 0;
-      auto put = [](std::vector<float>& out, const Vec3& p, double w) {
+      auto put = [](std::vector<float>& out, const Vec3& p, double w)
+      {
         out.push_back(static_cast<float>(p[0]));
         out.push_back(static_cast<float>(p[1]));
         out.push_back(static_cast<float>(p[2]));
@@ -775,13 +951,15 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       };
       // Extruded copy of v: a finite prism for directional lights, the point at infinity
       // (w = 0) away from a positional light.
-      auto putFar = [&](std::vector<float>& out, const Vec3& v) {
+      auto putFar = [&](std::vector<float>& out, const Vec3& v)
+      {
         if (vl.Directional)
         {
           put(out,
-            { v[0] - vl.Extrusion * vl.Direction[0], v[1] - vl.Extrusion * vl.Direction[1],
-              v[2] - vl.Extrusion * vl.Direction[2] },
-            1.0);
+              { v[0] - vl.Extrusion * vl.Direction[0],
+                v[1] - vl.Extrusion * vl.Direction[1],
+                v[2] - vl.Extrusion * vl.Direction[2] },
+              1.0);
         }
         else
         {
@@ -797,7 +975,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         }
       };
       // One side quad for edge u -> v of a light-facing oriented face (outward winding).
-      auto side = [&](const Vec3& u, const Vec3& v) {
+      auto side = [&](const Vec3& u, const Vec3& v)
+      {
         put(sides, u, 1.0);
         putFar(sides, u);
         putFar(sides, v);
@@ -805,7 +984,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         putFar(sides, v);
         put(sides, v, 1.0);
       };
-      auto capAndDark = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+      auto capAndDark = [&](const Vec3& a, const Vec3& b, const Vec3& c)
+      {
         put(caps, a, 1.0);
         put(caps, b, 1.0);
         put(caps, c, 1.0);
@@ -815,7 +995,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       };
       // Per-triangle volume (seed 004 §2.1 brute force; correct for any input): the triangle
       // turned toward the light, its extrusion and its three sides. `f` is its facing value.
-      auto perTriangle = [&](Vec3 v[3], double f) {
+      auto perTriangle = [&](Vec3 v[3], double f)
+      {
         if (!(f != 0.0)) // edge-on to the light: a flat volume, blocks nothing
         {
           return;
@@ -837,8 +1018,9 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       const auto& P = mesh.Points;
       for (const auto& t : mesh.Loose)
       {
-        Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
-          P[static_cast<size_t>(t[2])] };
+        Vec3 v[3] = { P[static_cast<size_t>(t[0])],
+                      P[static_cast<size_t>(t[1])],
+                      P[static_cast<size_t>(t[2])] };
         perTriangle(v, vl.Facing(v[0], v[1], v[2]));
       }
       // Silhouette volumes of the components (seed 004 §2.1, ch. 8; CPU silhouettes). The
@@ -877,8 +1059,9 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         for (size_t i = 0; i < c.Faces.size(); ++i)
         {
           const auto& t = c.Faces[i];
-          Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
-            P[static_cast<size_t>(t[2])] };
+          Vec3 v[3] = { P[static_cast<size_t>(t[0])],
+                        P[static_cast<size_t>(t[1])],
+                        P[static_cast<size_t>(t[2])] };
           const double f = vl.Facing(v[0], v[1], v[2]);
           signed char si = f > 0.0 ? 1 : (bothSets && f < 0.0 ? -1 : 0);
           if (si < 0)
@@ -928,18 +1111,25 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       build.AllVertices = static_cast<GLsizei>((caps.size() + sides.size()) / 4);
       build.Vertices.swap(caps);
       build.Vertices.insert(build.Vertices.end(), sides.begin(), sides.end());
-      build.SilhouetteEdges =
-        this->GPUSilhouettes && !build.AdjacencyIndices.empty() ? -1 : edges;
+      build.SilhouetteEdges = this->GPUSilhouettes && !build.AdjacencyIndices.empty() ? -1 : edges;
       build.AdjacencyCount = static_cast<GLsizei>(build.AdjacencyIndices.size());
       build.Culled = culled;
-      this->VolumeTimeMs = ElapsedMs(volumeStart);
+      this->VolumeTimeMs += ElapsedMs(volumeStart);
     }
-    volumeIndex = static_cast<size_t>(found - impl.Volumes.begin());
+    (*found)->Stamp = impl.Clock;
+    job.Volumes = found->get();
+    const Internals::VolumeSet& vs = *job.Volumes;
+    this->NumberOfSilhouetteEdges = vs.SilhouetteEdges < 0 || this->NumberOfSilhouetteEdges < 0
+      ? -1
+      : this->NumberOfSilhouetteEdges + vs.SilhouetteEdges;
+    this->NumberOfCulledVolumes += vs.Culled;
+    this->NumberOfVolumeTriangles += vs.AllVertices / 3;
+    job.Channel = counted++;
   }
-  const Internals::VolumeSet& vs = impl.Volumes[volumeIndex];
-  this->NumberOfSilhouetteEdges = vs.SilhouetteEdges;
-  this->NumberOfCulledVolumes = vs.Culled;
-  this->NumberOfVolumeTriangles = vs.AllVertices / 3;
+  if (counted == 0)
+  {
+    return static_cast<int>(jobs.size());
+  }
 
   // ---- Camera: VTK's world -> clip for this image, rebased, with a reversed float depth.
   const auto stencilStart = Clock::now();
@@ -947,18 +1137,22 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
   // The camera matrix and the sample depths depend on the samples and the camera only: one
   // computation and one upload per frame serve every light (seed 004 ch. 8: the scene depth
   // once, then per light a cleared stencil and its volumes).
-  auto address = [](const void* p) {
-    return static_cast<double>(reinterpret_cast<std::uintptr_t>(p));
-  };
+  auto address = [](const void* p)
+  { return static_cast<double>(reinterpret_cast<std::uintptr_t>(p)); };
   const std::vector<double> depthKey = { address(samples),
-    static_cast<double>(samples->GetMTime()),
-    static_cast<double>(samples->GetPositions()->GetMTime()),
-    static_cast<double>(samples->GetPropIndices()->GetMTime()),
-    static_cast<double>(samples->GetTriangleIds()->GetMTime()),
-    static_cast<double>(camera->GetMTime()), address(geometry),
-    static_cast<double>(geometry->GetGeometryTime()), impl.Origin[0], impl.Origin[1],
-    impl.Origin[2], static_cast<double>(width), static_cast<double>(height) };
-  double (&rows)[4][4] = impl.Rows;
+                                         static_cast<double>(samples->GetMTime()),
+                                         static_cast<double>(samples->GetPositions()->GetMTime()),
+                                         static_cast<double>(samples->GetPropIndices()->GetMTime()),
+                                         static_cast<double>(samples->GetTriangleIds()->GetMTime()),
+                                         static_cast<double>(camera->GetMTime()),
+                                         address(geometry),
+                                         static_cast<double>(geometry->GetGeometryTime()),
+                                         impl.Origin[0],
+                                         impl.Origin[1],
+                                         impl.Origin[2],
+                                         static_cast<double>(width),
+                                         static_cast<double>(height) };
+  double(&rows)[4][4] = impl.Rows;
   if (depthKey != impl.DepthKey)
   {
     impl.DepthKey = depthKey;
@@ -988,8 +1182,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       // Rebase: x_world = x_rebased + origin.
       for (int r = 0; r < 4; ++r)
       {
-        rows[r][3] += rows[r][0] * impl.Origin[0] + rows[r][1] * impl.Origin[1] +
-          rows[r][2] * impl.Origin[2];
+        rows[r][3] +=
+          rows[r][0] * impl.Origin[0] + rows[r][1] * impl.Origin[1] + rows[r][2] * impl.Origin[2];
       }
       // Eye depth (positive in front) as a row of the rebased frame.
       double eye[4];
@@ -1033,7 +1227,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
         }
       }
     }
-    auto clipOf = [&](const double p[3], double clip[4]) {
+    auto clipOf = [&](const double p[3], double clip[4])
+    {
       for (int r = 0; r < 4; ++r)
       {
         clip[r] = rows[r][0] * p[0] + rows[r][1] * p[1] + rows[r][2] * p[2] + rows[r][3];
@@ -1081,8 +1276,9 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
               ends[e][c] = h[c] / h[3] - impl.Origin[c];
             }
           }
-          const Vec3 dir = { ends[1][0] - ends[0][0], ends[1][1] - ends[0][1],
-            ends[1][2] - ends[0][2] };
+          const Vec3 dir = { ends[1][0] - ends[0][0],
+                             ends[1][1] - ends[0][1],
+                             ends[1][2] - ends[0][2] };
           const double denom = Dot(nrm, dir);
           if (std::fabs(denom) > 1e-12 * std::sqrt(Dot(nrm, nrm) * Dot(dir, dir)))
           {
@@ -1111,40 +1307,52 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     }
   }
 
-  this->SampleDepthTimeMs = ElapsedMs(stencilStart);
+  this->SampleDepthTimeMs += ElapsedMs(stencilStart);
 
   // z-pass needs a camera outside every volume (seed 004 §2.1); prove it for perspective
   // cameras from the volumes actually drawn.
-  bool zpass = this->Method == METHOD_ZPASS;
-  if (this->Method == METHOD_AUTO && !parallel)
+  for (Job& job : jobs)
   {
-    double eyeWorld[3];
-    camera->GetPosition(eyeWorld);
-    const Vec3 eye = { eyeWorld[0] - impl.Origin[0], eyeWorld[1] - impl.Origin[1],
-      eyeWorld[2] - impl.Origin[2] };
-    const double tol = 1e-5 * scale;
-    bool outside = true;
-    const std::vector<float>& V = vs.Vertices;
-    for (GLsizei i = 0; i + 2 < vs.CapVertices && outside; i += 3)
+    if (!job.Volumes)
     {
-      Vec3 v[3];
-      for (int k = 0; k < 3; ++k)
+      continue;
+    }
+    const Internals::VolumeSet& vs = *job.Volumes;
+    const VolumeLight& vl = job.VL;
+    bool zpass = this->Method == METHOD_ZPASS;
+    if (this->Method == METHOD_AUTO && !parallel)
+    {
+      double eyeWorld[3];
+      camera->GetPosition(eyeWorld);
+      const Vec3 eye = { eyeWorld[0] - impl.Origin[0],
+                         eyeWorld[1] - impl.Origin[1],
+                         eyeWorld[2] - impl.Origin[2] };
+      const double tol = 1e-5 * scale;
+      bool outside = true;
+      const std::vector<float>& V = vs.Vertices;
+      for (GLsizei i = 0; i + 2 < vs.CapVertices && outside; i += 3)
       {
-        const float* f = V.data() + 4 * static_cast<size_t>(i + k);
-        v[k] = { f[0], f[1], f[2] };
+        Vec3 v[3];
+        for (int k = 0; k < 3; ++k)
+        {
+          const float* f = V.data() + 4 * static_cast<size_t>(i + k);
+          v[k] = { f[0], f[1], f[2] };
+        }
+        outside = !SegmentMayTouch(vl, eye, v, tol);
       }
-      outside = !SegmentMayTouch(vl, eye, v, tol);
+      // GPU components: their front faces are not known here, so every face must stay clear.
+      for (size_t i = 0; i + 5 < vs.AdjacencyIndices.size() && outside; i += 6)
+      {
+        const Vec3 v[3] = { mesh.Points[vs.AdjacencyIndices[i]],
+                            mesh.Points[vs.AdjacencyIndices[i + 2]],
+                            mesh.Points[vs.AdjacencyIndices[i + 4]] };
+        outside = !SegmentMayTouch(vl, eye, v, tol);
+      }
+      zpass = outside;
     }
-    // GPU components: their front faces are not known here, so every face must stay clear.
-    for (size_t i = 0; i + 5 < vs.AdjacencyIndices.size() && outside; i += 6)
-    {
-      const Vec3 v[3] = { mesh.Points[vs.AdjacencyIndices[i]],
-        mesh.Points[vs.AdjacencyIndices[i + 2]], mesh.Points[vs.AdjacencyIndices[i + 4]] };
-      outside = !SegmentMayTouch(vl, eye, v, tol);
-    }
-    zpass = outside;
+    job.ZPass = zpass;
+    this->UsedZPass = this->UsedZPass || zpass;
   }
-  this->UsedZPass = zpass;
 
   // ---- GL: count in the stencil.
   win->MakeCurrent();
@@ -1159,9 +1367,9 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     glGetIntegerv(GL_MAJOR_VERSION, &major);
     glGetIntegerv(GL_MINOR_VERSION, &minor);
     bool clamp = major * 10 + minor >= 32;
-    GLint count = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &count);
-    for (GLint i = 0; i < count && !clamp; ++i)
+    GLint extensions = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
+    for (GLint i = 0; i < extensions && !clamp; ++i)
     {
       const GLubyte* name = glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
       clamp = name && std::strcmp(reinterpret_cast<const char*>(name), "GL_ARB_depth_clamp") == 0;
@@ -1183,16 +1391,29 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     PENUMBRA_SV_FAIL("the shadow volume shaders do not compile or link");
   }
   vtkShaderProgram* gsProgram = nullptr;
-  if (vs.AdjacencyCount > 0)
+  if (std::any_of(jobs.begin(),
+                  jobs.end(),
+                  [](const Job& j) { return j.Volumes && j.Volumes->AdjacencyCount > 0; }))
   {
     gsProgram = win->GetShaderCache()->ReadyShaderProgram(vtkPenumbraShadowVolumeAdjacencyVS,
-      vtkPenumbraShadowVolumeFS, vtkPenumbraShadowVolumeAdjacencyGS);
+                                                          vtkPenumbraShadowVolumeFS,
+                                                          vtkPenumbraShadowVolumeAdjacencyGS);
     if (!gsProgram || !gsProgram->GetCompiled())
     {
       PENUMBRA_SV_FAIL("GPU silhouettes need a geometry shader with triangles_adjacency input, "
                        "which does not compile or link here; use CPU silhouettes");
     }
   }
+  vtkShaderProgram* maskProgram = win->GetShaderCache()->ReadyShaderProgram(
+    vtkPenumbraShadowVolumeMaskVS, vtkPenumbraShadowVolumeMaskFS, "");
+  if (!maskProgram || !maskProgram->GetCompiled())
+  {
+    PENUMBRA_SV_FAIL("the shadow mask shaders do not compile or link");
+  }
+  impl.CollectGarbage();
+
+  // ---- Seed 004 ch. 8: the scene depth once, then per light a cleared stencil, its volumes
+  // and a copy of "count != 0" into its channel of one RGBA mask; one read-back per mask.
   vtkOpenGLState* ostate = win->GetState();
   ostate->PushFramebufferBindings();
   bool complete;
@@ -1211,46 +1432,36 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
     {
       ostate->vtkglBindFramebuffer(GL_FRAMEBUFFER, impl.Framebuffer);
       ostate->vtkglStencilMask(0xff);
+      bool stencilClear = false;
       if (!impl.DepthUploaded)
       {
         // Depth and a zero stencil in one upload.
         glBindTexture(GL_TEXTURE_2D, impl.DepthStencil);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_DEPTH_STENCIL,
-          GL_FLOAT_32_UNSIGNED_INT_24_8_REV, impl.DepthStencilData.data());
+        glTexSubImage2D(GL_TEXTURE_2D,
+                        0,
+                        0,
+                        0,
+                        width,
+                        height,
+                        GL_DEPTH_STENCIL,
+                        GL_FLOAT_32_UNSIGNED_INT_24_8_REV,
+                        impl.DepthStencilData.data());
         glBindTexture(GL_TEXTURE_2D, 0);
         impl.DepthUploaded = true;
+        stencilClear = true;
       }
-      else
-      {
-        const GLint zero = 0;
-        glClearBufferiv(GL_STENCIL, 0, &zero);
-      }
+      // Every channel starts lit.
+      ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      const GLfloat lit[4] = { 1.0f, 1.0f, 1.0f, 1.0f };
+      glClearBufferfv(GL_COLOR, 0, lit);
 
       ostate->vtkglDisable(GL_BLEND);
       ostate->vtkglDisable(GL_SCISSOR_TEST);
       ostate->vtkglDisable(GL_CULL_FACE);
-      ostate->vtkglEnable(GL_DEPTH_TEST);
       ostate->vtkglEnable(GL_STENCIL_TEST);
       ostate->vtkglViewport(0, 0, width, height);
       ostate->vtkglDepthMask(GL_FALSE);
-      ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-      // Reversed depth: nearer is greater.
-      ostate->vtkglDepthFunc(GL_GREATER);
-      ostate->vtkglStencilMask(0xff);
-      ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
-      if (zpass)
-      {
-        // Count faces in front of the sample: entering +1, leaving -1.
-        ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
-        ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
-      }
-      else
-      {
-        // Carmack's reverse: count faces behind the sample (depth fails).
-        ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
-        ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
-      }
       const GLboolean hadClamp = glIsEnabled(GL_DEPTH_CLAMP);
       glEnable(GL_DEPTH_CLAMP);
       glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
@@ -1263,104 +1474,163 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
           matrix[4 * c + r] = static_cast<float>(rows[r][c]);
         }
       }
-      // Upload what changed: CPU volumes, and for GPU silhouettes the welded points and the
-      // adjacency indices.
-      glBindVertexArray(impl.VertexArray);
-      glBindBuffer(GL_ARRAY_BUFFER, impl.Buffer);
-      if (impl.UploadedVolumes != vs.Id)
-      {
-        glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vs.Vertices.size() * sizeof(float)),
-          vs.Vertices.empty() ? nullptr : vs.Vertices.data(), GL_STATIC_DRAW);
-        impl.UploadedVolumes = vs.Id;
-      }
       const GLint loc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
-      if (loc >= 0)
+      const GLint pointLoc =
+        gsProgram ? glGetAttribLocation(gsProgram->GetHandle(), "vertexRebased") : -1;
+      if (gsProgram && !impl.PointsUploaded)
       {
-        glEnableVertexAttribArray(static_cast<GLuint>(loc));
-        glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
-      }
-      if (gsProgram)
-      {
+        std::vector<float> points;
+        points.reserve(3 * mesh.Points.size());
+        for (const Vec3& p : mesh.Points)
+        {
+          points.insert(
+            points.end(),
+            { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]) });
+        }
         glBindVertexArray(impl.PointArray);
         glBindBuffer(GL_ARRAY_BUFFER, impl.PointBuffer);
-        if (!impl.PointsUploaded)
-        {
-          std::vector<float> points;
-          points.reserve(3 * mesh.Points.size());
-          for (const Vec3& p : mesh.Points)
-          {
-            points.insert(points.end(),
-              { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]) });
-          }
-          glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(points.size() * sizeof(float)),
-            points.empty() ? nullptr : points.data(), GL_STATIC_DRAW);
-          impl.PointsUploaded = true;
-        }
-        const GLint pointLoc = glGetAttribLocation(gsProgram->GetHandle(), "vertexRebased");
+        glBufferData(GL_ARRAY_BUFFER,
+                     static_cast<GLsizeiptr>(points.size() * sizeof(float)),
+                     points.empty() ? nullptr : points.data(),
+                     GL_STATIC_DRAW);
         if (pointLoc >= 0)
         {
           glEnableVertexAttribArray(static_cast<GLuint>(pointLoc));
           glVertexAttribPointer(static_cast<GLuint>(pointLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
         }
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, impl.AdjacencyBuffer);
-        if (impl.UploadedAdjacency != vs.Id)
-        {
-          glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-            static_cast<GLsizeiptr>(vs.AdjacencyIndices.size() * sizeof(GLuint)),
-            vs.AdjacencyIndices.data(), GL_STATIC_DRAW);
-          impl.UploadedAdjacency = vs.Id;
-        }
+        impl.PointsUploaded = true;
       }
-      const float lightUniform[4] = {
-        static_cast<float>(vl.Directional ? vl.Direction[0] : vl.Position[0]),
-        static_cast<float>(vl.Directional ? vl.Direction[1] : vl.Position[1]),
-        static_cast<float>(vl.Directional ? vl.Direction[2] : vl.Position[2]),
-        vl.Directional ? 0.0f : 1.0f
-      };
-      // Every volume once; light caps pushed back by `capScale` (1: not at all).
-      auto drawVolumes = [&](float capScale) {
-        win->GetShaderCache()->ReadyShaderProgram(program);
-        program->SetUniformMatrix4x4("worldToClip", matrix);
-        glBindVertexArray(impl.VertexArray);
-        if (vs.CapVertices > 0)
-        {
-          program->SetUniformf("capScale", capScale);
-          glDrawArrays(GL_TRIANGLES, 0, vs.CapVertices);
-        }
-        if (vs.AllVertices > vs.CapVertices)
-        {
-          program->SetUniformf("capScale", 1.0f);
-          glDrawArrays(GL_TRIANGLES, vs.CapVertices, vs.AllVertices - vs.CapVertices);
-        }
-        if (gsProgram)
-        {
-          win->GetShaderCache()->ReadyShaderProgram(gsProgram);
-          gsProgram->SetUniformMatrix4x4("worldToClip", matrix);
-          gsProgram->SetUniformf("capScale", capScale);
-          gsProgram->SetUniform4f("light", lightUniform);
-          gsProgram->SetUniformf("extrusion", static_cast<float>(vl.Extrusion));
-          glBindVertexArray(impl.PointArray);
-          glDrawElements(GL_TRIANGLES_ADJACENCY, vs.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
-        }
-      };
-      glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
-      drawVolumes(static_cast<float>(1.0 - this->CapOffset));
-      glEndQuery(GL_SAMPLES_PASSED);
-      GLuint passed = 0;
-      glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &passed);
-      this->NumberOfPassedFragments = static_cast<vtkIdType>(passed);
-      if (this->MeasureFill)
+
+      for (Job& job : jobs)
       {
-        // Every rasterized volume fragment, with the stencil left as counted.
-        ostate->vtkglDepthFunc(GL_ALWAYS);
-        ostate->vtkglStencilMask(0x00);
-        glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
-        drawVolumes(1.0f);
-        glEndQuery(GL_SAMPLES_PASSED);
-        GLuint fill = 0;
-        glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &fill);
-        this->NumberOfFillFragments = static_cast<vtkIdType>(fill);
+        if (!job.Volumes)
+        {
+          continue;
+        }
+        Internals::VolumeSet& vs = *job.Volumes;
+        const VolumeLight& vl = job.VL;
+        if (stencilClear)
+        {
+          stencilClear = false; // the upload left it zero
+        }
+        else
+        {
+          const GLint zero = 0;
+          glClearBufferiv(GL_STENCIL, 0, &zero);
+        }
+        ostate->vtkglEnable(GL_DEPTH_TEST);
+        ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        // Reversed depth: nearer is greater.
+        ostate->vtkglDepthFunc(GL_GREATER);
         ostate->vtkglStencilMask(0xff);
+        ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
+        if (job.ZPass)
+        {
+          // Count faces in front of the sample: entering +1, leaving -1.
+          ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
+          ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
+        }
+        else
+        {
+          // Carmack's reverse: count faces behind the sample (depth fails).
+          ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+          ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
+        }
+
+        // This light's buffers: uploaded once per volume build.
+        glBindVertexArray(impl.VertexArray);
+        if (!vs.Buffer)
+        {
+          glGenBuffers(1, &vs.Buffer);
+          glBindBuffer(GL_ARRAY_BUFFER, vs.Buffer);
+          glBufferData(GL_ARRAY_BUFFER,
+                       static_cast<GLsizeiptr>(vs.Vertices.size() * sizeof(float)),
+                       vs.Vertices.empty() ? nullptr : vs.Vertices.data(),
+                       GL_STATIC_DRAW);
+        }
+        glBindBuffer(GL_ARRAY_BUFFER, vs.Buffer);
+        if (loc >= 0)
+        {
+          glEnableVertexAttribArray(static_cast<GLuint>(loc));
+          glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+        }
+        if (gsProgram && vs.AdjacencyCount > 0)
+        {
+          glBindVertexArray(impl.PointArray);
+          if (!vs.AdjacencyBuffer)
+          {
+            glGenBuffers(1, &vs.AdjacencyBuffer);
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.AdjacencyBuffer);
+            glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                         static_cast<GLsizeiptr>(vs.AdjacencyIndices.size() * sizeof(GLuint)),
+                         vs.AdjacencyIndices.data(),
+                         GL_STATIC_DRAW);
+          }
+          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.AdjacencyBuffer);
+        }
+        const float lightUniform[4] = {
+          static_cast<float>(vl.Directional ? vl.Direction[0] : vl.Position[0]),
+          static_cast<float>(vl.Directional ? vl.Direction[1] : vl.Position[1]),
+          static_cast<float>(vl.Directional ? vl.Direction[2] : vl.Position[2]),
+          vl.Directional ? 0.0f : 1.0f
+        };
+        // Every volume once; light caps pushed back by `capScale` (1: not at all).
+        auto drawVolumes = [&](float capScale)
+        {
+          win->GetShaderCache()->ReadyShaderProgram(program);
+          program->SetUniformMatrix4x4("worldToClip", matrix);
+          glBindVertexArray(impl.VertexArray);
+          if (vs.CapVertices > 0)
+          {
+            program->SetUniformf("capScale", capScale);
+            glDrawArrays(GL_TRIANGLES, 0, vs.CapVertices);
+          }
+          if (vs.AllVertices > vs.CapVertices)
+          {
+            program->SetUniformf("capScale", 1.0f);
+            glDrawArrays(GL_TRIANGLES, vs.CapVertices, vs.AllVertices - vs.CapVertices);
+          }
+          if (gsProgram && vs.AdjacencyCount > 0)
+          {
+            win->GetShaderCache()->ReadyShaderProgram(gsProgram);
+            gsProgram->SetUniformMatrix4x4("worldToClip", matrix);
+            gsProgram->SetUniformf("capScale", capScale);
+            gsProgram->SetUniform4f("light", lightUniform);
+            gsProgram->SetUniformf("extrusion", static_cast<float>(vl.Extrusion));
+            glBindVertexArray(impl.PointArray);
+            glDrawElements(GL_TRIANGLES_ADJACENCY, vs.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
+          }
+        };
+        glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
+        drawVolumes(static_cast<float>(1.0 - this->CapOffset));
+        glEndQuery(GL_SAMPLES_PASSED);
+        GLuint passed = 0;
+        glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &passed);
+        this->NumberOfPassedFragments += static_cast<vtkIdType>(passed);
+        if (this->MeasureFill)
+        {
+          // Every rasterized volume fragment, with the stencil left as counted.
+          ostate->vtkglDepthFunc(GL_ALWAYS);
+          ostate->vtkglStencilMask(0x00);
+          glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
+          drawVolumes(1.0f);
+          glEndQuery(GL_SAMPLES_PASSED);
+          GLuint fill = 0;
+          glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &fill);
+          this->NumberOfFillFragments += static_cast<vtkIdType>(fill);
+          ostate->vtkglStencilMask(0xff);
+        }
+
+        // Step 3 of ch. 8: 0 into this light's channel where the count is not zero (the
+        // count wraps modulo 256).
+        ostate->vtkglDisable(GL_DEPTH_TEST);
+        ostate->vtkglStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
+        ostate->vtkglStencilFunc(GL_NOTEQUAL, 0, 0xff);
+        ostate->vtkglColorMask(
+          job.Channel == 0, job.Channel == 1, job.Channel == 2, job.Channel == 3);
+        win->GetShaderCache()->ReadyShaderProgram(maskProgram);
+        glBindVertexArray(impl.VertexArray);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
       }
       glBindBuffer(GL_ARRAY_BUFFER, 0);
       glBindVertexArray(0);
@@ -1373,102 +1643,131 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
       ostate->vtkglStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
       ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
 
-      impl.Stencil.resize(static_cast<size_t>(n));
+      // One read-back for the whole group: the red channel alone for a single light.
+      const int channels = counted == 1 ? 1 : 4;
+      impl.MaskPixels.resize(static_cast<size_t>(channels) * static_cast<size_t>(n));
       glPixelStorei(GL_PACK_ALIGNMENT, 1);
-      glReadPixels(0, 0, width, height, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, impl.Stencil.data());
+      glReadPixels(0,
+                   0,
+                   width,
+                   height,
+                   channels == 1 ? GL_RED : GL_RGBA,
+                   GL_UNSIGNED_BYTE,
+                   impl.MaskPixels.data());
+      ++this->NumberOfMasks;
     }
   }
   ostate->PopFramebufferBindings();
   if (!complete)
   {
-    PENUMBRA_SV_FAIL("a DEPTH32F_STENCIL8 framebuffer is not supported here");
+    PENUMBRA_SV_FAIL("a DEPTH32F_STENCIL8 + RGBA8 framebuffer is not supported here");
   }
-  for (vtkIdType s = 0; s < n; ++s)
-  {
-    if (state[static_cast<size_t>(s)] == Pending)
-    {
-      vis[s] = impl.Stencil[static_cast<size_t>(s)] != 0 ? 0.0f : 1.0f;
-    }
-  }
-  this->StencilTimeMs = ElapsedMs(stencilStart);
+  this->StencilTimeMs += ElapsedMs(stencilStart);
 
-  // ---- Edge resolve. The rasterizer snaps vertices to a sub-pixel grid (1/256 pixel on
-  // llvmpipe), so a pixel centre closer than that to a projected volume edge may be counted
-  // on the wrong side of it. The count is constant in screen space away from such edges, so
-  // any wrong sample differs from a neighbour or sits next to a sample that is not counted
-  // (background, facing away): those samples, and only those, are traced exactly.
-  this->ResolveTimeMs = 0.0;
-  if (this->Resolve)
+  int done = 0;
+  for (Job& job : jobs)
   {
-    const auto resolveStart = Clock::now();
-    impl.Mask->SetNumberOfComponents(1);
-    impl.Mask->SetNumberOfTuples(n);
-    unsigned char* mask = impl.Mask->GetPointer(0);
-    vtkIdType count = 0;
-    for (int y = 0; y < height; ++y)
+    ++done;
+    if (!job.Volumes)
     {
-      for (int x = 0; x < width; ++x)
+      continue; // decided without counting
+    }
+    vtkLight* light = job.Light;
+    vtkFloatArray* visibility = job.Visibility;
+    float* vis = job.Vis;
+    const std::vector<unsigned char>& state = job.State;
+    const VolumeLight& vl = job.VL;
+    const int channels = counted == 1 ? 1 : 4;
+    const unsigned char* maskChannel = impl.MaskPixels.data() + job.Channel;
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      if (state[static_cast<size_t>(s)] == Pending)
       {
-        const vtkIdType s = static_cast<vtkIdType>(y) * width + x;
-        mask[s] = 0;
-        if (state[static_cast<size_t>(s)] != Pending)
+        vis[s] =
+          maskChannel[static_cast<size_t>(channels) * static_cast<size_t>(s)] == 0 ? 0.0f : 1.0f;
+      }
+    }
+
+    // ---- Edge resolve. The rasterizer snaps vertices to a sub-pixel grid (1/256 pixel on
+    // llvmpipe), so a pixel centre closer than that to a projected volume edge may be counted
+    // on the wrong side of it. The count is constant in screen space away from such edges, so
+    // any wrong sample differs from a neighbour or sits next to a sample that is not counted
+    // (background, facing away): those samples, and only those, are traced exactly.
+    if (this->Resolve)
+    {
+      const auto resolveStart = Clock::now();
+      impl.Mask->SetNumberOfComponents(1);
+      impl.Mask->SetNumberOfTuples(n);
+      unsigned char* mask = impl.Mask->GetPointer(0);
+      vtkIdType traced = 0;
+      for (int y = 0; y < height; ++y)
+      {
+        for (int x = 0; x < width; ++x)
         {
+          const vtkIdType s = static_cast<vtkIdType>(y) * width + x;
+          mask[s] = 0;
+          if (state[static_cast<size_t>(s)] != Pending)
+          {
+            continue;
+          }
+          bool edge = false;
+          for (int dy = -1; dy <= 1 && !edge; ++dy)
+          {
+            for (int dx = -1; dx <= 1 && !edge; ++dx)
+            {
+              const int nx = x + dx, ny = y + dy;
+              if (nx < 0 || ny < 0 || nx >= width || ny >= height)
+              {
+                continue;
+              }
+              const vtkIdType t = static_cast<vtkIdType>(ny) * width + nx;
+              // A background neighbour: an outline. A facing-away one: the light's terminator,
+              // where the sample's own caster has a silhouette edge and its side quads start.
+              edge = state[static_cast<size_t>(t)] != Pending || vis[t] != vis[s];
+            }
+          }
+          if (!edge)
+          {
+            // A light grazing the surface (the note's N.L ~ 0 case): the shadow boundary then
+            // slides along the surface with every rounding of the sample (the G-buffer's float
+            // position vs. the exact plane the stencil tests), so only a ray decides it as the
+            // reference does.
+            const float* nn = in.Normals + 3 * s;
+            double l[3];
+            for (int c = 0; c < 3; ++c)
+            {
+              l[c] = vl.Directional
+                ? vl.Direction[c]
+                : vl.Position[c] - (static_cast<double>(in.Positions[3 * s + c]) + shift[c]);
+            }
+            const double len = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+            const double cosine = (nn[0] * l[0] + nn[1] * l[1] + nn[2] * l[2]) / len;
+            edge = !(cosine > GrazingCosine);
+          }
+          mask[s] = edge ? 1 : 0;
+          traced += edge;
+        }
+      }
+      if (traced > 0)
+      {
+        this->Reference->SetGeometry(geometry);
+        if (!this->Reference->ComputeVisibility(samples, light, visibility, impl.Mask))
+        {
+          vtkErrorMacro(<< "shadow volumes: tracing the edge samples failed: "
+                        << this->Reference->GetErrorMessage());
+          visibility->SetNumberOfTuples(0);
+          --done;
           continue;
         }
-        bool edge = false;
-        for (int dy = -1; dy <= 1 && !edge; ++dy)
-        {
-          for (int dx = -1; dx <= 1 && !edge; ++dx)
-          {
-            const int nx = x + dx, ny = y + dy;
-            if (nx < 0 || ny < 0 || nx >= width || ny >= height)
-            {
-              continue;
-            }
-            const vtkIdType t = static_cast<vtkIdType>(ny) * width + nx;
-            // A background neighbour: an outline. A facing-away one: the light's terminator,
-            // where the sample's own caster has a silhouette edge and its side quads start.
-            edge = state[static_cast<size_t>(t)] != Pending || vis[t] != vis[s];
-          }
-        }
-        if (!edge)
-        {
-          // A light grazing the surface (the note's N.L ~ 0 case): the shadow boundary then
-          // slides along the surface with every rounding of the sample (the G-buffer's float
-          // position vs. the exact plane the stencil tests), so only a ray decides it as the
-          // reference does.
-          const float* nn = in.Normals + 3 * s;
-          double l[3];
-          for (int c = 0; c < 3; ++c)
-          {
-            l[c] = vl.Directional
-              ? vl.Direction[c]
-              : vl.Position[c] - (static_cast<double>(in.Positions[3 * s + c]) + shift[c]);
-          }
-          const double len = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
-          const double cosine = (nn[0] * l[0] + nn[1] * l[1] + nn[2] * l[2]) / len;
-          edge = !(cosine > GrazingCosine);
-        }
-        mask[s] = edge ? 1 : 0;
-        count += edge;
       }
+      this->NumberOfResolvedSamples += traced;
+      this->ResolveTimeMs += ElapsedMs(resolveStart);
     }
-    if (count > 0)
-    {
-      this->Reference->SetGeometry(geometry);
-      if (!this->Reference->ComputeVisibility(samples, light, visibility, impl.Mask))
-      {
-        PENUMBRA_SV_FAIL("tracing the edge samples failed: " << this->Reference->GetErrorMessage());
-      }
-    }
-    this->NumberOfResolvedSamples = count;
-    this->ResolveTimeMs = ElapsedMs(resolveStart);
-  }
 
-  ApplyGoniometric(light, samples, in.Positions, vis);
-  visibility->Modified();
-  this->LastTimeMs = ElapsedMs(start);
-  return 1;
+    ApplyGoniometric(light, samples, in.Positions, vis);
+    visibility->Modified();
+  }
+  return done;
 }
 
 //------------------------------------------------------------------------------
@@ -1499,5 +1798,7 @@ void vtkPenumbraShadowVolumeShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfCulledVolumes: " << this->NumberOfCulledVolumes << "\n";
   os << indent << "UsedZPass: " << this->UsedZPass << "\n";
   os << indent << "Resolve: " << this->Resolve << "\n";
+  os << indent << "LightsPerMask: " << this->LightsPerMask << "\n";
+  os << indent << "NumberOfMasks: " << this->NumberOfMasks << "\n";
   os << indent << "NumberOfResolvedSamples: " << this->NumberOfResolvedSamples << "\n";
 }

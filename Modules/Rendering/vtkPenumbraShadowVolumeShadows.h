@@ -60,16 +60,19 @@
  * GPU silhouettes (GPUSilhouettes): closed components go through a geometry shader with
  * triangle adjacency instead of the CPU silhouette loop (seed 004 ch. 9).
  *
- * Several lights (seed 004 ch. 8): the sample depths are computed and uploaded once per
- * frame and camera; each light then only clears the stencil and draws its (cached) volumes.
+ * Several lights (seed 004 ch. 8): ComputeVisibilities() (what vtkPenumbraShadowPass calls
+ * once per frame) takes the lights in groups of LightsPerMask (default 4). The sample depths
+ * are computed and uploaded once per frame and camera; each light of a group then clears the
+ * stencil, draws its (cached, already uploaded) volumes and copies "count != 0" as 0 into its
+ * own channel of one RGBA8 mask (a full-screen triangle under the stencil test, the thesis's
+ * stencil-to-colour copy); the group's mask is read back once (the red channel alone for a
+ * single light). ceil(N / 4) masks serve N lights; GetNumberOfMasks() counts them.
  * Goniometric lights (vtkPenumbraGoniometricLight, seed 004 §8.3.1): the lit samples'
  * visibility is scaled by the diagram's relative intensity toward them, as the thesis scales
- * its shadow mask; shadowed samples stay 0.
+ * its shadow mask; shadowed samples stay 0. The scaling is done in float on the CPU after
+ * the read-back rather than in the 8-bit mask, so the diagram keeps its full range.
  *
- * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap). The stencil
- * result is read back per light; the thesis's copy of four lights' stencil counts into one
- * RGBA mask on the GPU is not done (vtkPenumbraShadowPass already packs four lights'
- * visibility per RGBA texture for shading, and read-back is a memory copy on llvmpipe).
+ * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap).
  */
 
 #ifndef vtkPenumbraShadowVolumeShadows_h
@@ -93,7 +96,30 @@ public:
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
 
+  /**
+   * Several lights at once, LightsPerMask per RGBA mask (see the class description). The
+   * statistics then sum over the lights of the call.
+   */
+  int ComputeVisibilities(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLightCollection* lights,
+    vtkCollection* visibilities) override;
+
   void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  ///@{
+  /**
+   * Lights counted into one RGBA mask before it is read back (seed 004 ch. 8): 4 (default)
+   * uses every channel; 1 reads each light's result back on its own (the per-light baseline
+   * the thesis improves on). Clamped to [1, 4]. Only speed depends on it.
+   */
+  vtkSetClampMacro(LightsPerMask, int, 1, 4);
+  vtkGetMacro(LightsPerMask, int);
+  ///@}
+
+  /**
+   * Masks read back by the last call: ceil(lights that needed counting / LightsPerMask).
+   */
+  vtkGetMacro(NumberOfMasks, int);
 
   enum CountingMethod
   {
@@ -220,9 +246,10 @@ public:
 
   ///@{
   /**
-   * Statistics of the last call: silhouette edges extruded, volume triangles drawn, volumes
-   * culled (per-triangle volumes and closed components), fragments that passed the depth
-   * test while counting (GL_SAMPLES_PASSED), whether z-pass was used.
+   * Statistics of the last call, summed over its lights: silhouette edges extruded (-1 when
+   * GPU silhouettes made some), volume triangles drawn, volumes culled (per-triangle volumes
+   * and closed components), fragments that passed the depth test while counting
+   * (GL_SAMPLES_PASSED), whether z-pass was used (for any light).
    */
   vtkGetMacro(NumberOfSilhouetteEdges, vtkIdType);
   vtkGetMacro(NumberOfVolumeTriangles, vtkIdType);
@@ -265,6 +292,8 @@ protected:
   bool Resolve = true;
   bool GPUSilhouettes = false;
   bool MeasureFill = false;
+  int LightsPerMask = 4;
+  int NumberOfMasks = 0;
   vtkIdType NumberOfFillFragments = -1;
   vtkIdType NumberOfCountedSamples = 0;
   vtkIdType NumberOfResolvedSamples = 0;
@@ -292,6 +321,12 @@ protected:
 private:
   vtkPenumbraShadowVolumeShadows(const vtkPenumbraShadowVolumeShadows&) = delete;
   void operator=(const vtkPenumbraShadowVolumeShadows&) = delete;
+
+  // Up to four lights into one mask; returns how many succeeded.
+  int ComputeGroup(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLight* const* lights, vtkFloatArray* const* visibilities,
+    int count);
+  void ResetStatistics();
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

@@ -269,6 +269,7 @@ void InstallVolumes(vtkRenderer* ren, Options& opts)
   const double capOffset = opts.Number("cap_offset", 1.0 / 131072.0, 0.0, 1e-3);
   const bool resolve = opts.Boolean("resolve", true);
   const bool measureFill = opts.Boolean("measure_fill", false);
+  const int lightsPerMask = opts.Integer("lights_per_mask", 4, 1, 4);
   opts.RejectUnknown();
   vtkNew<vtkPenumbraShadowVolumeShadows> technique;
   technique->SetSilhouettes(silhouettes != 2);
@@ -280,6 +281,7 @@ void InstallVolumes(vtkRenderer* ren, Options& opts)
   technique->SetCapOffset(capOffset);
   technique->SetResolve(resolve);
   technique->SetMeasureFill(measureFill);
+  technique->SetLightsPerMask(lightsPerMask);
   InstallShadowPass(ren, technique);
 }
 
@@ -315,7 +317,7 @@ const std::vector<Technique>& Registry()
     { "volumes",
       "exact hard shadows with stencil shadow volumes (seed 004 ch. 3, 8, 9): OpenMesh "
       "silhouettes for closed meshes, per-triangle volumes otherwise, z-fail with caps and "
-      "depth clamp",
+      "depth clamp, four lights per RGBA mask",
       InstallVolumes },
     { "gears",
       "exact soft shadows from area and linear lights (seed 002 GEARS): per-cell lists of "

@@ -3,7 +3,8 @@
 // lights on closed, open, non-manifold and partly flipped meshes, with silhouette and
 // per-triangle volumes, z-fail and z-pass; a camera inside a shadow volume stays exact with
 // z-fail (and forced z-pass is shown to break there, so the comparison can fail); the
-// default city scene and the torture scenes; connectivity statistics; caching.
+// default city scene and the torture scenes; connectivity statistics; caching; several
+// lights sharing RGBA masks.
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkCameraPass.h"
@@ -90,6 +91,11 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
   for (int i = 0; i < pass->GetNumberOfLights(); ++i)
   {
     vtkFloatArray* test = pass->GetVisibility(i);
+    if (pass->GetLight(i)->GetIntensity() == 0.0)
+    {
+      CHECK(test == nullptr); // a black light gets no shadow work
+      continue;
+    }
     CHECK(test != nullptr);
     vtkNew<vtkFloatArray> ref;
     CHECK(reference->ComputeVisibility(samples, pass->GetLight(i), ref));
@@ -611,6 +617,77 @@ int CheckGoniometric()
   return EXIT_SUCCESS;
 }
 
+// Seed 004 ch. 8: six lights of all three kinds plus a black one share two RGBA masks;
+// one light per mask gives the same visibility bit for bit; every light is exact.
+int CheckMultiLightMasks()
+{
+  auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6) },
+    LightType::Point, From);
+  const double target[3] = { 0, 0, 0 };
+  const double from[][3] = { { -2.0, -1.0, 3.0 }, { 2.5, 1.5, 2.5 }, { -1.5, 2.0, 3.5 },
+    { 0.5, -2.5, 3.0 }, { 1.0, 1.0, 4.0 } };
+  // The scene's point light stays; five more of every kind, and a black one.
+  const LightType types[] = { LightType::Directional, LightType::Spot, LightType::Point,
+    LightType::Directional, LightType::Spot };
+  for (int i = 0; i < 5; ++i)
+  {
+    vtkNew<vtkLight> light;
+    light->SetLightTypeToSceneLight();
+    light->SetPosition(from[i]);
+    light->SetFocalPoint(target);
+    light->SetPositional(types[i] != LightType::Directional);
+    light->SetConeAngle(types[i] == LightType::Spot ? 50.0 : 180.0);
+    light->SetIntensity(0.3);
+    renderer->AddLight(light);
+  }
+  vtkNew<vtkLight> black;
+  black->SetLightTypeToSceneLight();
+  black->SetPosition(0.0, 0.0, 5.0);
+  black->SetIntensity(0.0);
+  renderer->AddLight(black);
+
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  std::vector<vtkSmartPointer<vtkFloatArray>> packed;
+  for (int perMask : { 4, 1 })
+  {
+    const std::string options = "{\"lights_per_mask\": " + std::to_string(perMask) + "}";
+    CHECK(techniques->Apply(renderer, "volumes", options.c_str()));
+    window->Render();
+    vtkPenumbraShadowPass* pass = ShadowPass(renderer);
+    auto* technique = vtkPenumbraShadowVolumeShadows::SafeDownCast(pass->GetTechnique());
+    CHECK(technique != nullptr);
+    CHECK(pass->GetNumberOfLights() == 7);
+    // Six lights cast light (the black one gets no work): 2 masks, or 6.
+    CHECK(technique->GetNumberOfMasks() == (perMask == 4 ? 2 : 6));
+    CHECK(pass->GetVisibility(6) == nullptr);
+    for (int i = 0; i < 6; ++i)
+    {
+      vtkFloatArray* vis = pass->GetVisibility(i);
+      CHECK(vis != nullptr);
+      if (perMask == 4)
+      {
+        auto copy = vtkSmartPointer<vtkFloatArray>::New();
+        copy->DeepCopy(vis);
+        packed.push_back(copy);
+        continue;
+      }
+      CHECK(vis->GetNumberOfTuples() == packed[static_cast<size_t>(i)]->GetNumberOfTuples());
+      for (vtkIdType s = 0; s < vis->GetNumberOfTuples(); ++s)
+      {
+        CHECK(vis->GetValue(s) == packed[static_cast<size_t>(i)]->GetValue(s));
+      }
+    }
+  }
+  renderer->GetRenderWindow()->RemoveRenderer(renderer);
+  window->Finalize();
+  // Every light against the reference (the pass's masked answer and a direct call).
+  Result result;
+  RUN(CompareExact("six lights, two masks", renderer, "{}", &result));
+  CHECK(result.RefShadowed > 0);
+  return EXIT_SUCCESS;
+}
+
 int CheckBadInput()
 {
   vtkNew<vtkPenumbraShadowVolumeShadows> technique;
@@ -620,6 +697,7 @@ int CheckBadInput()
   CHECK(techniques->Apply(renderer, "volumes", "{\"method\": \"zmiddle\"}") == 0);
   CHECK(techniques->Apply(renderer, "volumes", "{\"cull\": \"yes\"}") == 0);
   CHECK(techniques->Apply(renderer, "volumes", "{\"cap_offset\": 0.5}") == 0);
+  CHECK(techniques->Apply(renderer, "volumes", "{\"lights_per_mask\": 5}") == 0);
   CHECK(techniques->Apply(renderer, "volumes", "{\"silhouette\": \"cpu\"}") == 0);
   CHECK(techniques->Apply(renderer, "volumes",
           "{\"silhouettes\": \"cpu\", \"method\": \"auto\", \"cull\": false}") == 1);
@@ -634,6 +712,7 @@ int TestShadowVolumeShadows(int, char*[])
   RUN(CheckCameraInsideVolume());
   RUN(CheckPureStencil());
   RUN(CheckCaching());
+  RUN(CheckMultiLightMasks());
   RUN(CheckGoniometric());
   RUN(CheckScenes());
   return EXIT_SUCCESS;
