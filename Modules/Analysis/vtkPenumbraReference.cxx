@@ -610,7 +610,7 @@ int vtkPenumbraReference::ComputeConvergedVisibility(vtkPenumbraViewSamples* sam
   double u[3], v[3], nrm[3];
   light->GetAxes(u, v, nrm);
   double centre[3];
-  light->GetPosition(centre);
+  light->GetCentre(centre);
   const bool line = light->GetShape() == vtkPenumbraAreaLight::Line;
   const int k = samplesPerAxis;
   const int n = line ? k : k * k;

@@ -925,7 +925,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
     }
   }
   used->GetAxes(ls.U, ls.V, ls.N);
-  used->GetPosition(ls.Centre);
+  used->GetCentre(ls.Centre);
   for (int c = 0; c < 3; ++c)
   {
     ls.Centre[c] -= origin[c];

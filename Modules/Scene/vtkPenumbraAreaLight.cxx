@@ -1,8 +1,10 @@
 #include "vtkPenumbraAreaLight.h"
 
 #include "vtkMath.h"
+#include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -27,11 +29,21 @@ int vtkPenumbraAreaLight::GetNumberOfSamples()
   return this->Shape == Line ? this->SamplesPerAxis : this->SamplesPerAxis * this->SamplesPerAxis;
 }
 
+void vtkPenumbraAreaLight::GetCentre(double centre[3])
+{
+  this->GetTransformedPosition(centre);
+}
+
 bool vtkPenumbraAreaLight::GetAxes(double u[3], double v[3], double n[3])
 {
+  // World frame: position and focal point through the TransformMatrix (when set), Up as a
+  // direction through its rotation.
+  double position[3], focal[3];
+  this->GetTransformedPosition(position);
+  this->GetTransformedFocalPoint(focal);
   for (int c = 0; c < 3; ++c)
   {
-    n[c] = this->FocalPoint[c] - this->Position[c];
+    n[c] = focal[c] - position[c];
   }
   if (vtkMath::Normalize(n) == 0.0)
   {
@@ -39,6 +51,12 @@ bool vtkPenumbraAreaLight::GetAxes(double u[3], double v[3], double n[3])
   }
   // V = Up made perpendicular to N; fall back to the world axis least aligned with N.
   double up[3] = { this->Up[0], this->Up[1], this->Up[2] };
+  if (vtkMatrix4x4* m = this->GetTransformMatrix())
+  {
+    double d[4] = { up[0], up[1], up[2], 0.0 };
+    m->MultiplyPoint(d, d);
+    std::copy(d, d + 3, up);
+  }
   double along = vtkMath::Dot(up, n);
   double w[3] = { up[0] - along * n[0], up[1] - along * n[1], up[2] - along * n[2] };
   if (vtkMath::Norm(w) < 1e-9 * std::max(1.0, vtkMath::Norm(up)))
@@ -85,9 +103,42 @@ bool vtkPenumbraAreaLight::GetSamplePosition(int index, double position[3])
   const int j = index / k;
   const double su = ((i + 0.5) / k - 0.5) * this->Width;
   const double sv = this->Shape == Line ? 0.0 : ((j + 0.5) / k - 0.5) * this->Height;
+  double centre[3];
+  this->GetCentre(centre);
   for (int c = 0; c < 3; ++c)
   {
-    position[c] = this->Position[c] + su * u[c] + sv * v[c];
+    position[c] = centre[c] + su * u[c] + sv * v[c];
+  }
+  return true;
+}
+
+bool vtkPenumbraAreaLight::IsRigid()
+{
+  vtkMatrix4x4* m = this->GetTransformMatrix();
+  if (!m)
+  {
+    return true;
+  }
+  const double* e = m->GetData();
+  if (!(e[12] == 0.0 && e[13] == 0.0 && e[14] == 0.0 && e[15] == 1.0))
+  {
+    return false; // projective
+  }
+  // Columns of the 3 x 3 part orthonormal within rounding.
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int b = a; b < 3; ++b)
+    {
+      double dot = 0.0;
+      for (int r = 0; r < 3; ++r)
+      {
+        dot += e[4 * r + a] * e[4 * r + b];
+      }
+      if (!(std::fabs(dot - (a == b ? 1.0 : 0.0)) <= 1e-9))
+      {
+        return false;
+      }
+    }
   }
   return true;
 }
@@ -110,6 +161,12 @@ const char* vtkPenumbraAreaLight::GetValidityMessage()
     std::snprintf(this->ValidityMessage, sizeof(this->ValidityMessage),
       "size must be positive (got %g x %g); use a point or spot light for a zero-size light",
       this->Width, this->Height);
+  }
+  else if (!this->IsRigid())
+  {
+    std::snprintf(this->ValidityMessage, sizeof(this->ValidityMessage),
+      "the TransformMatrix must be a rotation and a translation (the size is in world "
+      "units, a scaling transform would change it)");
   }
   else if (!this->GetAxes(u, v, n))
   {

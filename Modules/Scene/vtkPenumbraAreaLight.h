@@ -15,6 +15,11 @@
  * has k*k samples at the centres of a regular k x k grid of cells, index = j*k + i at
  *   Position + ((i + 0.5)/k - 0.5) * Width * U + ((j + 0.5)/k - 0.5) * Height * V,
  * and a line has k samples at Position + ((i + 0.5)/k - 0.5) * Length * U (Length = Width).
+ *
+ * A TransformMatrix (VTK's light transform, e.g. for camera lights) moves the emitter: the
+ * centre is GetTransformedPosition(), the frame comes from the transformed position and
+ * focal point and the Up direction turned by the matrix. It must be a rigid motion (the
+ * size is in world units); GetValidityMessage() rejects a scaling or projective one.
  */
 
 #ifndef vtkPenumbraAreaLight_h
@@ -94,6 +99,11 @@ public:
   bool GetSamplePosition(int index, double position[3]);
 
   /**
+   * Centre of the emitter in world coordinates: the Position through the TransformMatrix.
+   */
+  void GetCentre(double centre[3]);
+
+  /**
    * Orthonormal frame of the emitter: U, V in its plane and N its emission direction.
    * Returns false if the light has no direction (Position == FocalPoint).
    */
@@ -108,6 +118,9 @@ public:
   vtkLight* ShallowClone() override;
 
 protected:
+  // True without a TransformMatrix or with a rotation + translation.
+  bool IsRigid();
+
   vtkPenumbraAreaLight();
   ~vtkPenumbraAreaLight() override = default;
 

@@ -1,6 +1,8 @@
 // Area and linear lights: the fixed sample positions every technique and the reference share,
-// the emitter frame, and the validity checks behind the scene files' errors.
+// the emitter frame, its TransformMatrix, and the validity checks behind the scene files'
+// errors.
 #include "vtkMath.h"
+#include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkSmartPointer.h"
@@ -78,5 +80,40 @@ int TestAreaLight(int, char*[])
   CHECK(std::string(light->GetValidityMessage()).empty());
   light->SetFocalPoint(1, 2, 10);
   CHECK(std::string(light->GetValidityMessage()).find("direction") != std::string::npos);
+
+  // A TransformMatrix moves the emitter like a light placed at the transformed pose: a
+  // quarter turn about z and a shift (the camera-light case).
+  vtkNew<vtkPenumbraAreaLight> local;
+  local->SetPosition(1, 2, 10);
+  local->SetFocalPoint(1, 2, 0);
+  local->SetUp(0, 1, 0);
+  local->SetWidth(4.0);
+  local->SetHeight(2.0);
+  local->SetSamplesPerAxis(3);
+  vtkNew<vtkMatrix4x4> motion;
+  const double rows[16] = { 0, -1, 0, 5, 1, 0, 0, -3, 0, 0, 1, 7, 0, 0, 0, 1 };
+  motion->DeepCopy(rows);
+  local->SetTransformMatrix(motion);
+  CHECK(std::string(local->GetValidityMessage()).empty());
+  vtkNew<vtkPenumbraAreaLight> placed; // the same pose without a matrix
+  placed->SetPosition(5 - 2, -3 + 1, 17);
+  placed->SetFocalPoint(5 - 2, -3 + 1, 7);
+  placed->SetUp(-1, 0, 0);
+  placed->SetWidth(4.0);
+  placed->SetHeight(2.0);
+  placed->SetSamplesPerAxis(3);
+  double centre[3];
+  local->GetCentre(centre);
+  CHECK(centre[0] == 3.0 && centre[1] == -2.0 && centre[2] == 17.0);
+  for (int s = 0; s < 9; ++s)
+  {
+    double a[3], b[3];
+    CHECK(local->GetSamplePosition(s, a) && placed->GetSamplePosition(s, b));
+    CHECK(std::sqrt(vtkMath::Distance2BetweenPoints(a, b)) < 1e-12);
+  }
+  // A scaling matrix would change the size: refused with a clear message.
+  motion->SetElement(0, 1, -2.0);
+  local->SetTransformMatrix(motion);
+  CHECK(std::string(local->GetValidityMessage()).find("rotation") != std::string::npos);
   return EXIT_SUCCESS;
 }
