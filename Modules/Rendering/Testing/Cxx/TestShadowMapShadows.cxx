@@ -266,102 +266,126 @@ int CheckResolutionSeries()
   return EXIT_SUCCESS;
 }
 
-// The same scene in a 256 x 128 and a 128 x 128 window: the rates agree.
+// The same scene in an 800 x 400 window (the wide case) and a 400 x 400 one: the
+// rates agree, so the wide aspect neither stretches the map nor shifts the lookup (VTK's
+// pass distorts non-square windows).
 int CheckNonSquare()
 {
   double rates[2];
-  const int widths[2] = { 256, 128 };
+  const int widths[2] = { 800, 400 };
   for (int i = 0; i < 2; ++i)
   {
     auto renderer = PlaneAndBox();
     Comparison c;
-    RUN(RenderAndCompare(renderer, "{\"resolution\": 2048}", widths[i], 128, c,
-      widths[i] == 256 ? "plane+box 256x128" : "plane+box 128x128"));
-    CHECK(ShadowPassOf(renderer)->GetViewSamples()->GetNumberOfSamples() == widths[i] * 128);
+    RUN(RenderAndCompare(renderer, "{\"resolution\": 2048}", widths[i], 400, c,
+      widths[i] == 800 ? "plane+box 800x400" : "plane+box 400x400"));
+    CHECK(ShadowPassOf(renderer)->GetViewSamples()->GetNumberOfSamples() == widths[i] * 400);
+    CHECK(c.Valid > widths[i] * 400 / 4);
     rates[i] = c.MismatchRate;
   }
-  CHECK(rates[0] < 0.01 && rates[1] < 0.01);
-  CHECK(std::fabs(rates[0] - rates[1]) < 0.005);
+  CHECK(rates[0] < 0.002 && rates[1] < 0.002);
+  CHECK(std::fabs(rates[0] - rates[1]) < 0.001);
   return EXIT_SUCCESS;
 }
 
-// torture/point_light_in_room.json: a point light in a closed room. Every room face the
-// camera sees gets shadow samples (from the furniture), with cube and paraboloid maps.
+// torture/point_light_in_room.json: a point light in a closed room. Seen from four corners
+// of the room, every one of the six room faces (floor, ceiling, four walls) gets shadow
+// samples from the furniture with cube maps (all six directions) and with dual-paraboloid
+// maps (both hemispheres), as in the reference.
 int CheckPointLightInRoom()
 {
+  struct View
+  {
+    double Position[3], FocalPoint[3];
+  };
+  const View views[] = { { { 4.5, -4.5, 3.5 }, { 0, 0, 1.5 } },
+    { { -4.5, 4.5, 0.4 }, { 0.5, -0.5, 3.0 } }, { { 4.5, 4.5, 3.6 }, { -1, -1, 1.0 } },
+    { { -4.5, -4.5, 3.6 }, { 1, 1, 1.0 } } };
   for (const char* point : { "cube", "paraboloid" })
   {
-    vtkNew<vtkPenumbraSceneReader> reader;
-    reader->SetFileName((std::string(PENUMBRA_SCENES_DIR) + "/torture/point_light_in_room.json").c_str());
-    CHECK(reader->Read());
-    vtkRenderer* renderer = reader->GetRenderer();
-    auto window = WindowFor(renderer, 240, 180);
-    vtkNew<vtkPenumbraTechniques> techniques;
-    const std::string options = std::string("{\"point\": \"") + point + "\"}";
-    CHECK(techniques->Apply(renderer, "shadowmap", options.c_str()));
-    window->Render();
-    Comparison c;
-    vtkNew<vtkFloatArray> ref;
-    RUN(Compare(renderer, 0, c, ref));
-    vtkPenumbraShadowMapShadows* technique = TechniqueOf(renderer);
-    CHECK(technique != nullptr);
-    std::printf("point_light_in_room %-10s valid %lld mismatches %lld rate %.5f views %d\n", point,
-      static_cast<long long>(c.Valid), static_cast<long long>(c.Mismatches), c.MismatchRate,
-      technique->GetNumberOfViews());
-    CHECK(technique->GetNumberOfViews() >= 2);
-    CHECK(c.MismatchRate < 0.002); // measured 1e-4 (cube), 4e-4 (paraboloid)
-    // Per room face (dominant normal axis and sign): samples seen, shadowed by technique
-    // and reference. Only the room's faces (the prop with the largest bounds) count.
-    vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
-    vtkPenumbraViewSamples* samples = pass->GetViewSamples();
-    vtkFloatArray* vis = pass->GetVisibility(0);
-    int roomProp = -1;
-    double roomSize = -1.0;
-    for (int i = 0; i < pass->GetGeometry()->GetNumberOfProps(); ++i)
-    {
-      const double* b = pass->GetGeometry()->GetProp(i)->GetBounds();
-      const double size = (b[1] - b[0]) + (b[3] - b[2]) + (b[5] - b[4]);
-      if (size > roomSize)
-      {
-        roomSize = size;
-        roomProp = i;
-      }
-    }
     vtkIdType seen[6] = { 0 }, shadowed[6] = { 0 }, refShadowed[6] = { 0 };
-    int facesSeen = 0;
-    for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
+    for (const View& view : views)
     {
-      if (samples->GetPropIndices()->GetValue(s) != roomProp)
+      vtkNew<vtkPenumbraSceneReader> reader;
+      reader->SetFileName(
+        (std::string(PENUMBRA_SCENES_DIR) + "/torture/point_light_in_room.json").c_str());
+      CHECK(reader->Read());
+      vtkRenderer* renderer = reader->GetRenderer();
+      vtkCamera* camera = renderer->GetActiveCamera();
+      camera->SetPosition(view.Position);
+      camera->SetFocalPoint(view.FocalPoint);
+      camera->SetViewUp(0, 0, 1);
+      camera->SetViewAngle(90);
+      renderer->ResetCameraClippingRange();
+      auto window = WindowFor(renderer, 200, 150);
+      vtkNew<vtkPenumbraTechniques> techniques;
+      const std::string options = std::string("{\"point\": \"") + point + "\"}";
+      CHECK(techniques->Apply(renderer, "shadowmap", options.c_str()));
+      window->Render();
+      Comparison c;
+      vtkNew<vtkFloatArray> ref;
+      RUN(Compare(renderer, 0, c, ref));
+      vtkPenumbraShadowMapShadows* technique = TechniqueOf(renderer);
+      CHECK(technique != nullptr);
+      std::printf("point_light_in_room %-10s camera (%4.1f %4.1f %3.1f) valid %lld mismatches "
+                  "%lld rate %.5f views %d\n",
+        point, view.Position[0], view.Position[1], view.Position[2],
+        static_cast<long long>(c.Valid), static_cast<long long>(c.Mismatches), c.MismatchRate,
+        technique->GetNumberOfViews());
+      CHECK(technique->GetNumberOfViews() >= 2);
+      CHECK(c.MismatchRate < 0.003); // measured 1e-4 (cube), 4e-4 (paraboloid) from the corner
+      // Per room face (dominant normal axis and sign): samples seen, shadowed by technique
+      // and reference. Only the room's faces (the prop with the largest bounds) count.
+      vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
+      vtkPenumbraViewSamples* samples = pass->GetViewSamples();
+      vtkFloatArray* vis = pass->GetVisibility(0);
+      int roomProp = -1;
+      double roomSize = -1.0;
+      for (int i = 0; i < pass->GetGeometry()->GetNumberOfProps(); ++i)
       {
-        continue;
+        const double* b = pass->GetGeometry()->GetProp(i)->GetBounds();
+        const double size = (b[1] - b[0]) + (b[3] - b[2]) + (b[5] - b[4]);
+        if (size > roomSize)
+        {
+          roomSize = size;
+          roomProp = i;
+        }
       }
-      double nrm[3];
-      samples->GetNormals()->GetTuple(s, nrm);
-      int axis = 0;
-      for (int a = 1; a < 3; ++a)
+      for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
       {
-        axis = std::fabs(nrm[a]) > std::fabs(nrm[axis]) ? a : axis;
+        if (samples->GetPropIndices()->GetValue(s) != roomProp)
+        {
+          continue;
+        }
+        double nrm[3];
+        samples->GetNormals()->GetTuple(s, nrm);
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+        {
+          axis = std::fabs(nrm[a]) > std::fabs(nrm[axis]) ? a : axis;
+        }
+        const int face = 2 * axis + (nrm[axis] < 0.0);
+        ++seen[face];
+        shadowed[face] += vis->GetValue(s) == 0.0f;
+        refShadowed[face] += ref->GetValue(s) == 0.0f;
       }
-      const int face = 2 * axis + (nrm[axis] < 0.0);
-      ++seen[face];
-      shadowed[face] += vis->GetValue(s) == 0.0f;
-      refShadowed[face] += ref->GetValue(s) == 0.0f;
+      window->RemoveRenderer(renderer);
+      window->Finalize();
     }
+    const char* names[6] = { "-x wall", "+x wall", "-y wall", "+y wall", "floor", "ceiling" };
     for (int face = 0; face < 6; ++face)
     {
-      std::printf("  face %d: seen %lld, shadowed %lld (reference %lld)\n", face,
-        static_cast<long long>(seen[face]), static_cast<long long>(shadowed[face]),
+      // Inward normals: the face with normal +x is the -x wall.
+      std::printf("  %-10s %-8s seen %6lld, shadowed %6lld (reference %6lld)\n", point,
+        names[face], static_cast<long long>(seen[face]), static_cast<long long>(shadowed[face]),
         static_cast<long long>(refShadowed[face]));
-      if (seen[face] >= 100)
-      {
-        ++facesSeen;
-        CHECK(refShadowed[face] > 0);
-        CHECK(shadowed[face] > 0);
-      }
+      CHECK(seen[face] >= 500);
+      CHECK(refShadowed[face] >= 50);
+      CHECK(shadowed[face] >= 50);
+      // The technique's shadow on each face matches the reference's in size.
+      CHECK(std::llabs(static_cast<long long>(shadowed[face] - refShadowed[face])) <=
+        std::max<long long>(10, refShadowed[face] / 20));
     }
-    CHECK(facesSeen >= 3);
-    window->RemoveRenderer(renderer);
-    window->Finalize();
   }
   return EXIT_SUCCESS;
 }
