@@ -7,10 +7,13 @@
 #include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraGearsCompute.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
+#include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkTypeUInt32Array.h"
@@ -23,6 +26,9 @@
 #include <cstdint>
 #include <limits>
 #include <mutex>
+#include <numeric>
+#include <set>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkPenumbraGearsShadows);
@@ -345,7 +351,7 @@ struct MaskBuilder
   double Axis[3] = { 0, 0, 1 };
   double ConeCos = -1.0, ConeSin = 0.0;
   bool ConeValid = false;
-  vtkIdType Assignments = 0, Necessary = 0, Tests = 0;
+  vtkIdType Necessary = 0, Tests = 0;
 
   MaskBuilder(const LightSamples& l, const std::vector<Caster>& casters, double epsilon)
     : L(l)
@@ -751,6 +757,14 @@ struct vtkPenumbraGearsShadows::Internals
   vtkNew<vtkTypeUInt32Array> Masks;
   vtkNew<vtkUnsignedCharArray> Uncertain;
 
+  // The casters flattened for the compute path (penumbra_gears::CasterStride doubles each),
+  // and a version that changes whenever they are rebuilt (the GPU copy follows it).
+  std::vector<double> CasterData;
+  std::uint64_t CasterVersion = 0;
+  penumbra_gears::MaskCompute Compute;
+  std::string PathMessage;
+  std::set<std::string> Reported; // compute-path problems already warned about
+
   void UpdateCasters(vtkPenumbraSceneGeometry* geometry)
   {
     double origin[3];
@@ -787,6 +801,23 @@ struct vtkPenumbraGearsShadows::Internals
         this->Bounds.push_back(b);
       }
     }
+    this->CasterData.clear();
+    this->CasterData.reserve(this->Casters.size() * penumbra_gears::CasterStride);
+    for (size_t t = 0; t < this->Casters.size(); ++t)
+    {
+      const Caster& c = this->Casters[t];
+      const Sphere& b = this->Bounds[t];
+      const double* parts[] = { &c.V[0][0], c.N, &c.M[0][0], c.MD };
+      const size_t sizes[] = { 9, 3, 9, 3 };
+      for (int p = 0; p < 4; ++p)
+      {
+        this->CasterData.insert(this->CasterData.end(), parts[p], parts[p] + sizes[p]);
+      }
+      this->CasterData.push_back(static_cast<double>(c.Id));
+      this->CasterData.insert(this->CasterData.end(), b.Centre, b.Centre + 3);
+      this->CasterData.push_back(b.Radius);
+    }
+    ++this->CasterVersion;
     double bounds[6];
     geometry->GetBounds(bounds);
     double diagonal = 0.0;
@@ -840,6 +871,18 @@ double vtkPenumbraGearsShadows::GetUncertainFraction()
 }
 
 //------------------------------------------------------------------------------
+const char* vtkPenumbraGearsShadows::GetPathMessage()
+{
+  return this->Impl->PathMessage.c_str();
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraGearsShadows::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Impl->Compute.Release(window);
+}
+
+//------------------------------------------------------------------------------
 double vtkPenumbraGearsShadows::GetBlockingShare()
 {
   return this->NumberOfAssignments > 0
@@ -855,8 +898,9 @@ double vtkPenumbraGearsShadows::GetBlockingShare()
   } while (false)
 
 //------------------------------------------------------------------------------
-int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeometry* geometry,
-  vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility)
+int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
+  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
+  vtkFloatArray* visibility)
 {
   const auto start = Clock::now();
   if (!geometry || !samples || !light || !visibility)
@@ -1022,6 +1066,41 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
       }
     }
   };
+
+  // ---- Where step 4 runs: the compute path when asked for and possible, else the CPU.
+  const int requested = this->Path == PATH_AUTO ? PATH_CPU : this->Path;
+  bool useGpu = false;
+  impl.PathMessage.clear();
+  auto reportPathProblem = [&](const std::string& why) {
+    impl.PathMessage =
+      "GEARS compute path unavailable (" + why + "); the CPU path computes the masks";
+    if (impl.Reported.insert(why).second)
+    {
+      vtkWarningMacro(<< impl.PathMessage);
+    }
+  };
+  if (requested == PATH_GPU && !off && n > 0 && !impl.Casters.empty())
+  {
+    std::string why;
+    auto* window =
+      renderer ? vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow()) : nullptr;
+    if (impl.Casters.back().Id > std::numeric_limits<std::int32_t>::max())
+    {
+      why = "triangle ids beyond 2^31 do not fit the shader's 32-bit ids";
+    }
+    else
+    {
+      useGpu = impl.Compute.Prepare(window, ls.K, ls.Rows, this->KeepMasks, why) &&
+        impl.Compute.SetCasters(impl.CasterData, impl.CasterVersion, why) &&
+        impl.Compute.SetSamples(pos, nrm, tris, n, why);
+    }
+    if (!useGpu)
+    {
+      reportPathProblem(why);
+    }
+  }
+  this->LastPath = PATH_CPU;
+  vtkIdType flaggedTotal = 0;
 
   // ---- Classify the samples: invalid, light off, facing away from the whole light, or on
   // a side of the light plane.
@@ -1441,57 +1520,152 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
     }
     gridMs += ElapsedMs(gridStart);
 
-    // ---- Step 4: masks, one busy cell after the other in parallel.
+    // ---- Step 4: masks. Every sample considers its cell list and the global list.
     const auto maskStart = Clock::now();
-    const vtkIdType busy = static_cast<vtkIdType>(occupied.size());
-    vtkSMPTools::For(0, busy, [&](vtkIdType begin, vtkIdType end) {
+    for (const std::int32_t cell : occupied)
+    {
+      assignments += static_cast<vtkIdType>(sampleStart[cell + 1] - sampleStart[cell]) *
+        static_cast<vtkIdType>(cellStart[cell + 1] - cellStart[cell] + globalList.size());
+    }
+    // One view sample on the CPU: sampleOrder position `o` of cell `cell`.
+    auto maskOnCPU = [&](MaskBuilder& builder, std::vector<int>& undecided, std::uint32_t o,
+                       std::int32_t cell) {
+      const std::uint32_t* list = cellList.data() + cellStart[cell];
+      const std::uint32_t listSize = cellStart[cell + 1] - cellStart[cell];
+      const vtkIdType s = ids[sampleOrder[o]];
+      SampleRays r;
+      loadSample(s, r);
+      r.Z = frame[3 * static_cast<size_t>(sampleOrder[o]) + 2];
+      if (!builder.Start(r))
+      {
+        vis[s] = builder.Visibility();
+        writeMask(s, builder.Facing);
+        return;
+      }
+      for (std::uint32_t e = 0; e < listSize && builder.Open; ++e)
+      {
+        builder.Visit(list[e]);
+      }
+      for (size_t e = 0; e < globalList.size() && builder.Open; ++e)
+      {
+        builder.Visit(globalList[e]);
+      }
+      undecided.clear();
+      builder.Finish(undecided);
+      vis[s] = builder.Visibility();
+      writeMask(s, builder.Facing);
+      if (!undecided.empty())
+      {
+        std::lock_guard<std::mutex> lock(traceMutex);
+        for (const int j : undecided)
+        {
+          traceSamples.push_back(s);
+          traceLights.push_back(j);
+        }
+      }
+    };
+    auto newBuilder = [&]() {
       MaskBuilder builder(ls, impl.Casters, epsilon);
-      std::vector<int> undecided;
       builder.ZMin = zNear.data();
       builder.Bounds = impl.Bounds.data();
       builder.FarSlack = tolerance;
-      for (vtkIdType b = begin; b < end; ++b)
+      return builder;
+    };
+    // The sampleOrder positions the CPU computes: all of them, or those the shader flagged.
+    std::vector<std::uint32_t> onCPU;
+    bool allOnCPU = !useGpu;
+    if (useGpu)
+    {
+      std::vector<std::uint32_t> work(2 * static_cast<size_t>(m));
+      for (vtkIdType o = 0; o < m; ++o)
       {
-        const std::int32_t cell = occupied[static_cast<size_t>(b)];
-        const std::uint32_t* list = cellList.data() + cellStart[cell];
-        const std::uint32_t listSize = cellStart[cell + 1] - cellStart[cell];
-        for (std::uint32_t o = sampleStart[cell]; o < sampleStart[cell + 1]; ++o)
+        const std::uint32_t q = sampleOrder[static_cast<size_t>(o)];
+        work[2 * o] = static_cast<std::uint32_t>(ids[q]);
+        work[2 * o + 1] = static_cast<std::uint32_t>(sampleCell[q]);
+      }
+      penumbra_gears::ComputeLight cl;
+      cl.K = ls.K;
+      cl.Rows = ls.Rows;
+      cl.Points = ls.Points.data();
+      std::copy(ls.Centre, ls.Centre + 3, cl.Centre);
+      std::copy(ls.U, ls.U + 3, cl.U);
+      std::copy(ls.V, ls.V + 3, cl.V);
+      std::copy(ls.N, ls.N + 3, cl.N);
+      cl.Su0 = ls.Su0;
+      cl.DSu = ls.DSu;
+      cl.Sv0 = ls.Sv0;
+      cl.DSv = ls.DSv;
+      penumbra_gears::ComputeConstants cc;
+      std::copy(shift, shift + 3, cc.Shift);
+      cc.Epsilon = epsilon;
+      cc.TieFactor = tieFactor;
+      cc.Diagonal = diagonal;
+      cc.RelativeTolerance = RelativePositionTolerance;
+      penumbra_gears::ComputeSide cs;
+      cs.Flip = flip;
+      cs.FarSlack = tolerance;
+      cs.ZNear = zNear.data();
+      cs.CellStart = cellStart.data();
+      cs.Cells = cellStart.size() - 1;
+      cs.CellList = cellList.data();
+      cs.ListSize = cellList.size();
+      cs.GlobalList = globalList.data();
+      cs.GlobalSize = globalList.size();
+      cs.Work = work.data();
+      cs.WorkCount = static_cast<size_t>(m);
+      std::vector<std::uint32_t> results, rows32;
+      std::string why;
+      if (impl.Compute.Run(cl, cc, cs, results, masks ? &rows32 : nullptr, why))
+      {
+        this->LastPath = PATH_GPU;
+        vtkIdType sideNecessary = 0, sideTests = 0;
+        for (vtkIdType o = 0; o < m; ++o)
         {
-          const vtkIdType s = ids[sampleOrder[o]];
-          SampleRays r;
-          loadSample(s, r);
-          r.Z = frame[3 * static_cast<size_t>(sampleOrder[o]) + 2];
-          builder.Assignments += listSize + static_cast<vtkIdType>(globalList.size());
-          if (!builder.Start(r))
+          const std::uint32_t* res = &results[3 * static_cast<size_t>(o)];
+          if (res[0] == penumbra_gears::Flagged)
           {
-            vis[s] = builder.Visibility();
-            writeMask(s, builder.Facing);
+            onCPU.push_back(static_cast<std::uint32_t>(o));
             continue;
           }
-          for (std::uint32_t e = 0; e < listSize && builder.Open; ++e)
+          const vtkIdType s = ids[sampleOrder[static_cast<size_t>(o)]];
+          vis[s] = static_cast<float>(res[0]) / static_cast<float>(ls.Count);
+          sideNecessary += res[1];
+          sideTests += res[2];
+          if (masks)
           {
-            builder.Visit(list[e]);
-          }
-          for (size_t e = 0; e < globalList.size() && builder.Open; ++e)
-          {
-            builder.Visit(globalList[e]);
-          }
-          undecided.clear();
-          builder.Finish(undecided);
-          vis[s] = builder.Visibility();
-          writeMask(s, builder.Facing);
-          if (!undecided.empty())
-          {
-            std::lock_guard<std::mutex> lock(traceMutex);
-            for (const int j : undecided)
+            std::uint64_t rows[MaxK];
+            for (int j = 0; j < ls.Rows; ++j)
             {
-              traceSamples.push_back(s);
-              traceLights.push_back(j);
+              rows[j] = rows32[static_cast<size_t>(o) * ls.Rows + j];
             }
+            writeMask(s, rows);
           }
         }
+        necessary += sideNecessary;
+        segmentTests += sideTests;
+        flaggedTotal += static_cast<vtkIdType>(onCPU.size());
       }
-      assignments += builder.Assignments;
+      else
+      {
+        reportPathProblem(why);
+        useGpu = false;
+        allOnCPU = true;
+      }
+    }
+    if (allOnCPU)
+    {
+      // Every sample, in cell order: neighbouring samples share a cell's lists.
+      onCPU.resize(static_cast<size_t>(m));
+      std::iota(onCPU.begin(), onCPU.end(), 0u);
+    }
+    vtkSMPTools::For(0, static_cast<vtkIdType>(onCPU.size()), [&](vtkIdType begin, vtkIdType end) {
+      MaskBuilder builder = newBuilder();
+      std::vector<int> undecided;
+      for (vtkIdType f = begin; f < end; ++f)
+      {
+        const std::uint32_t o = onCPU[static_cast<size_t>(f)];
+        maskOnCPU(builder, undecided, o, sampleCell[sampleOrder[o]]);
+      }
       necessary += builder.Necessary;
       segmentTests += builder.Tests;
     });
@@ -1555,6 +1729,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeo
   this->GridTimeMs = gridMs;
   this->MaskTimeMs = maskMs;
   this->NumberOfUncertainSamples = nUncertain;
+  this->NumberOfFlaggedSamples = flaggedTotal;
   this->NumberOfOccupiedCells = occupiedTotal;
   this->NumberOfCells = cellsTotal;
   this->MaxTrianglesPerCell = maxPerCell;
@@ -1581,6 +1756,8 @@ void vtkPenumbraGearsShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "CameraDistanceFactor: " << this->CameraDistanceFactor << "\n";
   os << indent << "MaxListEntries: " << this->MaxListEntries << "\n";
   os << indent << "KeepMasks: " << this->KeepMasks << "\n";
+  os << indent << "Path: " << this->Path << " (last " << this->LastPath << ")\n";
+  os << indent << "NumberOfFlaggedSamples: " << this->NumberOfFlaggedSamples << "\n";
   os << indent << "NumberOfUncertainSamples: " << this->NumberOfUncertainSamples << "\n";
   os << indent << "NumberOfAssignments: " << this->NumberOfAssignments << "\n";
   os << indent << "NumberOfNecessaryAssignments: " << this->NumberOfNecessaryAssignments << "\n";

@@ -44,6 +44,13 @@
  *    separating the sample from the light, every hit provably inside the tie band. Cell
  *    lists are sorted largest triangle first, so umbra samples fill their masks early.
  *
+ * Paths (SetPath()): step 4 runs on the CPU (vtkSMPTools) or as a GL 4.3 compute shader
+ * (vtkPenumbraGearsCompute.h: the cell lists in shader storage buffers, one invocation per
+ * view sample, double precision with the CPU path's margins). The shader flags the view
+ * samples whose decision needs the CPU path's per-light-sample bookkeeping (a ray on a
+ * triangle edge, a bit too close to call against Embree), and those are redone on the CPU,
+ * so both paths give the same visibility bit for bit. Steps 1-3 stay on the CPU either way.
+ *
  * Visibility = unoccluded fraction of the k x k (Line: k) light samples, the reference's
  * float(lit) / float(n). Samples facing away from the whole light get 0 without any work.
  *
@@ -119,6 +126,45 @@ public:
   vtkSetClampMacro(MaxListEntries, vtkIdType, 1024, vtkIdType(1) << 31);
   vtkGetMacro(MaxListEntries, vtkIdType);
   ///@}
+
+  /**
+   * Where step 4 (the masks) runs.
+   * - PATH_AUTO (default): the path measured faster on the target platform, currently
+   *   PATH_CPU (see README: on Mesa llvmpipe the compute shader runs on the same CPU cores
+   *   without the CPU path's 64-bit rows and early rejects being any cheaper).
+   * - PATH_CPU: vtkSMPTools over the busy cells.
+   * - PATH_GPU: the GL 4.3 compute shader; needs the renderer's OpenGL window (4.3 context)
+   *   and at most 32 light samples per row. When it cannot run, a warning says why (once
+   *   per reason) and the CPU path is used; GetLastPath() tells which ran.
+   */
+  enum Paths
+  {
+    PATH_AUTO = 0,
+    PATH_CPU = 1,
+    PATH_GPU = 2
+  };
+  vtkSetClampMacro(Path, int, PATH_AUTO, PATH_GPU);
+  vtkGetMacro(Path, int);
+
+  /**
+   * The path the last area-light call's masks took (PATH_CPU or PATH_GPU; PATH_AUTO before
+   * any area-light call).
+   */
+  vtkGetMacro(LastPath, int);
+
+  /**
+   * Why the last call could not use the compute path it was asked for (empty when it did,
+   * or when it was not asked for).
+   */
+  const char* GetPathMessage();
+
+  /**
+   * Compute path: view samples of the last area-light call the shader flagged and the CPU
+   * path redid (see the class description); 0 on the CPU path.
+   */
+  vtkGetMacro(NumberOfFlaggedSamples, vtkIdType);
+
+  void ReleaseGraphicsResources(vtkWindow* window) override;
 
   ///@{
   /**
@@ -216,6 +262,9 @@ protected:
   double CameraDistanceFactor = 1.0;
   vtkIdType MaxListEntries = vtkIdType(1) << 27;
   bool KeepMasks = false;
+  int Path = PATH_AUTO;
+  int LastPath = PATH_AUTO;
+  vtkIdType NumberOfFlaggedSamples = 0;
 
   vtkIdType NumberOfOccupiedCells = 0;
   vtkIdType NumberOfCells = 0;

@@ -290,8 +290,12 @@ void InstallGears(vtkRenderer* ren, Options& opts)
   const int samples = SamplesOption(opts);
   const int grid = opts.Integer("grid", 128, 1, 4096);
   const double cameraDistance = opts.Number("camera_distance", 1.0, 0.01, 100.0);
+  const int path = opts.Choice("path", { "auto", "cpu", "gpu" });
   opts.RejectUnknown();
   vtkNew<vtkPenumbraGearsShadows> technique;
+  technique->SetPath(path == 2 ? vtkPenumbraGearsShadows::PATH_GPU
+      : path == 1              ? vtkPenumbraGearsShadows::PATH_CPU
+                               : vtkPenumbraGearsShadows::PATH_AUTO);
   technique->SetSamplesPerAxis(samples);
   technique->SetGridResolution(grid);
   technique->SetCameraDistanceFactor(cameraDistance);
