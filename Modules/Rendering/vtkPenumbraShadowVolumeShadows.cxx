@@ -337,6 +337,60 @@ struct VolumeLight
   }
 };
 
+// A positional light's volumes end at a finite far cap (seed 004 §2.1 asks only for closed
+// volumes): the copy of v is L + (v - L) / w, written homogeneously as (v - L + w L, w). The
+// point at infinity (w = 0) serves a perspective camera, where it projects to a vanishing
+// point, but under a parallel camera every point at infinity has clip w = 0 and the dark caps
+// vanish, which breaks z-fail wherever the view direction lies in a volume. A sample x lies
+// in the truncated volume of a caster point p exactly when |x - L| <= |p - L| / w, so
+// w = (nearest caster distance) / (4 x farthest geometry distance) keeps every sample (all
+// lie on the geometry) inside what it was inside; the nearest distance is bounded below per
+// triangle by its plane distance and its bounding sphere. Edge-on triangles (facing 0) get
+// no volume and are skipped; with none left any w would do.
+double PositionalFarW(const Connectivity& mesh, const VolumeLight& light, const double bounds[6])
+{
+  const Vec3& L = light.Position;
+  double farthest = 0.0;
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    const Vec3 q = { bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)],
+      bounds[4 + ((corner >> 2) & 1)] };
+    const Vec3 d = Sub(q, L);
+    farthest = std::max(farthest, std::sqrt(Dot(d, d)));
+  }
+  double nearest = VTK_DOUBLE_MAX;
+  auto visit = [&](const std::array<int, 3>& t) {
+    const Vec3& a = mesh.Points[static_cast<size_t>(t[0])];
+    const Vec3& b = mesh.Points[static_cast<size_t>(t[1])];
+    const Vec3& c = mesh.Points[static_cast<size_t>(t[2])];
+    const Vec3 n = Cross(Sub(b, a), Sub(c, a));
+    const double f = Dot(n, Sub(L, a));
+    if (!(f != 0.0))
+    {
+      return;
+    }
+    const Vec3 centre = { (a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0,
+      (a[2] + b[2] + c[2]) / 3.0 };
+    double radius = 0.0;
+    for (const Vec3* v : { &a, &b, &c })
+    {
+      const Vec3 d = Sub(*v, centre);
+      radius = std::max(radius, std::sqrt(Dot(d, d)));
+    }
+    const Vec3 toLight = Sub(L, centre);
+    const double bound =
+      std::max(std::fabs(f) / std::sqrt(Dot(n, n)), std::sqrt(Dot(toLight, toLight)) - radius);
+    nearest = std::min(nearest, bound);
+  };
+  std::for_each(mesh.Loose.begin(), mesh.Loose.end(), visit);
+  for (const auto& component : mesh.Components)
+  {
+    std::for_each(component.Faces.begin(), component.Faces.end(), visit);
+  }
+  const double w = nearest / (4.0 * farthest);
+  return w > 0.0 && w <= 0.25 ? w : 0.25;
+}
+
 // Seed 001 §1.3 / CC shadow volumes: true when a separating plane proves that the volume of
 // the light-facing oriented triangle (a, b, c) misses `box`.
 bool VolumeMissesBox(const VolumeLight& light, const Vec3 v[3], const double box[6])
@@ -493,6 +547,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     GLsizei AdjacencyCount = 0;
     vtkIdType SilhouetteEdges = 0;
     vtkIdType Culled = 0;
+    double FarW = 0.0;          // positional lights: w of the extruded copies (PositionalFarW)
     GLuint Buffer = 0;          // vertices, uploaded on first use
     GLuint AdjacencyBuffer = 0; // adjacency indices, uploaded on first use
   };
@@ -830,6 +885,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
   // Scene scale from the geometry alone (every sample lies on it), so that the extrusion
   // length and with it the cached volumes do not depend on the camera.
   double scale = 1.0;
+  double rebasedBounds[6] = { 0, 0, 0, 0, 0, 0 };
   {
     double all[6];
     geometry->GetBounds(all);
@@ -837,6 +893,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
     {
       const double lo = all[2 * c] - impl.Origin[c], hi = all[2 * c + 1] - impl.Origin[c];
       scale = std::max({ scale, std::fabs(lo), std::fabs(hi), hi - lo });
+      rebasedBounds[2 * c] = lo;
+      rebasedBounds[2 * c + 1] = hi;
     }
   }
 
@@ -949,8 +1007,9 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
         out.push_back(static_cast<float>(p[2]));
         out.push_back(static_cast<float>(w));
       };
-      // Extruded copy of v: a finite prism for directional lights, the point at infinity
-      // (w = 0) away from a positional light.
+      // Extruded copy of v: a finite prism for directional lights, a finite frustum for
+      // positional ones (PositionalFarW; the same formula as the GPU silhouette stage).
+      build.FarW = vl.Directional ? 0.0 : PositionalFarW(mesh, vl, rebasedBounds);
       auto putFar = [&](std::vector<float>& out, const Vec3& v)
       {
         if (vl.Directional)
@@ -963,15 +1022,12 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
         }
         else
         {
-          const Vec3 d = Sub(v, vl.Position);
-          if (Dot(d, d) > 0.0)
-          {
-            put(out, d, 0.0);
-          }
-          else
-          {
-            put(out, v, 1.0); // a vertex on the light stays where it is
-          }
+          const double w = build.FarW;
+          put(out,
+            { v[0] - vl.Position[0] + w * vl.Position[0],
+              v[1] - vl.Position[1] + w * vl.Position[1],
+              v[2] - vl.Position[2] + w * vl.Position[2] },
+            w);
         }
       };
       // One side quad for edge u -> v of a light-facing oriented face (outward winding).
@@ -1597,6 +1653,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
             gsProgram->SetUniformf("capScale", capScale);
             gsProgram->SetUniform4f("light", lightUniform);
             gsProgram->SetUniformf("extrusion", static_cast<float>(vl.Extrusion));
+            gsProgram->SetUniformf("farW", static_cast<float>(vs.FarW));
             glBindVertexArray(impl.PointArray);
             glDrawElements(GL_TRIANGLES_ADJACENCY, vs.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
           }

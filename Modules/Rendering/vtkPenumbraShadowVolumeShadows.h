@@ -26,10 +26,13 @@
  *    Components with inward orientation (negative volume) swap front and back. Open
  *    components, and closed ones that may hold the light, use both sets (the back-facing
  *    triangles turned toward the light too), which counts every crossing like per-triangle
- *    volumes but with sides only on silhouette and boundary edges. Positional lights
- *    extrude to infinity (w = 0); directional lights extrude by a finite length beyond
- *    every caster (a prism), which keeps parallel cameras free of points at infinity on the
- *    view axis.
+ *    volumes but with sides only on silhouette and boundary edges. Every volume is closed
+ *    and bounded: directional lights extrude by a finite length beyond every caster (a
+ *    prism), positional lights to L + (v - L) / w, a homogeneous vertex with a small w
+ *    chosen so that the far cap lies beyond every sample (four times the farthest geometry
+ *    distance over the nearest caster distance). Points at infinity (w = 0) would do under a
+ *    perspective camera, but under a parallel camera they all project with clip w = 0 and
+ *    the dark caps vanish.
  * 3. Counting in an own framebuffer (window size, 32-bit float depth + 8-bit stencil): the
  *    depth buffer receives, per pixel, the depth of the point where the pixel-centre ray
  *    meets the sample's own triangle (double precision on the CPU, once per frame for all

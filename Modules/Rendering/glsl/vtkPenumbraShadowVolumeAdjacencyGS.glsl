@@ -20,6 +20,8 @@ uniform float capScale;
 uniform vec4 light;
 // Prism length for directional lights (beyond every sample and caster).
 uniform float extrusion;
+// Positional lights: w of the extruded copy L + (v - L) / farW (PositionalFarW on the CPU).
+uniform float farW;
 
 float facing(vec3 a, vec3 b, vec3 c, int ia, int ib, int ic)
 {
@@ -38,7 +40,7 @@ float facing(vec3 a, vec3 b, vec3 c, int ia, int ib, int ic)
 
 vec4 extruded(vec3 v)
 {
-  return light.w == 0.0 ? vec4(v - extrusion * light.xyz, 1.0) : vec4(v - light.xyz, 0.0);
+  return light.w == 0.0 ? vec4(v - extrusion * light.xyz, 1.0) : vec4(v - light.xyz + farW * light.xyz, farW);
 }
 
 void emit(vec4 p, float zScale)

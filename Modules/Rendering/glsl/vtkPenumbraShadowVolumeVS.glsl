@@ -1,7 +1,7 @@
 //VTK::System::Dec
 // Stencil shadow volumes, vertex stage (seed 004 ch. 3, 8): volume vertices in the geometry's
-// rebased frame, w = 0 for points extruded to infinity away from a positional light (the
-// homogeneous point at infinity; GL_DEPTH_CLAMP keeps them, seed 004 §2.7 probe).
+// rebased frame; a positional light's extruded copies are homogeneous with a small w (far
+// beyond every sample, see PositionalFarW; GL_DEPTH_CLAMP keeps them, seed 004 §2.7 probe).
 // worldToClip uses a reversed depth (near = 1, far / infinity = 0, glClipControl zero-to-one)
 // so that float32 depth keeps the same relative precision at every distance.
 // capScale < 1 pushes light caps back by that relative eye depth: a sample lying on a caster's
