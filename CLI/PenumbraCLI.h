@@ -33,6 +33,8 @@ public:
   void Watch(vtkObject* object);
   bool Raised() const { return !this->First.empty(); }
   const std::string& FirstError() const { return this->First; }
+  // Forgets what was raised, so a run can go on after reporting a failure.
+  void Clear() { this->First.clear(); }
 
 private:
   static void OnError(vtkObject*, unsigned long, void* client, void* data);

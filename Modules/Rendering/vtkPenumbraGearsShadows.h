@@ -196,6 +196,9 @@ public:
    */
   double GetUncertainFraction() override;
 
+  /// Area and linear lights are what GEARS is for.
+  bool HandlesAreaLights() override { return true; }
+
   ///@{
   /**
    * Statistics of the last area-light call (seed 002 Tables 5 and 6), summed over both

@@ -28,6 +28,9 @@ public:
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
 
+  /// Area and linear lights are traced at their k x k samples.
+  bool HandlesAreaLights() override { return true; }
+
   ///@{
   /**
    * Light samples per axis for area and linear lights: 0 (default) uses the light's own

@@ -68,6 +68,13 @@ public:
   virtual double GetUncertainFraction() { return -1.0; }
 
   /**
+   * True when ComputeVisibility accepts vtkPenumbraAreaLight (soft shadows). Hard-shadow
+   * techniques (the default) refuse area and linear lights with an error, and the pass then
+   * renders such a light unshadowed; the benchmark skips them on area-light scenes.
+   */
+  virtual bool HandlesAreaLights() { return false; }
+
+  /**
    * Wall-clock time of the last ComputeVisibility call, in milliseconds.
    */
   vtkGetMacro(LastTimeMs, double);

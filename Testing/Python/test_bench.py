@@ -2,6 +2,7 @@
 the reference scores itself exactly, and the table and chart are written."""
 
 import csv
+import json
 import math
 import os
 import subprocess
@@ -73,6 +74,33 @@ class BenchTest(unittest.TestCase):
             self.assertEqual(float(by["gears"]["mae"]), float(by["raytraced"]["mae"]))
             self.assertIn("GEARS statistics", stdout)
             self.assertIn("differs from raytraced samples=4 in 0 samples", stdout)
+
+    def test_skips_and_failures(self):
+        # Hard-shadow techniques are not run under an area light; a scene that cannot be
+        # measured (its only light is black) is reported, and every other point is still
+        # measured and written, with exit status 3.
+        with tempfile.TemporaryDirectory() as out:
+            with open(os.path.join(SCENES_DIR, "default.json")) as f:
+                dark = json.load(f)
+            dark["lights"][0]["intensity"] = 0.0
+            dark_path = os.path.join(out, "dark.json")
+            with open(dark_path, "w") as f:
+                json.dump(dark, f)
+            code, stdout, stderr = run_bench(
+                out, "--scenes", dark_path + ",default,area_light", "--no-images",
+                "--techniques", "none,conservative,gears:samples=4")
+            self.assertEqual(code, 3, stderr)
+            self.assertIn("dark: no light to measure", stderr)
+            with open(os.path.join(out, "results.csv")) as f:
+                rows = list(csv.DictReader(f))
+            self.assertEqual(sorted((r["scene"], r["technique"]) for r in rows),
+                             [("area_light", "gears"), ("area_light", "none"),
+                              ("default", "conservative"), ("default", "none")])
+            with open(os.path.join(out, "results.md")) as f:
+                md = f.read()
+            self.assertIn("Not measured", md)
+            self.assertIn("- dark: no light to measure", md)
+            self.assertTrue(os.path.exists(os.path.join(out, "chart.png")))
 
     def test_bad_arguments(self):
         with tempfile.TemporaryDirectory() as out:
