@@ -16,6 +16,7 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLState.h"
 #include "vtkOverlayPass.h"
+#include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraShadowTechnique.h"
@@ -44,6 +45,35 @@ namespace
 double Now()
 {
   return vtkTimerLog::GetUniversalTime();
+}
+
+// Goniometric diagram (seed 004 §8.3.1): the thesis scales its shadow mask by the light's
+// relative intensity toward each sample. Done here, after any technique, so every technique
+// renders the diagram and the visibility stays the geometric one the reference checks.
+// Returns `vis` itself for other lights, a scaled copy for goniometric ones.
+vtkSmartPointer<vtkFloatArray> ScaleByDiagram(
+  vtkLight* light, vtkPenumbraViewSamples* samples, vtkFloatArray* vis)
+{
+  auto* gonio = vtkPenumbraGoniometricLight::SafeDownCast(light);
+  if (!gonio || !vis)
+  {
+    return vis;
+  }
+  auto scaled = vtkSmartPointer<vtkFloatArray>::New();
+  scaled->DeepCopy(vis);
+  double lightWorld[3];
+  gonio->GetTransformedPosition(lightWorld);
+  float* v = scaled->GetPointer(0);
+  for (vtkIdType s = 0; s < scaled->GetNumberOfTuples(); ++s)
+  {
+    double w[3];
+    if (v[s] > 0.0f && samples->GetWorldPosition(s, w))
+    {
+      const double d[3] = { w[0] - lightWorld[0], w[1] - lightWorld[1], w[2] - lightWorld[2] };
+      v[s] = static_cast<float>(v[s] * gonio->GetRelativeIntensity(d));
+    }
+  }
+  return scaled;
 }
 
 // Stands where VTK's vtkShadowMapBakerPass stands in existing pipelines; see
@@ -150,6 +180,9 @@ struct vtkPenumbraShadowPass::Internals
   std::vector<vtkSmartPointer<vtkLight>> Lights; // switched-on, shader order
   // Per layer (0 opaque, 1 translucent) and light: visibility, null = no shadow.
   std::vector<vtkSmartPointer<vtkFloatArray>> Visibility[2];
+  // Per layer and light: what the light's colour is scaled by (the visibility, times the
+  // diagram for goniometric lights); null = no shadow.
+  std::vector<vtkSmartPointer<vtkFloatArray>> Factor[2];
   // Per layer: 4 lights per RGBA texture, and the samplers' names.
   std::vector<vtkSmartPointer<vtkTextureObject>> Textures[2];
   std::vector<std::string> SamplerNames[2];
@@ -270,6 +303,13 @@ vtkFloatArray* vtkPenumbraShadowPass::GetVisibility(int index)
 {
   return (index >= 0 && index < static_cast<int>(this->Impl->Visibility[0].size()))
     ? this->Impl->Visibility[0][static_cast<size_t>(index)].Get()
+    : nullptr;
+}
+
+vtkFloatArray* vtkPenumbraShadowPass::GetLightFactor(int index)
+{
+  return (index >= 0 && index < static_cast<int>(this->Impl->Factor[0].size()))
+    ? this->Impl->Factor[0][static_cast<size_t>(index)].Get()
     : nullptr;
 }
 
@@ -438,6 +478,18 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     }
     impl.TechniqueMs = 1000.0 * (Now() - t);
   }
+  for (int layer = 0; layer < 2; ++layer)
+  {
+    vtkPenumbraViewSamples* layerSamples = layer == 0 ? impl.SamplesPass->GetSamples()
+      : impl.HasTranslucentLayer                     ? impl.TranslucentSamplesPass->GetSamples()
+                                                     : nullptr;
+    impl.Factor[layer].assign(impl.Lights.size(), nullptr);
+    for (size_t i = 0; i < impl.Lights.size() && layerSamples; ++i)
+    {
+      impl.Factor[layer][i] =
+        ScaleByDiagram(impl.Lights[i], layerSamples, impl.Visibility[layer][i]);
+    }
+  }
 
   // Upload: 4 lights per RGBA texture and layer; unshadowed lights and background read 1.
   int injected = 0;
@@ -463,7 +515,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
       {
         const size_t light = static_cast<size_t>(4 * k + c);
         vtkFloatArray* vis =
-          light < impl.Visibility[layer].size() ? impl.Visibility[layer][light].Get() : nullptr;
+          light < impl.Factor[layer].size() ? impl.Factor[layer][light].Get() : nullptr;
         if (!vis)
         {
           continue;

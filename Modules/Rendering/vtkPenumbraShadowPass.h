@@ -11,8 +11,9 @@
  *     every sample; lights that are off or black get no shadow work at all;
  *  4. the delegate renders the scene as usual (default: lights, opaque, translucent,
  *     volumetric and overlay steps) with each shadowed light's colour multiplied by its
- *     visibility at the pixel, which shadows diffuse and specular terms alike, for Phong and
- *     PBR receivers. Props marked as non-receivers (vtkPenumbraShadowKeys) are lit as if
+ *     visibility at the pixel (and, for a vtkPenumbraGoniometricLight, by its diagram's
+ *     relative intensity toward the pixel's sample; GetLightFactor()), which shadows diffuse
+ *     and specular terms alike, for Phong and PBR receivers. Props marked as non-receivers (vtkPenumbraShadowKeys) are lit as if
  *     nothing blocked, and their view samples get no shadow work (they are marked as
  *     background before the technique runs). Translucent props are drawn and shadowed:
  *     when translucent receivers are visible, a second sample layer holds the nearest
@@ -88,6 +89,15 @@ public:
    * or nullptr if that light got no shadow work (black light) or the technique failed.
    */
   vtkFloatArray* GetVisibility(int index);
+
+  /**
+   * What light `index`'s colour is multiplied by per view sample in the last frame: the
+   * visibility, times the light's relative intensity toward the sample for goniometric
+   * lights (vtkPenumbraGoniometricLight, seed 004 §8.3.1; every technique renders the
+   * diagram, and GetVisibility() stays the geometric visibility). nullptr as for
+   * GetVisibility().
+   */
+  vtkFloatArray* GetLightFactor(int index);
 
   ///@{
   /**

@@ -15,7 +15,6 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
-#include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
@@ -481,33 +480,6 @@ bool SegmentMayTouch(const VolumeLight& light, const Vec3& eye, const Vec3 v[3],
   }
   return true;
 }
-
-// Goniometric diagram (seed 004 §8.3.1): the lit samples get the light's relative intensity
-// toward them, as the thesis scales its shadow mask by the diagram's value.
-void ApplyGoniometric(
-  vtkLight* light, vtkPenumbraViewSamples* samples, const float* positions, float* vis)
-{
-  auto* gonio = vtkPenumbraGoniometricLight::SafeDownCast(light);
-  if (!gonio)
-  {
-    return;
-  }
-  double lightWorld[3], samplesOrigin[3];
-  gonio->GetTransformedPosition(lightWorld);
-  samples->GetOrigin(samplesOrigin);
-  for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
-  {
-    if (vis[s] > 0.0f)
-    {
-      double d[3];
-      for (int c = 0; c < 3; ++c)
-      {
-        d[c] = static_cast<double>(positions[3 * s + c]) + samplesOrigin[c] - lightWorld[c];
-      }
-      vis[s] = static_cast<float>(vis[s] * gonio->GetRelativeIntensity(d));
-    }
-  }
-}
 }
 
 struct vtkPenumbraShadowVolumeShadows::Internals
@@ -905,7 +877,6 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
   for (Job& job : jobs)
   {
     const LightSetup& setup = job.In.Light;
-    vtkLight* light = job.Light;
     vtkFloatArray* visibility = job.Visibility;
     visibility->SetNumberOfComponents(1);
     visibility->SetNumberOfTuples(n);
@@ -928,7 +899,6 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
     this->NumberOfCountedSamples += facing.Pending;
     if (facing.Pending == 0)
     {
-      ApplyGoniometric(light, samples, in.Positions, vis);
       visibility->Modified();
       continue;
     }
@@ -1821,7 +1791,6 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
       this->ResolveTimeMs += ElapsedMs(resolveStart);
     }
 
-    ApplyGoniometric(light, samples, in.Positions, vis);
     visibility->Modified();
   }
   return done;

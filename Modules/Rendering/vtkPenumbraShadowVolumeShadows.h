@@ -70,10 +70,9 @@
  * own channel of one RGBA8 mask (a full-screen triangle under the stencil test, the thesis's
  * stencil-to-colour copy); the group's mask is read back once (the red channel alone for a
  * single light). ceil(N / 4) masks serve N lights; GetNumberOfMasks() counts them.
- * Goniometric lights (vtkPenumbraGoniometricLight, seed 004 §8.3.1): the lit samples'
- * visibility is scaled by the diagram's relative intensity toward them, as the thesis scales
- * its shadow mask; shadowed samples stay 0. The scaling is done in float on the CPU after
- * the read-back rather than in the 8-bit mask, so the diagram keeps its full range.
+ * Goniometric lights (vtkPenumbraGoniometricLight, seed 004 §8.3.1) are shadowed as point
+ * lights; vtkPenumbraShadowPass scales the light by the diagram (in float, after the mask is
+ * read back, so the diagram keeps its full range), for every technique alike.
  *
  * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap).
  */

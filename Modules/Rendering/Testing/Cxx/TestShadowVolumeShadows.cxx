@@ -567,9 +567,11 @@ int CheckCaching()
 }
 
 // A goniometric light (seed 004 §8.3.1) from Data/Lights/spot_pattern.gonio over the ground
-// and a box: the shadowed samples are exactly the reference's, and every lit sample carries
-// the diagram's relative intensity, which for that separable table is f(theta) * a(phi) with
-// f and a piecewise linear (see the file).
+// and a box, shadowed by volumes and by two other techniques: the visibility is exactly the
+// reference's (the light is a point light to every technique), and the light factor the
+// shadow pass shades with is the diagram's relative intensity on every lit sample, which for
+// that separable table is f(theta) * a(phi) with f and a piecewise linear (see the file), and
+// 0 on every shadowed one.
 int CheckGoniometric()
 {
   auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0) }, LightType::Point, From);
@@ -589,60 +591,67 @@ int CheckGoniometric()
   renderer->AddLight(light);
 
   vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
-  vtkNew<vtkPenumbraTechniques> techniques;
-  CHECK(techniques->Apply(renderer, "volumes", "{}"));
-  window->Render();
-  vtkPenumbraShadowPass* pass = ShadowPass(renderer);
-  CHECK(pass != nullptr && pass->GetNumberOfLights() == 1);
-  vtkPenumbraViewSamples* samples = pass->GetViewSamples();
-  vtkFloatArray* test = pass->GetVisibility(0);
-  CHECK(test != nullptr);
-  vtkNew<vtkPenumbraReference> reference;
-  reference->SetGeometry(pass->GetGeometry());
-  vtkNew<vtkFloatArray> ref;
-  CHECK(reference->ComputeVisibility(samples, light, ref));
-
   // Piecewise linear factors of the example table (angles in degrees).
   auto f = [](double theta) { return theta >= 60.0 ? 0.0 : 1.0 - theta / 60.0; };
   auto a = [](double phi) {
     const double m = std::fmod(phi, 180.0);
     return m <= 90.0 ? 1.0 - 0.5 * m / 90.0 : 0.5 + 0.5 * (m - 90.0) / 90.0;
   };
-  vtkIdType shadowed = 0, partial = 0, checked = 0;
-  double worst = 0.0;
-  for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
+  for (const char* technique : { "volumes", "raytraced", "conservative" })
   {
-    const float r = ref->GetValue(s);
-    if (r < 0.0f || reference->GetTies()->GetValue(s))
+    vtkNew<vtkPenumbraTechniques> techniques;
+    CHECK(techniques->Apply(renderer, technique, "{}"));
+    window->Render();
+    vtkPenumbraShadowPass* pass = ShadowPass(renderer);
+    CHECK(pass != nullptr && pass->GetNumberOfLights() == 1);
+    vtkPenumbraViewSamples* samples = pass->GetViewSamples();
+    vtkFloatArray* test = pass->GetVisibility(0);
+    vtkFloatArray* factor = pass->GetLightFactor(0);
+    CHECK(test != nullptr && factor != nullptr && factor != test);
+    vtkNew<vtkPenumbraReference> reference;
+    reference->SetGeometry(pass->GetGeometry());
+    vtkNew<vtkFloatArray> ref;
+    CHECK(reference->ComputeVisibility(samples, light, ref));
+
+    vtkIdType shadowed = 0, partial = 0, checked = 0, mismatches = 0;
+    double worst = 0.0;
+    for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
     {
-      continue;
+      const float r = ref->GetValue(s);
+      if (r < 0.0f || reference->GetTies()->GetValue(s))
+      {
+        continue;
+      }
+      mismatches += test->GetValue(s) != r;
+      const float v = factor->GetValue(s);
+      if (r == 0.0f)
+      {
+        CHECK(v == 0.0f);
+        ++shadowed;
+        continue;
+      }
+      double w[3];
+      samples->GetWorldPosition(s, w);
+      const double d[3] = { w[0] - position[0], w[1] - position[1], w[2] - position[2] };
+      // Axis -z, U = +y, V = A x U = +x.
+      const double theta =
+        vtkMath::DegreesFromRadians(std::atan2(std::hypot(d[0], d[1]), -d[2]));
+      double phi = vtkMath::DegreesFromRadians(std::atan2(d[0], d[1]));
+      phi = phi < 0.0 ? phi + 360.0 : phi;
+      const double expected = f(theta) * a(phi);
+      worst = std::max(worst, std::fabs(v - expected));
+      partial += expected > 0.2 && expected < 0.8;
+      ++checked;
     }
-    const float v = test->GetValue(s);
-    if (r == 0.0f)
-    {
-      CHECK(v == 0.0f);
-      ++shadowed;
-      continue;
-    }
-    double w[3];
-    samples->GetWorldPosition(s, w);
-    const double d[3] = { w[0] - position[0], w[1] - position[1], w[2] - position[2] };
-    // Axis -z, U = +y, V = A x U = +x.
-    const double theta =
-      vtkMath::DegreesFromRadians(std::atan2(std::hypot(d[0], d[1]), -d[2]));
-    double phi = vtkMath::DegreesFromRadians(std::atan2(d[0], d[1]));
-    phi = phi < 0.0 ? phi + 360.0 : phi;
-    const double expected = f(theta) * a(phi);
-    worst = std::max(worst, std::fabs(v - expected));
-    partial += expected > 0.2 && expected < 0.8;
-    ++checked;
+    std::printf("goniometric %s: %lld shadowed, %lld lit checked (%lld partial), worst %.2g, "
+                "%lld visibility mismatches\n",
+      technique, static_cast<long long>(shadowed), static_cast<long long>(checked),
+      static_cast<long long>(partial), worst, static_cast<long long>(mismatches));
+    CHECK(mismatches == 0);
+    CHECK(shadowed > 0);
+    CHECK(partial > 100);
+    CHECK(worst < 1e-5);
   }
-  std::printf("goniometric: %lld shadowed, %lld lit checked (%lld partial), worst %.2g\n",
-    static_cast<long long>(shadowed), static_cast<long long>(checked),
-    static_cast<long long>(partial), worst);
-  CHECK(shadowed > 0);
-  CHECK(partial > 100);
-  CHECK(worst < 1e-5);
 
   // Bad tables are refused with a message, the table kept.
   vtkNew<vtkPenumbraGoniometricLight> bad;
