@@ -623,6 +623,26 @@ int main(int argc, char* argv[])
     }
     techniques.push_back(spec);
   }
+  // Bad names and options are refused before anything is measured, not after the scenes
+  // before them have run.
+  for (const auto& sceneName : sceneNames)
+  {
+    if (!vtksys::SystemTools::FileExists(ResolveScene(sceneName), true))
+    {
+      return Usage(("no scene file " + ResolveScene(sceneName)).c_str());
+    }
+  }
+  {
+    vtkNew<vtkPenumbraTechniques> registry;
+    for (const auto& spec : techniques)
+    {
+      vtkNew<vtkRenderer> probe;
+      if (!registry->Apply(probe, spec.Name.c_str(), spec.Options.dump().c_str()))
+      {
+        return Usage((spec.Name + " " + spec.Setting + ": " + registry->GetErrorMessage()).c_str());
+      }
+    }
+  }
   // Every point needs the no-shadow time for its ratio: measure it even if not asked for.
   if (std::none_of(techniques.begin(), techniques.end(),
         [](const TechniqueSpec& t) { return t.Name == "none"; }))
@@ -658,8 +678,9 @@ int main(int argc, char* argv[])
     reader->SetFileName(path.c_str());
     if (!reader->Read())
     {
-      std::cerr << "\npenumbra-bench: " << reader->GetErrorMessage() << "\n";
-      return 2;
+      fail(label, reader->GetErrorMessage());
+      done += static_cast<int>(techniques.size()) + 1;
+      continue;
     }
     vtkRenderer* ren = reader->GetRenderer();
     penumbra_cli::ErrorLog errors;

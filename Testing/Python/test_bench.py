@@ -77,8 +77,8 @@ class BenchTest(unittest.TestCase):
 
     def test_skips_and_failures(self):
         # Hard-shadow techniques are not run under an area light; a scene that cannot be
-        # measured (its only light is black) is reported, and every other point is still
-        # measured and written, with exit status 3.
+        # measured (its only light is black, or its file is broken) is reported, and every
+        # other point is still measured and written, with exit status 3.
         with tempfile.TemporaryDirectory() as out:
             with open(os.path.join(SCENES_DIR, "default.json")) as f:
                 dark = json.load(f)
@@ -86,8 +86,12 @@ class BenchTest(unittest.TestCase):
             dark_path = os.path.join(out, "dark.json")
             with open(dark_path, "w") as f:
                 json.dump(dark, f)
+            broken_path = os.path.join(out, "broken.json")
+            with open(broken_path, "w") as f:
+                f.write("{ not json")
             code, stdout, stderr = run_bench(
-                out, "--scenes", dark_path + ",default,area_light", "--no-images",
+                out, "--scenes", dark_path + "," + broken_path + ",default,area_light",
+                "--no-images",
                 "--techniques", "none,conservative,gears:samples=4")
             self.assertEqual(code, 3, stderr)
             self.assertIn("dark: no light to measure", stderr)
@@ -100,17 +104,23 @@ class BenchTest(unittest.TestCase):
                 md = f.read()
             self.assertIn("Not measured", md)
             self.assertIn("- dark: no light to measure", md)
+            self.assertIn("- broken: ", md)
+            self.assertIn("invalid JSON", md)
             self.assertTrue(os.path.exists(os.path.join(out, "chart.png")))
 
     def test_bad_arguments(self):
         with tempfile.TemporaryDirectory() as out:
+            # Refused before anything is measured, even after valid scenes and techniques.
             for args, fragment in ((("--techniques", "magic"), "unknown technique"),
-                                   (("--scenes", "no_such_scene"), "cannot open"),
+                                   (("--scenes", "default,no_such_scene"), "no scene file"),
+                                   (("--techniques", "raytraced,conservative:layers=1"),
+                                    "layers: expected an integer in [2, 4], got 1"),
                                    (("--frames", "0"), "--frames")):
                 with self.subTest(args=args):
                     code, _, stderr = run_bench(out, *args)
                     self.assertEqual(code, 2)
                     self.assertIn(fragment, stderr)
+                    self.assertFalse(os.path.exists(os.path.join(out, "results.csv")))
 
 
 if __name__ == "__main__":
