@@ -183,6 +183,8 @@ struct vtkPenumbraShadowPass::Internals
   // Per layer and light: what the light's colour is scaled by (the visibility, times the
   // diagram for goniometric lights); null = no shadow.
   std::vector<vtkSmartPointer<vtkFloatArray>> Factor[2];
+  // Upload staging, kept between frames (no per-frame allocation of 16 bytes per pixel).
+  std::vector<float> Texels;
   // Per layer: 4 lights per RGBA texture, and the samplers' names.
   std::vector<vtkSmartPointer<vtkTextureObject>> Textures[2];
   std::vector<std::string> SamplerNames[2];
@@ -502,7 +504,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   }
   impl.SetInjectedLights(injected);
   const int textures = (injected + 3) / 4;
-  std::vector<float> texels;
+  std::vector<float>& texels = impl.Texels;
   for (int layer = 0; layer < 2; ++layer)
   {
     const bool used = layer == 0 || impl.HasTranslucentLayer;

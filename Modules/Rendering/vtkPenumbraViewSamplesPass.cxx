@@ -42,6 +42,9 @@ struct vtkPenumbraViewSamplesPass::Internals
   vtkSmartPointer<vtkTextureObject> Textures[3];
   vtkSmartPointer<vtkTextureObject> Depth;
   std::map<vtkProp*, int> PropIndex;
+  // Read-back buffers, kept between frames: allocating the 48 bytes per pixel afresh each
+  // frame (44 MB at 1280 x 720) cost 40-80 ms of page faults per frame on the test machine.
+  std::vector<float> ReadBuffers[3];
 
   // Per-frame uniforms, computed once in double precision.
   vtkNew<vtkMatrix4x4> VCToRebasedTransposed;
@@ -255,7 +258,7 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
     samples->SetOrigin(origin);
     samples->SetCameraPosition(camPos);
     const vtkIdType n = static_cast<vtkIdType>(w) * h;
-    std::vector<float> buffers[3];
+    std::vector<float>* buffers = impl.ReadBuffers;
     for (int a = 0; a < 3; ++a)
     {
       buffers[a].resize(static_cast<size_t>(n) * 4);
