@@ -64,6 +64,9 @@ enum : unsigned char
 };
 
 constexpr std::uint32_t FullBit = 0x80000000u;
+// Kept map layers of all lights (see GetNumberOfMapBuilds): a 1024² two-layer map is 16 MB,
+// a point light's six faces 96 MB.
+constexpr size_t MaxCachedMapBytes = static_cast<size_t>(512) << 20;
 constexpr std::uint32_t IdMask = 0x7fffffffu;
 
 enum class Hit
@@ -153,11 +156,92 @@ struct vtkPenumbraConservativeShadows::Internals
   vtkSmartPointer<vtkTextureObject> Depth;
   int MapSize = 0;
 
-  std::vector<float> LayerDepth[MaxLayers];
-  // CPU builder: triangles in the apex region of the current view, tested per sample.
+  // CPU builder: beyond this many triangles in a view's apex region its samples are traced.
   static constexpr size_t MaxNearTriangles = 64;
-  std::vector<vtkIdType> NearTriangles;
-  std::vector<std::uint32_t> LayerIds[MaxLayers];
+
+  // One view's map layers, read back (or built) on the CPU, kept with everything they were
+  // built from: the view (it covers the pending samples, so it follows the camera), the
+  // geometry, the settings. Unchanged, they are reused instead of rebuilt.
+  struct ViewMaps
+  {
+    std::vector<double> Key;
+    std::vector<float> Depth[MaxLayers];
+    std::vector<std::uint32_t> Ids[MaxLayers];
+    std::vector<vtkIdType> Near; // CPU builder: triangles in the view's apex region
+    size_t Bytes() const
+    {
+      size_t bytes = 0;
+      for (int k = 0; k < MaxLayers; ++k)
+      {
+        bytes += this->Depth[k].capacity() * sizeof(float) +
+          this->Ids[k].capacity() * sizeof(std::uint32_t);
+      }
+      return bytes;
+    }
+  };
+  struct LightMaps
+  {
+    vtkWeakPointer<vtkLight> Light;
+    std::vector<ViewMaps> Views;
+    std::uint64_t LastUse = 0;
+  };
+  std::vector<LightMaps> Cache;
+  std::uint64_t Uses = 0;
+
+  LightMaps& Entry(vtkLight* light)
+  {
+    ++this->Uses;
+    LightMaps* entry = nullptr;
+    for (auto& e : this->Cache)
+    {
+      entry = e.Light == light ? &e : entry;
+    }
+    for (auto& e : this->Cache)
+    {
+      entry = (!entry && !e.Light) ? &e : entry; // entries of deleted lights are reused
+    }
+    if (!entry)
+    {
+      this->Cache.emplace_back();
+      entry = &this->Cache.back();
+    }
+    if (entry->Light != light)
+    {
+      *entry = LightMaps();
+      entry->Light = light;
+    }
+    entry->LastUse = this->Uses;
+    return *entry;
+  }
+
+  // Least recently used lights' maps are dropped while the cache holds more than `budget`
+  // bytes; the current light's are always kept.
+  void Trim(const LightMaps& current, size_t budget)
+  {
+    for (;;)
+    {
+      size_t total = 0;
+      LightMaps* oldest = nullptr;
+      for (auto& e : this->Cache)
+      {
+        for (const auto& v : e.Views)
+        {
+          total += v.Bytes();
+        }
+        if (&e != &current && !e.Views.empty() && (!oldest || e.LastUse < oldest->LastUse))
+        {
+          oldest = &e;
+        }
+      }
+      if (total <= budget || !oldest)
+      {
+        return;
+      }
+      oldest->Views.clear();
+      oldest->Views.shrink_to_fit();
+    }
+  }
+
   vtkNew<vtkUnsignedCharArray> Mask;
 
   void Release(vtkWindow* window)
@@ -261,6 +345,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfRays = 0;
   this->MapTimeMs = this->ClassifyTimeMs = this->TraceTimeMs = 0.0;
   this->NumberOfViews = 0;
+  this->NumberOfMapBuilds = 0;
   this->NumberOfTexelWrites = 0;
 
   // ---- Input checks: nothing is written before they pass.
@@ -420,14 +505,8 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     {
       impl.AllocateMaps(win, size);
     }
-    for (int k = 0; k < Internals::MaxLayers; ++k)
-    {
-      const size_t texels = k < layers ? static_cast<size_t>(size) * size : 0;
-      impl.LayerDepth[k].resize(texels);
-      impl.LayerIds[k].resize(texels);
-      impl.LayerDepth[k].shrink_to_fit();
-      impl.LayerIds[k].shrink_to_fit();
-    }
+    Internals::LightMaps& cached = impl.Entry(light);
+    cached.Views.resize(views.size());
 
     const double* tv = in.TriangleVertices;
     const double epsilon = this->Reference->GetRelativeEpsilon();
@@ -438,12 +517,37 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     {
       const View& view = views[vi];
       const auto renderStart = Clock::now();
-      impl.NearTriangles.clear();
-      if (!gpu)
+      Internals::ViewMaps& maps = cached.Views[vi];
+      std::vector<double> key = { view.Perspective ? 1.0 : 0.0, view.Far, view.NearW,
+        view.TanHalf, static_cast<double>(size), static_cast<double>(layers), gpu ? 1.0 : 0.0,
+        static_cast<double>(geometry->GetGeometryTime()),
+        static_cast<double>(geometry->GetFlagsTime()) };
+      key.insert(key.end(), &view.Row[0][0], &view.Row[0][0] + 16);
+      key.insert(key.end(), in.GeometryOrigin, in.GeometryOrigin + 3);
+      const bool reuse = maps.Key == key;
+      if (!reuse)
       {
-        const penumbra_conservative::CpuMapStats stats =
-          penumbra_conservative::BuildConservativeMap(view, size, layers, tv,
-            impl.Casters.TriangleIds, impl.LayerDepth, impl.LayerIds, impl.NearTriangles);
+        maps.Key.clear(); // invalid until built
+        ++this->NumberOfMapBuilds;
+        for (int k = 0; k < Internals::MaxLayers; ++k)
+        {
+          const size_t texels = k < layers ? static_cast<size_t>(size) * size : 0;
+          maps.Depth[k].resize(texels);
+          maps.Ids[k].resize(texels);
+          maps.Depth[k].shrink_to_fit();
+          maps.Ids[k].shrink_to_fit();
+        }
+        maps.Near.clear();
+      }
+      if (reuse)
+      {
+        // Built by an earlier call from the same view, geometry and settings.
+      }
+      else if (!gpu)
+      {
+        const penumbra_conservative::CpuMapStats stats = penumbra_conservative::
+          BuildConservativeMap(view, size, layers, tv, impl.Casters.TriangleIds, maps.Depth,
+            maps.Ids, maps.Near);
         this->NumberOfTexelWrites += stats.TexelWrites;
       }
       else
@@ -561,10 +665,15 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
           impl.FBO->ActivateReadBuffer(0);
           glPixelStorei(GL_PACK_ALIGNMENT, 1);
           glReadPixels(0, 0, size, size, GL_RED_INTEGER, GL_UNSIGNED_INT,
-            impl.LayerIds[layer].data());
+            maps.Ids[layer].data());
           glReadPixels(
-            0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, impl.LayerDepth[layer].data());
+            0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, maps.Depth[layer].data());
         }
+      }
+      if (!reuse)
+      {
+        maps.Key = key;
+        impl.Trim(cached, MaxCachedMapBytes);
       }
       mapMs += ElapsedMs(renderStart);
 
@@ -587,7 +696,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
       // of the map (they would cover all of it); each is tested exactly against the sample's
       // ray first, with rule 3b/3c above. Beyond MaxNearTriangles of them the view's samples
       // are all traced.
-      const std::vector<vtkIdType>& nearTriangles = impl.NearTriangles;
+      const std::vector<vtkIdType>& nearTriangles = maps.Near;
       const bool nearTestable = nearTriangles.size() <= Internals::MaxNearTriangles;
       const auto classifyStart = Clock::now();
       const signed char viewIndex = static_cast<signed char>(vi);
@@ -657,8 +766,8 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
           }
           for (int k = 0; k < layers && rayOk && nearClear; ++k)
           {
-            const std::uint32_t id = impl.LayerIds[k][texel] & IdMask;
-            if (id == 0 || impl.LayerDepth[k][texel] > depth + margin)
+            const std::uint32_t id = maps.Ids[k][texel] & IdMask;
+            if (id == 0 || maps.Depth[k][texel] > depth + margin)
             {
               state[s] = Decided;
               ++localLit;

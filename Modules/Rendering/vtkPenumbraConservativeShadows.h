@@ -4,8 +4,9 @@
  *          view samples as lit, shadowed or uncertain, and only uncertain ones are ray traced.
  *
  * Per light and frame:
- * 1. Conservative shadow map (CSM, seed 000 §1.1): per texel, the Layers nearest caster
- *    triangles whose projection touches the texel, each with a *conservative* (never too
+ * 1. Conservative shadow map (CSM, seed 000 §1.1; rebuilt only when what it depends on
+ *    changes, see Memory below): per texel, the Layers nearest caster triangles whose
+ *    projection touches the texel, each with a *conservative* (never too
  *    large) linear light depth over the texel (§1.1.4). Two builders, see SetMapBuilder():
  *    - CPU (default): exact conservative rasterization in double precision
  *      (vtkPenumbraConservativeMapCPU.h): separating-axis texel/triangle overlap on binned
@@ -38,7 +39,9 @@
  * builds the map and rays are expensive.
  *
  * Memory: Layers x 8 bytes per texel, i.e. 16 MiB at the default 1024^2 and 2 layers, per
- * view; cube faces are processed one after the other.
+ * view (96 MiB for a point light's six faces). The maps are kept per light and reused while
+ * the view, the light, the casters and the settings stay the same (GetNumberOfMapBuilds());
+ * the least recently used lights' maps are dropped beyond 512 MiB in all.
  */
 
 #ifndef vtkPenumbraConservativeShadows_h
@@ -103,8 +106,9 @@ public:
    * miss its shadow ray (coplanar neighbours at shared edges). Default 2 (the note's option
    * (ii) for seed 000 §1.3b), clamped to [2, 4]. Default 2, chosen by measurement: a third
    * layer cuts the uncertain share several-fold (5.8 % -> 0.7 % on default.json at
-   * 1280x720), but on llvmpipe the rays it saves cost less than the layer (CPU builder:
-   * 73 ms vs 94 ms per frame there); where rays are dearer than map texels, use 3 or 4.
+   * 1280x720), but on llvmpipe the rays it saves cost about what the layer costs (CPU
+   * builder, maps rebuilt every frame: 64 ms vs 68 ms per frame there; maps reused: 49 vs
+   * 46 ms); where rays are dearer than map texels, use 3 or 4.
    */
   vtkSetClampMacro(Layers, int, 2, 4);
   vtkGetMacro(Layers, int);
@@ -147,9 +151,17 @@ public:
   vtkGetMacro(NumberOfUploads, int);
 
   /**
-   * Number of shadow map views rendered by the last call (1, or 6 for point lights).
+   * Number of shadow map views the last call used (1, or 6 for point lights).
    */
   vtkGetMacro(NumberOfViews, int);
+
+  /**
+   * Number of those views whose maps the last call built. The others were reused: each
+   * light's maps are kept (up to 512 MB in all, least recently used lights dropped first)
+   * and rebuilt only when the view (it covers the pending samples, so a camera move that
+   * changes their extent changes it), the light, the casters or the settings change.
+   */
+  vtkGetMacro(NumberOfMapBuilds, int);
 
   /**
    * The ray tracer for the uncertain samples (exposed for its statistics and epsilons).
@@ -173,6 +185,7 @@ protected:
   double TraceTimeMs = 0.0;
   int NumberOfUploads = 0;
   int NumberOfViews = 0;
+  int NumberOfMapBuilds = 0;
   vtkPenumbraReference* Reference;
 
 private:

@@ -2,8 +2,10 @@
 // samples: zero mismatches outside reference ties for directional, spot and point lights on
 // a plane with a thin occluder, on the default city scene and on the torture scenes; a wire
 // thinner than one shadow-map texel still casts its full shadow; the counters add up; rays
-// are traced only for uncertain samples; unchanged geometry is not uploaded again.
+// are traced only for uncertain samples; unchanged geometry is not uploaded again and
+// unchanged maps are not rebuilt.
 #include "vtkActor.h"
+#include "vtkActorCollection.h"
 #include "vtkCamera.h"
 #include "vtkCameraPass.h"
 #include "vtkCubeSource.h"
@@ -151,12 +153,13 @@ int CompareWithReference(const std::string& label, vtkRenderer* renderer, int re
     }
   }
 
-  // Nothing changed: the next frame reuses the uploaded casters. The CPU builder uploads
-  // nothing.
+  // Nothing changed: the next frame reuses the uploaded casters and every light's maps. The
+  // CPU builder uploads nothing.
   const int uploads = technique->GetNumberOfUploads();
   CHECK(Map == "gpu" ? uploads >= 1 : uploads == 0);
   window->Render();
   CHECK(technique->GetNumberOfUploads() == uploads);
+  CHECK(technique->GetNumberOfMapBuilds() == 0);
   renderer->GetRenderWindow()->RemoveRenderer(renderer);
   window->Finalize();
   return EXIT_SUCCESS;
@@ -278,6 +281,56 @@ int CheckTortureScenes()
   return EXIT_SUCCESS;
 }
 
+// The maps are kept between frames and rebuilt exactly when what they were built from
+// changes: the light, a caster, or the view (which covers the pending samples, so it moves
+// with the camera). Every frame stays exact.
+int CheckMapReuse()
+{
+  auto renderer = PlaneScene(LightType::Directional, 0.1, 0.5);
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(
+    renderer, "conservative", (std::string("{\"map\": \"") + Map + "\"}").c_str()));
+  vtkPenumbraShadowPass* pass = ShadowPass(renderer);
+  CHECK(pass != nullptr);
+  auto* technique = vtkPenumbraConservativeShadows::SafeDownCast(pass->GetTechnique());
+  CHECK(technique != nullptr);
+  vtkLight* light = vtkLight::SafeDownCast(renderer->GetLights()->GetItemAsObject(0));
+  vtkActor* occluder = vtkActor::SafeDownCast(renderer->GetActors()->GetItemAsObject(1));
+  CHECK(light != nullptr && occluder != nullptr);
+
+  auto frame = [&](const char* what, bool rebuilt) {
+    window->Render();
+    vtkNew<vtkPenumbraReference> reference;
+    reference->SetGeometry(pass->GetGeometry());
+    vtkNew<vtkFloatArray> ref;
+    vtkNew<vtkPenumbraMetrics> metrics;
+    const bool ok = pass->GetVisibility(0) &&
+      reference->ComputeVisibility(pass->GetViewSamples(), light, ref) &&
+      metrics->CompareHard(pass->GetVisibility(0), ref, reference->GetTies());
+    const vtkIdType mismatches = metrics->GetFalseLit() + metrics->GetFalseShadow();
+    std::printf("%s map reuse, %-22s builds %d of %d views, map %.2f ms, mismatches %lld\n",
+      Map.c_str(), what, technique->GetNumberOfMapBuilds(), technique->GetNumberOfViews(),
+      technique->GetMapTimeMs(), static_cast<long long>(mismatches));
+    return ok && mismatches == 0 && metrics->GetCandidates() > 1000 &&
+      (technique->GetNumberOfMapBuilds() > 0) == rebuilt;
+  };
+  CHECK(frame("first frame", true));
+  CHECK(frame("nothing changed", false));
+  light->SetPosition(1.2, 0.9, 3.0);
+  CHECK(frame("light moved", true));
+  CHECK(frame("nothing changed", false));
+  occluder->SetPosition(0.3, 0.0, 0.0);
+  CHECK(frame("occluder moved", true));
+  renderer->GetActiveCamera()->Azimuth(20.0);
+  renderer->ResetCameraClippingRange();
+  CHECK(frame("camera moved", true));
+  CHECK(frame("nothing changed", false));
+  renderer->GetRenderWindow()->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
 int CheckBadInput()
 {
   vtkNew<vtkPenumbraConservativeShadows> technique;
@@ -301,6 +354,7 @@ int TestConservativeShadows(int, char*[])
   {
     Map = map;
     RUN(CheckPlane());
+    RUN(CheckMapReuse());
     RUN(CheckThinWire());
     RUN(CheckDefaultScene());
     RUN(CheckTortureScenes());
