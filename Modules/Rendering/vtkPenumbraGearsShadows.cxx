@@ -754,6 +754,18 @@ struct vtkPenumbraGearsShadows::Internals
   vtkIdType Triangles = -1;
   double Diagonal = 1.0;
 
+  // Per-frame working arrays sized by the samples (tens of MB at 1280 x 720), kept between
+  // frames: allocating them afresh each frame cost more in page faults than the grid itself.
+  struct ScratchArrays
+  {
+    std::vector<signed char> Side;
+    std::vector<vtkIdType> Ids;
+    std::vector<double> Frame, Proj;
+    std::vector<std::int32_t> SampleCell, Occupied;
+    std::vector<std::uint32_t> CellStart, CellList, GlobalList, SampleOrder, SampleStart, OnCPU,
+      Work;
+  } Scratch;
+
   vtkNew<vtkTypeUInt32Array> Masks;
   vtkNew<vtkUnsignedCharArray> Uncertain;
 
@@ -1104,7 +1116,8 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
 
   // ---- Classify the samples: invalid, light off, facing away from the whole light, or on
   // a side of the light plane.
-  std::vector<signed char> side(static_cast<size_t>(n), 0);
+  std::vector<signed char>& side = impl.Scratch.Side;
+  side.assign(static_cast<size_t>(n), 0);
   std::atomic<vtkIdType> validCount(0);
   vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
     vtkIdType localValid = 0;
@@ -1183,7 +1196,8 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
         f[a] = vtkMath::Dot(ax[a], d);
       }
     };
-    std::vector<vtkIdType> ids;
+    std::vector<vtkIdType>& ids = impl.Scratch.Ids;
+    ids.clear();
     for (vtkIdType s = 0; s < n; ++s)
     {
       if (side[static_cast<size_t>(s)] == flip)
@@ -1196,7 +1210,8 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
       continue;
     }
     const vtkIdType m = static_cast<vtkIdType>(ids.size());
-    std::vector<double> frame(3 * static_cast<size_t>(m));
+    std::vector<double>& frame = impl.Scratch.Frame;
+    frame.assign(3 * static_cast<size_t>(m), 0.0);
     double zFar = 0.0, maxScale = diagonal;
     double lo3[3] = { -ls.HalfU, -ls.HalfV, 0.0 }, hi3[3] = { ls.HalfU, ls.HalfV, 0.0 };
     for (vtkIdType q = 0; q < m; ++q)
@@ -1241,11 +1256,23 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
     };
 
     int g = gridRequested;
-    std::vector<std::int32_t> sampleCell(static_cast<size_t>(m));
-    std::vector<std::uint32_t> cellStart, cellList, globalList, sampleOrder, sampleStart;
-    std::vector<std::int32_t> occupied;
+    Internals::ScratchArrays& sc = impl.Scratch;
+    std::vector<std::int32_t>& sampleCell = sc.SampleCell;
+    sampleCell.assign(static_cast<size_t>(m), 0);
+    std::vector<std::uint32_t>& cellStart = sc.CellStart;
+    std::vector<std::uint32_t>& cellList = sc.CellList;
+    std::vector<std::uint32_t>& globalList = sc.GlobalList;
+    std::vector<std::uint32_t>& sampleOrder = sc.SampleOrder;
+    std::vector<std::uint32_t>& sampleStart = sc.SampleStart;
+    std::vector<std::int32_t>& occupied = sc.Occupied;
+    for (auto* v : { &cellStart, &cellList, &globalList, &sampleOrder, &sampleStart })
+    {
+      v->clear();
+    }
+    occupied.clear();
     double x0 = 0, y0 = 0, cw = 1, ch = 1;
-    std::vector<double> proj(2 * static_cast<size_t>(m));
+    std::vector<double>& proj = sc.Proj;
+    proj.assign(2 * static_cast<size_t>(m), 0.0);
     double pb[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
       std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
     for (vtkIdType q = 0; q < m; ++q)
@@ -1572,11 +1599,13 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
       return builder;
     };
     // The sampleOrder positions the CPU computes: all of them, or those the shader flagged.
-    std::vector<std::uint32_t> onCPU;
+    std::vector<std::uint32_t>& onCPU = sc.OnCPU;
+    onCPU.clear();
     bool allOnCPU = !useGpu;
     if (useGpu)
     {
-      std::vector<std::uint32_t> work(2 * static_cast<size_t>(m));
+      std::vector<std::uint32_t>& work = sc.Work;
+      work.assign(2 * static_cast<size_t>(m), 0u);
       for (vtkIdType o = 0; o < m; ++o)
       {
         const std::uint32_t q = sampleOrder[static_cast<size_t>(o)];
