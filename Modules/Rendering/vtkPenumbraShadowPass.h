@@ -87,6 +87,7 @@ public:
   /**
    * Visibility of light `index` (see GetNumberOfLights) per view sample in the last frame,
    * or nullptr if that light got no shadow work (black light) or the technique failed.
+   * The pass refills the same arrays each frame (DeepCopy to keep a frame's values).
    */
   vtkFloatArray* GetVisibility(int index);
 
