@@ -109,6 +109,10 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<LightMaps> Cache;
   std::vector<unsigned char> State;
   std::vector<float> SecondLayer;
+  // GPU lookup staging (pending-sample list, its positions, normals and answers), kept between
+  // frames: allocated afresh they cost more in page faults than the lookup itself.
+  std::vector<vtkIdType> List;
+  std::vector<float> ListPositionData, ListNormalData, ListResult;
 
   // GPU lookup: the compacted pending samples, their visibility, and the programs.
   vtkSmartPointer<vtkOpenGLFramebufferObject> LookupFBO;
@@ -872,7 +876,8 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   {
     // ---- Per-sample lookup on the GPU (seed 004 ch. 5: hardware depth compare): the
     // pending samples as a compacted list, one fragment each, one draw per slot.
-    std::vector<vtkIdType> list;
+    std::vector<vtkIdType>& list = impl.List;
+    list.clear();
     for (vtkIdType s = 0; s < n; ++s)
     {
       if (state[s] == Pending)
@@ -883,8 +888,10 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     const vtkIdType count = static_cast<vtkIdType>(list.size());
     const int listWidth = static_cast<int>(std::min<vtkIdType>(count, 2048));
     const int listHeight = static_cast<int>((count + listWidth - 1) / listWidth);
-    std::vector<float> positions(static_cast<size_t>(4) * listWidth * listHeight, 0.0f);
-    std::vector<float> normals(positions.size(), 0.0f);
+    std::vector<float>& positions = impl.ListPositionData;
+    std::vector<float>& normals = impl.ListNormalData;
+    positions.assign(static_cast<size_t>(4) * listWidth * listHeight, 0.0f);
+    normals.assign(positions.size(), 0.0f);
     vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
       for (vtkIdType i = begin; i < end; ++i)
       {
@@ -928,7 +935,8 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
       PENUMBRA_SM_FAIL("the shadow map lookup program does not compile or link on this OpenGL "
                        "implementation (sampler2DShadow is required)");
     }
-    std::vector<float> result(static_cast<size_t>(listWidth) * listHeight, 1.0f);
+    std::vector<float>& result = impl.ListResult;
+    result.assign(static_cast<size_t>(listWidth) * listHeight, 1.0f);
     {
       vtkOpenGLState* ostate = win->GetState();
       vtkOpenGLState::ScopedglEnableDisable blend(ostate, GL_BLEND);
