@@ -19,6 +19,7 @@
 #include "vtkProp.h"
 #include "vtkRenderState.h"
 #include "vtkRenderer.h"
+#include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
@@ -270,21 +271,25 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
     float* nrm = samples->GetNormals()->GetPointer(0);
     int* props = samples->GetPropIndices()->GetPointer(0);
     vtkIdType* tris = samples->GetTriangleIds()->GetPointer(0);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      const float* p = &buffers[0][static_cast<size_t>(4 * i)];
-      const float* q = &buffers[1][static_cast<size_t>(4 * i)];
-      const float* t = &buffers[2][static_cast<size_t>(4 * i)];
-      const int prop = (p[3] > 0.5f) ? static_cast<int>(q[3]) : -1;
-      props[i] = prop;
-      for (int c = 0; c < 3; ++c)
+    vtkPenumbraSceneGeometry* geometry = impl.Geometry;
+    vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType i = begin; i < end; ++i)
       {
-        pos[3 * i + c] = p[c];
-        nrm[3 * i + c] = q[c];
+        const float* p = &buffers[0][static_cast<size_t>(4 * i)];
+        const float* q = &buffers[1][static_cast<size_t>(4 * i)];
+        const float* t = &buffers[2][static_cast<size_t>(4 * i)];
+        const int prop = (p[3] > 0.5f) ? static_cast<int>(q[3]) : -1;
+        props[i] = prop;
+        for (int c = 0; c < 3; ++c)
+        {
+          pos[3 * i + c] = p[c];
+          nrm[3 * i + c] = q[c];
+        }
+        const vtkIdType prim =
+          static_cast<vtkIdType>(t[0]) + (static_cast<vtkIdType>(t[1]) << 16);
+        tris[i] = prop >= 0 ? geometry->MapPrimitiveId(prop, prim) : -1; // read-only lookup
       }
-      const vtkIdType prim = static_cast<vtkIdType>(t[0]) + (static_cast<vtkIdType>(t[1]) << 16);
-      tris[i] = prop >= 0 ? impl.Geometry->MapPrimitiveId(prop, prim) : -1;
-    }
+    });
     samples->Modified();
   }
   ostate->PopFramebufferBindings();
