@@ -190,28 +190,9 @@ struct vtkPenumbraConservativeShadows::Internals
 
   LightMaps& Entry(vtkLight* light)
   {
-    ++this->Uses;
-    LightMaps* entry = nullptr;
-    for (auto& e : this->Cache)
-    {
-      entry = e.Light == light ? &e : entry;
-    }
-    for (auto& e : this->Cache)
-    {
-      entry = (!entry && !e.Light) ? &e : entry; // entries of deleted lights are reused
-    }
-    if (!entry)
-    {
-      this->Cache.emplace_back();
-      entry = &this->Cache.back();
-    }
-    if (entry->Light != light)
-    {
-      *entry = LightMaps();
-      entry->Light = light;
-    }
-    entry->LastUse = this->Uses;
-    return *entry;
+    LightMaps& entry = penumbra_light_views::LightCacheEntry(this->Cache, light);
+    entry.LastUse = ++this->Uses;
+    return entry;
   }
 
   // Least recently used lights' maps are dropped while the cache holds more than `budget`
@@ -524,8 +505,8 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
         static_cast<double>(geometry->GetFlagsTime()) };
       key.insert(key.end(), &view.Row[0][0], &view.Row[0][0] + 16);
       key.insert(key.end(), in.GeometryOrigin, in.GeometryOrigin + 3);
-      const bool reuse = maps.Key == key;
-      if (!reuse)
+      const bool rebuild = maps.Key != key;
+      if (rebuild)
       {
         maps.Key.clear(); // invalid until built
         ++this->NumberOfMapBuilds;
@@ -539,18 +520,14 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
         }
         maps.Near.clear();
       }
-      if (reuse)
-      {
-        // Built by an earlier call from the same view, geometry and settings.
-      }
-      else if (!gpu)
+      if (rebuild && !gpu)
       {
         const penumbra_conservative::CpuMapStats stats = penumbra_conservative::
           BuildConservativeMap(view, size, layers, tv, impl.Casters.TriangleIds, maps.Depth,
             maps.Ids, maps.Near);
         this->NumberOfTexelWrites += stats.TexelWrites;
       }
-      else
+      else if (rebuild)
       {
         // Depth is written explicitly and clamped in the shader; clamping is on as a second
         // line of defence (seed 000 §3 #8). Colour (the id layers) is written.
@@ -670,7 +647,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
             0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, maps.Depth[layer].data());
         }
       }
-      if (!reuse)
+      if (rebuild)
       {
         maps.Key = key;
         impl.Trim(cached, MaxCachedMapBytes);

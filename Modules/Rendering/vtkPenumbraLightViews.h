@@ -206,6 +206,36 @@ private:
   vtkIdType Triangles = -1;
   double Origin[3] = { 0, 0, 0 };
 };
+
+/**
+ * The entry of `light` in a per-light cache whose entries (T) hold a vtkWeakPointer<vtkLight>
+ * named Light: its existing entry, else the entry of a deleted light, else a new one; an
+ * entry taken over or created is reset to T() first.
+ */
+template <class T>
+T& LightCacheEntry(std::vector<T>& cache, vtkLight* light)
+{
+  T* entry = nullptr;
+  for (auto& e : cache)
+  {
+    entry = e.Light == light ? &e : entry;
+  }
+  for (auto& e : cache)
+  {
+    entry = (!entry && !e.Light) ? &e : entry;
+  }
+  if (!entry)
+  {
+    cache.emplace_back();
+    entry = &cache.back();
+  }
+  if (entry->Light != light)
+  {
+    *entry = T();
+    entry->Light = light;
+  }
+  return *entry;
+}
 }
 
 #endif

@@ -492,32 +492,7 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     key.push_back(size[1]);
     key.push_back(static_cast<double>(this->GetMTime()));
   }
-  LightMaps* maps = nullptr;
-  for (auto& entry : impl.Cache)
-  {
-    if (entry.Light == light)
-    {
-      maps = &entry;
-    }
-  }
-  if (!maps)
-  {
-    // Entries of deleted lights are reused first.
-    for (auto& entry : impl.Cache)
-    {
-      if (!entry.Light)
-      {
-        maps = &entry;
-      }
-    }
-    if (!maps)
-    {
-      impl.Cache.emplace_back();
-      maps = &impl.Cache.back();
-    }
-    *maps = LightMaps();
-    maps->Light = light;
-  }
+  LightMaps* maps = &penumbra_light_views::LightCacheEntry(impl.Cache, light);
 
   const bool cube = setup.Type == LightSetup::Kind::Point && this->PointMode == POINT_CUBE;
   const bool paraboloid =
