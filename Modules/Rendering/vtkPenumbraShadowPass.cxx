@@ -47,18 +47,35 @@ double Now()
   return vtkTimerLog::GetUniversalTime();
 }
 
+// Slot `i` of a pool of per-light arrays, created on first use and kept: a frame reuses the
+// previous frame's arrays (same sizes, so no allocation) instead of allocating 4 bytes per
+// pixel and light afresh, whose page faults cost tens of ms per frame at 1280 x 720.
+vtkFloatArray* Pooled(std::vector<vtkSmartPointer<vtkFloatArray>>& pool, size_t i)
+{
+  if (pool.size() <= i)
+  {
+    pool.resize(i + 1);
+  }
+  if (!pool[i])
+  {
+    pool[i] = vtkSmartPointer<vtkFloatArray>::New();
+  }
+  return pool[i];
+}
+
 // Goniometric diagram (seed 004 §8.3.1): the thesis scales its shadow mask by the light's
 // relative intensity toward each sample. Done here, after any technique, so every technique
 // renders the diagram and the visibility stays the geometric one the reference checks.
-// Returns `vis` itself for other lights, a scaled copy for goniometric ones.
-vtkSmartPointer<vtkFloatArray> ScaleByDiagram(
-  vtkLight* light, vtkPenumbraViewSamples* samples, vtkFloatArray* vis, vtkFloatArray* scaled)
+// Returns `vis` itself for other lights, for goniometric ones a scaled copy in pool slot `i`.
+vtkFloatArray* ScaleByDiagram(vtkLight* light, vtkPenumbraViewSamples* samples,
+  vtkFloatArray* vis, std::vector<vtkSmartPointer<vtkFloatArray>>& pool, size_t i)
 {
   auto* gonio = vtkPenumbraGoniometricLight::SafeDownCast(light);
   if (!gonio || !vis)
   {
     return vis;
   }
+  vtkFloatArray* scaled = Pooled(pool, i);
   scaled->DeepCopy(vis);
   double lightWorld[3];
   gonio->GetTransformedPosition(lightWorld);
@@ -147,25 +164,8 @@ void Stack(vtkPenumbraViewSamples* a, vtkPenumbraViewSamples* b, vtkPenumbraView
   out->Modified();
 }
 
-// The values [begin, begin + n) of `in` as a new array.
-// Slot `i` of a pool of per-light arrays, created on first use and kept: a frame reuses the
-// previous frame's arrays (same sizes, so no allocation) instead of allocating 4 bytes per
-// pixel and light afresh, whose page faults cost tens of ms per frame at 1280 x 720.
-vtkFloatArray* Pooled(std::vector<vtkSmartPointer<vtkFloatArray>>& pool, size_t i)
-{
-  if (pool.size() <= i)
-  {
-    pool.resize(i + 1);
-  }
-  if (!pool[i])
-  {
-    pool[i] = vtkSmartPointer<vtkFloatArray>::New();
-  }
-  return pool[i];
-}
-
-vtkSmartPointer<vtkFloatArray> Slice(
-  vtkFloatArray* in, vtkIdType begin, vtkIdType n, vtkFloatArray* out)
+// The values [begin, begin + n) of `in`, copied into `out`.
+vtkFloatArray* Slice(vtkFloatArray* in, vtkIdType begin, vtkIdType n, vtkFloatArray* out)
 {
   out->SetNumberOfComponents(1);
   out->SetNumberOfTuples(n);
@@ -510,7 +510,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     {
       impl.Factor[layer][i] =
         ScaleByDiagram(impl.Lights[i], layerSamples, impl.Visibility[layer][i],
-          Pooled(impl.ScaledPool[layer], i));
+          impl.ScaledPool[layer], i);
     }
   }
 

@@ -13,9 +13,10 @@
  *     volumetric and overlay steps) with each shadowed light's colour multiplied by its
  *     visibility at the pixel (and, for a vtkPenumbraGoniometricLight, by its diagram's
  *     relative intensity toward the pixel's sample; GetLightFactor()), which shadows diffuse
- *     and specular terms alike, for Phong and PBR receivers. Props marked as non-receivers (vtkPenumbraShadowKeys) are lit as if
- *     nothing blocked, and their view samples get no shadow work (they are marked as
- *     background before the technique runs). Translucent props are drawn and shadowed:
+ *     and specular terms alike, for Phong and PBR receivers. Props marked as non-receivers
+ *     (vtkPenumbraShadowKeys) are lit as if nothing blocked, and their view samples get no
+ *     shadow work (they are marked as background before the technique runs). Translucent
+ *     props are drawn and shadowed:
  *     when translucent receivers are visible, a second sample layer holds the nearest
  *     translucent surface per pixel, the technique computes its visibility in the same
  *     call (both layers stacked), and translucent props are shaded with it (see
