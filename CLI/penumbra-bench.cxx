@@ -402,7 +402,8 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
   }
   if (!failures.empty())
   {
-    out << "\nNot measured (the technique refused the scene or failed; no point above):\n\n";
+    out << "\nNot measured (a scene that could not be read or had no light to measure, or a "
+           "technique that failed on it; no point above):\n\n";
     for (const std::string& f : failures)
     {
       out << "- " << f << "\n";
@@ -745,9 +746,9 @@ int main(int argc, char* argv[])
       Progress(done, total, what);
       if (!registry->Apply(ren, spec.Name.c_str(), spec.Options.dump().c_str()))
       {
-        std::cerr << "\npenumbra-bench: " << spec.Name << " " << spec.Setting << ": "
-                  << registry->GetErrorMessage() << "\n";
-        return 2;
+        fail(what, registry->GetErrorMessage()); // options were checked before the run
+        ++done;
+        continue;
       }
       if (area)
       {
