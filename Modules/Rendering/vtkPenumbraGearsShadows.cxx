@@ -763,7 +763,7 @@ struct vtkPenumbraGearsShadows::Internals
     std::vector<double> Frame, Proj;
     std::vector<std::int32_t> SampleCell, Occupied;
     std::vector<std::uint32_t> CellStart, CellList, GlobalList, SampleOrder, SampleStart, OnCPU,
-      Work;
+      Work, Results, Rows; // Work, Results, Rows: the compute path's
   } Scratch;
 
   vtkNew<vtkTypeUInt32Array> Masks;
@@ -1642,7 +1642,8 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
       cs.GlobalSize = globalList.size();
       cs.Work = work.data();
       cs.WorkCount = static_cast<size_t>(m);
-      std::vector<std::uint32_t> results, rows32;
+      std::vector<std::uint32_t>& results = sc.Results;
+      std::vector<std::uint32_t>& rows32 = sc.Rows;
       std::string why;
       if (impl.Compute.Run(cl, cc, cs, results, masks ? &rows32 : nullptr, why))
       {
