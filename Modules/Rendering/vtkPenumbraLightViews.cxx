@@ -7,6 +7,7 @@
 #include "vtkLight.h"
 #include "vtkMath.h"
 #include "vtkOpenGLFramebufferObject.h"
+#include "vtkTextureObject.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkRenderer.h"
@@ -337,8 +338,8 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
 }
 
 //------------------------------------------------------------------------------
-MapRenderState::MapRenderState(
-  vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int size, bool colorWrites)
+ScopedPassState::ScopedPassState(
+  vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int width, int height)
   : State(state)
   , Blend(state, GL_BLEND)
   , DepthTest(state, GL_DEPTH_TEST)
@@ -351,10 +352,23 @@ MapRenderState::MapRenderState(
 {
   state->PushFramebufferBindings();
   fbo->Bind();
-  state->vtkglViewport(0, 0, size, size);
+  state->vtkglViewport(0, 0, width, height);
   state->vtkglDisable(GL_SCISSOR_TEST);
   state->vtkglDisable(GL_BLEND);
   state->vtkglDisable(GL_CULL_FACE);
+}
+
+//------------------------------------------------------------------------------
+ScopedPassState::~ScopedPassState()
+{
+  this->State->PopFramebufferBindings();
+}
+
+//------------------------------------------------------------------------------
+MapRenderState::MapRenderState(
+  vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int size, bool colorWrites)
+  : ScopedPassState(state, fbo, size, size)
+{
   state->vtkglEnable(GL_DEPTH_TEST);
   state->vtkglDepthFunc(GL_LESS);
   state->vtkglDepthMask(GL_TRUE);
@@ -372,7 +386,37 @@ MapRenderState::~MapRenderState()
   {
     glDisable(GL_DEPTH_CLAMP);
   }
-  this->State->PopFramebufferBindings();
+}
+
+//------------------------------------------------------------------------------
+QuadPassState::QuadPassState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo,
+  const std::vector<vtkTextureObject*>& targets, int width, int height, vtkTextureObject* depth)
+  : ScopedPassState(state, fbo, width, height)
+{
+  for (size_t a = 0; a < targets.size(); ++a)
+  {
+    fbo->AddColorAttachment(static_cast<unsigned int>(a), targets[a]);
+  }
+  if (depth)
+  {
+    fbo->AddDepthAttachment(depth);
+  }
+  else
+  {
+    fbo->RemoveDepthAttachment();
+  }
+  fbo->ActivateDrawBuffers(static_cast<unsigned int>(targets.size()));
+  state->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  state->vtkglDepthMask(GL_FALSE);
+  if (depth)
+  {
+    state->vtkglEnable(GL_DEPTH_TEST);
+    state->vtkglDepthFunc(GL_GREATER);
+  }
+  else
+  {
+    state->vtkglDisable(GL_DEPTH_TEST);
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -27,6 +27,7 @@ class vtkLight;
 class vtkOpenGLRenderWindow;
 class vtkRenderer;
 class vtkOpenGLFramebufferObject;
+class vtkTextureObject;
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
 
@@ -141,22 +142,23 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
   unsigned char* pending, unsigned char pendingValue, unsigned char decidedValue);
 
 /**
- * GL state for drawing a light view into `fbo` (size x size): no blending, scissor or
- * culling (both windings cast: open meshes have no back faces), depth test LESS with
- * writes, colour writes as asked, and GL_DEPTH_CLAMP so that casters before the near plane
- * are clamped, not clipped (seed 004 ch. 4.1.2, seed 000 §3 #8). Everything, including the
- * framebuffer bindings, is restored when the object goes out of scope.
+ * The GL state every pass of the techniques into its own framebuffer saves and sets: the
+ * framebuffer bindings (pushed, `fbo` bound), blending, depth test and function, depth and
+ * colour masks, scissor, culling and viewport; blending, scissor and culling off, viewport
+ * width x height. Everything is restored when the object goes out of scope.
  */
-class MapRenderState
+class ScopedPassState
 {
 public:
-  MapRenderState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int size, bool colorWrites);
-  ~MapRenderState();
-  MapRenderState(const MapRenderState&) = delete;
-  MapRenderState& operator=(const MapRenderState&) = delete;
+  ScopedPassState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int width, int height);
+  ~ScopedPassState();
+  ScopedPassState(const ScopedPassState&) = delete;
+  ScopedPassState& operator=(const ScopedPassState&) = delete;
+
+protected:
+  vtkOpenGLState* State;
 
 private:
-  vtkOpenGLState* State;
   vtkOpenGLState::ScopedglEnableDisable Blend;
   vtkOpenGLState::ScopedglEnableDisable DepthTest;
   vtkOpenGLState::ScopedglEnableDisable Scissor;
@@ -165,7 +167,37 @@ private:
   vtkOpenGLState::ScopedglDepthFunc DepthFunc;
   vtkOpenGLState::ScopedglDepthMask DepthMask;
   vtkOpenGLState::ScopedglColorMask ColorMask;
+};
+
+/**
+ * GL state for drawing a light view into `fbo` (size x size): depth test LESS with writes,
+ * colour writes as asked, both windings drawn (open meshes have no back faces), and
+ * GL_DEPTH_CLAMP so that casters before the near plane are clamped, not clipped (Brabec 2003,
+ * ch. 4.1.2; Hertel et al. 2009, §3). Restored when the object goes out of scope.
+ */
+class MapRenderState : public ScopedPassState
+{
+public:
+  MapRenderState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int size, bool colorWrites);
+  ~MapRenderState();
+
+private:
   bool HadClamp = false;
+};
+
+/**
+ * GL state for a full-viewport pass into colour targets (a vtkOpenGLQuadHelper draw):
+ * `targets` as colour attachments 0.. (all drawn, all channels written), no depth attachment
+ * unless `depth` is given, which is then tested GREATER without writes (a quad at depth 1
+ * passes only where that depth buffer holds a surface). Restored when the object goes out
+ * of scope.
+ */
+class QuadPassState : public ScopedPassState
+{
+public:
+  QuadPassState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo,
+    const std::vector<vtkTextureObject*>& targets, int width, int height,
+    vtkTextureObject* depth = nullptr);
 };
 
 /**

@@ -11,9 +11,11 @@
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraFrame.h"
 #include "vtkPenumbraLightViews.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
+#include "vtkPenumbraViewSamplesPass.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
@@ -22,7 +24,11 @@
 #include "vtkWeakPointer.h"
 #include "vtk_glew.h"
 
+#include "vtkPenumbraShadowMapClassify.h"
+#include "vtkPenumbraShadowMapCompare.h"
+#include "vtkPenumbraShadowMapExtentFS.h"
 #include "vtkPenumbraShadowMapFS.h"
+#include "vtkPenumbraShadowMapFrameFS.h"
 #include "vtkPenumbraShadowMapLookupFS.h"
 #include "vtkPenumbraShadowMapMidpointFS.h"
 #include "vtkPenumbraShadowMapParaboloidFS.h"
@@ -89,6 +95,172 @@ double Norm3(const double* v)
 {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
+
+// Slot layouts: one view (directional, spot), six cube faces, two paraboloid hemispheres.
+constexpr int SlotsOne = 0;
+constexpr int SlotsCube = 1;
+constexpr int SlotsParaboloid = 2;
+
+// What fitting a light's views needs to know of its receivers (the pending samples, facing
+// the light and inside its cone): Brabec 2003, ch. 4.2. Filled on the CPU from a sample set
+// or on the GPU from the G-buffer (the extent shader), merged the same way.
+struct ReceiverExtent
+{
+  std::array<char, 6> Used{};
+  double Box[6] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
+  double Lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max() };
+  double Hi[3] = { -std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+    -std::numeric_limits<double>::max() };
+  double Farthest = 0.0;
+  double SpotTan = 0.0;
+  vtkIdType Pending = 0;
+};
+
+// Light-space axes: a directional light travels along axes[2], a spot light looks along it;
+// axes[0] and axes[1] span the map.
+void LightAxes(const LightSetup& setup, double axes[3][3])
+{
+  const double travel[3] = { -setup.Direction[0], -setup.Direction[1], -setup.Direction[2] };
+  const double* forward = setup.Type == LightSetup::Kind::Directional ? travel : setup.Axis;
+  penumbra_light_views::Basis(forward, axes[0], axes[1]);
+  std::copy(forward, forward + 3, axes[2]);
+}
+
+// The slot of a receiver point (rebased): the cube face of its dominant axis from the light,
+// or its paraboloid hemisphere.
+int SlotOf(const LightSetup& setup, int slotMode, const double p[3])
+{
+  if (slotMode == SlotsOne)
+  {
+    return 0;
+  }
+  const double v[3] = { p[0] - setup.Position[0], p[1] - setup.Position[1],
+    p[2] - setup.Position[2] };
+  if (slotMode == SlotsParaboloid)
+  {
+    return v[2] >= 0.0 ? 0 : 1;
+  }
+  int best = 0;
+  for (int c = 1; c < 3; ++c)
+  {
+    best = std::fabs(v[c]) > std::fabs(v[best]) ? c : best;
+  }
+  return 2 * best + (v[best] < 0.0);
+}
+
+void AddReceiver(const LightSetup& setup, const double axes[3][3], int slotMode,
+  const double p[3], ReceiverExtent& e)
+{
+  ++e.Pending;
+  e.Used[static_cast<size_t>(SlotOf(setup, slotMode, p))] = 1;
+  for (int c = 0; c < 3; ++c)
+  {
+    e.Box[2 * c] = std::min(e.Box[2 * c], p[c]);
+    e.Box[2 * c + 1] = std::max(e.Box[2 * c + 1], p[c]);
+  }
+  if (setup.Type == LightSetup::Kind::Directional)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      const double d = vtkMath::Dot(p, axes[a]);
+      e.Lo[a] = std::min(e.Lo[a], d);
+      e.Hi[a] = std::max(e.Hi[a], d);
+    }
+    return;
+  }
+  const double q[3] = { p[0] - setup.Position[0], p[1] - setup.Position[1],
+    p[2] - setup.Position[2] };
+  e.Farthest = std::max(e.Farthest, Norm3(q));
+  const double w = vtkMath::Dot(q, axes[2]);
+  if (setup.Type == LightSetup::Kind::Spot && w > 0.0)
+  {
+    e.SpotTan = std::max(e.SpotTan,
+      std::max(std::fabs(vtkMath::Dot(q, axes[0])), std::fabs(vtkMath::Dot(q, axes[1]))) / w);
+  }
+}
+
+// A CPU sample's position in the geometry's rebased frame, in double.
+void SamplePoint(const penumbra_light_views::FrameInputs& in, vtkIdType s, double p[3])
+{
+  for (int c = 0; c < 3; ++c)
+  {
+    p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
+  }
+}
+
+int CountViews(const LightMaps& maps)
+{
+  int views = 0;
+  for (size_t slot = 0; slot < maps.Maps.size(); ++slot)
+  {
+    views += maps.Maps[slot].empty() && !maps.Textures[slot] ? 0 : 1;
+  }
+  return views;
+}
+
+// A lookup program's source with the shared GLSL pieces in place; double precision for the
+// facing rules needs GL_ARB_gpu_shader_fp64 (core since GL 4.0).
+std::string ComposeShader(const char* source)
+{
+  std::string fs = source;
+  vtkShaderProgram::Substitute(fs, "//VTK::System::Dec",
+    "//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n", false);
+  vtkShaderProgram::Substitute(fs, "//PENUMBRA::Classify", vtkPenumbraShadowMapClassify, false);
+  vtkShaderProgram::Substitute(fs, "//PENUMBRA::Compare", vtkPenumbraShadowMapCompare, false);
+  return fs;
+}
+
+// The uniforms of one slot's view (vtkPenumbraShadowMapCompare.glsl).
+void SetSlotUniforms(vtkShaderProgram* program, const LightMaps& m, int slot)
+{
+  program->SetUniformi("slot", slot);
+  if (m.Paraboloid)
+  {
+    program->SetUniformf("invFar", static_cast<float>(1.0 / m.Far));
+    return;
+  }
+  const View& view = m.Views[static_cast<size_t>(slot)];
+  float matrix[16];
+  view.ToFloatMatrix(matrix);
+  program->SetUniformMatrix4x4("lightMatrix", matrix);
+  program->SetUniformi("perspective", view.Perspective ? 1 : 0);
+  program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
+  program->SetUniformf("tanHalf", static_cast<float>(view.TanHalf));
+  program->SetUniformf("footprintScale", static_cast<float>(2.0 / (Norm3(view.Row[0]) * m.Size)));
+  program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(view.Row[2])));
+}
+
+void SetDouble3(vtkShaderProgram* program, const char* name, const double v[3])
+{
+  const GLint location = glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), name);
+  if (location >= 0)
+  {
+    glUniform3d(location, v[0], v[1], v[2]);
+  }
+}
+
+// The facing rules' uniforms (vtkPenumbraShadowMapClassify.glsl), from the light exactly as
+// the reference reduces it.
+void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup, bool anyCaster)
+{
+  const int kind = setup.Type == LightSetup::Kind::Directional
+    ? 0
+    : (setup.Type == LightSetup::Kind::Spot ? 2 : 1);
+  program->SetUniformi("lightKind", kind);
+  program->SetUniformi("lightOff", setup.Off ? 1 : 0);
+  program->SetUniformi("anyCaster", anyCaster ? 1 : 0);
+  SetDouble3(program, "classifyDirection", setup.Direction);
+  SetDouble3(program, "classifyPosition", setup.Position);
+  SetDouble3(program, "classifyAxis", setup.Axis);
+  const GLint cone = glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), "classifyCosCone");
+  if (cone >= 0)
+  {
+    glUniform1d(cone, setup.CosCone);
+  }
+}
 }
 
 struct vtkPenumbraShadowMapShadows::Internals
@@ -118,6 +290,42 @@ struct vtkPenumbraShadowMapShadows::Internals
   vtkSmartPointer<vtkOpenGLFramebufferObject> LookupFBO;
   vtkSmartPointer<vtkTextureObject> ListPositions, ListNormals, ListVisibility;
   std::unique_ptr<vtkOpenGLQuadHelper> LookupQuad, MidpointQuad;
+
+  // GPU-resident frames: the receiver-extent reduction (tile results and their read-back)
+  // and the G-buffer lookup with its stand-in map.
+  std::unique_ptr<vtkOpenGLQuadHelper> ExtentQuad, FrameQuad;
+  vtkSmartPointer<vtkOpenGLFramebufferObject> ExtentFBO;
+  vtkSmartPointer<vtkTextureObject> ExtentTextures[4];
+  std::vector<float> ExtentData[4];
+  vtkSmartPointer<vtkTextureObject> NoMap;
+  static constexpr int ExtentTile = 8;
+
+  // Phases (see the definitions).
+  bool UpdateCasters(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
+    vtkPenumbraSceneGeometry* geometry);
+  int SlotMode(vtkPenumbraShadowMapShadows* self, const LightSetup& setup);
+  std::vector<double> MapKey(vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer,
+    vtkLight* light, vtkPenumbraSceneGeometry* geometry, const double shift[3], double samples,
+    double pending);
+  void FitViews(const LightSetup& setup, const ReceiverExtent& e, int slotMode, int size,
+    LightMaps* maps);
+  bool RenderMaps(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
+    vtkPenumbraSceneGeometry* geometry, const LightSetup& setup, const ReceiverExtent& extent,
+    LightMaps* maps, std::string& error);
+  void SetCompareUniforms(vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program,
+    const LightSetup& setup, const LightMaps& m);
+  bool LookupList(vtkPenumbraShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
+    const LightSetup& setup, const LightMaps& m, const unsigned char* state, float* vis,
+    std::string& error);
+  void LookupCPU(vtkPenumbraShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
+    const LightSetup& setup, const LightMaps& m, const unsigned char* state, float* vis);
+  bool FrameLight(vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame, int k,
+    std::string& error);
+  bool ReduceExtent(vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame,
+    const LightSetup& setup, ReceiverExtent& extent, std::string& error);
+  void MergeExtent(int tiles, ReceiverExtent& extent);
+  bool LookupFrame(vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame, int k,
+    const LightSetup& setup, bool anyCaster, const LightMaps* maps, std::string& error);
 
   static vtkSmartPointer<vtkTextureObject> FloatTexture(vtkOpenGLRenderWindow* win)
   {
@@ -184,7 +392,20 @@ struct vtkPenumbraShadowMapShadows::Internals
       {
         this->LookupFBO->ReleaseGraphicsResources(this->Window);
       }
-      for (auto* quad : { this->LookupQuad.get(), this->MidpointQuad.get() })
+      for (vtkTextureObject* tex : { this->ExtentTextures[0].Get(), this->ExtentTextures[1].Get(),
+             this->ExtentTextures[2].Get(), this->ExtentTextures[3].Get(), this->NoMap.Get() })
+      {
+        if (tex)
+        {
+          tex->ReleaseGraphicsResources(this->Window);
+        }
+      }
+      if (this->ExtentFBO)
+      {
+        this->ExtentFBO->ReleaseGraphicsResources(this->Window);
+      }
+      for (auto* quad : { this->LookupQuad.get(), this->MidpointQuad.get(), this->ExtentQuad.get(),
+             this->FrameQuad.get() })
       {
         if (quad)
         {
@@ -196,6 +417,14 @@ struct vtkPenumbraShadowMapShadows::Internals
     this->ListPositions = this->ListNormals = this->ListVisibility = nullptr;
     this->LookupQuad.reset();
     this->MidpointQuad.reset();
+    this->ExtentQuad.reset();
+    this->FrameQuad.reset();
+    this->ExtentFBO = nullptr;
+    this->NoMap = nullptr;
+    for (auto& tex : this->ExtentTextures)
+    {
+      tex = nullptr;
+    }
     this->Casters.Forget();
     this->ParaboloidArray = 0;
     this->ParaboloidBuffers[0] = this->ParaboloidBuffers[1] = 0;
@@ -415,29 +644,9 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
       PENUMBRA_SM_FAIL("shadow maps: " << inputError);
     }
   }
-  vtkOpenGLRenderWindow* win = in.Window;
   const LightSetup& setup = in.Light;
   const vtkIdType n = in.NumberOfSamples;
-  const float* pos = in.Positions;
-  const float* nrm = in.Normals;
-  const double* shift = in.Shift;
-
-  // ---- Casters (not for lights that are off: they get no map at all).
-  bool anyCaster = false;
-  if (!setup.Off)
-  {
-    win->MakeCurrent();
-    if (impl.Window && impl.Window != win)
-    {
-      impl.Release(nullptr);
-    }
-    impl.Window = win;
-    if (impl.Casters.Update(geometry))
-    {
-      ++this->NumberOfUploads;
-    }
-    anyCaster = impl.Casters.VertexCount > 0;
-  }
+  const bool anyCaster = !setup.Off && impl.UpdateCasters(this, in.Window, geometry);
 
   visibility->SetNumberOfComponents(1);
   visibility->SetNumberOfTuples(n);
@@ -445,559 +654,561 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   impl.State.resize(static_cast<size_t>(n));
   unsigned char* state = impl.State.data();
   const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(
-    setup, n, pos, nrm, in.Props, shift, anyCaster, vis, state, Pending, Decided);
+    setup, n, in.Positions, in.Normals, in.Props, in.Shift, anyCaster, vis, state, Pending,
+    Decided);
   if (facing.Pending == 0)
   {
     visibility->Modified();
     this->LastTimeMs = ElapsedMs(start);
     return 1;
   }
-  auto samplePoint = [&](vtkIdType s, double p[3]) {
-    for (int c = 0; c < 3; ++c)
-    {
-      p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
-    }
-  };
 
-  // ---- The cache key: everything the maps depend on, by value (a spurious Modified() on the
-  // camera or light does not force a re-render; a real change always does).
-  std::vector<double> key;
-  {
-    double lp[3], lf[3];
-    light->GetTransformedPosition(lp);
-    light->GetTransformedFocalPoint(lf);
-    key.insert(key.end(), lp, lp + 3);
-    key.insert(key.end(), lf, lf + 3);
-    key.push_back(light->GetPositional());
-    key.push_back(light->GetConeAngle());
-    key.push_back(static_cast<double>(geometry->GetGeometryTime()));
-    key.push_back(static_cast<double>(geometry->GetFlagsTime()));
-    key.insert(key.end(), in.GeometryOrigin, in.GeometryOrigin + 3);
-    key.insert(key.end(), in.Shift, in.Shift + 3);
-    key.push_back(static_cast<double>(n));
-    key.push_back(static_cast<double>(facing.Pending));
-    vtkCamera* camera = renderer->GetActiveCamera();
-    if (camera)
-    {
-      key.insert(key.end(), camera->GetPosition(), camera->GetPosition() + 3);
-      key.insert(key.end(), camera->GetFocalPoint(), camera->GetFocalPoint() + 3);
-      key.insert(key.end(), camera->GetViewUp(), camera->GetViewUp() + 3);
-      key.push_back(camera->GetViewAngle());
-      key.push_back(camera->GetParallelProjection());
-      key.push_back(camera->GetParallelScale());
-      key.insert(key.end(), camera->GetClippingRange(), camera->GetClippingRange() + 2);
-    }
-    const int* size = renderer->GetSize();
-    key.push_back(size[0]);
-    key.push_back(size[1]);
-    key.push_back(static_cast<double>(this->GetMTime()));
-  }
+  // ---- The maps: kept while everything they depend on is unchanged (see MapKey()).
+  const int slotMode = impl.SlotMode(this, setup);
+  std::vector<double> key = impl.MapKey(this, renderer, light, geometry, in.Shift,
+    static_cast<double>(n), static_cast<double>(facing.Pending));
   LightMaps* maps = &penumbra_light_views::LightCacheEntry(impl.Cache, light);
-
-  const bool cube = setup.Type == LightSetup::Kind::Point && this->PointMode == POINT_CUBE;
-  const bool paraboloid =
-    setup.Type == LightSetup::Kind::Point && this->PointMode == POINT_PARABOLOID;
-  auto slotOf = [&](const double p[3]) -> int {
-    if (cube || paraboloid)
-    {
-      double v[3];
-      for (int c = 0; c < 3; ++c)
-      {
-        v[c] = p[c] - setup.Position[c];
-      }
-      if (paraboloid)
-      {
-        return v[2] >= 0.0 ? 0 : 1;
-      }
-      int best = 0;
-      for (int c = 1; c < 3; ++c)
-      {
-        best = std::fabs(v[c]) > std::fabs(v[best]) ? c : best;
-      }
-      return 2 * best + (v[best] < 0.0);
-    }
-    return 0;
-  };
-
-  const int size = this->Resolution;
-  if (!maps->Valid || maps->Key != key || maps->Size != size)
+  if (!maps->Valid || maps->Key != key || maps->Size != this->Resolution)
   {
-    const auto mapStart = Clock::now();
-    maps->Valid = false;
-    maps->Key = key;
-    maps->Size = size;
-    maps->Paraboloid = paraboloid;
-    const int slots = cube ? 6 : (paraboloid ? 2 : 1);
-    maps->Views.assign(static_cast<size_t>(slots), View());
-    maps->Maps.assign(static_cast<size_t>(slots), std::vector<float>());
-    // GPU lookup: the slots' compare textures are kept and redrawn when their size still fits.
-    for (size_t slot = static_cast<size_t>(slots); slot < maps->Textures.size(); ++slot)
-    {
-      if (maps->Textures[slot])
-      {
-        maps->Textures[slot]->ReleaseGraphicsResources(win);
-      }
-    }
-    maps->Textures.resize(static_cast<size_t>(slots));
-
-    // ---- Fit the light views to the receivers (seed 004 ch. 4.2): the valid samples that
-    // face the light, exactly (no control texture needed: the samples are on the CPU).
-    std::vector<char> used(static_cast<size_t>(slots), 0);
-    double box[6] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
-      std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
-      std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
-    double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-      std::numeric_limits<double>::max() };
-    double hi[3] = { -lo[0], -lo[1], -lo[2] };
+    ReceiverExtent extent;
     double axes[3][3];
-    double spotTan = 0.0;
-    double farthest = 0.0;
-    if (setup.Type == LightSetup::Kind::Directional)
-    {
-      const double travel[3] = { -setup.Direction[0], -setup.Direction[1], -setup.Direction[2] };
-      penumbra_light_views::Basis(travel, axes[0], axes[1]);
-      std::copy(travel, travel + 3, axes[2]);
-    }
-    else if (setup.Type == LightSetup::Kind::Spot)
-    {
-      penumbra_light_views::Basis(setup.Axis, axes[0], axes[1]);
-      std::copy(setup.Axis, setup.Axis + 3, axes[2]);
-    }
-    for (vtkIdType s = 0; s < n; ++s)
-    {
-      if (state[s] != Pending)
-      {
-        continue;
-      }
-      double p[3];
-      samplePoint(s, p);
-      used[static_cast<size_t>(slotOf(p))] = 1;
-      for (int c = 0; c < 3; ++c)
-      {
-        box[2 * c] = std::min(box[2 * c], p[c]);
-        box[2 * c + 1] = std::max(box[2 * c + 1], p[c]);
-      }
-      if (setup.Type == LightSetup::Kind::Directional)
-      {
-        for (int a = 0; a < 3; ++a)
-        {
-          const double d = vtkMath::Dot(p, axes[a]);
-          lo[a] = std::min(lo[a], d);
-          hi[a] = std::max(hi[a], d);
-        }
-      }
-      else
-      {
-        const double q[3] = { p[0] - setup.Position[0], p[1] - setup.Position[1],
-          p[2] - setup.Position[2] };
-        farthest = std::max(farthest, Norm3(q));
-        if (setup.Type == LightSetup::Kind::Spot)
-        {
-          const double w = vtkMath::Dot(q, axes[2]);
-          if (w > 0.0)
-          {
-            spotTan = std::max(spotTan,
-              std::max(std::fabs(vtkMath::Dot(q, axes[0])), std::fabs(vtkMath::Dot(q, axes[1]))) /
-                w);
-          }
-        }
-      }
-    }
-    if (setup.Type == LightSetup::Kind::Directional)
-    {
-      // Orthographic rows fitted to the receivers' light-space rectangle and depth span.
-      // Casters in front of the near plane clamp to depth 0 (ch. 4.1.2): they still shadow.
-      View v;
-      double extent = 0.0;
-      for (int a = 0; a < 3; ++a)
-      {
-        extent = std::max(extent, hi[a] - lo[a]);
-      }
-      const double pad = 1e-3 * extent + 1e-9 * (1.0 + Norm3(box));
-      for (int a = 0; a < 3; ++a)
-      {
-        const double l = lo[a] - pad, h = hi[a] + pad;
-        const double scale = a < 2 ? 2.0 / (h - l) : 1.0 / (h - l);
-        for (int c = 0; c < 3; ++c)
-        {
-          v.Row[a][c] = axes[a][c] * scale;
-        }
-        v.Row[a][3] = -l * scale + (a < 2 ? -1.0 : 0.0);
-      }
-      v.Row[3][3] = 1.0;
-      maps->Views[0] = v;
-    }
-    else if (setup.Type == LightSetup::Kind::Spot)
-    {
-      // The field of view fitted to the receivers in the cone, never wider than the cone.
-      const double coneTan = std::tan(vtkMath::RadiansFromDegrees(std::min(setup.Cone + 1.0, 89.9)));
-      const double tanHalf = std::max(1e-6, std::min(coneTan, 1.01 * spotTan + 1e-9));
-      maps->Views[0] = penumbra_light_views::PerspectiveView(setup.Position, setup.Axis, tanHalf, box);
-    }
-    else if (cube)
-    {
-      for (int face = 0; face < 6; ++face)
-      {
-        double f[3] = { 0, 0, 0 };
-        f[face / 2] = (face % 2) ? -1.0 : 1.0;
-        maps->Views[static_cast<size_t>(face)] =
-          penumbra_light_views::PerspectiveView(setup.Position, f, 1.0, box);
-      }
-    }
-    else
-    {
-      std::copy(setup.Position, setup.Position + 3, maps->Centre);
-      maps->Far = farthest > 0.0 ? 1.01 * farthest : 1.0;
-      // The rim (radius 1) sits one texel inside the map edge.
-      maps->MapScale = 1.0 / (1.0 + 2.0 / size);
-    }
-
-    // ---- Render and read back every used slot.
-    vtkShaderProgram* program = paraboloid
-      ? win->GetShaderCache()->ReadyShaderProgram(
-          vtkPenumbraShadowMapParaboloidVS, vtkPenumbraShadowMapParaboloidFS, "")
-      : win->GetShaderCache()->ReadyShaderProgram(vtkPenumbraShadowMapVS, vtkPenumbraShadowMapFS, "");
-    if (!program || !program->GetCompiled())
-    {
-      maps->Valid = false;
-      PENUMBRA_SM_FAIL("the shadow map shaders do not compile or link on this OpenGL implementation");
-    }
-    if (paraboloid)
-    {
-      std::vector<double> paraboloidKey = { setup.Position[0], setup.Position[1],
-        setup.Position[2], static_cast<double>(geometry->GetGeometryTime()),
-        static_cast<double>(geometry->GetFlagsTime()), in.GeometryOrigin[0],
-        in.GeometryOrigin[1], in.GeometryOrigin[2] };
-      if (paraboloidKey != impl.ParaboloidKey || !impl.ParaboloidArray)
-      {
-        impl.BuildParaboloidCasters(setup.Position);
-        impl.ParaboloidKey = paraboloidKey;
-      }
-    }
-    impl.AllocateMaps(win, size);
-    const bool midpoint = this->DepthMode == DEPTH_MIDPOINT;
-    const float peelGap = static_cast<float>(std::max(this->Bias, 1e-6));
-    vtkOpenGLState* ostate = win->GetState();
-    penumbra_light_views::MapRenderState renderState(ostate, impl.FBO, size, false);
-    const float mapSize[2] = { static_cast<float>(size), static_cast<float>(size) };
-    if (paraboloid)
-    {
-      program->SetUniformf("mapScale", static_cast<float>(maps->MapScale));
-      program->SetUniformf("invMapScale", static_cast<float>(1.0 / maps->MapScale));
-      program->SetUniformf("invFar", static_cast<float>(1.0 / maps->Far));
-      program->SetUniform2f("mapSize", mapSize);
-      glBindVertexArray(impl.ParaboloidArray);
-    }
-    else
-    {
-      glBindVertexArray(impl.Casters.VertexArray);
-      const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
-      if (posLoc >= 0)
-      {
-        glBindBuffer(GL_ARRAY_BUFFER, impl.Casters.Positions);
-        glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
-        glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-        glBindBuffer(GL_ARRAY_BUFFER, 0);
-      }
-    }
-    program->SetUniformf("peelGap", peelGap);
-    const size_t texels = static_cast<size_t>(size) * size;
-    const bool gpuLookup = this->Lookup == LOOKUP_GPU;
-    if (gpuLookup && midpoint && !impl.MidpointQuad)
-    {
-      impl.MidpointQuad.reset(
-        new vtkOpenGLQuadHelper(win, nullptr, vtkPenumbraShadowMapMidpointFS, ""));
-      // Building it bound its program; the map program draws next.
-      win->GetShaderCache()->ReadyShaderProgram(program);
-    }
-    for (int slot = 0; slot < slots; ++slot)
-    {
-      if (!used[static_cast<size_t>(slot)])
-      {
-        if (maps->Textures[static_cast<size_t>(slot)])
-        {
-          maps->Textures[static_cast<size_t>(slot)]->ReleaseGraphicsResources(win);
-          maps->Textures[static_cast<size_t>(slot)] = nullptr;
-        }
-        continue;
-      }
-      // The midpoint pass below draws with its own vertex array.
-      glBindVertexArray(paraboloid ? impl.ParaboloidArray : impl.Casters.VertexArray);
-      auto& kept = maps->Textures[static_cast<size_t>(slot)];
-      if (kept && (!gpuLookup || static_cast<int>(kept->GetWidth()) != size))
-      {
-        kept->ReleaseGraphicsResources(win);
-        kept = nullptr;
-      }
-      if (gpuLookup && !kept)
-      {
-        kept = Internals::CompareTexture(win, size);
-      }
-      vtkTextureObject* slotTexture = kept;
-      GLsizei count = impl.Casters.VertexCount;
-      if (paraboloid)
-      {
-        const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexLight");
-        const GLint planeLoc = glGetAttribLocation(program->GetHandle(), "trianglePlane");
-        glBindBuffer(GL_ARRAY_BUFFER, impl.ParaboloidBuffers[slot]);
-        const GLsizei stride = 7 * sizeof(float);
-        if (posLoc >= 0)
-        {
-          glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
-          glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, stride, nullptr);
-        }
-        if (planeLoc >= 0)
-        {
-          glEnableVertexAttribArray(static_cast<GLuint>(planeLoc));
-          glVertexAttribPointer(static_cast<GLuint>(planeLoc), 4, GL_FLOAT, GL_FALSE, stride,
-            reinterpret_cast<const void*>(3 * sizeof(float)));
-        }
-        glBindBuffer(GL_ARRAY_BUFFER, 0);
-        count = impl.ParaboloidCounts[slot];
-      }
-      else
-      {
-        const View& view = maps->Views[static_cast<size_t>(slot)];
-        float matrix[16];
-        view.ToFloatMatrix(matrix);
-        program->SetUniformMatrix4x4("lightMatrix", matrix);
-        program->SetUniformi("perspective", view.Perspective ? 1 : 0);
-        program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
-      }
-      std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
-      map.resize(gpuLookup ? 0 : texels);
-      for (int layer = 0; layer < (midpoint ? 2 : 1); ++layer)
-      {
-        // GPU lookup, linear depth: straight into the slot's compare texture.
-        impl.FBO->AddDepthAttachment(
-          gpuLookup && !midpoint ? slotTexture : impl.DepthTextures[layer].Get());
-        ostate->vtkglDrawBuffer(GL_NONE);
-        ostate->vtkglReadBuffer(GL_NONE);
-        const GLfloat one = 1.0f;
-        glClearBufferfv(GL_DEPTH, 0, &one);
-        program->SetUniformi("peel", layer);
-        if (layer == 1)
-        {
-          impl.DepthTextures[0]->Activate();
-          program->SetUniformi("firstLayer", impl.DepthTextures[0]->GetTextureUnit());
-        }
-        if (count > 0)
-        {
-          glDrawArrays(GL_TRIANGLES, 0, count);
-        }
-        if (layer == 1)
-        {
-          impl.DepthTextures[0]->Deactivate();
-        }
-        if (gpuLookup)
-        {
-          continue; // the maps stay on the GPU
-        }
-        glPixelStorei(GL_PACK_ALIGNMENT, 4);
-        float* target = map.data();
-        if (layer == 1)
-        {
-          impl.SecondLayer.resize(texels);
-          target = impl.SecondLayer.data();
-        }
-        glReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, target);
-      }
-      if (midpoint && gpuLookup)
-      {
-        // The same midpoint on the GPU, written as the slot's depth.
-        vtkOpenGLQuadHelper& quad = *impl.MidpointQuad;
-        win->GetShaderCache()->ReadyShaderProgram(quad.Program);
-        impl.FBO->AddDepthAttachment(slotTexture);
-        ostate->vtkglDepthFunc(GL_ALWAYS);
-        impl.DepthTextures[0]->Activate();
-        impl.DepthTextures[1]->Activate();
-        quad.Program->SetUniformi("firstLayer", impl.DepthTextures[0]->GetTextureUnit());
-        quad.Program->SetUniformi("secondLayer", impl.DepthTextures[1]->GetTextureUnit());
-        quad.Render();
-        impl.DepthTextures[0]->Deactivate();
-        impl.DepthTextures[1]->Deactivate();
-        ostate->vtkglDepthFunc(GL_LESS);
-        // The map program is current again for the next slot.
-        win->GetShaderCache()->ReadyShaderProgram(program);
-      }
-      else if (midpoint)
-      {
-        // Woo's midpoint (ch. 4.1.1); no second surface leaves the far value 1 as the
-        // second depth, so a lone surface stays lit by a half-range margin.
-        const float* second = impl.SecondLayer.data();
-        vtkSMPTools::For(0, static_cast<vtkIdType>(texels), [&](vtkIdType b, vtkIdType e) {
-          for (vtkIdType i = b; i < e; ++i)
-          {
-            map[static_cast<size_t>(i)] = 0.5f * (map[static_cast<size_t>(i)] + second[i]);
-          }
-        });
-      }
-      ++this->NumberOfMapRenders;
-    }
-    maps->Valid = true;
-    this->MapTimeMs = ElapsedMs(mapStart);
-  }
-  for (size_t slot = 0; slot < maps->Maps.size(); ++slot)
-  {
-    this->NumberOfViews += maps->Maps[slot].empty() && !maps->Textures[slot] ? 0 : 1;
-  }
-
-  const auto lookupStart = Clock::now();
-  const int radius = this->Filter == FILTER_PCF ? (this->PCFKernel | 1) / 2 : 0;
-  const double slopeBias = this->SlopeBias * (1.0 + radius);
-  const double constantBias = this->Bias;
-  const LightMaps& m = *maps;
-  if (this->Lookup == LOOKUP_GPU)
-  {
-    // ---- Per-sample lookup on the GPU (seed 004 ch. 5: hardware depth compare): the
-    // pending samples as a compacted list, one fragment each, one draw per slot.
-    std::vector<vtkIdType>& list = impl.List;
-    list.clear();
+    LightAxes(setup, axes);
     for (vtkIdType s = 0; s < n; ++s)
     {
       if (state[s] == Pending)
       {
-        list.push_back(s);
-      }
-    }
-    const vtkIdType count = static_cast<vtkIdType>(list.size());
-    const int listWidth = static_cast<int>(std::min<vtkIdType>(count, 2048));
-    const int listHeight = static_cast<int>((count + listWidth - 1) / listWidth);
-    std::vector<float>& positions = impl.ListPositionData;
-    std::vector<float>& normals = impl.ListNormalData;
-    positions.assign(static_cast<size_t>(4) * listWidth * listHeight, 0.0f);
-    normals.assign(positions.size(), 0.0f);
-    vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        const vtkIdType s = list[static_cast<size_t>(i)];
         double p[3];
-        samplePoint(s, p);
-        for (int c = 0; c < 3; ++c)
-        {
-          positions[static_cast<size_t>(4 * i + c)] = static_cast<float>(p[c]);
-          normals[static_cast<size_t>(4 * i + c)] = nrm[3 * s + c];
-        }
+        SamplePoint(in, s, p);
+        AddReceiver(setup, axes, slotMode, p, extent);
       }
-    });
-    if (!impl.LookupFBO)
-    {
-      impl.LookupFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
-      impl.LookupFBO->SetContext(win);
-      impl.ListPositions = Internals::FloatTexture(win);
-      impl.ListNormals = Internals::FloatTexture(win);
-      impl.ListVisibility = Internals::FloatTexture(win);
-      impl.LookupQuad.reset(new vtkOpenGLQuadHelper(win, nullptr, vtkPenumbraShadowMapLookupFS, ""));
     }
-    for (vtkTextureObject* tex : { impl.ListPositions.Get(), impl.ListNormals.Get() })
+    std::string error;
+    maps->Key.swap(key);
+    if (!impl.RenderMaps(this, in.Window, geometry, setup, extent, maps, error))
     {
-      tex->SetInternalFormat(GL_RGBA32F);
-      tex->SetFormat(GL_RGBA);
-      tex->SetDataType(GL_FLOAT);
+      PENUMBRA_SM_FAIL("shadow maps: " << error);
     }
-    impl.ListPositions->Create2DFromRaw(listWidth, listHeight, 4, VTK_FLOAT, positions.data());
-    impl.ListNormals->Create2DFromRaw(listWidth, listHeight, 4, VTK_FLOAT, normals.data());
-    impl.ListVisibility->SetInternalFormat(GL_R32F);
-    impl.ListVisibility->SetFormat(GL_RED);
-    impl.ListVisibility->SetDataType(GL_FLOAT);
-    impl.ListVisibility->Allocate2D(listWidth, listHeight, 1, VTK_FLOAT);
-
-    vtkOpenGLQuadHelper& quad = *impl.LookupQuad;
-    win->GetShaderCache()->ReadyShaderProgram(quad.Program);
-    vtkShaderProgram* program = quad.Program;
-    if (!program || !program->GetCompiled())
-    {
-      PENUMBRA_SM_FAIL("the shadow map lookup program does not compile or link on this OpenGL "
-                       "implementation (sampler2DShadow is required)");
-    }
-    std::vector<float>& result = impl.ListResult;
-    result.assign(static_cast<size_t>(listWidth) * listHeight, 1.0f);
-    {
-      vtkOpenGLState* ostate = win->GetState();
-      vtkOpenGLState::ScopedglEnableDisable blend(ostate, GL_BLEND);
-      vtkOpenGLState::ScopedglEnableDisable depthTest(ostate, GL_DEPTH_TEST);
-      vtkOpenGLState::ScopedglEnableDisable scissor(ostate, GL_SCISSOR_TEST);
-      vtkOpenGLState::ScopedglViewport viewport(ostate);
-      vtkOpenGLState::ScopedglClearColor clearColor(ostate);
-      ostate->PushFramebufferBindings();
-      impl.LookupFBO->Bind();
-      impl.LookupFBO->AddColorAttachment(0, impl.ListVisibility);
-      impl.LookupFBO->RemoveDepthAttachment();
-      impl.LookupFBO->ActivateDrawBuffers(1);
-      ostate->vtkglDisable(GL_BLEND);
-      ostate->vtkglDisable(GL_DEPTH_TEST);
-      ostate->vtkglDisable(GL_SCISSOR_TEST);
-      ostate->vtkglViewport(0, 0, listWidth, listHeight);
-      ostate->vtkglClearColor(1.0, 1.0, 1.0, 1.0);
-      ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
-
-      impl.ListPositions->Activate();
-      impl.ListNormals->Activate();
-      program->SetUniformi("samplePositions", impl.ListPositions->GetTextureUnit());
-      program->SetUniformi("sampleNormals", impl.ListNormals->GetTextureUnit());
-      program->SetUniformi("sampleCount", static_cast<int>(count));
-      program->SetUniformi("listWidth", listWidth);
-      const bool cubeMaps = !m.Paraboloid && m.Views.size() == 6;
-      program->SetUniformi("slotMode", m.Paraboloid ? 2 : (cubeMaps ? 1 : 0));
-      const float centre[3] = { static_cast<float>(setup.Position[0]),
-        static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
-      const float toLight[3] = { static_cast<float>(setup.Direction[0]),
-        static_cast<float>(setup.Direction[1]), static_cast<float>(setup.Direction[2]) };
-      program->SetUniform3f("lightPosition", centre);
-      program->SetUniform3f("toLightDirection", toLight);
-      program->SetUniformf("mapScale", static_cast<float>(m.MapScale));
-      program->SetUniformf("mapSize", static_cast<float>(size));
-      program->SetUniformf("constantBias", static_cast<float>(constantBias));
-      program->SetUniformf("slopeBias", static_cast<float>(slopeBias));
-      program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
-      program->SetUniformi("radius", radius);
-      for (size_t slot = 0; slot < m.Textures.size(); ++slot)
-      {
-        vtkTextureObject* map = m.Textures[slot];
-        if (!map)
-        {
-          continue; // no pending sample falls into this slot
-        }
-        program->SetUniformi("slot", static_cast<int>(slot));
-        if (m.Paraboloid)
-        {
-          program->SetUniformf("invFar", static_cast<float>(1.0 / m.Far));
-        }
-        else
-        {
-          const View& view = m.Views[slot];
-          float matrix[16];
-          view.ToFloatMatrix(matrix);
-          program->SetUniformMatrix4x4("lightMatrix", matrix);
-          program->SetUniformi("perspective", view.Perspective ? 1 : 0);
-          program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
-          program->SetUniformf("tanHalf", static_cast<float>(view.TanHalf));
-          program->SetUniformf(
-            "footprintScale", static_cast<float>(2.0 / (Norm3(view.Row[0]) * size)));
-          program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(view.Row[2])));
-        }
-        map->Activate();
-        program->SetUniformi("shadowMap", map->GetTextureUnit());
-        quad.Render();
-        map->Deactivate();
-      }
-      impl.ListPositions->Deactivate();
-      impl.ListNormals->Deactivate();
-      impl.LookupFBO->ActivateReadBuffer(0);
-      glPixelStorei(GL_PACK_ALIGNMENT, 4);
-      glReadPixels(0, 0, listWidth, listHeight, GL_RED, GL_FLOAT, result.data());
-      ostate->PopFramebufferBindings();
-    }
-    for (vtkIdType i = 0; i < count; ++i)
-    {
-      vis[list[static_cast<size_t>(i)]] = result[static_cast<size_t>(i)];
-    }
-    this->LookupTimeMs = ElapsedMs(lookupStart);
-    visibility->Modified();
-    this->LastTimeMs = ElapsedMs(start);
-    return 1;
   }
+  this->NumberOfViews = CountViews(*maps);
 
+  const auto lookupStart = Clock::now();
+  if (this->Lookup == LOOKUP_GPU)
+  {
+    std::string error;
+    if (!impl.LookupList(this, in, setup, *maps, state, vis, error))
+    {
+      PENUMBRA_SM_FAIL("shadow maps: " << error);
+    }
+  }
+  else
+  {
+    impl.LookupCPU(this, in, setup, *maps, state, vis);
+  }
+  this->LookupTimeMs = ElapsedMs(lookupStart);
+  visibility->Modified();
+  this->LastTimeMs = ElapsedMs(start);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraShadowMapShadows::ComputeFrame(vtkPenumbraFrame* frame)
+{
+  if (this->Lookup == LOOKUP_CPU)
+  {
+    return this->Superclass::ComputeFrame(frame); // the maps are compared on the CPU
+  }
+  int done = 0;
+  for (int k = 0; k < frame->GetNumberOfShadowedLights(); ++k)
+  {
+    std::string error;
+    if (this->Impl->FrameLight(this, frame, k, error))
+    {
+      frame->MarkOnGPU(k);
+      ++done;
+    }
+    else
+    {
+      vtkErrorMacro("shadow maps: " << error);
+    }
+  }
+  return done;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPenumbraShadowMapShadows::Internals::UpdateCasters(
+  vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry)
+{
+  win->MakeCurrent();
+  if (this->Window && this->Window != win)
+  {
+    this->Release(nullptr);
+  }
+  this->Window = win;
+  if (this->Casters.Update(geometry))
+  {
+    ++self->NumberOfUploads;
+  }
+  return this->Casters.VertexCount > 0;
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraShadowMapShadows::Internals::SlotMode(
+  vtkPenumbraShadowMapShadows* self, const LightSetup& setup)
+{
+  if (setup.Type != LightSetup::Kind::Point)
+  {
+    return SlotsOne;
+  }
+  return self->PointMode == POINT_CUBE ? SlotsCube : SlotsParaboloid;
+}
+
+//------------------------------------------------------------------------------
+// Everything the maps depend on, by value (a spurious Modified() on the camera or light does
+// not force a re-render; a real change always does): the light, the casters, the frames,
+// the view the receivers are fitted to, the window size and the settings.
+std::vector<double> vtkPenumbraShadowMapShadows::Internals::MapKey(
+  vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer, vtkLight* light,
+  vtkPenumbraSceneGeometry* geometry, const double shift[3], double samples, double pending)
+{
+  std::vector<double> key;
+  double lp[3], lf[3], origin[3];
+  light->GetTransformedPosition(lp);
+  light->GetTransformedFocalPoint(lf);
+  geometry->GetOrigin(origin);
+  key.insert(key.end(), lp, lp + 3);
+  key.insert(key.end(), lf, lf + 3);
+  key.push_back(light->GetPositional());
+  key.push_back(light->GetConeAngle());
+  key.push_back(static_cast<double>(geometry->GetGeometryTime()));
+  key.push_back(static_cast<double>(geometry->GetFlagsTime()));
+  key.insert(key.end(), origin, origin + 3);
+  key.insert(key.end(), shift, shift + 3);
+  key.push_back(samples);
+  key.push_back(pending);
+  if (vtkCamera* camera = renderer->GetActiveCamera())
+  {
+    key.insert(key.end(), camera->GetPosition(), camera->GetPosition() + 3);
+    key.insert(key.end(), camera->GetFocalPoint(), camera->GetFocalPoint() + 3);
+    key.insert(key.end(), camera->GetViewUp(), camera->GetViewUp() + 3);
+    key.push_back(camera->GetViewAngle());
+    key.push_back(camera->GetParallelProjection());
+    key.push_back(camera->GetParallelScale());
+    key.insert(key.end(), camera->GetClippingRange(), camera->GetClippingRange() + 2);
+  }
+  const int* size = renderer->GetSize();
+  key.push_back(size[0]);
+  key.push_back(size[1]);
+  key.push_back(static_cast<double>(self->GetMTime()));
+  return key;
+}
+
+//------------------------------------------------------------------------------
+// Fits the light views to the receivers (Brabec 2003, ch. 4.2: an axis-aligned rectangle in
+// light space, computed exactly from the receivers instead of a control texture).
+void vtkPenumbraShadowMapShadows::Internals::FitViews(
+  const LightSetup& setup, const ReceiverExtent& e, int slotMode, int size, LightMaps* maps)
+{
+  if (setup.Type == LightSetup::Kind::Directional)
+  {
+    // Orthographic rows fitted to the receivers' light-space rectangle and depth span.
+    // Casters in front of the near plane clamp to depth 0 (ch. 4.1.2): they still shadow.
+    double axes[3][3];
+    LightAxes(setup, axes);
+    View v;
+    double extent = 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      extent = std::max(extent, e.Hi[a] - e.Lo[a]);
+    }
+    const double pad = 1e-3 * extent + 1e-9 * (1.0 + Norm3(e.Box));
+    for (int a = 0; a < 3; ++a)
+    {
+      const double l = e.Lo[a] - pad, h = e.Hi[a] + pad;
+      const double scale = a < 2 ? 2.0 / (h - l) : 1.0 / (h - l);
+      for (int c = 0; c < 3; ++c)
+      {
+        v.Row[a][c] = axes[a][c] * scale;
+      }
+      v.Row[a][3] = -l * scale + (a < 2 ? -1.0 : 0.0);
+    }
+    v.Row[3][3] = 1.0;
+    maps->Views[0] = v;
+  }
+  else if (setup.Type == LightSetup::Kind::Spot)
+  {
+    // The field of view fitted to the receivers in the cone, never wider than the cone.
+    const double coneTan =
+      std::tan(vtkMath::RadiansFromDegrees(std::min(setup.Cone + 1.0, 89.9)));
+    const double tanHalf = std::max(1e-6, std::min(coneTan, 1.01 * e.SpotTan + 1e-9));
+    maps->Views[0] =
+      penumbra_light_views::PerspectiveView(setup.Position, setup.Axis, tanHalf, e.Box);
+  }
+  else if (slotMode == SlotsCube)
+  {
+    for (int face = 0; face < 6; ++face)
+    {
+      double f[3] = { 0, 0, 0 };
+      f[face / 2] = (face % 2) ? -1.0 : 1.0;
+      maps->Views[static_cast<size_t>(face)] =
+        penumbra_light_views::PerspectiveView(setup.Position, f, 1.0, e.Box);
+    }
+  }
+  else
+  {
+    std::copy(setup.Position, setup.Position + 3, maps->Centre);
+    maps->Far = e.Farthest > 0.0 ? 1.01 * e.Farthest : 1.0;
+    // The rim (radius 1) sits one texel inside the map edge.
+    maps->MapScale = 1.0 / (1.0 + 2.0 / size);
+  }
+}
+
+//------------------------------------------------------------------------------
+// Fits and renders every slot a receiver needs (Brabec 2003, ch. 4-6): linear float depth,
+// depth clamping, the midpoint layer on request; the maps stay on the GPU for the GPU lookup
+// and are read back for the CPU one.
+bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShadows* self,
+  vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry, const LightSetup& setup,
+  const ReceiverExtent& extent, LightMaps* maps, std::string& error)
+{
+  const auto mapStart = Clock::now();
+  const int size = self->Resolution;
+  const int slotMode = this->SlotMode(self, setup);
+  const bool paraboloid = slotMode == SlotsParaboloid;
+  const int slots = slotMode == SlotsCube ? 6 : (paraboloid ? 2 : 1);
+  double origin[3];
+  geometry->GetOrigin(origin);
+  maps->Valid = false;
+  maps->Size = size;
+  maps->Paraboloid = paraboloid;
+  maps->Views.assign(static_cast<size_t>(slots), View());
+  maps->Maps.assign(static_cast<size_t>(slots), std::vector<float>());
+  // GPU lookup: the slots' compare textures are kept and redrawn when their size still fits.
+  for (size_t slot = static_cast<size_t>(slots); slot < maps->Textures.size(); ++slot)
+  {
+    if (maps->Textures[slot])
+    {
+      maps->Textures[slot]->ReleaseGraphicsResources(win);
+    }
+  }
+  maps->Textures.resize(static_cast<size_t>(slots));
+  this->FitViews(setup, extent, slotMode, size, maps);
+
+  // ---- Render and read back every used slot.
+  vtkShaderProgram* program = paraboloid
+    ? win->GetShaderCache()->ReadyShaderProgram(
+        vtkPenumbraShadowMapParaboloidVS, vtkPenumbraShadowMapParaboloidFS, "")
+    : win->GetShaderCache()->ReadyShaderProgram(vtkPenumbraShadowMapVS, vtkPenumbraShadowMapFS, "");
+  if (!program || !program->GetCompiled())
+  {
+    maps->Valid = false;
+    error = "the shadow map shaders do not compile or link on this OpenGL implementation";
+    return false;
+  }
+  if (paraboloid)
+  {
+    std::vector<double> paraboloidKey = { setup.Position[0], setup.Position[1],
+      setup.Position[2], static_cast<double>(geometry->GetGeometryTime()),
+      static_cast<double>(geometry->GetFlagsTime()), origin[0],
+      origin[1], origin[2] };
+    if (paraboloidKey != this->ParaboloidKey || !this->ParaboloidArray)
+    {
+      this->BuildParaboloidCasters(setup.Position);
+      this->ParaboloidKey = paraboloidKey;
+    }
+  }
+  this->AllocateMaps(win, size);
+  const bool midpoint = self->DepthMode == DEPTH_MIDPOINT;
+  const float peelGap = static_cast<float>(std::max(self->Bias, 1e-6));
+  vtkOpenGLState* ostate = win->GetState();
+  penumbra_light_views::MapRenderState renderState(ostate, this->FBO, size, false);
+  const float mapSize[2] = { static_cast<float>(size), static_cast<float>(size) };
+  if (paraboloid)
+  {
+    program->SetUniformf("mapScale", static_cast<float>(maps->MapScale));
+    program->SetUniformf("invMapScale", static_cast<float>(1.0 / maps->MapScale));
+    program->SetUniformf("invFar", static_cast<float>(1.0 / maps->Far));
+    program->SetUniform2f("mapSize", mapSize);
+    glBindVertexArray(this->ParaboloidArray);
+  }
+  else
+  {
+    glBindVertexArray(this->Casters.VertexArray);
+    const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
+    if (posLoc >= 0)
+    {
+      glBindBuffer(GL_ARRAY_BUFFER, this->Casters.Positions);
+      glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
+      glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+      glBindBuffer(GL_ARRAY_BUFFER, 0);
+    }
+  }
+  program->SetUniformf("peelGap", peelGap);
+  const size_t texels = static_cast<size_t>(size) * size;
+  const bool gpuLookup = self->Lookup == LOOKUP_GPU;
+  if (gpuLookup && midpoint && !this->MidpointQuad)
+  {
+    this->MidpointQuad.reset(
+      new vtkOpenGLQuadHelper(win, nullptr, vtkPenumbraShadowMapMidpointFS, ""));
+    // Building it bound its program; the map program draws next.
+    win->GetShaderCache()->ReadyShaderProgram(program);
+  }
+  for (int slot = 0; slot < slots; ++slot)
+  {
+    if (!extent.Used[static_cast<size_t>(slot)])
+    {
+      if (maps->Textures[static_cast<size_t>(slot)])
+      {
+        maps->Textures[static_cast<size_t>(slot)]->ReleaseGraphicsResources(win);
+        maps->Textures[static_cast<size_t>(slot)] = nullptr;
+      }
+      continue;
+    }
+    // The midpoint pass below draws with its own vertex array.
+    glBindVertexArray(paraboloid ? this->ParaboloidArray : this->Casters.VertexArray);
+    auto& kept = maps->Textures[static_cast<size_t>(slot)];
+    if (kept && (!gpuLookup || static_cast<int>(kept->GetWidth()) != size))
+    {
+      kept->ReleaseGraphicsResources(win);
+      kept = nullptr;
+    }
+    if (gpuLookup && !kept)
+    {
+      kept = Internals::CompareTexture(win, size);
+    }
+    vtkTextureObject* slotTexture = kept;
+    GLsizei count = this->Casters.VertexCount;
+    if (paraboloid)
+    {
+      const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexLight");
+      const GLint planeLoc = glGetAttribLocation(program->GetHandle(), "trianglePlane");
+      glBindBuffer(GL_ARRAY_BUFFER, this->ParaboloidBuffers[slot]);
+      const GLsizei stride = 7 * sizeof(float);
+      if (posLoc >= 0)
+      {
+        glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
+        glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+      }
+      if (planeLoc >= 0)
+      {
+        glEnableVertexAttribArray(static_cast<GLuint>(planeLoc));
+        glVertexAttribPointer(static_cast<GLuint>(planeLoc), 4, GL_FLOAT, GL_FALSE, stride,
+          reinterpret_cast<const void*>(3 * sizeof(float)));
+      }
+      glBindBuffer(GL_ARRAY_BUFFER, 0);
+      count = this->ParaboloidCounts[slot];
+    }
+    else
+    {
+      const View& view = maps->Views[static_cast<size_t>(slot)];
+      float matrix[16];
+      view.ToFloatMatrix(matrix);
+      program->SetUniformMatrix4x4("lightMatrix", matrix);
+      program->SetUniformi("perspective", view.Perspective ? 1 : 0);
+      program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
+    }
+    std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
+    map.resize(gpuLookup ? 0 : texels);
+    for (int layer = 0; layer < (midpoint ? 2 : 1); ++layer)
+    {
+      // GPU lookup, linear depth: straight into the slot's compare texture.
+      this->FBO->AddDepthAttachment(
+        gpuLookup && !midpoint ? slotTexture : this->DepthTextures[layer].Get());
+      ostate->vtkglDrawBuffer(GL_NONE);
+      ostate->vtkglReadBuffer(GL_NONE);
+      const GLfloat one = 1.0f;
+      glClearBufferfv(GL_DEPTH, 0, &one);
+      program->SetUniformi("peel", layer);
+      if (layer == 1)
+      {
+        this->DepthTextures[0]->Activate();
+        program->SetUniformi("firstLayer", this->DepthTextures[0]->GetTextureUnit());
+      }
+      if (count > 0)
+      {
+        glDrawArrays(GL_TRIANGLES, 0, count);
+      }
+      if (layer == 1)
+      {
+        this->DepthTextures[0]->Deactivate();
+      }
+      if (gpuLookup)
+      {
+        continue; // the maps stay on the GPU
+      }
+      glPixelStorei(GL_PACK_ALIGNMENT, 4);
+      float* target = map.data();
+      if (layer == 1)
+      {
+        this->SecondLayer.resize(texels);
+        target = this->SecondLayer.data();
+      }
+      glReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, target);
+    }
+    if (midpoint && gpuLookup)
+    {
+      // The same midpoint on the GPU, written as the slot's depth.
+      vtkOpenGLQuadHelper& quad = *this->MidpointQuad;
+      win->GetShaderCache()->ReadyShaderProgram(quad.Program);
+      this->FBO->AddDepthAttachment(slotTexture);
+      ostate->vtkglDepthFunc(GL_ALWAYS);
+      this->DepthTextures[0]->Activate();
+      this->DepthTextures[1]->Activate();
+      quad.Program->SetUniformi("firstLayer", this->DepthTextures[0]->GetTextureUnit());
+      quad.Program->SetUniformi("secondLayer", this->DepthTextures[1]->GetTextureUnit());
+      quad.Render();
+      this->DepthTextures[0]->Deactivate();
+      this->DepthTextures[1]->Deactivate();
+      ostate->vtkglDepthFunc(GL_LESS);
+      // The map program is current again for the next slot.
+      win->GetShaderCache()->ReadyShaderProgram(program);
+    }
+    else if (midpoint)
+    {
+      // Woo's midpoint (ch. 4.1.1); no second surface leaves the far value 1 as the
+      // second depth, so a lone surface stays lit by a half-range margin.
+      const float* second = this->SecondLayer.data();
+      vtkSMPTools::For(0, static_cast<vtkIdType>(texels), [&](vtkIdType b, vtkIdType e) {
+        for (vtkIdType i = b; i < e; ++i)
+        {
+          map[static_cast<size_t>(i)] = 0.5f * (map[static_cast<size_t>(i)] + second[i]);
+        }
+      });
+    }
+    ++self->NumberOfMapRenders;
+  }
+  maps->Valid = true;
+  self->MapTimeMs = ElapsedMs(mapStart);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Per-sample lookup on the GPU for a CPU sample set (Brabec 2003, ch. 5: hardware depth
+// compare): the pending samples as a compacted list, one fragment each, one draw per slot.
+bool vtkPenumbraShadowMapShadows::Internals::LookupList(vtkPenumbraShadowMapShadows* self,
+  const penumbra_light_views::FrameInputs& in, const LightSetup& setup, const LightMaps& m,
+  const unsigned char* state, float* vis, std::string& error)
+{
+  vtkOpenGLRenderWindow* win = in.Window;
+  const vtkIdType n = in.NumberOfSamples;
+  const float* nrm = in.Normals;
+  // ---- Per-sample lookup on the GPU (seed 004 ch. 5: hardware depth compare): the
+  // pending samples as a compacted list, one fragment each, one draw per slot.
+  std::vector<vtkIdType>& list = this->List;
+  list.clear();
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    if (state[s] == Pending)
+    {
+      list.push_back(s);
+    }
+  }
+  const vtkIdType count = static_cast<vtkIdType>(list.size());
+  const int listWidth = static_cast<int>(std::min<vtkIdType>(count, 2048));
+  const int listHeight = static_cast<int>((count + listWidth - 1) / listWidth);
+  std::vector<float>& positions = this->ListPositionData;
+  std::vector<float>& normals = this->ListNormalData;
+  positions.assign(static_cast<size_t>(4) * listWidth * listHeight, 0.0f);
+  normals.assign(positions.size(), 0.0f);
+  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const vtkIdType s = list[static_cast<size_t>(i)];
+      double p[3];
+      SamplePoint(in, s, p);
+      for (int c = 0; c < 3; ++c)
+      {
+        positions[static_cast<size_t>(4 * i + c)] = static_cast<float>(p[c]);
+        normals[static_cast<size_t>(4 * i + c)] = nrm[3 * s + c];
+      }
+    }
+  });
+  if (!this->LookupFBO)
+  {
+    this->LookupFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+    this->LookupFBO->SetContext(win);
+    this->ListPositions = Internals::FloatTexture(win);
+    this->ListNormals = Internals::FloatTexture(win);
+    this->ListVisibility = Internals::FloatTexture(win);
+    this->LookupQuad.reset(new vtkOpenGLQuadHelper(
+      win, nullptr, ComposeShader(vtkPenumbraShadowMapLookupFS).c_str(), ""));
+  }
+  for (vtkTextureObject* tex : { this->ListPositions.Get(), this->ListNormals.Get() })
+  {
+    tex->SetInternalFormat(GL_RGBA32F);
+    tex->SetFormat(GL_RGBA);
+    tex->SetDataType(GL_FLOAT);
+  }
+  this->ListPositions->Create2DFromRaw(listWidth, listHeight, 4, VTK_FLOAT, positions.data());
+  this->ListNormals->Create2DFromRaw(listWidth, listHeight, 4, VTK_FLOAT, normals.data());
+  this->ListVisibility->SetInternalFormat(GL_R32F);
+  this->ListVisibility->SetFormat(GL_RED);
+  this->ListVisibility->SetDataType(GL_FLOAT);
+  this->ListVisibility->Allocate2D(listWidth, listHeight, 1, VTK_FLOAT);
+
+  vtkOpenGLQuadHelper& quad = *this->LookupQuad;
+  win->GetShaderCache()->ReadyShaderProgram(quad.Program);
+  vtkShaderProgram* program = quad.Program;
+  if (!program || !program->GetCompiled())
+  {
+    error = "the shadow map lookup program does not compile or link on this OpenGL "
+            "implementation (sampler2DShadow is required)";
+    return false;
+  }
+  std::vector<float>& result = this->ListResult;
+  result.assign(static_cast<size_t>(listWidth) * listHeight, 1.0f);
+  {
+    vtkOpenGLState* ostate = win->GetState();
+    vtkOpenGLState::ScopedglClearColor clearColor(ostate);
+    penumbra_light_views::QuadPassState pass(
+      ostate, this->LookupFBO, { this->ListVisibility.Get() }, listWidth, listHeight);
+    ostate->vtkglClearColor(1.0, 1.0, 1.0, 1.0);
+    ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+
+    this->ListPositions->Activate();
+    this->ListNormals->Activate();
+    program->SetUniformi("samplePositions", this->ListPositions->GetTextureUnit());
+    program->SetUniformi("sampleNormals", this->ListNormals->GetTextureUnit());
+    program->SetUniformi("sampleCount", static_cast<int>(count));
+    program->SetUniformi("listWidth", listWidth);
+    this->SetCompareUniforms(self, program, setup, m);
+    for (size_t slot = 0; slot < m.Textures.size(); ++slot)
+    {
+      vtkTextureObject* map = m.Textures[slot];
+      if (!map)
+      {
+        continue; // no pending sample falls into this slot
+      }
+      SetSlotUniforms(program, m, static_cast<int>(slot));
+      map->Activate();
+      program->SetUniformi("shadowMap", map->GetTextureUnit());
+      quad.Render();
+      map->Deactivate();
+    }
+    this->ListPositions->Deactivate();
+    this->ListNormals->Deactivate();
+    this->LookupFBO->ActivateReadBuffer(0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, listWidth, listHeight, GL_RED, GL_FLOAT, result.data());
+  }
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    vis[list[static_cast<size_t>(i)]] = result[static_cast<size_t>(i)];
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShadows* self,
+  const penumbra_light_views::FrameInputs& in, const LightSetup& setup, const LightMaps& m,
+  const unsigned char* state, float* vis)
+{
+  const vtkIdType n = in.NumberOfSamples;
+  const float* nrm = in.Normals;
+  const int size = m.Size;
+  const int slotMode = this->SlotMode(self, setup);
+  const int radius = self->Filter == FILTER_PCF ? (self->PCFKernel | 1) / 2 : 0;
+  const double slopeBias = self->SlopeBias * (1.0 + radius);
+  const double constantBias = self->Bias;
   // ---- Per-sample lookup on the CPU, double precision (see the class description).
   vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType s = begin; s < end; ++s)
@@ -1007,8 +1218,8 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
         continue;
       }
       double p[3];
-      samplePoint(s, p);
-      const int slot = slotOf(p);
+      SamplePoint(in, s, p);
+      const int slot = SlotOf(setup, slotMode, p);
       const std::vector<float>& map = m.Maps[static_cast<size_t>(slot)];
       if (map.empty())
       {
@@ -1087,10 +1298,272 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
       vis[s] = static_cast<float>(litTaps) / static_cast<float>(taps);
     }
   });
-  this->LookupTimeMs = ElapsedMs(lookupStart);
-  visibility->Modified();
-  this->LastTimeMs = ElapsedMs(start);
-  return 1;
+}
+
+//------------------------------------------------------------------------------
+// The uniforms every slot shares (vtkPenumbraShadowMapCompare.glsl).
+void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(
+  vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightSetup& setup,
+  const LightMaps& m)
+{
+  const int radius = self->Filter == FILTER_PCF ? (self->PCFKernel | 1) / 2 : 0;
+  program->SetUniformi("slotMode", this->SlotMode(self, setup));
+  const float centre[3] = { static_cast<float>(setup.Position[0]),
+    static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
+  const float toLight[3] = { static_cast<float>(setup.Direction[0]),
+    static_cast<float>(setup.Direction[1]), static_cast<float>(setup.Direction[2]) };
+  program->SetUniform3f("lightPosition", centre);
+  program->SetUniform3f("toLightDirection", toLight);
+  program->SetUniformf("mapScale", static_cast<float>(m.MapScale));
+  program->SetUniformf("mapSize", static_cast<float>(m.Size));
+  program->SetUniformf("constantBias", static_cast<float>(self->Bias));
+  program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias * (1.0 + radius)));
+  program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
+  program->SetUniformi("radius", radius);
+}
+
+//------------------------------------------------------------------------------
+// One light of a GPU-resident frame: the maps are fitted to the G-buffer's receivers on the
+// GPU (a tile reduction, read back as a few kilobytes) when they must be rebuilt, and looked
+// up straight from the G-buffer into the light's visibility channel. No sample is read back.
+bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
+  vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame, int k, std::string& error)
+{
+  const auto start = Clock::now();
+  self->NumberOfViews = 0;
+  self->MapTimeMs = self->LookupTimeMs = 0.0;
+  vtkLight* light = frame->GetShadowedLight(k);
+  vtkPenumbraSceneGeometry* geometry = frame->GetGeometry();
+  vtkOpenGLRenderWindow* win = frame->GetWindow();
+  if (!light || !geometry || !win)
+  {
+    error = "the frame has no light, geometry or OpenGL window";
+    return false;
+  }
+  if (vtkPenumbraAreaLight::SafeDownCast(light))
+  {
+    error = "area and linear lights need a soft-shadow technique (gears, raytraced)";
+    return false;
+  }
+  double origin[3];
+  geometry->GetOrigin(origin);
+  LightSetup setup;
+  if (!setup.Read(light, origin, error))
+  {
+    return false;
+  }
+  const bool anyCaster = !setup.Off && this->UpdateCasters(self, win, geometry);
+  win->MakeCurrent();
+  LightMaps* maps = nullptr;
+  if (anyCaster)
+  {
+    const double noShift[3] = { 0, 0, 0 };
+    const double samples = static_cast<double>(frame->GetWidth()) * frame->GetHeight();
+    std::vector<double> key = this->MapKey(
+      self, frame->GetRenderer(), light, geometry, noShift, -samples, frame->GetNumberOfLayers());
+    maps = &penumbra_light_views::LightCacheEntry(this->Cache, light);
+    if (!maps->Valid || maps->Key != key || maps->Size != self->Resolution)
+    {
+      ReceiverExtent extent;
+      if (!this->ReduceExtent(self, frame, setup, extent, error))
+      {
+        return false;
+      }
+      maps->Key.swap(key);
+      if (!this->RenderMaps(self, win, geometry, setup, extent, maps, error))
+      {
+        return false;
+      }
+    }
+    self->NumberOfViews = CountViews(*maps);
+  }
+  const auto lookupStart = Clock::now();
+  const bool ok = this->LookupFrame(self, frame, k, setup, anyCaster, maps, error);
+  self->LookupTimeMs = ElapsedMs(lookupStart);
+  self->LastTimeMs = ElapsedMs(start);
+  return ok;
+}
+
+//------------------------------------------------------------------------------
+// The receiver extent of every layer of the frame, reduced on the GPU in Tile x Tile blocks.
+bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapShadows* self,
+  vtkPenumbraFrame* frame, const LightSetup& setup, ReceiverExtent& extent, std::string& error)
+{
+  vtkOpenGLRenderWindow* win = frame->GetWindow();
+  if (!this->ExtentQuad)
+  {
+    this->ExtentQuad.reset(new vtkOpenGLQuadHelper(
+      win, nullptr, ComposeShader(vtkPenumbraShadowMapExtentFS).c_str(), ""));
+    this->ExtentFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+    this->ExtentFBO->SetContext(win);
+  }
+  vtkShaderProgram* program = this->ExtentQuad->Program;
+  if (!program || !program->GetCompiled())
+  {
+    error = "the receiver-extent program does not compile on this OpenGL implementation "
+            "(double precision, GL_ARB_gpu_shader_fp64, is required)";
+    return false;
+  }
+  const int tile = ExtentTile;
+  const int w = frame->GetWidth(), h = frame->GetHeight();
+  const int tw = (w + tile - 1) / tile, th = (h + tile - 1) / tile;
+  const int slotMode = this->SlotMode(self, setup);
+  double axes[3][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+  if (setup.Type != LightSetup::Kind::Point)
+  {
+    LightAxes(setup, axes);
+  }
+  std::vector<vtkTextureObject*> targets;
+  for (auto& tex : this->ExtentTextures)
+  {
+    if (!tex)
+    {
+      tex = Internals::FloatTexture(win);
+      tex->SetInternalFormat(GL_RGBA32F);
+      tex->SetFormat(GL_RGBA);
+      tex->SetDataType(GL_FLOAT);
+    }
+    if (static_cast<int>(tex->GetWidth()) != tw || static_cast<int>(tex->GetHeight()) != th)
+    {
+      tex->Allocate2D(tw, th, 4, VTK_FLOAT);
+    }
+    targets.push_back(tex);
+  }
+  for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
+  {
+    vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
+    penumbra_light_views::QuadPassState pass(win->GetState(), this->ExtentFBO, targets, tw, th);
+    win->GetShaderCache()->ReadyShaderProgram(program);
+    gbuffer->GetPositionTexture()->Activate();
+    gbuffer->GetNormalTexture()->Activate();
+    program->SetUniformi("samplePositions", gbuffer->GetPositionTexture()->GetTextureUnit());
+    program->SetUniformi("sampleNormals", gbuffer->GetNormalTexture()->GetTextureUnit());
+    const int sampleSize[2] = { w, h };
+    program->SetUniform2i("sampleSize", sampleSize);
+    program->SetUniformi("tile", tile);
+    program->SetUniformi("slotMode", slotMode);
+    const float centre[3] = { static_cast<float>(setup.Position[0]),
+      static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
+    program->SetUniform3f("lightPosition", centre);
+    SetClassifyUniforms(program, setup, true);
+    SetDouble3(program, "axis0", axes[0]);
+    SetDouble3(program, "axis1", axes[1]);
+    SetDouble3(program, "axis2", axes[2]);
+    this->ExtentQuad->Render();
+    gbuffer->GetPositionTexture()->Deactivate();
+    gbuffer->GetNormalTexture()->Deactivate();
+    for (int a = 0; a < 4; ++a)
+    {
+      this->ExtentData[a].resize(static_cast<size_t>(4) * tw * th);
+      this->ExtentFBO->ActivateReadBuffer(static_cast<unsigned int>(a));
+      glPixelStorei(GL_PACK_ALIGNMENT, 4);
+      glReadPixels(0, 0, tw, th, GL_RGBA, GL_FLOAT, this->ExtentData[a].data());
+    }
+    this->MergeExtent(tw * th, extent);
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraShadowMapShadows::Internals::MergeExtent(int tiles, ReceiverExtent& e)
+{
+  const float* t0 = this->ExtentData[0].data();
+  const float* t1 = this->ExtentData[1].data();
+  const float* t2 = this->ExtentData[2].data();
+  const float* t3 = this->ExtentData[3].data();
+  for (int i = 0; i < tiles; ++i)
+  {
+    const float pending = t3[4 * i + 3];
+    if (!(pending > 0.0f))
+    {
+      continue;
+    }
+    e.Pending += static_cast<vtkIdType>(pending);
+    const int used = static_cast<int>(t2[4 * i + 3]);
+    for (size_t slot = 0; slot < e.Used.size(); ++slot)
+    {
+      e.Used[slot] = static_cast<char>(e.Used[slot] || (used >> slot) & 1);
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      e.Box[2 * c] = std::min(e.Box[2 * c], static_cast<double>(t0[4 * i + c]));
+      e.Box[2 * c + 1] = std::max(e.Box[2 * c + 1], static_cast<double>(t1[4 * i + c]));
+      e.Lo[c] = std::min(e.Lo[c], static_cast<double>(t2[4 * i + c]));
+      e.Hi[c] = std::max(e.Hi[c], static_cast<double>(t3[4 * i + c]));
+    }
+    e.Farthest = std::max(e.Farthest, static_cast<double>(t0[4 * i + 3]));
+    e.SpotTan = std::max(e.SpotTan, static_cast<double>(t1[4 * i + 3]));
+  }
+}
+
+//------------------------------------------------------------------------------
+// The lookup on every layer's G-buffer, into light k's visibility channel: one draw per
+// rendered slot (the first also writes the samples the facing rules decide), or one draw
+// without a map when nothing is pending.
+bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapShadows* self,
+  vtkPenumbraFrame* frame, int k, const LightSetup& setup, bool anyCaster, const LightMaps* maps,
+  std::string& error)
+{
+  vtkOpenGLRenderWindow* win = frame->GetWindow();
+  if (!this->FrameQuad)
+  {
+    this->FrameQuad.reset(new vtkOpenGLQuadHelper(win, vtkPenumbraFrame::GetSurfaceQuadVS(),
+      ComposeShader(vtkPenumbraShadowMapFrameFS).c_str(), ""));
+    // A sampler2DShadow must never share a unit with the G-buffer's sampler2Ds, even when
+    // no map is read: a 1 x 1 stand-in is bound when there is none.
+    this->NoMap = Internals::CompareTexture(win, 1);
+  }
+  vtkShaderProgram* program = this->FrameQuad->Program;
+  if (!program || !program->GetCompiled())
+  {
+    error = "the shadow map lookup program does not compile on this OpenGL implementation "
+            "(sampler2DShadow and GL_ARB_gpu_shader_fp64 are required)";
+    return false;
+  }
+  std::vector<int> slots;
+  for (size_t slot = 0; maps && slot < maps->Textures.size(); ++slot)
+  {
+    if (maps->Textures[slot])
+    {
+      slots.push_back(static_cast<int>(slot));
+    }
+  }
+  for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
+  {
+    vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
+    vtkPenumbraFrame::VisibilityTarget target = frame->BindVisibilityTarget(layer, k);
+    win->GetShaderCache()->ReadyShaderProgram(program);
+    gbuffer->GetPositionTexture()->Activate();
+    gbuffer->GetNormalTexture()->Activate();
+    program->SetUniformi("samplePositions", gbuffer->GetPositionTexture()->GetTextureUnit());
+    program->SetUniformi("sampleNormals", gbuffer->GetNormalTexture()->GetTextureUnit());
+    SetClassifyUniforms(program, setup, anyCaster);
+    if (maps)
+    {
+      this->SetCompareUniforms(self, program, setup, *maps);
+    }
+    for (size_t i = 0; i < std::max<size_t>(1, slots.size()); ++i)
+    {
+      vtkTextureObject* map = slots.empty() ? this->NoMap.Get()
+                                            : maps->Textures[static_cast<size_t>(slots[i])].Get();
+      program->SetUniformi("writeDecided", i == 0 ? 1 : 0);
+      if (slots.empty())
+      {
+        program->SetUniformi("slot", -1);
+      }
+      else
+      {
+        SetSlotUniforms(program, *maps, slots[i]);
+      }
+      map->Activate();
+      program->SetUniformi("shadowMap", map->GetTextureUnit());
+      this->FrameQuad->Render();
+      map->Deactivate();
+    }
+    gbuffer->GetPositionTexture()->Deactivate();
+    gbuffer->GetNormalTexture()->Deactivate();
+  }
+  return true;
 }
 
 //------------------------------------------------------------------------------

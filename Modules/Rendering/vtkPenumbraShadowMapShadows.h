@@ -68,6 +68,14 @@ public:
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
 
+  /**
+   * With the GPU lookup (default), every light is answered on the GPU: the maps are fitted to
+   * the frame's G-buffer by a reduction on the GPU and looked up from the G-buffer straight
+   * into the light's visibility channel, so no sample is read back. The CPU lookup reads the
+   * samples back (vtkPenumbraShadowTechnique::ComputeFrame()).
+   */
+  int ComputeFrame(vtkPenumbraFrame* frame) override;
+
   void ReleaseGraphicsResources(vtkWindow* window) override;
 
   enum FilterModes

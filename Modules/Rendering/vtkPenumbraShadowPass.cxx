@@ -16,7 +16,9 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLState.h"
 #include "vtkOverlayPass.h"
-#include "vtkPenumbraGoniometricLight.h"
+#include "vtkCamera.h"
+#include "vtkMatrix4x4.h"
+#include "vtkPenumbraFrame.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraShadowTechnique.h"
@@ -37,6 +39,7 @@
 #include "vtkPenumbraVisibilityDec.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -45,51 +48,6 @@ namespace
 double Now()
 {
   return vtkTimerLog::GetUniversalTime();
-}
-
-// Slot `i` of a pool of per-light arrays, created on first use and kept: a frame reuses the
-// previous frame's arrays (same sizes, so no allocation) instead of allocating 4 bytes per
-// pixel and light afresh, whose page faults cost tens of ms per frame at 1280 x 720.
-vtkFloatArray* Pooled(std::vector<vtkSmartPointer<vtkFloatArray>>& pool, size_t i)
-{
-  if (pool.size() <= i)
-  {
-    pool.resize(i + 1);
-  }
-  if (!pool[i])
-  {
-    pool[i] = vtkSmartPointer<vtkFloatArray>::New();
-  }
-  return pool[i];
-}
-
-// Goniometric diagram (seed 004 §8.3.1): the thesis scales its shadow mask by the light's
-// relative intensity toward each sample. Done here, after any technique, so every technique
-// renders the diagram and the visibility stays the geometric one the reference checks.
-// Returns `vis` itself for other lights, for goniometric ones a scaled copy in pool slot `i`.
-vtkFloatArray* ScaleByDiagram(vtkLight* light, vtkPenumbraViewSamples* samples,
-  vtkFloatArray* vis, std::vector<vtkSmartPointer<vtkFloatArray>>& pool, size_t i)
-{
-  auto* gonio = vtkPenumbraGoniometricLight::SafeDownCast(light);
-  if (!gonio || !vis)
-  {
-    return vis;
-  }
-  vtkFloatArray* scaled = Pooled(pool, i);
-  scaled->DeepCopy(vis);
-  double lightWorld[3];
-  gonio->GetTransformedPosition(lightWorld);
-  float* v = scaled->GetPointer(0);
-  for (vtkIdType s = 0; s < scaled->GetNumberOfTuples(); ++s)
-  {
-    double w[3];
-    if (v[s] > 0.0f && samples->GetWorldPosition(s, w))
-    {
-      const double d[3] = { w[0] - lightWorld[0], w[1] - lightWorld[1], w[2] - lightWorld[2] };
-      v[s] = static_cast<float>(v[s] * gonio->GetRelativeIntensity(d));
-    }
-  }
-  return scaled;
 }
 
 // Stands where VTK's vtkShadowMapBakerPass stands in existing pipelines; see
@@ -116,63 +74,6 @@ bool IsTranslucentReceiver(vtkProp* prop)
     vtkPenumbraShadowKeys::ReceivesShadows(prop);
 }
 
-// Samples of props that do not receive are lit unshadowed: they get no shadow work.
-void DropNonReceivers(vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples)
-{
-  std::vector<char> receives(static_cast<size_t>(geometry->GetNumberOfProps()), 1);
-  bool anyNonReceiver = false;
-  for (size_t p = 0; p < receives.size(); ++p)
-  {
-    receives[p] = vtkPenumbraShadowKeys::ReceivesShadows(geometry->GetProp(static_cast<int>(p)));
-    anyNonReceiver = anyNonReceiver || !receives[p];
-  }
-  if (!anyNonReceiver)
-  {
-    return;
-  }
-  int* props = samples->GetPropIndices()->GetPointer(0);
-  vtkIdType* tris = samples->GetTriangleIds()->GetPointer(0);
-  for (vtkIdType i = 0; i < samples->GetNumberOfSamples(); ++i)
-  {
-    if (props[i] >= 0 && props[i] < static_cast<int>(receives.size()) &&
-      !receives[static_cast<size_t>(props[i])])
-    {
-      props[i] = -1;
-      tris[i] = -1;
-    }
-  }
-}
-
-// `out` = the rows of `a` followed by the rows of `b` (same width and origin), so that one
-// technique call serves both sample layers (and per-light caches stay valid).
-void Stack(vtkPenumbraViewSamples* a, vtkPenumbraViewSamples* b, vtkPenumbraViewSamples* out)
-{
-  out->SetSize(a->GetWidth(), a->GetHeight() + b->GetHeight());
-  out->SetOrigin(a->GetOrigin());
-  out->SetCameraPosition(a->GetCameraPosition());
-  const vtkIdType na = a->GetNumberOfSamples();
-  const vtkIdType nb = b->GetNumberOfSamples();
-  auto copy = [&](auto* dst, auto* srcA, auto* srcB, int components) {
-    std::copy(srcA->GetPointer(0), srcA->GetPointer(0) + components * na, dst->GetPointer(0));
-    std::copy(
-      srcB->GetPointer(0), srcB->GetPointer(0) + components * nb, dst->GetPointer(components * na));
-  };
-  copy(out->GetPositions(), a->GetPositions(), b->GetPositions(), 3);
-  copy(out->GetNormals(), a->GetNormals(), b->GetNormals(), 3);
-  copy(out->GetPropIndices(), a->GetPropIndices(), b->GetPropIndices(), 1);
-  copy(out->GetTriangleIds(), a->GetTriangleIds(), b->GetTriangleIds(), 1);
-  out->Modified();
-}
-
-// The values [begin, begin + n) of `in`, copied into `out`.
-vtkFloatArray* Slice(vtkFloatArray* in, vtkIdType begin, vtkIdType n, vtkFloatArray* out)
-{
-  out->SetNumberOfComponents(1);
-  out->SetNumberOfTuples(n);
-  std::copy(in->GetPointer(begin), in->GetPointer(begin) + n, out->GetPointer(0));
-  return out;
-}
-
 // Shader tags of the two sample layers and the prefixes of their visibility samplers.
 const char* const LayerTags[2] = { "//PENUMBRA::Visibility::Dec",
   "//PENUMBRA::TranslucentVisibility::Dec" };
@@ -190,27 +91,19 @@ struct vtkPenumbraShadowPass::Internals
     vtkSmartPointer<vtkPenumbraViewSamplesPass>::New();
   // Nearest translucent surface per pixel, sampled only when translucent receivers exist.
   vtkSmartPointer<vtkPenumbraViewSamplesPass> TranslucentSamplesPass;
-  vtkSmartPointer<vtkPenumbraViewSamples> Stacked; // opaque rows, then translucent rows
+  vtkSmartPointer<vtkPenumbraFrame> Frame = vtkSmartPointer<vtkPenumbraFrame>::New();
   bool HasTranslucentLayer = false;
+  bool HasFrame = false; // Frame holds a frame rendered with shadows
 
   std::vector<vtkSmartPointer<vtkLight>> Lights; // switched-on, shader order
-  // Per layer (0 opaque, 1 translucent) and light: visibility, null = no shadow.
-  std::vector<vtkSmartPointer<vtkFloatArray>> Visibility[2];
-  // Array pools (see Pooled()): the technique's per-light results, their per-layer slices,
-  // the diagram-scaled copies.
-  std::vector<vtkSmartPointer<vtkFloatArray>> ResultPool, SlicePool[2], ScaledPool[2];
-  // Per layer and light: what the light's colour is scaled by (the visibility, times the
-  // diagram for goniometric lights); null = no shadow.
-  std::vector<vtkSmartPointer<vtkFloatArray>> Factor[2];
-  // Upload staging, kept between frames (no per-frame allocation of 16 bytes per pixel).
-  std::vector<float> Texels;
-  // Per layer: 4 lights per RGBA texture, and the samplers' names.
-  std::vector<vtkSmartPointer<vtkTextureObject>> Textures[2];
-  std::vector<std::string> SamplerNames[2];
 
   // Number of lights whose colour the shaders scale; shader code depends on it.
   int InjectedLights = 0;
   vtkTimeStamp ShaderTime;
+
+  // Everything the last shadowed frame depended on (FrameKey()); equal keys reuse it.
+  std::vector<double> LastKey;
+  bool LastReused = false;
 
   double ExtractionMs = 0, SamplesMs = 0, TechniqueMs = 0, ShadingMs = 0;
 
@@ -220,14 +113,6 @@ struct vtkPenumbraShadowPass::Internals
     {
       this->InjectedLights = n;
       this->ShaderTime.Modified();
-      for (int layer = 0; layer < 2; ++layer)
-      {
-        this->SamplerNames[layer].clear();
-        for (int k = 0; k < (n + 3) / 4; ++k)
-        {
-          this->SamplerNames[layer].push_back(LayerSamplers[layer] + std::to_string(k));
-        }
-      }
     }
   }
 
@@ -238,7 +123,138 @@ struct vtkPenumbraShadowPass::Internals
     return light->GetIntensity() > 0.0 && (c[0] > 0 || c[1] > 0 || c[2] > 0 || s[0] > 0 ||
                                              s[1] > 0 || s[2] > 0);
   }
+
+  void CollectLights(vtkRenderer* ren);
+  std::vector<double> FrameKey(const vtkRenderState* s, vtkPenumbraShadowPass* pass);
+  void RenderSamples(const vtkRenderState* s);
+  void ComputeVisibility(vtkPenumbraShadowPass* pass);
 };
+
+void vtkPenumbraShadowPass::Internals::CollectLights(vtkRenderer* ren)
+{
+  this->Lights.clear();
+  vtkLightCollection* lights = ren->GetLights();
+  vtkCollectionSimpleIterator it;
+  lights->InitTraversal(it);
+  while (vtkLight* light = lights->GetNextLight(it))
+  {
+    if (light->GetSwitch())
+    {
+      this->Lights.emplace_back(light);
+    }
+  }
+}
+
+// By value where VTK modifies objects without changing them (cameras, props), by MTime where
+// a time is the only witness (lights, geometry, flags, settings).
+std::vector<double> vtkPenumbraShadowPass::Internals::FrameKey(
+  const vtkRenderState* s, vtkPenumbraShadowPass* pass)
+{
+  std::vector<double> key;
+  vtkRenderer* ren = s->GetRenderer();
+  int size[4];
+  ren->GetTiledSizeAndOrigin(&size[0], &size[1], &size[2], &size[3]);
+  key.insert(key.end(), size, size + 4);
+  vtkCamera* cam = ren->GetActiveCamera();
+  const double aspect = size[1] > 0 ? static_cast<double>(size[0]) / size[1] : 1.0;
+  for (vtkMatrix4x4* m : { cam->GetModelViewTransformMatrix(),
+         cam->GetCompositeProjectionTransformMatrix(aspect, -1, 1) })
+  {
+    key.insert(key.end(), &m->Element[0][0], &m->Element[0][0] + 16);
+  }
+  for (auto& light : this->Lights)
+  {
+    double p[3], f[3];
+    light->GetTransformedPosition(p);
+    light->GetTransformedFocalPoint(f);
+    key.insert(key.end(), p, p + 3);
+    key.insert(key.end(), f, f + 3);
+    key.push_back(static_cast<double>(light->GetMTime()));
+    key.push_back(reinterpret_cast<std::uintptr_t>(light.Get()));
+  }
+  key.push_back(static_cast<double>(this->Geometry->GetGeometryTime()));
+  key.push_back(static_cast<double>(this->Geometry->GetFlagsTime()));
+  // What of the props the view samples show beyond their triangles (which GeometryTime
+  // covers): which props are drawn, which are translucent receivers (the second layer), and
+  // whether they are lit and how they are drawn (unlit props give no samples).
+  for (int i = 0; i < s->GetPropArrayCount(); ++i)
+  {
+    vtkProp* prop = s->GetPropArray()[i];
+    key.push_back(reinterpret_cast<std::uintptr_t>(prop));
+    key.push_back(prop->GetVisibility());
+    key.push_back(IsTranslucentReceiver(prop));
+    if (auto* actor = vtkActor::SafeDownCast(prop))
+    {
+      vtkProperty* property = actor->GetProperty();
+      key.push_back(property->GetLighting());
+      key.push_back(property->GetRepresentation());
+      key.push_back(property->GetBackfaceCulling());
+      key.push_back(property->GetFrontfaceCulling());
+    }
+  }
+  key.push_back(static_cast<double>(pass->GetMTime()));
+  key.push_back(reinterpret_cast<std::uintptr_t>(this->Technique.Get()));
+  key.push_back(static_cast<double>(this->Technique ? this->Technique->GetMTime() : 0));
+  key.push_back(reinterpret_cast<std::uintptr_t>(ren->GetRenderWindow()));
+  return key;
+}
+
+void vtkPenumbraShadowPass::Internals::RenderSamples(const vtkRenderState* s)
+{
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(s->GetRenderer()->GetRenderWindow());
+  this->SamplesPass->SetGeometry(this->Geometry);
+  this->SamplesPass->Render(s);
+  // Translucent receivers: their nearest surface per pixel is a second sample layer
+  // (translucent props are drawn after the opaque ones, over them, and need their own
+  // visibility; the opaque samples hold the surface behind them).
+  this->HasTranslucentLayer = false;
+  for (int i = 0; i < s->GetPropArrayCount() && !this->HasTranslucentLayer; ++i)
+  {
+    this->HasTranslucentLayer = IsTranslucentReceiver(s->GetPropArray()[i]);
+  }
+  if (this->HasTranslucentLayer)
+  {
+    if (!this->TranslucentSamplesPass)
+    {
+      this->TranslucentSamplesPass = vtkSmartPointer<vtkPenumbraViewSamplesPass>::New();
+      this->TranslucentSamplesPass->TranslucentOn();
+    }
+    this->TranslucentSamplesPass->SetGeometry(this->Geometry);
+    this->TranslucentSamplesPass->Render(s);
+  }
+  win->WaitForCompletion();
+}
+
+void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* pass)
+{
+  vtkPenumbraFrame* frame = this->Frame;
+  for (size_t i = 0; i < this->Lights.size(); ++i)
+  {
+    if (Internals::CastsLight(this->Lights[i]))
+    {
+      frame->AddShadowedLight(this->Lights[i], static_cast<int>(i));
+    }
+  }
+  if (frame->GetNumberOfShadowedLights() > 0)
+  {
+    this->Technique->ComputeFrame(frame);
+  }
+  int injected = 0;
+  for (int k = 0; k < frame->GetNumberOfShadowedLights(); ++k)
+  {
+    if (frame->HasVisibility(k))
+    {
+      injected = frame->GetLightIndex(k) + 1;
+    }
+    else
+    {
+      vtkErrorWithObjectMacro(pass, "Light " << frame->GetLightIndex(k)
+                                             << " rendered without shadows: the technique failed");
+    }
+  }
+  frame->Finish();
+  this->SetInjectedLights(injected);
+}
 
 vtkStandardNewMacro(vtkPenumbraShadowPass);
 
@@ -322,30 +338,34 @@ vtkLight* vtkPenumbraShadowPass::GetLight(int index)
 
 vtkFloatArray* vtkPenumbraShadowPass::GetVisibility(int index)
 {
-  return (index >= 0 && index < static_cast<int>(this->Impl->Visibility[0].size()))
-    ? this->Impl->Visibility[0][static_cast<size_t>(index)].Get()
-    : nullptr;
+  return this->Impl->HasFrame ? this->Impl->Frame->GetVisibility(0, index) : nullptr;
 }
 
 vtkFloatArray* vtkPenumbraShadowPass::GetLightFactor(int index)
 {
-  return (index >= 0 && index < static_cast<int>(this->Impl->Factor[0].size()))
-    ? this->Impl->Factor[0][static_cast<size_t>(index)].Get()
-    : nullptr;
+  return this->Impl->HasFrame ? this->Impl->Frame->GetLightFactor(0, index) : nullptr;
 }
 
 vtkPenumbraViewSamples* vtkPenumbraShadowPass::GetTranslucentViewSamples()
 {
-  return this->Impl->HasTranslucentLayer ? this->Impl->TranslucentSamplesPass->GetSamples()
-                                         : nullptr;
+  return this->Impl->HasFrame && this->Impl->HasTranslucentLayer
+    ? this->Impl->TranslucentSamplesPass->GetSamples()
+    : nullptr;
 }
 
 vtkFloatArray* vtkPenumbraShadowPass::GetTranslucentVisibility(int index)
 {
-  return (this->Impl->HasTranslucentLayer && index >= 0 &&
-           index < static_cast<int>(this->Impl->Visibility[1].size()))
-    ? this->Impl->Visibility[1][static_cast<size_t>(index)].Get()
-    : nullptr;
+  return this->Impl->HasFrame ? this->Impl->Frame->GetVisibility(1, index) : nullptr;
+}
+
+vtkPenumbraFrame* vtkPenumbraShadowPass::GetFrame()
+{
+  return this->Impl->HasFrame ? this->Impl->Frame.Get() : nullptr;
+}
+
+bool vtkPenumbraShadowPass::GetLastFrameReused()
+{
+  return this->Impl->LastReused;
 }
 
 double vtkPenumbraShadowPass::GetExtractionTimeMs()
@@ -382,20 +402,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
 
   // Light positions must be final (headlights follow the camera) before shadows are cast.
   this->UpdateLightGeometry(ren);
-  impl.Lights.clear();
-  vtkLightCollection* lights = ren->GetLights();
-  vtkCollectionSimpleIterator it;
-  lights->InitTraversal(it);
-  while (vtkLight* light = lights->GetNextLight(it))
-  {
-    if (light->GetSwitch())
-    {
-      impl.Lights.emplace_back(light);
-    }
-  }
-  impl.Visibility[0].assign(impl.Lights.size(), nullptr);
-  impl.Visibility[1].assign(impl.Lights.size(), nullptr);
-  impl.HasTranslucentLayer = false;
+  impl.CollectLights(ren);
   bool anyShadowed = false;
   for (auto& light : impl.Lights)
   {
@@ -403,6 +410,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   }
 
   impl.ExtractionMs = impl.SamplesMs = impl.TechniqueMs = 0.0;
+  impl.LastReused = false;
   double t = Now();
   bool geometryOk = false;
   if (anyShadowed)
@@ -419,171 +427,52 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   ren->GetTiledSizeAndOrigin(&w, &h, &x, &y);
   if (anyShadowed && geometryOk && w > 0 && h > 0)
   {
-    t = Now();
-    impl.SamplesPass->SetGeometry(impl.Geometry);
-    impl.SamplesPass->Render(s);
-    win->WaitForCompletion();
-
-    // Translucent receivers: their nearest surface per pixel is a second sample layer
-    // (translucent props are drawn after the opaque ones, over them, and need their own
-    // visibility; the opaque samples hold the surface behind them).
-    for (int i = 0; i < s->GetPropArrayCount() && !impl.HasTranslucentLayer; ++i)
+    std::vector<double> key = impl.FrameKey(s, this);
+    impl.LastReused = this->ReuseUnchangedFrames && impl.HasFrame && key == impl.LastKey;
+    if (!impl.LastReused)
     {
-      impl.HasTranslucentLayer = IsTranslucentReceiver(s->GetPropArray()[i]);
-    }
-    if (impl.HasTranslucentLayer)
-    {
-      if (!impl.TranslucentSamplesPass)
-      {
-        impl.TranslucentSamplesPass = vtkSmartPointer<vtkPenumbraViewSamplesPass>::New();
-        impl.TranslucentSamplesPass->TranslucentOn();
-        impl.Stacked = vtkSmartPointer<vtkPenumbraViewSamples>::New();
-      }
-      impl.TranslucentSamplesPass->SetGeometry(impl.Geometry);
-      impl.TranslucentSamplesPass->Render(s);
+      t = Now();
+      impl.RenderSamples(s);
+      impl.SamplesMs = 1000.0 * (Now() - t);
+      t = Now();
+      impl.Frame->Begin(ren, impl.Geometry, impl.SamplesPass,
+        impl.HasTranslucentLayer ? impl.TranslucentSamplesPass.Get() : nullptr,
+        static_cast<int>(impl.Lights.size()));
+      impl.HasFrame = true;
+      impl.ComputeVisibility(this);
       win->WaitForCompletion();
-    }
-    impl.SamplesMs = 1000.0 * (Now() - t);
-
-    t = Now();
-    vtkPenumbraViewSamples* samples = impl.SamplesPass->GetSamples();
-    DropNonReceivers(impl.Geometry, samples);
-    vtkPenumbraViewSamples* work = samples;
-    if (impl.HasTranslucentLayer)
-    {
-      vtkPenumbraViewSamples* translucent = impl.TranslucentSamplesPass->GetSamples();
-      DropNonReceivers(impl.Geometry, translucent);
-      Stack(samples, translucent, impl.Stacked);
-      work = impl.Stacked;
-    }
-    const vtkIdType n = samples->GetNumberOfSamples();
-    // Every light that casts light, in one call: techniques may share work between lights
-    // (shadow volumes count four lights per RGBA mask, seed 004 ch. 8).
-    vtkNew<vtkLightCollection> casting;
-    vtkNew<vtkCollection> results;
-    std::vector<size_t> index;
-    for (size_t i = 0; i < impl.Lights.size(); ++i)
-    {
-      if (!Internals::CastsLight(impl.Lights[i]))
-      {
-        continue; // black or zero-intensity light: nothing to shadow
-      }
-      casting->AddItem(impl.Lights[i]);
-      results->AddItem(Pooled(impl.ResultPool, i));
-      index.push_back(i);
-    }
-    if (!index.empty())
-    {
-      impl.Technique->ComputeVisibilities(ren, impl.Geometry, work, casting, results);
-    }
-    for (size_t k = 0; k < index.size(); ++k)
-    {
-      const size_t i = index[k];
-      auto* vis = vtkFloatArray::SafeDownCast(results->GetItemAsObject(static_cast<int>(k)));
-      if (vis && vis->GetNumberOfTuples() == work->GetNumberOfSamples())
-      {
-        if (impl.HasTranslucentLayer)
-        {
-          impl.Visibility[0][i] = Slice(vis, 0, n, Pooled(impl.SlicePool[0], i));
-          impl.Visibility[1][i] =
-            Slice(vis, n, work->GetNumberOfSamples() - n, Pooled(impl.SlicePool[1], i));
-        }
-        else
-        {
-          impl.Visibility[0][i] = vis;
-        }
-      }
-      else
-      {
-        vtkErrorMacro("Light " << i << " rendered without shadows: the technique failed");
-      }
-    }
-    impl.TechniqueMs = 1000.0 * (Now() - t);
-  }
-  for (int layer = 0; layer < 2; ++layer)
-  {
-    vtkPenumbraViewSamples* layerSamples = layer == 0 ? impl.SamplesPass->GetSamples()
-      : impl.HasTranslucentLayer                     ? impl.TranslucentSamplesPass->GetSamples()
-                                                     : nullptr;
-    impl.Factor[layer].assign(impl.Lights.size(), nullptr);
-    for (size_t i = 0; i < impl.Lights.size() && layerSamples; ++i)
-    {
-      impl.Factor[layer][i] =
-        ScaleByDiagram(impl.Lights[i], layerSamples, impl.Visibility[layer][i],
-          impl.ScaledPool[layer], i);
+      impl.TechniqueMs = 1000.0 * (Now() - t);
+      impl.LastKey.swap(key);
     }
   }
-
-  // Upload: 4 lights per RGBA texture and layer; unshadowed lights and background read 1.
-  int injected = 0;
-  for (size_t i = 0; i < impl.Visibility[0].size(); ++i)
+  else
   {
-    if (impl.Visibility[0][i])
-    {
-      injected = static_cast<int>(i) + 1;
-    }
-  }
-  impl.SetInjectedLights(injected);
-  const int textures = (injected + 3) / 4;
-  std::vector<float>& texels = impl.Texels;
-  for (int layer = 0; layer < 2; ++layer)
-  {
-    const bool used = layer == 0 || impl.HasTranslucentLayer;
-    impl.Textures[layer].resize(used ? static_cast<size_t>(textures) : 0);
-    for (int k = 0; used && k < textures; ++k)
-    {
-      const vtkIdType n = static_cast<vtkIdType>(w) * h;
-      texels.assign(static_cast<size_t>(4 * n), 1.0f);
-      for (int c = 0; c < 4; ++c)
-      {
-        const size_t light = static_cast<size_t>(4 * k + c);
-        vtkFloatArray* vis =
-          light < impl.Factor[layer].size() ? impl.Factor[layer][light].Get() : nullptr;
-        if (!vis)
-        {
-          continue;
-        }
-        const float* v = vis->GetPointer(0);
-        for (vtkIdType p = 0; p < n; ++p)
-        {
-          texels[static_cast<size_t>(4 * p + c)] = v[p] < 0.0f ? 1.0f : v[p];
-        }
-      }
-      auto& tex = impl.Textures[layer][static_cast<size_t>(k)];
-    if (!tex)
-    {
-      tex = vtkSmartPointer<vtkTextureObject>::New();
-      tex->SetContext(win);
-      tex->SetMinificationFilter(vtkTextureObject::Nearest);
-      tex->SetMagnificationFilter(vtkTextureObject::Nearest);
-      tex->SetWrapS(vtkTextureObject::ClampToEdge);
-      tex->SetWrapT(vtkTextureObject::ClampToEdge);
-    }
-    tex->SetInternalFormat(GL_RGBA32F);
-    tex->SetFormat(GL_RGBA);
-    tex->SetDataType(GL_FLOAT);
-    tex->Create2DFromRaw(w, h, 4, VTK_FLOAT, texels.data());
-    }
+    impl.HasFrame = false;
+    impl.LastKey.clear();
+    impl.SetInjectedLights(0);
   }
 
   t = Now();
-  for (auto& layer : impl.Textures)
+  std::vector<vtkTextureObject*> textures;
+  const int count = (impl.InjectedLights + 3) / 4;
+  for (int layer = 0; layer < 2; ++layer)
   {
-    for (auto& tex : layer)
+    for (int k = 0; k < count; ++k)
     {
-      tex->Activate();
+      if (vtkTextureObject* tex = impl.Frame->GetVisibilityTexture(layer, k))
+      {
+        textures.push_back(tex);
+        tex->Activate();
+      }
     }
   }
   this->PreRender(s);
   impl.Delegate->Render(s);
   this->NumberOfRenderedProps = impl.Delegate->GetNumberOfRenderedProps();
   this->PostRender(s);
-  for (auto& layer : impl.Textures)
+  for (vtkTextureObject* tex : textures)
   {
-    for (auto& tex : layer)
-    {
-      tex->Deactivate();
-    }
+    tex->Deactivate();
   }
   win->WaitForCompletion();
   impl.ShadingMs = 1000.0 * (Now() - t);
@@ -626,10 +515,11 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
   // A macro naming itself is not expanded again, so `lightColorN` inside it is the uniform.
   std::string dec = vtkPenumbraVisibilityDec;
   const Internals& impl = *this->Impl;
-  const std::vector<std::string>& samplers = impl.SamplerNames[layer];
-  for (const auto& name : samplers)
+  std::vector<std::string> samplers;
+  for (int k = 0; k < (impl.InjectedLights + 3) / 4; ++k)
   {
-    dec += "uniform sampler2D " + name + ";\n";
+    samplers.push_back(LayerSamplers[layer] + std::to_string(k));
+    dec += "uniform sampler2D " + samplers.back() + ";\n";
   }
   const char channels[] = "rgba";
   for (int i = 0; i < impl.InjectedLights; ++i)
@@ -639,8 +529,8 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
     {
       continue; // this shader does not light with light i
     }
-    dec += "#define " + color + " (" + color + " * texelFetch(" + samplers[i / 4] +
-      ", penumbraTexel(), 0)." + channels[i % 4] + ")\n";
+    dec += "#define " + color + " (" + color + " * penumbraShadow(texelFetch(" +
+      samplers[static_cast<size_t>(i / 4)] + ", penumbraTexel(), 0)." + channels[i % 4] + "))\n";
   }
   vtkShaderProgram::Substitute(fragmentShader, tag, dec, false);
   return true;
@@ -662,12 +552,13 @@ bool vtkPenumbraShadowPass::SetShaderParameters(
   program->SetUniform2i("penumbraViewportOrigin", origin);
   for (int layer = 0; layer < 2; ++layer)
   {
-    for (size_t k = 0; k < impl.Textures[layer].size(); ++k)
+    for (int k = 0; k < (impl.InjectedLights + 3) / 4; ++k)
     {
-      const char* name = impl.SamplerNames[layer][k].c_str();
-      if (program->IsUniformUsed(name))
+      const std::string name = LayerSamplers[layer] + std::to_string(k);
+      vtkTextureObject* tex = impl.Frame->GetVisibilityTexture(layer, k);
+      if (tex && program->IsUniformUsed(name.c_str()))
       {
-        program->SetUniformi(name, impl.Textures[layer][k]->GetTextureUnit());
+        program->SetUniformi(name.c_str(), tex->GetTextureUnit());
       }
     }
   }
@@ -690,14 +581,10 @@ void vtkPenumbraShadowPass::ReleaseGraphicsResources(vtkWindow* w)
   {
     impl.Technique->ReleaseGraphicsResources(w);
   }
-  for (auto& layer : impl.Textures)
-  {
-    for (auto& tex : layer)
-    {
-      tex->ReleaseGraphicsResources(w);
-    }
-    layer.clear();
-  }
+  impl.Frame->Release(w);
+  impl.HasFrame = false;
+  impl.LastKey.clear();
+  impl.SetInjectedLights(0);
 }
 
 void vtkPenumbraShadowPass::PrintSelf(ostream& os, vtkIndent indent)

@@ -22,8 +22,15 @@
  *     call (both layers stacked), and translucent props are shaded with it (see
  *     GetTranslucentViewSamples()).
  *
+ * The view samples and the visibility stay on the GPU (vtkPenumbraFrame): a technique that
+ * answers on the GPU reads nothing back, a CPU technique reads back what it needs. A frame
+ * in which nothing the shadows depend on changed (camera, window size, lights, geometry,
+ * shadow flags, props, technique and its settings) reuses the last frame's visibility and
+ * only shades (SetReuseUnchangedFrames()).
+ *
  * Use it inside a vtkCameraPass: `camera->SetDelegatePass(shadowPass); renderer->SetPass(camera)`.
- * The last frame's geometry, samples and per-light visibility are kept for analysis.
+ * The last frame's geometry, samples and per-light visibility are kept for analysis (read
+ * back from the GPU when asked).
  */
 
 #ifndef vtkPenumbraShadowPass_h
@@ -36,6 +43,7 @@
 
 class vtkFloatArray;
 class vtkLight;
+class vtkPenumbraFrame;
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraShadowTechnique;
 class vtkPenumbraViewSamples;
@@ -114,6 +122,28 @@ public:
   vtkFloatArray* GetTranslucentVisibility(int index);
   ///@}
 
+  /**
+   * The last shadowed frame: its G-buffer textures, visibility textures and the CPU views
+   * of both; nullptr when the last frame had no shadow work.
+   */
+  vtkPenumbraFrame* GetFrame();
+
+  ///@{
+  /**
+   * Reuse the last frame's visibility when nothing it depends on changed: the camera
+   * (view and projection), the window size, every switched-on light (by value and MTime),
+   * the scene geometry and shadow flags, the props drawn, and this pass's and the
+   * technique's settings. Default on. The benchmark turns it off to time the technique on a
+   * still scene.
+   */
+  vtkSetMacro(ReuseUnchangedFrames, bool);
+  vtkGetMacro(ReuseUnchangedFrames, bool);
+  vtkBooleanMacro(ReuseUnchangedFrames, bool);
+  ///@}
+
+  /** True when the last Render() reused the previous frame's visibility. */
+  bool GetLastFrameReused();
+
   ///@{
   /**
    * Times of the last frame's phases, in milliseconds (after glFinish where GPU work is
@@ -139,6 +169,8 @@ public:
 protected:
   vtkPenumbraShadowPass();
   ~vtkPenumbraShadowPass() override;
+
+  bool ReuseUnchangedFrames = true;
 
 private:
   vtkPenumbraShadowPass(const vtkPenumbraShadowPass&) = delete;

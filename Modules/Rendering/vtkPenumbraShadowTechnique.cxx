@@ -4,6 +4,42 @@
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
+#include "vtkNew.h"
+#include "vtkPenumbraFrame.h"
+#include "vtkPenumbraViewSamples.h"
+
+int vtkPenumbraShadowTechnique::ComputeFrame(vtkPenumbraFrame* frame)
+{
+  const int lights = frame->GetNumberOfShadowedLights();
+  vtkPenumbraViewSamples* samples = lights > 0 ? frame->GetSamples() : nullptr;
+  if (!samples)
+  {
+    return 0;
+  }
+  vtkNew<vtkLightCollection> casting;
+  vtkNew<vtkCollection> results;
+  for (int k = 0; k < lights; ++k)
+  {
+    if (this->FrameResults.size() <= static_cast<size_t>(k))
+    {
+      this->FrameResults.push_back(vtkSmartPointer<vtkFloatArray>::New());
+    }
+    casting->AddItem(frame->GetShadowedLight(k));
+    results->AddItem(this->FrameResults[static_cast<size_t>(k)]);
+  }
+  this->ComputeVisibilities(frame->GetRenderer(), frame->GetGeometry(), samples, casting, results);
+  int done = 0;
+  for (int k = 0; k < lights; ++k)
+  {
+    vtkFloatArray* vis = this->FrameResults[static_cast<size_t>(k)];
+    if (vis->GetNumberOfTuples() == samples->GetNumberOfSamples())
+    {
+      frame->SetVisibility(k, vis);
+      ++done;
+    }
+  }
+  return done;
+}
 
 int vtkPenumbraShadowTechnique::ComputeVisibilities(vtkRenderer* renderer,
   vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLightCollection* lights,

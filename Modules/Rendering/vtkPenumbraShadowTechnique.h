@@ -10,6 +10,11 @@
  * Visibility convention, per sample: 1 fully lit, 0 fully shadowed (including samples facing
  * away from the light and samples outside a spot light's cone), values in between for soft
  * shadows, and -1 for samples without a surface (background).
+ *
+ * vtkPenumbraShadowPass calls ComputeFrame() once per frame. Its default reads the frame's
+ * samples back to the CPU and calls ComputeVisibilities(); a technique that can answer on
+ * the GPU overrides ComputeFrame() and writes into the frame's visibility textures instead,
+ * so that nothing is read back (vtkPenumbraFrame).
  */
 
 #ifndef vtkPenumbraShadowTechnique_h
@@ -17,11 +22,15 @@
 
 #include "vtkObject.h"
 #include "vtkPenumbraRenderingModule.h" // For export macro
+#include "vtkSmartPointer.h"                // For FrameResults
+
+#include <vector> // For FrameResults
 
 class vtkCollection;
 class vtkFloatArray;
 class vtkLight;
 class vtkLightCollection;
+class vtkPenumbraFrame;
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
 class vtkRenderer;
@@ -51,6 +60,14 @@ public:
    */
   virtual int ComputeVisibilities(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLightCollection* lights, vtkCollection* visibilities);
+
+  /**
+   * Computes the visibility of every shadowed light of `frame` (vtkPenumbraFrame), and
+   * returns how many lights got an answer. The default reads the samples back
+   * (frame->GetSamples()), calls ComputeVisibilities() and hands the arrays to
+   * frame->SetVisibility(); GPU techniques override it.
+   */
+  virtual int ComputeFrame(vtkPenumbraFrame* frame);
 
   /**
    * Frees the GL objects the technique holds for `window` (default: none). Called by
@@ -86,6 +103,9 @@ protected:
   double LastTimeMs = 0.0;
 
 private:
+  // ComputeFrame()'s per-light arrays, kept between frames (no per-frame allocation).
+  std::vector<vtkSmartPointer<vtkFloatArray>> FrameResults;
+
   vtkPenumbraShadowTechnique(const vtkPenumbraShadowTechnique&) = delete;
   void operator=(const vtkPenumbraShadowTechnique&) = delete;
 };

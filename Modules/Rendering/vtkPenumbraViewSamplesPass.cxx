@@ -15,6 +15,7 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLState.h"
 #include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkProp.h"
 #include "vtkRenderState.h"
@@ -46,6 +47,11 @@ struct vtkPenumbraViewSamplesPass::Internals
   // Read-back buffers, kept between frames: allocating the 48 bytes per pixel afresh each
   // frame (44 MB at 1280 x 720) cost 40-80 ms of page faults per frame on the test machine.
   std::vector<float> ReadBuffers[3];
+  // The last Render(): size, frames, and whether Samples still holds an older frame.
+  int Width = 0, Height = 0;
+  double Origin[3] = { 0, 0, 0 };
+  double CameraPosition[3] = { 0, 0, 0 };
+  bool Stale = false;
 
   // Per-frame uniforms, computed once in double precision.
   vtkNew<vtkMatrix4x4> VCToRebasedTransposed;
@@ -97,8 +103,7 @@ struct vtkPenumbraViewSamplesPass::Internals
 vtkStandardNewMacro(vtkPenumbraViewSamplesPass);
 
 vtkPenumbraViewSamplesPass::vtkPenumbraViewSamplesPass()
-  : ReadBack(true)
-  , Impl(new Internals)
+  : Impl(new Internals)
 {
   this->ActiveDrawBuffers = 3;
 }
@@ -119,11 +124,6 @@ vtkPenumbraSceneGeometry* vtkPenumbraViewSamplesPass::GetGeometry()
   return this->Impl->Geometry;
 }
 
-vtkPenumbraViewSamples* vtkPenumbraViewSamplesPass::GetSamples()
-{
-  return this->Impl->Samples;
-}
-
 vtkTextureObject* vtkPenumbraViewSamplesPass::GetPositionTexture()
 {
   return this->Impl->Textures[0];
@@ -132,6 +132,11 @@ vtkTextureObject* vtkPenumbraViewSamplesPass::GetPositionTexture()
 vtkTextureObject* vtkPenumbraViewSamplesPass::GetNormalTexture()
 {
   return this->Impl->Textures[1];
+}
+
+vtkTextureObject* vtkPenumbraViewSamplesPass::GetDepthTexture()
+{
+  return this->Impl->Depth;
 }
 
 vtkTextureObject* vtkPenumbraViewSamplesPass::GetPrimitiveTexture()
@@ -252,47 +257,78 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
   }
   this->PostRender(s);
 
-  if (this->ReadBack)
+  impl.Width = w;
+  impl.Height = h;
+  std::copy(origin, origin + 3, impl.Origin);
+  std::copy(camPos, camPos + 3, impl.CameraPosition);
+  impl.Stale = true;
+  ostate->PopFramebufferBindings();
+}
+
+vtkPenumbraViewSamples* vtkPenumbraViewSamplesPass::GetSamples()
+{
+  Internals& impl = *this->Impl;
+  if (impl.Stale && impl.FBO)
   {
-    vtkPenumbraViewSamples* samples = impl.Samples;
-    samples->SetSize(w, h);
-    samples->SetOrigin(origin);
-    samples->SetCameraPosition(camPos);
-    const vtkIdType n = static_cast<vtkIdType>(w) * h;
-    std::vector<float>* buffers = impl.ReadBuffers;
-    for (int a = 0; a < 3; ++a)
-    {
-      buffers[a].resize(static_cast<size_t>(n) * 4);
-      impl.FBO->ActivateReadBuffer(a);
-      glPixelStorei(GL_PACK_ALIGNMENT, 1);
-      glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, buffers[a].data());
-    }
-    float* pos = samples->GetPositions()->GetPointer(0);
-    float* nrm = samples->GetNormals()->GetPointer(0);
-    int* props = samples->GetPropIndices()->GetPointer(0);
-    vtkIdType* tris = samples->GetTriangleIds()->GetPointer(0);
-    vtkPenumbraSceneGeometry* geometry = impl.Geometry;
-    vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        const float* p = &buffers[0][static_cast<size_t>(4 * i)];
-        const float* q = &buffers[1][static_cast<size_t>(4 * i)];
-        const float* t = &buffers[2][static_cast<size_t>(4 * i)];
-        const int prop = (p[3] > 0.5f) ? static_cast<int>(q[3]) : -1;
-        props[i] = prop;
-        for (int c = 0; c < 3; ++c)
-        {
-          pos[3 * i + c] = p[c];
-          nrm[3 * i + c] = q[c];
-        }
-        const vtkIdType prim =
-          static_cast<vtkIdType>(t[0]) + (static_cast<vtkIdType>(t[1]) << 16);
-        tris[i] = prop >= 0 ? geometry->MapPrimitiveId(prop, prim) : -1; // read-only lookup
-      }
-    });
-    samples->Modified();
+    impl.Samples->SetSize(impl.Width, impl.Height);
+    this->ReadSamples(impl.Samples, 0);
+    impl.Stale = false;
+  }
+  return impl.Samples;
+}
+
+bool vtkPenumbraViewSamplesPass::ReadSamples(vtkPenumbraViewSamples* target, int firstRow)
+{
+  Internals& impl = *this->Impl;
+  const int w = impl.Width, h = impl.Height;
+  if (!impl.FBO || !target || target->GetWidth() != w || firstRow < 0 ||
+    target->GetHeight() < firstRow + h || !impl.Geometry)
+  {
+    vtkErrorMacro("ReadSamples: no samples rendered, or a target of the wrong size");
+    return false;
+  }
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(impl.FBO->GetContext());
+  win->MakeCurrent();
+  target->SetOrigin(impl.Origin);
+  target->SetCameraPosition(impl.CameraPosition);
+  const vtkIdType n = static_cast<vtkIdType>(w) * h;
+  std::vector<float>* buffers = impl.ReadBuffers;
+  vtkOpenGLState* ostate = win->GetState();
+  ostate->PushFramebufferBindings();
+  impl.FBO->Bind();
+  for (int a = 0; a < 3; ++a)
+  {
+    buffers[a].resize(static_cast<size_t>(n) * 4);
+    impl.FBO->ActivateReadBuffer(a);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, buffers[a].data());
   }
   ostate->PopFramebufferBindings();
+  const vtkIdType first = static_cast<vtkIdType>(firstRow) * w;
+  float* pos = target->GetPositions()->GetPointer(3 * first);
+  float* nrm = target->GetNormals()->GetPointer(3 * first);
+  int* props = target->GetPropIndices()->GetPointer(first);
+  vtkIdType* tris = target->GetTriangleIds()->GetPointer(first);
+  vtkPenumbraSceneGeometry* geometry = impl.Geometry;
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const float* p = &buffers[0][static_cast<size_t>(4 * i)];
+      const float* q = &buffers[1][static_cast<size_t>(4 * i)];
+      const float* t = &buffers[2][static_cast<size_t>(4 * i)];
+      const int prop = (p[3] > 0.5f && q[3] >= 0.0f) ? static_cast<int>(q[3]) : -1;
+      props[i] = prop;
+      for (int c = 0; c < 3; ++c)
+      {
+        pos[3 * i + c] = p[c];
+        nrm[3 * i + c] = q[c];
+      }
+      const vtkIdType prim = static_cast<vtkIdType>(t[0]) + (static_cast<vtkIdType>(t[1]) << 16);
+      tris[i] = prop >= 0 ? geometry->MapPrimitiveId(prop, prim) : -1; // read-only lookup
+    }
+  });
+  target->Modified();
+  return true;
 }
 
 bool vtkPenumbraViewSamplesPass::PreReplaceShaderValues(std::string&, std::string&,
@@ -359,8 +395,10 @@ bool vtkPenumbraViewSamplesPass::SetShaderParameters(
     program->SetUniform3f("penumbraCameraRebased", impl.CameraRebased);
     program->SetUniform3f("penumbraViewDirection", impl.ViewDirection);
     program->SetUniformi("penumbraParallel", impl.Parallel);
-    program->SetUniformf(
-      "penumbraPropIndex", it == impl.PropIndex.end() ? -1.0f : static_cast<float>(it->second));
+    // Props that do not receive shadows give no sample: they are lit unshadowed and get no
+    // shadow work (they still occlude the samples behind them).
+    const bool sampled = it != impl.PropIndex.end() && vtkPenumbraShadowKeys::ReceivesShadows(prop);
+    program->SetUniformf("penumbraPropIndex", sampled ? static_cast<float>(it->second) : -1.0f);
   }
   return true;
 }
@@ -393,6 +431,5 @@ void vtkPenumbraViewSamplesPass::ReleaseGraphicsResources(vtkWindow* w)
 void vtkPenumbraViewSamplesPass::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "ReadBack: " << this->ReadBack << "\n";
   os << indent << "Translucent: " << this->Translucent << "\n";
 }

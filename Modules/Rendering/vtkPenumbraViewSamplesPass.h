@@ -10,8 +10,10 @@
  * the vtkPenumbraSceneGeometry, and the mapper's primitive id, which the geometry maps to its
  * own triangle index so techniques and the reference can exclude a sample's own triangle.
  *
- * The samples stay on the GPU as textures and, when ReadBack is on (default), are also read
- * into a vtkPenumbraViewSamples for CPU techniques and for the exact reference.
+ * The samples stay on the GPU as textures. GetSamples() reads them back into a
+ * vtkPenumbraViewSamples for CPU techniques and for the exact reference, once per Render()
+ * and only when asked. Props that do not receive shadows (vtkPenumbraShadowKeys) occlude but
+ * give no sample (prop index -1).
  *
  * Props whose shader has no view-space position (lighting turned off) still occlude but give
  * invalid samples (they receive no light, so no shadow either).
@@ -52,16 +54,6 @@ public:
 
   ///@{
   /**
-   * Read the samples back into GetSamples() after rendering. Default on; a technique that
-   * works on the GPU textures alone can turn it off.
-   */
-  vtkSetMacro(ReadBack, bool);
-  vtkGetMacro(ReadBack, bool);
-  vtkBooleanMacro(ReadBack, bool);
-  ///@}
-
-  ///@{
-  /**
    * Sample the translucent geometry (nearest translucent surface per pixel) instead of the
    * opaque props. Default off.
    */
@@ -71,9 +63,17 @@ public:
   ///@}
 
   /**
-   * The samples of the last Render() (when ReadBack is on).
+   * The samples of the last Render(), read back from the GPU at the first call after it
+   * (the window's context is made current).
    */
   vtkPenumbraViewSamples* GetSamples();
+
+  /**
+   * Reads the last Render()'s samples into rows [firstRow, firstRow + height) of `target`,
+   * which must be as wide as the viewport and tall enough; its origin and camera position
+   * are set to this pass's. Returns false (with an error) otherwise.
+   */
+  bool ReadSamples(vtkPenumbraViewSamples* target, int firstRow);
 
   ///@{
   /**
@@ -83,6 +83,7 @@ public:
   vtkTextureObject* GetPositionTexture();
   vtkTextureObject* GetNormalTexture();
   vtkTextureObject* GetPrimitiveTexture();
+  vtkTextureObject* GetDepthTexture(); ///< float depth, 1 where no surface was seen
   ///@}
 
   void Render(const vtkRenderState* s) override;
@@ -99,7 +100,6 @@ protected:
   vtkPenumbraViewSamplesPass();
   ~vtkPenumbraViewSamplesPass() override;
 
-  bool ReadBack;
   bool Translucent = false;
 
 private:

@@ -1,9 +1,8 @@
 //VTK::System::Dec
 //VTK::Output::Dec
-// Shadow-map lookup on the GPU with the hardware depth compare (seed 004 ch. 5): one fragment
-// per pending view sample (a compacted list), drawn once per map slot; fragments whose sample
-// projects into another slot are discarded. The same projection, slot choice and bias as the
-// CPU lookup of vtkPenumbraShadowMapShadows (see its class description), in float.
+// Shadow-map lookup of a compacted list of pending view samples (the CPU-samples entry point
+// vtkPenumbraShadowMapShadows::ComputeVisibility): one fragment per sample, drawn once per
+// map slot; fragments whose sample projects into another slot are discarded.
 in vec2 texCoord;
 
 uniform sampler2D samplePositions; // xyz: position in the geometry's rebased frame
@@ -11,23 +10,7 @@ uniform sampler2D sampleNormals;   // xyz: facet normal toward the camera
 uniform int sampleCount;
 uniform int listWidth;
 
-uniform int slotMode;      // 0 one view, 1 cube faces, 2 paraboloid hemispheres
-uniform int slot;          // the slot this draw looks up
-uniform mat4 lightMatrix;  // perspective/orthographic views (rows of View)
-uniform int perspective;
-uniform float invFar;      // perspective: depth = w / Far; paraboloid: distance / Far
-uniform float tanHalf;
-uniform float footprintScale; // orthographic: 2 / (|row 0| size)
-uniform float depthPerLengthOrtho; // orthographic: |row 2|
-uniform vec3 lightPosition; // rebased; cube and paraboloid centre
-uniform vec3 toLightDirection; // directional: unit vector towards the light
-uniform float mapScale;    // paraboloid coordinates -> NDC
-uniform float mapSize;
-uniform float constantBias;
-uniform float slopeBias;   // SlopeBias * (1 + radius)
-uniform float maxTangent;
-uniform int radius;        // PCF radius in texels, 0 without PCF
-uniform sampler2DShadow shadowMap; // hardware compare: LEQUAL, nearest
+//PENUMBRA::Compare
 
 void main()
 {
@@ -39,80 +22,11 @@ void main()
   }
   vec3 p = texelFetch(samplePositions, cell, 0).xyz;
   vec3 normal = normalize(texelFetch(sampleNormals, cell, 0).xyz);
-  vec3 v = p - lightPosition;
-  int mySlot = 0;
-  if (slotMode == 1)
-  {
-    int best = 0;
-    for (int c = 1; c < 3; ++c)
-    {
-      best = abs(v[c]) > abs(v[best]) ? c : best;
-    }
-    mySlot = 2 * best + (v[best] < 0.0 ? 1 : 0);
-  }
-  else if (slotMode == 2)
-  {
-    mySlot = v.z >= 0.0 ? 0 : 1;
-  }
-  if (mySlot != slot)
+  if (penumbraSlot(p) != slot)
   {
     discard;
   }
-
-  vec2 st;
-  float depth;
-  float footprint;
-  float depthPerLength;
-  vec3 toLight;
-  if (slotMode == 2)
-  {
-    float distance = length(v);
-    vec3 q = v / distance;
-    vec2 xy = q.xy / (1.0 + abs(q.z)); // both hemispheres (ParaboloidFromDirection)
-    st = xy * mapScale;
-    depth = distance * invFar;
-    depthPerLength = invFar;
-    footprint = distance * 2.0 / (1.0 + dot(xy, xy)) * 2.0 / (mapSize * mapScale);
-    toLight = -q;
-  }
-  else
-  {
-    vec4 clip = lightMatrix * vec4(p, 1.0);
-    if (perspective != 0)
-    {
-      st = clip.xy / clip.w;
-      depth = clip.w * invFar;
-      depthPerLength = invFar;
-      footprint = 2.0 * tanHalf * clip.w / mapSize;
-      toLight = normalize(lightPosition - p);
-    }
-    else
-    {
-      st = clip.xy;
-      depth = clip.z;
-      depthPerLength = depthPerLengthOrtho;
-      footprint = footprintScale;
-      toLight = toLightDirection;
-    }
-  }
-  float cosine = max(1e-9, dot(normal, toLight));
-  float tangent = min(maxTangent, sqrt(max(0.0, 1.0 - cosine * cosine)) / cosine);
-  float threshold = depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
-  int size = int(mapSize);
-  ivec2 texel = clamp(ivec2(floor((st * 0.5 + 0.5) * mapSize)), ivec2(0), ivec2(size - 1));
-  float lit = 0.0;
-  float taps = 0.0;
-  for (int dy = -radius; dy <= radius; ++dy)
-  {
-    for (int dx = -radius; dx <= radius; ++dx)
-    {
-      // PCF stays inside the map, as on the CPU.
-      vec2 t = (vec2(clamp(texel + ivec2(dx, dy), ivec2(0), ivec2(size - 1))) + 0.5) / mapSize;
-      lit += texture(shadowMap, vec3(t, threshold));
-      taps += 1.0;
-    }
-  }
   // Only red is stored (R32F); texCoord is written so that the quad's texture-coordinate
   // attribute stays active in the linked program.
-  gl_FragData[0] = vec4(lit / taps, texCoord, 1.0);
+  gl_FragData[0] = vec4(penumbraCompare(p, normal), texCoord, 1.0);
 }

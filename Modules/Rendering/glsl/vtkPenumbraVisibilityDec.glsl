@@ -8,3 +8,8 @@ ivec2 penumbraTexel()
 {
   return ivec2(gl_FragCoord.xy) - penumbraViewportOrigin;
 }
+// Background samples carry -1 (no surface, no shadow work): unshadowed.
+float penumbraShadow(float visibility)
+{
+  return visibility < 0.0 ? 1.0 : visibility;
+}

@@ -10,6 +10,7 @@
 #include "vtkIntArray.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
+#include "vtkPenumbraFrame.h"
 #include "vtkPenumbraRayTracedShadows.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -348,8 +349,129 @@ int CheckVTKComposition(bool shadowMapPass)
   return EXIT_SUCCESS;
 }
 
+// A frame in which nothing the shadows depend on changed reuses the last visibility (no view
+// samples, no technique), and everything that can change the shadows makes the pass compute
+// again: camera, light, an occluder's position, a prop's opacity, the window size, a
+// technique setting, and a light switched off.
+int CheckFrameReuse()
+{
+  Scene scene(96, 64);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(scene.Renderer, "raytraced", ""));
+  vtkPenumbraShadowPass* pass = scene.Pass();
+  CHECK(pass != nullptr && pass->GetReuseUnchangedFrames());
+  vtkNew<vtkFloatArray> first;
+  // Renders; true when the pass reused (or not) as expected and the visibility equals
+  // (or differs from) the first frame's as expected.
+  auto render = [&](const char* what, bool reused, bool sameAsFirst) {
+    scene.Window->Render();
+    vtkFloatArray* vis = pass->GetVisibility(0);
+    bool same = vis && first->GetNumberOfTuples() == vis->GetNumberOfTuples();
+    for (vtkIdType i = 0; same && i < vis->GetNumberOfTuples(); ++i)
+    {
+      same = vis->GetValue(i) == first->GetValue(i);
+    }
+    std::cout << "frame reuse: " << what << ": reused " << pass->GetLastFrameReused()
+              << ", same visibility as the first frame " << same << std::endl;
+    return pass->GetLastFrameReused() == reused && same == sameAsFirst;
+  };
+  scene.Window->Render();
+  CHECK(!pass->GetLastFrameReused() && pass->GetVisibility(0) != nullptr);
+  first->DeepCopy(pass->GetVisibility(0));
+  CHECK(ShadowedPlaneSamples(pass) == 256);
+  CHECK(render("nothing changed", true, true));
+  CHECK(render("nothing changed again", true, true));
+  CHECK(pass->GetSamplesTimeMs() == 0.0 && pass->GetTechniqueTimeMs() == 0.0);
+
+  scene.Renderer->GetActiveCamera()->SetParallelScale(2.5);
+  CHECK(render("camera zoomed", false, false));
+  CHECK(render("nothing changed", true, false));
+  scene.Renderer->GetActiveCamera()->SetParallelScale(2.0);
+  CHECK(render("camera back", false, true));
+
+  scene.Light->SetPosition(1.0, 0.0, 2.0); // steeper: a smaller visible shadow
+  CHECK(render("light moved", false, false));
+  scene.Light->SetPosition(1, 0, 1);
+  CHECK(render("light back", false, true));
+
+  scene.Occluder->SetPosition(0.5, 0.0, 0.0);
+  CHECK(render("occluder moved", false, false));
+  scene.Occluder->SetPosition(0.0, 0.0, 0.0);
+  CHECK(render("occluder back", false, true));
+
+  scene.Occluder->GetProperty()->SetOpacity(0.5); // now a translucent receiver: two layers
+  CHECK(render("occluder translucent", false, true));
+  CHECK(pass->GetTranslucentViewSamples() != nullptr);
+  scene.Occluder->GetProperty()->SetOpacity(1.0);
+  CHECK(render("occluder opaque", false, true));
+  CHECK(pass->GetTranslucentViewSamples() == nullptr);
+
+  vtkPenumbraShadowKeys::SetReceivesShadows(scene.Plane, false);
+  CHECK(render("plane no longer receives", false, false));
+  vtkPenumbraShadowKeys::SetReceivesShadows(scene.Plane, true);
+  CHECK(render("plane receives again", false, true));
+
+  scene.Window->SetSize(128, 64);
+  scene.Window->Render();
+  CHECK(!pass->GetLastFrameReused() && pass->GetVisibility(0)->GetNumberOfTuples() == 128 * 64);
+  scene.Window->SetSize(96, 64);
+  CHECK(render("window back", false, true));
+
+  pass->GetTechnique()->Modified(); // a setting changed (any setter modifies the technique)
+  CHECK(render("technique modified", false, true));
+
+  scene.Light->SwitchOff();
+  scene.Window->Render();
+  CHECK(!pass->GetLastFrameReused() && pass->GetVisibility(0) == nullptr);
+  scene.Light->SwitchOn();
+  CHECK(render("light on", false, true));
+  CHECK(render("nothing changed", true, true));
+
+  pass->ReuseUnchangedFramesOff();
+  CHECK(render("reuse off", false, true));
+  scene.Renderer->ReleaseGraphicsResources(scene.Window);
+  return EXIT_SUCCESS;
+}
+
+// A technique that answers on the GPU (shadow maps with the GPU lookup) leaves the view
+// samples on the GPU; a CPU technique (ray tracing) reads them back. Either way the
+// visibility read back for analysis is the same on the same scene.
+int CheckSamplesStayOnGPU()
+{
+  vtkSmartPointer<vtkFloatArray> answers[2];
+  const char* names[2] = { "shadowmap", "raytraced" };
+  for (int t = 0; t < 2; ++t)
+  {
+    Scene scene(128, 64);
+    vtkNew<vtkPenumbraTechniques> techniques;
+    CHECK(techniques->Apply(scene.Renderer, names[t], ""));
+    scene.Window->Render();
+    vtkPenumbraShadowPass* pass = scene.Pass();
+    CHECK(pass->GetFrame() != nullptr);
+    const bool readBack = pass->GetFrame()->GetSamplesReadBack();
+    std::cout << names[t] << ": samples read back " << readBack << std::endl;
+    CHECK(readBack == (t == 1));
+    answers[t] = vtkSmartPointer<vtkFloatArray>::New();
+    answers[t]->DeepCopy(pass->GetVisibility(0));
+    scene.Renderer->ReleaseGraphicsResources(scene.Window);
+  }
+  CHECK(answers[0]->GetNumberOfTuples() == answers[1]->GetNumberOfTuples());
+  vtkIdType differ = 0, background = 0;
+  for (vtkIdType i = 0; i < answers[0]->GetNumberOfTuples(); ++i)
+  {
+    differ += answers[0]->GetValue(i) != answers[1]->GetValue(i);
+    background += answers[0]->GetValue(i) < 0.0f;
+  }
+  std::cout << "shadowmap vs raytraced: " << differ << " samples differ, background "
+            << background << std::endl;
+  CHECK(differ <= 16); // texel rounding along the footprint's edges
+  return EXIT_SUCCESS;
+}
+
 int TestShadowPass(int, char*[])
 {
+  RUN(CheckFrameReuse());
+  RUN(CheckSamplesStayOnGPU());
   RUN(CheckVTKComposition(false));
   RUN(CheckVTKComposition(true));
   RUN(CheckFootprint(128, 64));

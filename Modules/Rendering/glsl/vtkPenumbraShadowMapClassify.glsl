@@ -1,0 +1,48 @@
+// Per-sample facing and cone rules of vtkPenumbraReference on the G-buffer (the GPU twin of
+// penumbra_light_views::ClassifyFacing), in double precision like the reference:
+// -1 no surface, 0 facing away or outside a spot cone (shadowed), 1 lit without a map
+// (light off, no casters), 2 pending (the map decides).
+uniform sampler2D samplePositions; // xyz rebased, w = 1 where a surface was seen
+uniform sampler2D sampleNormals;   // xyz facet normal toward the camera, w = prop (-1: none)
+uniform int lightKind;     // 0 directional, 1 point, 2 spot
+uniform int lightOff;
+uniform int anyCaster;
+uniform dvec3 classifyDirection; // directional: unit vector towards the light
+uniform dvec3 classifyPosition;  // positional: rebased
+uniform dvec3 classifyAxis;      // spot: unit axis away from the light
+uniform double classifyCosCone;
+
+bool penumbraFinite(vec3 v)
+{
+  return !any(isnan(v)) && !any(isinf(v));
+}
+
+int penumbraClassify(ivec2 cell, out vec3 p, out vec3 n)
+{
+  vec4 position = texelFetch(samplePositions, cell, 0);
+  vec4 normal = texelFetch(sampleNormals, cell, 0);
+  p = position.xyz;
+  n = normal.xyz;
+  if (position.w < 0.5 || normal.w < 0.0 || !penumbraFinite(p) || !penumbraFinite(n))
+  {
+    return -1;
+  }
+  if (lightOff != 0)
+  {
+    return 1;
+  }
+  dvec3 dp = dvec3(p);
+  dvec3 toLight = lightKind == 0 ? classifyDirection : classifyPosition - dp;
+  bool facing = dot(dvec3(n), toLight) > 0.0LF;
+  if (facing && lightKind == 2)
+  {
+    dvec3 fromLight = -toLight;
+    double len = length(fromLight);
+    facing = len > 0.0LF && dot(fromLight / len, classifyAxis) >= classifyCosCone;
+  }
+  if (!facing)
+  {
+    return 0;
+  }
+  return anyCaster != 0 ? 2 : 1;
+}

@@ -1,0 +1,100 @@
+// Shadow-map comparison shared by the lookups (Brabec 2003, ch. 4-5): the slot a sample
+// falls into (one view, a cube face, a paraboloid hemisphere), its projection, linear depth
+// and slope-scaled bias, and the hardware depth compare (sampler2DShadow, LEQUAL, nearest
+// texels; PCF averages the compared taps). The same projection, slot choice and bias as the
+// CPU lookup of vtkPenumbraShadowMapShadows, in float.
+uniform int slotMode;      // 0 one view, 1 cube faces, 2 paraboloid hemispheres
+uniform int slot;          // the slot this draw looks up
+uniform mat4 lightMatrix;  // perspective/orthographic views (rows of View)
+uniform int perspective;
+uniform float invFar;      // perspective: depth = w / Far; paraboloid: distance / Far
+uniform float tanHalf;
+uniform float footprintScale; // orthographic: 2 / (|row 0| size)
+uniform float depthPerLengthOrtho; // orthographic: |row 2|
+uniform vec3 lightPosition; // rebased; cube and paraboloid centre
+uniform vec3 toLightDirection; // directional: unit vector towards the light
+uniform float mapScale;    // paraboloid coordinates -> NDC
+uniform float mapSize;
+uniform float constantBias;
+uniform float slopeBias;   // SlopeBias * (1 + radius)
+uniform float maxTangent;
+uniform int radius;        // PCF radius in texels, 0 without PCF
+uniform sampler2DShadow shadowMap; // hardware compare: LEQUAL, nearest
+
+int penumbraSlot(vec3 p)
+{
+  vec3 v = p - lightPosition;
+  if (slotMode == 1)
+  {
+    int best = 0;
+    for (int c = 1; c < 3; ++c)
+    {
+      best = abs(v[c]) > abs(v[best]) ? c : best;
+    }
+    return 2 * best + (v[best] < 0.0 ? 1 : 0);
+  }
+  if (slotMode == 2)
+  {
+    return v.z >= 0.0 ? 0 : 1;
+  }
+  return 0;
+}
+
+float penumbraCompare(vec3 p, vec3 normal)
+{
+  vec3 v = p - lightPosition;
+  vec2 st;
+  float depth;
+  float footprint;
+  float depthPerLength;
+  vec3 toLight;
+  if (slotMode == 2)
+  {
+    float distance = length(v);
+    vec3 q = v / distance;
+    vec2 xy = q.xy / (1.0 + abs(q.z)); // both hemispheres (ParaboloidFromDirection)
+    st = xy * mapScale;
+    depth = distance * invFar;
+    depthPerLength = invFar;
+    footprint = distance * 2.0 / (1.0 + dot(xy, xy)) * 2.0 / (mapSize * mapScale);
+    toLight = -q;
+  }
+  else
+  {
+    vec4 clip = lightMatrix * vec4(p, 1.0);
+    if (perspective != 0)
+    {
+      st = clip.xy / clip.w;
+      depth = clip.w * invFar;
+      depthPerLength = invFar;
+      footprint = 2.0 * tanHalf * clip.w / mapSize;
+      toLight = normalize(lightPosition - p);
+    }
+    else
+    {
+      st = clip.xy;
+      depth = clip.z;
+      depthPerLength = depthPerLengthOrtho;
+      footprint = footprintScale;
+      toLight = toLightDirection;
+    }
+  }
+  float cosine = max(1e-9, dot(normal, toLight));
+  float tangent = min(maxTangent, sqrt(max(0.0, 1.0 - cosine * cosine)) / cosine);
+  float threshold = depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
+  int size = int(mapSize);
+  ivec2 texel = clamp(ivec2(floor((st * 0.5 + 0.5) * mapSize)), ivec2(0), ivec2(size - 1));
+  float lit = 0.0;
+  float taps = 0.0;
+  for (int dy = -radius; dy <= radius; ++dy)
+  {
+    for (int dx = -radius; dx <= radius; ++dx)
+    {
+      // PCF stays inside the map, as on the CPU.
+      vec2 t = (vec2(clamp(texel + ivec2(dx, dy), ivec2(0), ivec2(size - 1))) + 0.5) / mapSize;
+      lit += texture(shadowMap, vec3(t, threshold));
+      taps += 1.0;
+    }
+  }
+  return lit / taps;
+}

@@ -1,0 +1,585 @@
+#include "vtkPenumbraFrame.h"
+
+#include "vtkFloatArray.h"
+#include "vtkLight.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLFramebufferObject.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
+#include "vtkPenumbraGoniometricLight.h"
+#include "vtkPenumbraLightViews.h"
+#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkPenumbraViewSamplesPass.h"
+#include "vtkRenderer.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTextureObject.h"
+#include "vtkTimerLog.h"
+#include "vtkWeakPointer.h"
+#include "vtk_glew.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace
+{
+enum class Answer
+{
+  None,
+  CPU,
+  GPU
+};
+
+// A pool slot that is created on first use and kept: frames reuse the same arrays (same
+// sizes, no allocation) instead of paying page faults for 4 bytes per pixel and light.
+vtkFloatArray* Pooled(std::vector<vtkSmartPointer<vtkFloatArray>>& pool, size_t i)
+{
+  if (pool.size() <= i)
+  {
+    pool.resize(i + 1);
+  }
+  if (!pool[i])
+  {
+    pool[i] = vtkSmartPointer<vtkFloatArray>::New();
+    pool[i]->SetNumberOfComponents(1);
+  }
+  return pool[i];
+}
+
+double Now()
+{
+  return vtkTimerLog::GetUniversalTime();
+}
+}
+
+struct vtkPenumbraFrame::Internals
+{
+  vtkWeakPointer<vtkRenderer> Renderer;
+  vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+  vtkWeakPointer<vtkPenumbraSceneGeometry> Geometry;
+  vtkPenumbraViewSamplesPass* Layers[2] = { nullptr, nullptr };
+  int NumberOfLayers = 0;
+  int Width = 0, Height = 0;
+  int NumberOfLights = 0;
+
+  vtkSmartPointer<vtkPenumbraViewSamples> Stacked; // two layers: opaque rows, then translucent
+  bool SamplesRead = false;
+
+  struct Shadowed
+  {
+    vtkSmartPointer<vtkLight> Light;
+    int Index = 0;
+    Answer State = Answer::None;
+    vtkSmartPointer<vtkFloatArray> Values; // CPU answers: stacked samples
+  };
+  std::vector<Shadowed> Lights;
+
+  // Per layer and pass light: the CPU copy (valid when Fresh), the diagram-scaled factor.
+  std::vector<vtkSmartPointer<vtkFloatArray>> Visibility[2], Factor[2];
+  std::vector<char> Fresh[2], HasFactor[2];
+
+  // Per layer: RGBA32F visibility textures (4 lights each) and whether each holds this
+  // frame's values yet (cleared to 1 or uploaded).
+  std::vector<vtkSmartPointer<vtkTextureObject>> Textures[2];
+  std::vector<char> Ready[2];
+  vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
+  std::vector<float> Texels; // upload staging, kept between frames
+
+  const Shadowed* Find(int index) const
+  {
+    for (const auto& l : this->Lights)
+    {
+      if (l.Index == index)
+      {
+        return &l;
+      }
+    }
+    return nullptr;
+  }
+
+  vtkOpenGLFramebufferObject* Framebuffer()
+  {
+    if (!this->FBO)
+    {
+      this->FBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+      this->FBO->SetContext(this->Window);
+    }
+    return this->FBO;
+  }
+
+  void AllocateTextures()
+  {
+    const int count = (this->NumberOfLights + 3) / 4;
+    for (int layer = 0; layer < 2; ++layer)
+    {
+      auto& textures = this->Textures[layer];
+      const size_t used = layer < this->NumberOfLayers ? static_cast<size_t>(count) : 0;
+      for (size_t t = used; t < textures.size(); ++t)
+      {
+        textures[t]->ReleaseGraphicsResources(this->Window);
+      }
+      textures.resize(used);
+      this->Ready[layer].assign(used, 0);
+      for (auto& tex : textures)
+      {
+        if (!tex)
+        {
+          tex = vtkSmartPointer<vtkTextureObject>::New();
+          tex->SetContext(this->Window);
+          tex->SetMinificationFilter(vtkTextureObject::Nearest);
+          tex->SetMagnificationFilter(vtkTextureObject::Nearest);
+          tex->SetWrapS(vtkTextureObject::ClampToEdge);
+          tex->SetWrapT(vtkTextureObject::ClampToEdge);
+          tex->SetInternalFormat(GL_RGBA32F);
+          tex->SetFormat(GL_RGBA);
+          tex->SetDataType(GL_FLOAT);
+        }
+        if (!tex->GetHandle() || static_cast<int>(tex->GetWidth()) != this->Width ||
+          static_cast<int>(tex->GetHeight()) != this->Height)
+        {
+          tex->Allocate2D(this->Width, this->Height, 4, VTK_FLOAT);
+        }
+      }
+    }
+  }
+
+  // Sets every channel of texture `t` of `layer` to -1 (no shadow work: lit), once per frame.
+  void Clear(int layer, size_t t)
+  {
+    if (this->Ready[layer][t])
+    {
+      return;
+    }
+    vtkOpenGLState* ostate = this->Window->GetState();
+    vtkOpenGLState::ScopedglClearColor clearColor(ostate);
+    penumbra_light_views::QuadPassState pass(
+      ostate, this->Framebuffer(), { this->Textures[layer][t].Get() }, this->Width, this->Height);
+    ostate->vtkglClearColor(-1.0, -1.0, -1.0, -1.0);
+    ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
+    this->Ready[layer][t] = 1;
+  }
+
+  // Channel `index % 4` of `layer`'s texture into `out` (one value per sample).
+  void ReadChannel(int layer, int index, vtkFloatArray* out)
+  {
+    static const GLenum channels[4] = { GL_RED, GL_GREEN, GL_BLUE, GL_ALPHA };
+    out->SetNumberOfComponents(1);
+    out->SetNumberOfTuples(static_cast<vtkIdType>(this->Width) * this->Height);
+    vtkOpenGLState* ostate = this->Window->GetState();
+    ostate->PushFramebufferBindings();
+    vtkOpenGLFramebufferObject* fbo = this->Framebuffer();
+    fbo->Bind();
+    fbo->AddColorAttachment(0, this->Textures[layer][static_cast<size_t>(index / 4)]);
+    fbo->RemoveDepthAttachment();
+    fbo->ActivateReadBuffer(0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, this->Width, this->Height, channels[index % 4], GL_FLOAT,
+      out->GetPointer(0));
+    ostate->PopFramebufferBindings();
+    out->Modified();
+  }
+};
+
+//------------------------------------------------------------------------------
+struct vtkPenumbraFrame::VisibilityTarget::State
+{
+  penumbra_light_views::QuadPassState Pass;
+
+  State(vtkOpenGLState* gl, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* target, int w,
+    int h, vtkTextureObject* depth, int channel)
+    : Pass(gl, fbo, { target }, w, h, depth)
+  {
+    gl->vtkglColorMask(channel == 0, channel == 1, channel == 2, channel == 3);
+  }
+};
+
+vtkPenumbraFrame::VisibilityTarget::VisibilityTarget(State* state)
+  : Saved(state)
+{
+}
+vtkPenumbraFrame::VisibilityTarget::VisibilityTarget(VisibilityTarget&&) noexcept = default;
+vtkPenumbraFrame::VisibilityTarget::~VisibilityTarget() = default;
+
+//------------------------------------------------------------------------------
+vtkStandardNewMacro(vtkPenumbraFrame);
+
+vtkPenumbraFrame::vtkPenumbraFrame()
+  : Impl(new Internals)
+{
+}
+
+vtkPenumbraFrame::~vtkPenumbraFrame() = default;
+
+vtkRenderer* vtkPenumbraFrame::GetRenderer()
+{
+  return this->Impl->Renderer;
+}
+
+vtkOpenGLRenderWindow* vtkPenumbraFrame::GetWindow()
+{
+  return this->Impl->Window;
+}
+
+vtkPenumbraSceneGeometry* vtkPenumbraFrame::GetGeometry()
+{
+  return this->Impl->Geometry;
+}
+
+int vtkPenumbraFrame::GetWidth()
+{
+  return this->Impl->Width;
+}
+
+int vtkPenumbraFrame::GetHeight()
+{
+  return this->Impl->Height;
+}
+
+int vtkPenumbraFrame::GetNumberOfLayers()
+{
+  return this->Impl->NumberOfLayers;
+}
+
+vtkPenumbraViewSamplesPass* vtkPenumbraFrame::GetLayer(int layer)
+{
+  return layer >= 0 && layer < this->Impl->NumberOfLayers ? this->Impl->Layers[layer] : nullptr;
+}
+
+bool vtkPenumbraFrame::GetSamplesReadBack()
+{
+  return this->Impl->SamplesRead;
+}
+
+vtkPenumbraViewSamples* vtkPenumbraFrame::GetSamples()
+{
+  Internals& impl = *this->Impl;
+  if (impl.NumberOfLayers == 0)
+  {
+    return nullptr;
+  }
+  if (impl.NumberOfLayers == 1)
+  {
+    impl.SamplesRead = true;
+    return impl.Layers[0]->GetSamples(); // read back on first request
+  }
+  if (!impl.SamplesRead)
+  {
+    const double t = Now();
+    if (!impl.Stacked)
+    {
+      impl.Stacked = vtkSmartPointer<vtkPenumbraViewSamples>::New();
+    }
+    impl.Stacked->SetSize(impl.Width, 2 * impl.Height);
+    impl.Layers[0]->ReadSamples(impl.Stacked, 0);
+    impl.Layers[1]->ReadSamples(impl.Stacked, impl.Height);
+    impl.SamplesRead = true;
+    this->TransferTimeMs += 1000.0 * (Now() - t);
+  }
+  return impl.Stacked;
+}
+
+int vtkPenumbraFrame::GetNumberOfShadowedLights()
+{
+  return static_cast<int>(this->Impl->Lights.size());
+}
+
+vtkLight* vtkPenumbraFrame::GetShadowedLight(int k)
+{
+  return k >= 0 && k < this->GetNumberOfShadowedLights()
+    ? this->Impl->Lights[static_cast<size_t>(k)].Light.Get()
+    : nullptr;
+}
+
+int vtkPenumbraFrame::GetLightIndex(int k)
+{
+  return k >= 0 && k < this->GetNumberOfShadowedLights()
+    ? this->Impl->Lights[static_cast<size_t>(k)].Index
+    : -1;
+}
+
+void vtkPenumbraFrame::SetVisibility(int k, vtkFloatArray* visibility)
+{
+  Internals& impl = *this->Impl;
+  const vtkIdType expected =
+    static_cast<vtkIdType>(impl.Width) * impl.Height * impl.NumberOfLayers;
+  if (k < 0 || k >= this->GetNumberOfShadowedLights() || !visibility ||
+    visibility->GetNumberOfTuples() != expected || visibility->GetNumberOfComponents() != 1)
+  {
+    vtkErrorMacro("SetVisibility: light " << k << " needs one value per stacked sample ("
+                                          << expected << ")");
+    return;
+  }
+  auto& l = impl.Lights[static_cast<size_t>(k)];
+  l.State = Answer::CPU;
+  l.Values = visibility;
+  for (int layer = 0; layer < impl.NumberOfLayers; ++layer)
+  {
+    impl.Fresh[layer][static_cast<size_t>(l.Index)] = 0;
+  }
+}
+
+void vtkPenumbraFrame::MarkOnGPU(int k)
+{
+  Internals& impl = *this->Impl;
+  if (k >= 0 && k < this->GetNumberOfShadowedLights())
+  {
+    auto& l = impl.Lights[static_cast<size_t>(k)];
+    l.State = Answer::GPU;
+    l.Values = nullptr;
+    for (int layer = 0; layer < impl.NumberOfLayers; ++layer)
+    {
+      impl.Fresh[layer][static_cast<size_t>(l.Index)] = 0;
+    }
+  }
+}
+
+bool vtkPenumbraFrame::HasVisibility(int k)
+{
+  return k >= 0 && k < this->GetNumberOfShadowedLights() &&
+    this->Impl->Lights[static_cast<size_t>(k)].State != Answer::None;
+}
+
+vtkPenumbraFrame::VisibilityTarget vtkPenumbraFrame::BindVisibilityTarget(int layer, int k)
+{
+  Internals& impl = *this->Impl;
+  const int index = this->GetLightIndex(k);
+  const size_t t = static_cast<size_t>(index / 4);
+  impl.Clear(layer, t);
+  return VisibilityTarget(new VisibilityTarget::State(impl.Window->GetState(), impl.Framebuffer(),
+    impl.Textures[layer][t], impl.Width, impl.Height, impl.Layers[layer]->GetDepthTexture(),
+    index % 4));
+}
+
+const char* vtkPenumbraFrame::GetSurfaceQuadVS()
+{
+  return "//VTK::System::Dec\n"
+         "in vec4 ndCoordIn;\n"
+         "in vec2 texCoordIn;\n"
+         "out vec2 texCoord;\n"
+         "void main()\n"
+         "{\n"
+         "  gl_Position = vec4(ndCoordIn.xy, 1.0, 1.0);\n"
+         "  texCoord = texCoordIn;\n"
+         "}\n";
+}
+
+vtkFloatArray* vtkPenumbraFrame::GetVisibility(int layer, int index)
+{
+  Internals& impl = *this->Impl;
+  const Internals::Shadowed* l = impl.Find(index);
+  if (layer < 0 || layer >= impl.NumberOfLayers || !l || l->State == Answer::None)
+  {
+    return nullptr;
+  }
+  const size_t i = static_cast<size_t>(index);
+  vtkFloatArray* out = Pooled(impl.Visibility[layer], i);
+  if (impl.Fresh[layer][i])
+  {
+    return out;
+  }
+  const double t = Now();
+  if (l->State == Answer::CPU)
+  {
+    const vtkIdType n = static_cast<vtkIdType>(impl.Width) * impl.Height;
+    if (impl.NumberOfLayers == 1)
+    {
+      return l->Values; // the technique's own array: no copy needed
+    }
+    else
+    {
+      out->SetNumberOfTuples(n);
+      const float* src = l->Values->GetPointer(layer * n);
+      std::copy(src, src + n, out->GetPointer(0));
+      out->Modified();
+    }
+  }
+  else
+  {
+    impl.Window->MakeCurrent();
+    impl.ReadChannel(layer, index, out);
+  }
+  impl.Fresh[layer][i] = 1;
+  this->TransferTimeMs += 1000.0 * (Now() - t);
+  return out;
+}
+
+vtkFloatArray* vtkPenumbraFrame::GetLightFactor(int layer, int index)
+{
+  Internals& impl = *this->Impl;
+  if (layer >= 0 && layer < impl.NumberOfLayers && index >= 0 &&
+    static_cast<size_t>(index) < impl.HasFactor[layer].size() &&
+    impl.HasFactor[layer][static_cast<size_t>(index)])
+  {
+    return impl.Factor[layer][static_cast<size_t>(index)];
+  }
+  return this->GetVisibility(layer, index);
+}
+
+int vtkPenumbraFrame::GetNumberOfVisibilityTextures()
+{
+  return static_cast<int>(this->Impl->Textures[0].size());
+}
+
+vtkTextureObject* vtkPenumbraFrame::GetVisibilityTexture(int layer, int t)
+{
+  Internals& impl = *this->Impl;
+  return layer >= 0 && layer < impl.NumberOfLayers && t >= 0 &&
+      static_cast<size_t>(t) < impl.Textures[layer].size()
+    ? impl.Textures[layer][static_cast<size_t>(t)].Get()
+    : nullptr;
+}
+
+void vtkPenumbraFrame::Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+  vtkPenumbraViewSamplesPass* opaque, vtkPenumbraViewSamplesPass* translucent,
+  int numberOfLights)
+{
+  Internals& impl = *this->Impl;
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
+  if (impl.Window && impl.Window != win)
+  {
+    this->Release(impl.Window);
+  }
+  impl.Renderer = renderer;
+  impl.Window = win;
+  impl.Geometry = geometry;
+  impl.Layers[0] = opaque;
+  impl.Layers[1] = translucent;
+  impl.NumberOfLayers = translucent ? 2 : 1;
+  int x = 0, y = 0;
+  renderer->GetTiledSizeAndOrigin(&impl.Width, &impl.Height, &x, &y);
+  impl.NumberOfLights = numberOfLights;
+  impl.SamplesRead = false;
+  impl.Lights.clear();
+  impl.AllocateTextures();
+  for (int layer = 0; layer < 2; ++layer)
+  {
+    impl.Fresh[layer].assign(static_cast<size_t>(numberOfLights), 0);
+    impl.HasFactor[layer].assign(static_cast<size_t>(numberOfLights), 0);
+  }
+  this->TransferTimeMs = 0.0;
+}
+
+void vtkPenumbraFrame::AddShadowedLight(vtkLight* light, int index)
+{
+  Internals& impl = *this->Impl;
+  Internals::Shadowed l;
+  l.Light = light;
+  l.Index = index;
+  impl.Lights.push_back(l);
+  impl.NumberOfLights = std::max(impl.NumberOfLights, index + 1);
+}
+
+void vtkPenumbraFrame::Finish()
+{
+  Internals& impl = *this->Impl;
+  const double t0 = Now();
+  const vtkIdType n = static_cast<vtkIdType>(impl.Width) * impl.Height;
+  // Goniometric diagram (Brabec 2003, §8.3.1): the shadow mask is scaled by the light's
+  // relative intensity toward each sample. Done here, after any technique, so every
+  // technique renders the diagram and the visibility stays the geometric one.
+  for (const auto& l : impl.Lights)
+  {
+    auto* gonio = vtkPenumbraGoniometricLight::SafeDownCast(l.Light);
+    if (!gonio || l.State == Answer::None)
+    {
+      continue;
+    }
+    vtkPenumbraViewSamples* samples = this->GetSamples();
+    double lightWorld[3];
+    gonio->GetTransformedPosition(lightWorld);
+    for (int layer = 0; layer < impl.NumberOfLayers; ++layer)
+    {
+      const size_t i = static_cast<size_t>(l.Index);
+      vtkFloatArray* scaled = Pooled(impl.Factor[layer], i);
+      scaled->DeepCopy(this->GetVisibility(layer, l.Index));
+      float* v = scaled->GetPointer(0);
+      for (vtkIdType s = 0; s < n; ++s)
+      {
+        double w[3];
+        if (v[s] > 0.0f && samples->GetWorldPosition(layer * n + s, w))
+        {
+          const double d[3] = { w[0] - lightWorld[0], w[1] - lightWorld[1], w[2] - lightWorld[2] };
+          v[s] = static_cast<float>(v[s] * gonio->GetRelativeIntensity(d));
+        }
+      }
+      impl.HasFactor[layer][i] = 1;
+    }
+  }
+
+  // Upload the textures that hold CPU values (their GPU-written channels, if any, are read
+  // back first so the upload keeps them); clear the ones nothing wrote.
+  for (int layer = 0; layer < impl.NumberOfLayers; ++layer)
+  {
+    for (size_t t = 0; t < impl.Textures[layer].size(); ++t)
+    {
+      vtkFloatArray* channel[4] = { nullptr, nullptr, nullptr, nullptr };
+      bool cpu = false;
+      for (int c = 0; c < 4; ++c)
+      {
+        const int index = static_cast<int>(4 * t) + c;
+        const Internals::Shadowed* l = impl.Find(index);
+        if (!l || l->State == Answer::None)
+        {
+          continue;
+        }
+        const bool scaled = impl.HasFactor[layer][static_cast<size_t>(index)] != 0;
+        cpu = cpu || l->State == Answer::CPU || scaled;
+      }
+      if (!cpu)
+      {
+        impl.Clear(layer, t); // no-op when a GPU technique already wrote into it
+        continue;
+      }
+      for (int c = 0; c < 4; ++c)
+      {
+        const int index = static_cast<int>(4 * t) + c;
+        const Internals::Shadowed* l = impl.Find(index);
+        channel[c] = l && l->State != Answer::None ? this->GetLightFactor(layer, index) : nullptr;
+      }
+      std::vector<float>& texels = impl.Texels;
+      texels.resize(static_cast<size_t>(4 * n));
+      vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+        for (int c = 0; c < 4; ++c)
+        {
+          const float* v = channel[c] ? channel[c]->GetPointer(0) : nullptr;
+          for (vtkIdType p = begin; p < end; ++p)
+          {
+            texels[static_cast<size_t>(4 * p + c)] = v ? v[p] : -1.0f;
+          }
+        }
+      });
+      impl.Textures[layer][t]->Create2DFromRaw(impl.Width, impl.Height, 4, VTK_FLOAT, texels.data());
+      impl.Ready[layer][t] = 1;
+    }
+  }
+  this->TransferTimeMs += 1000.0 * (Now() - t0);
+}
+
+void vtkPenumbraFrame::Release(vtkWindow* window)
+{
+  Internals& impl = *this->Impl;
+  for (auto& layer : impl.Textures)
+  {
+    for (auto& tex : layer)
+    {
+      tex->ReleaseGraphicsResources(window);
+    }
+    layer.clear();
+  }
+  if (impl.FBO)
+  {
+    impl.FBO->ReleaseGraphicsResources(window);
+    impl.FBO = nullptr;
+  }
+  impl.Lights.clear();
+  impl.NumberOfLayers = 0;
+}
+
+void vtkPenumbraFrame::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Size: " << this->Impl->Width << " x " << this->Impl->Height << "\n";
+  os << indent << "Layers: " << this->Impl->NumberOfLayers << "\n";
+  os << indent << "ShadowedLights: " << this->Impl->Lights.size() << "\n";
+}

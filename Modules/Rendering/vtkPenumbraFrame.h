@@ -1,0 +1,190 @@
+/**
+ * @class   vtkPenumbraFrame
+ * @brief   One shadowed frame as the techniques see it: the scene geometry, the view samples
+ *          kept on the GPU, a CPU view of them read back only on request, and the
+ *          visibility textures the techniques write into.
+ *
+ * The GPU keeps what the GPU made. vtkPenumbraShadowPass renders the view samples
+ * (G-buffer) of each sample layer (0 the opaque surfaces, 1 the nearest translucent surface
+ * when translucent receivers are visible) into textures, and hands the frame to the
+ * technique. A technique then either
+ *
+ *  - works on the GPU: it draws each light's visibility into that light's channel of the
+ *    layer's visibility texture (BindVisibilityTarget()) and calls MarkOnGPU(); nothing is
+ *    read back; or
+ *  - works on the CPU: it asks for GetSamples() (the layers read back and stacked, opaque
+ *    rows first, at the first call of the frame only) and hands its per-sample arrays to
+ *    SetVisibility(); the pass uploads them.
+ *
+ * Visibility values follow vtkPenumbraShadowTechnique's convention (1 lit, 0 shadowed,
+ * fractions for soft shadows, -1 for samples without a surface); the textures start each
+ * frame at -1 and the lighting injection reads negative values as 1. GetVisibility() gives any light's values as a CPU array,
+ * reading a GPU-written channel back on first request, so tests and the benchmark compare
+ * every technique with the exact reference on the same samples.
+ *
+ * Lights are numbered as the pass numbers them (VTK's shader order of the switched-on
+ * lights); light i lives in channel i % 4 of texture i / 4. Only the lights listed by
+ * GetNumberOfShadowedLights() get shadow work this frame.
+ */
+
+#ifndef vtkPenumbraFrame_h
+#define vtkPenumbraFrame_h
+
+#include "vtkObject.h"
+#include "vtkPenumbraRenderingModule.h" // For export macro
+
+#include <memory> // For std::unique_ptr
+
+class vtkFloatArray;
+class vtkLight;
+class vtkOpenGLRenderWindow;
+class vtkPenumbraSceneGeometry;
+class vtkPenumbraViewSamples;
+class vtkPenumbraViewSamplesPass;
+class vtkRenderer;
+class vtkTextureObject;
+class vtkWindow;
+
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraFrame : public vtkObject
+{
+public:
+  static vtkPenumbraFrame* New();
+  vtkTypeMacro(vtkPenumbraFrame, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  vtkRenderer* GetRenderer();
+  vtkOpenGLRenderWindow* GetWindow();
+  vtkPenumbraSceneGeometry* GetGeometry();
+
+  /** Viewport size in pixels: every layer has Width x Height samples. */
+  int GetWidth();
+  int GetHeight();
+
+  /** 1 (opaque surfaces) or 2 (and the nearest translucent surface per pixel). */
+  int GetNumberOfLayers();
+
+  /**
+   * The G-buffer of `layer`: its position, normal and primitive textures (see
+   * vtkPenumbraViewSamplesPass). nullptr for a layer that does not exist.
+   */
+  vtkPenumbraViewSamplesPass* GetLayer(int layer);
+
+  /**
+   * The CPU view of every layer, stacked (opaque rows, then translucent rows; height =
+   * layers x Height). Read back at the first call of a frame; later calls return the same
+   * samples.
+   */
+  vtkPenumbraViewSamples* GetSamples();
+
+  /** True once this frame's samples have been read back to the CPU. */
+  bool GetSamplesReadBack();
+
+  ///@{
+  /**
+   * The lights that get shadow work this frame (switched on, not black), and for each its
+   * number in the pass (its texture channel, see the class description).
+   */
+  int GetNumberOfShadowedLights();
+  vtkLight* GetShadowedLight(int k);
+  int GetLightIndex(int k);
+  ///@}
+
+  /**
+   * A CPU technique's answer for shadowed light `k`: one value per stacked sample (see
+   * GetSamples()). The frame keeps the array (until the next frame) and uploads it.
+   */
+  void SetVisibility(int k, vtkFloatArray* visibility);
+
+  /**
+   * A GPU technique's answer for shadowed light `k`: its channel of every layer's visibility
+   * texture was written through BindVisibilityTarget().
+   */
+  void MarkOnGPU(int k);
+
+  /**
+   * True when shadowed light `k` got an answer (SetVisibility() or MarkOnGPU()).
+   */
+  bool HasVisibility(int k);
+
+  /**
+   * Binds the visibility texture that holds shadowed light `k` in `layer` as the colour
+   * target of the current framebuffer state, with colour writes limited to that light's
+   * channel and the viewport set to the layer, and the layer's G-buffer depth as a
+   * read-only depth test (GREATER) so that a full-viewport quad drawn at depth 1 (see
+   * GetSurfaceQuadVS()) runs its fragment program only where a surface was seen: the
+   * background keeps -1 (on llvmpipe every fragment costs, and the sky is often half the
+   * frame). Everything is restored when the returned object is destroyed. Write the value
+   * in every component.
+   */
+#ifndef __VTK_WRAP__
+  class VTKPENUMBRARENDERING_EXPORT VisibilityTarget
+  {
+  public:
+    ~VisibilityTarget();
+    VisibilityTarget(VisibilityTarget&&) noexcept;
+    VisibilityTarget(const VisibilityTarget&) = delete;
+    VisibilityTarget& operator=(const VisibilityTarget&) = delete;
+
+  private:
+    friend class vtkPenumbraFrame;
+    struct State;
+    explicit VisibilityTarget(State* state);
+    std::unique_ptr<State> Saved;
+  };
+  VisibilityTarget BindVisibilityTarget(int layer, int k);
+#endif
+
+  /**
+   * A vertex program for vtkOpenGLQuadHelper that draws the full-viewport quad at depth 1,
+   * for use with BindVisibilityTarget().
+   */
+  static const char* GetSurfaceQuadVS();
+
+  /**
+   * The visibility of pass light `index` on `layer`'s samples, on the CPU (a GPU-written
+   * channel is read back at the first request of the frame), or nullptr when that light got
+   * no shadow work. The geometric visibility: a goniometric light's diagram is not in it.
+   */
+  vtkFloatArray* GetVisibility(int layer, int index);
+
+  /**
+   * What light `index`'s colour is scaled by on `layer`: the visibility, times a
+   * goniometric light's relative intensity; nullptr when unshadowed.
+   */
+  vtkFloatArray* GetLightFactor(int layer, int index);
+
+  /** The visibility textures of `layer` (4 lights each), for the lighting injection. */
+  int GetNumberOfVisibilityTextures();
+  vtkTextureObject* GetVisibilityTexture(int layer, int t);
+
+  ///@{
+  /**
+   * Used by vtkPenumbraShadowPass: Begin() starts a frame (layer passes, lights, size; the
+   * visibility textures are sized and every channel set to 1), Finish() applies
+   * goniometric diagrams and uploads the CPU answers. Release() frees the GL objects.
+   */
+  void Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamplesPass* opaque, vtkPenumbraViewSamplesPass* translucent, int numberOfLights);
+  void AddShadowedLight(vtkLight* light, int index);
+  void Finish();
+  void Release(vtkWindow* window);
+  ///@}
+
+  /** Milliseconds spent reading samples or visibility back, and uploading, this frame. */
+  vtkGetMacro(TransferTimeMs, double);
+
+protected:
+  vtkPenumbraFrame();
+  ~vtkPenumbraFrame() override;
+
+  double TransferTimeMs = 0.0;
+
+private:
+  vtkPenumbraFrame(const vtkPenumbraFrame&) = delete;
+  void operator=(const vtkPenumbraFrame&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
