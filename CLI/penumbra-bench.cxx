@@ -2,7 +2,8 @@
 // view samples, next to its peers (no shadows, VTK's vtkShadowMapPass, the exact reference).
 //
 //   penumbra-bench [--scenes A,B,...] [--techniques T[:k=v;k=v],...] [--size WxH]
-//                  [--frames N] [--warmup N] [--moving-light] [--no-images] --out DIR
+//                  [--frames N] [--warmup N] [--moving-light] [--still-frames] [--no-images]
+//                  --out DIR
 //
 // Writes DIR/results.csv, DIR/results.md and DIR/chart.png (and, unless --no-images, each
 // point's image and error image). Scenes are names of files in Data/Scenes or paths to scene
@@ -127,6 +128,8 @@ struct Row
   long long FillFragments = -1;
   vtkIdType FalseLit = 0, FalseShadow = 0, Candidates = 0, Ties = 0;
   double RatioToNoShadow = 0;
+  // --still-frames: median frame when nothing changes (the pass reuses its visibility).
+  double StillMs = -1, StillRatio = -1;
   // GEARS (seed 002 Tables 5-6 analogues): per-cell loads and the share of assigned
   // triangles that actually block; empty for other techniques.
   std::string GearsStats;
@@ -139,7 +142,7 @@ int Usage(const char* why)
     std::cerr << "penumbra-bench: " << why << "\n";
   }
   std::cerr << "usage: penumbra-bench [--scenes A,B,...] [--techniques T[:k=v;k=v],...]"
-               " [--size WxH] [--frames N] [--warmup N] [--moving-light] [--no-images]"
+               " [--size WxH] [--frames N] [--warmup N] [--moving-light] [--still-frames] [--no-images]"
                " --out DIR\n";
   return 2;
 }
@@ -243,6 +246,28 @@ vtkPenumbraShadowPass* ShadowPassOf(vtkRenderer* ren)
 // alone, with the technique's pass, divided by the same without shadows. `measurable` marks
 // the samples where the unshadowed render is bright enough for the ratio to mean anything;
 // the others (grazing or unlit) are left out of the comparison rather than guessed.
+// Median of `frames` renders in which nothing changes, with the shadow pass allowed to reuse
+// its last visibility (its default): what a re-render for a widget or a screenshot costs.
+double TimeStillFrames(vtkRenderer* ren, vtkRenderWindow* win, int frames)
+{
+  if (vtkPenumbraShadowPass* pass = ShadowPassOf(ren))
+  {
+    pass->ReuseUnchangedFramesOn();
+  }
+  win->Render(); // the first frame after the switch computes; the rest reuse it
+  win->WaitForCompletion();
+  std::vector<double> times;
+  for (int f = 0; f < frames; ++f)
+  {
+    const auto t0 = Clock::now();
+    win->Render();
+    win->WaitForCompletion();
+    times.push_back(MsSince(t0));
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
 vtkSmartPointer<vtkFloatArray> RecoverVisibility(vtkRenderer* ren, vtkRenderWindow* win,
   vtkLight* light, vtkPenumbraViewSamples* samples, vtkUnsignedCharArray* measurable)
 {
@@ -338,7 +363,8 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
   std::ofstream out(path);
   out << "scene,technique,setting,width,height,median_ms,min_ms,extraction_ms,samples_ms,"
          "technique_ms,shading_ms,ratio_to_no_shadow,error_kind,mismatch_rate,false_lit,"
-         "false_shadow,candidates,ties,mae,rmse,max_error,p95_error,uncertain_share,fill_fragments\n";
+         "false_shadow,candidates,ties,mae,rmse,max_error,p95_error,uncertain_share,fill_fragments,"
+         "still_ms,still_ratio_to_no_shadow\n";
   for (const Row& r : rows)
   {
     out << r.Scene << "," << r.Technique << ",\"" << r.Setting << "\"," << r.Width << ","
@@ -348,7 +374,9 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
         << r.FalseShadow << "," << r.Candidates << "," << r.Ties << "," << r.MAE << "," << r.RMSE
         << "," << r.MaxError << "," << r.P95 << ","
         << (r.UncertainShare < 0 ? std::string() : std::to_string(r.UncertainShare)) << ","
-        << (r.FillFragments < 0 ? std::string() : std::to_string(r.FillFragments)) << "\n";
+        << (r.FillFragments < 0 ? std::string() : std::to_string(r.FillFragments)) << ","
+        << (r.StillMs < 0 ? std::string() : std::to_string(r.StillMs)) << ","
+        << (r.StillRatio < 0 ? std::string() : std::to_string(r.StillRatio)) << "\n";
   }
 }
 
@@ -367,8 +395,8 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
          "error of visibility for area/linear lights.\n\n"
       << "| scene | technique | setting | size | median ms | × no-shadow | extract | samples | "
          "technique | shading | mismatch | false lit | false shadow | ties | MAE | p95 | uncertain | "
-         "fill |\n"
-      << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+         "fill | still ms (×) |\n"
+      << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   auto phase = [](double v) { return v < 0 ? std::string("–") : Fixed(v, 1); };
   for (const Row& r : rows)
   {
@@ -380,6 +408,9 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
         << r.Ties << " | " << Fixed(r.MAE, 4) << " | " << Fixed(r.P95, 3) << " | "
         << (r.UncertainShare < 0 ? std::string("–") : Fixed(100.0 * r.UncertainShare, 2) + " %")
         << " | " << (r.FillFragments < 0 ? std::string("–") : std::to_string(r.FillFragments))
+        << " | "
+        << (r.StillMs < 0 ? std::string("–")
+                          : Fixed(r.StillMs, 1) + " (" + Fixed(r.StillRatio, 2) + ")")
         << " |\n";
   }
   bool gears = false;
@@ -547,6 +578,7 @@ int main(int argc, char* argv[])
   int width = 640, height = 480, frames = 5, warmup = 1;
   bool images = true;
   bool movingLight = false;
+  bool stillFrames = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -586,6 +618,10 @@ int main(int argc, char* argv[])
     else if (a == "--out")
     {
       outDir = value();
+    }
+    else if (a == "--still-frames")
+    {
+      stillFrames = true;
     }
     else if (a == "--moving-light")
     {
@@ -763,6 +799,12 @@ int main(int argc, char* argv[])
       double home[3];
       light->GetPosition(home);
       const double scale = 1e-9 * (1.0 + std::fabs(home[0]) + std::fabs(home[1]) + std::fabs(home[2]));
+      // Timed frames redo the shadow work (the pass would otherwise reuse a still frame's
+      // visibility); --still-frames times that reuse separately.
+      if (vtkPenumbraShadowPass* timed = ShadowPassOf(ren))
+      {
+        timed->ReuseUnchangedFramesOff();
+      }
       auto frame = [&](int f) {
         if (movingLight)
         {
@@ -879,6 +921,10 @@ int main(int argc, char* argv[])
           tracedAtK[SamplesKey(spec.Setting)] = estimate;
         }
       }
+      if (stillFrames)
+      {
+        row.StillMs = TimeStillFrames(ren, win, frames); // after the phases were read
+      }
       if (!estimate || estimate->GetNumberOfTuples() != samples->GetNumberOfSamples())
       {
         measurable = vtkSmartPointer<vtkUnsignedCharArray>::New();
@@ -924,6 +970,7 @@ int main(int argc, char* argv[])
       if (r.Scene == label)
       {
         r.RatioToNoShadow = noShadowMs > 0 ? r.MedianMs / noShadowMs : 0.0;
+        r.StillRatio = r.StillMs >= 0 && noShadowMs > 0 ? r.StillMs / noShadowMs : -1.0;
       }
     }
     registry->Apply(ren, "none", "");
