@@ -44,6 +44,11 @@
  *    (Method AUTO) or when asked (ZPASS). Light caps are pushed back by CapOffset so that a
  *    sample on a caster's lit surface is outside that caster's volume, which is the
  *    reference's "own triangle never blocks" rule and its tnear epsilon.
+ *    Samples are placed on pixels by projecting them with the camera (the renderer's aspect),
+ *    not by their index: an array may hold several surfaces per pixel (vtkPenumbraShadowPass
+ *    stacks the nearest translucent surface's rows under the opaque ones). Samples that meet
+ *    an occupied pixel form the next layer, counted in its own pass (up to 4 layers); samples
+ *    off every pixel centre or beyond the fourth layer are traced.
  * 4. Read back: a non-zero stencil count (modulo 256, wrap operations) is shadow.
  * 5. Edge resolve (Resolve, default on): the rasterizer decides coverage on a snapped
  *    sub-pixel grid, not exactly; the few samples next to a change of the result are traced
