@@ -157,10 +157,10 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
 // tests' 128 x 96 most outlines and terminators are a large share of the image (at 640 x 480
 // the share is about a quarter of this).
 int CompareExact(const std::string& label, vtkRenderer* renderer, const std::string& options,
-  Result* out = nullptr, double maxResolved = 0.4)
+  Result* out = nullptr, double maxResolved = 0.4, int width = 128, int height = 96)
 {
   Result result;
-  RUN(Compare(label, renderer, options, result));
+  RUN(Compare(label, renderer, options, result, width, height));
   CHECK(result.Mismatches == 0);
   // The stencil decides; the ray tracer only settles samples at result edges.
   CHECK(result.Resolved <= maxResolved * result.Valid);
@@ -818,6 +818,29 @@ int CheckTranslucent()
   return EXIT_SUCCESS;
 }
 
+// A subset of the exactness sweep (Data/Scenes/sweep, generate.py there; the whole sweep runs
+// through penumbra-bench): dense real meshes (the bunny, the carotid isosurface, the St
+// Helens terrain, the city block) and a dense generated isosurface under sun, low sun, spot
+// and point lights, at 256 x 192, CPU and GPU silhouettes.
+int CheckSweep()
+{
+  for (const char* file : { "bunny_sun_a", "bunny_lowsun_b", "carotid_spot_a", "st_helens_lowsun_a",
+         "city_point_b", "city_lamp1_a", "iso_dense_point_b" })
+  {
+    vtkNew<vtkPenumbraSceneReader> reader;
+    vtkSmartPointer<vtkRenderer> renderer =
+      ReadScene(std::string("sweep/") + file + ".json", reader);
+    CHECK(renderer != nullptr);
+    for (const char* options : { "{}", "{\"silhouettes\": \"gpu\"}" })
+    {
+      Result result;
+      RUN(CompareExact(std::string(file) + " " + options, renderer, options, &result, 0.4, 256, 192));
+      CHECK(result.RefShadowed > 0);
+    }
+  }
+  return EXIT_SUCCESS;
+}
+
 int CheckBadInput()
 {
   vtkNew<vtkPenumbraShadowVolumeShadows> technique;
@@ -847,5 +870,6 @@ int TestShadowVolumeShadows(int, char*[])
   RUN(CheckGoniometric());
   RUN(CheckScenes());
   RUN(CheckTranslucent());
+  RUN(CheckSweep());
   return EXIT_SUCCESS;
 }
