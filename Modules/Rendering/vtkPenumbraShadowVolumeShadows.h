@@ -79,7 +79,11 @@
  * lights; vtkPenumbraShadowPass scales the light by the diagram (in float, after the mask is
  * read back, so the diagram keeps its full range), for every technique alike.
  *
- * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap).
+ * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap). A shadow
+ * narrower than a pixel that covers one pixel centre only, closer than the rasterizer's
+ * snapping to its edges, can be missed with no neighbour to flag it: a lone false-lit
+ * sample (seen with a low sun on the carotid isosurface and the St Helens terrain at
+ * 320 x 240, Data/Scenes/sweep).
  */
 
 #ifndef vtkPenumbraShadowVolumeShadows_h
