@@ -480,6 +480,234 @@ bool SegmentMayTouch(const VolumeLight& light, const Vec3& eye, const Vec3 v[3],
   }
   return true;
 }
+
+// Where each view sample is counted. The stencil counts along the camera's pixel-centre rays
+// and a pixel holds one depth, so a sample is counted at the pixel whose centre ray passes
+// through it, found by projecting the sample with the camera, never from its index: a shadow
+// pass may hand over several surfaces per pixel (opaque rows, then the nearest translucent
+// surface's rows, stacked into one array), and any other arrangement works the same way.
+// Samples that meet an occupied pixel go to the next layer of the counting image; each layer
+// is one full view, drawn with its own viewport (Brabec 2003, ch. 8: the scene depth once,
+// then the volumes; here once per layer). Samples off every pixel centre, or beyond
+// MaxLayers, cannot be counted and are traced.
+struct SampleLayout
+{
+  static constexpr int MaxLayers = 4;
+  // Largest distance, in pixels, between a sample's projection and its pixel centre: the
+  // G-buffer's samples lie on the centres up to float rounding (far below this), while the
+  // rasterizer's own snapping is 1/256 pixel (see the edge resolve).
+  static constexpr double CentreTolerance = 1.0 / 64.0;
+
+  int Width = 0; // one layer (the view), in pixels
+  int Height = 0;
+  int Layers = 0;
+  std::vector<vtkIdType> Pixel;    // per sample: its pixel in the Width x (Height Layers)
+                                   // counting image, -1: not counted
+  std::vector<vtkIdType> SampleAt; // per pixel of the counting image: its sample, -1: none
+  std::vector<float> DepthStencil; // per pixel: float depth, uint32 (stencil in the low byte)
+  vtkIdType Unplaced = 0;          // samples that see a surface but are not counted
+
+  // Pixel of every sample that sees a surface, from `projection` (world -> clip, rebased:
+  // the geometry's frame) on a width x height view.
+  void Place(const penumbra_light_views::FrameInputs& in, const double projection[4][4],
+    int width, int height)
+  {
+    const vtkIdType n = in.NumberOfSamples;
+    const vtkIdType perLayer = static_cast<vtkIdType>(width) * height;
+    this->Width = width;
+    this->Height = height;
+    this->Layers = 0;
+    this->Unplaced = 0;
+    this->Pixel.assign(static_cast<size_t>(n), -1);
+    this->SampleAt.clear();
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      if (in.Props[s] < 0)
+      {
+        continue;
+      }
+      double clip[4];
+      for (int r = 0; r < 4; ++r)
+      {
+        clip[r] = projection[r][3];
+        for (int c = 0; c < 3; ++c)
+        {
+          clip[r] += projection[r][c] * (static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c]);
+        }
+      }
+      const double fx = 0.5 * (clip[0] / clip[3] + 1.0) * width;
+      const double fy = 0.5 * (clip[1] / clip[3] + 1.0) * height;
+      const double x = std::floor(fx), y = std::floor(fy);
+      if (!(clip[3] > 0.0 && x >= 0.0 && y >= 0.0 && x < width && y < height &&
+            std::fabs(fx - x - 0.5) <= CentreTolerance &&
+            std::fabs(fy - y - 0.5) <= CentreTolerance))
+      {
+        ++this->Unplaced;
+        continue;
+      }
+      vtkIdType pixel = static_cast<vtkIdType>(y) * width + static_cast<vtkIdType>(x);
+      int layer = 0;
+      while (layer < this->Layers && this->SampleAt[static_cast<size_t>(pixel)] >= 0)
+      {
+        ++layer;
+        pixel += perLayer;
+      }
+      if (layer == MaxLayers)
+      {
+        ++this->Unplaced;
+        continue;
+      }
+      if (layer == this->Layers)
+      {
+        ++this->Layers;
+        this->SampleAt.resize(static_cast<size_t>(perLayer * this->Layers), -1);
+      }
+      this->SampleAt[static_cast<size_t>(pixel)] = s;
+      this->Pixel[static_cast<size_t>(s)] = pixel;
+    }
+    this->Layers = std::max(this->Layers, 1);
+    this->SampleAt.resize(static_cast<size_t>(perLayer * this->Layers), -1);
+  }
+
+  // Per counted sample: the depth (`rows`, rebased, reversed) of the point where its pixel-
+  // centre ray (`unproject`: NDC -> world) meets the sample's own triangle, so that the own
+  // cap is rasterized at (nearly) the same depth.
+  void ComputeDepths(const penumbra_light_views::FrameInputs& in, const double rows[4][4],
+    const double unproject[4][4], const double origin[3], double scale)
+  {
+    this->DepthStencil.assign(2 * this->SampleAt.size(), 0.0f);
+    const double* tv = in.TriangleVertices;
+    const vtkIdType perLayer = static_cast<vtkIdType>(this->Width) * this->Height;
+    for (size_t pixel = 0; pixel < this->SampleAt.size(); ++pixel)
+    {
+      const vtkIdType s = this->SampleAt[pixel];
+      if (s < 0)
+      {
+        continue;
+      }
+      double p[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
+      }
+      const vtkIdType t = in.Triangles[s];
+      if (t >= 0 && t < in.NumberOfTriangles)
+      {
+        const double* a = tv + 9 * t;
+        const Vec3 va = { a[0], a[1], a[2] };
+        const Vec3 nrm = Cross(Sub({ a[3], a[4], a[5] }, va), Sub({ a[6], a[7], a[8] }, va));
+        // Pixel-centre ray in world coordinates, rebased.
+        const vtkIdType inLayer = static_cast<vtkIdType>(pixel) % perLayer;
+        const double x = static_cast<double>(inLayer % this->Width);
+        const double y = static_cast<double>(inLayer / this->Width);
+        const double ndc[2] = { (x + 0.5) * 2.0 / this->Width - 1.0,
+          (y + 0.5) * 2.0 / this->Height - 1.0 };
+        double ends[2][3];
+        for (int e = 0; e < 2; ++e)
+        {
+          const double q[4] = { ndc[0], ndc[1], e == 0 ? -1.0 : 1.0, 1.0 };
+          double h[4];
+          for (int r = 0; r < 4; ++r)
+          {
+            h[r] = unproject[r][0] * q[0] + unproject[r][1] * q[1] + unproject[r][2] * q[2] +
+              unproject[r][3] * q[3];
+          }
+          for (int c = 0; c < 3; ++c)
+          {
+            ends[e][c] = h[c] / h[3] - origin[c];
+          }
+        }
+        const Vec3 from = { ends[0][0], ends[0][1], ends[0][2] };
+        const Vec3 dir = Sub({ ends[1][0], ends[1][1], ends[1][2] }, from);
+        const double denom = Dot(nrm, dir);
+        if (std::fabs(denom) > 1e-12 * std::sqrt(Dot(nrm, nrm) * Dot(dir, dir)))
+        {
+          const double u = Dot(nrm, Sub(va, from)) / denom;
+          const Vec3 q = { from[0] + u * dir[0], from[1] + u * dir[1], from[2] + u * dir[2] };
+          // Only when the intersection stays near the sample (it is the same surface point
+          // up to the G-buffer's float rounding).
+          const Vec3 d = Sub(q, { p[0], p[1], p[2] });
+          if (Dot(d, d) <= 1e-6 * scale * scale)
+          {
+            std::copy(q.begin(), q.end(), p);
+          }
+        }
+      }
+      double clip[4];
+      for (int r = 0; r < 4; ++r)
+      {
+        clip[r] = rows[r][0] * p[0] + rows[r][1] * p[1] + rows[r][2] * p[2] + rows[r][3];
+      }
+      this->DepthStencil[2 * pixel] =
+        static_cast<float>(std::min(1.0, std::max(0.0, clip[2] / clip[3])));
+    }
+  }
+};
+
+// Which pending samples (`state`) to trace: those the stencil could not count (see
+// SampleLayout) and, with `resolve` (the edge resolve), those whose answer may hang on the
+// rasterizer's rounding. The rasterizer snaps vertices to a sub-pixel grid (1/256 pixel on
+// llvmpipe), so a pixel centre closer than that to a projected volume edge may be counted on
+// the wrong side of it. The count is constant in screen space away from such edges, so any
+// wrong sample differs from a neighbour in its layer or sits next to a pixel that is not
+// counted (background, facing away). Returns the number of samples marked in `mask`.
+vtkIdType MarkTraced(const SampleLayout& layout, const penumbra_light_views::FrameInputs& in,
+  const VolumeLight& light, const std::vector<unsigned char>& state, const float* vis,
+  bool resolve, unsigned char* mask)
+{
+  const vtkIdType perLayer = static_cast<vtkIdType>(layout.Width) * layout.Height;
+  vtkIdType traced = 0;
+  for (vtkIdType s = 0; s < in.NumberOfSamples; ++s)
+  {
+    mask[s] = 0;
+    if (state[static_cast<size_t>(s)] != Pending)
+    {
+      continue;
+    }
+    const vtkIdType pixel = layout.Pixel[static_cast<size_t>(s)];
+    bool edge = pixel < 0;
+    const vtkIdType layerStart = pixel - pixel % perLayer;
+    const int x = static_cast<int>(pixel % perLayer % layout.Width);
+    const int y = static_cast<int>(pixel % perLayer / layout.Width);
+    for (int dy = -1; dy <= 1 && resolve && !edge; ++dy)
+    {
+      for (int dx = -1; dx <= 1 && !edge; ++dx)
+      {
+        const int nx = x + dx, ny = y + dy;
+        if (nx < 0 || ny < 0 || nx >= layout.Width || ny >= layout.Height)
+        {
+          continue;
+        }
+        const vtkIdType t =
+          layout.SampleAt[static_cast<size_t>(layerStart + static_cast<vtkIdType>(ny) * layout.Width + nx)];
+        // A background neighbour: an outline. A facing-away one: the light's terminator,
+        // where the sample's own caster has a silhouette edge and its side quads start.
+        edge = t < 0 || state[static_cast<size_t>(t)] != Pending || vis[t] != vis[s];
+      }
+    }
+    if (resolve && !edge)
+    {
+      // A light grazing the surface (the N.L ~ 0 case): the shadow boundary then slides
+      // along the surface with every rounding of the sample (the G-buffer's float position
+      // vs. the exact plane the stencil tests), so only a ray decides it as the reference
+      // does.
+      const float* nn = in.Normals + 3 * s;
+      double l[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        l[c] = light.Directional
+          ? light.Direction[c]
+          : light.Position[c] - (static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c]);
+      }
+      const double len = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+      const double cosine = (nn[0] * l[0] + nn[1] * l[1] + nn[2] * l[2]) / len;
+      edge = !(cosine > GrazingCosine);
+    }
+    mask[s] = edge ? 1 : 0;
+    traced += edge;
+  }
+  return traced;
+}
 }
 
 struct vtkPenumbraShadowVolumeShadows::Internals
@@ -533,7 +761,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   std::vector<double> DepthKey;
   double Rows[4][4] = {};
   bool DepthUploaded = false;
-  std::vector<float> DepthStencilData; // float depth + uint32 (stencil in the low byte)
+  SampleLayout Layout; // where each sample is counted, and the depths
   std::vector<unsigned char> MaskPixels;
   vtkNew<vtkUnsignedCharArray> Mask;
 
@@ -1163,6 +1391,13 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
   // The camera matrix and the sample depths depend on the samples and the camera only: one
   // computation and one upload per frame serve every light (seed 004 ch. 8: the scene depth
   // once, then per light a cleared stencil and its volumes).
+  // The view's aspect is the renderer's: the samples may hold several surfaces per pixel
+  // (see SampleLayout), so their own height says nothing about it. Samples the pass did not
+  // make (a renderer without a window) are taken as one image of the view.
+  const double aspect = renderer->GetRenderWindow() && renderer->GetTiledAspectRatio() > 0.0
+    ? renderer->GetTiledAspectRatio()
+    : static_cast<double>(width) / std::max(height, 1);
+  const int viewHeight = std::max(1, static_cast<int>(std::lround(width / aspect)));
   auto address = [](const void* p)
   { return static_cast<double>(reinterpret_cast<std::uintptr_t>(p)); };
   const std::vector<double> depthKey = { address(samples),
@@ -1177,7 +1412,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
                                          impl.Origin[1],
                                          impl.Origin[2],
                                          static_cast<double>(width),
-                                         static_cast<double>(height) };
+                                         static_cast<double>(viewHeight),
+                                         static_cast<double>(n) };
   double(&rows)[4][4] = impl.Rows;
   if (depthKey != impl.DepthKey)
   {
@@ -1185,8 +1421,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
     impl.DepthUploaded = false;
     ++this->NumberOfDepthComputations;
     double unproject[4][4];
+    double projection[4][4]; // world -> clip as VTK draws it, rebased
     {
-      const double aspect = static_cast<double>(width) / height;
       vtkMatrix4x4* m = camera->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
       vtkNew<vtkMatrix4x4> inverse;
       vtkMatrix4x4::Invert(m, inverse);
@@ -1211,6 +1447,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
         rows[r][3] +=
           rows[r][0] * impl.Origin[0] + rows[r][1] * impl.Origin[1] + rows[r][2] * impl.Origin[2];
       }
+      std::copy(&rows[0][0], &rows[0][0] + 16, &projection[0][0]);
       // Eye depth (positive in front) as a row of the rebased frame.
       double eye[4];
       for (int c = 0; c < 4; ++c)
@@ -1253,84 +1490,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
         }
       }
     }
-    auto clipOf = [&](const double p[3], double clip[4])
-    {
-      for (int r = 0; r < 4; ++r)
-      {
-        clip[r] = rows[r][0] * p[0] + rows[r][1] * p[1] + rows[r][2] * p[2] + rows[r][3];
-      }
-    };
-
-    // Per pixel: the depth of the point where the pixel-centre ray meets the sample's own
-    // triangle, so that the own cap is rasterized at (nearly) the same depth.
-    impl.DepthStencilData.assign(2 * static_cast<size_t>(n), 0.0f);
-    const double* tv = in.TriangleVertices;
-    for (int y = 0; y < height; ++y)
-    {
-      for (int x = 0; x < width; ++x)
-      {
-        const vtkIdType s = static_cast<vtkIdType>(y) * width + x;
-        if (in.Props[s] < 0)
-        {
-          continue;
-        }
-        double p[3];
-        for (int c = 0; c < 3; ++c)
-        {
-          p[c] = static_cast<double>(in.Positions[3 * s + c]) + shift[c];
-        }
-        const vtkIdType t = in.Triangles[s];
-        if (t >= 0 && t < in.NumberOfTriangles)
-        {
-          const double* a = tv + 9 * t;
-          const Vec3 va = { a[0], a[1], a[2] };
-          const Vec3 nrm = Cross(Sub({ a[3], a[4], a[5] }, va), Sub({ a[6], a[7], a[8] }, va));
-          // Pixel-centre ray in world coordinates, rebased.
-          const double ndc[2] = { (x + 0.5) * 2.0 / width - 1.0, (y + 0.5) * 2.0 / height - 1.0 };
-          double ends[2][3];
-          for (int e = 0; e < 2; ++e)
-          {
-            const double q[4] = { ndc[0], ndc[1], e == 0 ? -1.0 : 1.0, 1.0 };
-            double h[4];
-            for (int r = 0; r < 4; ++r)
-            {
-              h[r] = unproject[r][0] * q[0] + unproject[r][1] * q[1] + unproject[r][2] * q[2] +
-                unproject[r][3] * q[3];
-            }
-            for (int c = 0; c < 3; ++c)
-            {
-              ends[e][c] = h[c] / h[3] - impl.Origin[c];
-            }
-          }
-          const Vec3 dir = { ends[1][0] - ends[0][0],
-                             ends[1][1] - ends[0][1],
-                             ends[1][2] - ends[0][2] };
-          const double denom = Dot(nrm, dir);
-          if (std::fabs(denom) > 1e-12 * std::sqrt(Dot(nrm, nrm) * Dot(dir, dir)))
-          {
-            const double u = Dot(nrm, Sub(va, { ends[0][0], ends[0][1], ends[0][2] })) / denom;
-            double q[3];
-            for (int c = 0; c < 3; ++c)
-            {
-              q[c] = ends[0][c] + u * dir[c];
-            }
-            // Only when the intersection stays near the sample (it is the same surface point
-            // up to the G-buffer's float rounding).
-            const double d2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
-              (q[2] - p[2]) * (q[2] - p[2]);
-            if (d2 <= 1e-6 * scale * scale)
-            {
-              std::copy(q, q + 3, p);
-            }
-          }
-        }
-        double clip[4];
-        clipOf(p, clip);
-        const double d = clip[2] / clip[3];
-        impl.DepthStencilData[2 * static_cast<size_t>(s)] =
-          static_cast<float>(std::min(1.0, std::max(0.0, d)));
-      }
-    }
+    impl.Layout.Place(in, projection, width, viewHeight);
+    impl.Layout.ComputeDepths(in, rows, unproject, impl.Origin, scale);
   }
 
   this->SampleDepthTimeMs += ElapsedMs(stencilStart);
@@ -1453,40 +1614,21 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
     vtkOpenGLState::ScopedglDepthFunc depthFunc(ostate);
     vtkOpenGLState::ScopedglDepthMask depthMask(ostate);
     vtkOpenGLState::ScopedglColorMask colorMask(ostate);
-    complete = impl.Allocate(width, height);
+    const SampleLayout& layout = impl.Layout;
+    const size_t perLayer = static_cast<size_t>(layout.Width) * static_cast<size_t>(layout.Height);
+    const int channels = counted == 1 ? 1 : 4;
+    impl.MaskPixels.resize(static_cast<size_t>(channels) * layout.SampleAt.size());
+    complete = impl.Allocate(layout.Width, layout.Height);
     if (complete)
     {
       ostate->vtkglBindFramebuffer(GL_FRAMEBUFFER, impl.Framebuffer);
       ostate->vtkglStencilMask(0xff);
-      bool stencilClear = false;
-      if (!impl.DepthUploaded)
-      {
-        // Depth and a zero stencil in one upload.
-        glBindTexture(GL_TEXTURE_2D, impl.DepthStencil);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-        glTexSubImage2D(GL_TEXTURE_2D,
-                        0,
-                        0,
-                        0,
-                        width,
-                        height,
-                        GL_DEPTH_STENCIL,
-                        GL_FLOAT_32_UNSIGNED_INT_24_8_REV,
-                        impl.DepthStencilData.data());
-        glBindTexture(GL_TEXTURE_2D, 0);
-        impl.DepthUploaded = true;
-        stencilClear = true;
-      }
-      // Every channel starts lit.
-      ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      const GLfloat lit[4] = { 1.0f, 1.0f, 1.0f, 1.0f };
-      glClearBufferfv(GL_COLOR, 0, lit);
 
       ostate->vtkglDisable(GL_BLEND);
       ostate->vtkglDisable(GL_SCISSOR_TEST);
       ostate->vtkglDisable(GL_CULL_FACE);
       ostate->vtkglEnable(GL_STENCIL_TEST);
-      ostate->vtkglViewport(0, 0, width, height);
+      ostate->vtkglViewport(0, 0, layout.Width, layout.Height);
       ostate->vtkglDepthMask(GL_FALSE);
       const GLboolean hadClamp = glIsEnabled(GL_DEPTH_CLAMP);
       glEnable(GL_DEPTH_CLAMP);
@@ -1527,137 +1669,175 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
         impl.PointsUploaded = true;
       }
 
-      for (Job& job : jobs)
+      // One pass per layer of samples (see SampleLayout), each in the same view-sized
+      // framebuffer.
+      for (int layer = 0; layer < layout.Layers; ++layer)
       {
-        if (!job.Volumes)
+        bool stencilClear = false;
+        if (!impl.DepthUploaded || layout.Layers > 1)
         {
-          continue;
+          // This layer's depth and a zero stencil in one upload.
+          glBindTexture(GL_TEXTURE_2D, impl.DepthStencil);
+          glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+          glTexSubImage2D(GL_TEXTURE_2D,
+                          0,
+                          0,
+                          0,
+                          layout.Width,
+                          layout.Height,
+                          GL_DEPTH_STENCIL,
+                          GL_FLOAT_32_UNSIGNED_INT_24_8_REV,
+                          layout.DepthStencil.data() + 2 * perLayer * static_cast<size_t>(layer));
+          glBindTexture(GL_TEXTURE_2D, 0);
+          impl.DepthUploaded = layout.Layers == 1; // one layer: kept for the next call
+          stencilClear = true;
         }
-        Internals::VolumeSet& vs = *job.Volumes;
-        const VolumeLight& vl = job.VL;
-        if (stencilClear)
+        // Every channel starts lit.
+        ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        const GLfloat lit[4] = { 1.0f, 1.0f, 1.0f, 1.0f };
+        glClearBufferfv(GL_COLOR, 0, lit);
+        for (Job& job : jobs)
         {
-          stencilClear = false; // the upload left it zero
-        }
-        else
-        {
-          const GLint zero = 0;
-          glClearBufferiv(GL_STENCIL, 0, &zero);
-        }
-        ostate->vtkglEnable(GL_DEPTH_TEST);
-        ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        // Reversed depth: nearer is greater.
-        ostate->vtkglDepthFunc(GL_GREATER);
-        ostate->vtkglStencilMask(0xff);
-        ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
-        if (job.ZPass)
-        {
-          // Count faces in front of the sample: entering +1, leaving -1.
-          ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
-          ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
-        }
-        else
-        {
-          // Carmack's reverse: count faces behind the sample (depth fails).
-          ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
-          ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
-        }
-
-        // This light's buffers: uploaded once per volume build.
-        glBindVertexArray(impl.VertexArray);
-        if (!vs.Buffer)
-        {
-          glGenBuffers(1, &vs.Buffer);
-          glBindBuffer(GL_ARRAY_BUFFER, vs.Buffer);
-          glBufferData(GL_ARRAY_BUFFER,
-                       static_cast<GLsizeiptr>(vs.Vertices.size() * sizeof(float)),
-                       vs.Vertices.empty() ? nullptr : vs.Vertices.data(),
-                       GL_STATIC_DRAW);
-        }
-        glBindBuffer(GL_ARRAY_BUFFER, vs.Buffer);
-        if (loc >= 0)
-        {
-          glEnableVertexAttribArray(static_cast<GLuint>(loc));
-          glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
-        }
-        if (gsProgram && vs.AdjacencyCount > 0)
-        {
-          glBindVertexArray(impl.PointArray);
-          if (!vs.AdjacencyBuffer)
+          if (!job.Volumes)
           {
-            glGenBuffers(1, &vs.AdjacencyBuffer);
-            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.AdjacencyBuffer);
-            glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-                         static_cast<GLsizeiptr>(vs.AdjacencyIndices.size() * sizeof(GLuint)),
-                         vs.AdjacencyIndices.data(),
+            continue;
+          }
+          Internals::VolumeSet& vs = *job.Volumes;
+          const VolumeLight& vl = job.VL;
+          if (stencilClear)
+          {
+            stencilClear = false; // the upload left it zero
+          }
+          else
+          {
+            const GLint zero = 0;
+            glClearBufferiv(GL_STENCIL, 0, &zero);
+          }
+          ostate->vtkglEnable(GL_DEPTH_TEST);
+          ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+          // Reversed depth: nearer is greater.
+          ostate->vtkglDepthFunc(GL_GREATER);
+          ostate->vtkglStencilMask(0xff);
+          ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
+          if (job.ZPass)
+          {
+            // Count faces in front of the sample: entering +1, leaving -1.
+            ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
+            ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
+          }
+          else
+          {
+            // Carmack's reverse: count faces behind the sample (depth fails).
+            ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+            ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
+          }
+
+          // This light's buffers: uploaded once per volume build.
+          glBindVertexArray(impl.VertexArray);
+          if (!vs.Buffer)
+          {
+            glGenBuffers(1, &vs.Buffer);
+            glBindBuffer(GL_ARRAY_BUFFER, vs.Buffer);
+            glBufferData(GL_ARRAY_BUFFER,
+                         static_cast<GLsizeiptr>(vs.Vertices.size() * sizeof(float)),
+                         vs.Vertices.empty() ? nullptr : vs.Vertices.data(),
                          GL_STATIC_DRAW);
           }
-          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.AdjacencyBuffer);
-        }
-        const float lightUniform[4] = {
-          static_cast<float>(vl.Directional ? vl.Direction[0] : vl.Position[0]),
-          static_cast<float>(vl.Directional ? vl.Direction[1] : vl.Position[1]),
-          static_cast<float>(vl.Directional ? vl.Direction[2] : vl.Position[2]),
-          vl.Directional ? 0.0f : 1.0f
-        };
-        // Every volume once; light caps pushed back by `capScale` (1: not at all).
-        auto drawVolumes = [&](float capScale)
-        {
-          win->GetShaderCache()->ReadyShaderProgram(program);
-          program->SetUniformMatrix4x4("worldToClip", matrix);
-          glBindVertexArray(impl.VertexArray);
-          if (vs.CapVertices > 0)
+          glBindBuffer(GL_ARRAY_BUFFER, vs.Buffer);
+          if (loc >= 0)
           {
-            program->SetUniformf("capScale", capScale);
-            glDrawArrays(GL_TRIANGLES, 0, vs.CapVertices);
-          }
-          if (vs.AllVertices > vs.CapVertices)
-          {
-            program->SetUniformf("capScale", 1.0f);
-            glDrawArrays(GL_TRIANGLES, vs.CapVertices, vs.AllVertices - vs.CapVertices);
+            glEnableVertexAttribArray(static_cast<GLuint>(loc));
+            glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
           }
           if (gsProgram && vs.AdjacencyCount > 0)
           {
-            win->GetShaderCache()->ReadyShaderProgram(gsProgram);
-            gsProgram->SetUniformMatrix4x4("worldToClip", matrix);
-            gsProgram->SetUniformf("capScale", capScale);
-            gsProgram->SetUniform4f("light", lightUniform);
-            gsProgram->SetUniformf("extrusion", static_cast<float>(vl.Extrusion));
-            gsProgram->SetUniformf("farW", static_cast<float>(vs.FarW));
             glBindVertexArray(impl.PointArray);
-            glDrawElements(GL_TRIANGLES_ADJACENCY, vs.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
+            if (!vs.AdjacencyBuffer)
+            {
+              glGenBuffers(1, &vs.AdjacencyBuffer);
+              glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.AdjacencyBuffer);
+              glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                           static_cast<GLsizeiptr>(vs.AdjacencyIndices.size() * sizeof(GLuint)),
+                           vs.AdjacencyIndices.data(),
+                           GL_STATIC_DRAW);
+            }
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.AdjacencyBuffer);
           }
-        };
-        glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
-        drawVolumes(static_cast<float>(1.0 - this->CapOffset));
-        glEndQuery(GL_SAMPLES_PASSED);
-        GLuint passed = 0;
-        glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &passed);
-        this->NumberOfPassedFragments += static_cast<vtkIdType>(passed);
-        if (this->MeasureFill)
-        {
-          // Every rasterized volume fragment, with the stencil left as counted.
-          ostate->vtkglDepthFunc(GL_ALWAYS);
-          ostate->vtkglStencilMask(0x00);
+          const float lightUniform[4] = {
+            static_cast<float>(vl.Directional ? vl.Direction[0] : vl.Position[0]),
+            static_cast<float>(vl.Directional ? vl.Direction[1] : vl.Position[1]),
+            static_cast<float>(vl.Directional ? vl.Direction[2] : vl.Position[2]),
+            vl.Directional ? 0.0f : 1.0f
+          };
+          // Every volume once; light caps pushed back by `capScale` (1: not at all).
+          auto drawVolumes = [&](float capScale)
+          {
+            win->GetShaderCache()->ReadyShaderProgram(program);
+            program->SetUniformMatrix4x4("worldToClip", matrix);
+            glBindVertexArray(impl.VertexArray);
+            if (vs.CapVertices > 0)
+            {
+              program->SetUniformf("capScale", capScale);
+              glDrawArrays(GL_TRIANGLES, 0, vs.CapVertices);
+            }
+            if (vs.AllVertices > vs.CapVertices)
+            {
+              program->SetUniformf("capScale", 1.0f);
+              glDrawArrays(GL_TRIANGLES, vs.CapVertices, vs.AllVertices - vs.CapVertices);
+            }
+            if (gsProgram && vs.AdjacencyCount > 0)
+            {
+              win->GetShaderCache()->ReadyShaderProgram(gsProgram);
+              gsProgram->SetUniformMatrix4x4("worldToClip", matrix);
+              gsProgram->SetUniformf("capScale", capScale);
+              gsProgram->SetUniform4f("light", lightUniform);
+              gsProgram->SetUniformf("extrusion", static_cast<float>(vl.Extrusion));
+              gsProgram->SetUniformf("farW", static_cast<float>(vs.FarW));
+              glBindVertexArray(impl.PointArray);
+              glDrawElements(GL_TRIANGLES_ADJACENCY, vs.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
+            }
+          };
           glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
-          drawVolumes(1.0f);
+          drawVolumes(static_cast<float>(1.0 - this->CapOffset));
           glEndQuery(GL_SAMPLES_PASSED);
-          GLuint fill = 0;
-          glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &fill);
-          this->NumberOfFillFragments += static_cast<vtkIdType>(fill);
-          ostate->vtkglStencilMask(0xff);
-        }
+          GLuint passed = 0;
+          glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &passed);
+          this->NumberOfPassedFragments += static_cast<vtkIdType>(passed);
+          if (this->MeasureFill)
+          {
+            // Every rasterized volume fragment, with the stencil left as counted.
+            ostate->vtkglDepthFunc(GL_ALWAYS);
+            ostate->vtkglStencilMask(0x00);
+            glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
+            drawVolumes(1.0f);
+            glEndQuery(GL_SAMPLES_PASSED);
+            GLuint fill = 0;
+            glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &fill);
+            this->NumberOfFillFragments += static_cast<vtkIdType>(fill);
+            ostate->vtkglStencilMask(0xff);
+          }
 
-        // Step 3 of ch. 8: 0 into this light's channel where the count is not zero (the
-        // count wraps modulo 256).
-        ostate->vtkglDisable(GL_DEPTH_TEST);
-        ostate->vtkglStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
-        ostate->vtkglStencilFunc(GL_NOTEQUAL, 0, 0xff);
-        ostate->vtkglColorMask(
-          job.Channel == 0, job.Channel == 1, job.Channel == 2, job.Channel == 3);
-        win->GetShaderCache()->ReadyShaderProgram(maskProgram);
-        glBindVertexArray(impl.VertexArray);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
+          // Step 3 of ch. 8: 0 into this light's channel where the count is not zero (the
+          // count wraps modulo 256).
+          ostate->vtkglDisable(GL_DEPTH_TEST);
+          ostate->vtkglStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
+          ostate->vtkglStencilFunc(GL_NOTEQUAL, 0, 0xff);
+          ostate->vtkglColorMask(
+            job.Channel == 0, job.Channel == 1, job.Channel == 2, job.Channel == 3);
+          win->GetShaderCache()->ReadyShaderProgram(maskProgram);
+          glBindVertexArray(impl.VertexArray);
+          glDrawArrays(GL_TRIANGLES, 0, 3);
+        }
+        // One read-back per layer for the whole group: the red channel alone for a single
+        // light.
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadPixels(0,
+                     0,
+                     layout.Width,
+                     layout.Height,
+                     channels == 1 ? GL_RED : GL_RGBA,
+                     GL_UNSIGNED_BYTE,
+                     impl.MaskPixels.data() + static_cast<size_t>(channels) * perLayer * static_cast<size_t>(layer));
       }
       glBindBuffer(GL_ARRAY_BUFFER, 0);
       glBindVertexArray(0);
@@ -1670,17 +1850,6 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
       ostate->vtkglStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
       ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
 
-      // One read-back for the whole group: the red channel alone for a single light.
-      const int channels = counted == 1 ? 1 : 4;
-      impl.MaskPixels.resize(static_cast<size_t>(channels) * static_cast<size_t>(n));
-      glPixelStorei(GL_PACK_ALIGNMENT, 1);
-      glReadPixels(0,
-                   0,
-                   width,
-                   height,
-                   channels == 1 ? GL_RED : GL_RGBA,
-                   GL_UNSIGNED_BYTE,
-                   impl.MaskPixels.data());
       ++this->NumberOfMasks;
     }
   }
@@ -1706,75 +1875,26 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
     const VolumeLight& vl = job.VL;
     const int channels = counted == 1 ? 1 : 4;
     const unsigned char* maskChannel = impl.MaskPixels.data() + job.Channel;
+    const SampleLayout& layout = impl.Layout;
     for (vtkIdType s = 0; s < n; ++s)
     {
-      if (state[static_cast<size_t>(s)] == Pending)
+      const vtkIdType pixel = layout.Pixel[static_cast<size_t>(s)];
+      if (state[static_cast<size_t>(s)] == Pending && pixel >= 0)
       {
-        vis[s] =
-          maskChannel[static_cast<size_t>(channels) * static_cast<size_t>(s)] == 0 ? 0.0f : 1.0f;
+        vis[s] = maskChannel[static_cast<size_t>(channels) * static_cast<size_t>(pixel)] == 0
+          ? 0.0f
+          : 1.0f;
       }
     }
 
-    // ---- Edge resolve. The rasterizer snaps vertices to a sub-pixel grid (1/256 pixel on
-    // llvmpipe), so a pixel centre closer than that to a projected volume edge may be counted
-    // on the wrong side of it. The count is constant in screen space away from such edges, so
-    // any wrong sample differs from a neighbour or sits next to a sample that is not counted
-    // (background, facing away): those samples, and only those, are traced exactly.
-    if (this->Resolve)
+    // ---- Samples the stencil could not count, and the edge resolve (see MarkTraced).
+    if (this->Resolve || layout.Unplaced > 0)
     {
       const auto resolveStart = Clock::now();
       impl.Mask->SetNumberOfComponents(1);
       impl.Mask->SetNumberOfTuples(n);
-      unsigned char* mask = impl.Mask->GetPointer(0);
-      vtkIdType traced = 0;
-      for (int y = 0; y < height; ++y)
-      {
-        for (int x = 0; x < width; ++x)
-        {
-          const vtkIdType s = static_cast<vtkIdType>(y) * width + x;
-          mask[s] = 0;
-          if (state[static_cast<size_t>(s)] != Pending)
-          {
-            continue;
-          }
-          bool edge = false;
-          for (int dy = -1; dy <= 1 && !edge; ++dy)
-          {
-            for (int dx = -1; dx <= 1 && !edge; ++dx)
-            {
-              const int nx = x + dx, ny = y + dy;
-              if (nx < 0 || ny < 0 || nx >= width || ny >= height)
-              {
-                continue;
-              }
-              const vtkIdType t = static_cast<vtkIdType>(ny) * width + nx;
-              // A background neighbour: an outline. A facing-away one: the light's terminator,
-              // where the sample's own caster has a silhouette edge and its side quads start.
-              edge = state[static_cast<size_t>(t)] != Pending || vis[t] != vis[s];
-            }
-          }
-          if (!edge)
-          {
-            // A light grazing the surface (the note's N.L ~ 0 case): the shadow boundary then
-            // slides along the surface with every rounding of the sample (the G-buffer's float
-            // position vs. the exact plane the stencil tests), so only a ray decides it as the
-            // reference does.
-            const float* nn = in.Normals + 3 * s;
-            double l[3];
-            for (int c = 0; c < 3; ++c)
-            {
-              l[c] = vl.Directional
-                ? vl.Direction[c]
-                : vl.Position[c] - (static_cast<double>(in.Positions[3 * s + c]) + shift[c]);
-            }
-            const double len = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
-            const double cosine = (nn[0] * l[0] + nn[1] * l[1] + nn[2] * l[2]) / len;
-            edge = !(cosine > GrazingCosine);
-          }
-          mask[s] = edge ? 1 : 0;
-          traced += edge;
-        }
-      }
+      const vtkIdType traced = MarkTraced(
+        layout, in, vl, state, vis, this->Resolve, n ? impl.Mask->GetPointer(0) : nullptr);
       if (traced > 0)
       {
         this->Reference->SetGeometry(geometry);

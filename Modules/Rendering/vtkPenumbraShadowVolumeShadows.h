@@ -44,6 +44,11 @@
  *    (Method AUTO) or when asked (ZPASS). Light caps are pushed back by CapOffset so that a
  *    sample on a caster's lit surface is outside that caster's volume, which is the
  *    reference's "own triangle never blocks" rule and its tnear epsilon.
+ *    Samples are placed on pixels by projecting them with the camera (the renderer's aspect),
+ *    not by their index: an array may hold several surfaces per pixel (vtkPenumbraShadowPass
+ *    stacks the nearest translucent surface's rows under the opaque ones). Samples that meet
+ *    an occupied pixel form the next layer, counted in its own pass (up to 4 layers); samples
+ *    off every pixel centre or beyond the fourth layer are traced.
  * 4. Read back: a non-zero stencil count (modulo 256, wrap operations) is shadow.
  * 5. Edge resolve (Resolve, default on): the rasterizer decides coverage on a snapped
  *    sub-pixel grid, not exactly; the few samples next to a change of the result are traced
@@ -74,7 +79,11 @@
  * lights; vtkPenumbraShadowPass scales the light by the diagram (in float, after the mask is
  * read back, so the diagram keeps its full range), for every technique alike.
  *
- * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap).
+ * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap). A shadow
+ * narrower than a pixel that covers one pixel centre only, closer than the rasterizer's
+ * snapping to its edges, can be missed with no neighbour to flag it: a lone false-lit
+ * sample (seen with a low sun on the carotid isosurface and the St Helens terrain at
+ * 320 x 240, Data/Scenes/sweep).
  */
 
 #ifndef vtkPenumbraShadowVolumeShadows_h

@@ -477,7 +477,7 @@ int TestShadowPass(int, char*[])
   RUN(CheckFootprint(128, 64));
   RUN(CheckFootprint(256, 64)); // wide window: same footprint, no distortion
   RUN(CheckReceiversAndLights());
-  for (const char* technique : { "raytraced", "conservative", "shadowmap" })
+  for (const char* technique : { "raytraced", "conservative", "shadowmap", "volumes" })
   {
     RUN(CheckTranslucentReceiver(technique));
   }
