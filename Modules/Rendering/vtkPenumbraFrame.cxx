@@ -432,7 +432,7 @@ vtkTextureObject* vtkPenumbraFrame::GetVisibilityTexture(int layer, int t)
 
 void vtkPenumbraFrame::Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
   vtkPenumbraViewSamplesPass* opaque, vtkPenumbraViewSamplesPass* translucent,
-  int numberOfLights)
+  int numberOfLights, bool newSamples)
 {
   Internals& impl = *this->Impl;
   auto* win = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
@@ -449,7 +449,7 @@ void vtkPenumbraFrame::Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* ge
   int x = 0, y = 0;
   renderer->GetTiledSizeAndOrigin(&impl.Width, &impl.Height, &x, &y);
   impl.NumberOfLights = numberOfLights;
-  impl.SamplesRead = false;
+  impl.SamplesRead = impl.SamplesRead && !newSamples;
   impl.Lights.clear();
   impl.AllocateTextures();
   for (int layer = 0; layer < 2; ++layer)

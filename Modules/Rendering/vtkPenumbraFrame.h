@@ -76,7 +76,8 @@ public:
    */
   vtkPenumbraViewSamples* GetSamples();
 
-  /** True once this frame's samples have been read back to the CPU. */
+  /** True once this frame's samples are on the CPU (read back this frame or an earlier one
+   * with the same view). */
   bool GetSamplesReadBack();
 
   ///@{
@@ -160,11 +161,13 @@ public:
   ///@{
   /**
    * Used by vtkPenumbraShadowPass: Begin() starts a frame (layer passes, lights, size; the
-   * visibility textures are sized and every channel set to 1), Finish() applies
+   * visibility textures are sized; `newSamples` false when the layers still hold the last
+   * frame's samples, whose CPU view then stays valid), Finish() applies
    * goniometric diagrams and uploads the CPU answers. Release() frees the GL objects.
    */
   void Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
-    vtkPenumbraViewSamplesPass* opaque, vtkPenumbraViewSamplesPass* translucent, int numberOfLights);
+    vtkPenumbraViewSamplesPass* opaque, vtkPenumbraViewSamplesPass* translucent, int numberOfLights,
+    bool newSamples);
   void AddShadowedLight(vtkLight* light, int index);
   void Finish();
   void Release(vtkWindow* window);

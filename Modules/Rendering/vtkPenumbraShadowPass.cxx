@@ -101,9 +101,11 @@ struct vtkPenumbraShadowPass::Internals
   int InjectedLights = 0;
   vtkTimeStamp ShaderTime;
 
-  // Everything the last shadowed frame depended on (FrameKey()); equal keys reuse it.
-  std::vector<double> LastKey;
+  // What the last frame's view samples (ViewKey()) and its visibility (ViewKey() and
+  // LightsKey()) depended on: equal keys reuse them.
+  std::vector<double> LastViewKey, LastLightsKey;
   bool LastReused = false;
+  bool LastSampled = false;
 
   double ExtractionMs = 0, SamplesMs = 0, TechniqueMs = 0, ShadingMs = 0;
 
@@ -125,7 +127,8 @@ struct vtkPenumbraShadowPass::Internals
   }
 
   void CollectLights(vtkRenderer* ren);
-  std::vector<double> FrameKey(const vtkRenderState* s, vtkPenumbraShadowPass* pass);
+  std::vector<double> ViewKey(const vtkRenderState* s, vtkPenumbraShadowPass* pass);
+  std::vector<double> LightsKey();
   void RenderSamples(const vtkRenderState* s);
   void ComputeVisibility(vtkPenumbraShadowPass* pass);
 };
@@ -145,9 +148,9 @@ void vtkPenumbraShadowPass::Internals::CollectLights(vtkRenderer* ren)
   }
 }
 
-// By value where VTK modifies objects without changing them (cameras, props), by MTime where
-// a time is the only witness (lights, geometry, flags, settings).
-std::vector<double> vtkPenumbraShadowPass::Internals::FrameKey(
+// What the view samples depend on: by value where VTK modifies objects without changing them
+// (cameras, props), by MTime where a time is the only witness (geometry, flags, settings).
+std::vector<double> vtkPenumbraShadowPass::Internals::ViewKey(
   const vtkRenderState* s, vtkPenumbraShadowPass* pass)
 {
   std::vector<double> key;
@@ -161,16 +164,6 @@ std::vector<double> vtkPenumbraShadowPass::Internals::FrameKey(
          cam->GetCompositeProjectionTransformMatrix(aspect, -1, 1) })
   {
     key.insert(key.end(), &m->Element[0][0], &m->Element[0][0] + 16);
-  }
-  for (auto& light : this->Lights)
-  {
-    double p[3], f[3];
-    light->GetTransformedPosition(p);
-    light->GetTransformedFocalPoint(f);
-    key.insert(key.end(), p, p + 3);
-    key.insert(key.end(), f, f + 3);
-    key.push_back(static_cast<double>(light->GetMTime()));
-    key.push_back(reinterpret_cast<std::uintptr_t>(light.Get()));
   }
   key.push_back(static_cast<double>(this->Geometry->GetGeometryTime()));
   key.push_back(static_cast<double>(this->Geometry->GetFlagsTime()));
@@ -193,9 +186,27 @@ std::vector<double> vtkPenumbraShadowPass::Internals::FrameKey(
     }
   }
   key.push_back(static_cast<double>(pass->GetMTime()));
+  key.push_back(reinterpret_cast<std::uintptr_t>(ren->GetRenderWindow()));
+  return key;
+}
+
+// What the visibility depends on beyond the view: every switched-on light (by value and
+// MTime) and the technique with its settings.
+std::vector<double> vtkPenumbraShadowPass::Internals::LightsKey()
+{
+  std::vector<double> key;
+  for (auto& light : this->Lights)
+  {
+    double p[3], f[3];
+    light->GetTransformedPosition(p);
+    light->GetTransformedFocalPoint(f);
+    key.insert(key.end(), p, p + 3);
+    key.insert(key.end(), f, f + 3);
+    key.push_back(static_cast<double>(light->GetMTime()));
+    key.push_back(reinterpret_cast<std::uintptr_t>(light.Get()));
+  }
   key.push_back(reinterpret_cast<std::uintptr_t>(this->Technique.Get()));
   key.push_back(static_cast<double>(this->Technique ? this->Technique->GetMTime() : 0));
-  key.push_back(reinterpret_cast<std::uintptr_t>(ren->GetRenderWindow()));
   return key;
 }
 
@@ -368,6 +379,11 @@ bool vtkPenumbraShadowPass::GetLastFrameReused()
   return this->Impl->LastReused;
 }
 
+bool vtkPenumbraShadowPass::GetLastFrameRenderedSamples()
+{
+  return this->Impl->LastSampled;
+}
+
 double vtkPenumbraShadowPass::GetExtractionTimeMs()
 {
   return this->Impl->ExtractionMs;
@@ -411,6 +427,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
 
   impl.ExtractionMs = impl.SamplesMs = impl.TechniqueMs = 0.0;
   impl.LastReused = false;
+  impl.LastSampled = false;
   double t = Now();
   bool geometryOk = false;
   if (anyShadowed)
@@ -427,28 +444,38 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   ren->GetTiledSizeAndOrigin(&w, &h, &x, &y);
   if (anyShadowed && geometryOk && w > 0 && h > 0)
   {
-    std::vector<double> key = impl.FrameKey(s, this);
-    impl.LastReused = this->ReuseUnchangedFrames && impl.HasFrame && key == impl.LastKey;
+    std::vector<double> viewKey = impl.ViewKey(s, this);
+    std::vector<double> lightsKey = impl.LightsKey();
+    // The view samples are the same as long as the view is: a light that moves, a technique
+    // that changes, reuse them (no G-buffer, no read-back).
+    const bool sameView = impl.HasFrame && viewKey == impl.LastViewKey;
+    impl.LastReused =
+      this->ReuseUnchangedFrames && sameView && lightsKey == impl.LastLightsKey;
     if (!impl.LastReused)
     {
       t = Now();
-      impl.RenderSamples(s);
+      if (!sameView)
+      {
+        impl.RenderSamples(s);
+      }
+      impl.LastSampled = !sameView;
       impl.SamplesMs = 1000.0 * (Now() - t);
       t = Now();
       impl.Frame->Begin(ren, impl.Geometry, impl.SamplesPass,
         impl.HasTranslucentLayer ? impl.TranslucentSamplesPass.Get() : nullptr,
-        static_cast<int>(impl.Lights.size()));
+        static_cast<int>(impl.Lights.size()), !sameView);
       impl.HasFrame = true;
       impl.ComputeVisibility(this);
       win->WaitForCompletion();
       impl.TechniqueMs = 1000.0 * (Now() - t);
-      impl.LastKey.swap(key);
+      impl.LastViewKey.swap(viewKey);
+      impl.LastLightsKey.swap(lightsKey);
     }
   }
   else
   {
     impl.HasFrame = false;
-    impl.LastKey.clear();
+    impl.LastViewKey.clear();
     impl.SetInjectedLights(0);
   }
 
@@ -583,7 +610,7 @@ void vtkPenumbraShadowPass::ReleaseGraphicsResources(vtkWindow* w)
   }
   impl.Frame->Release(w);
   impl.HasFrame = false;
-  impl.LastKey.clear();
+  impl.LastViewKey.clear();
   impl.SetInjectedLights(0);
 }
 

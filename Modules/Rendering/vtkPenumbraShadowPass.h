@@ -26,7 +26,8 @@
  * answers on the GPU reads nothing back, a CPU technique reads back what it needs. A frame
  * in which nothing the shadows depend on changed (camera, window size, lights, geometry,
  * shadow flags, props, technique and its settings) reuses the last frame's visibility and
- * only shades (SetReuseUnchangedFrames()).
+ * only shades (SetReuseUnchangedFrames()); a frame in which only lights or technique settings
+ * changed keeps the view samples (GetLastFrameRenderedSamples()).
  *
  * Use it inside a vtkCameraPass: `camera->SetDelegatePass(shadowPass); renderer->SetPass(camera)`.
  * The last frame's geometry, samples and per-light visibility are kept for analysis (read
@@ -143,6 +144,14 @@ public:
 
   /** True when the last Render() reused the previous frame's visibility. */
   bool GetLastFrameReused();
+
+  /**
+   * True when the last Render() rendered the view samples (G-buffer). They are kept while
+   * the view is unchanged (camera, window size, geometry, flags, props), so a frame in which
+   * only lights or the technique changed computes the visibility on the same samples without
+   * rendering or reading them again.
+   */
+  bool GetLastFrameRenderedSamples();
 
   ///@{
   /**

@@ -385,12 +385,14 @@ int CheckFrameReuse()
 
   scene.Renderer->GetActiveCamera()->SetParallelScale(2.5);
   CHECK(render("camera zoomed", false, false));
+  CHECK(pass->GetLastFrameRenderedSamples());
   CHECK(render("nothing changed", true, false));
   scene.Renderer->GetActiveCamera()->SetParallelScale(2.0);
   CHECK(render("camera back", false, true));
 
   scene.Light->SetPosition(1.0, 0.0, 2.0); // steeper: a smaller visible shadow
   CHECK(render("light moved", false, false));
+  CHECK(!pass->GetLastFrameRenderedSamples()); // same view: the samples are kept
   scene.Light->SetPosition(1, 0, 1);
   CHECK(render("light back", false, true));
 
