@@ -96,10 +96,23 @@ std::string Fixed(double v, int digits)
   return s.str();
 }
 
-FrameTimes TimeFrames(vtkRenderWindow* win, int warmup, int frames,
+namespace
+{
+// "120 s", "0.512 s", "1e-06 s": three significant digits, a small value not rounded to 0.
+std::string Seconds(double ms)
+{
+  std::ostringstream s;
+  s << std::setprecision(3) << ms / 1000.0 << " s";
+  return s.str();
+}
+}
+
+FrameTimes TimeFrames(vtkRenderWindow* win, int warmup, int frames, double budgetMs,
   const std::function<void(int)>& before, const std::function<void()>& afterTimed)
 {
   FrameTimes result;
+  double timedMs = 0.0;
+  const int lastWarmup = std::max(warmup - 1, 0);
   for (int f = 0; f < warmup + frames; ++f)
   {
     before(f);
@@ -110,10 +123,32 @@ FrameTimes TimeFrames(vtkRenderWindow* win, int warmup, int frames,
     if (f >= warmup)
     {
       result.Ms.push_back(ms);
+      timedMs += ms;
       if (afterTimed)
       {
         afterTimed();
       }
+    }
+    const bool more = f + 1 < warmup + frames;
+    if (more && f < warmup && ms > budgetMs)
+    {
+      result.OverBudget = "a warm-up frame took " + Seconds(ms) +
+        ", more than the whole budget of " + Seconds(budgetMs);
+    }
+    else if (more && f == lastWarmup && ms > budgetMs / frames)
+    {
+      result.OverBudget = "one frame took " + Seconds(ms) + ", more than the budget of " +
+        Seconds(budgetMs) + " over " + std::to_string(frames) + " frames";
+    }
+    else if (more && timedMs > budgetMs)
+    {
+      result.OverBudget = std::to_string(result.Ms.size()) + " of " + std::to_string(frames) +
+        " frames took " + Seconds(timedMs) + ", more than the budget of " +
+        Seconds(budgetMs);
+    }
+    if (!result.OverBudget.empty())
+    {
+      break;
     }
   }
   std::sort(result.Ms.begin(), result.Ms.end());

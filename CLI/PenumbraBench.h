@@ -1,7 +1,10 @@
-// Pieces of penumbra-bench that do not depend on its scenes: technique specs, options, frame
-// timing, progress, charts. Not a public API.
+// Pieces penumbra-bench's two runs share: the scene benchmark (error against run time,
+// penumbra-bench.cxx) and the scale sweep (run time against triangle count,
+// PenumbraBenchSweep.cxx). Not a public API.
 #ifndef PenumbraBench_h
 #define PenumbraBench_h
+
+#include "vtkType.h"
 
 #include <nlohmann/json.hpp>
 
@@ -45,7 +48,19 @@ struct Options
   int Width = 640, Height = 480, Frames = 5, Warmup = 1;
   bool Images = true;
   bool MovingLight = false;
+
+  // --scale-sweep: caster triangle counts; empty = the scene benchmark runs instead.
+  std::vector<vtkIdType> SweepTriangles;
+  // Wall-clock seconds a sweep point may spend on its timed frames. Two minutes keeps a
+  // 1e7-triangle sweep of five techniques within an hour on a 2-core software rasterizer
+  // while every technique that is interactive at all still gets its frames measured.
+  double BudgetSeconds = 120.0;
 };
+
+// The sweep's defaults where the command line leaves them open: a 720p frame, and the
+// techniques whose growth with triangle count the sweep is about.
+constexpr int SweepWidth = 1280, SweepHeight = 720;
+const char* const SweepTechniques = "none,raytraced,shadowmap,conservative,volumes";
 
 std::vector<std::string> Split(const std::string& s, char sep);
 bool ParseTechnique(const std::string& text, TechniqueSpec& spec, std::string& error);
@@ -62,13 +77,18 @@ std::string Fixed(double v, int digits);
 struct FrameTimes
 {
   std::vector<double> Ms; // timed frames, sorted
+  // Why the point was cut short (over its budget); empty when every frame ran.
+  std::string OverBudget;
   double Median() const { return this->Ms[this->Ms.size() / 2]; }
 };
 
 // Renders `warmup` untimed frames, then `frames` timed ones; `before(f)` runs before frame f
 // (0-based over warm-up and timed frames, outside the clock) and `afterTimed()` after each
-// timed frame (outside the clock: reading the pass's phase timers).
-FrameTimes TimeFrames(vtkRenderWindow* win, int warmup, int frames,
+// timed frame (outside the clock: reading the pass's phase timers). A point stops early
+// when the last warm-up frame (the first frame if there is none) took more than
+// budgetMs / frames, when any warm-up frame alone took more than budgetMs, or when the timed
+// frames together exceed budgetMs; FrameTimes::OverBudget says which.
+FrameTimes TimeFrames(vtkRenderWindow* win, int warmup, int frames, double budgetMs,
   const std::function<void(int)>& before, const std::function<void()>& afterTimed = nullptr);
 
 // Colours of the charts' series, one per technique.
@@ -77,6 +97,10 @@ extern const double Palette[PaletteSize][3];
 
 // Renders a chart view offscreen and writes it as PNG; false with `error` set on failure.
 bool SaveChart(vtkContextView* view, const std::string& path, std::string& error);
+
+// The scale sweep (--scale-sweep): writes sweep.csv, sweep.md and sweep.png into
+// options.OutDir and returns the exit status.
+int RunSweep(const Options& options);
 }
 
 #endif

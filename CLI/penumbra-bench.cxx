@@ -25,6 +25,9 @@
 //  - its visibility for that light is read from the pass, or, for passes that do not expose
 //    one (VTK's vtkShadowMapPass), recovered as the ratio of a white, diffuse-only render
 //    with shadows to the same render without, lit by that light alone.
+//
+// With --scale-sweep the bench measures run time against triangle count on a generated
+// scene instead (see PenumbraBenchSweep.cxx).
 
 #include "PenumbraBench.h"
 #include "PenumbraCLI.h"
@@ -133,7 +136,9 @@ int Usage(const char* why)
   }
   std::cerr << "usage: penumbra-bench [--scenes A,B,...] [--techniques T[:k=v;k=v],...]"
                " [--size WxH] [--frames N] [--warmup N] [--moving-light] [--no-images]"
-               " --out DIR\n";
+               " --out DIR\n"
+               "       penumbra-bench --scale-sweep [N1,N2,...] [--budget SECONDS]"
+               " [--techniques ...] [--size WxH] [--frames N] [--warmup N] --out DIR\n";
   return 2;
 }
 
@@ -443,9 +448,27 @@ std::string FileSafe(std::string s)
   return s;
 }
 
+// "1e4,1e5" -> { 10000, 100000 }: counts from 8 (the coarsest sphere) to 1e9.
+bool ParseCounts(const std::string& text, std::vector<vtkIdType>& counts)
+{
+  counts.clear();
+  for (const auto& item : Split(text, ','))
+  {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (!end || *end || !(v >= 8.0) || v > 1e9)
+    {
+      return false;
+    }
+    counts.push_back(static_cast<vtkIdType>(std::llround(v)));
+  }
+  return !counts.empty();
+}
+
 // The command line into `o`. Returns -1 to go on, or the exit status.
 int ParseArguments(int argc, char* argv[], Options& o)
 {
+  bool sizeGiven = false, scenesGiven = false, techniquesGiven = false, budgetGiven = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -459,10 +482,12 @@ int ParseArguments(int argc, char* argv[], Options& o)
     if (a == "--scenes")
     {
       o.SceneNames = Split(value(), ',');
+      scenesGiven = true;
     }
     else if (a == "--techniques")
     {
       o.TechniqueTexts = Split(value(), ',');
+      techniquesGiven = true;
     }
     else if (a == "--size")
     {
@@ -470,6 +495,7 @@ int ParseArguments(int argc, char* argv[], Options& o)
       {
         return Usage("--size expects WxH, e.g. 640x480");
       }
+      sizeGiven = true;
     }
     else if (a == "--frames" || a == "--warmup")
     {
@@ -494,6 +520,26 @@ int ParseArguments(int argc, char* argv[], Options& o)
     {
       o.Images = false;
     }
+    else if (a == "--scale-sweep")
+    {
+      // The counts are optional: a following argument that is not an option is the list.
+      const bool listed = i + 1 < argc && argv[i + 1][0] != '-';
+      if (!ParseCounts(listed ? argv[++i] : "1e4,1e5,1e6,1e7", o.SweepTriangles))
+      {
+        return Usage("--scale-sweep expects triangle counts from 8 to 1e9, e.g. 1e4,1e5,1e6");
+      }
+    }
+    else if (a == "--budget")
+    {
+      const std::string v = value();
+      char* end = nullptr;
+      o.BudgetSeconds = std::strtod(v.c_str(), &end);
+      if (!end || *end || !(o.BudgetSeconds > 0.0))
+      {
+        return Usage("--budget expects seconds, e.g. 120");
+      }
+      budgetGiven = true;
+    }
     else if (a == "-h" || a == "--help")
     {
       Usage(nullptr);
@@ -507,6 +553,21 @@ int ParseArguments(int argc, char* argv[], Options& o)
   if (o.OutDir.empty())
   {
     return Usage("--out DIR is required");
+  }
+  if (o.SweepTriangles.empty() && budgetGiven)
+  {
+    return Usage("--budget bounds the points of --scale-sweep");
+  }
+  if (!o.SweepTriangles.empty())
+  {
+    if (scenesGiven || o.MovingLight)
+    {
+      return Usage("--scale-sweep renders its own scene and turns the camera: no --scenes or "
+                   "--moving-light");
+    }
+    o.Width = sizeGiven ? o.Width : SweepWidth;
+    o.Height = sizeGiven ? o.Height : SweepHeight;
+    o.TechniqueTexts = techniquesGiven ? o.TechniqueTexts : Split(SweepTechniques, ',');
   }
   if (o.SceneNames.empty() || o.TechniqueTexts.empty())
   {
@@ -530,7 +591,7 @@ int CheckOptions(Options& o)
     }
     o.Techniques.push_back(spec);
   }
-  for (const auto& sceneName : o.SceneNames)
+  for (const auto& sceneName : o.SweepTriangles.empty() ? o.SceneNames : std::vector<std::string>())
   {
     if (!vtksys::SystemTools::FileExists(ResolveScene(sceneName), true))
     {
@@ -770,7 +831,8 @@ void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o
   double home[3];
   ctx.Light->GetPosition(home);
   const double scale = 1e-9 * (1.0 + std::fabs(home[0]) + std::fabs(home[1]) + std::fabs(home[2]));
-  const FrameTimes times = TimeFrames(ctx.Window, o.Warmup, o.Frames, [&](int f) {
+  const FrameTimes times = TimeFrames(ctx.Window, o.Warmup, o.Frames,
+    std::numeric_limits<double>::infinity(), [&](int f) {
       if (o.MovingLight)
       {
         ctx.Light->SetPosition(home[0] + (f + 1) * scale, home[1], home[2]);
@@ -892,6 +954,10 @@ int main(int argc, char* argv[])
   if (status >= 0)
   {
     return status;
+  }
+  if (!options.SweepTriangles.empty())
+  {
+    return RunSweep(options);
   }
   BenchRun run;
   run.Total = static_cast<int>(options.SceneNames.size() * (options.Techniques.size() + 1));
