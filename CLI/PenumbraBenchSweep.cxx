@@ -65,6 +65,9 @@ struct SweepRow
   std::string NotMeasured;                 // why; empty when measured
   bool OverBudget = false;
   double RatioToNone = -1, Exponent = NAN, ExponentMinusNone = NAN;
+  // The slope between the series' two largest counts: the growth where fixed per-pixel
+  // costs no longer hide it.
+  double ExponentLastTwo = NAN;
 
   std::string Camera() const { return this->Moving ? "moving" : "still"; }
   std::string Series() const { return this->Technique.Label() + " " + this->Camera(); }
@@ -224,22 +227,33 @@ void MeasureSweepRow(const SweepScene& scene, const Options& o, SweepRow& row)
   row.SamplesMs = Median(samplesMs);
 }
 
-// Least-squares slope of log(median ms) against log(triangles) over a series' measured rows;
-// NaN with fewer than two counts.
-double Exponent(const std::vector<SweepRow>& rows, const std::string& series)
+// Least-squares slope of log(median ms) against log(triangles) over a series' measured rows
+// (with `lastTwo`, only its two largest counts); NaN with fewer than two counts.
+double Exponent(const std::vector<SweepRow>& rows, const std::string& series, bool lastTwo = false)
 {
-  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  std::vector<const SweepRow*> points;
   for (const SweepRow& r : rows)
   {
     if (r.Series() == series && r.NotMeasured.empty())
     {
-      const double x = std::log(static_cast<double>(r.Triangles)), y = std::log(r.MedianMs);
-      n += 1;
-      sx += x;
-      sy += y;
-      sxx += x * x;
-      sxy += x * y;
+      points.push_back(&r);
     }
+  }
+  if (lastTwo && points.size() > 2)
+  {
+    std::sort(points.begin(), points.end(),
+      [](const SweepRow* a, const SweepRow* b) { return a->Triangles > b->Triangles; });
+    points.resize(2);
+  }
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (const SweepRow* r : points)
+  {
+    const double x = std::log(static_cast<double>(r->Triangles)), y = std::log(r->MedianMs);
+    n += 1;
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
   }
   const double d = n * sxx - sx * sx;
   return n >= 2 && d > 0 ? (n * sxy - sx * sy) / d : NAN;
@@ -262,6 +276,7 @@ void Summarize(std::vector<SweepRow>& rows)
       r.RatioToNone = r.MedianMs / none->MedianMs;
     }
     r.Exponent = Exponent(rows, r.Series());
+    r.ExponentLastTwo = Exponent(rows, r.Series(), true);
     r.ExponentMinusNone = r.Exponent - Exponent(rows, TechniqueSpec{ "none", "default" }.Label() + " " + r.Camera());
   }
 }
@@ -280,17 +295,17 @@ void WriteSweepCSV(const std::string& path, const std::vector<SweepRow>& rows, c
 {
   std::ofstream out(path);
   out << "triangles,technique,setting,camera,width,height,frames,median_ms,min_ms,ratio_to_none,"
-         "technique_ms,samples_ms,rss_before_mb,peak_rss_mb,exponent,exponent_minus_none,status\n";
+         "technique_ms,samples_ms,rss_before_mb,peak_rss_mb,exponent,exponent_minus_none,exponent_last_two,status\n";
   for (const SweepRow& r : rows)
   {
-    const double e = r.Exponent, d = r.ExponentMinusNone;
+    const double e = r.Exponent, d = r.ExponentMinusNone, l = r.ExponentLastTwo;
     out << r.Triangles << "," << r.Technique.Name << ",\"" << r.Technique.Setting << "\","
         << r.Camera() << "," << o.Width << "," << o.Height << "," << o.Frames << ","
         << Optional(r.MedianMs, 3) << "," << Optional(r.MinMs, 3) << ","
         << Optional(r.RatioToNone, 3) << "," << Optional(r.TechniqueMs, 3) << ","
         << Optional(r.SamplesMs, 3) << "," << Optional(r.RssBeforeMB, 0) << ","
         << Optional(r.PeakRssMB, 0) << "," << (std::isnan(e) ? "" : Fixed(e, 3)) << ","
-        << (std::isnan(d) ? "" : Fixed(d, 3)) << ",\""
+        << (std::isnan(d) ? "" : Fixed(d, 3)) << "," << (std::isnan(l) ? "" : Fixed(l, 3)) << ",\""
         << (r.NotMeasured.empty() ? "measured" : "not measured: " + r.NotMeasured) << "\"\n";
   }
 }
@@ -325,9 +340,12 @@ void WriteSweepMarkdown(const std::string& path, const std::vector<SweepRow>& ro
   }
   out << "\nCost exponent: least-squares slope of log(median frame ms) against log(caster "
          "triangles) over the measured counts (1: linear growth). A technique whose exponent "
-         "exceeds none's grows faster than the unshadowed frame.\n\n"
-      << "| technique | camera | exponent | exponent − none's | counts measured |\n"
-      << "|---|---|---:|---:|---:|\n";
+         "exceeds none's grows faster than the unshadowed frame. Small counts are dominated by "
+         "per-pixel costs that do not grow with N, so the slope between the two largest counts "
+         "is given too.\n\n"
+      << "| technique | camera | exponent | exponent − none's | slope, two largest counts | counts "
+         "measured |\n"
+      << "|---|---|---:|---:|---:|---:|\n";
   std::set<std::string> done;
   for (const SweepRow& r : rows)
   {
@@ -341,6 +359,7 @@ void WriteSweepMarkdown(const std::string& path, const std::vector<SweepRow>& ro
     out << "| " << r.Technique.Label() << " | " << r.Camera() << " | "
         << (std::isnan(r.Exponent) ? "–" : Fixed(r.Exponent, 2)) << " | "
         << (std::isnan(r.ExponentMinusNone) ? "–" : Fixed(r.ExponentMinusNone, 2)) << " | "
+        << (std::isnan(r.ExponentLastTwo) ? "–" : Fixed(r.ExponentLastTwo, 2)) << " | "
         << measured << " |\n";
   }
 }

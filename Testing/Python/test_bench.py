@@ -147,6 +147,9 @@ class BenchTest(unittest.TestCase):
                 self.assertEqual(row["status"], "measured")
                 self.assertGreater(float(row["median_ms"]), 0.0)
                 self.assertTrue(math.isfinite(float(row["exponent"])), row)
+                # Two counts: the slope over the two largest is the same line.
+                self.assertAlmostEqual(float(row["exponent_last_two"]), float(row["exponent"]),
+                                       places=2)
                 self.assertGreaterEqual(float(row["peak_rss_mb"]), float(row["rss_before_mb"]))
                 self.assertGreater(float(row["rss_before_mb"]), 0.0)
                 if row["technique"] == "none":
