@@ -123,7 +123,7 @@ struct Row
   long long FillFragments = -1;
   vtkIdType FalseLit = 0, FalseShadow = 0, Candidates = 0, Ties = 0;
   double RatioToNoShadow = 0;
-  // GEARS (seed 002 Tables 5-6 analogues): per-cell loads and the share of assigned
+  // GEARS (analogues of Wang et al. 2014, Tables 5-6): per-cell loads and the share of assigned
   // triangles that actually block; empty for other techniques.
   std::string GearsStats;
 };
@@ -319,8 +319,8 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
     }
     if (!gears)
     {
-      out << "\nGEARS statistics of the last frame and the last light it handled (seed 002 "
-             "Tables 5-6): busy cells / cells, triangles per busy cell (max, mean), global-list "
+      out << "\nGEARS statistics of the last frame and the last light it handled (Wang et al. "
+             "2014, Tables 5-6): busy cells / cells, triangles per busy cell (max, mean), global-list "
              "triangles, assignments and the share that block at least one light sample, light "
              "samples the reference traced, phase times, and the number of view samples whose "
              "visibility differs from the ray tracer at the same k in the same run.\n\n";
