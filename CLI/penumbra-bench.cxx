@@ -2,8 +2,8 @@
 // view samples, next to its peers (no shadows, VTK's vtkShadowMapPass, the exact reference).
 //
 //   penumbra-bench [--scenes A,B,...] [--techniques T[:k=v;k=v],...] [--size WxH]
-//                  [--frames N] [--warmup N] [--moving-light] [--still-frames] [--no-images]
-//                  --out DIR
+//                  [--frames N] [--warmup N] [--moving-light] [--moving-camera]
+//                  [--still-frames] [--no-images] --out DIR
 //
 // Writes DIR/results.csv, DIR/results.md and DIR/chart.png (and, unless --no-images, each
 // point's image and error image). Scenes are names of files in Data/Scenes or paths to scene
@@ -19,14 +19,20 @@
 //    moves by default, so techniques that cache (shadow maps) are timed on reuse; with
 //    --moving-light the measured light moves by a negligible amount before every frame
 //    (1e-9 of its position's scale), which invalidates such caches, and is put back for one
-//    untimed frame before the error is measured;
+//    untimed frame before the error is measured; --moving-camera does the same with the
+//    camera, so the view samples are rendered every frame; the pass's reuse of unchanged
+//    frames is off for timed frames, --still-frames times it separately;
 //  - techniques with a `samples` option (k x k soft shadows: gears, raytraced) only run on
 //    scenes whose measured light is an area or linear light; GEARS points also print their
 //    grid statistics and the samples that differ from raytraced at the same k;
 //  - its visibility for that light is read from the pass, or, for passes that do not expose
 //    one (VTK's vtkShadowMapPass), recovered as the ratio of a white, diffuse-only render
 //    with shadows to the same render without, lit by that light alone.
+//
+// With --scale-sweep the bench measures run time against triangle count on a generated
+// scene instead (see PenumbraBenchSweep.cxx).
 
+#include "PenumbraBench.h"
 #include "PenumbraCLI.h"
 
 #include "vtkActor.h"
@@ -34,6 +40,7 @@
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
 #include "vtkAxis.h"
+#include "vtkCamera.h"
 #include "vtkCameraPass.h"
 #include "vtkChartMatrix.h"
 #include "vtkChartLegend.h"
@@ -89,8 +96,7 @@
 
 namespace
 {
-using penumbra_cli::Clock;
-using penumbra_cli::MsSince;
+using namespace penumbra_bench;
 
 // The light sampling of a setting ("samples=16;path=gpu" -> "samples=16"): GEARS points are
 // compared with the ray tracer at the same k whatever their other options.
@@ -108,13 +114,6 @@ std::string SamplesKey(const std::string& setting)
   return "default";
 }
 
-struct TechniqueSpec
-{
-  std::string Name;
-  std::string Setting; // "resolution=2048" or "default"
-  nlohmann::json Options = nlohmann::json::object();
-};
-
 struct Row
 {
   std::string Scene, Technique, Setting, ErrorKind;
@@ -130,7 +129,7 @@ struct Row
   double RatioToNoShadow = 0;
   // --still-frames: median frame when nothing changes (the pass reuses its visibility).
   double StillMs = -1, StillRatio = -1;
-  // GEARS (seed 002 Tables 5-6 analogues): per-cell loads and the share of assigned
+  // GEARS (analogues of Wang et al. 2014, Tables 5-6): per-cell loads and the share of assigned
   // triangles that actually block; empty for other techniques.
   std::string GearsStats;
 };
@@ -142,53 +141,11 @@ int Usage(const char* why)
     std::cerr << "penumbra-bench: " << why << "\n";
   }
   std::cerr << "usage: penumbra-bench [--scenes A,B,...] [--techniques T[:k=v;k=v],...]"
-               " [--size WxH] [--frames N] [--warmup N] [--moving-light] [--still-frames] [--no-images]"
-               " --out DIR\n";
+               " [--size WxH] [--frames N] [--warmup N] [--moving-light] [--moving-camera] [--still-frames] [--no-images]"
+               " --out DIR\n"
+               "       penumbra-bench --scale-sweep [N1,N2,...] [--budget SECONDS]"
+               " [--techniques ...] [--size WxH] [--frames N] [--warmup N] --out DIR\n";
   return 2;
-}
-
-std::vector<std::string> Split(const std::string& s, char sep)
-{
-  std::vector<std::string> out;
-  std::stringstream in(s);
-  std::string item;
-  while (std::getline(in, item, sep))
-  {
-    if (!item.empty())
-    {
-      out.push_back(item);
-    }
-  }
-  return out;
-}
-
-bool ParseTechnique(const std::string& text, TechniqueSpec& spec, std::string& error)
-{
-  const size_t colon = text.find(':');
-  spec.Name = text.substr(0, colon);
-  spec.Setting = "default";
-  if (!vtkPenumbraTechniques::HasTechnique(spec.Name.c_str()))
-  {
-    error = "unknown technique \"" + spec.Name + "\" (see penumbra-render --list-techniques)";
-    return false;
-  }
-  if (colon != std::string::npos)
-  {
-    spec.Setting = text.substr(colon + 1);
-    for (const auto& kv : Split(spec.Setting, ';'))
-    {
-      const size_t eq = kv.find('=');
-      if (eq == std::string::npos || eq == 0)
-      {
-        error = "technique setting \"" + kv + "\" is not KEY=VALUE";
-        return false;
-      }
-      const std::string v = kv.substr(eq + 1);
-      nlohmann::json parsed = nlohmann::json::parse(v, nullptr, false);
-      spec.Options[kv.substr(0, eq)] = parsed.is_discarded() ? nlohmann::json(v) : parsed;
-    }
-  }
-  return true;
 }
 
 std::string ResolveScene(const std::string& name)
@@ -198,19 +155,6 @@ std::string ResolveScene(const std::string& name)
     return name;
   }
   return std::string(PENUMBRA_SCENES_DIR) + "/" + name + ".json";
-}
-
-void Progress(int done, int total, const std::string& what)
-{
-  const int width = 30;
-  const int filled = total > 0 ? width * done / total : width;
-  std::cerr << "\r[" << std::string(static_cast<size_t>(filled), '#')
-            << std::string(static_cast<size_t>(width - filled), '.') << "] " << done << "/"
-            << total << " " << std::left << std::setw(48) << what.substr(0, 48) << std::flush;
-  if (done == total)
-  {
-    std::cerr << "\n";
-  }
 }
 
 // The first light that is on and actually emits: the one whose shadows are measured.
@@ -236,12 +180,6 @@ int MeasuredLight(vtkRenderer* ren, vtkLight** light)
   return -1;
 }
 
-vtkPenumbraShadowPass* ShadowPassOf(vtkRenderer* ren)
-{
-  auto* camera = vtkCameraPass::SafeDownCast(ren->GetPass());
-  return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
-}
-
 // Visibility of `light` recovered from images: white diffuse-only render lit by that light
 // alone, with the technique's pass, divided by the same without shadows. `measurable` marks
 // the samples where the unshadowed render is bright enough for the ratio to mean anything;
@@ -254,18 +192,9 @@ double TimeStillFrames(vtkRenderer* ren, vtkRenderWindow* win, int frames)
   {
     pass->ReuseUnchangedFramesOn();
   }
-  win->Render(); // the first frame after the switch computes; the rest reuse it
-  win->WaitForCompletion();
-  std::vector<double> times;
-  for (int f = 0; f < frames; ++f)
-  {
-    const auto t0 = Clock::now();
-    win->Render();
-    win->WaitForCompletion();
-    times.push_back(MsSince(t0));
-  }
-  std::sort(times.begin(), times.end());
-  return times[times.size() / 2];
+  const FrameTimes times =
+    TimeFrames(win, 1, frames, std::numeric_limits<double>::infinity(), [](int) {});
+  return times.Median();
 }
 
 vtkSmartPointer<vtkFloatArray> RecoverVisibility(vtkRenderer* ren, vtkRenderWindow* win,
@@ -344,13 +273,6 @@ vtkSmartPointer<vtkFloatArray> RecoverVisibility(vtkRenderer* ren, vtkRenderWind
   return vis;
 }
 
-std::string Fixed(double v, int digits)
-{
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << v;
-  return s.str();
-}
-
 std::string Sci(double v)
 {
   std::ostringstream s;
@@ -381,14 +303,20 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
 }
 
 void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
-  const std::vector<std::string>& failures, int frames, int warmup, bool movingLight)
+  const std::vector<std::string>& failures, const Options& o)
 {
   std::ofstream out(path);
+  const char* moving = o.MovingLight && o.MovingCamera
+    ? "the light and the camera moving before every frame (no cached maps, view samples "
+      "rendered every frame). "
+    : o.MovingLight ? "the light moving before every frame (no cached shadow maps; the view "
+                      "samples are kept). "
+    : o.MovingCamera ? "the camera moving before every frame (view samples rendered every frame). "
+                     : "nothing moving, the shadow work redone every frame (cached shadow maps "
+                       "and view samples are reused). ";
   out << "# Shadow techniques: error against run time\n\n"
-      << "Median of " << frames << " frames after " << warmup
-      << " warm-up frame(s), glFinish before each clock reading, "
-      << (movingLight ? "the light moving before every frame (no cached shadow maps). "
-                      : "nothing moving (cached shadow maps are reused). ")
+      << "Median of " << o.Frames << " frames after " << o.Warmup
+      << " warm-up frame(s), glFinish before each clock reading, " << moving
       << "Error is measured on the "
          "scene's first light against the exact reference on the same view samples: mismatch "
          "rate over lit-candidate samples for hard lights (near-ties excluded), mean absolute "
@@ -422,8 +350,8 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
     }
     if (!gears)
     {
-      out << "\nGEARS statistics of the last frame and the last light it handled (seed 002 "
-             "Tables 5-6): busy cells / cells, triangles per busy cell (max, mean), global-list "
+      out << "\nGEARS statistics of the last frame and the last light it handled (Wang et al. "
+             "2014, Tables 5-6): busy cells / cells, triangles per busy cell (max, mean), global-list "
              "triangles, assignments and the share that block at least one light sample, light "
              "samples the reference traced, phase times, and the number of view samples whose "
              "visibility differs from the ray tracer at the same k in the same run.\n\n";
@@ -465,8 +393,6 @@ bool WriteChart(const std::string& path, const std::vector<Row>& rows, std::stri
   // Room on the left for the error axis title.
   matrix->SetBorders(70, 45, 20, 30);
   matrix->SetGutter(vtkVector2f(30.0f, 70.0f)); // scene title clear of the x axis title above
-  const double palette[][3] = { { 0.1, 0.1, 0.1 }, { 0.85, 0.33, 0.1 }, { 0.0, 0.45, 0.74 },
-    { 0.47, 0.67, 0.19 }, { 0.49, 0.18, 0.56 }, { 0.93, 0.69, 0.13 }, { 0.3, 0.75, 0.93 } };
   for (size_t s = 0; s < scenes.size(); ++s)
   {
     auto* chart = vtkChartXY::SafeDownCast(
@@ -501,7 +427,7 @@ bool WriteChart(const std::string& path, const std::vector<Row>& rows, std::stri
       {
         continue;
       }
-      const std::string label = r.Technique + (r.Setting == "default" ? "" : " " + r.Setting);
+      const std::string label = TechniqueSpec{ r.Technique, r.Setting }.Label();
       auto table = vtkSmartPointer<vtkTable>::New();
       vtkNew<vtkFloatArray> x;
       x->SetName("time");
@@ -531,24 +457,14 @@ bool WriteChart(const std::string& path, const std::vector<Row>& rows, std::stri
       auto* plot = vtkPlotPoints::SafeDownCast(chart->AddPlot(vtkChart::POINTS));
       plot->SetInputData(entry.second, 0, 1);
       plot->SetLabel(entry.first);
-      const double* rgb = palette[colours[technique] % (sizeof(palette) / sizeof(palette[0]))];
+      const double* rgb = Palette[colours[technique] % PaletteSize];
       plot->SetColor(rgb[0], rgb[1], rgb[2]);
       plot->SetMarkerStyle(markerStyles[marker % 5]);
       plot->SetMarkerSize(marker % 5 >= 3 ? 14.0f : 10.0f);
       plot->SetWidth(3.0);
     }
   }
-  penumbra_cli::ErrorLog log;
-  log.Watch(view->GetRenderWindow());
-  view->GetRenderWindow()->Render();
-  vtkSmartPointer<vtkImageData> image = penumbra_cli::GrabRGB(view->GetRenderWindow());
-  vtkNew<vtkPenumbraImageIO> io;
-  if (log.Raised() || !io->Write(image, path.c_str()))
-  {
-    error = log.Raised() ? log.FirstError() : io->GetErrorMessage();
-    return false;
-  }
-  return true;
+  return SaveChart(view, path, error);
 }
 
 std::string FileSafe(std::string s)
@@ -562,23 +478,28 @@ std::string FileSafe(std::string s)
   }
   return s;
 }
+
+// "1e4,1e5" -> { 10000, 100000 }: counts from 8 (the coarsest sphere) to 1e9.
+bool ParseCounts(const std::string& text, std::vector<vtkIdType>& counts)
+{
+  counts.clear();
+  for (const auto& item : Split(text, ','))
+  {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (!end || *end || !(v >= 8.0) || v > 1e9)
+    {
+      return false;
+    }
+    counts.push_back(static_cast<vtkIdType>(std::llround(v)));
+  }
+  return !counts.empty();
 }
 
-int main(int argc, char* argv[])
+// The command line into `o`. Returns -1 to go on, or the exit status.
+int ParseArguments(int argc, char* argv[], Options& o)
 {
-  std::vector<std::string> sceneNames = { "default", "isosurface", "city_area_light" };
-  std::vector<std::string> techniqueTexts = { "none", "vtk-shadowmap:resolution=1024",
-    "vtk-shadowmap:resolution=2048", "vtk-shadowmap:resolution=4096", "raytraced",
-    "conservative:resolution=1024", "conservative:resolution=2048",
-    "shadowmap:resolution=1024", "shadowmap:resolution=4096",
-    "shadowmap:resolution=2048;filter=pcf", "volumes", "volumes:silhouettes=gpu",
-    "volumes:measure_fill=true", "raytraced:samples=4", "gears:samples=4",
-    "raytraced:samples=8", "gears:samples=8", "raytraced:samples=16", "gears:samples=16" };
-  std::string outDir;
-  int width = 640, height = 480, frames = 5, warmup = 1;
-  bool images = true;
-  bool movingLight = false;
-  bool stillFrames = false;
+  bool sizeGiven = false, scenesGiven = false, techniquesGiven = false, budgetGiven = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -591,18 +512,21 @@ int main(int argc, char* argv[])
     };
     if (a == "--scenes")
     {
-      sceneNames = Split(value(), ',');
+      o.SceneNames = Split(value(), ',');
+      scenesGiven = true;
     }
     else if (a == "--techniques")
     {
-      techniqueTexts = Split(value(), ',');
+      o.TechniqueTexts = Split(value(), ',');
+      techniquesGiven = true;
     }
     else if (a == "--size")
     {
-      if (!penumbra_cli::ParseSize(value(), width, height))
+      if (!penumbra_cli::ParseSize(value(), o.Width, o.Height))
       {
         return Usage("--size expects WxH, e.g. 640x480");
       }
+      sizeGiven = true;
     }
     else if (a == "--frames" || a == "--warmup")
     {
@@ -613,23 +537,47 @@ int main(int argc, char* argv[])
       {
         return Usage((a + " expects a count").c_str());
       }
-      (a == "--frames" ? frames : warmup) = static_cast<int>(n);
+      (a == "--frames" ? o.Frames : o.Warmup) = static_cast<int>(n);
     }
     else if (a == "--out")
     {
-      outDir = value();
-    }
-    else if (a == "--still-frames")
-    {
-      stillFrames = true;
+      o.OutDir = value();
     }
     else if (a == "--moving-light")
     {
-      movingLight = true;
+      o.MovingLight = true;
+    }
+    else if (a == "--moving-camera")
+    {
+      o.MovingCamera = true;
+    }
+    else if (a == "--still-frames")
+    {
+      o.StillFrames = true;
     }
     else if (a == "--no-images")
     {
-      images = false;
+      o.Images = false;
+    }
+    else if (a == "--scale-sweep")
+    {
+      // The counts are optional: a following argument that is not an option is the list.
+      const bool listed = i + 1 < argc && argv[i + 1][0] != '-';
+      if (!ParseCounts(listed ? argv[++i] : "1e4,1e5,1e6,1e7", o.SweepTriangles))
+      {
+        return Usage("--scale-sweep expects triangle counts from 8 to 1e9, e.g. 1e4,1e5,1e6");
+      }
+    }
+    else if (a == "--budget")
+    {
+      const std::string v = value();
+      char* end = nullptr;
+      o.BudgetSeconds = std::strtod(v.c_str(), &end);
+      if (!end || *end || !(o.BudgetSeconds > 0.0))
+      {
+        return Usage("--budget expects seconds, e.g. 120");
+      }
+      budgetGiven = true;
     }
     else if (a == "-h" || a == "--help")
     {
@@ -641,16 +589,38 @@ int main(int argc, char* argv[])
       return Usage(("unknown argument " + a).c_str());
     }
   }
-  if (outDir.empty())
+  if (o.OutDir.empty())
   {
     return Usage("--out DIR is required");
   }
-  if (sceneNames.empty() || techniqueTexts.empty())
+  if (o.SweepTriangles.empty() && budgetGiven)
+  {
+    return Usage("--budget bounds the points of --scale-sweep");
+  }
+  if (!o.SweepTriangles.empty())
+  {
+    if (scenesGiven || o.MovingLight || o.MovingCamera || o.StillFrames)
+    {
+      return Usage("--scale-sweep renders its own scene and turns the camera: no --scenes, "
+                   "--moving-light, --moving-camera or --still-frames");
+    }
+    o.Width = sizeGiven ? o.Width : SweepWidth;
+    o.Height = sizeGiven ? o.Height : SweepHeight;
+    o.TechniqueTexts = techniquesGiven ? o.TechniqueTexts : Split(SweepTechniques, ',');
+  }
+  if (o.SceneNames.empty() || o.TechniqueTexts.empty())
   {
     return Usage("nothing to measure");
   }
-  std::vector<TechniqueSpec> techniques;
-  for (const auto& t : techniqueTexts)
+  return -1;
+}
+
+// Bad names and options are refused before anything is measured, not after the points
+// before them have run. Fills o.Techniques and creates the output folder. Returns -1 to go
+// on, or the exit status.
+int CheckOptions(Options& o)
+{
+  for (const auto& t : o.TechniqueTexts)
   {
     TechniqueSpec spec;
     std::string error;
@@ -658,335 +628,407 @@ int main(int argc, char* argv[])
     {
       return Usage(error.c_str());
     }
-    techniques.push_back(spec);
+    o.Techniques.push_back(spec);
   }
-  // Bad names and options are refused before anything is measured, not after the scenes
-  // before them have run.
-  for (const auto& sceneName : sceneNames)
+  for (const auto& sceneName : o.SweepTriangles.empty() ? o.SceneNames : std::vector<std::string>())
   {
     if (!vtksys::SystemTools::FileExists(ResolveScene(sceneName), true))
     {
       return Usage(("no scene file " + ResolveScene(sceneName)).c_str());
     }
   }
+  vtkNew<vtkPenumbraTechniques> registry;
+  for (const auto& spec : o.Techniques)
   {
-    vtkNew<vtkPenumbraTechniques> registry;
-    for (const auto& spec : techniques)
+    vtkNew<vtkRenderer> probe;
+    if (!registry->Apply(probe, spec.Name.c_str(), spec.Options.dump().c_str()))
     {
-      vtkNew<vtkRenderer> probe;
-      if (!registry->Apply(probe, spec.Name.c_str(), spec.Options.dump().c_str()))
-      {
-        return Usage((spec.Name + " " + spec.Setting + ": " + registry->GetErrorMessage()).c_str());
-      }
+      return Usage((spec.Name + " " + spec.Setting + ": " + registry->GetErrorMessage()).c_str());
     }
   }
   // Every point needs the no-shadow time for its ratio: measure it even if not asked for.
-  if (std::none_of(techniques.begin(), techniques.end(),
+  if (std::none_of(o.Techniques.begin(), o.Techniques.end(),
         [](const TechniqueSpec& t) { return t.Name == "none"; }))
   {
-    techniques.insert(techniques.begin(), TechniqueSpec{ "none", "default", nlohmann::json::object() });
+    o.Techniques.insert(o.Techniques.begin(), TechniqueSpec{ "none", "default", nlohmann::json::object() });
   }
-  if (!vtksys::SystemTools::MakeDirectory(outDir))
+  if (!vtksys::SystemTools::MakeDirectory(o.OutDir))
   {
-    std::cerr << "penumbra-bench: cannot create " << outDir << "\n";
+    std::cerr << "penumbra-bench: cannot create " << o.OutDir << "\n";
     return 2;
   }
+  return -1;
+}
 
-  std::vector<Row> rows;
-  // A technique that refuses a scene (e.g. an area light for a hard-shadow technique) or
-  // fails is reported and skipped; the other points are still measured and written, and the
-  // exit status says that something was missing.
-  std::vector<std::string> failures;
-  auto fail = [&](const std::string& what, const std::string& why) {
+// The rows so far, and what could not be measured. A technique that refuses a scene or
+// fails is reported and skipped; the other points are still measured and written, and the
+// exit status says that something was missing.
+struct BenchRun
+{
+  std::vector<Row> Rows;
+  std::vector<std::string> Failures;
+  int Done = 0, Total = 0;
+
+  void Fail(const std::string& what, const std::string& why)
+  {
     std::cerr << "\npenumbra-bench: " << what << ": " << why << "\n";
     std::string line = what + ": " + why;
     std::replace(line.begin(), line.end(), '\n', ' ');
-    failures.push_back(line);
-  };
-  const int total = static_cast<int>(sceneNames.size() * (techniques.size() + 1));
-  int done = 0;
-  for (const auto& sceneName : sceneNames)
-  {
-    const std::string path = ResolveScene(sceneName);
-    const std::string label = vtksys::SystemTools::GetFilenameWithoutLastExtension(path);
-    Progress(done, total, label + ": loading");
-    vtkNew<vtkPenumbraSceneReader> reader;
-    reader->AddObserver(vtkCommand::ErrorEvent, vtkNew<vtkCallbackCommand>());
-    reader->SetFileName(path.c_str());
-    if (!reader->Read())
-    {
-      fail(label, reader->GetErrorMessage());
-      done += static_cast<int>(techniques.size()) + 1;
-      continue;
-    }
-    vtkRenderer* ren = reader->GetRenderer();
-    penumbra_cli::ErrorLog errors;
-    std::string windowError;
-    vtkSmartPointer<vtkRenderWindow> win =
-      penumbra_cli::MakeWindow(width, height, ren, errors, windowError);
-    if (!win)
-    {
-      std::cerr << "\npenumbra-bench: " << windowError << "\n";
-      return 3;
-    }
-
-    // Reference: view samples and exact visibility of the measured light.
-    Progress(done, total, label + ": reference");
-    vtkNew<vtkPenumbraTechniques> registry;
-    registry->Apply(ren, "raytraced", "{}");
-    win->Render();
-    vtkPenumbraShadowPass* refPass = ShadowPassOf(ren);
-    vtkLight* light = nullptr;
-    const int lightIndex = MeasuredLight(ren, &light);
-    if (!refPass || lightIndex < 0 || errors.Raised())
-    {
-      fail(label, errors.Raised() ? errors.FirstError() : "no light to measure");
-      errors.Clear();
-      done += static_cast<int>(techniques.size()) + 1;
-      registry->Apply(ren, "none", "");
-      win->Finalize();
-      continue;
-    }
-    vtkNew<vtkPenumbraViewSamples> samples;
-    samples->DeepCopy(refPass->GetViewSamples());
-    auto* area = vtkPenumbraAreaLight::SafeDownCast(light);
-    const std::string errorKind = area ? "soft" : "hard";
-    vtkNew<vtkFloatArray> reference;
-    vtkNew<vtkUnsignedCharArray> ties;
-    if (area)
-    {
-      vtkNew<vtkPenumbraReference> converged;
-      converged->SetGeometry(refPass->GetGeometry());
-      converged->ComputeConvergedVisibility(samples, area, 64, reference);
-    }
-    else
-    {
-      reference->DeepCopy(refPass->GetVisibility(lightIndex));
-      auto* tracer = vtkPenumbraRayTracedShadows::SafeDownCast(refPass->GetTechnique());
-      ties->DeepCopy(tracer->GetReference()->GetTies());
-    }
-    ++done;
-
-    double noShadowMs = 0.0;
-    // The ray tracer's visibility per setting ("samples=16"), so a GEARS point at the same k
-    // can be checked for exactness on the full-size frame.
-    std::map<std::string, vtkSmartPointer<vtkFloatArray>> tracedAtK;
-    for (const auto& spec : techniques)
-    {
-      const std::string what = label + ": " + spec.Name + " " + spec.Setting;
-      if (!area && spec.Options.contains("samples"))
-      {
-        ++done; // a light-sample count means nothing for a hard light
-        continue;
-      }
-      Progress(done, total, what);
-      if (!registry->Apply(ren, spec.Name.c_str(), spec.Options.dump().c_str()))
-      {
-        fail(what, registry->GetErrorMessage()); // options were checked before the run
-        ++done;
-        continue;
-      }
-      if (area)
-      {
-        vtkPenumbraShadowPass* applied = ShadowPassOf(ren);
-        if (applied && applied->GetTechnique() && !applied->GetTechnique()->HandlesAreaLights())
-        {
-          ++done; // a hard-shadow technique has nothing to say about an area light
-          continue;
-        }
-      }
-      // --moving-light: a new light position for every frame, restored afterwards.
-      double home[3];
-      light->GetPosition(home);
-      const double scale = 1e-9 * (1.0 + std::fabs(home[0]) + std::fabs(home[1]) + std::fabs(home[2]));
-      // Timed frames redo the shadow work (the pass would otherwise reuse a still frame's
-      // visibility); --still-frames times that reuse separately.
-      if (vtkPenumbraShadowPass* timed = ShadowPassOf(ren))
-      {
-        timed->ReuseUnchangedFramesOff();
-      }
-      auto frame = [&](int f) {
-        if (movingLight)
-        {
-          light->SetPosition(home[0] + (f + 1) * scale, home[1], home[2]);
-        }
-        win->Render();
-        win->WaitForCompletion();
-      };
-      for (int f = 0; f < warmup; ++f)
-      {
-        frame(f);
-      }
-      std::vector<double> times;
-      for (int f = 0; f < frames; ++f)
-      {
-        const auto t0 = Clock::now();
-        frame(warmup + f);
-        times.push_back(MsSince(t0));
-      }
-      if (movingLight)
-      {
-        light->SetPosition(home);
-        win->Render();
-        win->WaitForCompletion();
-      }
-      if (errors.Raised())
-      {
-        fail(what, "rendering failed: " + errors.FirstError());
-        errors.Clear();
-        ++done;
-        continue;
-      }
-      std::sort(times.begin(), times.end());
-      Row row;
-      row.Scene = label;
-      row.Technique = spec.Name;
-      row.Setting = spec.Setting;
-      row.Width = width;
-      row.Height = height;
-      row.MedianMs = times[times.size() / 2];
-      row.MinMs = times.front();
-      row.ErrorKind = errorKind;
-      if (spec.Name == "none")
-      {
-        noShadowMs = row.MedianMs;
-      }
-
-      vtkSmartPointer<vtkFloatArray> estimate;
-      vtkSmartPointer<vtkUnsignedCharArray> measurable; // null: every valid sample counts
-      vtkPenumbraShadowPass* pass = ShadowPassOf(ren);
-      if (pass)
-      {
-        row.ExtractionMs = pass->GetExtractionTimeMs();
-        row.SamplesMs = pass->GetSamplesTimeMs();
-        row.TechniqueMs = pass->GetTechniqueTimeMs();
-        row.ShadingMs = pass->GetShadingTimeMs();
-        if (vtkPenumbraShadowTechnique* technique = pass->GetTechnique())
-        {
-          // The share of the last light the technique handled in the last frame (the
-          // measured light in single-light scenes).
-          row.UncertainShare = technique->GetUncertainFraction();
-          if (auto* volumes = vtkPenumbraShadowVolumeShadows::SafeDownCast(technique))
-          {
-            row.FillFragments = volumes->GetNumberOfFillFragments();
-          }
-          auto* gearsTechnique = vtkPenumbraGearsShadows::SafeDownCast(technique);
-          if (gearsTechnique && gearsTechnique->GetLastLightWasArea())
-          {
-            std::ostringstream stats;
-            stats << gearsTechnique->GetNumberOfOccupiedCells() << " / "
-                  << gearsTechnique->GetNumberOfCells() << " cells, triangles per cell max "
-                  << gearsTechnique->GetMaxTrianglesPerCell() << " mean "
-                  << Fixed(gearsTechnique->GetAverageTrianglesPerCell(), 1) << ", global "
-                  << gearsTechnique->GetNumberOfGlobalTriangles() << ", assignments "
-                  << gearsTechnique->GetNumberOfAssignments() << " of which blocking "
-                  << Fixed(100.0 * gearsTechnique->GetBlockingShare(), 1) << " %, "
-                  << gearsTechnique->GetNumberOfTracedRays() << " undecided light samples in "
-                  << gearsTechnique->GetNumberOfSamplesWithTracedRays()
-                  << " view samples traced by the reference; grid "
-                  << Fixed(gearsTechnique->GetGridTimeMs(), 1) << " ms, masks "
-                  << Fixed(gearsTechnique->GetMaskTimeMs(), 1) << " ms, trace "
-                  << Fixed(gearsTechnique->GetTraceTimeMs(), 1) << " ms";
-            if (gearsTechnique->GetLastPath() == vtkPenumbraGearsShadows::PATH_GPU)
-            {
-              stats << "; masks by the compute shader, "
-                    << gearsTechnique->GetNumberOfFlaggedSamples()
-                    << " view samples redone on the CPU";
-            }
-            auto traced = tracedAtK.find(SamplesKey(spec.Setting));
-            vtkFloatArray* mine = pass->GetVisibility(lightIndex);
-            if (traced != tracedAtK.end() && mine &&
-              mine->GetNumberOfTuples() == traced->second->GetNumberOfTuples())
-            {
-              vtkIdType differ = 0;
-              for (vtkIdType i = 0; i < mine->GetNumberOfTuples(); ++i)
-              {
-                differ += mine->GetValue(i) != traced->second->GetValue(i);
-              }
-              stats << "; differs from raytraced " << SamplesKey(spec.Setting) << " in " << differ
-                    << " samples";
-            }
-            row.GearsStats = stats.str();
-            std::cerr << "\n" << label << " gears " << spec.Setting << ": " << row.GearsStats
-                      << "\n";
-          }
-        }
-        estimate = vtkSmartPointer<vtkFloatArray>::New();
-        if (vtkFloatArray* v = pass->GetVisibility(lightIndex))
-        {
-          estimate->DeepCopy(v);
-        }
-        if (spec.Name == "raytraced")
-        {
-          tracedAtK[SamplesKey(spec.Setting)] = estimate;
-        }
-      }
-      if (stillFrames)
-      {
-        row.StillMs = TimeStillFrames(ren, win, frames); // after the phases were read
-      }
-      if (!estimate || estimate->GetNumberOfTuples() != samples->GetNumberOfSamples())
-      {
-        measurable = vtkSmartPointer<vtkUnsignedCharArray>::New();
-        estimate = RecoverVisibility(ren, win, light, samples, measurable);
-      }
-      vtkNew<vtkPenumbraMetrics> metrics;
-      if (!area)
-      {
-        metrics->CompareHard(estimate, reference, ties, measurable);
-        row.MismatchRate = metrics->GetMismatchRate();
-        row.FalseLit = metrics->GetFalseLit();
-        row.FalseShadow = metrics->GetFalseShadow();
-        row.Candidates = metrics->GetCandidates();
-        row.Ties = metrics->GetTies();
-        if (images)
-        {
-          metrics->WriteErrorImage(width, height,
-            (outDir + "/" + FileSafe(label + "__" + spec.Name + "_" + spec.Setting) + "_error.png").c_str());
-        }
-      }
-      metrics->CompareSoft(estimate, reference, measurable, area ? nullptr : ties.Get());
-      row.MAE = metrics->GetMAE();
-      row.RMSE = metrics->GetRMSE();
-      row.MaxError = metrics->GetMaxError();
-      row.P95 = metrics->GetP95Error();
-      if (area && images)
-      {
-        metrics->WriteErrorImage(width, height,
-          (outDir + "/" + FileSafe(label + "__" + spec.Name + "_" + spec.Setting) + "_error.png").c_str());
-      }
-      if (images)
-      {
-        win->Render();
-        vtkNew<vtkPenumbraImageIO> io;
-        io->Write(penumbra_cli::GrabRGB(win),
-          (outDir + "/" + FileSafe(label + "__" + spec.Name + "_" + spec.Setting) + ".png").c_str());
-      }
-      rows.push_back(row);
-      ++done;
-    }
-    for (Row& r : rows)
-    {
-      if (r.Scene == label)
-      {
-        r.RatioToNoShadow = noShadowMs > 0 ? r.MedianMs / noShadowMs : 0.0;
-        r.StillRatio = r.StillMs >= 0 && noShadowMs > 0 ? r.StillMs / noShadowMs : -1.0;
-      }
-    }
-    registry->Apply(ren, "none", "");
-    win->Finalize();
+    this->Failures.push_back(line);
   }
-  Progress(total, total, "writing results");
+};
 
-  WriteCSV(outDir + "/results.csv", rows);
-  WriteMarkdown(outDir + "/results.md", rows, failures, frames, warmup, movingLight);
+// What every point of one scene is measured against.
+struct SceneContext
+{
+  std::string Label;
+  vtkRenderer* Renderer = nullptr;
+  vtkRenderWindow* Window = nullptr;
+  penumbra_cli::ErrorLog* Errors = nullptr;
+  vtkPenumbraTechniques* Registry = nullptr;
+  vtkLight* Light = nullptr;
+  int LightIndex = -1;                  // in VTK's shader numbering
+  vtkPenumbraAreaLight* Area = nullptr; // Light, if it is an area or linear light
+  vtkNew<vtkPenumbraViewSamples> Samples;
+  vtkNew<vtkFloatArray> Reference;
+  vtkNew<vtkUnsignedCharArray> Ties; // hard lights: near-ties, excluded from the comparison
+  // The ray tracer's visibility per setting ("samples=16"), so a GEARS point at the same k
+  // can be checked for exactness on the full-size frame.
+  std::map<std::string, vtkSmartPointer<vtkFloatArray>> TracedAtK;
+};
+
+// View samples and exact visibility of the measured light, from the ray tracer on the very
+// same camera and window size. Returns why there is no reference, or "".
+std::string ComputeReference(SceneContext& ctx)
+{
+  ctx.Registry->Apply(ctx.Renderer, "raytraced", "{}");
+  ctx.Window->Render();
+  vtkPenumbraShadowPass* refPass = ShadowPassOf(ctx.Renderer);
+  ctx.LightIndex = MeasuredLight(ctx.Renderer, &ctx.Light);
+  if (!refPass || ctx.LightIndex < 0 || ctx.Errors->Raised())
+  {
+    return ctx.Errors->Raised() ? ctx.Errors->FirstError() : "no light to measure";
+  }
+  ctx.Samples->DeepCopy(refPass->GetViewSamples());
+  ctx.Area = vtkPenumbraAreaLight::SafeDownCast(ctx.Light);
+  if (ctx.Area)
+  {
+    vtkNew<vtkPenumbraReference> converged;
+    converged->SetGeometry(refPass->GetGeometry());
+    converged->ComputeConvergedVisibility(ctx.Samples, ctx.Area, 64, ctx.Reference);
+  }
+  else
+  {
+    ctx.Reference->DeepCopy(refPass->GetVisibility(ctx.LightIndex));
+    auto* tracer = vtkPenumbraRayTracedShadows::SafeDownCast(refPass->GetTechnique());
+    ctx.Ties->DeepCopy(tracer->GetReference()->GetTies());
+  }
+  return "";
+}
+
+// GEARS grid statistics of the last frame (Wang et al. 2014, Tables 5-6 analogues), and how
+// many samples differ from the ray tracer at the same k.
+std::string GearsStatistics(
+  vtkPenumbraGearsShadows* gears, vtkPenumbraShadowPass* pass, const SceneContext& ctx, const TechniqueSpec& spec)
+{
+  std::ostringstream stats;
+  stats << gears->GetNumberOfOccupiedCells() << " / " << gears->GetNumberOfCells()
+        << " cells, triangles per cell max " << gears->GetMaxTrianglesPerCell() << " mean "
+        << Fixed(gears->GetAverageTrianglesPerCell(), 1) << ", global "
+        << gears->GetNumberOfGlobalTriangles() << ", assignments "
+        << gears->GetNumberOfAssignments() << " of which blocking "
+        << Fixed(100.0 * gears->GetBlockingShare(), 1) << " %, " << gears->GetNumberOfTracedRays()
+        << " undecided light samples in " << gears->GetNumberOfSamplesWithTracedRays()
+        << " view samples traced by the reference; grid " << Fixed(gears->GetGridTimeMs(), 1)
+        << " ms, masks " << Fixed(gears->GetMaskTimeMs(), 1) << " ms, trace "
+        << Fixed(gears->GetTraceTimeMs(), 1) << " ms";
+  if (gears->GetLastPath() == vtkPenumbraGearsShadows::PATH_GPU)
+  {
+    stats << "; masks by the compute shader, " << gears->GetNumberOfFlaggedSamples()
+          << " view samples redone on the CPU";
+  }
+  auto traced = ctx.TracedAtK.find(SamplesKey(spec.Setting));
+  vtkFloatArray* mine = pass->GetVisibility(ctx.LightIndex);
+  if (traced != ctx.TracedAtK.end() && mine &&
+    mine->GetNumberOfTuples() == traced->second->GetNumberOfTuples())
+  {
+    vtkIdType differ = 0;
+    for (vtkIdType i = 0; i < mine->GetNumberOfTuples(); ++i)
+    {
+      differ += mine->GetValue(i) != traced->second->GetValue(i);
+    }
+    stats << "; differs from raytraced " << SamplesKey(spec.Setting) << " in " << differ
+          << " samples";
+  }
+  return stats.str();
+}
+
+// The pass's phases and technique statistics of the last frame into `row`; returns a copy of
+// its visibility of the measured light, or nullptr for passes that expose none.
+vtkSmartPointer<vtkFloatArray> ReadPass(SceneContext& ctx, const TechniqueSpec& spec, Row& row)
+{
+  vtkPenumbraShadowPass* pass = ShadowPassOf(ctx.Renderer);
+  if (!pass)
+  {
+    return nullptr;
+  }
+  row.ExtractionMs = pass->GetExtractionTimeMs();
+  row.SamplesMs = pass->GetSamplesTimeMs();
+  row.TechniqueMs = pass->GetTechniqueTimeMs();
+  row.ShadingMs = pass->GetShadingTimeMs();
+  if (vtkPenumbraShadowTechnique* technique = pass->GetTechnique())
+  {
+    // The share of the last light the technique handled in the last frame (the measured
+    // light in single-light scenes).
+    row.UncertainShare = technique->GetUncertainFraction();
+    if (auto* volumes = vtkPenumbraShadowVolumeShadows::SafeDownCast(technique))
+    {
+      row.FillFragments = volumes->GetNumberOfFillFragments();
+    }
+    auto* gears = vtkPenumbraGearsShadows::SafeDownCast(technique);
+    if (gears && gears->GetLastLightWasArea())
+    {
+      row.GearsStats = GearsStatistics(gears, pass, ctx, spec);
+      std::cerr << "\n" << ctx.Label << " gears " << spec.Setting << ": " << row.GearsStats << "\n";
+    }
+  }
+  auto estimate = vtkSmartPointer<vtkFloatArray>::New();
+  if (vtkFloatArray* v = pass->GetVisibility(ctx.LightIndex))
+  {
+    estimate->DeepCopy(v);
+  }
+  if (spec.Name == "raytraced")
+  {
+    ctx.TracedAtK[SamplesKey(spec.Setting)] = estimate;
+  }
+  return estimate;
+}
+
+// Error of `estimate` against the reference into `row`, and the point's images.
+void ScorePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o,
+  vtkSmartPointer<vtkFloatArray> estimate, Row& row)
+{
+  vtkSmartPointer<vtkUnsignedCharArray> measurable; // null: every valid sample counts
+  if (!estimate || estimate->GetNumberOfTuples() != ctx.Samples->GetNumberOfSamples())
+  {
+    measurable = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    estimate = RecoverVisibility(ctx.Renderer, ctx.Window, ctx.Light, ctx.Samples, measurable);
+  }
+  const std::string stem = o.OutDir + "/" + FileSafe(ctx.Label + "__" + spec.Name + "_" + spec.Setting);
+  vtkNew<vtkPenumbraMetrics> metrics;
+  if (!ctx.Area)
+  {
+    metrics->CompareHard(estimate, ctx.Reference, ctx.Ties, measurable);
+    row.MismatchRate = metrics->GetMismatchRate();
+    row.FalseLit = metrics->GetFalseLit();
+    row.FalseShadow = metrics->GetFalseShadow();
+    row.Candidates = metrics->GetCandidates();
+    row.Ties = metrics->GetTies();
+    if (o.Images)
+    {
+      metrics->WriteErrorImage(o.Width, o.Height, (stem + "_error.png").c_str());
+    }
+  }
+  metrics->CompareSoft(estimate, ctx.Reference, measurable, ctx.Area ? nullptr : ctx.Ties.Get());
+  row.MAE = metrics->GetMAE();
+  row.RMSE = metrics->GetRMSE();
+  row.MaxError = metrics->GetMaxError();
+  row.P95 = metrics->GetP95Error();
+  if (ctx.Area && o.Images)
+  {
+    metrics->WriteErrorImage(o.Width, o.Height, (stem + "_error.png").c_str());
+  }
+  if (o.Images)
+  {
+    ctx.Window->Render();
+    vtkNew<vtkPenumbraImageIO> io;
+    io->Write(penumbra_cli::GrabRGB(ctx.Window), (stem + ".png").c_str());
+  }
+}
+
+// One technique on one scene: timed frames, phases, error against the reference. Appends a
+// row, or a failure, or nothing where the technique has nothing to say about the light.
+void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o, BenchRun& run)
+{
+  const std::string what = ctx.Label + ": " + spec.Name + " " + spec.Setting;
+  if (!ctx.Area && spec.Options.contains("samples"))
+  {
+    return; // a light-sample count means nothing for a hard light
+  }
+  Progress(run.Done, run.Total, what);
+  if (!ctx.Registry->Apply(ctx.Renderer, spec.Name.c_str(), spec.Options.dump().c_str()))
+  {
+    run.Fail(what, ctx.Registry->GetErrorMessage()); // options were checked before the run
+    return;
+  }
+  vtkPenumbraShadowPass* applied = ShadowPassOf(ctx.Renderer);
+  if (ctx.Area && applied && applied->GetTechnique() && !applied->GetTechnique()->HandlesAreaLights())
+  {
+    return; // a hard-shadow technique has nothing to say about an area light
+  }
+  // Timed frames redo the shadow work (the pass would otherwise reuse a still frame's
+  // visibility); --still-frames times that reuse separately.
+  if (applied)
+  {
+    applied->ReuseUnchangedFramesOff();
+  }
+  // --moving-light, --moving-camera: a new light or camera position for every frame, by a
+  // negligible amount, restored afterwards.
+  vtkCamera* camera = ctx.Renderer->GetActiveCamera();
+  double home[3], eye[3];
+  ctx.Light->GetPosition(home);
+  camera->GetPosition(eye);
+  auto nudge = [](const double p[3], int f) {
+    return (f + 1) * 1e-9 * (1.0 + std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2]));
+  };
+  const FrameTimes times = TimeFrames(ctx.Window, o.Warmup, o.Frames,
+    std::numeric_limits<double>::infinity(), [&](int f) {
+      if (o.MovingLight)
+      {
+        ctx.Light->SetPosition(home[0] + nudge(home, f), home[1], home[2]);
+      }
+      if (o.MovingCamera)
+      {
+        camera->SetPosition(eye[0] + nudge(eye, f), eye[1], eye[2]);
+      }
+    });
+  if (o.MovingLight || o.MovingCamera)
+  {
+    ctx.Light->SetPosition(home);
+    camera->SetPosition(eye);
+    ctx.Window->Render();
+    ctx.Window->WaitForCompletion();
+  }
+  if (ctx.Errors->Raised())
+  {
+    run.Fail(what, "rendering failed: " + ctx.Errors->FirstError());
+    ctx.Errors->Clear();
+    return;
+  }
+  Row row;
+  row.Scene = ctx.Label;
+  row.Technique = spec.Name;
+  row.Setting = spec.Setting;
+  row.Width = o.Width;
+  row.Height = o.Height;
+  row.MedianMs = times.Median();
+  row.MinMs = times.Ms.front();
+  row.ErrorKind = ctx.Area ? "soft" : "hard";
+  ScorePoint(ctx, spec, o, ReadPass(ctx, spec, row), row);
+  if (o.StillFrames)
+  {
+    row.StillMs = TimeStillFrames(ctx.Renderer, ctx.Window, o.Frames); // after the phases were read
+  }
+  run.Rows.push_back(row);
+}
+
+// Every technique on one scene. Returns -1 to go on, or the exit status (no window).
+int MeasureScene(const std::string& sceneName, const Options& o, BenchRun& run)
+{
+  const int points = static_cast<int>(o.Techniques.size()) + 1; // the reference, then each technique
+  const std::string path = ResolveScene(sceneName);
+  const std::string label = vtksys::SystemTools::GetFilenameWithoutLastExtension(path);
+  Progress(run.Done, run.Total, label + ": loading");
+  vtkNew<vtkPenumbraSceneReader> reader;
+  reader->AddObserver(vtkCommand::ErrorEvent, vtkNew<vtkCallbackCommand>());
+  reader->SetFileName(path.c_str());
+  if (!reader->Read())
+  {
+    run.Fail(label, reader->GetErrorMessage());
+    run.Done += points;
+    return -1;
+  }
+  SceneContext ctx;
+  ctx.Label = label;
+  ctx.Renderer = reader->GetRenderer();
+  penumbra_cli::ErrorLog errors;
+  ctx.Errors = &errors;
+  std::string windowError;
+  vtkSmartPointer<vtkRenderWindow> win =
+    penumbra_cli::MakeWindow(o.Width, o.Height, ctx.Renderer, errors, windowError);
+  if (!win)
+  {
+    std::cerr << "\npenumbra-bench: " << windowError << "\n";
+    return 3;
+  }
+  ctx.Window = win;
+  Progress(run.Done, run.Total, label + ": reference");
+  vtkNew<vtkPenumbraTechniques> registry;
+  ctx.Registry = registry;
+  const std::string why = ComputeReference(ctx);
+  if (!why.empty())
+  {
+    run.Fail(label, why);
+    errors.Clear();
+    run.Done += points;
+  }
+  else
+  {
+    ++run.Done;
+    for (const auto& spec : o.Techniques)
+    {
+      MeasurePoint(ctx, spec, o, run);
+      ++run.Done;
+    }
+  }
+  double noShadowMs = 0.0;
+  for (const Row& r : run.Rows)
+  {
+    noShadowMs = r.Scene == label && r.Technique == "none" ? r.MedianMs : noShadowMs;
+  }
+  for (Row& r : run.Rows)
+  {
+    if (r.Scene == label)
+    {
+      r.RatioToNoShadow = noShadowMs > 0 ? r.MedianMs / noShadowMs : 0.0;
+      r.StillRatio = r.StillMs >= 0 && noShadowMs > 0 ? r.StillMs / noShadowMs : -1.0;
+    }
+  }
+  registry->Apply(ctx.Renderer, "none", "");
+  win->Finalize();
+  return -1;
+}
+
+// results.csv, results.md (also printed) and chart.png; returns the exit status.
+int WriteResults(const Options& o, const BenchRun& run)
+{
+  WriteCSV(o.OutDir + "/results.csv", run.Rows);
+  WriteMarkdown(o.OutDir + "/results.md", run.Rows, run.Failures, o);
   std::string chartError;
-  if (!WriteChart(outDir + "/chart.png", rows, chartError))
+  if (!WriteChart(o.OutDir + "/chart.png", run.Rows, chartError))
   {
     std::cerr << "penumbra-bench: chart: " << chartError << "\n";
     return 3;
   }
-  std::ifstream md(outDir + "/results.md");
+  std::ifstream md(o.OutDir + "/results.md");
   std::cout << md.rdbuf();
-  return failures.empty() ? 0 : 3;
+  return run.Failures.empty() ? 0 : 3;
+}
+}
+
+int main(int argc, char* argv[])
+{
+  Options options;
+  int status = ParseArguments(argc, argv, options);
+  status = status < 0 ? CheckOptions(options) : status;
+  if (status >= 0)
+  {
+    return status;
+  }
+  if (!options.SweepTriangles.empty())
+  {
+    return RunSweep(options);
+  }
+  BenchRun run;
+  run.Total = static_cast<int>(options.SceneNames.size() * (options.Techniques.size() + 1));
+  for (const auto& sceneName : options.SceneNames)
+  {
+    status = MeasureScene(sceneName, options, run);
+    if (status >= 0)
+    {
+      return status;
+    }
+  }
+  Progress(run.Total, run.Total, "writing results");
+  return WriteResults(options, run);
 }

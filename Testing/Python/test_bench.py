@@ -22,6 +22,11 @@ def run_bench(out, *args):
     return proc.returncode, proc.stdout, proc.stderr
 
 
+def read_csv(out, name):
+    with open(os.path.join(out, name)) as f:
+        return list(csv.DictReader(f))
+
+
 class BenchTest(unittest.TestCase):
     def test_smoke(self):
         with tempfile.TemporaryDirectory() as out:
@@ -30,8 +35,7 @@ class BenchTest(unittest.TestCase):
                 "--techniques", "none,vtk-shadowmap:resolution=512,raytraced")
             self.assertEqual(code, 0, stderr)
             self.assertIn("| scene | technique |", stdout)
-            with open(os.path.join(out, "results.csv")) as f:
-                rows = list(csv.DictReader(f))
+            rows = read_csv(out, "results.csv")
             self.assertEqual(len(rows), 6)
             for col in COLUMNS:
                 self.assertIn(col, rows[0])
@@ -57,6 +61,24 @@ class BenchTest(unittest.TestCase):
             self.assertTrue(os.path.exists(os.path.join(out, "results.md")))
             self.assertTrue(os.path.exists(os.path.join(out, "default__raytraced_default_error.png")))
 
+    def test_still_frames_and_moving_camera(self):
+        # --still-frames adds the time of frames in which nothing changed; --moving-camera
+        # makes every timed frame render the view samples again (a still camera keeps them).
+        with tempfile.TemporaryDirectory() as out:
+            code, _, stderr = run_bench(out, "--scenes", "default", "--techniques",
+                                        "none,shadowmap,raytraced", "--still-frames",
+                                        "--moving-camera", "--frames", "2")
+            self.assertEqual(code, 0, stderr)
+            rows = {r["technique"]: r for r in read_csv(out, "results.csv")}
+            for name in ("none", "shadowmap", "raytraced"):
+                self.assertGreater(float(rows[name]["still_ms"]), 0.0)
+                self.assertGreater(float(rows[name]["still_ratio_to_no_shadow"]), 0.0)
+            for name in ("shadowmap", "raytraced"):
+                self.assertGreater(float(rows[name]["samples_ms"]), 0.0)
+            self.assertEqual(float(rows["raytraced"]["mismatch_rate"]), 0.0)
+            with open(os.path.join(out, "results.md")) as f:
+                self.assertIn("the camera moving before every frame", f.read())
+
     def test_gears_points(self):
         # Equal-k points run only on the area-light scene; GEARS equals the ray tracer there
         # and reports its grid statistics.
@@ -65,8 +87,7 @@ class BenchTest(unittest.TestCase):
                 out, "--scenes", "default,area_light", "--no-images",
                 "--techniques", "none,raytraced:samples=4,gears:samples=4")
             self.assertEqual(code, 0, stderr)
-            with open(os.path.join(out, "results.csv")) as f:
-                rows = list(csv.DictReader(f))
+            rows = read_csv(out, "results.csv")
             self.assertEqual(sorted((r["scene"], r["technique"]) for r in rows),
                              [("area_light", "gears"), ("area_light", "none"),
                               ("area_light", "raytraced"), ("default", "none")])
@@ -95,8 +116,7 @@ class BenchTest(unittest.TestCase):
                 "--techniques", "none,conservative,gears:samples=4")
             self.assertEqual(code, 3, stderr)
             self.assertIn("dark: no light to measure", stderr)
-            with open(os.path.join(out, "results.csv")) as f:
-                rows = list(csv.DictReader(f))
+            rows = read_csv(out, "results.csv")
             self.assertEqual(sorted((r["scene"], r["technique"]) for r in rows),
                              [("area_light", "gears"), ("area_light", "none"),
                               ("default", "conservative"), ("default", "none")])
@@ -115,12 +135,81 @@ class BenchTest(unittest.TestCase):
                                    (("--scenes", "default,no_such_scene"), "no scene file"),
                                    (("--techniques", "raytraced,conservative:layers=1"),
                                     "layers: expected an integer in [2, 4], got 1"),
-                                   (("--frames", "0"), "--frames")):
+                                   (("--frames", "0"), "--frames"),
+                                   (("--scale-sweep", "1e4,many"), "--scale-sweep expects"),
+                                   (("--scale-sweep", "--scenes", "default"), "no --scenes"),
+                                   (("--budget", "5"), "--budget bounds")):
                 with self.subTest(args=args):
                     code, _, stderr = run_bench(out, *args)
                     self.assertEqual(code, 2)
                     self.assertIn(fragment, stderr)
                     self.assertFalse(os.path.exists(os.path.join(out, "results.csv")))
+                    self.assertFalse(os.path.exists(os.path.join(out, "sweep.csv")))
+
+    def test_scale_sweep(self):
+        # Two counts, one technique next to none (added unasked), both cameras: a row per
+        # point with its time, phases and memory, an exponent per series, and a chart.
+        with tempfile.TemporaryDirectory() as out:
+            code, stdout, stderr = run_bench(out, "--scale-sweep", "2000,20000",
+                                             "--techniques", "shadowmap", "--size", "160x120")
+            self.assertEqual(code, 0, stderr)
+            rows = read_csv(out, "sweep.csv")
+            self.assertEqual(len(rows), 8)
+            asked = {}
+            for row in rows:
+                triangles = int(row["triangles"])
+                asked.setdefault(2000 if triangles < 6000 else 20000, set()).add(
+                    (row["technique"], row["camera"]))
+                # The sphere is tessellated to the asked count, near enough for a log axis.
+                self.assertLess(abs(triangles / (2000 if triangles < 6000 else 20000) - 1), 0.05)
+                self.assertEqual(row["status"], "measured")
+                self.assertGreater(float(row["median_ms"]), 0.0)
+                self.assertTrue(math.isfinite(float(row["exponent"])), row)
+                # Two counts: the slope over the two largest is the same line.
+                self.assertAlmostEqual(float(row["exponent_last_two"]), float(row["exponent"]),
+                                       places=2)
+                self.assertGreaterEqual(float(row["peak_rss_mb"]), float(row["rss_before_mb"]))
+                self.assertGreater(float(row["rss_before_mb"]), 0.0)
+                # The cold first frame is timed once per technique, on its still row.
+                self.assertEqual(row["first_frame_ms"] != "", row["camera"] == "still")
+                if row["technique"] == "none":
+                    self.assertEqual(row["technique_ms"], "")  # no Penumbra pass, no phases
+                    self.assertEqual(float(row["exponent_minus_none"]), 0.0)
+                else:
+                    self.assertGreaterEqual(float(row["technique_ms"]), 0.0)
+                    self.assertGreater(float(row["ratio_to_none"]), 0.0)
+            series = {(t, c) for t in ("none", "shadowmap") for c in ("still", "moving")}
+            self.assertEqual(asked, {2000: series, 20000: series})
+            self.assertIn("| triangles | technique | camera |", stdout)
+            self.assertIn("Cost exponent", stdout)
+            self.assertIn("VmHWM", stdout)
+            with open(os.path.join(out, "sweep.png"), "rb") as f:
+                png = f.read()
+            self.assertTrue(png.startswith(b"\x89PNG"))
+            self.assertGreater(len(png), 2000)
+            self.assertGreater(os.path.getsize(os.path.join(out, "sweep_scene.png")), 1000)
+
+    def test_scale_sweep_budget(self):
+        # A row whose first frame after the technique is installed needs more than the
+        # budget, or whose first timed frame needs more than its share of it, is not
+        # measured, and the larger counts of its series are not even tried; with no point
+        # left to chart the run says so (exit 3) instead of drawing an empty chart.
+        with tempfile.TemporaryDirectory() as out:
+            code, stdout, stderr = run_bench(out, "--scale-sweep", "2000,20000", "--frames", "2",
+                                             "--techniques", "none", "--budget", "1e-6")
+            self.assertEqual(code, 3, stderr)
+            self.assertIn("no measured point", stderr)
+            rows = read_csv(out, "sweep.csv")
+            self.assertEqual(len(rows), 4)
+            for row in rows:
+                self.assertEqual(row["median_ms"], "")
+                self.assertEqual(row["exponent"], "")
+                if int(row["triangles"]) > 6000:
+                    self.assertIn("over budget at a smaller count", row["status"])
+                elif row["camera"] == "still":
+                    self.assertIn("the first frame took", row["status"])
+                else:
+                    self.assertIn("one frame took", row["status"])
 
 
 if __name__ == "__main__":
