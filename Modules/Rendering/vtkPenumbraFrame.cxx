@@ -79,12 +79,12 @@ struct vtkPenumbraFrame::Internals
   std::vector<vtkSmartPointer<vtkFloatArray>> Visibility[2], Factor[2];
   std::vector<char> Fresh[2], HasFactor[2];
 
-  // Per layer: RGBA32F visibility textures (4 lights each) and whether each holds this
-  // frame's values yet (cleared to 1 or uploaded).
+  // Per layer and light: an R32F visibility texture, and whether it holds this frame's
+  // values yet (cleared or uploaded). One light a texture: a technique writes 4 bytes a
+  // pixel with no channel mask, and CPU answers are uploaded straight from their arrays.
   std::vector<vtkSmartPointer<vtkTextureObject>> Textures[2];
   std::vector<char> Ready[2];
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
-  std::vector<float> Texels; // upload staging, kept between frames
 
   const Shadowed* Find(int index) const
   {
@@ -110,7 +110,7 @@ struct vtkPenumbraFrame::Internals
 
   void AllocateTextures()
   {
-    const int count = (this->NumberOfLights + 3) / 4;
+    const int count = this->NumberOfLights;
     for (int layer = 0; layer < 2; ++layer)
     {
       auto& textures = this->Textures[layer];
@@ -131,20 +131,20 @@ struct vtkPenumbraFrame::Internals
           tex->SetMagnificationFilter(vtkTextureObject::Nearest);
           tex->SetWrapS(vtkTextureObject::ClampToEdge);
           tex->SetWrapT(vtkTextureObject::ClampToEdge);
-          tex->SetInternalFormat(GL_RGBA32F);
-          tex->SetFormat(GL_RGBA);
+          tex->SetInternalFormat(GL_R32F);
+          tex->SetFormat(GL_RED);
           tex->SetDataType(GL_FLOAT);
         }
         if (!tex->GetHandle() || static_cast<int>(tex->GetWidth()) != this->Width ||
           static_cast<int>(tex->GetHeight()) != this->Height)
         {
-          tex->Allocate2D(this->Width, this->Height, 4, VTK_FLOAT);
+          tex->Allocate2D(this->Width, this->Height, 1, VTK_FLOAT);
         }
       }
     }
   }
 
-  // Sets every channel of texture `t` of `layer` to -1 (no shadow work: lit), once per frame.
+  // Sets texture `t` (a light) of `layer` to -1 (no shadow work: lit), once per frame.
   void Clear(int layer, size_t t)
   {
     if (this->Ready[layer][t])
@@ -160,22 +160,20 @@ struct vtkPenumbraFrame::Internals
     this->Ready[layer][t] = 1;
   }
 
-  // Channel `index % 4` of `layer`'s texture into `out` (one value per sample).
-  void ReadChannel(int layer, int index, vtkFloatArray* out)
+  // Light `index`'s texture of `layer` into `out` (one value per sample).
+  void ReadTexture(int layer, int index, vtkFloatArray* out)
   {
-    static const GLenum channels[4] = { GL_RED, GL_GREEN, GL_BLUE, GL_ALPHA };
     out->SetNumberOfComponents(1);
     out->SetNumberOfTuples(static_cast<vtkIdType>(this->Width) * this->Height);
     vtkOpenGLState* ostate = this->Window->GetState();
     ostate->PushFramebufferBindings();
     vtkOpenGLFramebufferObject* fbo = this->Framebuffer();
     fbo->Bind();
-    fbo->AddColorAttachment(0, this->Textures[layer][static_cast<size_t>(index / 4)]);
+    fbo->AddColorAttachment(0, this->Textures[layer][static_cast<size_t>(index)]);
     fbo->RemoveDepthAttachment();
     fbo->ActivateReadBuffer(0);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, this->Width, this->Height, channels[index % 4], GL_FLOAT,
-      out->GetPointer(0));
+    glReadPixels(0, 0, this->Width, this->Height, GL_RED, GL_FLOAT, out->GetPointer(0));
     ostate->PopFramebufferBindings();
     out->Modified();
   }
@@ -187,10 +185,9 @@ struct vtkPenumbraFrame::VisibilityTarget::State
   penumbra_light_views::QuadPassState Pass;
 
   State(vtkOpenGLState* gl, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* target, int w,
-    int h, vtkTextureObject* depth, int channel)
+    int h, vtkTextureObject* depth)
     : Pass(gl, fbo, { target }, w, h, depth)
   {
-    gl->vtkglColorMask(channel == 0, channel == 1, channel == 2, channel == 3);
   }
 };
 
@@ -344,11 +341,10 @@ vtkPenumbraFrame::VisibilityTarget vtkPenumbraFrame::BindVisibilityTarget(int la
 {
   Internals& impl = *this->Impl;
   const int index = this->GetLightIndex(k);
-  const size_t t = static_cast<size_t>(index / 4);
+  const size_t t = static_cast<size_t>(index);
   impl.Clear(layer, t);
   return VisibilityTarget(new VisibilityTarget::State(impl.Window->GetState(), impl.Framebuffer(),
-    impl.Textures[layer][t], impl.Width, impl.Height, impl.Layers[layer]->GetDepthTexture(),
-    index % 4));
+    impl.Textures[layer][t], impl.Width, impl.Height, impl.Layers[layer]->GetDepthTexture()));
 }
 
 const char* vtkPenumbraFrame::GetSurfaceQuadVS()
@@ -397,7 +393,7 @@ vtkFloatArray* vtkPenumbraFrame::GetVisibility(int layer, int index)
   else
   {
     impl.Window->MakeCurrent();
-    impl.ReadChannel(layer, index, out);
+    impl.ReadTexture(layer, index, out);
   }
   impl.Fresh[layer][i] = 1;
   this->TransferTimeMs += 1000.0 * (Now() - t);
@@ -416,17 +412,12 @@ vtkFloatArray* vtkPenumbraFrame::GetLightFactor(int layer, int index)
   return this->GetVisibility(layer, index);
 }
 
-int vtkPenumbraFrame::GetNumberOfVisibilityTextures()
-{
-  return static_cast<int>(this->Impl->Textures[0].size());
-}
-
-vtkTextureObject* vtkPenumbraFrame::GetVisibilityTexture(int layer, int t)
+vtkTextureObject* vtkPenumbraFrame::GetVisibilityTexture(int layer, int index)
 {
   Internals& impl = *this->Impl;
-  return layer >= 0 && layer < impl.NumberOfLayers && t >= 0 &&
-      static_cast<size_t>(t) < impl.Textures[layer].size()
-    ? impl.Textures[layer][static_cast<size_t>(t)].Get()
+  const Internals::Shadowed* l = impl.Find(index);
+  return layer >= 0 && layer < impl.NumberOfLayers && l && l->State != Answer::None
+    ? impl.Textures[layer][static_cast<size_t>(index)].Get()
     : nullptr;
 }
 
@@ -507,50 +498,26 @@ void vtkPenumbraFrame::Finish()
     }
   }
 
-  // Upload the textures that hold CPU values (their GPU-written channels, if any, are read
-  // back first so the upload keeps them); clear the ones nothing wrote.
+  // Upload the CPU answers (and diagram-scaled factors) straight from their arrays; clear the
+  // textures of lights nothing wrote.
   for (int layer = 0; layer < impl.NumberOfLayers; ++layer)
   {
-    for (size_t t = 0; t < impl.Textures[layer].size(); ++t)
+    for (const auto& l : impl.Lights)
     {
-      vtkFloatArray* channel[4] = { nullptr, nullptr, nullptr, nullptr };
-      bool cpu = false;
-      for (int c = 0; c < 4; ++c)
+      const size_t i = static_cast<size_t>(l.Index);
+      if (l.State == Answer::None)
       {
-        const int index = static_cast<int>(4 * t) + c;
-        const Internals::Shadowed* l = impl.Find(index);
-        if (!l || l->State == Answer::None)
-        {
-          continue;
-        }
-        const bool scaled = impl.HasFactor[layer][static_cast<size_t>(index)] != 0;
-        cpu = cpu || l->State == Answer::CPU || scaled;
-      }
-      if (!cpu)
-      {
-        impl.Clear(layer, t); // no-op when a GPU technique already wrote into it
         continue;
       }
-      for (int c = 0; c < 4; ++c)
+      if (l.State != Answer::CPU && !impl.HasFactor[layer][i])
       {
-        const int index = static_cast<int>(4 * t) + c;
-        const Internals::Shadowed* l = impl.Find(index);
-        channel[c] = l && l->State != Answer::None ? this->GetLightFactor(layer, index) : nullptr;
+        impl.Clear(layer, i); // no-op when the technique wrote into it
+        continue;
       }
-      std::vector<float>& texels = impl.Texels;
-      texels.resize(static_cast<size_t>(4 * n));
-      vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-        for (int c = 0; c < 4; ++c)
-        {
-          const float* v = channel[c] ? channel[c]->GetPointer(0) : nullptr;
-          for (vtkIdType p = begin; p < end; ++p)
-          {
-            texels[static_cast<size_t>(4 * p + c)] = v ? v[p] : -1.0f;
-          }
-        }
-      });
-      impl.Textures[layer][t]->Create2DFromRaw(impl.Width, impl.Height, 4, VTK_FLOAT, texels.data());
-      impl.Ready[layer][t] = 1;
+      vtkFloatArray* values = this->GetLightFactor(layer, l.Index);
+      impl.Textures[layer][i]->Create2DFromRaw(
+        impl.Width, impl.Height, 1, VTK_FLOAT, values->GetPointer(0));
+      impl.Ready[layer][i] = 1;
     }
   }
   this->TransferTimeMs += 1000.0 * (Now() - t0);

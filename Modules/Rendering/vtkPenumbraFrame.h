@@ -9,7 +9,7 @@
  * when translucent receivers are visible) into textures, and hands the frame to the
  * technique. A technique then either
  *
- *  - works on the GPU: it draws each light's visibility into that light's channel of the
+ *  - works on the GPU: it draws each light's visibility into that light's texture of the
  *    layer's visibility texture (BindVisibilityTarget()) and calls MarkOnGPU(); nothing is
  *    read back; or
  *  - works on the CPU: it asks for GetSamples() (the layers read back and stacked, opaque
@@ -19,11 +19,11 @@
  * Visibility values follow vtkPenumbraShadowTechnique's convention (1 lit, 0 shadowed,
  * fractions for soft shadows, -1 for samples without a surface); the textures start each
  * frame at -1 and the lighting injection reads negative values as 1. GetVisibility() gives any light's values as a CPU array,
- * reading a GPU-written channel back on first request, so tests and the benchmark compare
+ * reading a GPU-written texture back on first request, so tests and the benchmark compare
  * every technique with the exact reference on the same samples.
  *
  * Lights are numbered as the pass numbers them (VTK's shader order of the switched-on
- * lights); light i lives in channel i % 4 of texture i / 4. Only the lights listed by
+ * lights); each has one R32F visibility texture per layer. Only the lights listed by
  * GetNumberOfShadowedLights() get shadow work this frame.
  */
 
@@ -83,7 +83,7 @@ public:
   ///@{
   /**
    * The lights that get shadow work this frame (switched on, not black), and for each its
-   * number in the pass (its texture channel, see the class description).
+   * number in the pass (see the class description).
    */
   int GetNumberOfShadowedLights();
   vtkLight* GetShadowedLight(int k);
@@ -97,8 +97,8 @@ public:
   void SetVisibility(int k, vtkFloatArray* visibility);
 
   /**
-   * A GPU technique's answer for shadowed light `k`: its channel of every layer's visibility
-   * texture was written through BindVisibilityTarget().
+   * A GPU technique's answer for shadowed light `k`: its visibility texture of every layer
+   * was written through BindVisibilityTarget().
    */
   void MarkOnGPU(int k);
 
@@ -108,14 +108,13 @@ public:
   bool HasVisibility(int k);
 
   /**
-   * Binds the visibility texture that holds shadowed light `k` in `layer` as the colour
-   * target of the current framebuffer state, with colour writes limited to that light's
-   * channel and the viewport set to the layer, and the layer's G-buffer depth as a
+   * Binds shadowed light `k`'s visibility texture of `layer` as the colour target of the
+   * current framebuffer state, with the viewport set to the layer, and the layer's G-buffer
+   * depth as a
    * read-only depth test (GREATER) so that a full-viewport quad drawn at depth 1 (see
    * GetSurfaceQuadVS()) runs its fragment program only where a surface was seen: the
    * background keeps -1 (on llvmpipe every fragment costs, and the sky is often half the
-   * frame). Everything is restored when the returned object is destroyed. Write the value
-   * in every component.
+   * frame). Everything is restored when the returned object is destroyed.
    */
 #ifndef __VTK_WRAP__
   class VTKPENUMBRARENDERING_EXPORT VisibilityTarget
@@ -143,7 +142,7 @@ public:
 
   /**
    * The visibility of pass light `index` on `layer`'s samples, on the CPU (a GPU-written
-   * channel is read back at the first request of the frame), or nullptr when that light got
+   * texture is read back at the first request of the frame), or nullptr when that light got
    * no shadow work. The geometric visibility: a goniometric light's diagram is not in it.
    */
   vtkFloatArray* GetVisibility(int layer, int index);
@@ -154,9 +153,11 @@ public:
    */
   vtkFloatArray* GetLightFactor(int layer, int index);
 
-  /** The visibility textures of `layer` (4 lights each), for the lighting injection. */
-  int GetNumberOfVisibilityTextures();
-  vtkTextureObject* GetVisibilityTexture(int layer, int t);
+  /**
+   * Light `index`'s R32F visibility texture of `layer`, for the lighting injection; nullptr
+   * when that light got no shadow work.
+   */
+  vtkTextureObject* GetVisibilityTexture(int layer, int index);
 
   ///@{
   /**

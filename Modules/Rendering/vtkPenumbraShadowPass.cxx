@@ -97,8 +97,9 @@ struct vtkPenumbraShadowPass::Internals
 
   std::vector<vtkSmartPointer<vtkLight>> Lights; // switched-on, shader order
 
-  // Number of lights whose colour the shaders scale; shader code depends on it.
-  int InjectedLights = 0;
+  // Per light: whether the shaders scale its colour by its visibility (empty: no light is
+  // shadowed); shader code depends on it.
+  std::vector<char> Injected;
   vtkTimeStamp ShaderTime;
 
   // What the last frame's view samples (ViewKey()) and its visibility (ViewKey() and
@@ -109,11 +110,11 @@ struct vtkPenumbraShadowPass::Internals
 
   double ExtractionMs = 0, SamplesMs = 0, TechniqueMs = 0, ShadingMs = 0;
 
-  void SetInjectedLights(int n)
+  void SetInjected(std::vector<char> injected)
   {
-    if (n != this->InjectedLights)
+    if (injected != this->Injected)
     {
-      this->InjectedLights = n;
+      this->Injected.swap(injected);
       this->ShaderTime.Modified();
     }
   }
@@ -250,12 +251,14 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
   {
     this->Technique->ComputeFrame(frame);
   }
-  int injected = 0;
+  std::vector<char> injected(this->Lights.size(), 0);
+  bool any = false;
   for (int k = 0; k < frame->GetNumberOfShadowedLights(); ++k)
   {
     if (frame->HasVisibility(k))
     {
-      injected = frame->GetLightIndex(k) + 1;
+      injected[static_cast<size_t>(frame->GetLightIndex(k))] = 1;
+      any = true;
     }
     else
     {
@@ -264,7 +267,7 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
     }
   }
   frame->Finish();
-  this->SetInjectedLights(injected);
+  this->SetInjected(any ? injected : std::vector<char>());
 }
 
 vtkStandardNewMacro(vtkPenumbraShadowPass);
@@ -476,17 +479,17 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   {
     impl.HasFrame = false;
     impl.LastViewKey.clear();
-    impl.SetInjectedLights(0);
+    impl.SetInjected({});
   }
 
   t = Now();
   std::vector<vtkTextureObject*> textures;
-  const int count = (impl.InjectedLights + 3) / 4;
   for (int layer = 0; layer < 2; ++layer)
   {
-    for (int k = 0; k < count; ++k)
+    for (size_t i = 0; i < impl.Injected.size(); ++i)
     {
-      if (vtkTextureObject* tex = impl.Frame->GetVisibilityTexture(layer, k))
+      vtkTextureObject* tex = impl.Frame->GetVisibilityTexture(layer, static_cast<int>(i));
+      if (impl.Injected[i] && tex)
       {
         textures.push_back(tex);
         tex->Activate();
@@ -515,7 +518,7 @@ bool vtkPenumbraShadowPass::PreReplaceShaderValues(std::string&, std::string&,
 {
   // Translucent props read the translucent layer's visibility: the opaque samples hold the
   // surface behind them.
-  if (this->Impl->InjectedLights > 0 && vtkOpenGLPolyDataMapper::SafeDownCast(mapper) &&
+  if (!this->Impl->Injected.empty() && vtkOpenGLPolyDataMapper::SafeDownCast(mapper) &&
     vtkPenumbraShadowKeys::ReceivesShadows(prop))
   {
     const int layer = IsTranslucentReceiver(prop) ? 1 : 0;
@@ -542,22 +545,17 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
   // A macro naming itself is not expanded again, so `lightColorN` inside it is the uniform.
   std::string dec = vtkPenumbraVisibilityDec;
   const Internals& impl = *this->Impl;
-  std::vector<std::string> samplers;
-  for (int k = 0; k < (impl.InjectedLights + 3) / 4; ++k)
-  {
-    samplers.push_back(LayerSamplers[layer] + std::to_string(k));
-    dec += "uniform sampler2D " + samplers.back() + ";\n";
-  }
-  const char channels[] = "rgba";
-  for (int i = 0; i < impl.InjectedLights; ++i)
+  for (size_t i = 0; i < impl.Injected.size(); ++i)
   {
     const std::string color = "lightColor" + std::to_string(i);
-    if (fragmentShader.find("uniform vec3 " + color + ";") == std::string::npos)
+    if (!impl.Injected[i] || fragmentShader.find("uniform vec3 " + color + ";") == std::string::npos)
     {
-      continue; // this shader does not light with light i
+      continue; // light i is unshadowed, or this shader does not light with it
     }
-    dec += "#define " + color + " (" + color + " * penumbraShadow(texelFetch(" +
-      samplers[static_cast<size_t>(i / 4)] + ", penumbraTexel(), 0)." + channels[i % 4] + "))\n";
+    const std::string sampler = LayerSamplers[layer] + std::to_string(i);
+    dec += "uniform sampler2D " + sampler + ";\n";
+    dec += "#define " + color + " (" + color + " * penumbraShadow(texelFetch(" + sampler +
+      ", penumbraTexel(), 0).r))\n";
   }
   vtkShaderProgram::Substitute(fragmentShader, tag, dec, false);
   return true;
@@ -567,7 +565,7 @@ bool vtkPenumbraShadowPass::SetShaderParameters(
   vtkShaderProgram* program, vtkAbstractMapper*, vtkProp*, vtkOpenGLVertexArrayObject*)
 {
   Internals& impl = *this->Impl;
-  if (impl.InjectedLights == 0 || !program->IsUniformUsed("penumbraViewportOrigin"))
+  if (impl.Injected.empty() || !program->IsUniformUsed("penumbraViewportOrigin"))
   {
     return true;
   }
@@ -579,10 +577,10 @@ bool vtkPenumbraShadowPass::SetShaderParameters(
   program->SetUniform2i("penumbraViewportOrigin", origin);
   for (int layer = 0; layer < 2; ++layer)
   {
-    for (int k = 0; k < (impl.InjectedLights + 3) / 4; ++k)
+    for (size_t i = 0; i < impl.Injected.size(); ++i)
     {
-      const std::string name = LayerSamplers[layer] + std::to_string(k);
-      vtkTextureObject* tex = impl.Frame->GetVisibilityTexture(layer, k);
+      const std::string name = LayerSamplers[layer] + std::to_string(i);
+      vtkTextureObject* tex = impl.Frame->GetVisibilityTexture(layer, static_cast<int>(i));
       if (tex && program->IsUniformUsed(name.c_str()))
       {
         program->SetUniformi(name.c_str(), tex->GetTextureUnit());
@@ -611,7 +609,7 @@ void vtkPenumbraShadowPass::ReleaseGraphicsResources(vtkWindow* w)
   impl.Frame->Release(w);
   impl.HasFrame = false;
   impl.LastViewKey.clear();
-  impl.SetInjectedLights(0);
+  impl.SetInjected({});
 }
 
 void vtkPenumbraShadowPass::PrintSelf(ostream& os, vtkIndent indent)

@@ -1,8 +1,8 @@
 // Penumbra shadowed lighting, declarations (inserted right after the mapper's light
 // uniforms). Each shadowed light's colour is redefined as colour x visibility at this pixel,
 // so VTK's own diffuse and specular terms (Phong) and radiance (PBR) are shadowed without
-// rewriting the lighting code. The visibility of 4 lights is packed in one RGBA texture
-// (seed 004, ch. 8: multi-light masks). Per-light #defines follow this block.
+// rewriting the lighting code. Each shadowed light has its own R32F visibility texture (a
+// sampler per light). Per-light #defines follow this block.
 uniform ivec2 penumbraViewportOrigin; // window pixel of visibility texel (0, 0)
 ivec2 penumbraTexel()
 {
