@@ -894,10 +894,24 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
   this->FitViews(setup, extent, slotMode, size, maps);
 
   // ---- Render and read back every used slot.
+  // Orthographic views store clip z as it is (linear already); the others write the linear
+  // depth per fragment.
+  const bool hardwareDepth =
+    setup.Type == LightSetup::Kind::Directional && self->DepthMode == DEPTH_LINEAR;
+  auto variant = [hardwareDepth](const char* source) {
+    std::string text = source;
+    if (hardwareDepth)
+    {
+      vtkShaderProgram::Substitute(text, "//VTK::System::Dec",
+        "//VTK::System::Dec\n#define PENUMBRA_HARDWARE_DEPTH\n", false);
+    }
+    return text;
+  };
   vtkShaderProgram* program = paraboloid
     ? win->GetShaderCache()->ReadyShaderProgram(
         vtkPenumbraShadowMapParaboloidVS, vtkPenumbraShadowMapParaboloidFS, "")
-    : win->GetShaderCache()->ReadyShaderProgram(vtkPenumbraShadowMapVS, vtkPenumbraShadowMapFS, "");
+    : win->GetShaderCache()->ReadyShaderProgram(variant(vtkPenumbraShadowMapVS).c_str(),
+        variant(vtkPenumbraShadowMapFS).c_str(), "");
   if (!program || !program->GetCompiled())
   {
     maps->Valid = false;
@@ -1411,7 +1425,7 @@ bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapSh
   double axes[3][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
   if (setup.Type != LightSetup::Kind::Point)
   {
-    LightAxes(setup, axes);
+    LightAxes(setup, axes); // point lights: the extent uses no axes
   }
   std::vector<vtkTextureObject*> targets;
   for (auto& tex : this->ExtentTextures)
@@ -1446,9 +1460,20 @@ bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapSh
       static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
     program->SetUniform3f("lightPosition", centre);
     SetClassifyUniforms(program, setup, true);
-    SetDouble3(program, "axis0", axes[0]);
-    SetDouble3(program, "axis1", axes[1]);
-    SetDouble3(program, "axis2", axes[2]);
+    float axesF[3][3], direction[3], position[3];
+    for (int c = 0; c < 3; ++c)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        axesF[a][c] = static_cast<float>(axes[a][c]);
+      }
+      direction[c] = static_cast<float>(setup.Direction[c]);
+      position[c] = static_cast<float>(setup.Position[c]);
+    }
+    program->SetUniform3fv("fAxis0", 3, axesF);
+    program->SetUniform3f("fDirection", direction);
+    program->SetUniform3f("fPosition", position);
+    program->SetUniformf("fCosCone", static_cast<float>(setup.CosCone));
     this->ExtentQuad->Render();
     gbuffer->GetPositionTexture()->Deactivate();
     gbuffer->GetNormalTexture()->Deactivate();

@@ -2,7 +2,8 @@
 //VTK::Output::Dec
 // Receiver extent for fitting the light views (Brabec 2003, ch. 4.2) on the G-buffer, so the
 // samples never leave the GPU: each fragment reduces a tile x tile block of samples, and the
-// CPU merges the few tiles. Only pending samples (facing the light, in the cone) count.
+// CPU merges the few tiles. The samples that may face the light (and lie in a spot's cone)
+// count, in float: per sample the cost of this pass is that of a full-screen pass.
 // Out 0: box min xyz, farthest distance from the light; out 1: box max xyz, spot tangent;
 // out 2: light-space min along axes 0-2 (directional), used-slot bit mask;
 // out 3: light-space max, number of pending samples.
@@ -10,9 +11,10 @@ in vec2 texCoord;
 
 uniform ivec2 sampleSize;
 uniform int tile;
-uniform dvec3 axis0; // directional: light-space axes; spot: right, up, axis
-uniform dvec3 axis1;
-uniform dvec3 axis2;
+uniform vec3 fAxis0[3]; // directional: light-space axes; spot: right, up, axis
+uniform vec3 fDirection; // directional: unit vector towards the light
+uniform vec3 fPosition;  // positional: rebased
+uniform float fCosCone;  // spot
 
 //PENUMBRA::Classify
 //PENUMBRA::Compare
@@ -38,9 +40,24 @@ void main()
       {
         continue;
       }
-      vec3 p;
-      vec3 n;
-      if (penumbraClassify(cell, p, n) != 2)
+      vec4 position = texelFetch(samplePositions, cell, 0);
+      vec4 normal = texelFetch(sampleNormals, cell, 0);
+      if (position.w < 0.5 || normal.w < 0.0)
+      {
+        continue; // no surface, or no shadow work
+      }
+      // A superset of the pending samples, in float: the facing and cone tests with a margin
+      // above float rounding (the extent only has to cover every pending sample, so a sample
+      // float cannot decide counts).
+      vec3 p = position.xyz;
+      vec3 toLight = lightKind == 0 ? fDirection : fPosition - p;
+      float margin = 1e-5 * (length(p) + length(fPosition) + length(toLight));
+      if (dot(normal.xyz, toLight) < -margin)
+      {
+        continue;
+      }
+      vec3 q = p - fPosition;
+      if (lightKind == 2 && dot(normalize(q), fAxis0[2]) < fCosCone - 1e-5)
       {
         continue;
       }
@@ -48,22 +65,14 @@ void main()
       used |= 1 << penumbraSlot(p);
       boxMin = min(boxMin, p);
       boxMax = max(boxMax, p);
-      dvec3 dp = dvec3(p);
-      if (lightKind == 0)
+      vec3 d = vec3(dot(p, fAxis0[0]), dot(p, fAxis0[1]), dot(p, fAxis0[2]));
+      lo = min(lo, d);
+      hi = max(hi, d);
+      farthest = max(farthest, length(q));
+      float w = dot(q, fAxis0[2]);
+      if (w > 0.0)
       {
-        vec3 d = vec3(dot(dp, axis0), dot(dp, axis1), dot(dp, axis2));
-        lo = min(lo, d);
-        hi = max(hi, d);
-      }
-      else
-      {
-        dvec3 q = dp - classifyPosition;
-        farthest = max(farthest, float(length(q)));
-        double w = dot(q, axis2);
-        if (lightKind == 2 && w > 0.0LF)
-        {
-          spotTan = max(spotTan, float(max(abs(dot(q, axis0)), abs(dot(q, axis1))) / w));
-        }
+        spotTan = max(spotTan, max(abs(dot(q, fAxis0[0])), abs(dot(q, fAxis0[1]))) / w);
       }
     }
   }

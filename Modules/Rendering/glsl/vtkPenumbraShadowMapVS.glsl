@@ -25,6 +25,10 @@ void main()
   else
   {
     lightDepthVS = clip.z;
+#ifdef PENUMBRA_HARDWARE_DEPTH
+    gl_Position = vec4(clip.xy, 2.0 * clip.z - 1.0, 1.0); // depth = clip.z, clamped
+#else
     gl_Position = vec4(clip.xy, 0.0, 1.0);
+#endif
   }
 }
