@@ -127,6 +127,20 @@ public:
   vtkGetMacro(MaxListEntries, vtkIdType);
   ///@}
 
+  ///@{
+  /**
+   * Triangles per light sample above which a grid cell's view samples are ray traced whole
+   * by the reference instead of masked: a cell whose list (cell + global) holds more than
+   * TraceThreshold x k^2 triangles costs more in masks than Embree's k^2 rays, as on dense
+   * meshes under large lights, where each tiny triangle covers less than one light sample.
+   * The answer is the same either way (the reference is the exact one); only speed depends
+   * on it. Default 0.125 (measured on llvmpipe, see README); 0 never traces a cell. Only the
+   * CPU path splits cells (the compute path masks every cell). No unit.
+   */
+  vtkSetClampMacro(TraceThreshold, double, 0.0, 1e6);
+  vtkGetMacro(TraceThreshold, double);
+  ///@}
+
   /**
    * Where step 4 (the masks) runs.
    * - PATH_AUTO (default): the path measured faster on the target platform, currently
@@ -186,7 +200,8 @@ public:
 
   /**
    * Per sample of the last area-light call: 1 when the whole sample was handed to the
-   * reference (it lies exactly on the light plane; its mask is not kept).
+   * reference (it lies exactly on the light plane, or in a cell above TraceThreshold; its
+   * mask is not kept).
    */
   vtkUnsignedCharArray* GetUncertainSamples();
 
@@ -212,8 +227,9 @@ public:
    *   no earlier triangle of the list blocked (a sample stops early once fully shadowed, so
    *   this is a lower bound of the paper's count);
    * - the grid resolution actually used after any overflow coarsening;
-   * - samples handed to the reference whole (on the light plane), single light-sample rays
-   *   it traced, and the samples those belong to;
+   * - samples handed to the reference whole: on the light plane (uncertain), and those of
+   *   cells above TraceThreshold (traced cells); single light-sample rays it traced, and the
+   *   samples those belong to;
    * - segment tests run in double precision.
    */
   vtkGetMacro(NumberOfOccupiedCells, vtkIdType);
@@ -225,6 +241,7 @@ public:
   vtkGetMacro(NumberOfNecessaryAssignments, vtkIdType);
   vtkGetMacro(EffectiveGridResolution, int);
   vtkGetMacro(NumberOfUncertainSamples, vtkIdType);
+  vtkGetMacro(NumberOfTracedCellSamples, vtkIdType);
   vtkGetMacro(NumberOfTracedRays, vtkIdType);
   vtkGetMacro(NumberOfSamplesWithTracedRays, vtkIdType);
   vtkGetMacro(NumberOfSegmentTests, vtkIdType);
@@ -264,6 +281,7 @@ protected:
   int GridResolution = 128;
   double CameraDistanceFactor = 1.0;
   vtkIdType MaxListEntries = vtkIdType(1) << 27;
+  double TraceThreshold = 0.125;
   bool KeepMasks = false;
   int Path = PATH_AUTO;
   int LastPath = PATH_AUTO;
@@ -279,6 +297,7 @@ protected:
   int EffectiveGridResolution = 0;
   vtkIdType NumberOfValidSamples = 0;
   vtkIdType NumberOfUncertainSamples = 0;
+  vtkIdType NumberOfTracedCellSamples = 0;
   vtkIdType NumberOfSegmentTests = 0;
   vtkIdType NumberOfTracedRays = 0;
   vtkIdType NumberOfSamplesWithTracedRays = 0;
