@@ -43,6 +43,12 @@
  *    the sample, bounding sphere outside the sample's cone around the light, plane not
  *    separating the sample from the light, every hit provably inside the tie band. Cell
  *    lists are sorted largest triangle first, so umbra samples fill their masks early.
+ *    Cells whose list is longer than TraceThreshold x k^2 (counted from the casters' cell
+ *    ranges before any list is built) skip all of this: their samples are ray traced whole
+ *    by the reference. A mask costs O(k) per listed triangle and a ray O(log N), so on dense
+ *    meshes under large lights, where a cell meets thousands of triangles each smaller than
+ *    the light-sample spacing, the rays are cheaper (the GEARS paper's Table 3: cost grows
+ *    with the light). The answer is the reference's either way.
  *
  * Paths (SetPath()): step 4 runs on the CPU (vtkSMPTools) or as a GL 4.3 compute shader
  * (vtkPenumbraGearsCompute.h: the cell lists in shader storage buffers, one invocation per
@@ -134,8 +140,9 @@ public:
    * TraceThreshold x k^2 triangles costs more in masks than Embree's k^2 rays, as on dense
    * meshes under large lights, where each tiny triangle covers less than one light sample.
    * The answer is the same either way (the reference is the exact one); only speed depends
-   * on it. Default 0.125 (measured on llvmpipe, see README); 0 never traces a cell. Only the
-   * CPU path splits cells (the compute path masks every cell). No unit.
+   * on it. Default 0.5: above the city block's longest lists (33 triangles) at k >= 8, far
+   * below a dense mesh's thousands; 0 never traces a cell. Only the CPU path splits cells
+   * (the compute path masks every cell). No unit.
    */
   vtkSetClampMacro(TraceThreshold, double, 0.0, 1e6);
   vtkGetMacro(TraceThreshold, double);
@@ -281,7 +288,7 @@ protected:
   int GridResolution = 128;
   double CameraDistanceFactor = 1.0;
   vtkIdType MaxListEntries = vtkIdType(1) << 27;
-  double TraceThreshold = 0.125;
+  double TraceThreshold = 0.5;
   bool KeepMasks = false;
   int Path = PATH_AUTO;
   int LastPath = PATH_AUTO;

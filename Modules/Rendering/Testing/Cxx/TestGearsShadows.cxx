@@ -576,7 +576,7 @@ int CheckDenseMesh()
   vtkNew<vtkFloatArray> ref;
   CHECK(reference->ComputeVisibility(samples, light, ref));
   const vtkIdType valid = samples->GetNumberOfValidSamples();
-  for (const double threshold : { 0.125, 0.0 })
+  for (const double threshold : { 0.5, 0.0 })
   {
     vtkNew<vtkPenumbraGearsShadows> gears;
     gears->SetTraceThreshold(threshold);
