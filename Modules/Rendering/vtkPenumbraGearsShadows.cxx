@@ -741,6 +741,41 @@ struct MaskBuilder
     return static_cast<float>(lit) / static_cast<float>(this->L.Count);
   }
 };
+
+// Triangles per grid cell from the casters' cell ranges, without visiting a single (caster,
+// cell) pair: a 2-D difference array (+1 at a range's first corner, -1 past its edges) whose
+// prefix sums are the list lengths. O(casters + cells), so a cell's cost is known before its
+// list is built.
+std::vector<std::int64_t> CellListLengths(
+  int g, const std::vector<int>& range, const std::vector<std::int64_t>& touched)
+{
+  const size_t side = static_cast<size_t>(g) + 1;
+  std::vector<std::int64_t> diff(side * side, 0);
+  for (size_t t = 0; t < touched.size(); ++t)
+  {
+    if (touched[t] <= 0)
+    {
+      continue;
+    }
+    const int* rg = &range[4 * t];
+    diff[static_cast<size_t>(rg[2]) * side + rg[0]] += 1;
+    diff[static_cast<size_t>(rg[2]) * side + rg[1] + 1] -= 1;
+    diff[static_cast<size_t>(rg[3] + 1) * side + rg[0]] -= 1;
+    diff[static_cast<size_t>(rg[3] + 1) * side + rg[1] + 1] += 1;
+  }
+  std::vector<std::int64_t> length(static_cast<size_t>(g) * g, 0);
+  for (int iy = 0; iy < g; ++iy)
+  {
+    std::int64_t row = 0;
+    for (int ix = 0; ix < g; ++ix)
+    {
+      row += diff[static_cast<size_t>(iy) * side + ix];
+      length[static_cast<size_t>(iy) * g + ix] =
+        row + (iy > 0 ? length[static_cast<size_t>(iy - 1) * g + ix] : 0);
+    }
+  }
+  return length;
+}
 }
 
 struct vtkPenumbraGearsShadows::Internals
@@ -762,6 +797,7 @@ struct vtkPenumbraGearsShadows::Internals
     std::vector<vtkIdType> Ids;
     std::vector<double> Frame, Proj;
     std::vector<std::int32_t> SampleCell, Occupied;
+    std::vector<unsigned char> Traced; // per cell: its samples go to the ray tracer whole
     std::vector<std::uint32_t> CellStart, CellList, GlobalList, SampleOrder, SampleStart, OnCPU,
       Work, Results, Rows; // Work, Results, Rows: the compute path's
   } Scratch;
@@ -877,7 +913,8 @@ vtkUnsignedCharArray* vtkPenumbraGearsShadows::GetUncertainSamples()
 double vtkPenumbraGearsShadows::GetUncertainFraction()
 {
   return this->NumberOfValidSamples > 0
-    ? static_cast<double>(this->NumberOfUncertainSamples + this->NumberOfSamplesWithTracedRays) /
+    ? static_cast<double>(this->NumberOfUncertainSamples + this->NumberOfTracedCellSamples +
+        this->NumberOfSamplesWithTracedRays) /
       this->NumberOfValidSamples
     : 0.0;
 }
@@ -1112,7 +1149,11 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
     }
   }
   this->LastPath = PATH_CPU;
-  vtkIdType flaggedTotal = 0;
+  vtkIdType flaggedTotal = 0, tracedCellSamples = 0;
+  // List length (cell + global) above which a cell is ray traced; the compute path keeps
+  // every cell (it has no use for the split).
+  const double traceLimit =
+    !useGpu && this->TraceThreshold > 0.0 ? this->TraceThreshold * ls.Count : 0.0;
 
   // ---- Classify the samples: invalid, light off, facing away from the whole light, or on
   // a side of the light plane.
@@ -1448,6 +1489,25 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
           total += c;
         }
       }
+      // Cells whose list costs more than tracing their light samples: on a dense mesh under
+      // a large light a cell meets hundreds of tiny triangles each covering less than one
+      // light sample, and Embree's log N per ray wins. Their samples go to the reference
+      // whole (exact by construction) and their lists are never built.
+      std::vector<unsigned char>& traced = sc.Traced;
+      traced.assign(cells, 0);
+      if (traceLimit > 0.0 && g > 1)
+      {
+        const std::vector<std::int64_t> lengths = CellListLengths(g, range, touched);
+        const double limit = traceLimit - static_cast<double>(globalList.size());
+        for (const std::int32_t c : occupied)
+        {
+          if (static_cast<double>(lengths[static_cast<size_t>(c)]) > limit)
+          {
+            traced[static_cast<size_t>(c)] = 1;
+            total -= lengths[static_cast<size_t>(c)];
+          }
+        }
+      }
       if (total > static_cast<std::int64_t>(this->MaxListEntries) && g > 1)
       {
         vtkWarningMacro("GEARS lists would hold " << total << " entries (limit "
@@ -1484,7 +1544,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
           for (int ix = rg[0]; ix <= rg[1]; ++ix)
           {
             const size_t cell = static_cast<size_t>(iy) * g + ix;
-            if (count[cell] > 0)
+            if (count[cell] > 0 && !traced[cell])
             {
               fn(cell);
             }
@@ -1506,7 +1566,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
         cellStart[c + 1] = cellStart[c] + perCell[c].load(std::memory_order_relaxed);
         perCell[c].store(cellStart[c], std::memory_order_relaxed);
       }
-      cellList.resize(static_cast<size_t>(total));
+      cellList.resize(static_cast<size_t>(cellStart[cells]));
       vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
         for (vtkIdType t = begin; t < end; ++t)
         {
@@ -1549,8 +1609,18 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
 
     // ---- Step 4: masks. Every sample considers its cell list and the global list.
     const auto maskStart = Clock::now();
+    const std::vector<unsigned char>& traced = sc.Traced;
     for (const std::int32_t cell : occupied)
     {
+      if (traced[static_cast<size_t>(cell)])
+      {
+        for (std::uint32_t o = sampleStart[cell]; o < sampleStart[cell + 1]; ++o)
+        {
+          uncertain[ids[sampleOrder[o]]] = 1;
+        }
+        tracedCellSamples += sampleStart[cell + 1] - sampleStart[cell];
+        continue;
+      }
       assignments += static_cast<vtkIdType>(sampleStart[cell + 1] - sampleStart[cell]) *
         static_cast<vtkIdType>(cellStart[cell + 1] - cellStart[cell] + globalList.size());
     }
@@ -1684,9 +1754,15 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
     }
     if (allOnCPU)
     {
-      // Every sample, in cell order: neighbouring samples share a cell's lists.
-      onCPU.resize(static_cast<size_t>(m));
-      std::iota(onCPU.begin(), onCPU.end(), 0u);
+      // Every sample outside the traced cells, in cell order: neighbouring samples share a
+      // cell's lists.
+      for (std::uint32_t o = 0; o < static_cast<std::uint32_t>(m); ++o)
+      {
+        if (!traced[static_cast<size_t>(sampleCell[sampleOrder[o]])])
+        {
+          onCPU.push_back(o);
+        }
+      }
     }
     vtkSMPTools::For(0, static_cast<vtkIdType>(onCPU.size()), [&](vtkIdType begin, vtkIdType end) {
       MaskBuilder builder = newBuilder();
@@ -1705,16 +1781,17 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   // ---- Samples on the light plane go to the reference whole; undecided light samples one
   // by one, with its exact rules (seed 002 §5.1's "identical to ray tracing").
   const auto traceStart = Clock::now();
-  vtkIdType nUncertain = 0;
+  vtkIdType nWhole = 0;
   for (vtkIdType s = 0; s < n; ++s)
   {
     if (side[static_cast<size_t>(s)] == 2)
     {
       uncertain[s] = 1;
     }
-    nUncertain += uncertain[s];
+    nWhole += uncertain[s];
   }
-  if (nUncertain > 0)
+  const vtkIdType nUncertain = nWhole - tracedCellSamples;
+  if (nWhole > 0)
   {
     if (!this->Reference->ComputeVisibility(samples, used, visibility, impl.Uncertain))
     {
@@ -1753,7 +1830,8 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
       }
     }
   }
-  this->TraceTimeMs = nUncertain > 0 || nTrace > 0 ? ElapsedMs(traceStart) : 0.0;
+  this->TraceTimeMs = nWhole > 0 || nTrace > 0 ? ElapsedMs(traceStart) : 0.0;
+  this->NumberOfTracedCellSamples = tracedCellSamples;
   this->NumberOfTracedRays = nTrace;
   this->NumberOfSamplesWithTracedRays = withTracedRays;
   this->GridTimeMs = gridMs;
@@ -1785,6 +1863,7 @@ void vtkPenumbraGearsShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GridResolution: " << this->GridResolution << "\n";
   os << indent << "CameraDistanceFactor: " << this->CameraDistanceFactor << "\n";
   os << indent << "MaxListEntries: " << this->MaxListEntries << "\n";
+  os << indent << "TraceThreshold: " << this->TraceThreshold << "\n";
   os << indent << "KeepMasks: " << this->KeepMasks << "\n";
   os << indent << "Path: " << this->Path << " (last " << this->LastPath << ")\n";
   os << indent << "NumberOfFlaggedSamples: " << this->NumberOfFlaggedSamples << "\n";

@@ -43,6 +43,12 @@
  *    the sample, bounding sphere outside the sample's cone around the light, plane not
  *    separating the sample from the light, every hit provably inside the tie band. Cell
  *    lists are sorted largest triangle first, so umbra samples fill their masks early.
+ *    Cells whose list is longer than TraceThreshold x k^2 (counted from the casters' cell
+ *    ranges before any list is built) skip all of this: their samples are ray traced whole
+ *    by the reference. A mask costs O(k) per listed triangle and a ray O(log N), so on dense
+ *    meshes under large lights, where a cell meets thousands of triangles each smaller than
+ *    the light-sample spacing, the rays are cheaper (the GEARS paper's Table 3: cost grows
+ *    with the light). The answer is the reference's either way.
  *
  * Paths (SetPath()): step 4 runs on the CPU (vtkSMPTools) or as a GL 4.3 compute shader
  * (vtkPenumbraGearsCompute.h: the cell lists in shader storage buffers, one invocation per
@@ -127,6 +133,21 @@ public:
   vtkGetMacro(MaxListEntries, vtkIdType);
   ///@}
 
+  ///@{
+  /**
+   * Triangles per light sample above which a grid cell's view samples are ray traced whole
+   * by the reference instead of masked: a cell whose list (cell + global) holds more than
+   * TraceThreshold x k^2 triangles costs more in masks than Embree's k^2 rays, as on dense
+   * meshes under large lights, where each tiny triangle covers less than one light sample.
+   * The answer is the same either way (the reference is the exact one); only speed depends
+   * on it. Default 0.5: above the city block's longest lists (33 triangles) at k >= 8, far
+   * below a dense mesh's thousands; 0 never traces a cell. Only the CPU path splits cells
+   * (the compute path masks every cell). No unit.
+   */
+  vtkSetClampMacro(TraceThreshold, double, 0.0, 1e6);
+  vtkGetMacro(TraceThreshold, double);
+  ///@}
+
   /**
    * Where step 4 (the masks) runs.
    * - PATH_AUTO (default): the path measured faster on the target platform, currently
@@ -186,7 +207,8 @@ public:
 
   /**
    * Per sample of the last area-light call: 1 when the whole sample was handed to the
-   * reference (it lies exactly on the light plane; its mask is not kept).
+   * reference (it lies exactly on the light plane, or in a cell above TraceThreshold; its
+   * mask is not kept).
    */
   vtkUnsignedCharArray* GetUncertainSamples();
 
@@ -212,8 +234,9 @@ public:
    *   no earlier triangle of the list blocked (a sample stops early once fully shadowed, so
    *   this is a lower bound of the paper's count);
    * - the grid resolution actually used after any overflow coarsening;
-   * - samples handed to the reference whole (on the light plane), single light-sample rays
-   *   it traced, and the samples those belong to;
+   * - samples handed to the reference whole: on the light plane (uncertain), and those of
+   *   cells above TraceThreshold (traced cells); single light-sample rays it traced, and the
+   *   samples those belong to;
    * - segment tests run in double precision.
    */
   vtkGetMacro(NumberOfOccupiedCells, vtkIdType);
@@ -225,6 +248,7 @@ public:
   vtkGetMacro(NumberOfNecessaryAssignments, vtkIdType);
   vtkGetMacro(EffectiveGridResolution, int);
   vtkGetMacro(NumberOfUncertainSamples, vtkIdType);
+  vtkGetMacro(NumberOfTracedCellSamples, vtkIdType);
   vtkGetMacro(NumberOfTracedRays, vtkIdType);
   vtkGetMacro(NumberOfSamplesWithTracedRays, vtkIdType);
   vtkGetMacro(NumberOfSegmentTests, vtkIdType);
@@ -264,6 +288,7 @@ protected:
   int GridResolution = 128;
   double CameraDistanceFactor = 1.0;
   vtkIdType MaxListEntries = vtkIdType(1) << 27;
+  double TraceThreshold = 0.5;
   bool KeepMasks = false;
   int Path = PATH_AUTO;
   int LastPath = PATH_AUTO;
@@ -279,6 +304,7 @@ protected:
   int EffectiveGridResolution = 0;
   vtkIdType NumberOfValidSamples = 0;
   vtkIdType NumberOfUncertainSamples = 0;
+  vtkIdType NumberOfTracedCellSamples = 0;
   vtkIdType NumberOfSegmentTests = 0;
   vtkIdType NumberOfTracedRays = 0;
   vtkIdType NumberOfSamplesWithTracedRays = 0;

@@ -290,6 +290,7 @@ void InstallGears(vtkRenderer* ren, Options& opts)
   const int samples = SamplesOption(opts);
   const int grid = opts.Integer("grid", 128, 1, 4096);
   const double cameraDistance = opts.Number("camera_distance", 1.0, 0.01, 100.0);
+  const double traceThreshold = opts.Number("trace_threshold", 0.5, 0.0, 1e6);
   const int path = opts.Choice("path", { "auto", "cpu", "gpu" });
   opts.RejectUnknown();
   vtkNew<vtkPenumbraGearsShadows> technique;
@@ -299,6 +300,7 @@ void InstallGears(vtkRenderer* ren, Options& opts)
   technique->SetSamplesPerAxis(samples);
   technique->SetGridResolution(grid);
   technique->SetCameraDistanceFactor(cameraDistance);
+  technique->SetTraceThreshold(traceThreshold);
   InstallShadowPass(ren, technique);
 }
 

@@ -11,6 +11,8 @@
 //   65535 loop iterations per invocation group: without the shader's loop probe, 9 of its
 //   samples lose blockers), and falls back to the CPU path with a message
 //   where it cannot run (no OpenGL window, more than 32 light samples per row);
+// - a dense mesh under a large light gives the reference's visibility whether its long-list
+//   cells are ray traced whole (TraceThreshold) or masked;
 // - bad input is refused without a crash.
 #include "vtkActor.h"
 #include "vtkCameraPass.h"
@@ -100,6 +102,9 @@ int CompareWithReference(const std::string& label, Frame& frame, vtkPenumbraArea
     gears->KeepMasksOn();
     gears->SetGridResolution(grid);
     gears->SetPath(path);
+    // Mask every cell (no cell handed to the ray tracer whole): these comparisons are about
+    // the masks, and both paths must then visit the same triangles.
+    gears->SetTraceThreshold(0.0);
     vtkNew<vtkFloatArray> vis;
     vtkRenderer* renderer = frame.Window->GetRenderers()->GetFirstRenderer();
     CHECK(gears->ComputeVisibility(renderer, geometry, samples, light, vis));
@@ -550,8 +555,56 @@ int CheckBadInput()
 }
 }
 
+// A dense mesh (a 38 k-triangle isosurface) under a large area light, where a grid cell
+// meets hundreds of tiny triangles: GEARS must give the ray tracer's visibility with its
+// default TraceThreshold (the long-list cells traced whole, the others masked; both kinds
+// must occur, or the test proves nothing) and with every cell masked.
+int CheckDenseMesh()
+{
+  vtkNew<vtkPenumbraSceneReader> reader;
+  vtkSmartPointer<vtkRenderer> renderer = ReadScene("iso_area_light.json", reader);
+  CHECK(renderer != nullptr);
+  Frame frame;
+  RUN(RenderFrame(renderer, 96, 72, frame));
+  auto* light = vtkPenumbraAreaLight::SafeDownCast(frame.Pass->GetLight(0));
+  CHECK(light != nullptr);
+  vtkPenumbraSceneGeometry* geometry = frame.Pass->GetGeometry();
+  vtkPenumbraViewSamples* samples = frame.Pass->GetViewSamples();
+  CHECK(geometry->GetNumberOfTriangles() > 30000);
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(geometry);
+  vtkNew<vtkFloatArray> ref;
+  CHECK(reference->ComputeVisibility(samples, light, ref));
+  const vtkIdType valid = samples->GetNumberOfValidSamples();
+  for (const double threshold : { 0.5, 0.0 })
+  {
+    vtkNew<vtkPenumbraGearsShadows> gears;
+    gears->SetTraceThreshold(threshold);
+    vtkNew<vtkFloatArray> vis;
+    CHECK(gears->ComputeVisibility(nullptr, geometry, samples, light, vis));
+    vtkIdType differ = 0, penumbra = 0;
+    for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
+    {
+      differ += vis->GetValue(s) != ref->GetValue(s);
+      penumbra += ref->GetValue(s) > 0.0f && ref->GetValue(s) < 1.0f;
+    }
+    const vtkIdType traced = gears->GetNumberOfTracedCellSamples();
+    std::printf("dense mesh, trace threshold %.3f: %lld triangles, valid %lld, penumbra %lld, "
+                "traced cells' samples %lld, tri/cell max %lld, visibility differs in %lld\n",
+      threshold, static_cast<long long>(geometry->GetNumberOfTriangles()),
+      static_cast<long long>(valid), static_cast<long long>(penumbra),
+      static_cast<long long>(traced), static_cast<long long>(gears->GetMaxTrianglesPerCell()),
+      static_cast<long long>(differ));
+    CHECK(differ == 0);
+    CHECK(penumbra > valid / 20);
+    CHECK(threshold > 0.0 ? traced > 0 && traced < valid / 2 : traced == 0);
+  }
+  return EXIT_SUCCESS;
+}
+
 int TestGearsShadows(int, char*[])
 {
+  RUN(CheckDenseMesh());
   RUN(CheckBadInput());
   RUN(CheckPenumbraWidth());
   RUN(CheckAreaLightScene());
