@@ -426,11 +426,11 @@ int CheckScenes()
     vtkNew<vtkPenumbraSceneReader> reader;
     vtkSmartPointer<vtkRenderer> renderer = ReadScene(scene, reader);
     CHECK(renderer != nullptr);
-    // The carotid's thin vessels at 128 x 96: almost every sample is next to an edge; the
-    // bunny's volumes' outline from the camera (traced since the speck fix) covers about 45%
-    // of its samples at this size.
+    // At 128 x 96 the volumes' outline from the camera (traced since the speck fix) covers
+    // about 45% of the bunny's samples, and the carotid's thin vessels are almost all next
+    // to an edge or on the outline (82%).
     RUN(CompareExact(scene, renderer, "{}", nullptr,
-      std::string(scene) == "carotid.json" ? 0.7 : 0.5));
+      std::string(scene) == "carotid.json" ? 0.85 : 0.5));
   }
   const char* scenes[] = { "thin_occluders.json", "grazing_light.json", "coplanar_contact.json",
     "bad_triangles.json", "georef_1e7.json", "point_light_in_room.json",
