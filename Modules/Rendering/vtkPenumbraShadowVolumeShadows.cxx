@@ -481,6 +481,204 @@ bool SegmentMayTouch(const VolumeLight& light, const Vec3& eye, const Vec3 v[3],
   return true;
 }
 
+// One light's volumes as xyzw triangles (Brabec 2003, ch. 3 and 8): light caps, then sides
+// and dark caps; and, for the outline (see VolumeOutline), the volumes the geometry stage
+// makes for GPU-silhouette components.
+struct VolumeBuilder
+{
+  const Connectivity& Mesh;
+  const VolumeLight& Light;
+  const double* Box = nullptr; // culling box of the pending samples, null: no culling
+  double FarW = 0.0;           // positional lights: w of the extruded copies
+  std::vector<float> Caps, Sides;
+  std::vector<float> GPUVolumes;  // GPU components, as the geometry stage draws them
+  std::vector<float> GPUUncertain; // segments: prism edges of faces it may classify otherwise
+  vtkIdType Culled = 0;
+  vtkIdType SilhouetteEdges = 0;
+
+  VolumeBuilder(const Connectivity& mesh, const VolumeLight& light)
+    : Mesh(mesh)
+    , Light(light)
+  {
+  }
+
+  static void Put(std::vector<float>& out, const Vec3& p, double w)
+  {
+    out.insert(out.end(),
+      { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]),
+        static_cast<float>(w) });
+  }
+  // Extruded copy of v: a finite prism for directional lights, a finite frustum for
+  // positional ones (PositionalFarW; the same formula as the GPU silhouette stage).
+  void PutFar(std::vector<float>& out, const Vec3& v) const
+  {
+    const VolumeLight& vl = this->Light;
+    if (vl.Directional)
+    {
+      Put(out, { v[0] - vl.Extrusion * vl.Direction[0], v[1] - vl.Extrusion * vl.Direction[1],
+        v[2] - vl.Extrusion * vl.Direction[2] }, 1.0);
+    }
+    else
+    {
+      const double w = this->FarW;
+      Put(out, { v[0] - vl.Position[0] + w * vl.Position[0],
+        v[1] - vl.Position[1] + w * vl.Position[1], v[2] - vl.Position[2] + w * vl.Position[2] },
+        w);
+    }
+  }
+  // One side quad for edge u -> v of a light-facing oriented face (outward winding).
+  void Side(std::vector<float>& out, const Vec3& u, const Vec3& v) const
+  {
+    Put(out, u, 1.0);
+    this->PutFar(out, u);
+    this->PutFar(out, v);
+    Put(out, u, 1.0);
+    this->PutFar(out, v);
+    Put(out, v, 1.0);
+  }
+  void CapAndDark(std::vector<float>& caps, std::vector<float>& sides, const Vec3& a,
+    const Vec3& b, const Vec3& c) const
+  {
+    Put(caps, a, 1.0);
+    Put(caps, b, 1.0);
+    Put(caps, c, 1.0);
+    this->PutFar(sides, a);
+    this->PutFar(sides, c);
+    this->PutFar(sides, b);
+  }
+  // Per-triangle volume (Brabec 2003, ch. 3 brute force; correct for any input): the triangle
+  // turned toward the light, its extrusion and its three sides. `f` is its facing value.
+  void PerTriangle(Vec3 v[3], double f)
+  {
+    if (!(f != 0.0)) // edge-on to the light: a flat volume, blocks nothing
+    {
+      return;
+    }
+    if (f < 0.0)
+    {
+      std::swap(v[1], v[2]);
+    }
+    if (this->Box && VolumeMissesBox(this->Light, v, this->Box))
+    {
+      ++this->Culled;
+      return;
+    }
+    this->CapAndDark(this->Caps, this->Sides, v[0], v[1], v[2]);
+    this->Side(this->Sides, v[0], v[1]);
+    this->Side(this->Sides, v[1], v[2]);
+    this->Side(this->Sides, v[2], v[0]);
+  }
+
+  // Whether the geometry stage, deciding facing in float32 on float32 vertices, may decide
+  // otherwise than `f` (double): a bound on that rounding with a margin of about 16.
+  bool MayFaceOtherwise(const Vec3 v[3], double f) const
+  {
+    double m = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      m = std::max(m, std::sqrt(Dot(v[k], v[k])));
+    }
+    const Vec3 e1 = Sub(v[1], v[0]), e2 = Sub(v[2], v[0]);
+    const double l1 = std::sqrt(Dot(e1, e1)), l2 = std::sqrt(Dot(e2, e2));
+    const double lm = this->Light.Directional
+      ? 1.0
+      : std::sqrt(Dot(this->Light.Position, this->Light.Position)) + m;
+    return std::fabs(f) <= 1e-6 * ((l1 + l2) * m * lm + l1 * l2 * lm);
+  }
+  // The nine edges of a face's prism: every volume edge whose neighbourhood changes when the
+  // face enters or leaves its set is one of them.
+  void PutPrismEdges(std::vector<float>& out, const Vec3 v[3]) const
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec3& a = v[k];
+      const Vec3& b = v[(k + 1) % 3];
+      Put(out, a, 1.0);
+      Put(out, b, 1.0);
+      this->PutFar(out, a);
+      this->PutFar(out, b);
+      Put(out, a, 1.0);
+      this->PutFar(out, a);
+    }
+  }
+
+  // Silhouette volumes of a component (Brabec 2003, ch. 3 and 8; CPU silhouettes). The
+  // stencil count of a set of per-triangle volumes is the number of its triangles the segment
+  // to the light crosses; where two triangles of the set share an edge with opposite windings
+  // (both turned toward the light), their side quads cancel, so only the set's caps and the
+  // sides on its border edges need drawing. Closed components with the light outside: the
+  // light-facing set alone is crossed whenever the mesh is. Open components, or a positional
+  // light inside the component's box (maybe inside the mesh, where light-facing caps do not
+  // close): the light-facing set plus the back-facing set turned toward the light, i.e. every
+  // triangle, as per-triangle volumes would, but with sides only on silhouette and boundary
+  // edges. `gpu`: the component is drawn by the geometry stage; its volumes go to GPUVolumes
+  // (no culling there) for the outline alone.
+  void Component(const Connectivity::Component& c, bool bothSets, bool gpu)
+  {
+    const auto& P = this->Mesh.Points;
+    std::vector<float>& caps = gpu ? this->GPUVolumes : this->Caps;
+    std::vector<float>& sides = gpu ? this->GPUVolumes : this->Sides;
+    // Per face: +1 light-facing set, -1 back-facing set (turned), 0 none. Facing is one
+    // decision per face, ties (edge-on) in no set (Brabec 2003, ch. 9). A culled face leaves
+    // its set: the sum of the remaining volumes stays a valid count.
+    std::vector<signed char> set(c.Faces.size(), 0);
+    bool any = false;
+    for (size_t i = 0; i < c.Faces.size(); ++i)
+    {
+      const auto& t = c.Faces[i];
+      Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
+        P[static_cast<size_t>(t[2])] };
+      const double f = this->Light.Facing(v[0], v[1], v[2]);
+      if (gpu && this->MayFaceOtherwise(v, f))
+      {
+        this->PutPrismEdges(this->GPUUncertain, v);
+      }
+      signed char si = f > 0.0 ? 1 : (bothSets && f < 0.0 ? -1 : 0);
+      if (si < 0)
+      {
+        std::swap(v[1], v[2]);
+      }
+      if (si != 0 && !gpu && this->Box && VolumeMissesBox(this->Light, v, this->Box))
+      {
+        ++this->Culled;
+        si = 0;
+      }
+      if (si != 0)
+      {
+        this->CapAndDark(caps, sides, v[0], v[1], v[2]);
+        any = true;
+      }
+      set[i] = si;
+    }
+    if (!any)
+    {
+      return;
+    }
+    for (const auto& e : c.Edges)
+    {
+      const Vec3& p0 = P[static_cast<size_t>(e[0])];
+      const Vec3& p1 = P[static_cast<size_t>(e[1])];
+      const signed char s0 = set[static_cast<size_t>(e[2])];
+      const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
+      if (s0 == s1)
+      {
+        continue;
+      }
+      this->SilhouetteEdges += gpu ? 0 : 1;
+      // Keep the winding of the face as turned toward the light (Brabec 2003, ch. 3): F0
+      // runs v0 -> v1, F1 v1 -> v0, each reversed when turned.
+      if (s0 != 0)
+      {
+        s0 > 0 ? this->Side(sides, p0, p1) : this->Side(sides, p1, p0);
+      }
+      if (s1 != 0)
+      {
+        s1 > 0 ? this->Side(sides, p1, p0) : this->Side(sides, p0, p1);
+      }
+    }
+  }
+};
+
 // Where each view sample is counted. The stencil counts along the camera's pixel-centre rays
 // and a pixel holds one depth, so a sample is counted at the pixel whose centre ray passes
 // through it, found by projecting the sample with the camera, never from its index: a shadow
@@ -644,16 +842,231 @@ struct SampleLayout
   }
 };
 
+// The volumes' outline as the camera sees it: the volume edges near which the stencil count
+// can be wrong. The rasterizer decides a triangle's coverage of a pixel centre on a snapped
+// sub-pixel grid (1/256 pixel on llvmpipe), so a centre closer than that to a projected
+// triangle edge may be counted on the wrong side of it. Where an edge is shared by two volume
+// faces that both face the camera (or both face away) with opposite windings, the two
+// triangles lie on either side of the same snapped edge and the rasterizer covers every
+// centre with exactly one of them: the count is the same as the exact one. Every other edge
+// (a front-facing and a back-facing face meeting: the volume's silhouette from the eye,
+// including cap edges; faces seen edge-on; unpaired edges) can change the count across it.
+// A shadow narrower than a pixel lies entirely within snapping distance of such edges, so it
+// cannot be trusted to the neighbour test (Brabec 2003, ch. 3 and 9 for the silhouette
+// notions; here they are applied to the volume itself, from the eye).
+struct VolumeOutline
+{
+  // Pixel centres closer than this (pixels, in x and in y) to an outline edge are traced. It
+  // covers the rasterizer's snapping (1/512 pixel of rounding) and the difference between
+  // the GPU's float32 vertex transform and the double one here with a wide margin.
+  static constexpr double Reach = 1.0 / 32.0;
+
+  std::vector<std::array<double, 4>> Points; // welded volume vertices, rebased, homogeneous
+  std::vector<std::array<int, 3>> Faces;     // volume triangles as drawn (their winding)
+  std::vector<std::array<int, 2>> Edges;     // undirected, first < second
+  std::vector<int> EdgeStart;                // edge e's incidences: [EdgeStart[e], [e + 1])
+  std::vector<int> Incidences;               // 2 face + 1 when the face runs first -> second
+  std::vector<std::array<int, 2>> Forced;    // segments always on the outline
+  // Per frame.
+  std::vector<std::array<double, 3>> Projected; // clip x, y, w of each point
+  std::vector<signed char> FaceSide;            // sign of the homogeneous screen area
+
+  void Clear() { *this = VolumeOutline(); }
+
+  int Weld(const float* v, std::map<std::array<float, 4>, int>& index)
+  {
+    const std::array<float, 4> key = { v[0], v[1], v[2], v[3] };
+    const auto found = index.emplace(key, static_cast<int>(this->Points.size()));
+    if (found.second)
+    {
+      this->Points.push_back({ v[0], v[1], v[2], v[3] });
+    }
+    return found.first->second;
+  }
+
+  // From triangles of xyzw vertices (as drawn: light caps first does not matter) and pairs
+  // of xyzw vertices that are always on the outline.
+  void Build(const std::vector<float>& triangles, const std::vector<float>& forced)
+  {
+    this->Clear();
+    std::map<std::array<float, 4>, int> index;
+    const size_t nt = triangles.size() / 12;
+    this->Faces.resize(nt);
+    std::vector<std::array<int, 3>> entries; // first, second, incidence
+    entries.reserve(3 * nt);
+    for (size_t t = 0; t < nt; ++t)
+    {
+      auto& f = this->Faces[t];
+      for (int k = 0; k < 3; ++k)
+      {
+        f[static_cast<size_t>(k)] = this->Weld(triangles.data() + 12 * t + 4 * k, index);
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        const int a = f[static_cast<size_t>(k)], b = f[static_cast<size_t>((k + 1) % 3)];
+        entries.push_back({ std::min(a, b), std::max(a, b), 2 * static_cast<int>(t) + (a < b) });
+      }
+    }
+    std::sort(entries.begin(), entries.end());
+    for (size_t i = 0; i < entries.size(); ++i)
+    {
+      if (i == 0 || entries[i][0] != entries[i - 1][0] || entries[i][1] != entries[i - 1][1])
+      {
+        this->Edges.push_back({ entries[i][0], entries[i][1] });
+        this->EdgeStart.push_back(static_cast<int>(i));
+      }
+      this->Incidences.push_back(entries[i][2]);
+    }
+    this->EdgeStart.push_back(static_cast<int>(entries.size()));
+    for (size_t i = 0; i + 7 < forced.size(); i += 8)
+    {
+      this->Forced.push_back({ this->Weld(forced.data() + i, index),
+        this->Weld(forced.data() + i + 4, index) });
+    }
+  }
+
+  // Marks in `pixels` (width x height, one view) every pixel whose centre lies within Reach
+  // of an outline edge projected with `projection` (rebased world -> clip, VTK's camera).
+  void Mark(const double projection[4][4], int width, int height,
+    std::vector<unsigned char>& pixels)
+  {
+    pixels.assign(static_cast<size_t>(width) * static_cast<size_t>(height), 0);
+    this->Projected.resize(this->Points.size());
+    for (size_t i = 0; i < this->Points.size(); ++i)
+    {
+      const auto& p = this->Points[i];
+      for (int r : { 0, 1, 3 })
+      {
+        this->Projected[i][r == 3 ? 2 : r] = projection[r][0] * p[0] + projection[r][1] * p[1] +
+          projection[r][2] * p[2] + projection[r][3] * p[3];
+      }
+    }
+    // The sign of det(x y w) of a face: its screen winding for any signs of w.
+    this->FaceSide.resize(this->Faces.size());
+    for (size_t t = 0; t < this->Faces.size(); ++t)
+    {
+      const auto& a = this->Projected[static_cast<size_t>(this->Faces[t][0])];
+      const auto& b = this->Projected[static_cast<size_t>(this->Faces[t][1])];
+      const auto& c = this->Projected[static_cast<size_t>(this->Faces[t][2])];
+      const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+        a[2] * (b[0] * c[1] - b[1] * c[0]);
+      this->FaceSide[t] = det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+    }
+    for (size_t e = 0; e < this->Edges.size(); ++e)
+    {
+      // Faces on the left of first -> second minus those on the right, per winding: the
+      // count is continuous across the edge only if both balance (and no face is edge-on).
+      int front = 0, back = 0;
+      bool onEdge = false;
+      for (int i = this->EdgeStart[e]; i < this->EdgeStart[e + 1]; ++i)
+      {
+        const int side = this->FaceSide[static_cast<size_t>(this->Incidences[static_cast<size_t>(i)] / 2)];
+        const int forward = this->Incidences[static_cast<size_t>(i)] % 2 ? 1 : -1;
+        onEdge = onEdge || side == 0;
+        (side > 0 ? front : back) += forward;
+      }
+      if (onEdge || front != 0 || back != 0)
+      {
+        this->MarkSegment(this->Edges[e][0], this->Edges[e][1], width, height, pixels);
+      }
+    }
+    for (const auto& f : this->Forced)
+    {
+      this->MarkSegment(f[0], f[1], width, height, pixels);
+    }
+  }
+
+  // The segment between two points, clipped in homogeneous coordinates to the view widened
+  // by two pixels (which also keeps w > 0), then every pixel centre within Reach of it.
+  void MarkSegment(int i0, int i1, int width, int height, std::vector<unsigned char>& pixels) const
+  {
+    const auto& p = this->Projected[static_cast<size_t>(i0)];
+    const auto& q = this->Projected[static_cast<size_t>(i1)];
+    double t0 = 0.0, t1 = 1.0;
+    const double kx = 1.0 + 4.0 / width, ky = 1.0 + 4.0 / height;
+    // Planes k w + x >= 0, k w - x >= 0, the same for y.
+    const double planes[4][2] = { { kx, 1.0 }, { kx, -1.0 }, { ky, 1.0 }, { ky, -1.0 } };
+    for (int k = 0; k < 4; ++k)
+    {
+      const int axis = k / 2;
+      const double d0 = planes[k][0] * p[2] + planes[k][1] * p[static_cast<size_t>(axis)];
+      const double d1 = planes[k][0] * q[2] + planes[k][1] * q[static_cast<size_t>(axis)];
+      if (d0 < 0.0 && d1 < 0.0)
+      {
+        return;
+      }
+      if (d0 < 0.0)
+      {
+        t0 = std::max(t0, d0 / (d0 - d1));
+      }
+      else if (d1 < 0.0)
+      {
+        t1 = std::min(t1, d0 / (d0 - d1));
+      }
+    }
+    if (!(t0 <= t1))
+    {
+      return;
+    }
+    double end[2][2];
+    for (int e = 0; e < 2; ++e)
+    {
+      const double t = e == 0 ? t0 : t1;
+      const double w = p[2] + t * (q[2] - p[2]);
+      if (!(w > 0.0))
+      {
+        return; // through the eye: nothing of it is on the view
+      }
+      end[e][0] = 0.5 * ((p[0] + t * (q[0] - p[0])) / w + 1.0) * width;
+      end[e][1] = 0.5 * ((p[1] + t * (q[1] - p[1])) / w + 1.0) * height;
+    }
+    const double r = Reach;
+    const double ylo = std::min(end[0][1], end[1][1]), yhi = std::max(end[0][1], end[1][1]);
+    const int rowFirst = std::max(0, static_cast<int>(std::ceil(ylo - r - 0.5)));
+    const int rowLast = std::min(height - 1, static_cast<int>(std::floor(yhi + r - 0.5)));
+    const double dy = end[1][1] - end[0][1];
+    for (int y = rowFirst; y <= rowLast; ++y)
+    {
+      // The part of the segment within Reach of the row's centre line, in x.
+      double ta = 0.0, tb = 1.0;
+      if (std::fabs(dy) > 1e-12)
+      {
+        ta = (y + 0.5 - r - end[0][1]) / dy;
+        tb = (y + 0.5 + r - end[0][1]) / dy;
+        if (ta > tb)
+        {
+          std::swap(ta, tb);
+        }
+        ta = std::max(ta, 0.0);
+        tb = std::min(tb, 1.0);
+        if (ta > tb)
+        {
+          continue;
+        }
+      }
+      const double xa = end[0][0] + ta * (end[1][0] - end[0][0]);
+      const double xb = end[0][0] + tb * (end[1][0] - end[0][0]);
+      const int first = std::max(0, static_cast<int>(std::ceil(std::min(xa, xb) - r - 0.5)));
+      const int last = std::min(width - 1, static_cast<int>(std::floor(std::max(xa, xb) + r - 0.5)));
+      for (int x = first; x <= last; ++x)
+      {
+        pixels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)] = 1;
+      }
+    }
+  }
+};
+
 // Which pending samples (`state`) to trace: those the stencil could not count (see
-// SampleLayout) and, with `resolve` (the edge resolve), those whose answer may hang on the
-// rasterizer's rounding. The rasterizer snaps vertices to a sub-pixel grid (1/256 pixel on
-// llvmpipe), so a pixel centre closer than that to a projected volume edge may be counted on
-// the wrong side of it. The count is constant in screen space away from such edges, so any
-// wrong sample differs from a neighbour in its layer or sits next to a pixel that is not
-// counted (background, facing away). Returns the number of samples marked in `mask`.
+// SampleLayout) and, with the edge resolve (`outline` given: one view's pixels within reach of
+// the volumes' outline, see VolumeOutline), those whose answer may hang on the rasterizer's
+// rounding: on the outline, next to a neighbour with another result or next to a pixel that
+// is not counted (background, facing away: outlines and terminators), or grazed by the
+// light. The outline alone covers every snapping error; the neighbour test stays for the
+// depth side of the count (a receiver meeting a volume face within float depth rounding).
+// Returns the number of samples marked in `mask`.
 vtkIdType MarkTraced(const SampleLayout& layout, const penumbra_light_views::FrameInputs& in,
   const VolumeLight& light, const std::vector<unsigned char>& state, const float* vis,
-  bool resolve, unsigned char* mask)
+  const unsigned char* outline, unsigned char* mask)
 {
   const vtkIdType perLayer = static_cast<vtkIdType>(layout.Width) * layout.Height;
   vtkIdType traced = 0;
@@ -665,7 +1078,8 @@ vtkIdType MarkTraced(const SampleLayout& layout, const penumbra_light_views::Fra
       continue;
     }
     const vtkIdType pixel = layout.Pixel[static_cast<size_t>(s)];
-    bool edge = pixel < 0;
+    const bool resolve = outline != nullptr;
+    bool edge = pixel < 0 || (resolve && outline[pixel % perLayer]);
     const vtkIdType layerStart = pixel - pixel % perLayer;
     const int x = static_cast<int>(pixel % perLayer % layout.Width);
     const int y = static_cast<int>(pixel % perLayer / layout.Width);
@@ -750,6 +1164,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     double FarW = 0.0;          // positional lights: w of the extruded copies (PositionalFarW)
     GLuint Buffer = 0;          // vertices, uploaded on first use
     GLuint AdjacencyBuffer = 0; // adjacency indices, uploaded on first use
+    // With the edge resolve: the volumes' edges, for the outline from the camera.
+    VolumeOutline Outline;
   };
   // More sets than lights per mask: a group never evicts a set it is using.
   static constexpr size_t MaxVolumeSets = 8;
@@ -760,10 +1176,66 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   // Per-frame camera data shared by every light (see ComputeGroup).
   std::vector<double> DepthKey;
   double Rows[4][4] = {};
+  double Projection[4][4] = {}; // world -> clip as VTK draws it, rebased (x, y, w rows)
+  std::vector<unsigned char> OutlinePixels; // one light's outline (VolumeOutline::Mark)
   bool DepthUploaded = false;
   SampleLayout Layout; // where each sample is counted, and the depths
   std::vector<unsigned char> MaskPixels;
   vtkNew<vtkUnsignedCharArray> Mask;
+
+  // One light's volumes into `build` (see VolumeBuilder); `box` culls (null: no culling),
+  // `gpu` leaves closed components to the geometry stage, `outline` also prepares the
+  // outline of every volume for the edge resolve.
+  static void BuildVolumes(VolumeSet& build, const Connectivity& mesh, const VolumeLight& vl,
+    const double* box, const double bounds[6], bool gpu, bool outline)
+  {
+    VolumeBuilder builder(mesh, vl);
+    builder.Box = box;
+    builder.FarW = vl.Directional ? 0.0 : PositionalFarW(mesh, vl, bounds);
+    build.FarW = builder.FarW;
+    const auto& P = mesh.Points;
+    for (const auto& t : mesh.Loose)
+    {
+      Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
+        P[static_cast<size_t>(t[2])] };
+      builder.PerTriangle(v, vl.Facing(v[0], v[1], v[2]));
+    }
+    for (const auto& c : mesh.Components)
+    {
+      bool inside = !vl.Directional;
+      for (int a = 0; a < 3 && inside; ++a)
+      {
+        inside = vl.Position[a] >= c.Bounds[2 * a] && vl.Position[a] <= c.Bounds[2 * a + 1];
+      }
+      const bool bothSets = !c.Closed || inside;
+      if (gpu && !bothSets)
+      {
+        // Silhouettes, caps and sides come from the geometry stage.
+        for (const auto& a : c.Adjacency)
+        {
+          build.AdjacencyIndices.insert(build.AdjacencyIndices.end(), a.begin(), a.end());
+        }
+        if (!outline)
+        {
+          continue;
+        }
+      }
+      builder.Component(c, bothSets, gpu && !bothSets);
+    }
+    build.CapVertices = static_cast<GLsizei>(builder.Caps.size() / 4);
+    build.AllVertices = static_cast<GLsizei>((builder.Caps.size() + builder.Sides.size()) / 4);
+    build.Vertices.swap(builder.Caps);
+    build.Vertices.insert(build.Vertices.end(), builder.Sides.begin(), builder.Sides.end());
+    build.SilhouetteEdges = gpu && !build.AdjacencyIndices.empty() ? -1 : builder.SilhouetteEdges;
+    build.AdjacencyCount = static_cast<GLsizei>(build.AdjacencyIndices.size());
+    build.Culled = builder.Culled;
+    if (outline)
+    {
+      builder.GPUVolumes.insert(
+        builder.GPUVolumes.end(), build.Vertices.begin(), build.Vertices.end());
+      build.Outline.Build(builder.GPUVolumes, builder.GPUUncertain);
+    }
+  }
 
   void Evict(size_t i)
   {
@@ -1170,7 +1642,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
                                 vl.Position[2],
                                 vl.Extrusion,
                                 this->Cull ? 1.0 : 0.0,
-                                this->GPUSilhouettes ? 1.0 : 0.0 };
+                                this->GPUSilhouettes ? 1.0 : 0.0,
+                                this->Resolve ? 1.0 : 0.0 };
     if (this->Cull)
     {
       key.insert(key.end(), box, box + 6);
@@ -1196,178 +1669,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
       Internals::VolumeSet& build = **found;
       build.Key = key;
       ++this->NumberOfVolumeBuilds;
-      std::vector<float> caps, sides;
-      vtkIdType culled = 0, edges = 0;
-      auto put = [](std::vector<float>& out, const Vec3& p, double w)
-      {
-        out.push_back(static_cast<float>(p[0]));
-        out.push_back(static_cast<float>(p[1]));
-        out.push_back(static_cast<float>(p[2]));
-        out.push_back(static_cast<float>(w));
-      };
-      // Extruded copy of v: a finite prism for directional lights, a finite frustum for
-      // positional ones (PositionalFarW; the same formula as the GPU silhouette stage).
-      build.FarW = vl.Directional ? 0.0 : PositionalFarW(mesh, vl, rebasedBounds);
-      auto putFar = [&](std::vector<float>& out, const Vec3& v)
-      {
-        if (vl.Directional)
-        {
-          put(out,
-              { v[0] - vl.Extrusion * vl.Direction[0],
-                v[1] - vl.Extrusion * vl.Direction[1],
-                v[2] - vl.Extrusion * vl.Direction[2] },
-              1.0);
-        }
-        else
-        {
-          const double w = build.FarW;
-          put(out,
-            { v[0] - vl.Position[0] + w * vl.Position[0],
-              v[1] - vl.Position[1] + w * vl.Position[1],
-              v[2] - vl.Position[2] + w * vl.Position[2] },
-            w);
-        }
-      };
-      // One side quad for edge u -> v of a light-facing oriented face (outward winding).
-      auto side = [&](const Vec3& u, const Vec3& v)
-      {
-        put(sides, u, 1.0);
-        putFar(sides, u);
-        putFar(sides, v);
-        put(sides, u, 1.0);
-        putFar(sides, v);
-        put(sides, v, 1.0);
-      };
-      auto capAndDark = [&](const Vec3& a, const Vec3& b, const Vec3& c)
-      {
-        put(caps, a, 1.0);
-        put(caps, b, 1.0);
-        put(caps, c, 1.0);
-        putFar(sides, a);
-        putFar(sides, c);
-        putFar(sides, b);
-      };
-      // Per-triangle volume (seed 004 §2.1 brute force; correct for any input): the triangle
-      // turned toward the light, its extrusion and its three sides. `f` is its facing value.
-      auto perTriangle = [&](Vec3 v[3], double f)
-      {
-        if (!(f != 0.0)) // edge-on to the light: a flat volume, blocks nothing
-        {
-          return;
-        }
-        if (f < 0.0)
-        {
-          std::swap(v[1], v[2]);
-        }
-        if (this->Cull && VolumeMissesBox(vl, v, box))
-        {
-          ++culled;
-          return;
-        }
-        capAndDark(v[0], v[1], v[2]);
-        side(v[0], v[1]);
-        side(v[1], v[2]);
-        side(v[2], v[0]);
-      };
-      const auto& P = mesh.Points;
-      for (const auto& t : mesh.Loose)
-      {
-        Vec3 v[3] = { P[static_cast<size_t>(t[0])],
-                      P[static_cast<size_t>(t[1])],
-                      P[static_cast<size_t>(t[2])] };
-        perTriangle(v, vl.Facing(v[0], v[1], v[2]));
-      }
-      // Silhouette volumes of the components (seed 004 §2.1, ch. 8; CPU silhouettes). The
-      // stencil count of a set of per-triangle volumes is the number of its triangles the
-      // segment to the light crosses; where two triangles of the set share an edge with
-      // opposite windings (both turned toward the light), their side quads cancel, so only
-      // the set's caps and the sides on its border edges need drawing. Closed components
-      // with the light outside: the light-facing set alone is crossed whenever the mesh is.
-      // Open components, or a positional light inside the component's box (maybe inside
-      // the mesh, where light-facing caps do not close, seed 004 §2.3): the light-facing set
-      // plus the back-facing set turned toward the light, i.e. every triangle, as per-triangle
-      // volumes would, but with sides only on silhouette and boundary edges.
-      std::vector<signed char> set;
-      for (const auto& c : mesh.Components)
-      {
-        bool inside = !vl.Directional;
-        for (int a = 0; a < 3 && inside; ++a)
-        {
-          inside = vl.Position[a] >= c.Bounds[2 * a] && vl.Position[a] <= c.Bounds[2 * a + 1];
-        }
-        const bool bothSets = !c.Closed || inside;
-        if (this->GPUSilhouettes && !bothSets)
-        {
-          // Silhouettes, caps and sides come from the geometry stage: no CPU facing at all.
-          for (const auto& a : c.Adjacency)
-          {
-            build.AdjacencyIndices.insert(build.AdjacencyIndices.end(), a.begin(), a.end());
-          }
-          continue;
-        }
-        // Per face: +1 light-facing set, -1 back-facing set (turned), 0 none. Facing is one
-        // decision per face, ties (edge-on) in no set (seed 004 §8.3). A culled face leaves
-        // its set: the sum of the remaining volumes stays a valid count.
-        set.assign(c.Faces.size(), 0);
-        bool any = false;
-        for (size_t i = 0; i < c.Faces.size(); ++i)
-        {
-          const auto& t = c.Faces[i];
-          Vec3 v[3] = { P[static_cast<size_t>(t[0])],
-                        P[static_cast<size_t>(t[1])],
-                        P[static_cast<size_t>(t[2])] };
-          const double f = vl.Facing(v[0], v[1], v[2]);
-          signed char si = f > 0.0 ? 1 : (bothSets && f < 0.0 ? -1 : 0);
-          if (si < 0)
-          {
-            std::swap(v[1], v[2]);
-          }
-          if (si != 0 && this->Cull && VolumeMissesBox(vl, v, box))
-          {
-            ++culled;
-            si = 0;
-          }
-          if (si != 0)
-          {
-            capAndDark(v[0], v[1], v[2]);
-            any = true;
-          }
-          set[i] = si;
-        }
-        if (!any)
-        {
-          continue;
-        }
-        for (const auto& e : c.Edges)
-        {
-          const Vec3& p0 = P[static_cast<size_t>(e[0])];
-          const Vec3& p1 = P[static_cast<size_t>(e[1])];
-          const signed char s0 = set[static_cast<size_t>(e[2])];
-          const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
-          if (s0 == s1)
-          {
-            continue;
-          }
-          ++edges;
-          // Keep the winding of the face as turned toward the light (seed 004 §2.1): F0
-          // runs v0 -> v1, F1 v1 -> v0, each reversed when turned.
-          if (s0 != 0)
-          {
-            s0 > 0 ? side(p0, p1) : side(p1, p0);
-          }
-          if (s1 != 0)
-          {
-            s1 > 0 ? side(p1, p0) : side(p0, p1);
-          }
-        }
-      }
-      build.CapVertices = static_cast<GLsizei>(caps.size() / 4);
-      build.AllVertices = static_cast<GLsizei>((caps.size() + sides.size()) / 4);
-      build.Vertices.swap(caps);
-      build.Vertices.insert(build.Vertices.end(), sides.begin(), sides.end());
-      build.SilhouetteEdges = this->GPUSilhouettes && !build.AdjacencyIndices.empty() ? -1 : edges;
-      build.AdjacencyCount = static_cast<GLsizei>(build.AdjacencyIndices.size());
-      build.Culled = culled;
+      impl.BuildVolumes(build, mesh, vl, this->Cull ? box : nullptr, rebasedBounds,
+        this->GPUSilhouettes, this->Resolve);
       this->VolumeTimeMs += ElapsedMs(volumeStart);
     }
     (*found)->Stamp = impl.Clock;
@@ -1448,6 +1751,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
           rows[r][0] * impl.Origin[0] + rows[r][1] * impl.Origin[1] + rows[r][2] * impl.Origin[2];
       }
       std::copy(&rows[0][0], &rows[0][0] + 16, &projection[0][0]);
+      std::copy(&rows[0][0], &rows[0][0] + 16, &this->Impl->Projection[0][0]);
       // Eye depth (positive in front) as a row of the rebased frame.
       double eye[4];
       for (int c = 0; c < 4; ++c)
@@ -1893,8 +2197,12 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
       const auto resolveStart = Clock::now();
       impl.Mask->SetNumberOfComponents(1);
       impl.Mask->SetNumberOfTuples(n);
-      const vtkIdType traced = MarkTraced(
-        layout, in, vl, state, vis, this->Resolve, n ? impl.Mask->GetPointer(0) : nullptr);
+      if (this->Resolve)
+      {
+        job.Volumes->Outline.Mark(impl.Projection, layout.Width, layout.Height, impl.OutlinePixels);
+      }
+      const vtkIdType traced = MarkTraced(layout, in, vl, state, vis,
+        this->Resolve ? impl.OutlinePixels.data() : nullptr, n ? impl.Mask->GetPointer(0) : nullptr);
       if (traced > 0)
       {
         this->Reference->SetGeometry(geometry);

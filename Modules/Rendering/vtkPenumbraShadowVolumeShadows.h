@@ -51,8 +51,10 @@
  *    off every pixel centre or beyond the fourth layer are traced.
  * 4. Read back: a non-zero stencil count (modulo 256, wrap operations) is shadow.
  * 5. Edge resolve (Resolve, default on): the rasterizer decides coverage on a snapped
- *    sub-pixel grid, not exactly; the few samples next to a change of the result are traced
- *    with vtkPenumbraReference (see SetResolve()). Everything else is the stencil's answer.
+ *    sub-pixel grid, not exactly; the samples next to a change of the result, and those
+ *    whose pixel centre lies within 1/32 pixel of the volumes' outline from the camera, are
+ *    traced with vtkPenumbraReference (see SetResolve()). Everything else is the stencil's
+ *    answer.
  *
  * Culling (Cull, default on; seed 001 §1.3, CC shadow volumes): a triangle's volume is
  * dropped when a separating plane (the sample box faces, the triangle's plane, its three
@@ -79,11 +81,7 @@
  * lights; vtkPenumbraShadowPass scales the light by the diagram (in float, after the mask is
  * read back, so the diagram keeps its full range), for every technique alike.
  *
- * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap). A shadow
- * narrower than a pixel that covers one pixel centre only, closer than the rasterizer's
- * snapping to its edges, can be missed with no neighbour to flag it: a lone false-lit
- * sample (seen with a low sun on the carotid isosurface and the St Helens terrain at
- * 320 x 240, Data/Scenes/sweep).
+ * Limits: a sample inside a multiple of 256 volumes reads as lit (8-bit wrap).
  */
 
 #ifndef vtkPenumbraShadowVolumeShadows_h
@@ -168,14 +166,19 @@ public:
 
   ///@{
   /**
-   * Trace the samples next to a change of the stencil result (or next to background and
-   * facing-away samples) exactly with vtkPenumbraReference. The rasterizer snaps vertices to
-   * a sub-pixel grid (1/256 pixel on llvmpipe), so a sample whose pixel centre lies closer
-   * than that to a projected volume edge may be counted on the wrong side; away from such
-   * edges the count is constant in screen space, so every such error is next to a
-   * neighbour with another result. Samples the light grazes (cosine below 1e-3) are traced
-   * too: their answer hangs on the float rounding of the sample position. Default on; off
-   * gives the pure stencil answer.
+   * Trace exactly with vtkPenumbraReference the samples whose stencil count may be wrong.
+   * The rasterizer snaps vertices to a sub-pixel grid (1/256 pixel on llvmpipe), so a sample
+   * whose pixel centre lies closer than that to a projected volume edge may be counted on
+   * the wrong side of it. Only the volumes' outline from the camera matters: edges where a
+   * camera-facing and a camera-averted volume face meet (cap edges included), faces seen
+   * edge-on and edges of faces whose facing the GPU silhouette stage may decide otherwise;
+   * where two faces of the same facing share an edge, the rasterizer covers each pixel centre
+   * with exactly one of them. So the samples traced are those within 1/32 pixel of that
+   * outline (per light and frame, on the CPU from the cached volume edges; this catches a
+   * shadow narrower than a pixel, all of whose pixels lie on the outline), those next to a
+   * change of the stencil result or to background and facing-away samples, and those the
+   * light grazes (cosine below 1e-3: their answer hangs on the float rounding of the sample
+   * position). Default on; off gives the pure stencil answer.
    */
   vtkSetMacro(Resolve, bool);
   vtkGetMacro(Resolve, bool);

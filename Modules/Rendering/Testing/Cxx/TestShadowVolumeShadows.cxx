@@ -14,6 +14,7 @@
 #include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkMath.h"
+#include "vtkMatrix4x4.h"
 #include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraReference.h"
@@ -425,9 +426,11 @@ int CheckScenes()
     vtkNew<vtkPenumbraSceneReader> reader;
     vtkSmartPointer<vtkRenderer> renderer = ReadScene(scene, reader);
     CHECK(renderer != nullptr);
-    // The carotid's thin vessels at 128 x 96: almost every sample is next to an edge.
+    // At 128 x 96 the volumes' outline from the camera (traced since the speck fix) covers
+    // about 45% of the bunny's samples, and the carotid's thin vessels are almost all next
+    // to an edge or on the outline (82%).
     RUN(CompareExact(scene, renderer, "{}", nullptr,
-      std::string(scene) == "carotid.json" ? 0.7 : 0.4));
+      std::string(scene) == "carotid.json" ? 0.85 : 0.5));
   }
   const char* scenes[] = { "thin_occluders.json", "grazing_light.json", "coplanar_contact.json",
     "bad_triangles.json", "georef_1e7.json", "point_light_in_room.json",
@@ -819,15 +822,110 @@ int CheckTranslucent()
   return EXIT_SUCCESS;
 }
 
+// Shadow specks: tiny floating plates (thin closed boxes a quarter of a pixel wide) under a
+// high sun, each placed so that its shadow on the ground covers one chosen pixel centre,
+// 4e-4 to 1.6e-3 pixel inside a corner of the shadow (so the centre ray passes that close to
+// the volume's edge through the corner, which may be on its outline from the camera, while
+// the sample stays far inside the volume for the float depth test). The shadow is narrower
+// than a pixel, so every neighbour is lit and the neighbour test cannot flag the sample; the
+// rasterizer's snapping (1/256 pixel) may put those centres on the wrong side of the volume's
+// edge. The volumes' outline must catch them all. (Closer than about 2e-4 pixel the float
+// depth test, not the snapping, decides; that is left out here.)
+int CheckSpecks()
+{
+  const int width = 128, height = 96;
+  auto renderer = vtkSmartPointer<vtkRenderer>::New();
+  AddPolyData(renderer, Ground());
+  vtkCamera* cam = renderer->GetActiveCamera();
+  cam->SetPosition(0.5, -6, 8);
+  cam->SetFocalPoint(0, 0, 0);
+  cam->SetViewUp(0, 0, 1);
+  renderer->ResetCamera();
+  double l[3] = { 0.3, 0.2, 1.0 }; // toward the sun
+  vtkMath::Normalize(l);
+  const double target[3] = { 0, 0, 0 };
+  SetLight(renderer, LightType::Directional, l, target);
+
+  // Ground point on pixel (i, j)'s centre ray.
+  vtkMatrix4x4* m = cam->GetCompositeProjectionTransformMatrix(
+    static_cast<double>(width) / height, -1, 1);
+  vtkNew<vtkMatrix4x4> inverse;
+  vtkMatrix4x4::Invert(m, inverse);
+  auto ground = [&](double i, double j, double g[3])
+  {
+    double ends[2][4];
+    for (int e = 0; e < 2; ++e)
+    {
+      const double ndc[4] = { (i + 0.5) * 2.0 / width - 1.0, (j + 0.5) * 2.0 / height - 1.0,
+        e == 0 ? -1.0 : 1.0, 1.0 };
+      inverse->MultiplyPoint(ndc, ends[e]);
+      for (int c = 0; c < 3; ++c)
+      {
+        ends[e][c] /= ends[e][3];
+      }
+    }
+    const double t = ends[0][2] / (ends[0][2] - ends[1][2]);
+    for (int c = 0; c < 3; ++c)
+    {
+      g[c] = ends[0][c] + t * (ends[1][c] - ends[0][c]);
+    }
+  };
+  int specks = 0;
+  for (int j = 20; j < 76; j += 9)
+  {
+    for (int i = 16; i < 112; i += 9, ++specks)
+    {
+      double g[3], next[3];
+      ground(i, j, g);
+      ground(i + 1, j, next);
+      const double pixel = std::fabs(next[0] - g[0]);
+      const double size = 0.25 * pixel, thick = 0.05 * size, lift = 4.0 * pixel;
+      const double inside = (1 + specks % 4) * 4e-4 * pixel;
+      // The union of the box's slices' shadows: the top slice's shadow bounds it at low x and
+      // y (the sun is toward +x and +y), the bottom slice's at high x and y.
+      const bool low = specks % 2 == 0;
+      const double z = low ? lift + thick : lift;
+      const double x0 = low ? g[0] - inside : g[0] + inside - size;
+      const double y0 = low ? g[1] - inside : g[1] + inside - size;
+      const double px = x0 + z * l[0] / l[2];
+      const double py = y0 + z * l[1] / l[2];
+      AddPolyData(renderer, Box(px, px + size, py, py + size, lift, lift + thick));
+    }
+  }
+  for (const char* options : { "{}", "{\"silhouettes\": \"gpu\"}" })
+  {
+    Result result;
+    RUN(CompareExact(std::string("specks ") + options, renderer, options, &result, 0.4, width,
+      height));
+    // Some chosen centres fall off the ground or behind a plate.
+    CHECK(result.RefShadowed >= specks / 2);
+  }
+  return EXIT_SUCCESS;
+}
+
 // A subset of the exactness sweep (Data/Scenes/sweep, generate.py there; the whole sweep runs
 // through penumbra-bench): dense real meshes (the bunny, the carotid isosurface, the St
 // Helens terrain, the city block) and a dense generated isosurface under sun, low sun, spot
-// and point lights, at 256 x 192, CPU and GPU silhouettes.
+// and point lights, at 256 x 192, CPU and GPU silhouettes; and the three views where a lone
+// shadow speck (narrower than a pixel, all neighbours lit) escaped the neighbour test before
+// the volumes' outline was traced, at their sizes. Low suns at small sizes put much of the
+// image near an outline, hence the larger traced share allowed there (and for the carotid
+// spot and the St Helens low sun at 256 x 192: 85% and 61% of the lit candidates traced).
 int CheckSweep()
 {
-  for (const char* file : { "bunny_sun_a", "bunny_lowsun_b", "carotid_spot_a", "st_helens_lowsun_a",
-         "city_point_b", "city_lamp1_a", "iso_dense_point_b" })
+  struct Case
   {
+    const char* File;
+    int Width, Height;
+    double MaxResolved;
+  };
+  for (const Case& c : { Case{ "bunny_sun_a", 256, 192, 0.4 }, Case{ "bunny_lowsun_b", 256, 192, 0.4 },
+         Case{ "carotid_spot_a", 256, 192, 0.9 }, Case{ "st_helens_lowsun_a", 256, 192, 0.7 },
+         Case{ "city_point_b", 256, 192, 0.4 }, Case{ "city_lamp1_a", 256, 192, 0.4 },
+         Case{ "iso_dense_point_b", 256, 192, 0.4 }, Case{ "carotid_lowsun_b", 320, 240, 0.8 },
+         Case{ "st_helens_lowsun_b", 320, 240, 0.8 }, Case{ "st_helens_point_a", 200, 150, 0.8 } })
+  {
+    const char* file = c.File;
     vtkNew<vtkPenumbraSceneReader> reader;
     vtkSmartPointer<vtkRenderer> renderer =
       ReadScene(std::string("sweep/") + file + ".json", reader);
@@ -835,7 +933,8 @@ int CheckSweep()
     for (const char* options : { "{}", "{\"silhouettes\": \"gpu\"}" })
     {
       Result result;
-      RUN(CompareExact(std::string(file) + " " + options, renderer, options, &result, 0.4, 256, 192));
+      RUN(CompareExact(std::string(file) + " " + options, renderer, options, &result,
+        c.MaxResolved, c.Width, c.Height));
       CHECK(result.RefShadowed > 0);
     }
   }
@@ -865,7 +964,9 @@ int TestShadowVolumeShadows(int, char*[])
   RUN(CheckMeshes());
   RUN(CheckCameraInsideVolume());
   RUN(CheckParallelCamera());
+  RUN(CheckSpecks());
   RUN(CheckPureStencil());
+  RUN(CheckSpecks());
   RUN(CheckCaching());
   RUN(CheckMultiLightMasks());
   RUN(CheckGoniometric());
