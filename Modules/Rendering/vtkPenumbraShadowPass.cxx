@@ -74,6 +74,10 @@ bool IsTranslucentReceiver(vtkProp* prop)
     vtkPenumbraShadowKeys::ReceivesShadows(prop);
 }
 
+// Texture units left to VTK's own textures (colour, normal, PBR maps ...) in a receiver's
+// shader; the rest can hold shadowed lights' visibility.
+constexpr int ReservedTextureUnits = 8;
+
 // Shader tags of the two sample layers and the prefixes of their visibility samplers.
 const char* const LayerTags[2] = { "//PENUMBRA::Visibility::Dec",
   "//PENUMBRA::TranslucentVisibility::Dec" };
@@ -106,6 +110,7 @@ struct vtkPenumbraShadowPass::Internals
   // LightsKey()) depended on: equal keys reuse them.
   std::vector<double> LastViewKey, LastLightsKey;
   bool LastReused = false;
+  int LastSkipped = 0; // lights over the texture-unit budget in the last computed frame
   bool LastSampled = false;
 
   double ExtractionMs = 0, SamplesMs = 0, TechniqueMs = 0, ShadingMs = 0;
@@ -240,13 +245,34 @@ void vtkPenumbraShadowPass::Internals::RenderSamples(const vtkRenderState* s)
 void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* pass)
 {
   vtkPenumbraFrame* frame = this->Frame;
+  // Each shadowed light's visibility takes a texture unit in the receivers' shaders; VTK's
+  // own textures keep a few.
+  GLint units = 16;
+  glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
+  const int budget = std::max(1, static_cast<int>(units) - ReservedTextureUnits);
+  int skipped = 0;
   for (size_t i = 0; i < this->Lights.size(); ++i)
   {
-    if (Internals::CastsLight(this->Lights[i]))
+    if (!Internals::CastsLight(this->Lights[i]))
+    {
+      continue;
+    }
+    if (frame->GetNumberOfShadowedLights() < budget)
     {
       frame->AddShadowedLight(this->Lights[i], static_cast<int>(i));
     }
+    else
+    {
+      ++skipped;
+    }
   }
+  if (skipped > 0 && skipped != this->LastSkipped)
+  {
+    vtkErrorWithObjectMacro(pass, << skipped << " lights rendered without shadows: this OpenGL "
+      "implementation gives a shader " << units << " texture units, so at most " << budget
+      << " lights can be shadowed");
+  }
+  this->LastSkipped = skipped;
   if (frame->GetNumberOfShadowedLights() > 0)
   {
     this->Technique->ComputeFrame(frame);

@@ -470,8 +470,44 @@ int CheckSamplesStayOnGPU()
   return EXIT_SUCCESS;
 }
 
+// Every shadowed light takes a texture unit in the receivers' shaders: with more lights than
+// the implementation has units for, the first ones are shadowed, the rest lit unshadowed with
+// an error, and the frame still renders.
+int CheckManyLights()
+{
+  Scene scene(64, 32);
+  const int extra = 63;
+  for (int i = 0; i < extra; ++i)
+  {
+    vtkNew<vtkLight> light;
+    light->SetLightTypeToSceneLight();
+    light->SetPositional(false);
+    light->SetPosition(1, 0.01 * i, 1);
+    light->SetFocalPoint(0, 0, 0);
+    light->SetIntensity(0.01);
+    scene.Renderer->AddLight(light);
+  }
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(scene.Renderer, "shadowmap", ""));
+  scene.Window->Render();
+  vtkPenumbraShadowPass* pass = scene.Pass();
+  CHECK(pass->GetNumberOfLights() == extra + 1);
+  int shadowed = 0;
+  for (int i = 0; i <= extra; ++i)
+  {
+    shadowed += pass->GetVisibility(i) != nullptr;
+  }
+  std::cout << "many lights: " << shadowed << " of " << extra + 1 << " shadowed" << std::endl;
+  CHECK(shadowed >= 8 && shadowed < extra + 1);
+  CHECK(pass->GetVisibility(0) != nullptr && pass->GetVisibility(extra) == nullptr);
+  CHECK(scene.Luminance(-1.0, 0.0) < scene.Luminance(1.2, 0.0)); // the first light's shadow
+  scene.Renderer->ReleaseGraphicsResources(scene.Window);
+  return EXIT_SUCCESS;
+}
+
 int TestShadowPass(int, char*[])
 {
+  RUN(CheckManyLights());
   RUN(CheckFrameReuse());
   RUN(CheckSamplesStayOnGPU());
   RUN(CheckVTKComposition(false));
