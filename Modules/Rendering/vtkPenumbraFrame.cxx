@@ -65,6 +65,7 @@ struct vtkPenumbraFrame::Internals
 
   vtkSmartPointer<vtkPenumbraViewSamples> Stacked; // two layers: opaque rows, then translucent
   bool SamplesRead = false;
+  vtkTimeStamp SamplesTime; // modified when the layers hold newly rendered samples
 
   struct Shadowed
   {
@@ -241,6 +242,11 @@ int vtkPenumbraFrame::GetNumberOfLayers()
 vtkPenumbraViewSamplesPass* vtkPenumbraFrame::GetLayer(int layer)
 {
   return layer >= 0 && layer < this->Impl->NumberOfLayers ? this->Impl->Layers[layer] : nullptr;
+}
+
+vtkMTimeType vtkPenumbraFrame::GetSamplesTime()
+{
+  return this->Impl->SamplesTime.GetMTime();
 }
 
 bool vtkPenumbraFrame::GetSamplesReadBack()
@@ -441,6 +447,10 @@ void vtkPenumbraFrame::Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* ge
   renderer->GetTiledSizeAndOrigin(&impl.Width, &impl.Height, &x, &y);
   impl.NumberOfLights = numberOfLights;
   impl.SamplesRead = impl.SamplesRead && !newSamples;
+  if (newSamples)
+  {
+    impl.SamplesTime.Modified();
+  }
   impl.Lights.clear();
   impl.AllocateTextures();
   for (int layer = 0; layer < 2; ++layer)

@@ -76,6 +76,12 @@ public:
    */
   vtkPenumbraViewSamples* GetSamples();
 
+  /**
+   * Changes whenever the layers hold newly rendered view samples (a new view); equal values
+   * mean the same samples, so per-view summaries a technique derives from them stay valid.
+   */
+  vtkMTimeType GetSamplesTime();
+
   /** True once this frame's samples are on the CPU (read back this frame or an earlier one
    * with the same view). */
   bool GetSamplesReadBack();

@@ -29,6 +29,7 @@
 #include "vtkPenumbraShadowMapExtentFS.h"
 #include "vtkPenumbraShadowMapFS.h"
 #include "vtkPenumbraShadowMapFrameFS.h"
+#include "vtkPenumbraShadowMapTilesFS.h"
 #include "vtkPenumbraShadowMapLookupFS.h"
 #include "vtkPenumbraShadowMapMidpointFS.h"
 #include "vtkPenumbraShadowMapParaboloidFS.h"
@@ -38,6 +39,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -191,6 +193,144 @@ void SamplePoint(const penumbra_light_views::FrameInputs& in, vtkIdType s, doubl
   }
 }
 
+using TileOutputs = std::array<std::vector<float>, 4>;
+
+// Merges the per-tile extents of the point-light reduction (vtkPenumbraShadowMapExtentFS).
+void MergeExtent(const TileOutputs& data, int tiles, ReceiverExtent& e)
+{
+  const float* t0 = data[0].data();
+  const float* t1 = data[1].data();
+  const float* t2 = data[2].data();
+  const float* t3 = data[3].data();
+  for (int i = 0; i < tiles; ++i)
+  {
+    const float pending = t3[4 * i + 3];
+    if (!(pending > 0.0f))
+    {
+      continue;
+    }
+    e.Pending += static_cast<vtkIdType>(pending);
+    const int used = static_cast<int>(t2[4 * i + 3]);
+    for (size_t slot = 0; slot < e.Used.size(); ++slot)
+    {
+      e.Used[slot] = static_cast<char>(e.Used[slot] || (used >> slot) & 1);
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      e.Box[2 * c] = std::min(e.Box[2 * c], static_cast<double>(t0[4 * i + c]));
+      e.Box[2 * c + 1] = std::max(e.Box[2 * c + 1], static_cast<double>(t1[4 * i + c]));
+      e.Lo[c] = std::min(e.Lo[c], static_cast<double>(t2[4 * i + c]));
+      e.Hi[c] = std::max(e.Hi[c], static_cast<double>(t3[4 * i + c]));
+    }
+    e.Farthest = std::max(e.Farthest, static_cast<double>(t0[4 * i + 3]));
+    e.SpotTan = std::max(e.SpotTan, static_cast<double>(t1[4 * i + 3]));
+  }
+}
+
+// Fits to the per-view tile boxes (vtkPenumbraShadowMapTilesFS) that may hold a receiver of a
+// directional or spot light: every tile with a surface, less, for a directional light, those
+// whose normals all face away from it (interval bounds with a margin above float rounding).
+// A tile counts with the 8 corners of its position box, a superset of its samples, so the
+// fit covers every receiver.
+void ExtentFromTiles(const LightSetup& setup, const TileOutputs& data, int tiles, ReceiverExtent& e)
+{
+  double axes[3][3];
+  LightAxes(setup, axes);
+  const float* lo = data[0].data();
+  const float* hi = data[1].data();
+  const float* nlo = data[2].data();
+  const float* nhi = data[3].data();
+  const vtkIdType before = e.Pending;
+  vtkIdType pending = 0;
+  bool behind = false;
+  for (int i = 0; i < tiles; ++i)
+  {
+    const float count = lo[4 * i + 3];
+    if (!(count > 0.0f))
+    {
+      continue;
+    }
+    if (setup.Type == LightSetup::Kind::Directional)
+    {
+      double facing = 0.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        facing += std::max(nlo[4 * i + c] * setup.Direction[c], nhi[4 * i + c] * setup.Direction[c]);
+      }
+      if (facing < -1e-5)
+      {
+        continue; // every normal of the tile faces away from the light
+      }
+    }
+    pending += static_cast<vtkIdType>(count);
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const double p[3] = { (corner & 1) ? hi[4 * i] : lo[4 * i],
+        (corner & 2) ? hi[4 * i + 1] : lo[4 * i + 1], (corner & 4) ? hi[4 * i + 2] : lo[4 * i + 2] };
+      AddReceiver(setup, axes, SlotsOne, p, e);
+      const double q[3] = { p[0] - setup.Position[0], p[1] - setup.Position[1],
+        p[2] - setup.Position[2] };
+      behind = behind || (setup.Type == LightSetup::Kind::Spot && !(vtkMath::Dot(q, axes[2]) > 0.0));
+    }
+  }
+  e.Pending = before + pending;
+  if (behind)
+  {
+    // A box reaching behind the spot's apex may hold receivers at any angle: the fit takes
+    // the whole cone.
+    e.SpotTan = std::numeric_limits<double>::max();
+  }
+}
+
+constexpr int Tile = 8; // samples per side of a tile box (vtkPenumbraShadowMapTilesFS)
+
+int TileCount(int width, int height)
+{
+  return ((width + Tile - 1) / Tile) * ((height + Tile - 1) / Tile);
+}
+
+// The tile boxes of vtkPenumbraShadowMapTilesFS, from a CPU sample set laid out as a
+// width x height image (row 0 at the bottom), with the same rules: every sample with a
+// surface (and shadow work) counts, whatever it faces.
+TileOutputs TilesFromSamples(const penumbra_light_views::FrameInputs& in, int width, int height)
+{
+  const int tw = (width + Tile - 1) / Tile;
+  const int tiles = TileCount(width, height);
+  TileOutputs out;
+  const float big = std::numeric_limits<float>::max();
+  out[0].assign(static_cast<size_t>(4 * tiles), big);
+  out[1].assign(static_cast<size_t>(4 * tiles), -big);
+  out[2].assign(static_cast<size_t>(4 * tiles), big);
+  out[3].assign(static_cast<size_t>(4 * tiles), -big);
+  for (int t = 0; t < tiles; ++t)
+  {
+    out[0][static_cast<size_t>(4 * t + 3)] = 0.0f;
+  }
+  for (vtkIdType s = 0; s < in.NumberOfSamples; ++s)
+  {
+    double p[3];
+    SamplePoint(in, s, p);
+    const float* normal = in.Normals + 3 * s;
+    const bool finite = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) &&
+      std::isfinite(normal[0]) && std::isfinite(normal[1]) && std::isfinite(normal[2]);
+    if (in.Props[s] < 0 || !finite)
+    {
+      continue;
+    }
+    const int x = static_cast<int>(s % width), y = static_cast<int>(s / width);
+    const size_t t = static_cast<size_t>(4 * ((y / Tile) * tw + x / Tile));
+    out[0][t + 3] += 1.0f;
+    for (int c = 0; c < 3; ++c)
+    {
+      out[0][t + c] = std::min(out[0][t + c], static_cast<float>(p[c]));
+      out[1][t + c] = std::max(out[1][t + c], static_cast<float>(p[c]));
+      out[2][t + c] = std::min(out[2][t + c], normal[c]);
+      out[3][t + c] = std::max(out[3][t + c], normal[c]);
+    }
+  }
+  return out;
+}
+
 int CountViews(const LightMaps& maps)
 {
   int views = 0;
@@ -296,9 +436,13 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::unique_ptr<vtkOpenGLQuadHelper> ExtentQuad, FrameQuad;
   vtkSmartPointer<vtkOpenGLFramebufferObject> ExtentFBO;
   vtkSmartPointer<vtkTextureObject> ExtentTextures[4];
-  std::vector<float> ExtentData[4];
+  std::vector<TileOutputs> ExtentData; // per layer: the point-light reduction's outputs
+  // Per-view tile boxes for directional and spot lights, and the view they belong to.
+  std::unique_ptr<vtkOpenGLQuadHelper> TilesQuad;
+  std::vector<TileOutputs> TileData;
+  std::vector<double> TileKey;
   vtkSmartPointer<vtkTextureObject> NoMap;
-  static constexpr int ExtentTile = 8;
+  static constexpr int ExtentTile = Tile;
 
   // Phases (see the definitions).
   bool UpdateCasters(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
@@ -323,7 +467,8 @@ struct vtkPenumbraShadowMapShadows::Internals
     std::string& error);
   bool ReduceExtent(vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame,
     const LightSetup& setup, ReceiverExtent& extent, std::string& error);
-  void MergeExtent(int tiles, ReceiverExtent& extent);
+  bool TilePass(vtkPenumbraFrame* frame, vtkOpenGLQuadHelper& quad,
+    const std::function<void(vtkShaderProgram*)>& uniforms, std::vector<TileOutputs>& data);
   bool LookupFrame(vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame, int k,
     const LightSetup& setup, bool anyCaster, const LightMaps* maps, std::string& error);
 
@@ -405,7 +550,7 @@ struct vtkPenumbraShadowMapShadows::Internals
         this->ExtentFBO->ReleaseGraphicsResources(this->Window);
       }
       for (auto* quad : { this->LookupQuad.get(), this->MidpointQuad.get(), this->ExtentQuad.get(),
-             this->FrameQuad.get() })
+             this->FrameQuad.get(), this->TilesQuad.get() })
       {
         if (quad)
         {
@@ -419,6 +564,8 @@ struct vtkPenumbraShadowMapShadows::Internals
     this->MidpointQuad.reset();
     this->ExtentQuad.reset();
     this->FrameQuad.reset();
+    this->TilesQuad.reset();
+    this->TileKey.clear();
     this->ExtentFBO = nullptr;
     this->NoMap = nullptr;
     for (auto& tex : this->ExtentTextures)
@@ -671,15 +818,24 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   if (!maps->Valid || maps->Key != key || maps->Size != this->Resolution)
   {
     ReceiverExtent extent;
-    double axes[3][3];
-    LightAxes(setup, axes);
-    for (vtkIdType s = 0; s < n; ++s)
+    if (slotMode == SlotsOne)
     {
-      if (state[s] == Pending)
+      // The same tile boxes the GPU frame path fits to, so both lookups use the same maps.
+      ExtentFromTiles(setup, TilesFromSamples(in, samples->GetWidth(), samples->GetHeight()),
+        TileCount(samples->GetWidth(), samples->GetHeight()), extent);
+    }
+    else
+    {
+      double axes[3][3];
+      LightAxes(setup, axes);
+      for (vtkIdType s = 0; s < n; ++s)
       {
-        double p[3];
-        SamplePoint(in, s, p);
-        AddReceiver(setup, axes, slotMode, p, extent);
+        if (state[s] == Pending)
+        {
+          double p[3];
+          SamplePoint(in, s, p);
+          AddReceiver(setup, axes, slotMode, p, extent);
+        }
       }
     }
     std::string error;
@@ -1399,34 +1555,25 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
 }
 
 //------------------------------------------------------------------------------
-// The receiver extent of every layer of the frame, reduced on the GPU in Tile x Tile blocks.
-bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapShadows* self,
-  vtkPenumbraFrame* frame, const LightSetup& setup, ReceiverExtent& extent, std::string& error)
+// Runs a tile program (each fragment reduces Tile x Tile samples) over every layer's
+// G-buffer and reads its four RGBA outputs back into data[layer][output].
+bool vtkPenumbraShadowMapShadows::Internals::TilePass(vtkPenumbraFrame* frame,
+  vtkOpenGLQuadHelper& quad, const std::function<void(vtkShaderProgram*)>& uniforms,
+  std::vector<TileOutputs>& data)
 {
   vtkOpenGLRenderWindow* win = frame->GetWindow();
-  if (!this->ExtentQuad)
+  vtkShaderProgram* program = quad.Program;
+  if (!program || !program->GetCompiled())
   {
-    this->ExtentQuad.reset(new vtkOpenGLQuadHelper(
-      win, nullptr, ComposeShader(vtkPenumbraShadowMapExtentFS).c_str(), ""));
+    return false;
+  }
+  if (!this->ExtentFBO)
+  {
     this->ExtentFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
     this->ExtentFBO->SetContext(win);
   }
-  vtkShaderProgram* program = this->ExtentQuad->Program;
-  if (!program || !program->GetCompiled())
-  {
-    error = "the receiver-extent program does not compile on this OpenGL implementation "
-            "(double precision, GL_ARB_gpu_shader_fp64, is required)";
-    return false;
-  }
-  const int tile = ExtentTile;
   const int w = frame->GetWidth(), h = frame->GetHeight();
-  const int tw = (w + tile - 1) / tile, th = (h + tile - 1) / tile;
-  const int slotMode = this->SlotMode(self, setup);
-  double axes[3][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
-  if (setup.Type != LightSetup::Kind::Point)
-  {
-    LightAxes(setup, axes); // point lights: the extent uses no axes
-  }
+  const int tw = (w + ExtentTile - 1) / ExtentTile, th = (h + ExtentTile - 1) / ExtentTile;
   std::vector<vtkTextureObject*> targets;
   for (auto& tex : this->ExtentTextures)
   {
@@ -1443,6 +1590,7 @@ bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapSh
     }
     targets.push_back(tex);
   }
+  data.resize(static_cast<size_t>(frame->GetNumberOfLayers()));
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
     vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
@@ -1454,71 +1602,84 @@ bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapSh
     program->SetUniformi("sampleNormals", gbuffer->GetNormalTexture()->GetTextureUnit());
     const int sampleSize[2] = { w, h };
     program->SetUniform2i("sampleSize", sampleSize);
-    program->SetUniformi("tile", tile);
-    program->SetUniformi("slotMode", slotMode);
-    const float centre[3] = { static_cast<float>(setup.Position[0]),
-      static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
-    program->SetUniform3f("lightPosition", centre);
-    SetClassifyUniforms(program, setup, true);
-    float axesF[3][3], direction[3], position[3];
-    for (int c = 0; c < 3; ++c)
-    {
-      for (int a = 0; a < 3; ++a)
-      {
-        axesF[a][c] = static_cast<float>(axes[a][c]);
-      }
-      direction[c] = static_cast<float>(setup.Direction[c]);
-      position[c] = static_cast<float>(setup.Position[c]);
-    }
-    program->SetUniform3fv("fAxis0", 3, axesF);
-    program->SetUniform3f("fDirection", direction);
-    program->SetUniform3f("fPosition", position);
-    program->SetUniformf("fCosCone", static_cast<float>(setup.CosCone));
-    this->ExtentQuad->Render();
+    program->SetUniformi("tile", ExtentTile);
+    uniforms(program);
+    quad.Render();
     gbuffer->GetPositionTexture()->Deactivate();
     gbuffer->GetNormalTexture()->Deactivate();
     for (int a = 0; a < 4; ++a)
     {
-      this->ExtentData[a].resize(static_cast<size_t>(4) * tw * th);
+      std::vector<float>& out = data[static_cast<size_t>(layer)][static_cast<size_t>(a)];
+      out.resize(static_cast<size_t>(4) * tw * th);
       this->ExtentFBO->ActivateReadBuffer(static_cast<unsigned int>(a));
       glPixelStorei(GL_PACK_ALIGNMENT, 4);
-      glReadPixels(0, 0, tw, th, GL_RGBA, GL_FLOAT, this->ExtentData[a].data());
+      glReadPixels(0, 0, tw, th, GL_RGBA, GL_FLOAT, out.data());
     }
-    this->MergeExtent(tw * th, extent);
   }
   return true;
 }
 
 //------------------------------------------------------------------------------
-void vtkPenumbraShadowMapShadows::Internals::MergeExtent(int tiles, ReceiverExtent& e)
+// The receiver extent of every layer of the frame, reduced on the GPU. Directional and spot
+// lights are fitted to per-view tile boxes (computed once per view, so a moving light costs
+// no pass over the samples); point lights, whose cube faces need each sample's direction, to
+// a per-sample reduction with the light's facing rules.
+bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapShadows* self,
+  vtkPenumbraFrame* frame, const LightSetup& setup, ReceiverExtent& extent, std::string& error)
 {
-  const float* t0 = this->ExtentData[0].data();
-  const float* t1 = this->ExtentData[1].data();
-  const float* t2 = this->ExtentData[2].data();
-  const float* t3 = this->ExtentData[3].data();
-  for (int i = 0; i < tiles; ++i)
+  vtkOpenGLRenderWindow* win = frame->GetWindow();
+  const int tiles = ((frame->GetWidth() + ExtentTile - 1) / ExtentTile) *
+    ((frame->GetHeight() + ExtentTile - 1) / ExtentTile);
+  if (setup.Type != LightSetup::Kind::Point)
   {
-    const float pending = t3[4 * i + 3];
-    if (!(pending > 0.0f))
+    const std::vector<double> key = { static_cast<double>(frame->GetSamplesTime()),
+      static_cast<double>(frame->GetWidth()), static_cast<double>(frame->GetHeight()),
+      static_cast<double>(frame->GetNumberOfLayers()) };
+    if (key != this->TileKey)
     {
-      continue;
+      if (!this->TilesQuad)
+      {
+        this->TilesQuad.reset(
+          new vtkOpenGLQuadHelper(win, nullptr, vtkPenumbraShadowMapTilesFS, ""));
+      }
+      if (!this->TilePass(frame, *this->TilesQuad, [](vtkShaderProgram*) {}, this->TileData))
+      {
+        error = "the tile-summary program does not compile on this OpenGL implementation";
+        return false;
+      }
+      this->TileKey = key;
     }
-    e.Pending += static_cast<vtkIdType>(pending);
-    const int used = static_cast<int>(t2[4 * i + 3]);
-    for (size_t slot = 0; slot < e.Used.size(); ++slot)
+    for (const TileOutputs& layer : this->TileData)
     {
-      e.Used[slot] = static_cast<char>(e.Used[slot] || (used >> slot) & 1);
+      ExtentFromTiles(setup, layer, tiles, extent);
     }
-    for (int c = 0; c < 3; ++c)
-    {
-      e.Box[2 * c] = std::min(e.Box[2 * c], static_cast<double>(t0[4 * i + c]));
-      e.Box[2 * c + 1] = std::max(e.Box[2 * c + 1], static_cast<double>(t1[4 * i + c]));
-      e.Lo[c] = std::min(e.Lo[c], static_cast<double>(t2[4 * i + c]));
-      e.Hi[c] = std::max(e.Hi[c], static_cast<double>(t3[4 * i + c]));
-    }
-    e.Farthest = std::max(e.Farthest, static_cast<double>(t0[4 * i + 3]));
-    e.SpotTan = std::max(e.SpotTan, static_cast<double>(t1[4 * i + 3]));
+    return true;
   }
+  if (!this->ExtentQuad)
+  {
+    this->ExtentQuad.reset(new vtkOpenGLQuadHelper(
+      win, nullptr, ComposeShader(vtkPenumbraShadowMapExtentFS).c_str(), ""));
+  }
+  const int slotMode = this->SlotMode(self, setup);
+  auto uniforms = [&](vtkShaderProgram* program) {
+    program->SetUniformi("slotMode", slotMode);
+    const float position[3] = { static_cast<float>(setup.Position[0]),
+      static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
+    program->SetUniform3f("lightPosition", position);
+    program->SetUniform3f("fPosition", position);
+    SetClassifyUniforms(program, setup, true);
+  };
+  if (!this->TilePass(frame, *this->ExtentQuad, uniforms, this->ExtentData))
+  {
+    error = "the receiver-extent program does not compile on this OpenGL implementation "
+            "(double precision, GL_ARB_gpu_shader_fp64, is required)";
+    return false;
+  }
+  for (const TileOutputs& layer : this->ExtentData)
+  {
+    MergeExtent(layer, tiles, extent);
+  }
+  return true;
 }
 
 //------------------------------------------------------------------------------
