@@ -18,10 +18,11 @@
  *
  * Rules (they decide what "exact" means, and a technique must follow the same ones):
  * - Facing: a sample whose normal faces away from the light (N.L <= 0, N as stored in the
- *   samples, L toward the light) is shadowed (0) without a ray, like seed 000's back-facing
- *   rule. For an area light each light sample x_j counts only when N.(x_j - p) > 0; light
- *   samples on or below the tangent plane count as occluded, so a sample facing away from
- *   the whole light gets 0.
+ *   samples, L toward the light) is shadowed (0) without a ray, like the back-facing rule
+ *   of Hertel, Hormann, Westermann, "A Hybrid GPU Rendering Pipeline for Alias-Free Hard
+ *   Shadows", Eurographics 2009 Areas Papers, §5. For an area light each light sample x_j counts
+ *   only when N.(x_j - p) > 0; light samples on or below the tangent plane count as occluded, so a
+ *   sample facing away from the whole light gets 0.
  * - Spot lights (positional, cone angle < 90 degrees): a sample outside the cone (angle to
  *   the axis > cone angle) receives no light and gets 0; on the cone boundary it is inside.
  *   A positional light with a cone angle >= 90 is an omnidirectional point light.

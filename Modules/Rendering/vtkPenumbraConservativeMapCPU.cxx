@@ -14,7 +14,7 @@ namespace
 {
 // A texel is kept when its square, grown by this many texels on each side, overlaps the
 // triangle's projection: the float rounding between the reference's rays and our double
-// projection (seed 000 §3 #10, the same quarter texel the GPU program allows).
+// projection (the same quarter texel the GPU program allows).
 constexpr double Grow = 0.25;
 constexpr int TileSize = 64;
 constexpr int MaxPolygon = 8; // a triangle clipped by four planes has at most 7 vertices
@@ -250,7 +250,9 @@ bool Overlaps(const Footprint& fp, double x0, double x1, double y0, double y1)
   return true;
 }
 
-// Seed 000 §1.1.4: a lower bound of the triangle's stored depth over the square, never
+// The conservative depth of Hertel, Hormann, Westermann, "A Hybrid GPU Rendering Pipeline for
+// Alias-Free Hard Shadows", Eurographics 2009 Areas Papers, §4.1: a lower bound of the
+// triangle's stored depth over the square, never
 // below its smallest vertex depth. The depth quantity is affine over the square, so its
 // extreme is at a corner; a float result is rounded down.
 float ConservativeDepth(const Footprint& fp, bool perspective, double x0, double x1, double y0,

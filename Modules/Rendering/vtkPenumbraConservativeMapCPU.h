@@ -3,12 +3,12 @@
  * @brief   Conservative shadow map layers built on the CPU (private to
  *          vtkPenumbraConservativeShadows).
  *
- * The same map the conservative technique's geometry-shader program draws (seed 000 §1.1),
- * produced by exact conservative rasterization in double precision with vtkSMPTools:
+ * The same map the conservative technique's geometry-shader program draws (Hertel et al. 2009,
+ * §4.1), produced by exact conservative rasterization in double precision with vtkSMPTools:
  * per texel, the `layers` nearest caster triangles whose projection overlaps the texel
- * square (grown by a quarter texel for the float rounding of the reference's rays, §3 #10),
- * each with a conservative minimum light depth over that square (§1.1.4). Separating-axis
- * overlap instead of the paper's enlarged triangle (§1.1.2-1.1.3), so no texel is kept that
+ * square (grown by a quarter texel for the float rounding of the reference's rays),
+ * each with a conservative minimum light depth over that square (§4.1). Separating-axis
+ * overlap instead of the paper's enlarged triangle (§4.1), so no texel is kept that
  * the square does not touch, and no explicit depth writes that defeat a rasterizer's early
  * depth test.
  *

@@ -76,7 +76,9 @@ enum class Hit
   Unknown // too close to call in double against the float ray tracer: trace it
 };
 
-// Seed 000 §1.3 rule 5 made exact: the shadow ray o + t d (d unit) against one triangle, in
+// The exact test against the texel's triangle of Hertel, Hormann, Westermann, "A Hybrid GPU
+// Rendering Pipeline for Alias-Free Hard Shadows", Eurographics 2009 Areas Papers, §4.2, made
+// exact: the shadow ray o + t d (d unit) against one triangle, in
 // double. The reference (float Embree) counts a blocker for t in [tieLimit, tmax), calls
 // [tnear, tieLimit) a tie and ignores t < tnear. errPos bounds how far the float ray and
 // vertices may differ from ours (a length); every decision keeps that much margin, grown by
@@ -146,7 +148,7 @@ Hit TestRay(const double o[3], const double d[3], double tnear, double tieLimit,
 struct vtkPenumbraConservativeShadows::Internals
 {
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
-  // The caster triangles on the GPU (shared upload code, seed 000 §3 #14).
+  // The caster triangles on the GPU (shared upload code, rebuilt only when the geometry changes).
   penumbra_light_views::CasterBuffers Casters;
   std::vector<GLuint> ViewIndices;
 
@@ -364,7 +366,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   const int* props = in.Props;
   const vtkIdType* tris = in.Triangles;
 
-  // ---- Upload the casters once per geometry change (seed 000 §3 #14).
+  // ---- Upload the casters once per geometry change.
   const auto mapStart = Clock::now();
   win->MakeCurrent();
   if (impl.Window && impl.Window != win)
@@ -380,8 +382,9 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   const bool anyCaster = impl.Casters.VertexCount > 0;
   const double uploadMs = ElapsedMs(mapStart);
 
-  // ---- Pass A (seed 000 §1.3 rules 1-2, plus the reference's light rules): decide what
-  // needs no map, and find the box the light cameras must cover.
+  // ---- Pass A (Hertel et al. 2009, §4.2 and §5: facing and projection, plus the
+  // reference's light rules): decide what needs no map, and find the box the light cameras
+  // must cover.
   double diagonal = 0.0;
   {
     double gb[6];
@@ -530,7 +533,8 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
       else if (rebuild)
       {
         // Depth is written explicitly and clamped in the shader; clamping is on as a second
-        // line of defence (seed 000 §3 #8). Colour (the id layers) is written.
+        // line of defence (perspective window z loses precision far from the light). Colour (the id
+        // layers) is written.
         penumbra_light_views::MapRenderState renderState(win->GetState(), impl.FBO, size, true);
 
         program = win->GetShaderCache()->ReadyShaderProgram(
@@ -543,8 +547,9 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
         program->SetUniformi("perspective", view.Perspective ? 1 : 0);
         program->SetUniformf("nearW", static_cast<float>(view.NearW));
         program->SetUniformf("frustumSlack", static_cast<float>(1.0 + 8.0 / size));
-        // Half the texel diagonal (seed 000 §1.1.3 errata) plus a quarter texel for the float
-        // rounding between the GPU projection and the classifier's double one (§3 #10).
+        // Half the texel diagonal (enough to cover the texel square; the paper's §4.1 uses the
+        // whole diagonal) plus a quarter texel for the float rounding between the GPU
+        // projection and the classifier's double one.
         program->SetUniformf("keepRadius", static_cast<float>(0.5 * std::sqrt(2.0) + 0.25));
         program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
 
@@ -621,7 +626,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
           glClearBufferuiv(GL_COLOR, 0, zero);
           glClearBufferfv(GL_DEPTH, 0, &one);
           program->SetUniformi("peel", layer);
-          // Option (ii) of the note (seed 000 §1.3b): the nearest triangles not yet stored.
+          // Depth peeling by id: the nearest triangles not yet stored.
           for (int k = 0; k < layer; ++k)
           {
             impl.IdTextures[k]->Activate();
@@ -654,7 +659,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
       }
       mapMs += ElapsedMs(renderStart);
 
-      // Seed 000 §1.3, rules as made exact by the note (sections 1.3b, 3 and 7 errata):
+      // The classification of Hertel et al. 2009, §4.2, with its rules made exact:
       //  1. facing away from the light / outside the spot cone -> shadowed (pass A above);
       //  2. project into the map (double); outside the map or behind the apex -> uncertain;
       //  3. walk the texel's layers k = 1..Layers (layer k: the nearest triangle no earlier
@@ -663,11 +668,12 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
       //        deeper than the sample, and the shadow ray projects to this one texel, so
       //        only seen triangles could block it;
       //     b. the sample's own triangle -> skip it (the reference never lets it block;
-      //        replaces the paper's inexact "own id -> lit", rule 6);
+      //        replaces the paper's inexact "own id -> lit" rule);
       //     c. exact double-precision ray-triangle test with margins beyond the tie band
       //        and float rounding: clear hit -> shadowed (the conservative depth alone
-      //        never shadows, "fully covered" or not: rule 4 is not exact); clear miss ->
-      //        skip it (e.g. a coplanar neighbour at a shared edge); else uncertain;
+      //        never shadows, "fully covered" or not: the paper's fully-covered rule is
+      //        not exact); clear miss -> skip it (e.g. a coplanar neighbour at a shared
+      //        edge); else uncertain;
       //  4. layers exhausted -> uncertain (traced).
       // The CPU builder keeps the triangles that reach a perspective view's apex region out
       // of the map (they would cover all of it); each is tested exactly against the sample's
@@ -783,9 +789,9 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   }
 
   // ---- Rays only for the uncertain samples. On the CPU with Embree rather than the paper's
-  // GPU kD-tree (seed 000 §1.4): on llvmpipe the "GPU" runs on the same two cores, and a
-  // divergent per-fragment traversal in its SIMD fragment pipeline loses to Embree's
-  // SIMD-optimised BVH over a compact list of samples (note §7.3).
+  // GPU kD-tree (Hertel et al. 2009, §5): on llvmpipe the "GPU" runs on the same CPU cores,
+  // and a divergent per-fragment traversal in its SIMD fragment pipeline loses to Embree's
+  // SIMD-optimised BVH over a compact list of samples.
   const auto traceStart = Clock::now();
   vtkIdType uncertain = 0;
   for (vtkIdType s = 0; s < n; ++s)

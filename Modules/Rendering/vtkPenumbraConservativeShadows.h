@@ -1,23 +1,26 @@
 /**
  * @class   vtkPenumbraConservativeShadows
- * @brief   Exact hard shadows the hybrid way of seed 000: a conservative shadow map classifies
- *          view samples as lit, shadowed or uncertain, and only uncertain ones are ray traced.
+ * @brief   Exact hard shadows the hybrid way of Hertel, Hormann, Westermann, "A Hybrid GPU
+ *          Rendering Pipeline for Alias-Free Hard Shadows", Eurographics 2009 Areas Papers:
+ *          a conservative shadow map classifies view samples as lit, shadowed or uncertain,
+ *          and only uncertain ones are ray traced.
  *
  * Per light and frame:
- * 1. Conservative shadow map (CSM, seed 000 §1.1; rebuilt only when what it depends on
- *    changes, see Memory below): per texel, the Layers nearest caster triangles whose
- *    projection touches the texel, each with a *conservative* (never too
- *    large) linear light depth over the texel (§1.1.4). Two builders, see SetMapBuilder():
+ * 1. Conservative shadow map (CSM, Hertel et al. 2009, §4.1; rebuilt only when what it
+ *    depends on changes, see Memory below): per texel, the Layers nearest caster triangles
+ *    whose projection touches the texel, each with a *conservative* (never too large)
+ *    linear light depth over the texel. Two builders, see SetMapBuilder():
  *    - CPU (default): exact conservative rasterization in double precision
  *      (vtkPenumbraConservativeMapCPU.h): separating-axis texel/triangle overlap on binned
  *      tiles with vtkSMPTools, all layers in one pass, no read back.
  *    - GPU: a vertex + geometry + fragment program draws the casters (uploaded once per
  *      geometry/flags change, see GetNumberOfUploads()) into an R32UI id buffer and a float
  *      depth buffer; the geometry stage enlarges each triangle by the texel diagonal
- *      (§1.1.2), the fragment stage keeps texels by true point-to-segment distance (the
- *      note's fix of §1.1.3) and writes max(plane minimum over the texel, vertex minimum)
- *      - epsilon; further depth-peeled draws store the next nearest *other* triangles (the
- *      note's exact option (ii) for §1.3 rule 6, see SetLayers()).
+ *      (§4.1), the fragment stage keeps texels by true point-to-segment distance (which
+ *      corrects the paper's distance test) and writes max(plane minimum over the texel,
+ *      vertex minimum) - epsilon; further depth-peeled draws store the next nearest *other*
+ *      triangles (an exact replacement for the paper's "own id -> lit" rule of §4.2, see
+ *      SetLayers()).
  *    Light cameras: directional lights get an orthographic view along the light fitted to
  *    the casters and the valid samples; spot lights with a cone of at most 60 degrees one
  *    perspective view covering the cone; wider spots and point lights six 90-degree cube
@@ -103,12 +106,11 @@ public:
   /**
    * Depth-peeled CSM layers. Layer k stores the nearest triangle no earlier layer stores at
    * that texel, so a sample can look past its own triangle and past neighbours that provably
-   * miss its shadow ray (coplanar neighbours at shared edges). Default 2 (the note's option
-   * (ii) for seed 000 §1.3b), clamped to [2, 4]. Default 2, chosen by measurement: a third
-   * layer cuts the uncertain share several-fold (5.8 % -> 0.7 % on default.json at
-   * 1280x720), but on llvmpipe the rays it saves cost about what the layer costs (CPU
-   * builder, maps rebuilt every frame: 64 ms vs 68 ms per frame there; maps reused: 49 vs
-   * 46 ms); where rays are dearer than map texels, use 3 or 4.
+   * miss its shadow ray (coplanar neighbours at shared edges). Two layers replace the
+   * inexact "own id -> lit" rule of Hertel et al. 2009, §4.2. Clamped to [2, 4]. Default 2:
+   * a third layer cuts the uncertain share several-fold, but when rays are traced on the
+   * same CPU cores that rasterize the map (llvmpipe), the rays it saves cost about what the
+   * layer costs; where rays are dearer than map texels, use 3 or 4.
    */
   vtkSetClampMacro(Layers, int, 2, 4);
   vtkGetMacro(Layers, int);

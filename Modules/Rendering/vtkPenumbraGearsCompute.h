@@ -1,15 +1,17 @@
 /**
  * @file   vtkPenumbraGearsCompute.h
  * @brief  Private to Penumbra::Rendering: the GL 4.3 compute path of vtkPenumbraGearsShadows
- *         (seed 002 step 4 on the GPU, SSBO cell lists).
+ *         (step 4 of Wang, Wang, Shi, Popescu, "GEARS: A General and Efficient Algorithm for
+ *         Rendering Shadows", Computer Graphics Forum 33(6), 2014, on the GPU, SSBO cell
+ *         lists).
  *
- * The CPU builds the grid and the per-cell triangle lists (seed 002 A.1-A.3) as before; this
- * helper uploads them as shader storage buffers and runs glsl/vtkPenumbraGearsMaskCS.glsl,
- * one invocation per view sample in cell order. The shader decides every light sample it
- * can with the CPU path's double-precision margins and flags the view samples it cannot
- * (a ray on a triangle edge, a light-sample ray too close to call against Embree's float32
- * ray, a float32 rounding the CPU path takes exactly); vtkPenumbraGearsShadows redoes the
- * flagged samples on the CPU, so both paths give the reference's visibility bit for bit.
+ * The CPU builds the grid and the per-cell triangle lists (Wang et al. 2014, §4, A.1-A.3) as
+ * before; this helper uploads them as shader storage buffers and runs
+ * glsl/vtkPenumbraGearsMaskCS.glsl, one invocation per view sample in cell order. The shader
+ * decides every light sample it can with the CPU path's double-precision margins and flags the view
+ * samples it cannot (a ray on a triangle edge, a light-sample ray too close to call against
+ * Embree's float32 ray, a float32 rounding the CPU path takes exactly); vtkPenumbraGearsShadows
+ * redoes the flagged samples on the CPU, so both paths give the reference's visibility bit for bit.
  *
  * Mesa llvmpipe ends every loop of a shader silently once the loops of one invocation group
  * have run 65535 iterations in all (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS); a sample with a

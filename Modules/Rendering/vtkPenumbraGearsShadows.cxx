@@ -46,7 +46,7 @@ constexpr int MaxK = 64; // vtkPenumbraAreaLight's SamplesPerAxis limit: one 64-
 
 // Position tolerance of the double-precision decisions against Embree's float32 ray, relative
 // to the reference's scene scale max(|p|, bounds diagonal): the value the conservative
-// technique validated for the same reference (seed 000 rule 5).
+// technique validated for the same reference (its exact one-triangle ray test).
 constexpr double RelativePositionTolerance = 1e-6;
 
 // A caster in the geometry's rebased frame with the float32 rounding Embree's copy has, and
@@ -326,8 +326,10 @@ struct SampleRays
   float TNearF;
 };
 
-// Step 4 for one view sample at a time (seed 002 §3 step 4, the note's §1.4 predicate made
-// exact against the reference): Facing holds the light samples above the tangent plane,
+// Step 4 for one view sample at a time (Wang, Wang, Shi, Popescu, "GEARS: A General and
+// Efficient Algorithm for Rendering Shadows", Computer Graphics Forum 33(6), 2014, §3, step 4;
+// the paper's per-sample rasterizer replaced by an exact cone-and-plane predicate, made exact
+// against the reference): Facing holds the light samples above the tangent plane,
 // Candidate those the reference traces, Blocked those a triangle provably blocks, Unknown
 // those some triangle may block within the float32 tolerance.
 struct MaskBuilder
@@ -342,7 +344,7 @@ struct MaskBuilder
   std::vector<unsigned char> EdgeIndex;
   bool Open = false;
   // Nearest vertex of a caster to the light plane, and the margin for comparing it with a
-  // sample's depth (the note's cheap reject: a triangle wholly farther from the light than
+  // sample's depth (a cheap reject: a triangle wholly farther from the light than
   // the sample cannot touch its segments).
   const double* ZMin = nullptr;
   const Sphere* Bounds = nullptr;
@@ -1222,7 +1224,8 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   for (const int flip : { 1, -1 })
   {
     const auto gridStart = Clock::now();
-    // Light frame of this side: z toward the samples (seed 002 A.1; the back side mirrors).
+    // Light frame of this side: z toward the samples (Wang et al. 2014, §4, A.1; the back side
+    // mirrors).
     double ax[3][3];
     for (int c = 0; c < 3; ++c)
     {
@@ -1279,7 +1282,8 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
     const double tolerance = 4.0 * RelativePositionTolerance * maxScale;
 
     // Camera C behind the light (z < 0) on the line from the AABB centre through the light
-    // centre, at CameraDistanceFactor x diagonal (seed 002 A.1); any z_C < 0 is conservative.
+    // centre, at CameraDistanceFactor x diagonal (Wang et al. 2014, §4, A.1); any z_C < 0 is
+    // conservative.
     double dir[3] = { -0.5 * (lo3[0] + hi3[0]), -0.5 * (lo3[1] + hi3[1]), -0.5 * (lo3[2] + hi3[2]) };
     if (!(vtkMath::Normalize(dir) > 0.0) || !(dir[2] < -0.25))
     {
@@ -1356,10 +1360,10 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
         }
         if (zmin <= tolerance)
         {
-          fp.State = 1; // touches the light plane: unbounded extrusion (note §3 #2)
+          fp.State = 1; // touches the light plane: unbounded extrusion
           continue;
         }
-        // Closed form of the note (§1.3): extrusion rectangles and projections from C.
+        // Closed form of A.3 in the light's frame: extrusion rectangles and projections from C.
         double box[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
           std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
         double rmax = 1.0;
@@ -1779,7 +1783,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   }
 
   // ---- Samples on the light plane go to the reference whole; undecided light samples one
-  // by one, with its exact rules (seed 002 §5.1's "identical to ray tracing").
+  // by one, with its exact rules (Wang et al. 2014, §5.1: "identical to ray tracing").
   const auto traceStart = Clock::now();
   vtkIdType nWhole = 0;
   for (vtkIdType s = 0; s < n; ++s)

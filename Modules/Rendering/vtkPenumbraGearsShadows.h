@@ -1,8 +1,10 @@
 /**
  * @class   vtkPenumbraGearsShadows
- * @brief   Soft shadows from rectangular and linear area lights the GEARS way (seed 002): a
- *          per-frame grid of conservative potential-blocker lists and a k x k light-sample
- *          bit mask per view sample, bit-exact against the ray-traced reference.
+ * @brief   Soft shadows from rectangular and linear area lights the GEARS way (Wang, Wang,
+ *          Shi, Popescu, "GEARS: A General and Efficient Algorithm for Rendering Shadows",
+ *          Computer Graphics Forum 33(6), 2014): a per-frame grid of conservative potential-blocker
+ *          lists and a k x k light-sample bit mask per view sample, bit-exact against the
+ *          ray-traced reference.
  *
  * Per area light and frame (CPU, vtkSMPTools; everything rebuilt from scratch, so blockers,
  * receivers and the light may all move):
@@ -11,14 +13,15 @@
  *    side (the reference traces both: it has no single-sided emitter rule), each side gets
  *    its own grid in a light frame mirrored for the back. A sample exactly on the light
  *    plane is handed to the reference.
- * 2. Grid (seed 002 §4 A.1-A.2): camera C behind the light on the line from the samples'
+ * 2. Grid (Wang et al. 2014, §4, A.1-A.2): camera C behind the light on the line from the samples'
  *    centre through the light centre at CameraDistanceFactor x light diagonal, image plane
  *    = far plane through the farthest sample; samples are binned by their projection from C
  *    into GridResolution^2 cells over the projections' bounding box; empty cells cost nothing.
- * 3. Triangle assignment (A.3, closed form of the note): each caster triangle's footprint is
- *    the bounding box of its 12 extrusion points F_ij (vertex i seen from the light-sample
- *    extremes j, continued to the far plane) and its 3 projections from C, padded by the
- *    position tolerance; the note proves it contains every sample the triangle can shadow.
+ * 3. Triangle assignment (A.3, in closed form in the light's frame): each caster triangle's
+ *    footprint is the bounding box of its 12 extrusion points F_ij (vertex i seen from the
+ *    light-sample extremes j, continued to the far plane) and its 3 projections from C, padded by
+ *    the position tolerance; it contains every sample the triangle can shadow (the proof of the
+ *    paper's App. A holds for any camera C strictly behind the light plane).
  *    Triangles wholly behind the light plane or beyond the far plane are culled; triangles
  *    touching the light plane (their extrusion is unbounded) and triangles whose footprint
  *    covers more than half the occupied cells go to one global list every sample tests.
@@ -28,10 +31,10 @@
  * 4. Masks (step 4): per view sample, the light samples below its tangent plane are cleared
  *    exactly as the reference does; then for each triangle of its cell (and the global list)
  *    the light samples that the triangle can possibly block are found per mask row as one
- *    interval of the affine edge/plane functions (§1.4 of the note, with a margin), and each
- *    of them is decided by a double-precision segment test against the reference's ray
- *    (same origin, epsilons, tie band, own-triangle exclusion); deep inside all intervals
- *    whole spans are set at once. A bit the double test cannot decide against Embree's
+ *    interval of the affine edge/plane functions (an exact cone-and-plane predicate, with a
+ *    margin), and each of them is decided by a double-precision segment test against the
+ *    reference's ray (same origin, epsilons, tie band, own-triangle exclusion); deep inside all
+ *    intervals whole spans are set at once. A bit the double test cannot decide against Embree's
  *    float32 ray (within 1e-6 of the scene scale of an edge, of the tie band or of the ray
  *    end; a ray on an edge shared by two triangles that face it from both sides counts as
  *    blocked, as Embree's watertight test guarantees) is traced by vtkPenumbraReference
@@ -106,7 +109,7 @@ public:
   ///@{
   /**
    * Grid cells per side (the grid covers the projected view samples). Default 128, the
-   * paper's best (seed 002 Table 4); clamped to [1, 4096]. Only speed depends on it: the
+   * paper's best (Wang et al. 2014, Table 4); clamped to [1, 4096]. Only speed depends on it: the
    * result is identical for every resolution.
    */
   vtkSetClampMacro(GridResolution, int, 1, 4096);
@@ -223,7 +226,7 @@ public:
 
   ///@{
   /**
-   * Statistics of the last area-light call (seed 002 Tables 5 and 6), summed over both
+   * Statistics of the last area-light call (Wang et al. 2014, Tables 5 and 6), summed over both
    * sides of the light plane:
    * - cells with at least one view sample, and all cells;
    * - triangles per occupied cell, maximum and average (global-list triangles not included);

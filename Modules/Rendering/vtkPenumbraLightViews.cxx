@@ -440,7 +440,7 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
     const double* v = nTriangles && vertexArray ? vertexArray->GetPointer(0) : nullptr;
     for (vtkIdType t = 0; v && t < nTriangles; ++t)
     {
-      // The reference's rule: casters with area (seed 000 §3 #4).
+      // The reference's rule: casters with area (a zero-area triangle blocks no ray).
       if (!geometry->IsOccluder(t))
       {
         continue;

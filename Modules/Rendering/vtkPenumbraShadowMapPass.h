@@ -1,7 +1,8 @@
 /**
  * @class   vtkPenumbraShadowMapPass
  * @brief   Drop-in replacement for VTK's vtkShadowMapPass: vtkPenumbraShadowPass with the
- *          practical shadow-map technique (seed 004) already installed.
+ *          practical shadow-map technique (Brabec, "Shadow Techniques for Interactive and
+ *          Real-Time Applications", PhD thesis, 2003, ch. 4-6) already installed.
  *
  * Existing code keeps its composition, only the class name changes:
  * @code

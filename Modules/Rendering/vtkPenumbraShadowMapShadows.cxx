@@ -63,7 +63,8 @@ double ElapsedMs(Clock::time_point start)
 constexpr unsigned char Decided = 0;
 constexpr unsigned char Pending = 1;
 
-// Paraboloid tessellation (seed 004 ch. 6, "tessellated fine enough"): no sub-edge spans more
+// Paraboloid tessellation (Brabec, "Shadow Techniques for Interactive and Real-Time
+// Applications", PhD thesis, 2003, ch. 6, "tessellated fine enough"): no sub-edge spans more
 // than this angle seen from the light, up to MaxSubdivisions per triangle edge. A 2-degree
 // chord deviates from its arc by 1.5e-4 of the map radius: 0.15 texel at 2048^2.
 constexpr double ParaboloidStepRadians = 2.0 * 3.14159265358979323846 / 180.0;
@@ -609,8 +610,8 @@ struct vtkPenumbraShadowMapShadows::Internals
   }
 
   // Clips every caster against each hemisphere's equator plane (in light space, before the
-  // mapping: the note's fix for triangles straddling z = 0, whose far vertices would map
-  // near the singularity) and tessellates what is left (seed 004 ch. 6).
+  // mapping, so that triangles straddling z = 0 do not map their far vertices near the
+  // singularity) and tessellates what is left (Brabec 2003, ch. 6).
   void BuildParaboloidCasters(const double centre[3])
   {
     std::vector<float> data[2];
@@ -1261,7 +1262,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupList(vtkPenumbraShadowMapShad
   vtkOpenGLRenderWindow* win = in.Window;
   const vtkIdType n = in.NumberOfSamples;
   const float* nrm = in.Normals;
-  // ---- Per-sample lookup on the GPU (seed 004 ch. 5: hardware depth compare): the
+  // ---- Per-sample lookup on the GPU (Brabec 2003, ch. 5: hardware depth compare): the
   // pending samples as a compacted list, one fragment each, one draw per slot.
   std::vector<vtkIdType>& list = this->List;
   list.clear();

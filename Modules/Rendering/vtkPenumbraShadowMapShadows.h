@@ -1,13 +1,14 @@
 /**
  * @class   vtkPenumbraShadowMapShadows
- * @brief   Classical shadow maps done the practical way of seed 004 (Brabec): linear depth,
+ * @brief   Classical shadow maps done the practical way of Brabec, "Shadow Techniques for
+ *          Interactive and Real-Time Applications", PhD thesis, 2003, ch. 4-6: linear depth,
  *          optional second-depth (midpoint) maps, near/far and extent fitted to the visible
  *          receivers with depth clamping, PCF, and cube or dual-paraboloid maps for point
  *          lights.
  *
  * Per light (maps are cached, see below):
  * - Directional lights: one orthographic map whose s/t extent and depth range are fitted
- *   to the valid view samples that face the light (seed 004 ch. 4.2, axis-aligned
+ *   to the valid view samples that face the light (Brabec 2003, §4.2.1, axis-aligned
  *   rectangle in light space, computed exactly from the samples instead of a control
  *   texture). Casters in front of the fitted near plane are not clipped but clamped to depth
  *   0 (GL_DEPTH_CLAMP plus gl_FragDepth clamping, ch. 4.1.2), so they still shadow.
@@ -203,7 +204,7 @@ public:
 
   ///@{
   /**
-   * The dual-paraboloid mapping (seed 004 ch. 6, Eq. 6.3 in closed form). A unit direction
+   * The dual-paraboloid mapping (Brabec 2003, ch. 6, Eq. 6.3 in closed form). A unit direction
    * d goes to hemisphere 0 (d_z >= 0, axis +z) or 1 (d_z < 0, axis -z, mirrored in z only)
    * and to paraboloid coordinates xy = (d_x, d_y) / (1 + |d_z|) inside the unit disk. The
    * hemisphere is chosen by the sign of d_z, so 1 + |d_z| >= 1 and the z -> -1 singularity of

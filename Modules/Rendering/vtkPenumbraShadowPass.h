@@ -104,7 +104,8 @@ public:
   /**
    * What light `index`'s colour is multiplied by per view sample in the last frame: the
    * visibility, times the light's relative intensity toward the sample for goniometric
-   * lights (vtkPenumbraGoniometricLight, seed 004 §8.3.1; every technique renders the
+   * lights (vtkPenumbraGoniometricLight; Brabec, "Shadow Techniques for Interactive and Real-Time
+   * Applications", PhD thesis, 2003, §8.3.1; every technique renders the
    * diagram, and GetVisibility() stays the geometric visibility). nullptr as for
    * GetVisibility().
    */

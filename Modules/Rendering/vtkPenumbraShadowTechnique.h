@@ -55,7 +55,8 @@ public:
    * light of `lights`, in the same order, and each is filled as ComputeVisibility would.
    * Returns the number of lights that succeeded; a failed light's array is left with 0
    * tuples. The default calls ComputeVisibility per light; techniques that share work
-   * between lights override it (shadow volumes: four lights per RGBA mask, seed 004 ch. 8).
+   * between lights override it (shadow volumes: four lights per RGBA mask, Brabec, "Shadow
+   * Techniques for Interactive and Real-Time Applications", PhD thesis, 2003, ch. 8).
    * vtkPenumbraShadowPass calls this once per frame with every light that casts light.
    */
   virtual int ComputeVisibilities(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,

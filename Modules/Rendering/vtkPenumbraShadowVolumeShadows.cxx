@@ -88,7 +88,7 @@ enum : unsigned char
   Pending = 1
 };
 
-// Caster connectivity (seed 004 §13 OpenMesh notes): welded vertices, closed components for
+// Caster connectivity (OpenMesh): welded vertices, closed components for
 // silhouette volumes, everything else as loose triangles for per-triangle volumes.
 struct Connectivity
 {
@@ -262,7 +262,8 @@ struct Connectivity
       if (closed)
       {
         // Orientation: a closed mesh with inward normals has negative signed volume; turn it
-        // once so that "light-facing" means the outward side (seed 004 §2.3).
+        // once so that "light-facing" means the outward side (Brabec, "Shadow Techniques for
+        // Interactive and Real-Time Applications", PhD thesis, 2003, §3.2.5).
         double volume = 0.0;
         const Vec3& ref = this->Points[static_cast<size_t>(c.Faces[0][0])];
         for (const auto& t : c.Faces)
@@ -336,7 +337,7 @@ struct VolumeLight
   }
 };
 
-// A positional light's volumes end at a finite far cap (seed 004 §2.1 asks only for closed
+// A positional light's volumes end at a finite far cap (Brabec 2003, §3.2.5 asks only for closed
 // volumes): the copy of v is L + (v - L) / w, written homogeneously as (v - L + w L, w). The
 // point at infinity (w = 0) serves a perspective camera, where it projects to a vanishing
 // point, but under a parallel camera every point at infinity has clip w = 0 and the dark caps
@@ -390,7 +391,7 @@ double PositionalFarW(const Connectivity& mesh, const VolumeLight& light, const 
   return w > 0.0 && w <= 0.25 ? w : 0.25;
 }
 
-// Seed 001 §1.3 / CC shadow volumes: true when a separating plane proves that the volume of
+// CC shadow volumes (Lloyd et al. 2004): true when a separating plane proves that the volume of
 // the light-facing oriented triangle (a, b, c) misses `box`.
 bool VolumeMissesBox(const VolumeLight& light, const Vec3 v[3], const double box[6])
 {
@@ -1129,7 +1130,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
   GLuint Framebuffer = 0;
   GLuint DepthStencil = 0;
-  GLuint MaskTexture = 0; // RGBA8: one light per channel, 0 = shadow (seed 004 ch. 8)
+  GLuint MaskTexture = 0; // RGBA8: one light per channel, 0 = shadow (Brabec 2003, ch. 8)
   GLuint VertexArray = 0;
   GLuint Query = 0;
   GLuint PointArray = 0; // GPU silhouettes: VAO of the welded points
@@ -1426,7 +1427,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibilities(vtkRenderer* renderer,
     all.push_back(light);
     out.push_back(vis);
   }
-  // Seed 004 ch. 8: groups of LightsPerMask lights share one mask (one channel each).
+  // Brabec 2003, ch. 8: groups of LightsPerMask lights share one mask (one channel each).
   int done = 0;
   for (size_t first = 0; first < all.size(); first += static_cast<size_t>(this->LightsPerMask))
   {
@@ -1692,7 +1693,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
   const auto stencilStart = Clock::now();
   const bool parallel = camera->GetParallelProjection() != 0;
   // The camera matrix and the sample depths depend on the samples and the camera only: one
-  // computation and one upload per frame serve every light (seed 004 ch. 8: the scene depth
+  // computation and one upload per frame serve every light (Brabec 2003, ch. 8: the scene depth
   // once, then per light a cleared stencil and its volumes).
   // The view's aspect is the renderer's: the samples may hold several surfaces per pixel
   // (see SampleLayout), so their own height says nothing about it. Samples the pass did not
@@ -1800,7 +1801,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
 
   this->SampleDepthTimeMs += ElapsedMs(stencilStart);
 
-  // z-pass needs a camera outside every volume (seed 004 §2.1); prove it for perspective
+  // z-pass needs a camera outside every volume (Brabec 2003, §3.2.5); prove it for perspective
   // cameras from the volumes actually drawn.
   for (Job& job : jobs)
   {
@@ -1903,7 +1904,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
   }
   impl.CollectGarbage();
 
-  // ---- Seed 004 ch. 8: the scene depth once, then per light a cleared stencil, its volumes
+  // ---- Brabec 2003, ch. 8: the scene depth once, then per light a cleared stencil, its volumes
   // and a copy of "count != 0" into its channel of one RGBA mask; one read-back per mask.
   vtkOpenGLState* ostate = win->GetState();
   ostate->PushFramebufferBindings();

@@ -1,9 +1,12 @@
 /**
  * @class   vtkPenumbraShadowVolumeShadows
- * @brief   Exact hard shadows with stencil shadow volumes (seed 004 ch. 3, 8, 9; seed 001
- *          §1.3): silhouette volumes from OpenMesh connectivity (the light-facing faces of
- *          closed meshes, both face sets of open ones), one closed volume per triangle for
- *          the faces OpenMesh refuses (non-manifold, flipped against their neighbours).
+ * @brief   Exact hard shadows with stencil shadow volumes (Brabec, "Shadow Techniques for
+ *          Interactive and Real-Time Applications", PhD thesis, 2003, ch. 3, 8, 9; the
+ *          hierarchical shadow-volume culling of the doctoral thesis behind Ferko 2013 and
+ *          2014, done as Lloyd et al.'s CC shadow volumes, 2004): silhouette volumes from OpenMesh
+ *          connectivity (the light-facing faces of closed meshes, both face sets of open ones), one
+ *          closed volume per triangle for the faces OpenMesh refuses (non-manifold, flipped against
+ *          their neighbours).
  *
  * Per light and frame:
  * 1. Connectivity (rebuilt only when the geometry, its flags or its origin change): the
@@ -22,8 +25,8 @@
  *    border edges. A closed component whose bounding box does not contain a positional
  *    light uses its light-facing triangles (light cap, extruded and reversed as dark cap,
  *    one quad per silhouette edge; each face classified once in double, ties back-facing,
- *    seed 004 §8.3): the segment crosses the mesh exactly when it crosses one of them.
- *    Components with inward orientation (negative volume) swap front and back. Open
+ *    so caps and sides always agree): the segment crosses the mesh exactly when it crosses one of
+ *    them. Components with inward orientation (negative volume) swap front and back. Open
  *    components, and closed ones that may hold the light, use both sets (the back-facing
  *    triangles turned toward the light too), which counts every crossing like per-triangle
  *    volumes but with sides only on silhouette and boundary edges. Every volume is closed
@@ -40,7 +43,7 @@
  *    drawn with two-sided stencil operations, depth writes off, GL_DEPTH_CLAMP on and a
  *    reversed float depth (glClipControl zero-to-one): z-fail by default (back faces
  *    increment and front faces decrement where the depth test fails, Carmack's reverse with
- *    caps, seed 004 §2.1), or z-pass when the camera is provably outside every volume
+ *    caps, Brabec 2003, §3.2.5), or z-pass when the camera is provably outside every volume
  *    (Method AUTO) or when asked (ZPASS). Light caps are pushed back by CapOffset so that a
  *    sample on a caster's lit surface is outside that caster's volume, which is the
  *    reference's "own triangle never blocks" rule and its tnear epsilon.
@@ -56,7 +59,7 @@
  *    traced with vtkPenumbraReference (see SetResolve()). Everything else is the stencil's
  *    answer.
  *
- * Culling (Cull, default on; seed 001 §1.3, CC shadow volumes): a triangle's volume is
+ * Culling (Cull, default on; CC shadow volumes, Lloyd et al. 2004): a triangle's volume is
  * dropped when a separating plane (the sample box faces, the triangle's plane, its three
  * side planes) puts it apart from the box of the light-facing samples; in a component the
  * triangle then simply leaves its set, and the remaining sum stays a valid count.
@@ -68,16 +71,16 @@
  * DEPTH32F_STENCIL8 framebuffer.
  *
  * GPU silhouettes (GPUSilhouettes): closed components go through a geometry shader with
- * triangle adjacency instead of the CPU silhouette loop (seed 004 ch. 9).
+ * triangle adjacency instead of the CPU silhouette loop (Brabec 2003, ch. 9).
  *
- * Several lights (seed 004 ch. 8): ComputeVisibilities() (what vtkPenumbraShadowPass calls
+ * Several lights (Brabec 2003, ch. 8): ComputeVisibilities() (what vtkPenumbraShadowPass calls
  * once per frame) takes the lights in groups of LightsPerMask (default 4). The sample depths
  * are computed and uploaded once per frame and camera; each light of a group then clears the
  * stencil, draws its (cached, already uploaded) volumes and copies "count != 0" as 0 into its
  * own channel of one RGBA8 mask (a full-screen triangle under the stencil test, the thesis's
  * stencil-to-colour copy); the group's mask is read back once (the red channel alone for a
  * single light). ceil(N / 4) masks serve N lights; GetNumberOfMasks() counts them.
- * Goniometric lights (vtkPenumbraGoniometricLight, seed 004 §8.3.1) are shadowed as point
+ * Goniometric lights (vtkPenumbraGoniometricLight, Brabec 2003, §8.3.1) are shadowed as point
  * lights; vtkPenumbraShadowPass scales the light by the diagram (in float, after the mask is
  * read back, so the diagram keeps its full range), for every technique alike.
  *
@@ -117,7 +120,7 @@ public:
 
   ///@{
   /**
-   * Lights counted into one RGBA mask before it is read back (seed 004 ch. 8): 4 (default)
+   * Lights counted into one RGBA mask before it is read back (Brabec 2003, ch. 8): 4 (default)
    * uses every channel; 1 reads each light's result back on its own (the per-light baseline
    * the thesis improves on). Clamped to [1, 4]. Only speed depends on it.
    */
@@ -157,7 +160,7 @@ public:
   ///@{
   /**
    * Use silhouette volumes for closed components (on) or per-triangle volumes for every
-   * caster (off, the brute-force baseline of seed 004 §2.1). Default on.
+   * caster (off, the brute-force baseline of Brabec 2003, §3.2.5). Default on.
    */
   vtkSetMacro(Silhouettes, bool);
   vtkGetMacro(Silhouettes, bool);
@@ -220,7 +223,7 @@ public:
 
   ///@{
   /**
-   * Find silhouettes on the GPU (seed 004 ch. 9): closed components are drawn as
+   * Find silhouettes on the GPU (Brabec 2003, ch. 9): closed components are drawn as
    * GL_TRIANGLES_ADJACENCY (indices from the OpenMesh connectivity) and a geometry shader
    * decides facing per face (in float, one canonical evaluation per face shared by both
    * sides of every edge), emitting caps and side quads. Per-triangle volumes, components

@@ -195,7 +195,7 @@ void InstallVTKShadowMap(vtkRenderer* ren, Options& opts)
 }
 
 // Light samples per axis for area/linear lights: 0 keeps the light's own k; otherwise one of
-// the values seed 002 measures, so GEARS and the ray tracer can be compared at equal k.
+// the values Wang et al. 2014 measure, so GEARS and the ray tracer can be compared at equal k.
 int SamplesOption(Options& opts)
 {
   const int k = opts.Integer("samples", 0, 0, 32);
@@ -304,6 +304,13 @@ void InstallGears(vtkRenderer* ren, Options& opts)
   InstallShadowPass(ren, technique);
 }
 
+// The descriptions cite the papers by short name:
+// - Hertel et al. 2009: Hertel, Hormann, Westermann, "A Hybrid GPU Rendering Pipeline for
+//   Alias-Free Hard Shadows", Eurographics 2009 Areas Papers;
+// - Brabec 2003: Brabec, "Shadow Techniques for Interactive and Real-Time Applications", PhD
+//   thesis, 2003;
+// - Wang et al. 2014: Wang, Wang, Shi, Popescu, "GEARS: A General and Efficient Algorithm for
+//   Rendering Shadows", Computer Graphics Forum 33(6), 2014.
 const std::vector<Technique>& Registry()
 {
   static const std::vector<Technique> techniques = {
@@ -314,19 +321,19 @@ const std::vector<Technique>& Registry()
       InstallRayTraced },
     { "conservative",
       "exact hard shadows: conservative shadow map classifies, CPU rays resolve the uncertain "
-      "samples (seed 000)",
+      "samples (Hertel et al. 2009)",
       InstallConservative },
     { "shadowmap",
-      "practical shadow maps (seed 004): linear depth, fitted to the visible receivers, PCF, "
+      "practical shadow maps (Brabec 2003): linear depth, fitted to the visible receivers, PCF, "
       "cube or dual-paraboloid maps for point lights",
       InstallShadowMap },
     { "volumes",
-      "exact hard shadows with stencil shadow volumes (seed 004 ch. 3, 8, 9): OpenMesh "
+      "exact hard shadows with stencil shadow volumes (Brabec 2003, ch. 3, 8, 9): OpenMesh "
       "silhouettes for closed meshes, per-triangle volumes otherwise, z-fail with caps and "
       "depth clamp, four lights per RGBA mask",
       InstallVolumes },
     { "gears",
-      "exact soft shadows from area and linear lights (seed 002 GEARS): per-cell lists of "
+      "exact soft shadows from area and linear lights (GEARS, Wang et al. 2014): per-cell lists of "
       "potential blockers, k x k light-sample masks on the CPU",
       InstallGears },
   };

@@ -16,16 +16,16 @@
  *    every light type, one CPU ray per view sample and light sample. Options: `samples`
  *    (light samples per axis of area/linear lights: 0, default, keeps the light's own k, or
  *    one of 4, 8, 16, 32).
- *  - `conservative`: vtkPenumbraShadowPass with vtkPenumbraConservativeShadows (seed 000):
- *    exact hard shadows from point, spot and directional lights; a conservative shadow map
- *    classifies the samples and only the uncertain ones are ray traced. Options:
- *    `resolution` (integer CSM texels per side, per cube face for point lights, default
+ *  - `conservative`: vtkPenumbraShadowPass with vtkPenumbraConservativeShadows (Hertel
+ *    et al. 2009): exact hard shadows from point, spot and directional lights; a
+ *    conservative shadow map classifies the samples and only the uncertain ones are ray traced.
+ *    Options: `resolution` (integer CSM texels per side, per cube face for point lights, default
  *    1024, 64..8192), `layers` (integer depth-peeled map layers, default 2, 2..4; more
  *    layers let more samples look past their own and neighbouring triangles) and `map`
  *    ("cpu", default: exact double-precision conservative rasterization with vtkSMPTools,
  *    or "gpu": a geometry-shader program).
- *  - `shadowmap`: vtkPenumbraShadowPass with vtkPenumbraShadowMapShadows (seed 004 ch. 4-6):
- *    classical depth-compare shadow maps with linear 32-bit float depth, fitted to the
+ *  - `shadowmap`: vtkPenumbraShadowPass with vtkPenumbraShadowMapShadows (Brabec 2003,
+ *    ch. 4-6): classical depth-compare shadow maps with linear 32-bit float depth, fitted to the
  *    visible receivers, depth clamping. Options: `resolution` (integer texels per side, per
  *    cube face / hemisphere for point lights, default 2048, 64..8192); `filter` ("none",
  *    default: one nearest texel, 0/1 like a hardware compare; or "pcf": percentage-closer
@@ -37,23 +37,30 @@
  *    `point` ("cube", default: six faces, or "paraboloid": two dual-paraboloid hemispheres,
  *    exact per-sample projection); `lookup` ("gpu", default: hardware depth compare, or
  *    "cpu": maps read back and compared in double precision).
- *  - `volumes`: vtkPenumbraShadowPass with vtkPenumbraShadowVolumeShadows (seed 004 ch. 3, 8,
- *    9): exact hard shadows with stencil shadow volumes. Options: `silhouettes` ("cpu",
- *    default: OpenMesh; "gpu": geometry shader with triangle adjacency; "none": per-triangle
- *    volumes), `method` ("auto", default, "zfail" or "zpass"), `cull` (boolean, default true:
- *    skip casters that cannot shadow a visible receiver), `resolve` (boolean, default true:
- *    ray trace the samples next to stencil changes), `cap_offset` (0..1e-3, default 2^-17),
+ *  - `volumes`: vtkPenumbraShadowPass with vtkPenumbraShadowVolumeShadows (Brabec 2003,
+ *    ch. 3, 8, 9): exact hard shadows with stencil shadow volumes. Options: `silhouettes`
+ *    ("cpu", default: OpenMesh; "gpu": geometry shader with triangle adjacency; "none":
+ *    per-triangle volumes), `method` ("auto", default, "zfail" or "zpass"), `cull` (boolean,
+ *    default true: skip casters that cannot shadow a visible receiver), `resolve` (boolean, default
+ *    true: ray trace the samples next to stencil changes), `cap_offset` (0..1e-3, default 2^-17),
  *    `measure_fill` (boolean, default false: count stencil fragments) and `lights_per_mask`
  *    (1..4, default 4).
- *  - `gears`: vtkPenumbraShadowPass with vtkPenumbraGearsShadows (seed 002): exact soft
- *    shadows of area and linear lights at k x k light samples (hard lights are exact too).
- *    Options: `samples` (as for `raytraced`), `grid` (cells per axis, default 128, 1..4096),
+ *  - `gears`: vtkPenumbraShadowPass with vtkPenumbraGearsShadows (Wang et al. 2014):
+ *    exact soft shadows of area and linear lights at k x k light samples (hard lights are exact
+ *    too). Options: `samples` (as for `raytraced`), `grid` (cells per axis, default 128, 1..4096),
  *    `camera_distance` (light-aligned camera distance in light diagonals, default 1,
  *    0.01..100) and `path` ("auto", default, chooses the CPU; "cpu"; or "gpu": the GL 4.3
  *    compute path).
  *
  * Options are JSON text (an object); unknown options and out-of-range values are rejected
  * with a message naming the option.
+ *
+ * Papers (docs/techniques.md says what each technique changes):
+ * - Hertel, Hormann, Westermann, "A Hybrid GPU Rendering Pipeline for Alias-Free Hard
+ *   Shadows", Eurographics 2009 Areas Papers.
+ * - Brabec, "Shadow Techniques for Interactive and Real-Time Applications", PhD thesis, 2003.
+ * - Wang, Wang, Shi, Popescu, "GEARS: A General and Efficient Algorithm for Rendering
+ *   Shadows", Computer Graphics Forum 33(6), 2014.
  */
 
 #ifndef vtkPenumbraTechniques_h

@@ -1,11 +1,12 @@
 /**
  * @class   vtkPenumbraGoniometricLight
  * @brief   A point light whose intensity varies with direction, from a tabulated goniometric
- *          diagram (seed 004 §8.3.1, monochrome).
+ *          diagram (monochrome), as in Brabec, "Shadow Techniques for Interactive and
+ *          Real-Time Applications", PhD thesis, 2003, §8.3.1.
  *
  * For VTK's own shading it is an ordinary positional light (cone angle 180 by default). The
  * direction-dependent part is a relative intensity in [0, 1] that shadow techniques apply to
- * their visibility (vtkPenumbraShadowVolumeShadows does), exactly as seed 004 ch. 8 scales
+ * their visibility (vtkPenumbraShadowVolumeShadows does), exactly as Brabec 2003, ch. 8 scales
  * the shadow mask by the diagram's value.
  *
  * Frame. The axis A is FocalPoint - Position (transformed, unit). The polar angle theta is

@@ -1,6 +1,7 @@
 //VTK::System::Dec
-// Conservative shadow map, fragment stage (seed 000 §1.1.3 and §1.1.4 with the note's
-// errata): keep the texel iff its centre is inside the polygon or within keepRadius of it
+// Conservative shadow map, fragment stage (Hertel, Hormann, Westermann, "A Hybrid GPU Rendering
+// Pipeline for Alias-Free Hard Shadows", Eurographics 2009 Areas Papers, §4.1, with its distance
+// test corrected): keep the texel iff its centre is inside the polygon or within keepRadius of it
 // (true point-to-segment distance, not the paper's broken edge/vertex rule), then write the
 // polygon's conservative minimum depth over the texel square and the triangle id.
 flat in uint gId;
@@ -49,8 +50,8 @@ void edge(vec2 a, vec2 b, vec2 c, float s, inout vec3 acc)
 void main()
 {
   uint stored = gId + 1u;
-  // Depth peeling by id (the note's option (ii) of seed 000 §1.3b, generalised to k layers):
-  // layer k holds the nearest triangle that none of the layers before it holds.
+  // Depth peeling by id (replaces the paper's inexact "own id -> lit" rule of §4.2): layer k
+  // holds the nearest triangle that none of the layers before it holds.
   ivec2 texel = ivec2(gl_FragCoord.xy);
   if ((peel >= 1 && (texelFetch(layer1, texel, 0).r & ~fullBit) == stored) ||
     (peel >= 2 && (texelFetch(layer2, texel, 0).r & ~fullBit) == stored) ||
@@ -103,7 +104,7 @@ void main()
   }
   bool full = inside && minInside > keepRadius;
 
-  // Conservative depth: the plane's extreme over the texel square (§1.1.4), never beyond the
+  // Conservative depth: the plane's extreme over the texel square (§4.1), never beyond the
   // vertex extreme, minus the plane's tolerance; then a relative epsilon for storage.
   float halfSpan = 0.5 * (abs(gPlane.y) + abs(gPlane.z));
   float qc = gPlane.x + dot(gPlane.yz, c - gPoly[0]);

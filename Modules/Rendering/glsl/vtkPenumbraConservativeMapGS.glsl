@@ -1,5 +1,6 @@
 //VTK::System::Dec
-// Conservative shadow map, geometry stage (seed 000 §1.1.2 with the note's fixes):
+// Conservative shadow map, geometry stage (Hertel, Hormann, Westermann, "A Hybrid GPU Rendering
+// Pipeline for Alias-Free Hard Shadows", Eurographics 2009 Areas Papers, §4.1, with these fixes):
 // 1. clip the triangle in homogeneous space to the view's frustum sides (slightly widened),
 //    so projected coordinates stay small and exact enough for the distance test;
 // 2. perspective views: a triangle reaching the tip region w < nearW (close to the light)
@@ -9,8 +10,8 @@
 //    diagonal l), cut to its bounding box grown by l (the spikes at acute vertices); an
 //    ill-conditioned T' falls back to that box.
 // The fragment stage keeps exactly the texels whose centre lies within keepRadius of the
-// polygon (true point-to-segment distance, seed 000 §1.1.3 errata) and writes its
-// conservative depth (§1.1.4).
+// polygon (true point-to-segment distance, which corrects the paper's edge/vertex rule) and writes
+// its conservative depth (§4.1).
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 12) out;
 
@@ -160,7 +161,7 @@ void main()
   sCount = n;
 
   // Depth plane from the best-shaped fan triangle; only trusted when well conditioned, the
-  // vertex extreme alone is always conservative (seed 000 §1.1.4).
+  // vertex extreme alone is always conservative (Hertel et al. 2009, §4.1).
   int best = 1;
   float bestArea = 0.0;
   for (int i = 1; i + 1 < n; ++i)
@@ -207,8 +208,8 @@ void main()
   }
 
   {
-    // T' of seed 000 §1.1.2, for the (possibly clipped, always convex) polygon: vertex i is
-    // where the lines of edges i-1 and i, each moved out by l, meet. Nearly parallel
+    // T' of Hertel et al. 2009, §4.1, for the (possibly clipped, always convex) polygon: vertex i
+    // is where the lines of edges i-1 and i, each moved out by l, meet. Nearly parallel
     // neighbouring edges (spikes, duplicate clip vertices) fall back to the box.
     float area = 0.0;
     for (int i = 0; i < n; ++i)
@@ -243,7 +244,7 @@ void main()
     }
     if (ok)
     {
-      // Cut to the grown box (the spikes at acute vertices, seed 000 §3 #3).
+      // Cut to the grown box (the spikes at acute vertices, which the paper accepts).
       int m = n;
       m = clipPolygon(tp, m, vec4(1.0, 0.0, 0.0, -lo.x));
       m = clipPolygon(tp, m, vec4(-1.0, 0.0, 0.0, hi.x));

@@ -1,6 +1,7 @@
 //VTK::System::Dec
-// Conservative shadow map, vertex stage (seed 000 §1.1): caster vertices in the geometry's
-// rebased frame go to the light's clip space; the geometry stage does the rest.
+// Conservative shadow map, vertex stage (Hertel, Hormann, Westermann, "A Hybrid GPU Rendering
+// Pipeline for Alias-Free Hard Shadows", Eurographics 2009 Areas Papers, §4.1): caster vertices in
+// the geometry's rebased frame go to the light's clip space; the geometry stage does the rest.
 in vec3 vertexRebased;
 in uint triangleId;
 

@@ -1,4 +1,6 @@
-// GEARS step 4 (seed 002 §3 step 4, the note's §1.4 predicate) as a GL 4.3 compute shader:
+// GEARS step 4 (Wang, Wang, Shi, Popescu, "GEARS: A General and Efficient Algorithm for Rendering
+// Shadows", Computer Graphics Forum 33(6), 2014, §3, step 4; an exact cone-and-plane predicate in
+// place of the paper's per-sample rasterizer) as a GL 4.3 compute shader:
 // one invocation per view sample of one side of the light plane, in cell order, so the
 // invocations of a work group mostly share one cell list. It is a port of MaskBuilder::Start
 // and MaskBuilder::Visit of vtkPenumbraGearsShadows.cxx in double precision with the same

@@ -1,6 +1,7 @@
 //VTK::System::Dec
 //VTK::Output::Dec
-// Woo's midpoint map (seed 004 ch. 4.1.1) on the GPU: the depth written is the mean of the
+// Woo's midpoint map (Brabec, "Shadow Techniques for Interactive and Real-Time Applications", PhD
+// thesis, 2003, §4.1.1) on the GPU: the depth written is the mean of the
 // first two depth-peeled layers (the far value 1 where there is no second surface), so the
 // GPU lookup compares against the same map the CPU lookup builds.
 in vec2 texCoord;

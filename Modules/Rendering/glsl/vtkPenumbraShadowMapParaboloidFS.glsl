@@ -1,6 +1,7 @@
 //VTK::System::Dec
 //VTK::Output::Dec
-// Dual-paraboloid shadow map, fragment stage (seed 004 ch. 6): the depth is exact per pixel.
+// Dual-paraboloid shadow map, fragment stage (Brabec, "Shadow Techniques for Interactive and
+// Real-Time Applications", PhD thesis, 2003, ch. 6): the depth is exact per pixel.
 // The texel centre is mapped back to its direction d (inverse paraboloid) and the stored
 // value is the distance along d to the plane of the triangle being drawn, over Far; the
 // interpolated vertex distance (inexact inside a triangle) is only the fallback for planes

@@ -1,5 +1,6 @@
 //VTK::System::Dec
-// Dual-paraboloid shadow map, vertex stage (seed 004 ch. 6). Vertices arrive relative to the
+// Dual-paraboloid shadow map, vertex stage (Brabec, "Shadow Techniques for Interactive and
+// Real-Time Applications", PhD thesis, 2003, ch. 6). Vertices arrive relative to the
 // light in the hemisphere's frame (+z = the hemisphere's axis), already clipped to z >= 0 and
 // tessellated on the CPU, so the straight rasterized edges follow the curved images of the
 // triangle edges closely and nothing near the z -> -1 singularity is ever mapped.

@@ -1,13 +1,14 @@
 //VTK::System::Dec
-// GPU silhouettes and extrusion in one geometry stage (seed 004 ch. 9; the note's
-// SV-SIL-GPU-GSADJ): each triangle of a closed, outward-oriented component arrives with its
+// GPU silhouettes and extrusion in one geometry stage (Brabec, "Shadow Techniques for Interactive
+// and Real-Time Applications", PhD thesis, 2003, ch. 9, done as one geometry shader with
+// adjacency): each triangle of a closed, outward-oriented component arrives with its
 // three neighbours' opposite vertices (GL_TRIANGLES_ADJACENCY). A light-facing triangle emits
 // its light cap (pushed back by capScale, see the volume vertex stage), its dark cap, and a
 // side quad for every edge whose neighbour is not light-facing.
 //
-// Facing must be one decision per face, shared by both invocations that look at it (seed 004
-// §8.3): it is evaluated with the face rotated so that its smallest vertex index comes first,
-// so both invocations run the same expression on the same inputs. Ties count as back-facing.
+// Facing must be one decision per face, shared by both invocations that look at it (so caps
+// and sides agree): it is evaluated with the face rotated so that its smallest vertex index comes
+// first, so both invocations run the same expression on the same inputs. Ties count as back-facing.
 layout(triangles_adjacency) in;
 layout(triangle_strip, max_vertices = 18) out;
 

@@ -1,7 +1,8 @@
 //VTK::System::Dec
-// Stencil shadow volumes, vertex stage (seed 004 ch. 3, 8): volume vertices in the geometry's
+// Stencil shadow volumes, vertex stage (Brabec, "Shadow Techniques for Interactive and Real-Time
+// Applications", PhD thesis, 2003, ch. 3, 8): volume vertices in the geometry's
 // rebased frame; a positional light's extruded copies are homogeneous with a small w (far
-// beyond every sample, see PositionalFarW; GL_DEPTH_CLAMP keeps them, seed 004 §2.7 probe).
+// beyond every sample, see PositionalFarW; GL_DEPTH_CLAMP keeps them).
 // worldToClip uses a reversed depth (near = 1, far / infinity = 0, glClipControl zero-to-one)
 // so that float32 depth keeps the same relative precision at every distance.
 // capScale < 1 pushes light caps back by that relative eye depth: a sample lying on a caster's

@@ -1,5 +1,6 @@
-// vtkPenumbraConservativeShadows (seed 000) against the exact reference on the same view
-// samples: zero mismatches outside reference ties for directional, spot and point lights on
+// vtkPenumbraConservativeShadows (Hertel, Hormann, Westermann, "A Hybrid GPU Rendering Pipeline for
+// Alias-Free Hard Shadows", Eurographics 2009 Areas Papers) against the exact reference on the same
+// view samples: zero mismatches outside reference ties for directional, spot and point lights on
 // a plane with a thin occluder, on the default city scene and on the torture scenes; a wire
 // thinner than one shadow-map texel still casts its full shadow; the counters add up; rays
 // are traced only for uncertain samples; unchanged geometry is not uploaded again and

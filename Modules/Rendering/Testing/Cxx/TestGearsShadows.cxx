@@ -1,4 +1,6 @@
-// vtkPenumbraGearsShadows (seed 002) against the exact reference on the same view samples:
+// vtkPenumbraGearsShadows (Wang, Wang, Shi, Popescu, "GEARS: A General and Efficient Algorithm for
+// Rendering Shadows", Computer Graphics Forum 33(6), 2014) against the exact reference on the same
+// view samples:
 // - k x k masks bit-identical to the reference's ray cast (vtkPenumbraReference::
 //   ComputeAreaMasks) for k = 4, 8, 16 on the area-light scene (rectangle and line lights),
 //   visibility identical for every sample outside reference ties, few samples handed back to

@@ -1,4 +1,5 @@
-// vtkPenumbraShadowMapShadows (seed 004 ch. 4-6) against the exact reference on the same view
+// vtkPenumbraShadowMapShadows (Brabec, "Shadow Techniques for Interactive and Real-Time
+// Applications", PhD thesis, 2003, ch. 4-6) against the exact reference on the same view
 // samples: the mismatch rate falls as the map resolution rises and is small at 4096^2; a
 // point light inside a closed room shadows every visible face with cube and dual-paraboloid
 // maps; a wide window agrees with a square one; a PBR receiver is darkened; the paraboloid
@@ -220,7 +221,7 @@ int CheckLookupsAgree()
   return EXIT_SUCCESS;
 }
 
-// The mismatch rate falls as the resolution rises (seed 004: aliasing shrinks with the texel).
+// The mismatch rate falls as the resolution rises (Brabec 2003: aliasing shrinks with the texel).
 int CheckResolutionSeries()
 {
   const int resolutions[] = { 256, 1024, 4096 };

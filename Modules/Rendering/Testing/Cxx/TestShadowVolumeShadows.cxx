@@ -1,4 +1,5 @@
-// vtkPenumbraShadowVolumeShadows (seed 004 ch. 3, 8, 9) against the exact reference on the
+// vtkPenumbraShadowVolumeShadows (Brabec, "Shadow Techniques for Interactive and Real-Time
+// Applications", PhD thesis, 2003, ch. 3, 8, 9) against the exact reference on the
 // same view samples: zero mismatches outside reference ties for directional, spot and point
 // lights on closed, open, non-manifold and partly flipped meshes, with silhouette and
 // per-triangle volumes, z-fail and z-pass; a camera inside a shadow volume stays exact with
@@ -570,7 +571,7 @@ int CheckCaching()
   return EXIT_SUCCESS;
 }
 
-// A goniometric light (seed 004 §8.3.1) from Data/Lights/spot_pattern.gonio over the ground
+// A goniometric light (Brabec 2003, §8.3.1) from Data/Lights/spot_pattern.gonio over the ground
 // and a box, shadowed by volumes and by two other techniques: the visibility is exactly the
 // reference's (the light is a point light to every technique), and the light factor the
 // shadow pass shades with is the diagram's relative intensity on every lit sample, which for
@@ -670,7 +671,7 @@ int CheckGoniometric()
   return EXIT_SUCCESS;
 }
 
-// Seed 004 ch. 8: six lights of all three kinds plus a black one share two RGBA masks;
+// Brabec 2003, ch. 8: six lights of all three kinds plus a black one share two RGBA masks;
 // one light per mask gives the same visibility bit for bit; every light is exact.
 int CheckMultiLightMasks()
 {
