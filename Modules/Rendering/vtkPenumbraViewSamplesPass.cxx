@@ -4,6 +4,8 @@
 #include "vtkCamera.h"
 #include "vtkInformation.h"
 #include "vtkOpenGLActor.h"
+#include "vtkOpenGLCamera.h"
+#include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
@@ -30,8 +32,142 @@
 #include "vtkPenumbraViewSamplesDec.h"
 #include "vtkPenumbraViewSamplesImpl.h"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <vector>
+
+namespace
+{
+// Binds a framebuffer for reading and packs rows tightly; restores both on exit.
+class ScopedReadFramebuffer
+{
+public:
+  ScopedReadFramebuffer(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo)
+    : State(state)
+  {
+    this->State->PushFramebufferBindings();
+    fbo->Bind();
+    glGetIntegerv(GL_PACK_ALIGNMENT, &this->PackAlignment);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  }
+  ~ScopedReadFramebuffer()
+  {
+    glPixelStorei(GL_PACK_ALIGNMENT, this->PackAlignment);
+    this->State->PopFramebufferBindings();
+  }
+  ScopedReadFramebuffer(const ScopedReadFramebuffer&) = delete;
+  void operator=(const ScopedReadFramebuffer&) = delete;
+
+private:
+  vtkOpenGLState* State;
+  GLint PackAlignment = 4;
+};
+
+// Prop index of a primitive-target texel (x, y: primitive id halves, z: prop, w: valid).
+inline int SamplePropIndex(const float* t)
+{
+  return (t[3] > 0.5f && t[2] >= 0.0f) ? static_cast<int>(t[2]) : -1;
+}
+
+inline vtkIdType SamplePrimitiveId(const float* t)
+{
+  return static_cast<vtkIdType>(t[0]) + (static_cast<vtkIdType>(t[1]) << 16);
+}
+
+inline double Dot(const double a[3], const double b[3])
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+// The point of triangle (a, b, c) closest to p, a point of its plane (Ericson, "Real-Time
+// Collision Detection", 2005, section 5.1.5), for intersections that the rasterizer's
+// snapped vertices put a hair outside the exact triangle.
+void ClosestPointOnTriangle(
+  const double a[3], const double b[3], const double c[3], const double p[3], double out[3])
+{
+  double ab[3], ac[3], ap[3], bp[3], cp[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    ab[k] = b[k] - a[k];
+    ac[k] = c[k] - a[k];
+    ap[k] = p[k] - a[k];
+    bp[k] = p[k] - b[k];
+    cp[k] = p[k] - c[k];
+  }
+  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap), d3 = Dot(ab, bp), d4 = Dot(ac, bp);
+  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
+  const double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
+  double u = 0.0, v = 0.0; // out = a + u ab + v ac
+  if (d1 <= 0.0 && d2 <= 0.0)
+  {
+  }
+  else if (d3 >= 0.0 && d4 <= d3)
+  {
+    u = 1.0;
+  }
+  else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
+  {
+    u = d1 / (d1 - d3);
+  }
+  else if (d6 >= 0.0 && d5 <= d6)
+  {
+    v = 1.0;
+  }
+  else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
+  {
+    v = d2 / (d2 - d6);
+  }
+  else if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+  {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    u = 1.0 - w;
+    v = w;
+  }
+  else
+  {
+    std::copy(p, p + 3, out); // inside: the plane point itself
+    return;
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    out[k] = a[k] + u * ab[k] + v * ac[k];
+  }
+}
+
+// Rebuilds one sample from its triangle (three rebased double vertices) and the camera ray
+// through the pixel centre (origin o, direction d, rebased). Returns false when the triangle
+// has no normal or the ray runs parallel to its plane: the intersection is then undefined.
+bool RebuildSample(const double* v, const double o[3], const double d[3], float pos[3],
+  float nrm[3])
+{
+  const double e1[3] = { v[3] - v[0], v[4] - v[1], v[5] - v[2] };
+  const double e2[3] = { v[6] - v[0], v[7] - v[1], v[8] - v[2] };
+  double n[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+    e1[0] * e2[1] - e1[1] * e2[0] };
+  const double len = std::sqrt(Dot(n, n));
+  const double denom = Dot(n, d);
+  // 1e-12: the geometry's own zero-area rule, here on the angle between ray and plane.
+  if (!(len > 0.0) || !std::isfinite(len) ||
+    !(std::fabs(denom) > 1e-12 * len * std::sqrt(Dot(d, d))))
+  {
+    return false;
+  }
+  const double toV0[3] = { v[0] - o[0], v[1] - o[1], v[2] - o[2] };
+  const double t = Dot(n, toV0) / denom;
+  const double hit[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
+  double onTriangle[3];
+  ClosestPointOnTriangle(v, v + 3, v + 6, hit, onTriangle);
+  // Turned toward the camera, as the shader does: against the ray's direction.
+  const double sign = denom > 0.0 ? -1.0 / len : 1.0 / len;
+  for (int k = 0; k < 3; ++k)
+  {
+    pos[k] = static_cast<float>(onTriangle[k]);
+    nrm[k] = static_cast<float>(sign * n[k]);
+  }
+  return true;
+}
+}
 
 struct vtkPenumbraViewSamplesPass::Internals
 {
@@ -47,6 +183,8 @@ struct vtkPenumbraViewSamplesPass::Internals
   // Read-back buffers, kept between frames: allocating the 48 bytes per pixel afresh each
   // frame (44 MB at 1280 x 720) cost 40-80 ms of page faults per frame on the test machine.
   std::vector<float> ReadBuffers[3];
+  std::vector<unsigned char> Fallback; // per sample: keeps the G-buffer's position
+  vtkIdType NumberOfFallbacks = 0;
   // The last Render(): size, frames, and whether Samples still holds an older frame.
   int Width = 0, Height = 0;
   double Origin[3] = { 0, 0, 0 };
@@ -58,6 +196,47 @@ struct vtkPenumbraViewSamplesPass::Internals
   float CameraRebased[3] = { 0, 0, 0 };
   float ViewDirection[3] = { 0, 0, -1 };
   int Parallel = 0;
+  // Normalized device coordinates -> rebased world (homogeneous, row-major), in double: a
+  // pixel centre's camera ray for rebuilding positions from triangles.
+  double NDCToRebased[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+
+  // The camera ray through the centre of pixel (x, y): from the near to the far plane.
+  void PixelRay(int x, int y, double o[3], double d[3]) const
+  {
+    const double nx = 2.0 * (x + 0.5) / this->Width - 1.0;
+    const double ny = 2.0 * (y + 0.5) / this->Height - 1.0;
+    double ends[2][3];
+    for (int e = 0; e < 2; ++e)
+    {
+      const double ndc[4] = { nx, ny, e == 0 ? -1.0 : 1.0, 1.0 };
+      double h[4];
+      for (int r = 0; r < 4; ++r)
+      {
+        const double* m = this->NDCToRebased + 4 * r;
+        h[r] = m[0] * ndc[0] + m[1] * ndc[1] + m[2] * ndc[2] + m[3] * ndc[3];
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        ends[e][k] = h[k] / h[3];
+      }
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      o[k] = ends[0][k];
+      d[k] = ends[1][k] - ends[0][k];
+    }
+  }
+
+  void ReadRows(int attachment, int firstRow, int rows, float* out)
+  {
+    this->FBO->ActivateReadBuffer(attachment);
+    glReadPixels(0, firstRow, this->Width, rows, GL_RGBA, GL_FLOAT, out);
+  }
+
+  void ComputeNDCToRebased(vtkRenderer* ren, vtkMatrix4x4* vcToRebased);
+  bool UnpackGBuffer(vtkPenumbraViewSamples* target, vtkIdType first);
+  void RebuildFromTriangles(vtkPenumbraViewSamples* target, vtkIdType first);
+  void ReadFallbacks(vtkPenumbraViewSamples* target, vtkIdType first);
 
   void Allocate(vtkOpenGLRenderWindow* win, int w, int h)
   {
@@ -194,6 +373,9 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
     impl.ViewDirection[c] = static_cast<float>(dop[c]);
   }
   impl.Parallel = cam->GetParallelProjection() ? 1 : 0;
+  impl.Width = w;
+  impl.Height = h;
+  impl.ComputeNDCToRebased(ren, vcToWorld);
 
   vtkOpenGLState* ostate = win->GetState();
   vtkOpenGLState::ScopedglEnableDisable blendSaver(ostate, GL_BLEND);
@@ -257,8 +439,6 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
   }
   this->PostRender(s);
 
-  impl.Width = w;
-  impl.Height = h;
   std::copy(origin, origin + 3, impl.Origin);
   std::copy(camPos, camPos + 3, impl.CameraPosition);
   impl.Stale = true;
@@ -292,43 +472,193 @@ bool vtkPenumbraViewSamplesPass::ReadSamples(vtkPenumbraViewSamples* target, int
   target->SetOrigin(impl.Origin);
   target->SetCameraPosition(impl.CameraPosition);
   const vtkIdType n = static_cast<vtkIdType>(w) * h;
-  std::vector<float>* buffers = impl.ReadBuffers;
-  vtkOpenGLState* ostate = win->GetState();
-  ostate->PushFramebufferBindings();
-  impl.FBO->Bind();
-  for (int a = 0; a < 3; ++a)
-  {
-    buffers[a].resize(static_cast<size_t>(n) * 4);
-    impl.FBO->ActivateReadBuffer(a);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, buffers[a].data());
-  }
-  ostate->PopFramebufferBindings();
   const vtkIdType first = static_cast<vtkIdType>(firstRow) * w;
+  impl.NumberOfFallbacks = 0;
+  if (this->ReadBackMode == READ_BACK_POSITIONS)
+  {
+    ScopedReadFramebuffer bound(win->GetState(), impl.FBO);
+    for (int a = 0; a < 3; ++a)
+    {
+      impl.ReadBuffers[a].resize(static_cast<size_t>(n) * 4);
+      impl.ReadRows(a, 0, h, impl.ReadBuffers[a].data());
+    }
+  }
+  else
+  {
+    ScopedReadFramebuffer bound(win->GetState(), impl.FBO);
+    impl.ReadBuffers[2].resize(static_cast<size_t>(n) * 4);
+    impl.ReadRows(2, 0, h, impl.ReadBuffers[2].data());
+  }
+  if (this->ReadBackMode == READ_BACK_POSITIONS)
+  {
+    impl.UnpackGBuffer(target, first);
+  }
+  else
+  {
+    impl.RebuildFromTriangles(target, first);
+    impl.ReadFallbacks(target, first);
+  }
+  target->Modified();
+  return true;
+}
+
+vtkIdType vtkPenumbraViewSamplesPass::GetNumberOfFallbackSamples()
+{
+  return this->Impl->NumberOfFallbacks;
+}
+
+void vtkPenumbraViewSamplesPass::Internals::ComputeNDCToRebased(
+  vtkRenderer* ren, vtkMatrix4x4* vcToRebased)
+{
+  // The projection the mappers drew with: vtkOpenGLCamera's key matrices (stored transposed
+  // for OpenGL) include the renderer's aspect corrections and tiling.
+  vtkNew<vtkMatrix4x4> vcToNDC;
+  auto* glCam = vtkOpenGLCamera::SafeDownCast(ren->GetActiveCamera());
+  if (glCam)
+  {
+    vtkMatrix4x4 *wcvc = nullptr, *vcdc = nullptr, *wcdc = nullptr;
+    vtkMatrix3x3* normals = nullptr;
+    glCam->GetKeyMatrices(ren, wcvc, normals, vcdc, wcdc);
+    vtkMatrix4x4::Transpose(vcdc, vcToNDC);
+  }
+  else
+  {
+    vcToNDC->DeepCopy(ren->GetActiveCamera()->GetProjectionTransformMatrix(
+      static_cast<double>(this->Width) / this->Height, -1.0, 1.0));
+  }
+  vtkNew<vtkMatrix4x4> ndcToVC;
+  vtkMatrix4x4::Invert(vcToNDC, ndcToVC);
+  vtkNew<vtkMatrix4x4> ndcToRebased;
+  vtkMatrix4x4::Multiply4x4(vcToRebased, ndcToVC, ndcToRebased);
+  std::copy(&ndcToRebased->Element[0][0], &ndcToRebased->Element[0][0] + 16, this->NDCToRebased);
+}
+
+// READ_BACK_POSITIONS: every array comes from the three float32 targets.
+bool vtkPenumbraViewSamplesPass::Internals::UnpackGBuffer(
+  vtkPenumbraViewSamples* target, vtkIdType first)
+{
+  const vtkIdType n = static_cast<vtkIdType>(this->Width) * this->Height;
   float* pos = target->GetPositions()->GetPointer(3 * first);
   float* nrm = target->GetNormals()->GetPointer(3 * first);
   int* props = target->GetPropIndices()->GetPointer(first);
   vtkIdType* tris = target->GetTriangleIds()->GetPointer(first);
-  vtkPenumbraSceneGeometry* geometry = impl.Geometry;
+  vtkPenumbraSceneGeometry* geometry = this->Geometry;
+  const std::vector<float>* buffers = this->ReadBuffers;
   vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType i = begin; i < end; ++i)
     {
       const float* p = &buffers[0][static_cast<size_t>(4 * i)];
       const float* q = &buffers[1][static_cast<size_t>(4 * i)];
       const float* t = &buffers[2][static_cast<size_t>(4 * i)];
-      const int prop = (p[3] > 0.5f && q[3] >= 0.0f) ? static_cast<int>(q[3]) : -1;
+      const int prop = SamplePropIndex(t);
       props[i] = prop;
       for (int c = 0; c < 3; ++c)
       {
         pos[3 * i + c] = p[c];
         nrm[3 * i + c] = q[c];
       }
-      const vtkIdType prim = static_cast<vtkIdType>(t[0]) + (static_cast<vtkIdType>(t[1]) << 16);
-      tris[i] = prop >= 0 ? geometry->MapPrimitiveId(prop, prim) : -1; // read-only lookup
+      tris[i] = prop >= 0 ? geometry->MapPrimitiveId(prop, SamplePrimitiveId(t)) : -1;
     }
   });
-  target->Modified();
   return true;
+}
+
+// READ_BACK_IDS: ids from the primitive target, position and normal from the triangle and
+// the pixel's camera ray in double precision. Samples that cannot be rebuilt are flagged in
+// Fallback for ReadFallbacks().
+void vtkPenumbraViewSamplesPass::Internals::RebuildFromTriangles(
+  vtkPenumbraViewSamples* target, vtkIdType first)
+{
+  const int w = this->Width;
+  const vtkIdType n = static_cast<vtkIdType>(w) * this->Height;
+  this->Fallback.assign(static_cast<size_t>(n), 0);
+  float* pos = target->GetPositions()->GetPointer(3 * first);
+  float* nrm = target->GetNormals()->GetPointer(3 * first);
+  int* props = target->GetPropIndices()->GetPointer(first);
+  vtkIdType* tris = target->GetTriangleIds()->GetPointer(first);
+  vtkPenumbraSceneGeometry* geometry = this->Geometry;
+  const double* vertices = geometry->GetVertices()->GetPointer(0);
+  const std::vector<float>& ids = this->ReadBuffers[2];
+  unsigned char* fallback = this->Fallback.data();
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const float* t = &ids[static_cast<size_t>(4 * i)];
+      const int prop = SamplePropIndex(t);
+      const vtkIdType tri =
+        prop >= 0 ? geometry->MapPrimitiveId(prop, SamplePrimitiveId(t)) : -1;
+      props[i] = prop;
+      tris[i] = tri;
+      std::fill(pos + 3 * i, pos + 3 * i + 3, 0.0f);
+      std::fill(nrm + 3 * i, nrm + 3 * i + 3, 0.0f);
+      if (prop < 0)
+      {
+        continue;
+      }
+      double o[3], d[3];
+      this->PixelRay(static_cast<int>(i % w), static_cast<int>(i / w), o, d);
+      if (tri < 0 || !RebuildSample(vertices + 9 * tri, o, d, pos + 3 * i, nrm + 3 * i))
+      {
+        fallback[i] = 1;
+      }
+    }
+  });
+}
+
+// The flagged samples keep the G-buffer's float32 position and normal: the rows holding
+// them are read from the position and normal targets, in runs of consecutive rows.
+void vtkPenumbraViewSamplesPass::Internals::ReadFallbacks(
+  vtkPenumbraViewSamples* target, vtkIdType first)
+{
+  const int w = this->Width, h = this->Height;
+  std::vector<char> rowNeeded(static_cast<size_t>(h), 0);
+  for (int y = 0; y < h; ++y)
+  {
+    const unsigned char* row = this->Fallback.data() + static_cast<size_t>(y) * w;
+    const vtkIdType count = std::count(row, row + w, static_cast<unsigned char>(1));
+    rowNeeded[y] = count > 0;
+    this->NumberOfFallbacks += count;
+  }
+  if (this->NumberOfFallbacks == 0)
+  {
+    return;
+  }
+  float* pos = target->GetPositions()->GetPointer(3 * first);
+  float* nrm = target->GetNormals()->GetPointer(3 * first);
+  auto* win = vtkOpenGLRenderWindow::SafeDownCast(this->FBO->GetContext());
+  ScopedReadFramebuffer bound(win->GetState(), this->FBO);
+  for (int a = 0; a < 2; ++a)
+  {
+    this->ReadBuffers[a].resize(static_cast<size_t>(w) * h * 4);
+  }
+  for (int y0 = 0; y0 < h;)
+  {
+    if (!rowNeeded[y0])
+    {
+      ++y0;
+      continue;
+    }
+    int y1 = y0;
+    while (y1 < h && rowNeeded[y1])
+    {
+      ++y1;
+    }
+    const size_t offset = static_cast<size_t>(y0) * w * 4;
+    this->ReadRows(0, y0, y1 - y0, this->ReadBuffers[0].data() + offset);
+    this->ReadRows(1, y0, y1 - y0, this->ReadBuffers[1].data() + offset);
+    for (vtkIdType i = static_cast<vtkIdType>(y0) * w; i < static_cast<vtkIdType>(y1) * w; ++i)
+    {
+      if (this->Fallback[i])
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          pos[3 * i + c] = this->ReadBuffers[0][static_cast<size_t>(4 * i + c)];
+          nrm[3 * i + c] = this->ReadBuffers[1][static_cast<size_t>(4 * i + c)];
+        }
+      }
+    }
+    y0 = y1;
+  }
 }
 
 bool vtkPenumbraViewSamplesPass::PreReplaceShaderValues(std::string&, std::string&,
@@ -370,7 +700,7 @@ bool vtkPenumbraViewSamplesPass::PostReplaceShaderValues(std::string&, std::stri
     vtkShaderProgram::Substitute(fragmentShader, "//PENUMBRA::Samples::Dec", "", false);
     vtkShaderProgram::Substitute(fragmentShader, "//PENUMBRA::Samples::Impl",
       "  gl_FragData[0] = vec4(0.0);\n  gl_FragData[1] = vec4(0.0, 0.0, 0.0, -1.0);\n"
-      "  gl_FragData[2] = vec4(0.0);\n",
+      "  gl_FragData[2] = vec4(0.0, 0.0, -1.0, 0.0);\n",
       false);
   }
   return true;
@@ -432,4 +762,6 @@ void vtkPenumbraViewSamplesPass::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Translucent: " << this->Translucent << "\n";
+  os << indent << "ReadBackMode: "
+     << (this->ReadBackMode == READ_BACK_IDS ? "IDS" : "POSITIONS") << "\n";
 }

@@ -12,8 +12,11 @@
  *
  * The samples stay on the GPU as textures. GetSamples() reads them back into a
  * vtkPenumbraViewSamples for CPU techniques and for the exact reference, once per Render()
- * and only when asked. Props that do not receive shadows (vtkPenumbraShadowKeys) occlude but
- * give no sample (prop index -1).
+ * and only when asked. By default (ReadBackMode IDS) only the prop index and primitive id
+ * are read, and each sample's position and normal are rebuilt in double precision from its
+ * triangle and the pixel centre's camera ray (see SetReadBackMode()).
+ * Props that do not receive shadows (vtkPenumbraShadowKeys) occlude but give no sample
+ * (prop index -1).
  *
  * Props whose shader has no view-space position (lighting turned off) still occlude but give
  * invalid samples (they receive no light, so no shadow either).
@@ -63,6 +66,42 @@ public:
   ///@}
 
   /**
+   * What ReadSamples() reads back from the GPU.
+   */
+  enum ReadBackModes
+  {
+    /// All three targets (48 bytes per pixel): float32 positions and normals as rendered.
+    READ_BACK_POSITIONS = 0,
+    /// The primitive target only (16 bytes per pixel): prop index and primitive id. The
+    /// position is the intersection of the pixel centre's camera ray (x + 0.5, y + 0.5) with
+    /// the plane of the sample's triangle, computed in double from the geometry's rebased
+    /// triangles and clamped to the triangle, then stored as float relative to the origin;
+    /// the normal is the triangle's unit normal turned toward the camera. Samples that have
+    /// no triangle to rebuild from (MapPrimitiveId() gives -1, e.g. composite inputs), whose
+    /// triangle has no normal (zero area), or whose ray is parallel to the triangle's plane
+    /// keep the G-buffer's float32 position and normal: those rows are read as in
+    /// READ_BACK_POSITIONS (see GetNumberOfFallbackSamples()).
+    READ_BACK_IDS = 1
+  };
+
+  ///@{
+  /**
+   * What ReadSamples() reads back (ReadBackModes). Default READ_BACK_IDS: a third of the
+   * bytes, and positions exact to double precision before rounding to float.
+   */
+  vtkSetClampMacro(ReadBackMode, int, READ_BACK_POSITIONS, READ_BACK_IDS);
+  vtkGetMacro(ReadBackMode, int);
+  void SetReadBackModeToPositions() { this->SetReadBackMode(READ_BACK_POSITIONS); }
+  void SetReadBackModeToIds() { this->SetReadBackMode(READ_BACK_IDS); }
+  ///@}
+
+  /**
+   * Number of valid samples of the last ReadSamples() in READ_BACK_IDS mode that kept the
+   * G-buffer's float position and normal (see READ_BACK_IDS); 0 in READ_BACK_POSITIONS mode.
+   */
+  vtkIdType GetNumberOfFallbackSamples();
+
+  /**
    * The samples of the last Render(), read back from the GPU at the first call after it
    * (the window's context is made current).
    */
@@ -78,7 +117,9 @@ public:
   ///@{
   /**
    * GPU copies of the last Render(): RGBA32F position (xyz, w = 1 where valid), RGBA32F
-   * normal (xyz) with the prop index in w, RGBA32F primitive id as two exact 16-bit halves.
+   * normal (xyz) with the prop index in w, RGBA32F primitive id as two exact 16-bit halves
+   * (x low, y high) with the prop index in z (-1: no sample) and w = 1 where valid, so that
+   * this one target identifies the surface.
    */
   vtkTextureObject* GetPositionTexture();
   vtkTextureObject* GetNormalTexture();
@@ -101,6 +142,7 @@ protected:
   ~vtkPenumbraViewSamplesPass() override;
 
   bool Translucent = false;
+  int ReadBackMode = READ_BACK_IDS;
 
 private:
   vtkPenumbraViewSamplesPass(const vtkPenumbraViewSamplesPass&) = delete;
