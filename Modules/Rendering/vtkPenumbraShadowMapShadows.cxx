@@ -231,8 +231,9 @@ void MergeExtent(const TileOutputs& data, int tiles, ReceiverExtent& e)
 // Fits to the per-view tile boxes (vtkPenumbraShadowMapTilesFS) that may hold a receiver of a
 // directional or spot light: every tile with a surface, less, for a directional light, those
 // whose normals all face away from it (interval bounds with a margin above float rounding).
-// A tile counts with the 8 corners of its position box, a superset of its samples, so the
-// fit covers every receiver.
+// A tile counts with its whole position box, a superset of its samples, so the fit covers
+// every receiver. Tiles of 4 x 4 samples: 8 x 8 ones widened the fit enough to raise the
+// city's mismatch at 2048^2 from 2.4e-4 to 3.3e-4 (boxes spanning depth discontinuities).
 void ExtentFromTiles(const LightSetup& setup, const TileOutputs& data, int tiles, ReceiverExtent& e)
 {
   double axes[3][3];
@@ -264,6 +265,29 @@ void ExtentFromTiles(const LightSetup& setup, const TileOutputs& data, int tiles
       }
     }
     pending += static_cast<vtkIdType>(count);
+    if (setup.Type == LightSetup::Kind::Directional)
+    {
+      // Linear in the box: its centre's projection +- the half extents' projections.
+      e.Used[0] = 1;
+      double centre[3], half[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        centre[c] = 0.5 * (static_cast<double>(lo[4 * i + c]) + hi[4 * i + c]);
+        half[c] = 0.5 * (static_cast<double>(hi[4 * i + c]) - lo[4 * i + c]);
+        e.Box[2 * c] = std::min(e.Box[2 * c], static_cast<double>(lo[4 * i + c]));
+        e.Box[2 * c + 1] = std::max(e.Box[2 * c + 1], static_cast<double>(hi[4 * i + c]));
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        const double mid = vtkMath::Dot(centre, axes[a]);
+        const double reach = std::fabs(half[0] * axes[a][0]) + std::fabs(half[1] * axes[a][1]) +
+          std::fabs(half[2] * axes[a][2]);
+        e.Lo[a] = std::min(e.Lo[a], mid - reach);
+        e.Hi[a] = std::max(e.Hi[a], mid + reach);
+      }
+      continue;
+    }
+    // A spot's tangent is linear-fractional in the box: its maximum is at a corner.
     for (int corner = 0; corner < 8; ++corner)
     {
       const double p[3] = { (corner & 1) ? hi[4 * i] : lo[4 * i],
@@ -271,7 +295,7 @@ void ExtentFromTiles(const LightSetup& setup, const TileOutputs& data, int tiles
       AddReceiver(setup, axes, SlotsOne, p, e);
       const double q[3] = { p[0] - setup.Position[0], p[1] - setup.Position[1],
         p[2] - setup.Position[2] };
-      behind = behind || (setup.Type == LightSetup::Kind::Spot && !(vtkMath::Dot(q, axes[2]) > 0.0));
+      behind = behind || !(vtkMath::Dot(q, axes[2]) > 0.0);
     }
   }
   e.Pending = before + pending;
@@ -283,7 +307,7 @@ void ExtentFromTiles(const LightSetup& setup, const TileOutputs& data, int tiles
   }
 }
 
-constexpr int Tile = 8; // samples per side of a tile box (vtkPenumbraShadowMapTilesFS)
+constexpr int Tile = 4; // samples per side of a tile box (see ExtentFromTiles)
 
 int TileCount(int width, int height)
 {
