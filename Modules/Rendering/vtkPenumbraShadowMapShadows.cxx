@@ -29,6 +29,7 @@
 #include "vtkPenumbraShadowMapExtentFS.h"
 #include "vtkPenumbraShadowMapFS.h"
 #include "vtkPenumbraShadowMapFrameFS.h"
+#include "vtkPenumbraShadowMapTileSample.h"
 #include "vtkPenumbraShadowMapTilesFS.h"
 #include "vtkPenumbraShadowMapLookupFS.h"
 #include "vtkPenumbraShadowMapMidpointFS.h"
@@ -220,11 +221,8 @@ void MergeExtent(const TileOutputs& data, int tiles, ReceiverExtent& e)
     {
       e.Box[2 * c] = std::min(e.Box[2 * c], static_cast<double>(t0[4 * i + c]));
       e.Box[2 * c + 1] = std::max(e.Box[2 * c + 1], static_cast<double>(t1[4 * i + c]));
-      e.Lo[c] = std::min(e.Lo[c], static_cast<double>(t2[4 * i + c]));
-      e.Hi[c] = std::max(e.Hi[c], static_cast<double>(t3[4 * i + c]));
     }
     e.Farthest = std::max(e.Farthest, static_cast<double>(t0[4 * i + 3]));
-    e.SpotTan = std::max(e.SpotTan, static_cast<double>(t1[4 * i + 3]));
   }
 }
 
@@ -374,6 +372,7 @@ std::string ComposeShader(const char* source)
   vtkShaderProgram::Substitute(fs, "//VTK::System::Dec",
     "//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n", false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Classify", vtkPenumbraShadowMapClassify, false);
+  vtkShaderProgram::Substitute(fs, "//PENUMBRA::TileSample", vtkPenumbraShadowMapTileSample, false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Compare", vtkPenumbraShadowMapCompare, false);
   return fs;
 }
@@ -1664,8 +1663,8 @@ bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapSh
     {
       if (!this->TilesQuad)
       {
-        this->TilesQuad.reset(
-          new vtkOpenGLQuadHelper(win, nullptr, vtkPenumbraShadowMapTilesFS, ""));
+        this->TilesQuad.reset(new vtkOpenGLQuadHelper(
+          win, nullptr, ComposeShader(vtkPenumbraShadowMapTilesFS).c_str(), ""));
       }
       if (!this->TilePass(frame, *this->TilesQuad, [](vtkShaderProgram*) {}, this->TileData))
       {
@@ -1691,13 +1690,10 @@ bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapSh
     const float position[3] = { static_cast<float>(setup.Position[0]),
       static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
     program->SetUniform3f("lightPosition", position);
-    program->SetUniform3f("fPosition", position);
-    SetClassifyUniforms(program, setup, true);
   };
   if (!this->TilePass(frame, *this->ExtentQuad, uniforms, this->ExtentData))
   {
-    error = "the receiver-extent program does not compile on this OpenGL implementation "
-            "(double precision, GL_ARB_gpu_shader_fp64, is required)";
+    error = "the receiver-extent program does not compile on this OpenGL implementation";
     return false;
   }
   for (const TileOutputs& layer : this->ExtentData)

@@ -4,15 +4,13 @@
 // touching every sample again when only a light moves: each fragment reduces a tile x tile
 // block of samples with a surface to the bounding box of their positions and of their
 // normals. It does not depend on any light, so it is computed once per view; the CPU then
-// fits each light's view to the tiles that may face it (a superset of the receivers).
+// fits each directional or spot light's view to the tiles that may face it (a superset of
+// its receivers).
 // Out 0: position min xyz, number of samples; out 1: position max xyz;
 // out 2: normal min xyz; out 3: normal max xyz.
 in vec2 texCoord;
 
-uniform sampler2D samplePositions; // xyz rebased, w = 1 where a surface was seen
-uniform sampler2D sampleNormals;   // xyz facet normal toward the camera, w = prop (-1: none)
-uniform ivec2 sampleSize;
-uniform int tile;
+//PENUMBRA::TileSample
 
 void main()
 {
@@ -22,28 +20,20 @@ void main()
   vec3 normalMin = vec3(big);
   vec3 normalMax = vec3(-big);
   int count = 0;
-  ivec2 base = ivec2(gl_FragCoord.xy) * tile;
   for (int j = 0; j < tile; ++j)
   {
     for (int i = 0; i < tile; ++i)
     {
-      ivec2 cell = base + ivec2(i, j);
-      if (cell.x >= sampleSize.x || cell.y >= sampleSize.y)
+      vec3 p;
+      vec3 n;
+      if (penumbraTileSample(i, j, p, n))
       {
-        continue;
+        ++count;
+        boxMin = min(boxMin, p);
+        boxMax = max(boxMax, p);
+        normalMin = min(normalMin, n);
+        normalMax = max(normalMax, n);
       }
-      vec4 position = texelFetch(samplePositions, cell, 0);
-      vec4 normal = texelFetch(sampleNormals, cell, 0);
-      if (position.w < 0.5 || normal.w < 0.0 || any(isnan(position.xyz)) ||
-        any(isinf(position.xyz)) || any(isnan(normal.xyz)) || any(isinf(normal.xyz)))
-      {
-        continue; // no surface, or no shadow work
-      }
-      ++count;
-      boxMin = min(boxMin, position.xyz);
-      boxMax = max(boxMax, position.xyz);
-      normalMin = min(normalMin, normal.xyz);
-      normalMax = max(normalMax, normal.xyz);
     }
   }
   if (texCoord.x < -1.0)
