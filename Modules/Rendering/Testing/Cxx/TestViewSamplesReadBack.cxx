@@ -109,7 +109,8 @@ int CheckReadBackModes(bool parallel)
   auto* pass = vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass());
   CHECK(pass != nullptr);
   vtkPenumbraViewSamplesPass* gbuffer = pass->GetViewSamplesPass();
-  CHECK(gbuffer->GetReadBackMode() == vtkPenumbraViewSamplesPass::READ_BACK_IDS);
+  CHECK(gbuffer->GetReadBackMode() == vtkPenumbraViewSamplesPass::READ_BACK_POSITIONS);
+  gbuffer->SetReadBackModeToIds();
   const int w = 160, h = 120;
   vtkNew<vtkPenumbraViewSamples> rebuilt, floats;
   rebuilt->SetSize(w, h);
