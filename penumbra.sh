@@ -16,7 +16,7 @@ build="${PENUMBRA_BUILD_DIR:-$here/build}"
 # targets and find_package fails without them (libopenimageio-dev does not depend on it).
 packages=(
   build-essential cmake
-  libvtk9-dev python3-vtk9
+  libvtk9-dev python3-vtk9 python3-numpy
   libglm-dev libopenmesh-dev libopenimageio-dev openimageio-tools libembree-dev nlohmann-json3-dev
   libegl-dev libegl1-mesa-dev libgl1-mesa-dri libosmesa6-dev libglew-dev
 )

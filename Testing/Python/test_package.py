@@ -100,6 +100,44 @@ class PackageTest(unittest.TestCase):
         self.assertIn("unknown technique", techniques.GetErrorMessage())
         self.assertIsNone(ren.GetPass())
 
+    def test_enable_shadows_and_visibility(self):
+        ren = occluder_scene()
+        win = vtkRenderWindow()
+        win.SetSize(SIZE, SIZE)
+        win.AddRenderer(ren)
+        shadows = penumbra.enable_shadows(ren, "shadowmap", resolution=1024, filter="pcf")
+        self.assertTrue(shadows.IsA("vtkPenumbraShadowPass"))
+        self.assertEqual(shadows.GetTechnique().GetResolution(), 1024)
+        win.Render()
+        vis = penumbra.visibility(ren, light=0)
+        self.assertEqual(vis.shape, (SIZE, SIZE))
+        sx, sy = pixel(-1.0, 0.0)
+        lx, ly = pixel(1.2, 0.0)
+        self.assertEqual(vis[sy][sx], 0.0)  # row 0 at the bottom, like the window's pixels
+        self.assertEqual(vis[ly][lx], 1.0)
+        self.assertLess(window_luminance(win)[sy][sx], 60)
+        with self.assertRaises(IndexError):
+            penumbra.visibility(ren, light=1)
+        penumbra.disable_shadows(ren)
+        self.assertIsNone(ren.GetPass())
+        self.assertIsNone(penumbra.visibility(ren))
+        win.Render()
+        self.assertGreater(window_luminance(win)[sy][sx], 150)
+
+    def test_enable_shadows_names_the_bad_option(self):
+        ren = vtkRenderer()
+        with self.assertRaisesRegex(ValueError, "resolutoin: unknown option"):
+            penumbra.enable_shadows(ren, "shadowmap", resolutoin=5)
+        with self.assertRaisesRegex(ValueError, "resolution"):
+            penumbra.enable_shadows(ren, "shadowmap", resolution=-1)
+        with self.assertRaisesRegex(ValueError, "unknown technique"):
+            penumbra.enable_shadows(ren, "magic")
+        with self.assertRaises(ValueError):
+            penumbra.enable_shadows(ren, "shadowmap", resolution=object())
+        self.assertIsNone(ren.GetPass())
+        self.assertIsNone(penumbra.enable_shadows(ren, "vtk-shadowmap"))
+        self.assertIsNotNone(ren.GetPass())
+
     def test_technique_installs_a_render_pass(self):
         ren = vtkRenderer()
         penumbra.vtkPenumbraTechniques().Apply(ren, "vtk-shadowmap", "")

@@ -5,8 +5,11 @@ Use it exactly like VTK::
     import penumbra
     from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer
 
-    renderer = vtkRenderer()
-    penumbra.vtkPenumbraTechniques().Apply(renderer, "vtk-shadowmap", "{}")
+    renderer = vtkRenderer()                       # ... actors and lights as usual ...
+    penumbra.enable_shadows(renderer, "shadowmap", resolution=4096, filter="pcf")
+    window.Render()
+    shadow = penumbra.visibility(renderer, light=0)   # NumPy (height, width), 1 lit, 0 shadowed
+    penumbra.disable_shadows(renderer)
 
 Importing the package registers the headless EGL render window: with no X display (or with
 PENUMBRA_HEADLESS=1) ``vtkRenderWindow()`` renders offscreen without any X server.
@@ -31,3 +34,61 @@ def load_scene(path):
     if not reader.Read():
         raise ValueError(reader.GetErrorMessage())
     return reader
+
+
+def enable_shadows(renderer, technique="raytraced", **options):
+    """Shadows `renderer` with the named technique and returns its vtkPenumbraShadowPass (None
+    for VTK's own `vtk-shadowmap` and for `none`).
+
+    `technique`: a name of `penumbra-render --list-techniques` (default: `raytraced`, exact);
+    keyword options as in a scene file's technique block, e.g. ``resolution=4096,
+    filter="pcf"`` for `shadowmap`. Raises ValueError naming the unknown technique or the
+    option and its problem; the renderer is then left as it was.
+    """
+    import json
+
+    techniques = vtkPenumbraTechniques()
+    try:
+        text = json.dumps(options)
+    except TypeError as error:
+        raise ValueError("options must be numbers, strings or booleans: %s" % error) from None
+    if not techniques.Apply(renderer, technique, text):
+        raise ValueError(techniques.GetErrorMessage())
+    return shadow_pass(renderer)
+
+
+def disable_shadows(renderer):
+    """Removes the shadows enable_shadows() (or vtkPenumbraTechniques) installed: `renderer`
+    draws with VTK's default passes again."""
+    renderer.SetPass(None)
+
+
+def shadow_pass(renderer):
+    """The vtkPenumbraShadowPass `renderer` draws with, or None."""
+    camera = renderer.GetPass()
+    delegate = camera.GetDelegatePass() if camera is not None and camera.IsA("vtkCameraPass") else None
+    return delegate if delegate is not None and delegate.IsA("vtkPenumbraShadowPass") else None
+
+
+def visibility(renderer, light=0, translucent=False):
+    """Light `light`'s visibility per pixel in the last frame as a NumPy float32 array of shape
+    (height, width), row 0 at the bottom like VTK images: 1 lit, 0 shadowed, fractions for
+    soft shadows, -1 where no surface was seen. `light` counts the switched-on lights in the
+    renderer's order; `translucent` gives the nearest translucent surfaces' layer. None when
+    that light got no shadow work (off, black, or no Penumbra pass). Raises IndexError for a
+    light that does not exist.
+    """
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    shadows = shadow_pass(renderer)
+    if shadows is None:
+        return None
+    if not 0 <= light < shadows.GetNumberOfLights():
+        raise IndexError("light %d: the last frame had %d switched-on lights"
+                         % (light, shadows.GetNumberOfLights()))
+    samples = shadows.GetTranslucentViewSamples() if translucent else shadows.GetViewSamples()
+    values = (shadows.GetTranslucentVisibility(light) if translucent
+              else shadows.GetVisibility(light))
+    if samples is None or values is None:
+        return None
+    return vtk_to_numpy(values).reshape(samples.GetHeight(), samples.GetWidth()).copy()
