@@ -778,6 +778,90 @@ std::vector<std::int64_t> CellListLengths(
   }
   return length;
 }
+// The state one ComputeVisibility call shares between its phases: the view samples in the
+// geometry's rebased frame, the light, the outputs, the undecided pairs and the statistics.
+struct CallState
+{
+  vtkIdType N = 0;
+  const float* Pos = nullptr;
+  const float* Nrm = nullptr;
+  const int* Props = nullptr;
+  const vtkIdType* Tris = nullptr;
+  double Shift[3] = { 0, 0, 0 }; // samples' origin minus the geometry's
+  double Epsilon = 0.0, TieFactor = 0.0, Diagonal = 1.0; // the reference's
+  vtkSmartPointer<vtkPenumbraAreaLight> Used;            // the light, resampled if asked
+  LightSamples Light;
+  bool Off = false; // switched off or zero intensity
+
+  float* Vis = nullptr;
+  unsigned char* Uncertain = nullptr;
+  std::uint32_t* Masks = nullptr; // only with KeepMasks
+  int Words = 0;                  // mask words per sample
+
+  bool UseGpu = false;     // step 4 on the compute path
+  double TraceLimit = 0.0; // list length above which a cell is ray traced; 0: never
+
+  // Undecided (view sample, light sample) pairs, appended by the mask loop in sample order
+  // within each thread's chunk.
+  std::vector<vtkIdType> TraceSamples;
+  std::vector<int> TraceLights;
+  std::mutex TraceMutex;
+
+  // Statistics, summed over both sides of the light plane.
+  int GridUsed = 0;
+  vtkIdType Flagged = 0, TracedCellSamples = 0, Occupied = 0, Cells = 0, MaxPerCell = 0,
+            ListTotal = 0, GlobalTotal = 0;
+  std::atomic<vtkIdType> Assignments{ 0 }, Necessary{ 0 }, SegmentTests{ 0 };
+  double GridMs = 0.0, MaskMs = 0.0, TraceMs = 0.0;
+  vtkIdType UncertainSamples = 0, TracedRays = 0, SamplesWithTracedRays = 0;
+
+  // The reference's per-ray constants of view sample s; false if the sample is invalid.
+  bool LoadSample(vtkIdType s, SampleRays& r) const
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      r.P[c] = static_cast<double>(this->Pos[3 * s + c]) + this->Shift[c];
+      r.Normal[c] = this->Nrm[3 * s + c];
+    }
+    if (this->Props[s] < 0 || !std::isfinite(r.P[0]) || !std::isfinite(r.P[1]) ||
+      !std::isfinite(r.P[2]) || !std::isfinite(r.Normal[0]) || !std::isfinite(r.Normal[1]) ||
+      !std::isfinite(r.Normal[2]))
+    {
+      return false;
+    }
+    const double scale = std::max(vtkMath::Norm(r.P), this->Diagonal);
+    r.Own = this->Tris[s];
+    r.Epsilon = this->Epsilon;
+    r.TNear = this->Epsilon * scale;
+    r.TNearF = static_cast<float>(r.TNear);
+    r.TieLimit =
+      static_cast<double>(static_cast<float>(this->TieFactor * this->Epsilon * scale));
+    r.ErrPos = RelativePositionTolerance * scale;
+    return true;
+  }
+
+  // ORs the light samples set in rows (one word per row) into sample s's kept mask.
+  void WriteMask(vtkIdType s, const std::uint64_t* rows) const
+  {
+    if (!this->Masks)
+    {
+      return;
+    }
+    const LightSamples& ls = this->Light;
+    std::uint32_t* out = this->Masks + static_cast<size_t>(s) * this->Words;
+    for (int j = 0; j < ls.Rows; ++j)
+    {
+      for (int i = 0; i < ls.K; ++i)
+      {
+        if (rows[j] >> i & 1u)
+        {
+          const int index = j * ls.K + i;
+          out[index / 32] |= 1u << (index % 32);
+        }
+      }
+    }
+  }
+};
 }
 
 struct vtkPenumbraGearsShadows::Internals
@@ -884,6 +968,17 @@ struct vtkPenumbraGearsShadows::Internals
     this->FlagsTime = geometry->GetFlagsTime();
     std::copy(origin, origin + 3, this->Origin);
   }
+  // The phases of ComputeVisibility, in the order it runs them (defined below it).
+  bool ReadSamples(vtkPenumbraViewSamples* samples, CallState& call);
+  bool SetUpLight(vtkPenumbraGearsShadows* self, vtkPenumbraAreaLight* area,
+    vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, CallState& call);
+  void SetUpOutputs(vtkPenumbraGearsShadows* self, vtkFloatArray* visibility, CallState& call);
+  void ChoosePath(vtkPenumbraGearsShadows* self, vtkRenderer* renderer, CallState& call);
+  void ReportPathProblem(vtkPenumbraGearsShadows* self, const std::string& why);
+  void ClassifySamples(vtkPenumbraGearsShadows* self, CallState& call);
+  int TraceUndecided(vtkPenumbraGearsShadows* self, vtkPenumbraViewSamples* samples,
+    vtkFloatArray* visibility, CallState& call);
+  void StoreStatistics(vtkPenumbraGearsShadows* self, const CallState& call);
 };
 
 //------------------------------------------------------------------------------
@@ -941,14 +1036,18 @@ double vtkPenumbraGearsShadows::GetBlockingShare()
     : 0.0;
 }
 
-#define PENUMBRA_GEARS_FAIL(text)                                                                \
+#define PENUMBRA_GEARS_FAIL_FOR(self, text)                                                    \
   do                                                                                             \
   {                                                                                              \
-    vtkErrorMacro(<< text);                                                                      \
+    vtkErrorWithObjectMacro(self, << text);                                                      \
     return 0;                                                                                    \
   } while (false)
+#define PENUMBRA_GEARS_FAIL(text) PENUMBRA_GEARS_FAIL_FOR(this, text)
 
 //------------------------------------------------------------------------------
+// Wang et al. 2014, §3, for one area light: the input checks and light set-up, the sample
+// classification, then per side of the light plane the grid (A.1-A.2), the triangle lists
+// (A.3) and the masks (step 4), and last the reference for whatever stayed undecided.
 int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
   vtkFloatArray* visibility)
@@ -973,252 +1072,48 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   {
     PENUMBRA_GEARS_FAIL("invalid area light: " << problem);
   }
-  const vtkIdType n = samples->GetNumberOfSamples();
-  vtkFloatArray* posArray = samples->GetPositions();
-  vtkFloatArray* nrmArray = samples->GetNormals();
-  vtkIntArray* propArray = samples->GetPropIndices();
-  vtkIdTypeArray* triArray = samples->GetTriangleIds();
-  if (!posArray || !nrmArray || !propArray || !triArray ||
-    posArray->GetNumberOfComponents() != 3 || nrmArray->GetNumberOfComponents() != 3 ||
-    posArray->GetNumberOfTuples() != n || nrmArray->GetNumberOfTuples() != n ||
-    propArray->GetNumberOfTuples() != n || triArray->GetNumberOfTuples() != n)
+  Internals& impl = *this->Impl;
+  CallState call;
+  if (!impl.ReadSamples(samples, call))
   {
     PENUMBRA_GEARS_FAIL("view sample arrays are missing or do not match the sample count");
   }
-
-  // ---- Light samples, in the geometry's rebased frame (differences in double, as the
-  // reference takes them).
-  Internals& impl = *this->Impl;
   impl.UpdateCasters(geometry);
-  double origin[3], samplesOrigin[3];
-  geometry->GetOrigin(origin);
-  samples->GetOrigin(samplesOrigin);
-  vtkSmartPointer<vtkPenumbraAreaLight> used = area;
-  if (this->SamplesPerAxis > 0 && this->SamplesPerAxis != area->GetSamplesPerAxis())
+  if (!impl.SetUpLight(this, area, geometry, samples, call))
   {
-    used = vtkSmartPointer<vtkPenumbraAreaLight>::Take(
-      vtkPenumbraAreaLight::SafeDownCast(area->ShallowClone()));
-    used->SetSamplesPerAxis(this->SamplesPerAxis);
+    PENUMBRA_GEARS_FAIL("unsupported light sampling: " << call.Light.K << " samples per axis");
   }
-  LightSamples ls;
-  ls.K = used->GetSamplesPerAxis();
-  const bool line = used->GetShape() == vtkPenumbraAreaLight::Line;
-  ls.Rows = line ? 1 : ls.K;
-  ls.Count = used->GetNumberOfSamples();
-  if (ls.K > MaxK || ls.Count != ls.K * ls.Rows)
-  {
-    PENUMBRA_GEARS_FAIL("unsupported light sampling: " << ls.K << " samples per axis");
-  }
-  ls.Points.resize(3 * static_cast<size_t>(ls.Count));
-  for (int j = 0; j < ls.Count; ++j)
-  {
-    double* q = &ls.Points[3 * static_cast<size_t>(j)];
-    used->GetSamplePosition(j, q);
-    for (int c = 0; c < 3; ++c)
-    {
-      q[c] -= origin[c];
-    }
-  }
-  used->GetAxes(ls.U, ls.V, ls.N);
-  used->GetCentre(ls.Centre);
-  for (int c = 0; c < 3; ++c)
-  {
-    ls.Centre[c] -= origin[c];
-  }
-  const double width = used->GetWidth();
-  const double height = line ? 0.0 : used->GetHeight();
-  ls.DSu = width / ls.K;
-  ls.Su0 = (0.5 / ls.K - 0.5) * width;
-  ls.DSv = line ? 0.0 : height / ls.K;
-  ls.Sv0 = line ? 0.0 : (0.5 / ls.K - 0.5) * height;
-  ls.HalfU = std::fabs(ls.Su0);
-  ls.HalfV = std::fabs(ls.Sv0);
-  ls.Diagonal = std::sqrt(width * width + height * height);
-  const bool off = !used->GetSwitch() || used->GetIntensity() == 0.0;
-
-  // ---- Outputs.
-  visibility->SetNumberOfComponents(1);
-  visibility->SetNumberOfTuples(n);
-  float* vis = n ? visibility->GetPointer(0) : nullptr;
-  impl.Uncertain->SetNumberOfComponents(1);
-  impl.Uncertain->SetNumberOfTuples(n);
-  unsigned char* uncertain = n ? impl.Uncertain->GetPointer(0) : nullptr;
-  if (uncertain)
-  {
-    std::fill(uncertain, uncertain + n, 0);
-  }
-  const int words = (ls.Count + 31) / 32;
-  std::uint32_t* masks = nullptr;
-  if (this->KeepMasks)
-  {
-    impl.Masks->SetNumberOfComponents(words);
-    impl.Masks->SetNumberOfTuples(n);
-    masks = n ? impl.Masks->GetPointer(0) : nullptr;
-    if (masks)
-    {
-      std::fill(masks, masks + static_cast<size_t>(n) * words, 0u);
-    }
-  }
-  else
-  {
-    impl.Masks->Initialize();
-  }
-
-  const float* pos = n ? posArray->GetPointer(0) : nullptr;
-  const float* nrm = n ? nrmArray->GetPointer(0) : nullptr;
-  const int* props = n ? propArray->GetPointer(0) : nullptr;
-  const vtkIdType* tris = n ? triArray->GetPointer(0) : nullptr;
-  double shift[3];
-  for (int c = 0; c < 3; ++c)
-  {
-    shift[c] = samplesOrigin[c] - origin[c];
-  }
-  const double epsilon = this->Reference->GetRelativeEpsilon();
-  const double tieFactor = this->Reference->GetTieFactor();
-  const double diagonal = impl.Diagonal;
-
-  auto loadSample = [&](vtkIdType s, SampleRays& r) -> bool {
-    for (int c = 0; c < 3; ++c)
-    {
-      r.P[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
-      r.Normal[c] = nrm[3 * s + c];
-    }
-    if (props[s] < 0 || !std::isfinite(r.P[0]) || !std::isfinite(r.P[1]) ||
-      !std::isfinite(r.P[2]) || !std::isfinite(r.Normal[0]) || !std::isfinite(r.Normal[1]) ||
-      !std::isfinite(r.Normal[2]))
-    {
-      return false;
-    }
-    const double scale = std::max(vtkMath::Norm(r.P), diagonal);
-    r.Own = tris[s];
-    r.Epsilon = epsilon;
-    r.TNear = epsilon * scale;
-    r.TNearF = static_cast<float>(r.TNear);
-    r.TieLimit = static_cast<double>(static_cast<float>(tieFactor * epsilon * scale));
-    r.ErrPos = RelativePositionTolerance * scale;
-    return true;
-  };
-
-  auto writeMask = [&](vtkIdType s, const std::uint64_t* rows) {
-    if (!masks)
-    {
-      return;
-    }
-    std::uint32_t* out = masks + static_cast<size_t>(s) * words;
-    for (int j = 0; j < ls.Rows; ++j)
-    {
-      for (int i = 0; i < ls.K; ++i)
-      {
-        if (rows[j] >> i & 1u)
-        {
-          const int index = j * ls.K + i;
-          out[index / 32] |= 1u << (index % 32);
-        }
-      }
-    }
-  };
-
-  // ---- Where step 4 runs: the compute path when asked for and possible, else the CPU.
-  const int requested = this->Path == PATH_AUTO ? PATH_CPU : this->Path;
-  bool useGpu = false;
-  impl.PathMessage.clear();
-  auto reportPathProblem = [&](const std::string& why) {
-    impl.PathMessage =
-      "GEARS compute path unavailable (" + why + "); the CPU path computes the masks";
-    if (impl.Reported.insert(why).second)
-    {
-      vtkWarningMacro(<< impl.PathMessage);
-    }
-  };
-  if (requested == PATH_GPU && !off && n > 0 && !impl.Casters.empty())
-  {
-    std::string why;
-    auto* window =
-      renderer ? vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow()) : nullptr;
-    if (impl.Casters.back().Id > std::numeric_limits<std::int32_t>::max())
-    {
-      why = "triangle ids beyond 2^31 do not fit the shader's 32-bit ids";
-    }
-    else
-    {
-      useGpu = impl.Compute.Prepare(window, ls.K, ls.Rows, this->KeepMasks, why) &&
-        impl.Compute.SetCasters(impl.CasterData, impl.CasterVersion, why) &&
-        impl.Compute.SetSamples(pos, nrm, tris, n, why);
-    }
-    if (!useGpu)
-    {
-      reportPathProblem(why);
-    }
-  }
-  this->LastPath = PATH_CPU;
-  vtkIdType flaggedTotal = 0, tracedCellSamples = 0;
-  // List length (cell + global) above which a cell is ray traced; the compute path keeps
-  // every cell (it has no use for the split).
-  const double traceLimit =
-    !useGpu && this->TraceThreshold > 0.0 ? this->TraceThreshold * ls.Count : 0.0;
-
-  // ---- Classify the samples: invalid, light off, facing away from the whole light, or on
-  // a side of the light plane.
-  std::vector<signed char>& side = impl.Scratch.Side;
-  side.assign(static_cast<size_t>(n), 0);
-  std::atomic<vtkIdType> validCount(0);
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    vtkIdType localValid = 0;
-    std::uint64_t rows[MaxK];
-    for (vtkIdType s = begin; s < end; ++s)
-    {
-      SampleRays r;
-      if (!loadSample(s, r))
-      {
-        vis[s] = -1.0f;
-        continue;
-      }
-      ++localValid;
-      if (off)
-      {
-        vis[s] = 1.0f; // the reference's rule: nothing to shadow
-        for (int j = 0; j < ls.Rows; ++j)
-        {
-          rows[j] = Span(0, ls.K - 1);
-        }
-        writeMask(s, rows);
-        continue;
-      }
-      // Facing is affine over the light: below the tangent plane at every corner (with a
-      // margin for the per-sample rounding) means below it for every light sample.
-      double best = -std::numeric_limits<double>::infinity();
-      double reach = 0.0;
-      for (int c = 0; c < 4; ++c)
-      {
-        const double* q = ls.Corner(c);
-        const double toLight[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
-        best = std::max(best, vtkMath::Dot(r.Normal, toLight));
-        reach = std::max(reach, vtkMath::Norm(toLight));
-      }
-      if (best < -1e-9 * reach)
-      {
-        vis[s] = 0.0f;
-        continue;
-      }
-      const double z = vtkMath::Dot(ls.N, r.P) - vtkMath::Dot(ls.N, ls.Centre);
-      side[static_cast<size_t>(s)] = z > 0.0 ? 1 : (z < 0.0 ? -1 : 2);
-    }
-    validCount += localValid;
-  });
-  this->NumberOfValidSamples = validCount.load();
-
-  // Undecided (view sample, light sample) pairs, appended by the mask loop in sample order
-  // within each thread's chunk.
-  std::vector<vtkIdType> traceSamples;
-  std::vector<int> traceLights;
-  std::mutex traceMutex;
-
+  impl.SetUpOutputs(this, visibility, call);
+  impl.ChoosePath(this, renderer, call);
+  impl.ClassifySamples(this, call);
   // ---- Per side of the light plane: grid, lists, masks.
+  const vtkIdType n = call.N;
+  const LightSamples& ls = call.Light;
+  const std::vector<signed char>& side = impl.Scratch.Side;
+  const float* pos = call.Pos;
+  const double* shift = call.Shift;
+  const double epsilon = call.Epsilon, tieFactor = call.TieFactor, diagonal = call.Diagonal;
+  float* vis = call.Vis;
+  unsigned char* uncertain = call.Uncertain;
+  std::uint32_t* masks = call.Masks;
+  bool& useGpu = call.UseGpu;
+  const double traceLimit = call.TraceLimit;
+  auto loadSample = [&](vtkIdType s, SampleRays& r) { return call.LoadSample(s, r); };
+  auto writeMask = [&](vtkIdType s, const std::uint64_t* rows) { call.WriteMask(s, rows); };
+  auto reportPathProblem = [&](const std::string& why) { impl.ReportPathProblem(this, why); };
+  std::vector<vtkIdType>& traceSamples = call.TraceSamples;
+  std::vector<int>& traceLights = call.TraceLights;
+  std::mutex& traceMutex = call.TraceMutex;
   const int gridRequested = this->GridResolution;
-  int gridUsed = gridRequested;
-  vtkIdType occupiedTotal = 0, cellsTotal = 0, maxPerCell = 0, listTotal = 0, globalTotal = 0;
-  std::atomic<vtkIdType> assignments(0), necessary(0), segmentTests(0);
-  double gridMs = 0.0, maskMs = 0.0;
+  int& gridUsed = call.GridUsed;
+  gridUsed = gridRequested;
+  vtkIdType &occupiedTotal = call.Occupied, &cellsTotal = call.Cells,
+            &maxPerCell = call.MaxPerCell, &listTotal = call.ListTotal,
+            &globalTotal = call.GlobalTotal, &flaggedTotal = call.Flagged,
+            &tracedCellSamples = call.TracedCellSamples;
+  std::atomic<vtkIdType>&assignments = call.Assignments, &necessary = call.Necessary,
+                        &segmentTests = call.SegmentTests;
+  double &gridMs = call.GridMs, &maskMs = call.MaskMs;
   const vtkIdType nCasters = static_cast<vtkIdType>(impl.Casters.size());
 
   for (const int flip : { 1, -1 })
@@ -1781,10 +1676,261 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
     });
     maskMs += ElapsedMs(maskStart);
   }
+  if (!impl.TraceUndecided(this, samples, visibility, call))
+  {
+    return 0;
+  }
+  impl.StoreStatistics(this, call);
+  visibility->Modified();
+  impl.Uncertain->Modified();
+  impl.Masks->Modified();
+  this->LastTimeMs = ElapsedMs(start);
+  return 1;
+}
 
-  // ---- Samples on the light plane go to the reference whole; undecided light samples one
-  // by one, with its exact rules (Wang et al. 2014, §5.1: "identical to ray tracing").
+//------------------------------------------------------------------------------
+// Input check: the view samples' arrays, all of one length.
+bool vtkPenumbraGearsShadows::Internals::ReadSamples(
+  vtkPenumbraViewSamples* samples, CallState& call)
+{
+  const vtkIdType n = samples->GetNumberOfSamples();
+  vtkFloatArray* posArray = samples->GetPositions();
+  vtkFloatArray* nrmArray = samples->GetNormals();
+  vtkIntArray* propArray = samples->GetPropIndices();
+  vtkIdTypeArray* triArray = samples->GetTriangleIds();
+  if (!posArray || !nrmArray || !propArray || !triArray ||
+    posArray->GetNumberOfComponents() != 3 || nrmArray->GetNumberOfComponents() != 3 ||
+    posArray->GetNumberOfTuples() != n || nrmArray->GetNumberOfTuples() != n ||
+    propArray->GetNumberOfTuples() != n || triArray->GetNumberOfTuples() != n)
+  {
+    return false;
+  }
+  call.N = n;
+  call.Pos = n ? posArray->GetPointer(0) : nullptr;
+  call.Nrm = n ? nrmArray->GetPointer(0) : nullptr;
+  call.Props = n ? propArray->GetPointer(0) : nullptr;
+  call.Tris = n ? triArray->GetPointer(0) : nullptr;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Light set-up: the light samples in the geometry's rebased frame (differences in double,
+// as the reference takes them), the emitter's axes and extent, and the reference's
+// constants. False if the light's sampling does not fit a mask row.
+bool vtkPenumbraGearsShadows::Internals::SetUpLight(vtkPenumbraGearsShadows* self,
+  vtkPenumbraAreaLight* area, vtkPenumbraSceneGeometry* geometry,
+  vtkPenumbraViewSamples* samples, CallState& call)
+{
+  double origin[3], samplesOrigin[3];
+  geometry->GetOrigin(origin);
+  samples->GetOrigin(samplesOrigin);
+  vtkSmartPointer<vtkPenumbraAreaLight> used = area;
+  if (self->SamplesPerAxis > 0 && self->SamplesPerAxis != area->GetSamplesPerAxis())
+  {
+    used = vtkSmartPointer<vtkPenumbraAreaLight>::Take(
+      vtkPenumbraAreaLight::SafeDownCast(area->ShallowClone()));
+    used->SetSamplesPerAxis(self->SamplesPerAxis);
+  }
+  call.Used = used;
+  LightSamples& ls = call.Light;
+  ls.K = used->GetSamplesPerAxis();
+  const bool line = used->GetShape() == vtkPenumbraAreaLight::Line;
+  ls.Rows = line ? 1 : ls.K;
+  ls.Count = used->GetNumberOfSamples();
+  if (ls.K > MaxK || ls.Count != ls.K * ls.Rows)
+  {
+    return false;
+  }
+  ls.Points.resize(3 * static_cast<size_t>(ls.Count));
+  for (int j = 0; j < ls.Count; ++j)
+  {
+    double* q = &ls.Points[3 * static_cast<size_t>(j)];
+    used->GetSamplePosition(j, q);
+    for (int c = 0; c < 3; ++c)
+    {
+      q[c] -= origin[c];
+    }
+  }
+  used->GetAxes(ls.U, ls.V, ls.N);
+  used->GetCentre(ls.Centre);
+  for (int c = 0; c < 3; ++c)
+  {
+    ls.Centre[c] -= origin[c];
+  }
+  const double width = used->GetWidth();
+  const double height = line ? 0.0 : used->GetHeight();
+  ls.DSu = width / ls.K;
+  ls.Su0 = (0.5 / ls.K - 0.5) * width;
+  ls.DSv = line ? 0.0 : height / ls.K;
+  ls.Sv0 = line ? 0.0 : (0.5 / ls.K - 0.5) * height;
+  ls.HalfU = std::fabs(ls.Su0);
+  ls.HalfV = std::fabs(ls.Sv0);
+  ls.Diagonal = std::sqrt(width * width + height * height);
+  call.Off = !used->GetSwitch() || used->GetIntensity() == 0.0;
+
+  for (int c = 0; c < 3; ++c)
+  {
+    call.Shift[c] = samplesOrigin[c] - origin[c];
+  }
+  call.Epsilon = self->Reference->GetRelativeEpsilon();
+  call.TieFactor = self->Reference->GetTieFactor();
+  call.Diagonal = this->Diagonal;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// The outputs, sized and cleared: visibility, the uncertain flags and (if kept) the masks.
+void vtkPenumbraGearsShadows::Internals::SetUpOutputs(
+  vtkPenumbraGearsShadows* self, vtkFloatArray* visibility, CallState& call)
+{
+  const vtkIdType n = call.N;
+  visibility->SetNumberOfComponents(1);
+  visibility->SetNumberOfTuples(n);
+  call.Vis = n ? visibility->GetPointer(0) : nullptr;
+  this->Uncertain->SetNumberOfComponents(1);
+  this->Uncertain->SetNumberOfTuples(n);
+  call.Uncertain = n ? this->Uncertain->GetPointer(0) : nullptr;
+  if (call.Uncertain)
+  {
+    std::fill(call.Uncertain, call.Uncertain + n, 0);
+  }
+  call.Words = (call.Light.Count + 31) / 32;
+  call.Masks = nullptr;
+  if (self->KeepMasks)
+  {
+    this->Masks->SetNumberOfComponents(call.Words);
+    this->Masks->SetNumberOfTuples(n);
+    call.Masks = n ? this->Masks->GetPointer(0) : nullptr;
+    if (call.Masks)
+    {
+      std::fill(call.Masks, call.Masks + static_cast<size_t>(n) * call.Words, 0u);
+    }
+  }
+  else
+  {
+    this->Masks->Initialize();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraGearsShadows::Internals::ReportPathProblem(
+  vtkPenumbraGearsShadows* self, const std::string& why)
+{
+  this->PathMessage =
+    "GEARS compute path unavailable (" + why + "); the CPU path computes the masks";
+  if (this->Reported.insert(why).second)
+  {
+    vtkWarningWithObjectMacro(self, << this->PathMessage);
+  }
+}
+
+//------------------------------------------------------------------------------
+// Where step 4 runs: the compute path when asked for and possible, else the CPU; and the
+// list length above which a cell's samples are ray traced whole (CPU path only: the compute
+// path has no use for the split).
+void vtkPenumbraGearsShadows::Internals::ChoosePath(
+  vtkPenumbraGearsShadows* self, vtkRenderer* renderer, CallState& call)
+{
+  const int requested = self->Path == PATH_AUTO ? PATH_CPU : self->Path;
+  bool useGpu = false;
+  this->PathMessage.clear();
+  if (requested == PATH_GPU && !call.Off && call.N > 0 && !this->Casters.empty())
+  {
+    std::string why;
+    auto* window =
+      renderer ? vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow()) : nullptr;
+    if (this->Casters.back().Id > std::numeric_limits<std::int32_t>::max())
+    {
+      why = "triangle ids beyond 2^31 do not fit the shader's 32-bit ids";
+    }
+    else
+    {
+      useGpu = this->Compute.Prepare(window, call.Light.K, call.Light.Rows, self->KeepMasks, why) &&
+        this->Compute.SetCasters(this->CasterData, this->CasterVersion, why) &&
+        this->Compute.SetSamples(call.Pos, call.Nrm, call.Tris, call.N, why);
+    }
+    if (!useGpu)
+    {
+      this->ReportPathProblem(self, why);
+    }
+  }
+  self->LastPath = PATH_CPU;
+  call.UseGpu = useGpu;
+  call.TraceLimit =
+    !useGpu && self->TraceThreshold > 0.0 ? self->TraceThreshold * call.Light.Count : 0.0;
+}
+
+//------------------------------------------------------------------------------
+// Classify the samples: invalid, light off, facing away from the whole light, or on a side
+// of the light plane (Scratch.Side: 1 front, -1 back, 2 on the plane, 0 decided).
+void vtkPenumbraGearsShadows::Internals::ClassifySamples(
+  vtkPenumbraGearsShadows* self, CallState& call)
+{
+  const vtkIdType n = call.N;
+  const LightSamples& ls = call.Light;
+  float* vis = call.Vis;
+  std::vector<signed char>& side = this->Scratch.Side;
+  side.assign(static_cast<size_t>(n), 0);
+  std::atomic<vtkIdType> validCount(0);
+  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+    vtkIdType localValid = 0;
+    std::uint64_t rows[MaxK];
+    for (vtkIdType s = begin; s < end; ++s)
+    {
+      SampleRays r;
+      if (!call.LoadSample(s, r))
+      {
+        vis[s] = -1.0f;
+        continue;
+      }
+      ++localValid;
+      if (call.Off)
+      {
+        vis[s] = 1.0f; // the reference's rule: nothing to shadow
+        for (int j = 0; j < ls.Rows; ++j)
+        {
+          rows[j] = Span(0, ls.K - 1);
+        }
+        call.WriteMask(s, rows);
+        continue;
+      }
+      // Facing is affine over the light: below the tangent plane at every corner (with a
+      // margin for the per-sample rounding) means below it for every light sample.
+      double best = -std::numeric_limits<double>::infinity();
+      double reach = 0.0;
+      for (int c = 0; c < 4; ++c)
+      {
+        const double* q = ls.Corner(c);
+        const double toLight[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
+        best = std::max(best, vtkMath::Dot(r.Normal, toLight));
+        reach = std::max(reach, vtkMath::Norm(toLight));
+      }
+      if (best < -1e-9 * reach)
+      {
+        vis[s] = 0.0f;
+        continue;
+      }
+      const double z = vtkMath::Dot(ls.N, r.P) - vtkMath::Dot(ls.N, ls.Centre);
+      side[static_cast<size_t>(s)] = z > 0.0 ? 1 : (z < 0.0 ? -1 : 2);
+    }
+    validCount += localValid;
+  });
+  self->NumberOfValidSamples = validCount.load();
+}
+
+//------------------------------------------------------------------------------
+// Samples on the light plane and in ray-traced cells go to the reference whole; undecided
+// light samples one by one, with its exact rules (Wang et al. 2014, §5.1: "identical to ray
+// tracing").
+int vtkPenumbraGearsShadows::Internals::TraceUndecided(vtkPenumbraGearsShadows* self,
+  vtkPenumbraViewSamples* samples, vtkFloatArray* visibility, CallState& call)
+{
   const auto traceStart = Clock::now();
+  const vtkIdType n = call.N;
+  const LightSamples& ls = call.Light;
+  const std::vector<signed char>& side = this->Scratch.Side;
+  unsigned char* uncertain = call.Uncertain;
+  float* vis = call.Vis;
   vtkIdType nWhole = 0;
   for (vtkIdType s = 0; s < n; ++s)
   {
@@ -1794,30 +1940,30 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
     }
     nWhole += uncertain[s];
   }
-  const vtkIdType nUncertain = nWhole - tracedCellSamples;
+  call.UncertainSamples = nWhole - call.TracedCellSamples;
   if (nWhole > 0)
   {
-    if (!this->Reference->ComputeVisibility(samples, used, visibility, impl.Uncertain))
+    if (!self->Reference->ComputeVisibility(samples, call.Used, visibility, this->Uncertain))
     {
-      PENUMBRA_GEARS_FAIL(
-        "tracing the uncertain samples failed: " << this->Reference->GetErrorMessage());
+      PENUMBRA_GEARS_FAIL_FOR(self,
+        "tracing the uncertain samples failed: " << self->Reference->GetErrorMessage());
     }
   }
-  const vtkIdType nTrace = static_cast<vtkIdType>(traceSamples.size());
+  const vtkIdType nTrace = static_cast<vtkIdType>(call.TraceSamples.size());
   vtkIdType withTracedRays = 0;
   if (nTrace > 0)
   {
     std::vector<unsigned char> lit(static_cast<size_t>(nTrace));
-    if (!this->Reference->TraceAreaRays(
-          samples, used, nTrace, traceSamples.data(), traceLights.data(), lit.data()))
+    if (!self->Reference->TraceAreaRays(samples, call.Used, nTrace, call.TraceSamples.data(),
+          call.TraceLights.data(), lit.data()))
     {
-      PENUMBRA_GEARS_FAIL(
-        "tracing the undecided light samples failed: " << this->Reference->GetErrorMessage());
+      PENUMBRA_GEARS_FAIL_FOR(self,
+        "tracing the undecided light samples failed: " << self->Reference->GetErrorMessage());
     }
     vtkIdType previous = -1;
     for (vtkIdType i = 0; i < nTrace; ++i)
     {
-      const vtkIdType s = traceSamples[static_cast<size_t>(i)];
+      const vtkIdType s = call.TraceSamples[static_cast<size_t>(i)];
       withTracedRays += s != previous;
       previous = s;
       if (!lit[static_cast<size_t>(i)])
@@ -1827,37 +1973,44 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
       // vis[s] = float(lit) / float(n) with lit recovered exactly from the known part.
       const int known = static_cast<int>(std::lround(vis[s] * ls.Count));
       vis[s] = static_cast<float>(known + 1) / static_cast<float>(ls.Count);
-      if (masks)
+      if (call.Masks)
       {
-        const int j = traceLights[static_cast<size_t>(i)];
-        masks[static_cast<size_t>(s) * words + j / 32] |= 1u << (j % 32);
+        const int j = call.TraceLights[static_cast<size_t>(i)];
+        call.Masks[static_cast<size_t>(s) * call.Words + j / 32] |= 1u << (j % 32);
       }
     }
   }
-  this->TraceTimeMs = nWhole > 0 || nTrace > 0 ? ElapsedMs(traceStart) : 0.0;
-  this->NumberOfTracedCellSamples = tracedCellSamples;
-  this->NumberOfTracedRays = nTrace;
-  this->NumberOfSamplesWithTracedRays = withTracedRays;
-  this->GridTimeMs = gridMs;
-  this->MaskTimeMs = maskMs;
-  this->NumberOfUncertainSamples = nUncertain;
-  this->NumberOfFlaggedSamples = flaggedTotal;
-  this->NumberOfOccupiedCells = occupiedTotal;
-  this->NumberOfCells = cellsTotal;
-  this->MaxTrianglesPerCell = maxPerCell;
-  this->AverageTrianglesPerCell =
-    occupiedTotal > 0 ? static_cast<double>(listTotal) / occupiedTotal : 0.0;
-  this->NumberOfGlobalTriangles = globalTotal;
-  this->NumberOfAssignments = assignments.load();
-  this->NumberOfNecessaryAssignments = necessary.load();
-  this->NumberOfSegmentTests = segmentTests.load();
-  this->EffectiveGridResolution = gridUsed;
-  visibility->Modified();
-  impl.Uncertain->Modified();
-  impl.Masks->Modified();
-  this->LastTimeMs = ElapsedMs(start);
+  call.TracedRays = nTrace;
+  call.SamplesWithTracedRays = withTracedRays;
+  call.TraceMs = nWhole > 0 || nTrace > 0 ? ElapsedMs(traceStart) : 0.0;
   return 1;
 }
+
+//------------------------------------------------------------------------------
+// Statistics: the call's counts and times, for the getters.
+void vtkPenumbraGearsShadows::Internals::StoreStatistics(
+  vtkPenumbraGearsShadows* self, const CallState& call)
+{
+  self->TraceTimeMs = call.TraceMs;
+  self->NumberOfTracedCellSamples = call.TracedCellSamples;
+  self->NumberOfTracedRays = call.TracedRays;
+  self->NumberOfSamplesWithTracedRays = call.SamplesWithTracedRays;
+  self->GridTimeMs = call.GridMs;
+  self->MaskTimeMs = call.MaskMs;
+  self->NumberOfUncertainSamples = call.UncertainSamples;
+  self->NumberOfFlaggedSamples = call.Flagged;
+  self->NumberOfOccupiedCells = call.Occupied;
+  self->NumberOfCells = call.Cells;
+  self->MaxTrianglesPerCell = call.MaxPerCell;
+  self->AverageTrianglesPerCell =
+    call.Occupied > 0 ? static_cast<double>(call.ListTotal) / call.Occupied : 0.0;
+  self->NumberOfGlobalTriangles = call.GlobalTotal;
+  self->NumberOfAssignments = call.Assignments.load();
+  self->NumberOfNecessaryAssignments = call.Necessary.load();
+  self->NumberOfSegmentTests = call.SegmentTests.load();
+  self->EffectiveGridResolution = call.GridUsed;
+}
+
 
 //------------------------------------------------------------------------------
 void vtkPenumbraGearsShadows::PrintSelf(ostream& os, vtkIndent indent)
