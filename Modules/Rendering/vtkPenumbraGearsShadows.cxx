@@ -862,6 +862,58 @@ struct CallState
     }
   }
 };
+
+// Per caster on one side: culled, global or the grid box it touches.
+struct Footprint
+{
+  double Box[4];
+  int State; // 0 culled, 1 global, 2 cells
+};
+
+// One side of the light plane: its samples in the light's frame with z toward them
+// (Wang et al. 2014, §4, A.1; the back side mirrors), the grid camera C, the casters'
+// footprints and the grid being built.
+struct SideState
+{
+  int Flip = 1;
+  double Ax[3][3];                // the frame's axes
+  const double* Centre = nullptr; // the light's centre, the frame's origin
+  vtkIdType M = 0;                // samples on this side (Scratch.Ids, Scratch.Frame)
+  double ZFar = 0.0;              // farthest sample from the light plane
+  double Lo3[3], Hi3[3];          // bounds of the samples and the light, in the frame
+  double Tolerance = 0.0;         // how far off the float32 ray may hit a triangle
+  double Distance = 0.0, Cam[3];  // the camera C, behind the light
+  double Pb[4];                   // bounds of the projected samples
+  double Extent = 0.0;            // their larger side
+  std::vector<double> ZNear;      // per caster: nearest vertex to the light
+  std::vector<Footprint> Foot;
+
+  // The grid: resolution G, origin (X0, Y0), cell size Cw x Ch, and the per-resolution
+  // working arrays of its construction.
+  int G = 1;
+  double X0 = 0, Y0 = 0, Cw = 1, Ch = 1;
+  std::vector<std::uint32_t> Count;  // samples per cell
+  std::vector<std::int64_t> Sat;     // summed-area table of occupied cells
+  std::vector<int> Range;            // per caster: ix0, ix1, iy0, iy1
+  std::vector<std::int64_t> Touched; // per caster: busy cells touched, -1 global
+  std::int64_t Total = 0;            // list entries the cells would hold
+
+  void ToFrame(const double w[3], double f[3]) const
+  {
+    const double d[3] = { w[0] - this->Centre[0], w[1] - this->Centre[1], w[2] - this->Centre[2] };
+    for (int a = 0; a < 3; ++a)
+    {
+      f[a] = vtkMath::Dot(this->Ax[a], d);
+    }
+  }
+  // Projection from C onto the far plane z = ZFar.
+  void Project(const double f[3], double out[2]) const
+  {
+    const double g = (this->ZFar - this->Cam[2]) / (f[2] - this->Cam[2]);
+    out[0] = this->Cam[0] + g * (f[0] - this->Cam[0]);
+    out[1] = this->Cam[1] + g * (f[1] - this->Cam[1]);
+  }
+};
 }
 
 struct vtkPenumbraGearsShadows::Internals
@@ -979,6 +1031,21 @@ struct vtkPenumbraGearsShadows::Internals
   int TraceUndecided(vtkPenumbraGearsShadows* self, vtkPenumbraViewSamples* samples,
     vtkFloatArray* visibility, CallState& call);
   void StoreStatistics(vtkPenumbraGearsShadows* self, const CallState& call);
+  // Per side of the light plane (ProcessSide runs them in this order).
+  void ProcessSide(vtkPenumbraGearsShadows* self, CallState& call, int flip);
+  bool GatherSide(const CallState& call, SideState& S, int flip);
+  void PlaceCamera(vtkPenumbraGearsShadows* self, const CallState& call, SideState& S);
+  void CasterFootprints(const CallState& call, SideState& S);
+  void BuildGrid(vtkPenumbraGearsShadows* self, const CallState& call, SideState& S);
+  void BinSamples(SideState& S);
+  void CasterRanges(SideState& S);
+  void MarkTracedCells(const CallState& call, SideState& S);
+  void FillCellLists(SideState& S);
+  void RouteTracedCells(CallState& call);
+  bool MasksOnComputePath(vtkPenumbraGearsShadows* self, CallState& call, const SideState& S);
+  void MasksOnCPU(CallState& call, const SideState& S, bool allOnCPU);
+  void MaskOneSample(CallState& call, MaskBuilder& builder, std::vector<int>& undecided,
+    std::uint32_t o, std::int32_t cell);
 };
 
 //------------------------------------------------------------------------------
@@ -1087,594 +1154,10 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   impl.ChoosePath(this, renderer, call);
   impl.ClassifySamples(this, call);
   // ---- Per side of the light plane: grid, lists, masks.
-  const vtkIdType n = call.N;
-  const LightSamples& ls = call.Light;
-  const std::vector<signed char>& side = impl.Scratch.Side;
-  const float* pos = call.Pos;
-  const double* shift = call.Shift;
-  const double epsilon = call.Epsilon, tieFactor = call.TieFactor, diagonal = call.Diagonal;
-  float* vis = call.Vis;
-  unsigned char* uncertain = call.Uncertain;
-  std::uint32_t* masks = call.Masks;
-  bool& useGpu = call.UseGpu;
-  const double traceLimit = call.TraceLimit;
-  auto loadSample = [&](vtkIdType s, SampleRays& r) { return call.LoadSample(s, r); };
-  auto writeMask = [&](vtkIdType s, const std::uint64_t* rows) { call.WriteMask(s, rows); };
-  auto reportPathProblem = [&](const std::string& why) { impl.ReportPathProblem(this, why); };
-  std::vector<vtkIdType>& traceSamples = call.TraceSamples;
-  std::vector<int>& traceLights = call.TraceLights;
-  std::mutex& traceMutex = call.TraceMutex;
-  const int gridRequested = this->GridResolution;
-  int& gridUsed = call.GridUsed;
-  gridUsed = gridRequested;
-  vtkIdType &occupiedTotal = call.Occupied, &cellsTotal = call.Cells,
-            &maxPerCell = call.MaxPerCell, &listTotal = call.ListTotal,
-            &globalTotal = call.GlobalTotal, &flaggedTotal = call.Flagged,
-            &tracedCellSamples = call.TracedCellSamples;
-  std::atomic<vtkIdType>&assignments = call.Assignments, &necessary = call.Necessary,
-                        &segmentTests = call.SegmentTests;
-  double &gridMs = call.GridMs, &maskMs = call.MaskMs;
-  const vtkIdType nCasters = static_cast<vtkIdType>(impl.Casters.size());
-
+  call.GridUsed = this->GridResolution;
   for (const int flip : { 1, -1 })
   {
-    const auto gridStart = Clock::now();
-    // Light frame of this side: z toward the samples (Wang et al. 2014, §4, A.1; the back side
-    // mirrors).
-    double ax[3][3];
-    for (int c = 0; c < 3; ++c)
-    {
-      ax[0][c] = ls.U[c];
-      ax[1][c] = ls.V[c];
-      ax[2][c] = flip * ls.N[c];
-    }
-    auto toFrame = [&](const double w[3], double f[3]) {
-      const double d[3] = { w[0] - ls.Centre[0], w[1] - ls.Centre[1], w[2] - ls.Centre[2] };
-      for (int a = 0; a < 3; ++a)
-      {
-        f[a] = vtkMath::Dot(ax[a], d);
-      }
-    };
-    std::vector<vtkIdType>& ids = impl.Scratch.Ids;
-    ids.clear();
-    for (vtkIdType s = 0; s < n; ++s)
-    {
-      if (side[static_cast<size_t>(s)] == flip)
-      {
-        ids.push_back(s);
-      }
-    }
-    if (ids.empty())
-    {
-      continue;
-    }
-    const vtkIdType m = static_cast<vtkIdType>(ids.size());
-    std::vector<double>& frame = impl.Scratch.Frame;
-    frame.assign(3 * static_cast<size_t>(m), 0.0);
-    double zFar = 0.0, maxScale = diagonal;
-    double lo3[3] = { -ls.HalfU, -ls.HalfV, 0.0 }, hi3[3] = { ls.HalfU, ls.HalfV, 0.0 };
-    for (vtkIdType q = 0; q < m; ++q)
-    {
-      const vtkIdType s = ids[static_cast<size_t>(q)];
-      double p[3];
-      for (int c = 0; c < 3; ++c)
-      {
-        p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
-      }
-      double* f = &frame[3 * static_cast<size_t>(q)];
-      toFrame(p, f);
-      f[2] = std::max(f[2], 0.0); // rounding of the side test; z > 0 by construction
-      zFar = std::max(zFar, f[2]);
-      maxScale = std::max(maxScale, vtkMath::Norm(p));
-      for (int c = 0; c < 3; ++c)
-      {
-        lo3[c] = std::min(lo3[c], f[c]);
-        hi3[c] = std::max(hi3[c], f[c]);
-      }
-    }
-    // Triangles within this of the light plane, the far plane or a cell border are treated
-    // as touching it: the float32 ray may hit them that much off.
-    const double tolerance = 4.0 * RelativePositionTolerance * maxScale;
-
-    // Camera C behind the light (z < 0) on the line from the AABB centre through the light
-    // centre, at CameraDistanceFactor x diagonal (Wang et al. 2014, §4, A.1); any z_C < 0 is
-    // conservative.
-    double dir[3] = { -0.5 * (lo3[0] + hi3[0]), -0.5 * (lo3[1] + hi3[1]), -0.5 * (lo3[2] + hi3[2]) };
-    if (!(vtkMath::Normalize(dir) > 0.0) || !(dir[2] < -0.25))
-    {
-      dir[0] = 0.0;
-      dir[1] = 0.0;
-      dir[2] = -1.0;
-    }
-    const double distance =
-      std::max(this->CameraDistanceFactor * ls.Diagonal, 1e-3 * std::max(zFar, 1e-300));
-    const double cam[3] = { dir[0] * distance, dir[1] * distance, dir[2] * distance };
-    auto project = [&](const double f[3], double out[2]) {
-      const double g = (zFar - cam[2]) / (f[2] - cam[2]);
-      out[0] = cam[0] + g * (f[0] - cam[0]);
-      out[1] = cam[1] + g * (f[1] - cam[1]);
-    };
-
-    int g = gridRequested;
-    Internals::ScratchArrays& sc = impl.Scratch;
-    std::vector<std::int32_t>& sampleCell = sc.SampleCell;
-    sampleCell.assign(static_cast<size_t>(m), 0);
-    std::vector<std::uint32_t>& cellStart = sc.CellStart;
-    std::vector<std::uint32_t>& cellList = sc.CellList;
-    std::vector<std::uint32_t>& globalList = sc.GlobalList;
-    std::vector<std::uint32_t>& sampleOrder = sc.SampleOrder;
-    std::vector<std::uint32_t>& sampleStart = sc.SampleStart;
-    std::vector<std::int32_t>& occupied = sc.Occupied;
-    for (auto* v : { &cellStart, &cellList, &globalList, &sampleOrder, &sampleStart })
-    {
-      v->clear();
-    }
-    occupied.clear();
-    double x0 = 0, y0 = 0, cw = 1, ch = 1;
-    std::vector<double>& proj = sc.Proj;
-    proj.assign(2 * static_cast<size_t>(m), 0.0);
-    double pb[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-      std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
-    for (vtkIdType q = 0; q < m; ++q)
-    {
-      double* pr = &proj[2 * static_cast<size_t>(q)];
-      project(&frame[3 * static_cast<size_t>(q)], pr);
-      pb[0] = std::min(pb[0], pr[0]);
-      pb[1] = std::max(pb[1], pr[0]);
-      pb[2] = std::min(pb[2], pr[1]);
-      pb[3] = std::max(pb[3], pr[1]);
-    }
-    const double extent = std::max({ pb[1] - pb[0], pb[3] - pb[2], 1e-9 * (zFar + distance) });
-
-    // Per caster on this side: culled (-2), global (-1) or the cell box it touches.
-    struct Footprint
-    {
-      double Box[4];
-      int State; // 0 culled, 1 global, 2 cells
-    };
-    std::vector<double> zNear(static_cast<size_t>(nCasters)); // nearest vertex to the light
-    std::vector<Footprint> foot(static_cast<size_t>(nCasters));
-    vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType t = begin; t < end; ++t)
-      {
-        const Caster& tri = impl.Casters[static_cast<size_t>(t)];
-        Footprint& fp = foot[static_cast<size_t>(t)];
-        double f[3][3];
-        double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
-        for (int i = 0; i < 3; ++i)
-        {
-          toFrame(tri.V[i], f[i]);
-          zmin = std::min(zmin, f[i][2]);
-          zmax = std::max(zmax, f[i][2]);
-        }
-        zNear[static_cast<size_t>(t)] = zmin;
-        if (zmax < -tolerance || zmin > zFar + tolerance)
-        {
-          fp.State = 0; // wholly behind the light plane or beyond every sample
-          continue;
-        }
-        if (zmin <= tolerance)
-        {
-          fp.State = 1; // touches the light plane: unbounded extrusion
-          continue;
-        }
-        // Closed form of A.3 in the light's frame: extrusion rectangles and projections from C.
-        double box[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-          std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
-        double rmax = 1.0;
-        for (int i = 0; i < 3; ++i)
-        {
-          const double r = zFar / f[i][2];
-          rmax = std::max(rmax, r);
-          const double hx = std::fabs(r - 1.0) * ls.HalfU;
-          const double hy = std::fabs(r - 1.0) * ls.HalfV;
-          box[0] = std::min(box[0], r * f[i][0] - hx);
-          box[1] = std::max(box[1], r * f[i][0] + hx);
-          box[2] = std::min(box[2], r * f[i][1] - hy);
-          box[3] = std::max(box[3], r * f[i][1] + hy);
-          double pc[2];
-          project(f[i], pc);
-          box[0] = std::min(box[0], pc[0]);
-          box[1] = std::max(box[1], pc[0]);
-          box[2] = std::min(box[2], pc[1]);
-          box[3] = std::max(box[3], pc[1]);
-        }
-        const double pad = 2.0 * tolerance * (rmax + (zFar - cam[2]) / (-cam[2])) + 1e-9 * extent;
-        fp.Box[0] = box[0] - pad;
-        fp.Box[1] = box[1] + pad;
-        fp.Box[2] = box[2] - pad;
-        fp.Box[3] = box[3] + pad;
-        fp.State = std::isfinite(pad) && std::isfinite(box[0] + box[1] + box[2] + box[3]) ? 2 : 1;
-      }
-    });
-
-    // Build the grid; coarsen while the lists would exceed MaxListEntries.
-    for (;;)
-    {
-      x0 = pb[0] - 1e-9 * extent;
-      y0 = pb[2] - 1e-9 * extent;
-      cw = std::max(pb[1] - pb[0], 1e-6 * extent) * (1.0 + 1e-7) / g;
-      ch = std::max(pb[3] - pb[2], 1e-6 * extent) * (1.0 + 1e-7) / g;
-      const size_t cells = static_cast<size_t>(g) * g;
-      auto cellOf = [&](double px, double py, int& ix, int& iy) {
-        ix = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((px - x0) / cw))));
-        iy = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((py - y0) / ch))));
-      };
-      // A.2: bin the samples (counting sort by cell).
-      std::vector<std::uint32_t> count(cells + 1, 0);
-      for (vtkIdType q = 0; q < m; ++q)
-      {
-        int ix, iy;
-        cellOf(proj[2 * q], proj[2 * q + 1], ix, iy);
-        sampleCell[static_cast<size_t>(q)] = iy * g + ix;
-        ++count[static_cast<size_t>(iy * g + ix)];
-      }
-      // Summed-area table of occupancy: cells a footprint touches, counted in O(1).
-      std::vector<std::int64_t> sat(static_cast<size_t>(g + 1) * (g + 1), 0);
-      occupied.clear();
-      for (int iy = 0; iy < g; ++iy)
-      {
-        for (int ix = 0; ix < g; ++ix)
-        {
-          const bool busy = count[static_cast<size_t>(iy * g + ix)] > 0;
-          if (busy)
-          {
-            occupied.push_back(iy * g + ix);
-          }
-          sat[static_cast<size_t>(iy + 1) * (g + 1) + ix + 1] = (busy ? 1 : 0) +
-            sat[static_cast<size_t>(iy) * (g + 1) + ix + 1] +
-            sat[static_cast<size_t>(iy + 1) * (g + 1) + ix] - sat[static_cast<size_t>(iy) * (g + 1) + ix];
-        }
-      }
-      sampleStart.assign(cells + 1, 0);
-      for (size_t c = 0; c < cells; ++c)
-      {
-        sampleStart[c + 1] = sampleStart[c] + count[c];
-      }
-      sampleOrder.resize(static_cast<size_t>(m));
-      {
-        std::vector<std::uint32_t> cursor(sampleStart.begin(), sampleStart.end() - 1);
-        for (vtkIdType q = 0; q < m; ++q)
-        {
-          sampleOrder[cursor[static_cast<size_t>(sampleCell[static_cast<size_t>(q)])]++] =
-            static_cast<std::uint32_t>(q);
-        }
-      }
-      const std::int64_t busyCells = static_cast<std::int64_t>(occupied.size());
-
-      // A.3: cell ranges per caster; big ones join the global list.
-      std::vector<int> range(4 * static_cast<size_t>(nCasters));
-      std::vector<std::int64_t> touched(static_cast<size_t>(nCasters), 0);
-      vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-        for (vtkIdType t = begin; t < end; ++t)
-        {
-          const Footprint& fp = foot[static_cast<size_t>(t)];
-          int* rg = &range[4 * static_cast<size_t>(t)];
-          if (fp.State != 2)
-          {
-            touched[static_cast<size_t>(t)] = fp.State == 1 ? -1 : 0;
-            continue;
-          }
-          const double bx0 = std::floor((fp.Box[0] - x0) / cw), bx1 = std::floor((fp.Box[1] - x0) / cw);
-          const double by0 = std::floor((fp.Box[2] - y0) / ch), by1 = std::floor((fp.Box[3] - y0) / ch);
-          if (bx1 < 0 || by1 < 0 || bx0 > g - 1 || by0 > g - 1)
-          {
-            touched[static_cast<size_t>(t)] = 0;
-            continue;
-          }
-          rg[0] = static_cast<int>(std::max(0.0, bx0));
-          rg[1] = static_cast<int>(std::min<double>(g - 1, bx1));
-          rg[2] = static_cast<int>(std::max(0.0, by0));
-          rg[3] = static_cast<int>(std::min<double>(g - 1, by1));
-          const std::int64_t c = sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[1] + 1] -
-            sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[1] + 1] -
-            sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[0]] +
-            sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[0]];
-          // A list entry in more than half the busy cells costs more than one global entry.
-          touched[static_cast<size_t>(t)] = (busyCells > 8 && 2 * c > busyCells) ? -1 : c;
-        }
-      });
-      std::int64_t total = 0;
-      globalList.clear();
-      for (vtkIdType t = 0; t < nCasters; ++t)
-      {
-        const std::int64_t c = touched[static_cast<size_t>(t)];
-        if (c < 0)
-        {
-          globalList.push_back(static_cast<std::uint32_t>(t));
-        }
-        else
-        {
-          total += c;
-        }
-      }
-      // Cells whose list costs more than tracing their light samples: on a dense mesh under
-      // a large light a cell meets hundreds of tiny triangles each covering less than one
-      // light sample, and Embree's log N per ray wins. Their samples go to the reference
-      // whole (exact by construction) and their lists are never built.
-      std::vector<unsigned char>& traced = sc.Traced;
-      traced.assign(cells, 0);
-      if (traceLimit > 0.0 && g > 1)
-      {
-        const std::vector<std::int64_t> lengths = CellListLengths(g, range, touched);
-        const double limit = traceLimit - static_cast<double>(globalList.size());
-        for (const std::int32_t c : occupied)
-        {
-          if (static_cast<double>(lengths[static_cast<size_t>(c)]) > limit)
-          {
-            traced[static_cast<size_t>(c)] = 1;
-            total -= lengths[static_cast<size_t>(c)];
-          }
-        }
-      }
-      if (total > static_cast<std::int64_t>(this->MaxListEntries) && g > 1)
-      {
-        vtkWarningMacro("GEARS lists would hold " << total << " entries (limit "
-                                                  << this->MaxListEntries << ") at a " << g
-                                                  << "^2 grid; coarsening to " << g / 2 << "^2");
-        g /= 2;
-        continue;
-      }
-      if (g == 1)
-      {
-        // Every remaining caster covers the single cell: list them once, globally.
-        for (vtkIdType t = 0; t < nCasters; ++t)
-        {
-          if (touched[static_cast<size_t>(t)] > 0)
-          {
-            globalList.push_back(static_cast<std::uint32_t>(t));
-          }
-        }
-        cellStart.assign(cells + 1, 0);
-        cellList.clear();
-        total = 0;
-        break;
-      }
-      // Counting sort of (caster, cell) pairs by cell, only busy cells.
-      std::vector<std::atomic<std::uint32_t>> perCell(cells);
-      for (auto& a : perCell)
-      {
-        a.store(0, std::memory_order_relaxed);
-      }
-      auto forCells = [&](vtkIdType t, auto&& fn) {
-        const int* rg = &range[4 * static_cast<size_t>(t)];
-        for (int iy = rg[2]; iy <= rg[3]; ++iy)
-        {
-          for (int ix = rg[0]; ix <= rg[1]; ++ix)
-          {
-            const size_t cell = static_cast<size_t>(iy) * g + ix;
-            if (count[cell] > 0 && !traced[cell])
-            {
-              fn(cell);
-            }
-          }
-        }
-      };
-      vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-        for (vtkIdType t = begin; t < end; ++t)
-        {
-          if (touched[static_cast<size_t>(t)] > 0)
-          {
-            forCells(t, [&](size_t cell) { perCell[cell].fetch_add(1, std::memory_order_relaxed); });
-          }
-        }
-      });
-      cellStart.assign(cells + 1, 0);
-      for (size_t c = 0; c < cells; ++c)
-      {
-        cellStart[c + 1] = cellStart[c] + perCell[c].load(std::memory_order_relaxed);
-        perCell[c].store(cellStart[c], std::memory_order_relaxed);
-      }
-      cellList.resize(static_cast<size_t>(cellStart[cells]));
-      vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-        for (vtkIdType t = begin; t < end; ++t)
-        {
-          if (touched[static_cast<size_t>(t)] > 0)
-          {
-            forCells(t, [&](size_t cell) {
-              cellList[perCell[cell].fetch_add(1, std::memory_order_relaxed)] =
-                static_cast<std::uint32_t>(t);
-            });
-          }
-        }
-      });
-      // Largest triangles first: a sample in umbra fills its mask and stops sooner. The
-      // order also makes the lists (and the statistics) independent of thread timing.
-      const auto& bounds = impl.Bounds;
-      vtkSMPTools::For(0, static_cast<vtkIdType>(occupied.size()), [&](vtkIdType begin, vtkIdType end) {
-        for (vtkIdType b = begin; b < end; ++b)
-        {
-          const size_t cell = static_cast<size_t>(occupied[static_cast<size_t>(b)]);
-          std::sort(cellList.begin() + cellStart[cell], cellList.begin() + cellStart[cell + 1],
-            [&](std::uint32_t x, std::uint32_t y) {
-              return bounds[x].Radius > bounds[y].Radius ||
-                (bounds[x].Radius == bounds[y].Radius && x < y);
-            });
-        }
-      });
-      break;
-    }
-    gridUsed = std::min(gridUsed, g);
-    const size_t cells = static_cast<size_t>(g) * g;
-    occupiedTotal += static_cast<vtkIdType>(occupied.size());
-    cellsTotal += static_cast<vtkIdType>(cells);
-    listTotal += static_cast<vtkIdType>(cellList.size());
-    globalTotal += static_cast<vtkIdType>(globalList.size());
-    for (const std::int32_t c : occupied)
-    {
-      maxPerCell = std::max<vtkIdType>(maxPerCell, cellStart[c + 1] - cellStart[c]);
-    }
-    gridMs += ElapsedMs(gridStart);
-
-    // ---- Step 4: masks. Every sample considers its cell list and the global list.
-    const auto maskStart = Clock::now();
-    const std::vector<unsigned char>& traced = sc.Traced;
-    for (const std::int32_t cell : occupied)
-    {
-      if (traced[static_cast<size_t>(cell)])
-      {
-        for (std::uint32_t o = sampleStart[cell]; o < sampleStart[cell + 1]; ++o)
-        {
-          uncertain[ids[sampleOrder[o]]] = 1;
-        }
-        tracedCellSamples += sampleStart[cell + 1] - sampleStart[cell];
-        continue;
-      }
-      assignments += static_cast<vtkIdType>(sampleStart[cell + 1] - sampleStart[cell]) *
-        static_cast<vtkIdType>(cellStart[cell + 1] - cellStart[cell] + globalList.size());
-    }
-    // One view sample on the CPU: sampleOrder position `o` of cell `cell`.
-    auto maskOnCPU = [&](MaskBuilder& builder, std::vector<int>& undecided, std::uint32_t o,
-                       std::int32_t cell) {
-      const std::uint32_t* list = cellList.data() + cellStart[cell];
-      const std::uint32_t listSize = cellStart[cell + 1] - cellStart[cell];
-      const vtkIdType s = ids[sampleOrder[o]];
-      SampleRays r;
-      loadSample(s, r);
-      r.Z = frame[3 * static_cast<size_t>(sampleOrder[o]) + 2];
-      if (!builder.Start(r))
-      {
-        vis[s] = builder.Visibility();
-        writeMask(s, builder.Facing);
-        return;
-      }
-      for (std::uint32_t e = 0; e < listSize && builder.Open; ++e)
-      {
-        builder.Visit(list[e]);
-      }
-      for (size_t e = 0; e < globalList.size() && builder.Open; ++e)
-      {
-        builder.Visit(globalList[e]);
-      }
-      undecided.clear();
-      builder.Finish(undecided);
-      vis[s] = builder.Visibility();
-      writeMask(s, builder.Facing);
-      if (!undecided.empty())
-      {
-        std::lock_guard<std::mutex> lock(traceMutex);
-        for (const int j : undecided)
-        {
-          traceSamples.push_back(s);
-          traceLights.push_back(j);
-        }
-      }
-    };
-    auto newBuilder = [&]() {
-      MaskBuilder builder(ls, impl.Casters, epsilon);
-      builder.ZMin = zNear.data();
-      builder.Bounds = impl.Bounds.data();
-      builder.FarSlack = tolerance;
-      return builder;
-    };
-    // The sampleOrder positions the CPU computes: all of them, or those the shader flagged.
-    std::vector<std::uint32_t>& onCPU = sc.OnCPU;
-    onCPU.clear();
-    bool allOnCPU = !useGpu;
-    if (useGpu)
-    {
-      std::vector<std::uint32_t>& work = sc.Work;
-      work.assign(2 * static_cast<size_t>(m), 0u);
-      for (vtkIdType o = 0; o < m; ++o)
-      {
-        const std::uint32_t q = sampleOrder[static_cast<size_t>(o)];
-        work[2 * o] = static_cast<std::uint32_t>(ids[q]);
-        work[2 * o + 1] = static_cast<std::uint32_t>(sampleCell[q]);
-      }
-      penumbra_gears::ComputeLight cl;
-      cl.K = ls.K;
-      cl.Rows = ls.Rows;
-      cl.Points = ls.Points.data();
-      std::copy(ls.Centre, ls.Centre + 3, cl.Centre);
-      std::copy(ls.U, ls.U + 3, cl.U);
-      std::copy(ls.V, ls.V + 3, cl.V);
-      std::copy(ls.N, ls.N + 3, cl.N);
-      cl.Su0 = ls.Su0;
-      cl.DSu = ls.DSu;
-      cl.Sv0 = ls.Sv0;
-      cl.DSv = ls.DSv;
-      penumbra_gears::ComputeConstants cc;
-      std::copy(shift, shift + 3, cc.Shift);
-      cc.Epsilon = epsilon;
-      cc.TieFactor = tieFactor;
-      cc.Diagonal = diagonal;
-      cc.RelativeTolerance = RelativePositionTolerance;
-      penumbra_gears::ComputeSide cs;
-      cs.Flip = flip;
-      cs.FarSlack = tolerance;
-      cs.ZNear = zNear.data();
-      cs.CellStart = cellStart.data();
-      cs.Cells = cellStart.size() - 1;
-      cs.CellList = cellList.data();
-      cs.ListSize = cellList.size();
-      cs.GlobalList = globalList.data();
-      cs.GlobalSize = globalList.size();
-      cs.Work = work.data();
-      cs.WorkCount = static_cast<size_t>(m);
-      std::vector<std::uint32_t>& results = sc.Results;
-      std::vector<std::uint32_t>& rows32 = sc.Rows;
-      std::string why;
-      if (impl.Compute.Run(cl, cc, cs, results, masks ? &rows32 : nullptr, why))
-      {
-        this->LastPath = PATH_GPU;
-        vtkIdType sideNecessary = 0, sideTests = 0;
-        for (vtkIdType o = 0; o < m; ++o)
-        {
-          const std::uint32_t* res = &results[3 * static_cast<size_t>(o)];
-          if (res[0] == penumbra_gears::Flagged)
-          {
-            onCPU.push_back(static_cast<std::uint32_t>(o));
-            continue;
-          }
-          const vtkIdType s = ids[sampleOrder[static_cast<size_t>(o)]];
-          vis[s] = static_cast<float>(res[0]) / static_cast<float>(ls.Count);
-          sideNecessary += res[1];
-          sideTests += res[2];
-          if (masks)
-          {
-            std::uint64_t rows[MaxK];
-            for (int j = 0; j < ls.Rows; ++j)
-            {
-              rows[j] = rows32[static_cast<size_t>(o) * ls.Rows + j];
-            }
-            writeMask(s, rows);
-          }
-        }
-        necessary += sideNecessary;
-        segmentTests += sideTests;
-        flaggedTotal += static_cast<vtkIdType>(onCPU.size());
-      }
-      else
-      {
-        reportPathProblem(why);
-        useGpu = false;
-        allOnCPU = true;
-      }
-    }
-    if (allOnCPU)
-    {
-      // Every sample outside the traced cells, in cell order: neighbouring samples share a
-      // cell's lists.
-      for (std::uint32_t o = 0; o < static_cast<std::uint32_t>(m); ++o)
-      {
-        if (!traced[static_cast<size_t>(sampleCell[sampleOrder[o]])])
-        {
-          onCPU.push_back(o);
-        }
-      }
-    }
-    vtkSMPTools::For(0, static_cast<vtkIdType>(onCPU.size()), [&](vtkIdType begin, vtkIdType end) {
-      MaskBuilder builder = newBuilder();
-      std::vector<int> undecided;
-      for (vtkIdType f = begin; f < end; ++f)
-      {
-        const std::uint32_t o = onCPU[static_cast<size_t>(f)];
-        maskOnCPU(builder, undecided, o, sampleCell[sampleOrder[o]]);
-      }
-      necessary += builder.Necessary;
-      segmentTests += builder.Tests;
-    });
-    maskMs += ElapsedMs(maskStart);
+    impl.ProcessSide(this, call, flip);
   }
   if (!impl.TraceUndecided(this, samples, visibility, call))
   {
@@ -1916,6 +1399,675 @@ void vtkPenumbraGearsShadows::Internals::ClassifySamples(
     validCount += localValid;
   });
   self->NumberOfValidSamples = validCount.load();
+}
+
+//------------------------------------------------------------------------------
+// One side of the light plane: the grid camera and the sample binning (Wang et al. 2014,
+// A.1-A.2), the triangle lists (A.3, with the switch of long-list cells to ray tracing) and
+// the masks (§3, step 4) on the compute path or the CPU.
+void vtkPenumbraGearsShadows::Internals::ProcessSide(
+  vtkPenumbraGearsShadows* self, CallState& call, int flip)
+{
+  const auto gridStart = Clock::now();
+  SideState S;
+  if (!this->GatherSide(call, S, flip))
+  {
+    return;
+  }
+  this->PlaceCamera(self, call, S);
+  this->CasterFootprints(call, S);
+  this->BuildGrid(self, call, S);
+  const ScratchArrays& sc = this->Scratch;
+  call.GridUsed = std::min(call.GridUsed, S.G);
+  const size_t cells = static_cast<size_t>(S.G) * S.G;
+  call.Occupied += static_cast<vtkIdType>(sc.Occupied.size());
+  call.Cells += static_cast<vtkIdType>(cells);
+  call.ListTotal += static_cast<vtkIdType>(sc.CellList.size());
+  call.GlobalTotal += static_cast<vtkIdType>(sc.GlobalList.size());
+  for (const std::int32_t c : sc.Occupied)
+  {
+    call.MaxPerCell = std::max<vtkIdType>(call.MaxPerCell, sc.CellStart[c + 1] - sc.CellStart[c]);
+  }
+  call.GridMs += ElapsedMs(gridStart);
+
+  // ---- Step 4: masks. Every sample considers its cell list and the global list.
+  const auto maskStart = Clock::now();
+  this->RouteTracedCells(call);
+  this->Scratch.OnCPU.clear();
+  bool allOnCPU = !call.UseGpu;
+  if (call.UseGpu && !this->MasksOnComputePath(self, call, S))
+  {
+    allOnCPU = true;
+  }
+  this->MasksOnCPU(call, S, allOnCPU);
+  call.MaskMs += ElapsedMs(maskStart);
+}
+
+//------------------------------------------------------------------------------
+// The light frame of this side, z toward the samples (Wang et al. 2014, §4, A.1; the back
+// side mirrors), and this side's samples in it (Scratch.Ids, Scratch.Frame). False if the
+// side has no samples.
+bool vtkPenumbraGearsShadows::Internals::GatherSide(
+  const CallState& call, SideState& S, int flip)
+{
+  const LightSamples& ls = call.Light;
+  S.Flip = flip;
+  S.Centre = ls.Centre;
+  for (int c = 0; c < 3; ++c)
+  {
+    S.Ax[0][c] = ls.U[c];
+    S.Ax[1][c] = ls.V[c];
+    S.Ax[2][c] = flip * ls.N[c];
+  }
+  const std::vector<signed char>& side = this->Scratch.Side;
+  std::vector<vtkIdType>& ids = this->Scratch.Ids;
+  ids.clear();
+  for (vtkIdType s = 0; s < call.N; ++s)
+  {
+    if (side[static_cast<size_t>(s)] == flip)
+    {
+      ids.push_back(s);
+    }
+  }
+  if (ids.empty())
+  {
+    return false;
+  }
+  const vtkIdType m = static_cast<vtkIdType>(ids.size());
+  S.M = m;
+  std::vector<double>& frame = this->Scratch.Frame;
+  frame.assign(3 * static_cast<size_t>(m), 0.0);
+  double maxScale = call.Diagonal;
+  S.ZFar = 0.0;
+  const double lo3[3] = { -ls.HalfU, -ls.HalfV, 0.0 }, hi3[3] = { ls.HalfU, ls.HalfV, 0.0 };
+  std::copy(lo3, lo3 + 3, S.Lo3);
+  std::copy(hi3, hi3 + 3, S.Hi3);
+  for (vtkIdType q = 0; q < m; ++q)
+  {
+    const vtkIdType s = ids[static_cast<size_t>(q)];
+    double p[3];
+    for (int c = 0; c < 3; ++c)
+    {
+      p[c] = static_cast<double>(call.Pos[3 * s + c]) + call.Shift[c];
+    }
+    double* f = &frame[3 * static_cast<size_t>(q)];
+    S.ToFrame(p, f);
+    f[2] = std::max(f[2], 0.0); // rounding of the side test; z > 0 by construction
+    S.ZFar = std::max(S.ZFar, f[2]);
+    maxScale = std::max(maxScale, vtkMath::Norm(p));
+    for (int c = 0; c < 3; ++c)
+    {
+      S.Lo3[c] = std::min(S.Lo3[c], f[c]);
+      S.Hi3[c] = std::max(S.Hi3[c], f[c]);
+    }
+  }
+  // Triangles within this of the light plane, the far plane or a cell border are treated
+  // as touching it: the float32 ray may hit them that much off.
+  S.Tolerance = 4.0 * RelativePositionTolerance * maxScale;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Camera C behind the light (z < 0) on the line from the AABB centre through the light
+// centre, at CameraDistanceFactor x diagonal (Wang et al. 2014, §4, A.1); any z_C < 0 is
+// conservative. The samples projected from C onto the far plane (Scratch.Proj) and their
+// bounds.
+void vtkPenumbraGearsShadows::Internals::PlaceCamera(
+  vtkPenumbraGearsShadows* self, const CallState& call, SideState& S)
+{
+  double dir[3] = { -0.5 * (S.Lo3[0] + S.Hi3[0]), -0.5 * (S.Lo3[1] + S.Hi3[1]),
+    -0.5 * (S.Lo3[2] + S.Hi3[2]) };
+  if (!(vtkMath::Normalize(dir) > 0.0) || !(dir[2] < -0.25))
+  {
+    dir[0] = 0.0;
+    dir[1] = 0.0;
+    dir[2] = -1.0;
+  }
+  S.Distance = std::max(
+    self->CameraDistanceFactor * call.Light.Diagonal, 1e-3 * std::max(S.ZFar, 1e-300));
+  for (int c = 0; c < 3; ++c)
+  {
+    S.Cam[c] = dir[c] * S.Distance;
+  }
+  const std::vector<double>& frame = this->Scratch.Frame;
+  std::vector<double>& proj = this->Scratch.Proj;
+  proj.assign(2 * static_cast<size_t>(S.M), 0.0);
+  double* pb = S.Pb;
+  pb[0] = std::numeric_limits<double>::infinity();
+  pb[1] = -std::numeric_limits<double>::infinity();
+  pb[2] = std::numeric_limits<double>::infinity();
+  pb[3] = -std::numeric_limits<double>::infinity();
+  for (vtkIdType q = 0; q < S.M; ++q)
+  {
+    double* pr = &proj[2 * static_cast<size_t>(q)];
+    S.Project(&frame[3 * static_cast<size_t>(q)], pr);
+    pb[0] = std::min(pb[0], pr[0]);
+    pb[1] = std::max(pb[1], pr[0]);
+    pb[2] = std::min(pb[2], pr[1]);
+    pb[3] = std::max(pb[3], pr[1]);
+  }
+  S.Extent = std::max({ pb[1] - pb[0], pb[3] - pb[2], 1e-9 * (S.ZFar + S.Distance) });
+}
+
+//------------------------------------------------------------------------------
+// Per caster on this side: culled, global (touches the light plane) or the box on the far
+// plane that its shadow can reach (Wang et al. 2014, A.3, in closed form in the light's
+// frame: extrusion rectangles and projections from C).
+void vtkPenumbraGearsShadows::Internals::CasterFootprints(const CallState& call, SideState& S)
+{
+  const LightSamples& ls = call.Light;
+  const vtkIdType nCasters = static_cast<vtkIdType>(this->Casters.size());
+  S.ZNear.assign(static_cast<size_t>(nCasters), 0.0);
+  S.Foot.resize(static_cast<size_t>(nCasters));
+  const double tolerance = S.Tolerance, zFar = S.ZFar;
+  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType t = begin; t < end; ++t)
+    {
+      const Caster& tri = this->Casters[static_cast<size_t>(t)];
+      Footprint& fp = S.Foot[static_cast<size_t>(t)];
+      double f[3][3];
+      double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+      for (int i = 0; i < 3; ++i)
+      {
+        S.ToFrame(tri.V[i], f[i]);
+        zmin = std::min(zmin, f[i][2]);
+        zmax = std::max(zmax, f[i][2]);
+      }
+      S.ZNear[static_cast<size_t>(t)] = zmin;
+      if (zmax < -tolerance || zmin > zFar + tolerance)
+      {
+        fp.State = 0; // wholly behind the light plane or beyond every sample
+        continue;
+      }
+      if (zmin <= tolerance)
+      {
+        fp.State = 1; // touches the light plane: unbounded extrusion
+        continue;
+      }
+      double box[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+        std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
+      double rmax = 1.0;
+      for (int i = 0; i < 3; ++i)
+      {
+        const double r = zFar / f[i][2];
+        rmax = std::max(rmax, r);
+        const double hx = std::fabs(r - 1.0) * ls.HalfU;
+        const double hy = std::fabs(r - 1.0) * ls.HalfV;
+        box[0] = std::min(box[0], r * f[i][0] - hx);
+        box[1] = std::max(box[1], r * f[i][0] + hx);
+        box[2] = std::min(box[2], r * f[i][1] - hy);
+        box[3] = std::max(box[3], r * f[i][1] + hy);
+        double pc[2];
+        S.Project(f[i], pc);
+        box[0] = std::min(box[0], pc[0]);
+        box[1] = std::max(box[1], pc[0]);
+        box[2] = std::min(box[2], pc[1]);
+        box[3] = std::max(box[3], pc[1]);
+      }
+      const double pad =
+        2.0 * tolerance * (rmax + (zFar - S.Cam[2]) / (-S.Cam[2])) + 1e-9 * S.Extent;
+      fp.Box[0] = box[0] - pad;
+      fp.Box[1] = box[1] + pad;
+      fp.Box[2] = box[2] - pad;
+      fp.Box[3] = box[3] + pad;
+      fp.State = std::isfinite(pad) && std::isfinite(box[0] + box[1] + box[2] + box[3]) ? 2 : 1;
+    }
+  });
+}
+
+//------------------------------------------------------------------------------
+// The grid and its lists at GridResolution, coarsened while the lists would exceed
+// MaxListEntries (Wang et al. 2014, A.2-A.3).
+void vtkPenumbraGearsShadows::Internals::BuildGrid(
+  vtkPenumbraGearsShadows* self, const CallState& call, SideState& S)
+{
+  ScratchArrays& sc = this->Scratch;
+  sc.SampleCell.assign(static_cast<size_t>(S.M), 0);
+  for (auto* v : { &sc.CellStart, &sc.CellList, &sc.GlobalList, &sc.SampleOrder, &sc.SampleStart })
+  {
+    v->clear();
+  }
+  sc.Occupied.clear();
+  S.G = self->GridResolution;
+  for (;;)
+  {
+    this->BinSamples(S);
+    this->CasterRanges(S);
+    this->MarkTracedCells(call, S);
+    const int g = S.G;
+    if (S.Total > static_cast<std::int64_t>(self->MaxListEntries) && g > 1)
+    {
+      vtkWarningWithObjectMacro(self,
+        "GEARS lists would hold " << S.Total << " entries (limit " << self->MaxListEntries
+                                  << ") at a " << g << "^2 grid; coarsening to " << g / 2
+                                  << "^2");
+      S.G /= 2;
+      continue;
+    }
+    if (g == 1)
+    {
+      // Every remaining caster covers the single cell: list them once, globally.
+      for (size_t t = 0; t < this->Casters.size(); ++t)
+      {
+        if (S.Touched[t] > 0)
+        {
+          sc.GlobalList.push_back(static_cast<std::uint32_t>(t));
+        }
+      }
+      sc.CellStart.assign(2, 0);
+      sc.CellList.clear();
+      S.Total = 0;
+      break;
+    }
+    this->FillCellLists(S);
+    break;
+  }
+}
+
+//------------------------------------------------------------------------------
+// Wang et al. 2014, A.2: the grid over the projected samples, and the samples binned by cell
+// (counting sort), with the occupied cells and a summed-area table of them.
+void vtkPenumbraGearsShadows::Internals::BinSamples(SideState& S)
+{
+  ScratchArrays& sc = this->Scratch;
+  const int g = S.G;
+  const vtkIdType m = S.M;
+  const double* pb = S.Pb;
+  const double extent = S.Extent;
+  const double x0 = S.X0 = pb[0] - 1e-9 * extent;
+  const double y0 = S.Y0 = pb[2] - 1e-9 * extent;
+  const double cw = S.Cw = std::max(pb[1] - pb[0], 1e-6 * extent) * (1.0 + 1e-7) / g;
+  const double ch = S.Ch = std::max(pb[3] - pb[2], 1e-6 * extent) * (1.0 + 1e-7) / g;
+  const size_t cells = static_cast<size_t>(g) * g;
+  auto cellOf = [&](double px, double py, int& ix, int& iy) {
+    ix = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((px - x0) / cw))));
+    iy = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((py - y0) / ch))));
+  };
+  std::vector<std::uint32_t>& count = S.Count;
+  count.assign(cells + 1, 0);
+  const std::vector<double>& proj = sc.Proj;
+  for (vtkIdType q = 0; q < m; ++q)
+  {
+    int ix, iy;
+    cellOf(proj[2 * q], proj[2 * q + 1], ix, iy);
+    sc.SampleCell[static_cast<size_t>(q)] = iy * g + ix;
+    ++count[static_cast<size_t>(iy * g + ix)];
+  }
+  // Summed-area table of occupancy: cells a footprint touches, counted in O(1).
+  std::vector<std::int64_t>& sat = S.Sat;
+  sat.assign(static_cast<size_t>(g + 1) * (g + 1), 0);
+  sc.Occupied.clear();
+  for (int iy = 0; iy < g; ++iy)
+  {
+    for (int ix = 0; ix < g; ++ix)
+    {
+      const bool busy = count[static_cast<size_t>(iy * g + ix)] > 0;
+      if (busy)
+      {
+        sc.Occupied.push_back(iy * g + ix);
+      }
+      sat[static_cast<size_t>(iy + 1) * (g + 1) + ix + 1] = (busy ? 1 : 0) +
+        sat[static_cast<size_t>(iy) * (g + 1) + ix + 1] +
+        sat[static_cast<size_t>(iy + 1) * (g + 1) + ix] - sat[static_cast<size_t>(iy) * (g + 1) + ix];
+    }
+  }
+  std::vector<std::uint32_t>& sampleStart = sc.SampleStart;
+  sampleStart.assign(cells + 1, 0);
+  for (size_t c = 0; c < cells; ++c)
+  {
+    sampleStart[c + 1] = sampleStart[c] + count[c];
+  }
+  sc.SampleOrder.resize(static_cast<size_t>(m));
+  std::vector<std::uint32_t> cursor(sampleStart.begin(), sampleStart.end() - 1);
+  for (vtkIdType q = 0; q < m; ++q)
+  {
+    sc.SampleOrder[cursor[static_cast<size_t>(sc.SampleCell[static_cast<size_t>(q)])]++] =
+      static_cast<std::uint32_t>(q);
+  }
+}
+
+//------------------------------------------------------------------------------
+// Wang et al. 2014, A.3: each caster's footprint as a range of cells; those that would enter
+// more than half the busy cells join the global list instead (Scratch.GlobalList).
+void vtkPenumbraGearsShadows::Internals::CasterRanges(SideState& S)
+{
+  const vtkIdType nCasters = static_cast<vtkIdType>(this->Casters.size());
+  const int g = S.G;
+  const double x0 = S.X0, y0 = S.Y0, cw = S.Cw, ch = S.Ch;
+  const std::vector<std::int64_t>& sat = S.Sat;
+  std::vector<int>& range = S.Range;
+  std::vector<std::int64_t>& touched = S.Touched;
+  range.assign(4 * static_cast<size_t>(nCasters), 0);
+  touched.assign(static_cast<size_t>(nCasters), 0);
+  const std::int64_t busyCells = static_cast<std::int64_t>(this->Scratch.Occupied.size());
+  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType t = begin; t < end; ++t)
+    {
+      const Footprint& fp = S.Foot[static_cast<size_t>(t)];
+      int* rg = &range[4 * static_cast<size_t>(t)];
+      if (fp.State != 2)
+      {
+        touched[static_cast<size_t>(t)] = fp.State == 1 ? -1 : 0;
+        continue;
+      }
+      const double bx0 = std::floor((fp.Box[0] - x0) / cw), bx1 = std::floor((fp.Box[1] - x0) / cw);
+      const double by0 = std::floor((fp.Box[2] - y0) / ch), by1 = std::floor((fp.Box[3] - y0) / ch);
+      if (bx1 < 0 || by1 < 0 || bx0 > g - 1 || by0 > g - 1)
+      {
+        touched[static_cast<size_t>(t)] = 0;
+        continue;
+      }
+      rg[0] = static_cast<int>(std::max(0.0, bx0));
+      rg[1] = static_cast<int>(std::min<double>(g - 1, bx1));
+      rg[2] = static_cast<int>(std::max(0.0, by0));
+      rg[3] = static_cast<int>(std::min<double>(g - 1, by1));
+      const std::int64_t c = sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[1] + 1] -
+        sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[1] + 1] -
+        sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[0]] +
+        sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[0]];
+      // A list entry in more than half the busy cells costs more than one global entry.
+      touched[static_cast<size_t>(t)] = (busyCells > 8 && 2 * c > busyCells) ? -1 : c;
+    }
+  });
+  std::vector<std::uint32_t>& globalList = this->Scratch.GlobalList;
+  std::int64_t total = 0;
+  globalList.clear();
+  for (vtkIdType t = 0; t < nCasters; ++t)
+  {
+    const std::int64_t c = touched[static_cast<size_t>(t)];
+    if (c < 0)
+    {
+      globalList.push_back(static_cast<std::uint32_t>(t));
+    }
+    else
+    {
+      total += c;
+    }
+  }
+  S.Total = total;
+}
+
+//------------------------------------------------------------------------------
+// The long-list switch: cells whose list costs more than tracing their light samples. On a
+// dense mesh under a large light a cell meets hundreds of tiny triangles each covering less
+// than one light sample, and Embree's log N per ray wins. Their samples go to the reference
+// whole (exact by construction) and their lists are never built (Scratch.Traced).
+void vtkPenumbraGearsShadows::Internals::MarkTracedCells(const CallState& call, SideState& S)
+{
+  const int g = S.G;
+  std::vector<unsigned char>& traced = this->Scratch.Traced;
+  traced.assign(static_cast<size_t>(g) * g, 0);
+  if (call.TraceLimit > 0.0 && g > 1)
+  {
+    const std::vector<std::int64_t> lengths = CellListLengths(g, S.Range, S.Touched);
+    const double limit = call.TraceLimit - static_cast<double>(this->Scratch.GlobalList.size());
+    for (const std::int32_t c : this->Scratch.Occupied)
+    {
+      if (static_cast<double>(lengths[static_cast<size_t>(c)]) > limit)
+      {
+        traced[static_cast<size_t>(c)] = 1;
+        S.Total -= lengths[static_cast<size_t>(c)];
+      }
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+// The cell lists (Wang et al. 2014, A.3): a counting sort of (caster, cell) pairs by cell,
+// busy untraced cells only, each list sorted largest triangle first.
+void vtkPenumbraGearsShadows::Internals::FillCellLists(SideState& S)
+{
+  ScratchArrays& sc = this->Scratch;
+  const vtkIdType nCasters = static_cast<vtkIdType>(this->Casters.size());
+  const int g = S.G;
+  const size_t cells = static_cast<size_t>(g) * g;
+  std::vector<std::atomic<std::uint32_t>> perCell(cells);
+  for (auto& a : perCell)
+  {
+    a.store(0, std::memory_order_relaxed);
+  }
+  auto forCells = [&](vtkIdType t, auto&& fn) {
+    const int* rg = &S.Range[4 * static_cast<size_t>(t)];
+    for (int iy = rg[2]; iy <= rg[3]; ++iy)
+    {
+      for (int ix = rg[0]; ix <= rg[1]; ++ix)
+      {
+        const size_t cell = static_cast<size_t>(iy) * g + ix;
+        if (S.Count[cell] > 0 && !sc.Traced[cell])
+        {
+          fn(cell);
+        }
+      }
+    }
+  };
+  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType t = begin; t < end; ++t)
+    {
+      if (S.Touched[static_cast<size_t>(t)] > 0)
+      {
+        forCells(t, [&](size_t cell) { perCell[cell].fetch_add(1, std::memory_order_relaxed); });
+      }
+    }
+  });
+  std::vector<std::uint32_t>& cellStart = sc.CellStart;
+  std::vector<std::uint32_t>& cellList = sc.CellList;
+  cellStart.assign(cells + 1, 0);
+  for (size_t c = 0; c < cells; ++c)
+  {
+    cellStart[c + 1] = cellStart[c] + perCell[c].load(std::memory_order_relaxed);
+    perCell[c].store(cellStart[c], std::memory_order_relaxed);
+  }
+  cellList.resize(static_cast<size_t>(cellStart[cells]));
+  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType t = begin; t < end; ++t)
+    {
+      if (S.Touched[static_cast<size_t>(t)] > 0)
+      {
+        forCells(t, [&](size_t cell) {
+          cellList[perCell[cell].fetch_add(1, std::memory_order_relaxed)] =
+            static_cast<std::uint32_t>(t);
+        });
+      }
+    }
+  });
+  // Largest triangles first: a sample in umbra fills its mask and stops sooner. The
+  // order also makes the lists (and the statistics) independent of thread timing.
+  const auto& bounds = this->Bounds;
+  vtkSMPTools::For(0, static_cast<vtkIdType>(sc.Occupied.size()), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType b = begin; b < end; ++b)
+    {
+      const size_t cell = static_cast<size_t>(sc.Occupied[static_cast<size_t>(b)]);
+      std::sort(cellList.begin() + cellStart[cell], cellList.begin() + cellStart[cell + 1],
+        [&](std::uint32_t x, std::uint32_t y) {
+          return bounds[x].Radius > bounds[y].Radius ||
+            (bounds[x].Radius == bounds[y].Radius && x < y);
+        });
+    }
+  });
+}
+
+//------------------------------------------------------------------------------
+// Step 4's bookkeeping: the samples of ray-traced cells are flagged uncertain (the reference
+// takes them whole); every other sample will consider its cell list and the global list.
+void vtkPenumbraGearsShadows::Internals::RouteTracedCells(CallState& call)
+{
+  const ScratchArrays& sc = this->Scratch;
+  for (const std::int32_t cell : sc.Occupied)
+  {
+    if (sc.Traced[static_cast<size_t>(cell)])
+    {
+      for (std::uint32_t o = sc.SampleStart[cell]; o < sc.SampleStart[cell + 1]; ++o)
+      {
+        call.Uncertain[sc.Ids[sc.SampleOrder[o]]] = 1;
+      }
+      call.TracedCellSamples += sc.SampleStart[cell + 1] - sc.SampleStart[cell];
+      continue;
+    }
+    call.Assignments += static_cast<vtkIdType>(sc.SampleStart[cell + 1] - sc.SampleStart[cell]) *
+      static_cast<vtkIdType>(sc.CellStart[cell + 1] - sc.CellStart[cell] + sc.GlobalList.size());
+  }
+}
+
+//------------------------------------------------------------------------------
+// Step 4 on the compute path: the shader's masks for this side, the samples it flagged left
+// to the CPU (Scratch.OnCPU). False, with the path dropped for the rest of the call, if the
+// run failed.
+bool vtkPenumbraGearsShadows::Internals::MasksOnComputePath(
+  vtkPenumbraGearsShadows* self, CallState& call, const SideState& S)
+{
+  ScratchArrays& sc = this->Scratch;
+  const LightSamples& ls = call.Light;
+  const vtkIdType m = S.M;
+  std::vector<std::uint32_t>& work = sc.Work;
+  work.assign(2 * static_cast<size_t>(m), 0u);
+  for (vtkIdType o = 0; o < m; ++o)
+  {
+    const std::uint32_t q = sc.SampleOrder[static_cast<size_t>(o)];
+    work[2 * o] = static_cast<std::uint32_t>(sc.Ids[q]);
+    work[2 * o + 1] = static_cast<std::uint32_t>(sc.SampleCell[q]);
+  }
+  penumbra_gears::ComputeLight cl;
+  cl.K = ls.K;
+  cl.Rows = ls.Rows;
+  cl.Points = ls.Points.data();
+  std::copy(ls.Centre, ls.Centre + 3, cl.Centre);
+  std::copy(ls.U, ls.U + 3, cl.U);
+  std::copy(ls.V, ls.V + 3, cl.V);
+  std::copy(ls.N, ls.N + 3, cl.N);
+  cl.Su0 = ls.Su0;
+  cl.DSu = ls.DSu;
+  cl.Sv0 = ls.Sv0;
+  cl.DSv = ls.DSv;
+  penumbra_gears::ComputeConstants cc;
+  std::copy(call.Shift, call.Shift + 3, cc.Shift);
+  cc.Epsilon = call.Epsilon;
+  cc.TieFactor = call.TieFactor;
+  cc.Diagonal = call.Diagonal;
+  cc.RelativeTolerance = RelativePositionTolerance;
+  penumbra_gears::ComputeSide cs;
+  cs.Flip = S.Flip;
+  cs.FarSlack = S.Tolerance;
+  cs.ZNear = S.ZNear.data();
+  cs.CellStart = sc.CellStart.data();
+  cs.Cells = sc.CellStart.size() - 1;
+  cs.CellList = sc.CellList.data();
+  cs.ListSize = sc.CellList.size();
+  cs.GlobalList = sc.GlobalList.data();
+  cs.GlobalSize = sc.GlobalList.size();
+  cs.Work = work.data();
+  cs.WorkCount = static_cast<size_t>(m);
+  std::string why;
+  if (!this->Compute.Run(cl, cc, cs, sc.Results, call.Masks ? &sc.Rows : nullptr, why))
+  {
+    this->ReportPathProblem(self, why);
+    call.UseGpu = false;
+    return false;
+  }
+  self->LastPath = PATH_GPU;
+  vtkIdType sideNecessary = 0, sideTests = 0;
+  for (vtkIdType o = 0; o < m; ++o)
+  {
+    const std::uint32_t* res = &sc.Results[3 * static_cast<size_t>(o)];
+    if (res[0] == penumbra_gears::Flagged)
+    {
+      sc.OnCPU.push_back(static_cast<std::uint32_t>(o));
+      continue;
+    }
+    const vtkIdType s = sc.Ids[sc.SampleOrder[static_cast<size_t>(o)]];
+    call.Vis[s] = static_cast<float>(res[0]) / static_cast<float>(ls.Count);
+    sideNecessary += res[1];
+    sideTests += res[2];
+    if (call.Masks)
+    {
+      std::uint64_t rows[MaxK];
+      for (int j = 0; j < ls.Rows; ++j)
+      {
+        rows[j] = sc.Rows[static_cast<size_t>(o) * ls.Rows + j];
+      }
+      call.WriteMask(s, rows);
+    }
+  }
+  call.Necessary += sideNecessary;
+  call.SegmentTests += sideTests;
+  call.Flagged += static_cast<vtkIdType>(sc.OnCPU.size());
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Step 4 on the CPU (Wang et al. 2014, §3, step 4, with the exact predicate of MaskBuilder):
+// the samples the compute path flagged, or with allOnCPU every sample outside the traced
+// cells, in cell order (neighbouring samples share a cell's lists).
+void vtkPenumbraGearsShadows::Internals::MasksOnCPU(
+  CallState& call, const SideState& S, bool allOnCPU)
+{
+  ScratchArrays& sc = this->Scratch;
+  std::vector<std::uint32_t>& onCPU = sc.OnCPU;
+  if (allOnCPU)
+  {
+    for (std::uint32_t o = 0; o < static_cast<std::uint32_t>(S.M); ++o)
+    {
+      if (!sc.Traced[static_cast<size_t>(sc.SampleCell[sc.SampleOrder[o]])])
+      {
+        onCPU.push_back(o);
+      }
+    }
+  }
+  vtkSMPTools::For(0, static_cast<vtkIdType>(onCPU.size()), [&](vtkIdType begin, vtkIdType end) {
+    MaskBuilder builder(call.Light, this->Casters, call.Epsilon);
+    builder.ZMin = S.ZNear.data();
+    builder.Bounds = this->Bounds.data();
+    builder.FarSlack = S.Tolerance;
+    std::vector<int> undecided;
+    for (vtkIdType f = begin; f < end; ++f)
+    {
+      const std::uint32_t o = onCPU[static_cast<size_t>(f)];
+      this->MaskOneSample(call, builder, undecided, o, sc.SampleCell[sc.SampleOrder[o]]);
+    }
+    call.Necessary += builder.Necessary;
+    call.SegmentTests += builder.Tests;
+  });
+}
+
+//------------------------------------------------------------------------------
+// One view sample on the CPU: sampleOrder position `o` of cell `cell`. Its visibility and
+// mask are written; its undecided light samples join the pairs the reference traces.
+void vtkPenumbraGearsShadows::Internals::MaskOneSample(CallState& call, MaskBuilder& builder,
+  std::vector<int>& undecided, std::uint32_t o, std::int32_t cell)
+{
+  const ScratchArrays& sc = this->Scratch;
+  const std::uint32_t* list = sc.CellList.data() + sc.CellStart[cell];
+  const std::uint32_t listSize = sc.CellStart[cell + 1] - sc.CellStart[cell];
+  const vtkIdType s = sc.Ids[sc.SampleOrder[o]];
+  SampleRays r;
+  call.LoadSample(s, r);
+  r.Z = sc.Frame[3 * static_cast<size_t>(sc.SampleOrder[o]) + 2];
+  if (!builder.Start(r))
+  {
+    call.Vis[s] = builder.Visibility();
+    call.WriteMask(s, builder.Facing);
+    return;
+  }
+  for (std::uint32_t e = 0; e < listSize && builder.Open; ++e)
+  {
+    builder.Visit(list[e]);
+  }
+  for (size_t e = 0; e < sc.GlobalList.size() && builder.Open; ++e)
+  {
+    builder.Visit(sc.GlobalList[e]);
+  }
+  undecided.clear();
+  builder.Finish(undecided);
+  call.Vis[s] = builder.Visibility();
+  call.WriteMask(s, builder.Facing);
+  if (!undecided.empty())
+  {
+    std::lock_guard<std::mutex> lock(call.TraceMutex);
+    for (const int j : undecided)
+    {
+      call.TraceSamples.push_back(s);
+      call.TraceLights.push_back(j);
+    }
+  }
 }
 
 //------------------------------------------------------------------------------
