@@ -778,6 +778,142 @@ std::vector<std::int64_t> CellListLengths(
   }
   return length;
 }
+// The state one ComputeVisibility call shares between its phases: the view samples in the
+// geometry's rebased frame, the light, the outputs, the undecided pairs and the statistics.
+struct CallState
+{
+  vtkIdType N = 0;
+  const float* Pos = nullptr;
+  const float* Nrm = nullptr;
+  const int* Props = nullptr;
+  const vtkIdType* Tris = nullptr;
+  double Shift[3] = { 0, 0, 0 }; // samples' origin minus the geometry's
+  double Epsilon = 0.0, TieFactor = 0.0, Diagonal = 1.0; // the reference's
+  vtkSmartPointer<vtkPenumbraAreaLight> Used;            // the light, resampled if asked
+  LightSamples Light;
+  bool Off = false; // switched off or zero intensity
+
+  float* Vis = nullptr;
+  unsigned char* Uncertain = nullptr;
+  std::uint32_t* Masks = nullptr; // only with KeepMasks
+  int Words = 0;                  // mask words per sample
+
+  bool UseGpu = false;     // step 4 on the compute path
+  double TraceLimit = 0.0; // list length above which a cell is ray traced; 0: never
+
+  // Undecided (view sample, light sample) pairs, appended by the mask loop in sample order
+  // within each thread's chunk.
+  std::vector<vtkIdType> TraceSamples;
+  std::vector<int> TraceLights;
+  std::mutex TraceMutex;
+
+  // Statistics, summed over both sides of the light plane.
+  int GridUsed = 0;
+  vtkIdType Flagged = 0, TracedCellSamples = 0, Occupied = 0, Cells = 0, MaxPerCell = 0,
+            ListTotal = 0, GlobalTotal = 0;
+  std::atomic<vtkIdType> Assignments{ 0 }, Necessary{ 0 }, SegmentTests{ 0 };
+  double GridMs = 0.0, MaskMs = 0.0, TraceMs = 0.0;
+  vtkIdType UncertainSamples = 0, TracedRays = 0, SamplesWithTracedRays = 0;
+
+  // The reference's per-ray constants of view sample s; false if the sample is invalid.
+  bool LoadSample(vtkIdType s, SampleRays& r) const
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      r.P[c] = static_cast<double>(this->Pos[3 * s + c]) + this->Shift[c];
+      r.Normal[c] = this->Nrm[3 * s + c];
+    }
+    if (this->Props[s] < 0 || !std::isfinite(r.P[0]) || !std::isfinite(r.P[1]) ||
+      !std::isfinite(r.P[2]) || !std::isfinite(r.Normal[0]) || !std::isfinite(r.Normal[1]) ||
+      !std::isfinite(r.Normal[2]))
+    {
+      return false;
+    }
+    const double scale = std::max(vtkMath::Norm(r.P), this->Diagonal);
+    r.Own = this->Tris[s];
+    r.Epsilon = this->Epsilon;
+    r.TNear = this->Epsilon * scale;
+    r.TNearF = static_cast<float>(r.TNear);
+    r.TieLimit =
+      static_cast<double>(static_cast<float>(this->TieFactor * this->Epsilon * scale));
+    r.ErrPos = RelativePositionTolerance * scale;
+    return true;
+  }
+
+  // ORs the light samples set in rows (one word per row) into sample s's kept mask.
+  void WriteMask(vtkIdType s, const std::uint64_t* rows) const
+  {
+    if (!this->Masks)
+    {
+      return;
+    }
+    const LightSamples& ls = this->Light;
+    std::uint32_t* out = this->Masks + static_cast<size_t>(s) * this->Words;
+    for (int j = 0; j < ls.Rows; ++j)
+    {
+      for (int i = 0; i < ls.K; ++i)
+      {
+        if (rows[j] >> i & 1u)
+        {
+          const int index = j * ls.K + i;
+          out[index / 32] |= 1u << (index % 32);
+        }
+      }
+    }
+  }
+};
+
+// Per caster on one side: culled, global or the grid box it touches.
+struct Footprint
+{
+  double Box[4];
+  int State; // 0 culled, 1 global, 2 cells
+};
+
+// One side of the light plane: its samples in the light's frame with z toward them
+// (Wang et al. 2014, §4, A.1; the back side mirrors), the grid camera C, the casters'
+// footprints and the grid being built.
+struct SideState
+{
+  int Flip = 1;
+  double Ax[3][3];                // the frame's axes
+  const double* Centre = nullptr; // the light's centre, the frame's origin
+  vtkIdType M = 0;                // samples on this side (Scratch.Ids, Scratch.Frame)
+  double ZFar = 0.0;              // farthest sample from the light plane
+  double Lo3[3], Hi3[3];          // bounds of the samples and the light, in the frame
+  double Tolerance = 0.0;         // how far off the float32 ray may hit a triangle
+  double Distance = 0.0, Cam[3];  // the camera C, behind the light
+  double Pb[4];                   // bounds of the projected samples
+  double Extent = 0.0;            // their larger side
+  std::vector<double> ZNear;      // per caster: nearest vertex to the light
+  std::vector<Footprint> Foot;
+
+  // The grid: resolution G, origin (X0, Y0), cell size Cw x Ch, and the per-resolution
+  // working arrays of its construction.
+  int G = 1;
+  double X0 = 0, Y0 = 0, Cw = 1, Ch = 1;
+  std::vector<std::uint32_t> Count;  // samples per cell
+  std::vector<std::int64_t> Sat;     // summed-area table of occupied cells
+  std::vector<int> Range;            // per caster: ix0, ix1, iy0, iy1
+  std::vector<std::int64_t> Touched; // per caster: busy cells touched, -1 global
+  std::int64_t Total = 0;            // list entries the cells would hold
+
+  void ToFrame(const double w[3], double f[3]) const
+  {
+    const double d[3] = { w[0] - this->Centre[0], w[1] - this->Centre[1], w[2] - this->Centre[2] };
+    for (int a = 0; a < 3; ++a)
+    {
+      f[a] = vtkMath::Dot(this->Ax[a], d);
+    }
+  }
+  // Projection from C onto the far plane z = ZFar.
+  void Project(const double f[3], double out[2]) const
+  {
+    const double g = (this->ZFar - this->Cam[2]) / (f[2] - this->Cam[2]);
+    out[0] = this->Cam[0] + g * (f[0] - this->Cam[0]);
+    out[1] = this->Cam[1] + g * (f[1] - this->Cam[1]);
+  }
+};
 }
 
 struct vtkPenumbraGearsShadows::Internals
@@ -884,6 +1020,32 @@ struct vtkPenumbraGearsShadows::Internals
     this->FlagsTime = geometry->GetFlagsTime();
     std::copy(origin, origin + 3, this->Origin);
   }
+  // The phases of ComputeVisibility, in the order it runs them (defined below it).
+  bool ReadSamples(vtkPenumbraViewSamples* samples, CallState& call);
+  bool SetUpLight(vtkPenumbraGearsShadows* self, vtkPenumbraAreaLight* area,
+    vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, CallState& call);
+  void SetUpOutputs(vtkPenumbraGearsShadows* self, vtkFloatArray* visibility, CallState& call);
+  void ChoosePath(vtkPenumbraGearsShadows* self, vtkRenderer* renderer, CallState& call);
+  void ReportPathProblem(vtkPenumbraGearsShadows* self, const std::string& why);
+  void ClassifySamples(vtkPenumbraGearsShadows* self, CallState& call);
+  int TraceUndecided(vtkPenumbraGearsShadows* self, vtkPenumbraViewSamples* samples,
+    vtkFloatArray* visibility, CallState& call);
+  void StoreStatistics(vtkPenumbraGearsShadows* self, const CallState& call);
+  // Per side of the light plane (ProcessSide runs them in this order).
+  void ProcessSide(vtkPenumbraGearsShadows* self, CallState& call, int flip);
+  bool GatherSide(const CallState& call, SideState& S, int flip);
+  void PlaceCamera(vtkPenumbraGearsShadows* self, const CallState& call, SideState& S);
+  void CasterFootprints(const CallState& call, SideState& S);
+  void BuildGrid(vtkPenumbraGearsShadows* self, const CallState& call, SideState& S);
+  void BinSamples(SideState& S);
+  void CasterRanges(SideState& S);
+  void MarkTracedCells(const CallState& call, SideState& S);
+  void FillCellLists(SideState& S);
+  void RouteTracedCells(CallState& call);
+  bool MasksOnComputePath(vtkPenumbraGearsShadows* self, CallState& call, const SideState& S);
+  void MasksOnCPU(CallState& call, const SideState& S, bool allOnCPU);
+  void MaskOneSample(CallState& call, MaskBuilder& builder, std::vector<int>& undecided,
+    std::uint32_t o, std::int32_t cell);
 };
 
 //------------------------------------------------------------------------------
@@ -941,14 +1103,18 @@ double vtkPenumbraGearsShadows::GetBlockingShare()
     : 0.0;
 }
 
-#define PENUMBRA_GEARS_FAIL(text)                                                                \
+#define PENUMBRA_GEARS_FAIL_FOR(self, text)                                                    \
   do                                                                                             \
   {                                                                                              \
-    vtkErrorMacro(<< text);                                                                      \
+    vtkErrorWithObjectMacro(self, << text);                                                      \
     return 0;                                                                                    \
   } while (false)
+#define PENUMBRA_GEARS_FAIL(text) PENUMBRA_GEARS_FAIL_FOR(this, text)
 
 //------------------------------------------------------------------------------
+// Wang et al. 2014, §3, for one area light: the input checks and light set-up, the sample
+// classification, then per side of the light plane the grid (A.1-A.2), the triangle lists
+// (A.3) and the masks (step 4), and last the reference for whatever stayed undecided.
 int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
   vtkFloatArray* visibility)
@@ -973,6 +1139,43 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   {
     PENUMBRA_GEARS_FAIL("invalid area light: " << problem);
   }
+  Internals& impl = *this->Impl;
+  CallState call;
+  if (!impl.ReadSamples(samples, call))
+  {
+    PENUMBRA_GEARS_FAIL("view sample arrays are missing or do not match the sample count");
+  }
+  impl.UpdateCasters(geometry);
+  if (!impl.SetUpLight(this, area, geometry, samples, call))
+  {
+    PENUMBRA_GEARS_FAIL("unsupported light sampling: " << call.Light.K << " samples per axis");
+  }
+  impl.SetUpOutputs(this, visibility, call);
+  impl.ChoosePath(this, renderer, call);
+  impl.ClassifySamples(this, call);
+  // ---- Per side of the light plane: grid, lists, masks.
+  call.GridUsed = this->GridResolution;
+  for (const int flip : { 1, -1 })
+  {
+    impl.ProcessSide(this, call, flip);
+  }
+  if (!impl.TraceUndecided(this, samples, visibility, call))
+  {
+    return 0;
+  }
+  impl.StoreStatistics(this, call);
+  visibility->Modified();
+  impl.Uncertain->Modified();
+  impl.Masks->Modified();
+  this->LastTimeMs = ElapsedMs(start);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+// Input check: the view samples' arrays, all of one length.
+bool vtkPenumbraGearsShadows::Internals::ReadSamples(
+  vtkPenumbraViewSamples* samples, CallState& call)
+{
   const vtkIdType n = samples->GetNumberOfSamples();
   vtkFloatArray* posArray = samples->GetPositions();
   vtkFloatArray* nrmArray = samples->GetNormals();
@@ -983,31 +1186,43 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
     posArray->GetNumberOfTuples() != n || nrmArray->GetNumberOfTuples() != n ||
     propArray->GetNumberOfTuples() != n || triArray->GetNumberOfTuples() != n)
   {
-    PENUMBRA_GEARS_FAIL("view sample arrays are missing or do not match the sample count");
+    return false;
   }
+  call.N = n;
+  call.Pos = n ? posArray->GetPointer(0) : nullptr;
+  call.Nrm = n ? nrmArray->GetPointer(0) : nullptr;
+  call.Props = n ? propArray->GetPointer(0) : nullptr;
+  call.Tris = n ? triArray->GetPointer(0) : nullptr;
+  return true;
+}
 
-  // ---- Light samples, in the geometry's rebased frame (differences in double, as the
-  // reference takes them).
-  Internals& impl = *this->Impl;
-  impl.UpdateCasters(geometry);
+//------------------------------------------------------------------------------
+// Light set-up: the light samples in the geometry's rebased frame (differences in double,
+// as the reference takes them), the emitter's axes and extent, and the reference's
+// constants. False if the light's sampling does not fit a mask row.
+bool vtkPenumbraGearsShadows::Internals::SetUpLight(vtkPenumbraGearsShadows* self,
+  vtkPenumbraAreaLight* area, vtkPenumbraSceneGeometry* geometry,
+  vtkPenumbraViewSamples* samples, CallState& call)
+{
   double origin[3], samplesOrigin[3];
   geometry->GetOrigin(origin);
   samples->GetOrigin(samplesOrigin);
   vtkSmartPointer<vtkPenumbraAreaLight> used = area;
-  if (this->SamplesPerAxis > 0 && this->SamplesPerAxis != area->GetSamplesPerAxis())
+  if (self->SamplesPerAxis > 0 && self->SamplesPerAxis != area->GetSamplesPerAxis())
   {
     used = vtkSmartPointer<vtkPenumbraAreaLight>::Take(
       vtkPenumbraAreaLight::SafeDownCast(area->ShallowClone()));
-    used->SetSamplesPerAxis(this->SamplesPerAxis);
+    used->SetSamplesPerAxis(self->SamplesPerAxis);
   }
-  LightSamples ls;
+  call.Used = used;
+  LightSamples& ls = call.Light;
   ls.K = used->GetSamplesPerAxis();
   const bool line = used->GetShape() == vtkPenumbraAreaLight::Line;
   ls.Rows = line ? 1 : ls.K;
   ls.Count = used->GetNumberOfSamples();
   if (ls.K > MaxK || ls.Count != ls.K * ls.Rows)
   {
-    PENUMBRA_GEARS_FAIL("unsupported light sampling: " << ls.K << " samples per axis");
+    return false;
   }
   ls.Points.resize(3 * static_cast<size_t>(ls.Count));
   for (int j = 0; j < ls.Count; ++j)
@@ -1034,132 +1249,110 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   ls.HalfU = std::fabs(ls.Su0);
   ls.HalfV = std::fabs(ls.Sv0);
   ls.Diagonal = std::sqrt(width * width + height * height);
-  const bool off = !used->GetSwitch() || used->GetIntensity() == 0.0;
+  call.Off = !used->GetSwitch() || used->GetIntensity() == 0.0;
 
-  // ---- Outputs.
+  for (int c = 0; c < 3; ++c)
+  {
+    call.Shift[c] = samplesOrigin[c] - origin[c];
+  }
+  call.Epsilon = self->Reference->GetRelativeEpsilon();
+  call.TieFactor = self->Reference->GetTieFactor();
+  call.Diagonal = this->Diagonal;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// The outputs, sized and cleared: visibility, the uncertain flags and (if kept) the masks.
+void vtkPenumbraGearsShadows::Internals::SetUpOutputs(
+  vtkPenumbraGearsShadows* self, vtkFloatArray* visibility, CallState& call)
+{
+  const vtkIdType n = call.N;
   visibility->SetNumberOfComponents(1);
   visibility->SetNumberOfTuples(n);
-  float* vis = n ? visibility->GetPointer(0) : nullptr;
-  impl.Uncertain->SetNumberOfComponents(1);
-  impl.Uncertain->SetNumberOfTuples(n);
-  unsigned char* uncertain = n ? impl.Uncertain->GetPointer(0) : nullptr;
-  if (uncertain)
+  call.Vis = n ? visibility->GetPointer(0) : nullptr;
+  this->Uncertain->SetNumberOfComponents(1);
+  this->Uncertain->SetNumberOfTuples(n);
+  call.Uncertain = n ? this->Uncertain->GetPointer(0) : nullptr;
+  if (call.Uncertain)
   {
-    std::fill(uncertain, uncertain + n, 0);
+    std::fill(call.Uncertain, call.Uncertain + n, 0);
   }
-  const int words = (ls.Count + 31) / 32;
-  std::uint32_t* masks = nullptr;
-  if (this->KeepMasks)
+  call.Words = (call.Light.Count + 31) / 32;
+  call.Masks = nullptr;
+  if (self->KeepMasks)
   {
-    impl.Masks->SetNumberOfComponents(words);
-    impl.Masks->SetNumberOfTuples(n);
-    masks = n ? impl.Masks->GetPointer(0) : nullptr;
-    if (masks)
+    this->Masks->SetNumberOfComponents(call.Words);
+    this->Masks->SetNumberOfTuples(n);
+    call.Masks = n ? this->Masks->GetPointer(0) : nullptr;
+    if (call.Masks)
     {
-      std::fill(masks, masks + static_cast<size_t>(n) * words, 0u);
+      std::fill(call.Masks, call.Masks + static_cast<size_t>(n) * call.Words, 0u);
     }
   }
   else
   {
-    impl.Masks->Initialize();
+    this->Masks->Initialize();
   }
+}
 
-  const float* pos = n ? posArray->GetPointer(0) : nullptr;
-  const float* nrm = n ? nrmArray->GetPointer(0) : nullptr;
-  const int* props = n ? propArray->GetPointer(0) : nullptr;
-  const vtkIdType* tris = n ? triArray->GetPointer(0) : nullptr;
-  double shift[3];
-  for (int c = 0; c < 3; ++c)
+//------------------------------------------------------------------------------
+void vtkPenumbraGearsShadows::Internals::ReportPathProblem(
+  vtkPenumbraGearsShadows* self, const std::string& why)
+{
+  this->PathMessage =
+    "GEARS compute path unavailable (" + why + "); the CPU path computes the masks";
+  if (this->Reported.insert(why).second)
   {
-    shift[c] = samplesOrigin[c] - origin[c];
+    vtkWarningWithObjectMacro(self, << this->PathMessage);
   }
-  const double epsilon = this->Reference->GetRelativeEpsilon();
-  const double tieFactor = this->Reference->GetTieFactor();
-  const double diagonal = impl.Diagonal;
+}
 
-  auto loadSample = [&](vtkIdType s, SampleRays& r) -> bool {
-    for (int c = 0; c < 3; ++c)
-    {
-      r.P[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
-      r.Normal[c] = nrm[3 * s + c];
-    }
-    if (props[s] < 0 || !std::isfinite(r.P[0]) || !std::isfinite(r.P[1]) ||
-      !std::isfinite(r.P[2]) || !std::isfinite(r.Normal[0]) || !std::isfinite(r.Normal[1]) ||
-      !std::isfinite(r.Normal[2]))
-    {
-      return false;
-    }
-    const double scale = std::max(vtkMath::Norm(r.P), diagonal);
-    r.Own = tris[s];
-    r.Epsilon = epsilon;
-    r.TNear = epsilon * scale;
-    r.TNearF = static_cast<float>(r.TNear);
-    r.TieLimit = static_cast<double>(static_cast<float>(tieFactor * epsilon * scale));
-    r.ErrPos = RelativePositionTolerance * scale;
-    return true;
-  };
-
-  auto writeMask = [&](vtkIdType s, const std::uint64_t* rows) {
-    if (!masks)
-    {
-      return;
-    }
-    std::uint32_t* out = masks + static_cast<size_t>(s) * words;
-    for (int j = 0; j < ls.Rows; ++j)
-    {
-      for (int i = 0; i < ls.K; ++i)
-      {
-        if (rows[j] >> i & 1u)
-        {
-          const int index = j * ls.K + i;
-          out[index / 32] |= 1u << (index % 32);
-        }
-      }
-    }
-  };
-
-  // ---- Where step 4 runs: the compute path when asked for and possible, else the CPU.
-  const int requested = this->Path == PATH_AUTO ? PATH_CPU : this->Path;
+//------------------------------------------------------------------------------
+// Where step 4 runs: the compute path when asked for and possible, else the CPU; and the
+// list length above which a cell's samples are ray traced whole (CPU path only: the compute
+// path has no use for the split).
+void vtkPenumbraGearsShadows::Internals::ChoosePath(
+  vtkPenumbraGearsShadows* self, vtkRenderer* renderer, CallState& call)
+{
+  const int requested = self->Path == PATH_AUTO ? PATH_CPU : self->Path;
   bool useGpu = false;
-  impl.PathMessage.clear();
-  auto reportPathProblem = [&](const std::string& why) {
-    impl.PathMessage =
-      "GEARS compute path unavailable (" + why + "); the CPU path computes the masks";
-    if (impl.Reported.insert(why).second)
-    {
-      vtkWarningMacro(<< impl.PathMessage);
-    }
-  };
-  if (requested == PATH_GPU && !off && n > 0 && !impl.Casters.empty())
+  this->PathMessage.clear();
+  if (requested == PATH_GPU && !call.Off && call.N > 0 && !this->Casters.empty())
   {
     std::string why;
     auto* window =
       renderer ? vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow()) : nullptr;
-    if (impl.Casters.back().Id > std::numeric_limits<std::int32_t>::max())
+    if (this->Casters.back().Id > std::numeric_limits<std::int32_t>::max())
     {
       why = "triangle ids beyond 2^31 do not fit the shader's 32-bit ids";
     }
     else
     {
-      useGpu = impl.Compute.Prepare(window, ls.K, ls.Rows, this->KeepMasks, why) &&
-        impl.Compute.SetCasters(impl.CasterData, impl.CasterVersion, why) &&
-        impl.Compute.SetSamples(pos, nrm, tris, n, why);
+      useGpu = this->Compute.Prepare(window, call.Light.K, call.Light.Rows, self->KeepMasks, why) &&
+        this->Compute.SetCasters(this->CasterData, this->CasterVersion, why) &&
+        this->Compute.SetSamples(call.Pos, call.Nrm, call.Tris, call.N, why);
     }
     if (!useGpu)
     {
-      reportPathProblem(why);
+      this->ReportPathProblem(self, why);
     }
   }
-  this->LastPath = PATH_CPU;
-  vtkIdType flaggedTotal = 0, tracedCellSamples = 0;
-  // List length (cell + global) above which a cell is ray traced; the compute path keeps
-  // every cell (it has no use for the split).
-  const double traceLimit =
-    !useGpu && this->TraceThreshold > 0.0 ? this->TraceThreshold * ls.Count : 0.0;
+  self->LastPath = PATH_CPU;
+  call.UseGpu = useGpu;
+  call.TraceLimit =
+    !useGpu && self->TraceThreshold > 0.0 ? self->TraceThreshold * call.Light.Count : 0.0;
+}
 
-  // ---- Classify the samples: invalid, light off, facing away from the whole light, or on
-  // a side of the light plane.
-  std::vector<signed char>& side = impl.Scratch.Side;
+//------------------------------------------------------------------------------
+// Classify the samples: invalid, light off, facing away from the whole light, or on a side
+// of the light plane (Scratch.Side: 1 front, -1 back, 2 on the plane, 0 decided).
+void vtkPenumbraGearsShadows::Internals::ClassifySamples(
+  vtkPenumbraGearsShadows* self, CallState& call)
+{
+  const vtkIdType n = call.N;
+  const LightSamples& ls = call.Light;
+  float* vis = call.Vis;
+  std::vector<signed char>& side = this->Scratch.Side;
   side.assign(static_cast<size_t>(n), 0);
   std::atomic<vtkIdType> validCount(0);
   vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
@@ -1168,20 +1361,20 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
     for (vtkIdType s = begin; s < end; ++s)
     {
       SampleRays r;
-      if (!loadSample(s, r))
+      if (!call.LoadSample(s, r))
       {
         vis[s] = -1.0f;
         continue;
       }
       ++localValid;
-      if (off)
+      if (call.Off)
       {
         vis[s] = 1.0f; // the reference's rule: nothing to shadow
         for (int j = 0; j < ls.Rows; ++j)
         {
           rows[j] = Span(0, ls.K - 1);
         }
-        writeMask(s, rows);
+        call.WriteMask(s, rows);
         continue;
       }
       // Facing is affine over the light: below the tangent plane at every corner (with a
@@ -1205,586 +1398,691 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
     }
     validCount += localValid;
   });
-  this->NumberOfValidSamples = validCount.load();
+  self->NumberOfValidSamples = validCount.load();
+}
 
-  // Undecided (view sample, light sample) pairs, appended by the mask loop in sample order
-  // within each thread's chunk.
-  std::vector<vtkIdType> traceSamples;
-  std::vector<int> traceLights;
-  std::mutex traceMutex;
-
-  // ---- Per side of the light plane: grid, lists, masks.
-  const int gridRequested = this->GridResolution;
-  int gridUsed = gridRequested;
-  vtkIdType occupiedTotal = 0, cellsTotal = 0, maxPerCell = 0, listTotal = 0, globalTotal = 0;
-  std::atomic<vtkIdType> assignments(0), necessary(0), segmentTests(0);
-  double gridMs = 0.0, maskMs = 0.0;
-  const vtkIdType nCasters = static_cast<vtkIdType>(impl.Casters.size());
-
-  for (const int flip : { 1, -1 })
+//------------------------------------------------------------------------------
+// One side of the light plane: the grid camera and the sample binning (Wang et al. 2014,
+// A.1-A.2), the triangle lists (A.3, with the switch of long-list cells to ray tracing) and
+// the masks (§3, step 4) on the compute path or the CPU.
+void vtkPenumbraGearsShadows::Internals::ProcessSide(
+  vtkPenumbraGearsShadows* self, CallState& call, int flip)
+{
+  const auto gridStart = Clock::now();
+  SideState S;
+  if (!this->GatherSide(call, S, flip))
   {
-    const auto gridStart = Clock::now();
-    // Light frame of this side: z toward the samples (Wang et al. 2014, §4, A.1; the back side
-    // mirrors).
-    double ax[3][3];
+    return;
+  }
+  this->PlaceCamera(self, call, S);
+  this->CasterFootprints(call, S);
+  this->BuildGrid(self, call, S);
+  const ScratchArrays& sc = this->Scratch;
+  call.GridUsed = std::min(call.GridUsed, S.G);
+  const size_t cells = static_cast<size_t>(S.G) * S.G;
+  call.Occupied += static_cast<vtkIdType>(sc.Occupied.size());
+  call.Cells += static_cast<vtkIdType>(cells);
+  call.ListTotal += static_cast<vtkIdType>(sc.CellList.size());
+  call.GlobalTotal += static_cast<vtkIdType>(sc.GlobalList.size());
+  for (const std::int32_t c : sc.Occupied)
+  {
+    call.MaxPerCell = std::max<vtkIdType>(call.MaxPerCell, sc.CellStart[c + 1] - sc.CellStart[c]);
+  }
+  call.GridMs += ElapsedMs(gridStart);
+
+  // ---- Step 4: masks. Every sample considers its cell list and the global list.
+  const auto maskStart = Clock::now();
+  this->RouteTracedCells(call);
+  this->Scratch.OnCPU.clear();
+  bool allOnCPU = !call.UseGpu;
+  if (call.UseGpu && !this->MasksOnComputePath(self, call, S))
+  {
+    allOnCPU = true;
+  }
+  this->MasksOnCPU(call, S, allOnCPU);
+  call.MaskMs += ElapsedMs(maskStart);
+}
+
+//------------------------------------------------------------------------------
+// The light frame of this side, z toward the samples (Wang et al. 2014, §4, A.1; the back
+// side mirrors), and this side's samples in it (Scratch.Ids, Scratch.Frame). False if the
+// side has no samples.
+bool vtkPenumbraGearsShadows::Internals::GatherSide(
+  const CallState& call, SideState& S, int flip)
+{
+  const LightSamples& ls = call.Light;
+  S.Flip = flip;
+  S.Centre = ls.Centre;
+  for (int c = 0; c < 3; ++c)
+  {
+    S.Ax[0][c] = ls.U[c];
+    S.Ax[1][c] = ls.V[c];
+    S.Ax[2][c] = flip * ls.N[c];
+  }
+  const std::vector<signed char>& side = this->Scratch.Side;
+  std::vector<vtkIdType>& ids = this->Scratch.Ids;
+  ids.clear();
+  for (vtkIdType s = 0; s < call.N; ++s)
+  {
+    if (side[static_cast<size_t>(s)] == flip)
+    {
+      ids.push_back(s);
+    }
+  }
+  if (ids.empty())
+  {
+    return false;
+  }
+  const vtkIdType m = static_cast<vtkIdType>(ids.size());
+  S.M = m;
+  std::vector<double>& frame = this->Scratch.Frame;
+  frame.assign(3 * static_cast<size_t>(m), 0.0);
+  double maxScale = call.Diagonal;
+  S.ZFar = 0.0;
+  const double lo3[3] = { -ls.HalfU, -ls.HalfV, 0.0 }, hi3[3] = { ls.HalfU, ls.HalfV, 0.0 };
+  std::copy(lo3, lo3 + 3, S.Lo3);
+  std::copy(hi3, hi3 + 3, S.Hi3);
+  for (vtkIdType q = 0; q < m; ++q)
+  {
+    const vtkIdType s = ids[static_cast<size_t>(q)];
+    double p[3];
     for (int c = 0; c < 3; ++c)
     {
-      ax[0][c] = ls.U[c];
-      ax[1][c] = ls.V[c];
-      ax[2][c] = flip * ls.N[c];
+      p[c] = static_cast<double>(call.Pos[3 * s + c]) + call.Shift[c];
     }
-    auto toFrame = [&](const double w[3], double f[3]) {
-      const double d[3] = { w[0] - ls.Centre[0], w[1] - ls.Centre[1], w[2] - ls.Centre[2] };
-      for (int a = 0; a < 3; ++a)
-      {
-        f[a] = vtkMath::Dot(ax[a], d);
-      }
-    };
-    std::vector<vtkIdType>& ids = impl.Scratch.Ids;
-    ids.clear();
-    for (vtkIdType s = 0; s < n; ++s)
+    double* f = &frame[3 * static_cast<size_t>(q)];
+    S.ToFrame(p, f);
+    f[2] = std::max(f[2], 0.0); // rounding of the side test; z > 0 by construction
+    S.ZFar = std::max(S.ZFar, f[2]);
+    maxScale = std::max(maxScale, vtkMath::Norm(p));
+    for (int c = 0; c < 3; ++c)
     {
-      if (side[static_cast<size_t>(s)] == flip)
-      {
-        ids.push_back(s);
-      }
+      S.Lo3[c] = std::min(S.Lo3[c], f[c]);
+      S.Hi3[c] = std::max(S.Hi3[c], f[c]);
     }
-    if (ids.empty())
+  }
+  // Triangles within this of the light plane, the far plane or a cell border are treated
+  // as touching it: the float32 ray may hit them that much off.
+  S.Tolerance = 4.0 * RelativePositionTolerance * maxScale;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Camera C behind the light (z < 0) on the line from the AABB centre through the light
+// centre, at CameraDistanceFactor x diagonal (Wang et al. 2014, §4, A.1); any z_C < 0 is
+// conservative. The samples projected from C onto the far plane (Scratch.Proj) and their
+// bounds.
+void vtkPenumbraGearsShadows::Internals::PlaceCamera(
+  vtkPenumbraGearsShadows* self, const CallState& call, SideState& S)
+{
+  double dir[3] = { -0.5 * (S.Lo3[0] + S.Hi3[0]), -0.5 * (S.Lo3[1] + S.Hi3[1]),
+    -0.5 * (S.Lo3[2] + S.Hi3[2]) };
+  if (!(vtkMath::Normalize(dir) > 0.0) || !(dir[2] < -0.25))
+  {
+    dir[0] = 0.0;
+    dir[1] = 0.0;
+    dir[2] = -1.0;
+  }
+  S.Distance = std::max(
+    self->CameraDistanceFactor * call.Light.Diagonal, 1e-3 * std::max(S.ZFar, 1e-300));
+  for (int c = 0; c < 3; ++c)
+  {
+    S.Cam[c] = dir[c] * S.Distance;
+  }
+  const std::vector<double>& frame = this->Scratch.Frame;
+  std::vector<double>& proj = this->Scratch.Proj;
+  proj.assign(2 * static_cast<size_t>(S.M), 0.0);
+  double* pb = S.Pb;
+  pb[0] = std::numeric_limits<double>::infinity();
+  pb[1] = -std::numeric_limits<double>::infinity();
+  pb[2] = std::numeric_limits<double>::infinity();
+  pb[3] = -std::numeric_limits<double>::infinity();
+  for (vtkIdType q = 0; q < S.M; ++q)
+  {
+    double* pr = &proj[2 * static_cast<size_t>(q)];
+    S.Project(&frame[3 * static_cast<size_t>(q)], pr);
+    pb[0] = std::min(pb[0], pr[0]);
+    pb[1] = std::max(pb[1], pr[0]);
+    pb[2] = std::min(pb[2], pr[1]);
+    pb[3] = std::max(pb[3], pr[1]);
+  }
+  S.Extent = std::max({ pb[1] - pb[0], pb[3] - pb[2], 1e-9 * (S.ZFar + S.Distance) });
+}
+
+//------------------------------------------------------------------------------
+// Per caster on this side: culled, global (touches the light plane) or the box on the far
+// plane that its shadow can reach (Wang et al. 2014, A.3, in closed form in the light's
+// frame: extrusion rectangles and projections from C).
+void vtkPenumbraGearsShadows::Internals::CasterFootprints(const CallState& call, SideState& S)
+{
+  const LightSamples& ls = call.Light;
+  const vtkIdType nCasters = static_cast<vtkIdType>(this->Casters.size());
+  S.ZNear.assign(static_cast<size_t>(nCasters), 0.0);
+  S.Foot.resize(static_cast<size_t>(nCasters));
+  const double tolerance = S.Tolerance, zFar = S.ZFar;
+  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType t = begin; t < end; ++t)
     {
+      const Caster& tri = this->Casters[static_cast<size_t>(t)];
+      Footprint& fp = S.Foot[static_cast<size_t>(t)];
+      double f[3][3];
+      double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+      for (int i = 0; i < 3; ++i)
+      {
+        S.ToFrame(tri.V[i], f[i]);
+        zmin = std::min(zmin, f[i][2]);
+        zmax = std::max(zmax, f[i][2]);
+      }
+      S.ZNear[static_cast<size_t>(t)] = zmin;
+      if (zmax < -tolerance || zmin > zFar + tolerance)
+      {
+        fp.State = 0; // wholly behind the light plane or beyond every sample
+        continue;
+      }
+      if (zmin <= tolerance)
+      {
+        fp.State = 1; // touches the light plane: unbounded extrusion
+        continue;
+      }
+      double box[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+        std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
+      double rmax = 1.0;
+      for (int i = 0; i < 3; ++i)
+      {
+        const double r = zFar / f[i][2];
+        rmax = std::max(rmax, r);
+        const double hx = std::fabs(r - 1.0) * ls.HalfU;
+        const double hy = std::fabs(r - 1.0) * ls.HalfV;
+        box[0] = std::min(box[0], r * f[i][0] - hx);
+        box[1] = std::max(box[1], r * f[i][0] + hx);
+        box[2] = std::min(box[2], r * f[i][1] - hy);
+        box[3] = std::max(box[3], r * f[i][1] + hy);
+        double pc[2];
+        S.Project(f[i], pc);
+        box[0] = std::min(box[0], pc[0]);
+        box[1] = std::max(box[1], pc[0]);
+        box[2] = std::min(box[2], pc[1]);
+        box[3] = std::max(box[3], pc[1]);
+      }
+      const double pad =
+        2.0 * tolerance * (rmax + (zFar - S.Cam[2]) / (-S.Cam[2])) + 1e-9 * S.Extent;
+      fp.Box[0] = box[0] - pad;
+      fp.Box[1] = box[1] + pad;
+      fp.Box[2] = box[2] - pad;
+      fp.Box[3] = box[3] + pad;
+      fp.State = std::isfinite(pad) && std::isfinite(box[0] + box[1] + box[2] + box[3]) ? 2 : 1;
+    }
+  });
+}
+
+//------------------------------------------------------------------------------
+// The grid and its lists at GridResolution, coarsened while the lists would exceed
+// MaxListEntries (Wang et al. 2014, A.2-A.3).
+void vtkPenumbraGearsShadows::Internals::BuildGrid(
+  vtkPenumbraGearsShadows* self, const CallState& call, SideState& S)
+{
+  ScratchArrays& sc = this->Scratch;
+  sc.SampleCell.assign(static_cast<size_t>(S.M), 0);
+  for (auto* v : { &sc.CellStart, &sc.CellList, &sc.GlobalList, &sc.SampleOrder, &sc.SampleStart })
+  {
+    v->clear();
+  }
+  sc.Occupied.clear();
+  S.G = self->GridResolution;
+  for (;;)
+  {
+    this->BinSamples(S);
+    this->CasterRanges(S);
+    this->MarkTracedCells(call, S);
+    const int g = S.G;
+    if (S.Total > static_cast<std::int64_t>(self->MaxListEntries) && g > 1)
+    {
+      vtkWarningWithObjectMacro(self,
+        "GEARS lists would hold " << S.Total << " entries (limit " << self->MaxListEntries
+                                  << ") at a " << g << "^2 grid; coarsening to " << g / 2
+                                  << "^2");
+      S.G /= 2;
       continue;
     }
-    const vtkIdType m = static_cast<vtkIdType>(ids.size());
-    std::vector<double>& frame = impl.Scratch.Frame;
-    frame.assign(3 * static_cast<size_t>(m), 0.0);
-    double zFar = 0.0, maxScale = diagonal;
-    double lo3[3] = { -ls.HalfU, -ls.HalfV, 0.0 }, hi3[3] = { ls.HalfU, ls.HalfV, 0.0 };
-    for (vtkIdType q = 0; q < m; ++q)
+    if (g == 1)
     {
-      const vtkIdType s = ids[static_cast<size_t>(q)];
-      double p[3];
-      for (int c = 0; c < 3; ++c)
+      // Every remaining caster covers the single cell: list them once, globally.
+      for (size_t t = 0; t < this->Casters.size(); ++t)
       {
-        p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
-      }
-      double* f = &frame[3 * static_cast<size_t>(q)];
-      toFrame(p, f);
-      f[2] = std::max(f[2], 0.0); // rounding of the side test; z > 0 by construction
-      zFar = std::max(zFar, f[2]);
-      maxScale = std::max(maxScale, vtkMath::Norm(p));
-      for (int c = 0; c < 3; ++c)
-      {
-        lo3[c] = std::min(lo3[c], f[c]);
-        hi3[c] = std::max(hi3[c], f[c]);
-      }
-    }
-    // Triangles within this of the light plane, the far plane or a cell border are treated
-    // as touching it: the float32 ray may hit them that much off.
-    const double tolerance = 4.0 * RelativePositionTolerance * maxScale;
-
-    // Camera C behind the light (z < 0) on the line from the AABB centre through the light
-    // centre, at CameraDistanceFactor x diagonal (Wang et al. 2014, §4, A.1); any z_C < 0 is
-    // conservative.
-    double dir[3] = { -0.5 * (lo3[0] + hi3[0]), -0.5 * (lo3[1] + hi3[1]), -0.5 * (lo3[2] + hi3[2]) };
-    if (!(vtkMath::Normalize(dir) > 0.0) || !(dir[2] < -0.25))
-    {
-      dir[0] = 0.0;
-      dir[1] = 0.0;
-      dir[2] = -1.0;
-    }
-    const double distance =
-      std::max(this->CameraDistanceFactor * ls.Diagonal, 1e-3 * std::max(zFar, 1e-300));
-    const double cam[3] = { dir[0] * distance, dir[1] * distance, dir[2] * distance };
-    auto project = [&](const double f[3], double out[2]) {
-      const double g = (zFar - cam[2]) / (f[2] - cam[2]);
-      out[0] = cam[0] + g * (f[0] - cam[0]);
-      out[1] = cam[1] + g * (f[1] - cam[1]);
-    };
-
-    int g = gridRequested;
-    Internals::ScratchArrays& sc = impl.Scratch;
-    std::vector<std::int32_t>& sampleCell = sc.SampleCell;
-    sampleCell.assign(static_cast<size_t>(m), 0);
-    std::vector<std::uint32_t>& cellStart = sc.CellStart;
-    std::vector<std::uint32_t>& cellList = sc.CellList;
-    std::vector<std::uint32_t>& globalList = sc.GlobalList;
-    std::vector<std::uint32_t>& sampleOrder = sc.SampleOrder;
-    std::vector<std::uint32_t>& sampleStart = sc.SampleStart;
-    std::vector<std::int32_t>& occupied = sc.Occupied;
-    for (auto* v : { &cellStart, &cellList, &globalList, &sampleOrder, &sampleStart })
-    {
-      v->clear();
-    }
-    occupied.clear();
-    double x0 = 0, y0 = 0, cw = 1, ch = 1;
-    std::vector<double>& proj = sc.Proj;
-    proj.assign(2 * static_cast<size_t>(m), 0.0);
-    double pb[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-      std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
-    for (vtkIdType q = 0; q < m; ++q)
-    {
-      double* pr = &proj[2 * static_cast<size_t>(q)];
-      project(&frame[3 * static_cast<size_t>(q)], pr);
-      pb[0] = std::min(pb[0], pr[0]);
-      pb[1] = std::max(pb[1], pr[0]);
-      pb[2] = std::min(pb[2], pr[1]);
-      pb[3] = std::max(pb[3], pr[1]);
-    }
-    const double extent = std::max({ pb[1] - pb[0], pb[3] - pb[2], 1e-9 * (zFar + distance) });
-
-    // Per caster on this side: culled (-2), global (-1) or the cell box it touches.
-    struct Footprint
-    {
-      double Box[4];
-      int State; // 0 culled, 1 global, 2 cells
-    };
-    std::vector<double> zNear(static_cast<size_t>(nCasters)); // nearest vertex to the light
-    std::vector<Footprint> foot(static_cast<size_t>(nCasters));
-    vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType t = begin; t < end; ++t)
-      {
-        const Caster& tri = impl.Casters[static_cast<size_t>(t)];
-        Footprint& fp = foot[static_cast<size_t>(t)];
-        double f[3][3];
-        double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
-        for (int i = 0; i < 3; ++i)
+        if (S.Touched[t] > 0)
         {
-          toFrame(tri.V[i], f[i]);
-          zmin = std::min(zmin, f[i][2]);
-          zmax = std::max(zmax, f[i][2]);
-        }
-        zNear[static_cast<size_t>(t)] = zmin;
-        if (zmax < -tolerance || zmin > zFar + tolerance)
-        {
-          fp.State = 0; // wholly behind the light plane or beyond every sample
-          continue;
-        }
-        if (zmin <= tolerance)
-        {
-          fp.State = 1; // touches the light plane: unbounded extrusion
-          continue;
-        }
-        // Closed form of A.3 in the light's frame: extrusion rectangles and projections from C.
-        double box[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-          std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
-        double rmax = 1.0;
-        for (int i = 0; i < 3; ++i)
-        {
-          const double r = zFar / f[i][2];
-          rmax = std::max(rmax, r);
-          const double hx = std::fabs(r - 1.0) * ls.HalfU;
-          const double hy = std::fabs(r - 1.0) * ls.HalfV;
-          box[0] = std::min(box[0], r * f[i][0] - hx);
-          box[1] = std::max(box[1], r * f[i][0] + hx);
-          box[2] = std::min(box[2], r * f[i][1] - hy);
-          box[3] = std::max(box[3], r * f[i][1] + hy);
-          double pc[2];
-          project(f[i], pc);
-          box[0] = std::min(box[0], pc[0]);
-          box[1] = std::max(box[1], pc[0]);
-          box[2] = std::min(box[2], pc[1]);
-          box[3] = std::max(box[3], pc[1]);
-        }
-        const double pad = 2.0 * tolerance * (rmax + (zFar - cam[2]) / (-cam[2])) + 1e-9 * extent;
-        fp.Box[0] = box[0] - pad;
-        fp.Box[1] = box[1] + pad;
-        fp.Box[2] = box[2] - pad;
-        fp.Box[3] = box[3] + pad;
-        fp.State = std::isfinite(pad) && std::isfinite(box[0] + box[1] + box[2] + box[3]) ? 2 : 1;
-      }
-    });
-
-    // Build the grid; coarsen while the lists would exceed MaxListEntries.
-    for (;;)
-    {
-      x0 = pb[0] - 1e-9 * extent;
-      y0 = pb[2] - 1e-9 * extent;
-      cw = std::max(pb[1] - pb[0], 1e-6 * extent) * (1.0 + 1e-7) / g;
-      ch = std::max(pb[3] - pb[2], 1e-6 * extent) * (1.0 + 1e-7) / g;
-      const size_t cells = static_cast<size_t>(g) * g;
-      auto cellOf = [&](double px, double py, int& ix, int& iy) {
-        ix = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((px - x0) / cw))));
-        iy = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((py - y0) / ch))));
-      };
-      // A.2: bin the samples (counting sort by cell).
-      std::vector<std::uint32_t> count(cells + 1, 0);
-      for (vtkIdType q = 0; q < m; ++q)
-      {
-        int ix, iy;
-        cellOf(proj[2 * q], proj[2 * q + 1], ix, iy);
-        sampleCell[static_cast<size_t>(q)] = iy * g + ix;
-        ++count[static_cast<size_t>(iy * g + ix)];
-      }
-      // Summed-area table of occupancy: cells a footprint touches, counted in O(1).
-      std::vector<std::int64_t> sat(static_cast<size_t>(g + 1) * (g + 1), 0);
-      occupied.clear();
-      for (int iy = 0; iy < g; ++iy)
-      {
-        for (int ix = 0; ix < g; ++ix)
-        {
-          const bool busy = count[static_cast<size_t>(iy * g + ix)] > 0;
-          if (busy)
-          {
-            occupied.push_back(iy * g + ix);
-          }
-          sat[static_cast<size_t>(iy + 1) * (g + 1) + ix + 1] = (busy ? 1 : 0) +
-            sat[static_cast<size_t>(iy) * (g + 1) + ix + 1] +
-            sat[static_cast<size_t>(iy + 1) * (g + 1) + ix] - sat[static_cast<size_t>(iy) * (g + 1) + ix];
+          sc.GlobalList.push_back(static_cast<std::uint32_t>(t));
         }
       }
-      sampleStart.assign(cells + 1, 0);
-      for (size_t c = 0; c < cells; ++c)
-      {
-        sampleStart[c + 1] = sampleStart[c] + count[c];
-      }
-      sampleOrder.resize(static_cast<size_t>(m));
-      {
-        std::vector<std::uint32_t> cursor(sampleStart.begin(), sampleStart.end() - 1);
-        for (vtkIdType q = 0; q < m; ++q)
-        {
-          sampleOrder[cursor[static_cast<size_t>(sampleCell[static_cast<size_t>(q)])]++] =
-            static_cast<std::uint32_t>(q);
-        }
-      }
-      const std::int64_t busyCells = static_cast<std::int64_t>(occupied.size());
-
-      // A.3: cell ranges per caster; big ones join the global list.
-      std::vector<int> range(4 * static_cast<size_t>(nCasters));
-      std::vector<std::int64_t> touched(static_cast<size_t>(nCasters), 0);
-      vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-        for (vtkIdType t = begin; t < end; ++t)
-        {
-          const Footprint& fp = foot[static_cast<size_t>(t)];
-          int* rg = &range[4 * static_cast<size_t>(t)];
-          if (fp.State != 2)
-          {
-            touched[static_cast<size_t>(t)] = fp.State == 1 ? -1 : 0;
-            continue;
-          }
-          const double bx0 = std::floor((fp.Box[0] - x0) / cw), bx1 = std::floor((fp.Box[1] - x0) / cw);
-          const double by0 = std::floor((fp.Box[2] - y0) / ch), by1 = std::floor((fp.Box[3] - y0) / ch);
-          if (bx1 < 0 || by1 < 0 || bx0 > g - 1 || by0 > g - 1)
-          {
-            touched[static_cast<size_t>(t)] = 0;
-            continue;
-          }
-          rg[0] = static_cast<int>(std::max(0.0, bx0));
-          rg[1] = static_cast<int>(std::min<double>(g - 1, bx1));
-          rg[2] = static_cast<int>(std::max(0.0, by0));
-          rg[3] = static_cast<int>(std::min<double>(g - 1, by1));
-          const std::int64_t c = sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[1] + 1] -
-            sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[1] + 1] -
-            sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[0]] +
-            sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[0]];
-          // A list entry in more than half the busy cells costs more than one global entry.
-          touched[static_cast<size_t>(t)] = (busyCells > 8 && 2 * c > busyCells) ? -1 : c;
-        }
-      });
-      std::int64_t total = 0;
-      globalList.clear();
-      for (vtkIdType t = 0; t < nCasters; ++t)
-      {
-        const std::int64_t c = touched[static_cast<size_t>(t)];
-        if (c < 0)
-        {
-          globalList.push_back(static_cast<std::uint32_t>(t));
-        }
-        else
-        {
-          total += c;
-        }
-      }
-      // Cells whose list costs more than tracing their light samples: on a dense mesh under
-      // a large light a cell meets hundreds of tiny triangles each covering less than one
-      // light sample, and Embree's log N per ray wins. Their samples go to the reference
-      // whole (exact by construction) and their lists are never built.
-      std::vector<unsigned char>& traced = sc.Traced;
-      traced.assign(cells, 0);
-      if (traceLimit > 0.0 && g > 1)
-      {
-        const std::vector<std::int64_t> lengths = CellListLengths(g, range, touched);
-        const double limit = traceLimit - static_cast<double>(globalList.size());
-        for (const std::int32_t c : occupied)
-        {
-          if (static_cast<double>(lengths[static_cast<size_t>(c)]) > limit)
-          {
-            traced[static_cast<size_t>(c)] = 1;
-            total -= lengths[static_cast<size_t>(c)];
-          }
-        }
-      }
-      if (total > static_cast<std::int64_t>(this->MaxListEntries) && g > 1)
-      {
-        vtkWarningMacro("GEARS lists would hold " << total << " entries (limit "
-                                                  << this->MaxListEntries << ") at a " << g
-                                                  << "^2 grid; coarsening to " << g / 2 << "^2");
-        g /= 2;
-        continue;
-      }
-      if (g == 1)
-      {
-        // Every remaining caster covers the single cell: list them once, globally.
-        for (vtkIdType t = 0; t < nCasters; ++t)
-        {
-          if (touched[static_cast<size_t>(t)] > 0)
-          {
-            globalList.push_back(static_cast<std::uint32_t>(t));
-          }
-        }
-        cellStart.assign(cells + 1, 0);
-        cellList.clear();
-        total = 0;
-        break;
-      }
-      // Counting sort of (caster, cell) pairs by cell, only busy cells.
-      std::vector<std::atomic<std::uint32_t>> perCell(cells);
-      for (auto& a : perCell)
-      {
-        a.store(0, std::memory_order_relaxed);
-      }
-      auto forCells = [&](vtkIdType t, auto&& fn) {
-        const int* rg = &range[4 * static_cast<size_t>(t)];
-        for (int iy = rg[2]; iy <= rg[3]; ++iy)
-        {
-          for (int ix = rg[0]; ix <= rg[1]; ++ix)
-          {
-            const size_t cell = static_cast<size_t>(iy) * g + ix;
-            if (count[cell] > 0 && !traced[cell])
-            {
-              fn(cell);
-            }
-          }
-        }
-      };
-      vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-        for (vtkIdType t = begin; t < end; ++t)
-        {
-          if (touched[static_cast<size_t>(t)] > 0)
-          {
-            forCells(t, [&](size_t cell) { perCell[cell].fetch_add(1, std::memory_order_relaxed); });
-          }
-        }
-      });
-      cellStart.assign(cells + 1, 0);
-      for (size_t c = 0; c < cells; ++c)
-      {
-        cellStart[c + 1] = cellStart[c] + perCell[c].load(std::memory_order_relaxed);
-        perCell[c].store(cellStart[c], std::memory_order_relaxed);
-      }
-      cellList.resize(static_cast<size_t>(cellStart[cells]));
-      vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-        for (vtkIdType t = begin; t < end; ++t)
-        {
-          if (touched[static_cast<size_t>(t)] > 0)
-          {
-            forCells(t, [&](size_t cell) {
-              cellList[perCell[cell].fetch_add(1, std::memory_order_relaxed)] =
-                static_cast<std::uint32_t>(t);
-            });
-          }
-        }
-      });
-      // Largest triangles first: a sample in umbra fills its mask and stops sooner. The
-      // order also makes the lists (and the statistics) independent of thread timing.
-      const auto& bounds = impl.Bounds;
-      vtkSMPTools::For(0, static_cast<vtkIdType>(occupied.size()), [&](vtkIdType begin, vtkIdType end) {
-        for (vtkIdType b = begin; b < end; ++b)
-        {
-          const size_t cell = static_cast<size_t>(occupied[static_cast<size_t>(b)]);
-          std::sort(cellList.begin() + cellStart[cell], cellList.begin() + cellStart[cell + 1],
-            [&](std::uint32_t x, std::uint32_t y) {
-              return bounds[x].Radius > bounds[y].Radius ||
-                (bounds[x].Radius == bounds[y].Radius && x < y);
-            });
-        }
-      });
+      sc.CellStart.assign(2, 0);
+      sc.CellList.clear();
+      S.Total = 0;
       break;
     }
-    gridUsed = std::min(gridUsed, g);
-    const size_t cells = static_cast<size_t>(g) * g;
-    occupiedTotal += static_cast<vtkIdType>(occupied.size());
-    cellsTotal += static_cast<vtkIdType>(cells);
-    listTotal += static_cast<vtkIdType>(cellList.size());
-    globalTotal += static_cast<vtkIdType>(globalList.size());
-    for (const std::int32_t c : occupied)
-    {
-      maxPerCell = std::max<vtkIdType>(maxPerCell, cellStart[c + 1] - cellStart[c]);
-    }
-    gridMs += ElapsedMs(gridStart);
+    this->FillCellLists(S);
+    break;
+  }
+}
 
-    // ---- Step 4: masks. Every sample considers its cell list and the global list.
-    const auto maskStart = Clock::now();
-    const std::vector<unsigned char>& traced = sc.Traced;
-    for (const std::int32_t cell : occupied)
+//------------------------------------------------------------------------------
+// Wang et al. 2014, A.2: the grid over the projected samples, and the samples binned by cell
+// (counting sort), with the occupied cells and a summed-area table of them.
+void vtkPenumbraGearsShadows::Internals::BinSamples(SideState& S)
+{
+  ScratchArrays& sc = this->Scratch;
+  const int g = S.G;
+  const vtkIdType m = S.M;
+  const double* pb = S.Pb;
+  const double extent = S.Extent;
+  const double x0 = S.X0 = pb[0] - 1e-9 * extent;
+  const double y0 = S.Y0 = pb[2] - 1e-9 * extent;
+  const double cw = S.Cw = std::max(pb[1] - pb[0], 1e-6 * extent) * (1.0 + 1e-7) / g;
+  const double ch = S.Ch = std::max(pb[3] - pb[2], 1e-6 * extent) * (1.0 + 1e-7) / g;
+  const size_t cells = static_cast<size_t>(g) * g;
+  auto cellOf = [&](double px, double py, int& ix, int& iy) {
+    ix = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((px - x0) / cw))));
+    iy = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((py - y0) / ch))));
+  };
+  std::vector<std::uint32_t>& count = S.Count;
+  count.assign(cells + 1, 0);
+  const std::vector<double>& proj = sc.Proj;
+  for (vtkIdType q = 0; q < m; ++q)
+  {
+    int ix, iy;
+    cellOf(proj[2 * q], proj[2 * q + 1], ix, iy);
+    sc.SampleCell[static_cast<size_t>(q)] = iy * g + ix;
+    ++count[static_cast<size_t>(iy * g + ix)];
+  }
+  // Summed-area table of occupancy: cells a footprint touches, counted in O(1).
+  std::vector<std::int64_t>& sat = S.Sat;
+  sat.assign(static_cast<size_t>(g + 1) * (g + 1), 0);
+  sc.Occupied.clear();
+  for (int iy = 0; iy < g; ++iy)
+  {
+    for (int ix = 0; ix < g; ++ix)
     {
-      if (traced[static_cast<size_t>(cell)])
+      const bool busy = count[static_cast<size_t>(iy * g + ix)] > 0;
+      if (busy)
       {
-        for (std::uint32_t o = sampleStart[cell]; o < sampleStart[cell + 1]; ++o)
-        {
-          uncertain[ids[sampleOrder[o]]] = 1;
-        }
-        tracedCellSamples += sampleStart[cell + 1] - sampleStart[cell];
+        sc.Occupied.push_back(iy * g + ix);
+      }
+      sat[static_cast<size_t>(iy + 1) * (g + 1) + ix + 1] = (busy ? 1 : 0) +
+        sat[static_cast<size_t>(iy) * (g + 1) + ix + 1] +
+        sat[static_cast<size_t>(iy + 1) * (g + 1) + ix] - sat[static_cast<size_t>(iy) * (g + 1) + ix];
+    }
+  }
+  std::vector<std::uint32_t>& sampleStart = sc.SampleStart;
+  sampleStart.assign(cells + 1, 0);
+  for (size_t c = 0; c < cells; ++c)
+  {
+    sampleStart[c + 1] = sampleStart[c] + count[c];
+  }
+  sc.SampleOrder.resize(static_cast<size_t>(m));
+  std::vector<std::uint32_t> cursor(sampleStart.begin(), sampleStart.end() - 1);
+  for (vtkIdType q = 0; q < m; ++q)
+  {
+    sc.SampleOrder[cursor[static_cast<size_t>(sc.SampleCell[static_cast<size_t>(q)])]++] =
+      static_cast<std::uint32_t>(q);
+  }
+}
+
+//------------------------------------------------------------------------------
+// Wang et al. 2014, A.3: each caster's footprint as a range of cells; those that would enter
+// more than half the busy cells join the global list instead (Scratch.GlobalList).
+void vtkPenumbraGearsShadows::Internals::CasterRanges(SideState& S)
+{
+  const vtkIdType nCasters = static_cast<vtkIdType>(this->Casters.size());
+  const int g = S.G;
+  const double x0 = S.X0, y0 = S.Y0, cw = S.Cw, ch = S.Ch;
+  const std::vector<std::int64_t>& sat = S.Sat;
+  std::vector<int>& range = S.Range;
+  std::vector<std::int64_t>& touched = S.Touched;
+  range.assign(4 * static_cast<size_t>(nCasters), 0);
+  touched.assign(static_cast<size_t>(nCasters), 0);
+  const std::int64_t busyCells = static_cast<std::int64_t>(this->Scratch.Occupied.size());
+  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType t = begin; t < end; ++t)
+    {
+      const Footprint& fp = S.Foot[static_cast<size_t>(t)];
+      int* rg = &range[4 * static_cast<size_t>(t)];
+      if (fp.State != 2)
+      {
+        touched[static_cast<size_t>(t)] = fp.State == 1 ? -1 : 0;
         continue;
       }
-      assignments += static_cast<vtkIdType>(sampleStart[cell + 1] - sampleStart[cell]) *
-        static_cast<vtkIdType>(cellStart[cell + 1] - cellStart[cell] + globalList.size());
+      const double bx0 = std::floor((fp.Box[0] - x0) / cw), bx1 = std::floor((fp.Box[1] - x0) / cw);
+      const double by0 = std::floor((fp.Box[2] - y0) / ch), by1 = std::floor((fp.Box[3] - y0) / ch);
+      if (bx1 < 0 || by1 < 0 || bx0 > g - 1 || by0 > g - 1)
+      {
+        touched[static_cast<size_t>(t)] = 0;
+        continue;
+      }
+      rg[0] = static_cast<int>(std::max(0.0, bx0));
+      rg[1] = static_cast<int>(std::min<double>(g - 1, bx1));
+      rg[2] = static_cast<int>(std::max(0.0, by0));
+      rg[3] = static_cast<int>(std::min<double>(g - 1, by1));
+      const std::int64_t c = sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[1] + 1] -
+        sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[1] + 1] -
+        sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[0]] +
+        sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[0]];
+      // A list entry in more than half the busy cells costs more than one global entry.
+      touched[static_cast<size_t>(t)] = (busyCells > 8 && 2 * c > busyCells) ? -1 : c;
     }
-    // One view sample on the CPU: sampleOrder position `o` of cell `cell`.
-    auto maskOnCPU = [&](MaskBuilder& builder, std::vector<int>& undecided, std::uint32_t o,
-                       std::int32_t cell) {
-      const std::uint32_t* list = cellList.data() + cellStart[cell];
-      const std::uint32_t listSize = cellStart[cell + 1] - cellStart[cell];
-      const vtkIdType s = ids[sampleOrder[o]];
-      SampleRays r;
-      loadSample(s, r);
-      r.Z = frame[3 * static_cast<size_t>(sampleOrder[o]) + 2];
-      if (!builder.Start(r))
-      {
-        vis[s] = builder.Visibility();
-        writeMask(s, builder.Facing);
-        return;
-      }
-      for (std::uint32_t e = 0; e < listSize && builder.Open; ++e)
-      {
-        builder.Visit(list[e]);
-      }
-      for (size_t e = 0; e < globalList.size() && builder.Open; ++e)
-      {
-        builder.Visit(globalList[e]);
-      }
-      undecided.clear();
-      builder.Finish(undecided);
-      vis[s] = builder.Visibility();
-      writeMask(s, builder.Facing);
-      if (!undecided.empty())
-      {
-        std::lock_guard<std::mutex> lock(traceMutex);
-        for (const int j : undecided)
-        {
-          traceSamples.push_back(s);
-          traceLights.push_back(j);
-        }
-      }
-    };
-    auto newBuilder = [&]() {
-      MaskBuilder builder(ls, impl.Casters, epsilon);
-      builder.ZMin = zNear.data();
-      builder.Bounds = impl.Bounds.data();
-      builder.FarSlack = tolerance;
-      return builder;
-    };
-    // The sampleOrder positions the CPU computes: all of them, or those the shader flagged.
-    std::vector<std::uint32_t>& onCPU = sc.OnCPU;
-    onCPU.clear();
-    bool allOnCPU = !useGpu;
-    if (useGpu)
+  });
+  std::vector<std::uint32_t>& globalList = this->Scratch.GlobalList;
+  std::int64_t total = 0;
+  globalList.clear();
+  for (vtkIdType t = 0; t < nCasters; ++t)
+  {
+    const std::int64_t c = touched[static_cast<size_t>(t)];
+    if (c < 0)
     {
-      std::vector<std::uint32_t>& work = sc.Work;
-      work.assign(2 * static_cast<size_t>(m), 0u);
-      for (vtkIdType o = 0; o < m; ++o)
-      {
-        const std::uint32_t q = sampleOrder[static_cast<size_t>(o)];
-        work[2 * o] = static_cast<std::uint32_t>(ids[q]);
-        work[2 * o + 1] = static_cast<std::uint32_t>(sampleCell[q]);
-      }
-      penumbra_gears::ComputeLight cl;
-      cl.K = ls.K;
-      cl.Rows = ls.Rows;
-      cl.Points = ls.Points.data();
-      std::copy(ls.Centre, ls.Centre + 3, cl.Centre);
-      std::copy(ls.U, ls.U + 3, cl.U);
-      std::copy(ls.V, ls.V + 3, cl.V);
-      std::copy(ls.N, ls.N + 3, cl.N);
-      cl.Su0 = ls.Su0;
-      cl.DSu = ls.DSu;
-      cl.Sv0 = ls.Sv0;
-      cl.DSv = ls.DSv;
-      penumbra_gears::ComputeConstants cc;
-      std::copy(shift, shift + 3, cc.Shift);
-      cc.Epsilon = epsilon;
-      cc.TieFactor = tieFactor;
-      cc.Diagonal = diagonal;
-      cc.RelativeTolerance = RelativePositionTolerance;
-      penumbra_gears::ComputeSide cs;
-      cs.Flip = flip;
-      cs.FarSlack = tolerance;
-      cs.ZNear = zNear.data();
-      cs.CellStart = cellStart.data();
-      cs.Cells = cellStart.size() - 1;
-      cs.CellList = cellList.data();
-      cs.ListSize = cellList.size();
-      cs.GlobalList = globalList.data();
-      cs.GlobalSize = globalList.size();
-      cs.Work = work.data();
-      cs.WorkCount = static_cast<size_t>(m);
-      std::vector<std::uint32_t>& results = sc.Results;
-      std::vector<std::uint32_t>& rows32 = sc.Rows;
-      std::string why;
-      if (impl.Compute.Run(cl, cc, cs, results, masks ? &rows32 : nullptr, why))
-      {
-        this->LastPath = PATH_GPU;
-        vtkIdType sideNecessary = 0, sideTests = 0;
-        for (vtkIdType o = 0; o < m; ++o)
-        {
-          const std::uint32_t* res = &results[3 * static_cast<size_t>(o)];
-          if (res[0] == penumbra_gears::Flagged)
-          {
-            onCPU.push_back(static_cast<std::uint32_t>(o));
-            continue;
-          }
-          const vtkIdType s = ids[sampleOrder[static_cast<size_t>(o)]];
-          vis[s] = static_cast<float>(res[0]) / static_cast<float>(ls.Count);
-          sideNecessary += res[1];
-          sideTests += res[2];
-          if (masks)
-          {
-            std::uint64_t rows[MaxK];
-            for (int j = 0; j < ls.Rows; ++j)
-            {
-              rows[j] = rows32[static_cast<size_t>(o) * ls.Rows + j];
-            }
-            writeMask(s, rows);
-          }
-        }
-        necessary += sideNecessary;
-        segmentTests += sideTests;
-        flaggedTotal += static_cast<vtkIdType>(onCPU.size());
-      }
-      else
-      {
-        reportPathProblem(why);
-        useGpu = false;
-        allOnCPU = true;
-      }
+      globalList.push_back(static_cast<std::uint32_t>(t));
     }
-    if (allOnCPU)
+    else
     {
-      // Every sample outside the traced cells, in cell order: neighbouring samples share a
-      // cell's lists.
-      for (std::uint32_t o = 0; o < static_cast<std::uint32_t>(m); ++o)
-      {
-        if (!traced[static_cast<size_t>(sampleCell[sampleOrder[o]])])
-        {
-          onCPU.push_back(o);
-        }
-      }
+      total += c;
     }
-    vtkSMPTools::For(0, static_cast<vtkIdType>(onCPU.size()), [&](vtkIdType begin, vtkIdType end) {
-      MaskBuilder builder = newBuilder();
-      std::vector<int> undecided;
-      for (vtkIdType f = begin; f < end; ++f)
-      {
-        const std::uint32_t o = onCPU[static_cast<size_t>(f)];
-        maskOnCPU(builder, undecided, o, sampleCell[sampleOrder[o]]);
-      }
-      necessary += builder.Necessary;
-      segmentTests += builder.Tests;
-    });
-    maskMs += ElapsedMs(maskStart);
   }
+  S.Total = total;
+}
 
-  // ---- Samples on the light plane go to the reference whole; undecided light samples one
-  // by one, with its exact rules (Wang et al. 2014, §5.1: "identical to ray tracing").
+//------------------------------------------------------------------------------
+// The long-list switch: cells whose list costs more than tracing their light samples. On a
+// dense mesh under a large light a cell meets hundreds of tiny triangles each covering less
+// than one light sample, and Embree's log N per ray wins. Their samples go to the reference
+// whole (exact by construction) and their lists are never built (Scratch.Traced).
+void vtkPenumbraGearsShadows::Internals::MarkTracedCells(const CallState& call, SideState& S)
+{
+  const int g = S.G;
+  std::vector<unsigned char>& traced = this->Scratch.Traced;
+  traced.assign(static_cast<size_t>(g) * g, 0);
+  if (call.TraceLimit > 0.0 && g > 1)
+  {
+    const std::vector<std::int64_t> lengths = CellListLengths(g, S.Range, S.Touched);
+    const double limit = call.TraceLimit - static_cast<double>(this->Scratch.GlobalList.size());
+    for (const std::int32_t c : this->Scratch.Occupied)
+    {
+      if (static_cast<double>(lengths[static_cast<size_t>(c)]) > limit)
+      {
+        traced[static_cast<size_t>(c)] = 1;
+        S.Total -= lengths[static_cast<size_t>(c)];
+      }
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+// The cell lists (Wang et al. 2014, A.3): a counting sort of (caster, cell) pairs by cell,
+// busy untraced cells only, each list sorted largest triangle first.
+void vtkPenumbraGearsShadows::Internals::FillCellLists(SideState& S)
+{
+  ScratchArrays& sc = this->Scratch;
+  const vtkIdType nCasters = static_cast<vtkIdType>(this->Casters.size());
+  const int g = S.G;
+  const size_t cells = static_cast<size_t>(g) * g;
+  std::vector<std::atomic<std::uint32_t>> perCell(cells);
+  for (auto& a : perCell)
+  {
+    a.store(0, std::memory_order_relaxed);
+  }
+  auto forCells = [&](vtkIdType t, auto&& fn) {
+    const int* rg = &S.Range[4 * static_cast<size_t>(t)];
+    for (int iy = rg[2]; iy <= rg[3]; ++iy)
+    {
+      for (int ix = rg[0]; ix <= rg[1]; ++ix)
+      {
+        const size_t cell = static_cast<size_t>(iy) * g + ix;
+        if (S.Count[cell] > 0 && !sc.Traced[cell])
+        {
+          fn(cell);
+        }
+      }
+    }
+  };
+  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType t = begin; t < end; ++t)
+    {
+      if (S.Touched[static_cast<size_t>(t)] > 0)
+      {
+        forCells(t, [&](size_t cell) { perCell[cell].fetch_add(1, std::memory_order_relaxed); });
+      }
+    }
+  });
+  std::vector<std::uint32_t>& cellStart = sc.CellStart;
+  std::vector<std::uint32_t>& cellList = sc.CellList;
+  cellStart.assign(cells + 1, 0);
+  for (size_t c = 0; c < cells; ++c)
+  {
+    cellStart[c + 1] = cellStart[c] + perCell[c].load(std::memory_order_relaxed);
+    perCell[c].store(cellStart[c], std::memory_order_relaxed);
+  }
+  cellList.resize(static_cast<size_t>(cellStart[cells]));
+  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType t = begin; t < end; ++t)
+    {
+      if (S.Touched[static_cast<size_t>(t)] > 0)
+      {
+        forCells(t, [&](size_t cell) {
+          cellList[perCell[cell].fetch_add(1, std::memory_order_relaxed)] =
+            static_cast<std::uint32_t>(t);
+        });
+      }
+    }
+  });
+  // Largest triangles first: a sample in umbra fills its mask and stops sooner. The
+  // order also makes the lists (and the statistics) independent of thread timing.
+  const auto& bounds = this->Bounds;
+  vtkSMPTools::For(0, static_cast<vtkIdType>(sc.Occupied.size()), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType b = begin; b < end; ++b)
+    {
+      const size_t cell = static_cast<size_t>(sc.Occupied[static_cast<size_t>(b)]);
+      std::sort(cellList.begin() + cellStart[cell], cellList.begin() + cellStart[cell + 1],
+        [&](std::uint32_t x, std::uint32_t y) {
+          return bounds[x].Radius > bounds[y].Radius ||
+            (bounds[x].Radius == bounds[y].Radius && x < y);
+        });
+    }
+  });
+}
+
+//------------------------------------------------------------------------------
+// Step 4's bookkeeping: the samples of ray-traced cells are flagged uncertain (the reference
+// takes them whole); every other sample will consider its cell list and the global list.
+void vtkPenumbraGearsShadows::Internals::RouteTracedCells(CallState& call)
+{
+  const ScratchArrays& sc = this->Scratch;
+  for (const std::int32_t cell : sc.Occupied)
+  {
+    if (sc.Traced[static_cast<size_t>(cell)])
+    {
+      for (std::uint32_t o = sc.SampleStart[cell]; o < sc.SampleStart[cell + 1]; ++o)
+      {
+        call.Uncertain[sc.Ids[sc.SampleOrder[o]]] = 1;
+      }
+      call.TracedCellSamples += sc.SampleStart[cell + 1] - sc.SampleStart[cell];
+      continue;
+    }
+    call.Assignments += static_cast<vtkIdType>(sc.SampleStart[cell + 1] - sc.SampleStart[cell]) *
+      static_cast<vtkIdType>(sc.CellStart[cell + 1] - sc.CellStart[cell] + sc.GlobalList.size());
+  }
+}
+
+//------------------------------------------------------------------------------
+// Step 4 on the compute path: the shader's masks for this side, the samples it flagged left
+// to the CPU (Scratch.OnCPU). False, with the path dropped for the rest of the call, if the
+// run failed.
+bool vtkPenumbraGearsShadows::Internals::MasksOnComputePath(
+  vtkPenumbraGearsShadows* self, CallState& call, const SideState& S)
+{
+  ScratchArrays& sc = this->Scratch;
+  const LightSamples& ls = call.Light;
+  const vtkIdType m = S.M;
+  std::vector<std::uint32_t>& work = sc.Work;
+  work.assign(2 * static_cast<size_t>(m), 0u);
+  for (vtkIdType o = 0; o < m; ++o)
+  {
+    const std::uint32_t q = sc.SampleOrder[static_cast<size_t>(o)];
+    work[2 * o] = static_cast<std::uint32_t>(sc.Ids[q]);
+    work[2 * o + 1] = static_cast<std::uint32_t>(sc.SampleCell[q]);
+  }
+  penumbra_gears::ComputeLight cl;
+  cl.K = ls.K;
+  cl.Rows = ls.Rows;
+  cl.Points = ls.Points.data();
+  std::copy(ls.Centre, ls.Centre + 3, cl.Centre);
+  std::copy(ls.U, ls.U + 3, cl.U);
+  std::copy(ls.V, ls.V + 3, cl.V);
+  std::copy(ls.N, ls.N + 3, cl.N);
+  cl.Su0 = ls.Su0;
+  cl.DSu = ls.DSu;
+  cl.Sv0 = ls.Sv0;
+  cl.DSv = ls.DSv;
+  penumbra_gears::ComputeConstants cc;
+  std::copy(call.Shift, call.Shift + 3, cc.Shift);
+  cc.Epsilon = call.Epsilon;
+  cc.TieFactor = call.TieFactor;
+  cc.Diagonal = call.Diagonal;
+  cc.RelativeTolerance = RelativePositionTolerance;
+  penumbra_gears::ComputeSide cs;
+  cs.Flip = S.Flip;
+  cs.FarSlack = S.Tolerance;
+  cs.ZNear = S.ZNear.data();
+  cs.CellStart = sc.CellStart.data();
+  cs.Cells = sc.CellStart.size() - 1;
+  cs.CellList = sc.CellList.data();
+  cs.ListSize = sc.CellList.size();
+  cs.GlobalList = sc.GlobalList.data();
+  cs.GlobalSize = sc.GlobalList.size();
+  cs.Work = work.data();
+  cs.WorkCount = static_cast<size_t>(m);
+  std::string why;
+  if (!this->Compute.Run(cl, cc, cs, sc.Results, call.Masks ? &sc.Rows : nullptr, why))
+  {
+    this->ReportPathProblem(self, why);
+    call.UseGpu = false;
+    return false;
+  }
+  self->LastPath = PATH_GPU;
+  vtkIdType sideNecessary = 0, sideTests = 0;
+  for (vtkIdType o = 0; o < m; ++o)
+  {
+    const std::uint32_t* res = &sc.Results[3 * static_cast<size_t>(o)];
+    if (res[0] == penumbra_gears::Flagged)
+    {
+      sc.OnCPU.push_back(static_cast<std::uint32_t>(o));
+      continue;
+    }
+    const vtkIdType s = sc.Ids[sc.SampleOrder[static_cast<size_t>(o)]];
+    call.Vis[s] = static_cast<float>(res[0]) / static_cast<float>(ls.Count);
+    sideNecessary += res[1];
+    sideTests += res[2];
+    if (call.Masks)
+    {
+      std::uint64_t rows[MaxK];
+      for (int j = 0; j < ls.Rows; ++j)
+      {
+        rows[j] = sc.Rows[static_cast<size_t>(o) * ls.Rows + j];
+      }
+      call.WriteMask(s, rows);
+    }
+  }
+  call.Necessary += sideNecessary;
+  call.SegmentTests += sideTests;
+  call.Flagged += static_cast<vtkIdType>(sc.OnCPU.size());
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Step 4 on the CPU (Wang et al. 2014, §3, step 4, with the exact predicate of MaskBuilder):
+// the samples the compute path flagged, or with allOnCPU every sample outside the traced
+// cells, in cell order (neighbouring samples share a cell's lists).
+void vtkPenumbraGearsShadows::Internals::MasksOnCPU(
+  CallState& call, const SideState& S, bool allOnCPU)
+{
+  ScratchArrays& sc = this->Scratch;
+  std::vector<std::uint32_t>& onCPU = sc.OnCPU;
+  if (allOnCPU)
+  {
+    for (std::uint32_t o = 0; o < static_cast<std::uint32_t>(S.M); ++o)
+    {
+      if (!sc.Traced[static_cast<size_t>(sc.SampleCell[sc.SampleOrder[o]])])
+      {
+        onCPU.push_back(o);
+      }
+    }
+  }
+  vtkSMPTools::For(0, static_cast<vtkIdType>(onCPU.size()), [&](vtkIdType begin, vtkIdType end) {
+    MaskBuilder builder(call.Light, this->Casters, call.Epsilon);
+    builder.ZMin = S.ZNear.data();
+    builder.Bounds = this->Bounds.data();
+    builder.FarSlack = S.Tolerance;
+    std::vector<int> undecided;
+    for (vtkIdType f = begin; f < end; ++f)
+    {
+      const std::uint32_t o = onCPU[static_cast<size_t>(f)];
+      this->MaskOneSample(call, builder, undecided, o, sc.SampleCell[sc.SampleOrder[o]]);
+    }
+    call.Necessary += builder.Necessary;
+    call.SegmentTests += builder.Tests;
+  });
+}
+
+//------------------------------------------------------------------------------
+// One view sample on the CPU: sampleOrder position `o` of cell `cell`. Its visibility and
+// mask are written; its undecided light samples join the pairs the reference traces.
+void vtkPenumbraGearsShadows::Internals::MaskOneSample(CallState& call, MaskBuilder& builder,
+  std::vector<int>& undecided, std::uint32_t o, std::int32_t cell)
+{
+  const ScratchArrays& sc = this->Scratch;
+  const std::uint32_t* list = sc.CellList.data() + sc.CellStart[cell];
+  const std::uint32_t listSize = sc.CellStart[cell + 1] - sc.CellStart[cell];
+  const vtkIdType s = sc.Ids[sc.SampleOrder[o]];
+  SampleRays r;
+  call.LoadSample(s, r);
+  r.Z = sc.Frame[3 * static_cast<size_t>(sc.SampleOrder[o]) + 2];
+  if (!builder.Start(r))
+  {
+    call.Vis[s] = builder.Visibility();
+    call.WriteMask(s, builder.Facing);
+    return;
+  }
+  for (std::uint32_t e = 0; e < listSize && builder.Open; ++e)
+  {
+    builder.Visit(list[e]);
+  }
+  for (size_t e = 0; e < sc.GlobalList.size() && builder.Open; ++e)
+  {
+    builder.Visit(sc.GlobalList[e]);
+  }
+  undecided.clear();
+  builder.Finish(undecided);
+  call.Vis[s] = builder.Visibility();
+  call.WriteMask(s, builder.Facing);
+  if (!undecided.empty())
+  {
+    std::lock_guard<std::mutex> lock(call.TraceMutex);
+    for (const int j : undecided)
+    {
+      call.TraceSamples.push_back(s);
+      call.TraceLights.push_back(j);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+// Samples on the light plane and in ray-traced cells go to the reference whole; undecided
+// light samples one by one, with its exact rules (Wang et al. 2014, §5.1: "identical to ray
+// tracing").
+int vtkPenumbraGearsShadows::Internals::TraceUndecided(vtkPenumbraGearsShadows* self,
+  vtkPenumbraViewSamples* samples, vtkFloatArray* visibility, CallState& call)
+{
   const auto traceStart = Clock::now();
+  const vtkIdType n = call.N;
+  const LightSamples& ls = call.Light;
+  const std::vector<signed char>& side = this->Scratch.Side;
+  unsigned char* uncertain = call.Uncertain;
+  float* vis = call.Vis;
   vtkIdType nWhole = 0;
   for (vtkIdType s = 0; s < n; ++s)
   {
@@ -1794,30 +2092,30 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
     }
     nWhole += uncertain[s];
   }
-  const vtkIdType nUncertain = nWhole - tracedCellSamples;
+  call.UncertainSamples = nWhole - call.TracedCellSamples;
   if (nWhole > 0)
   {
-    if (!this->Reference->ComputeVisibility(samples, used, visibility, impl.Uncertain))
+    if (!self->Reference->ComputeVisibility(samples, call.Used, visibility, this->Uncertain))
     {
-      PENUMBRA_GEARS_FAIL(
-        "tracing the uncertain samples failed: " << this->Reference->GetErrorMessage());
+      PENUMBRA_GEARS_FAIL_FOR(self,
+        "tracing the uncertain samples failed: " << self->Reference->GetErrorMessage());
     }
   }
-  const vtkIdType nTrace = static_cast<vtkIdType>(traceSamples.size());
+  const vtkIdType nTrace = static_cast<vtkIdType>(call.TraceSamples.size());
   vtkIdType withTracedRays = 0;
   if (nTrace > 0)
   {
     std::vector<unsigned char> lit(static_cast<size_t>(nTrace));
-    if (!this->Reference->TraceAreaRays(
-          samples, used, nTrace, traceSamples.data(), traceLights.data(), lit.data()))
+    if (!self->Reference->TraceAreaRays(samples, call.Used, nTrace, call.TraceSamples.data(),
+          call.TraceLights.data(), lit.data()))
     {
-      PENUMBRA_GEARS_FAIL(
-        "tracing the undecided light samples failed: " << this->Reference->GetErrorMessage());
+      PENUMBRA_GEARS_FAIL_FOR(self,
+        "tracing the undecided light samples failed: " << self->Reference->GetErrorMessage());
     }
     vtkIdType previous = -1;
     for (vtkIdType i = 0; i < nTrace; ++i)
     {
-      const vtkIdType s = traceSamples[static_cast<size_t>(i)];
+      const vtkIdType s = call.TraceSamples[static_cast<size_t>(i)];
       withTracedRays += s != previous;
       previous = s;
       if (!lit[static_cast<size_t>(i)])
@@ -1827,37 +2125,44 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
       // vis[s] = float(lit) / float(n) with lit recovered exactly from the known part.
       const int known = static_cast<int>(std::lround(vis[s] * ls.Count));
       vis[s] = static_cast<float>(known + 1) / static_cast<float>(ls.Count);
-      if (masks)
+      if (call.Masks)
       {
-        const int j = traceLights[static_cast<size_t>(i)];
-        masks[static_cast<size_t>(s) * words + j / 32] |= 1u << (j % 32);
+        const int j = call.TraceLights[static_cast<size_t>(i)];
+        call.Masks[static_cast<size_t>(s) * call.Words + j / 32] |= 1u << (j % 32);
       }
     }
   }
-  this->TraceTimeMs = nWhole > 0 || nTrace > 0 ? ElapsedMs(traceStart) : 0.0;
-  this->NumberOfTracedCellSamples = tracedCellSamples;
-  this->NumberOfTracedRays = nTrace;
-  this->NumberOfSamplesWithTracedRays = withTracedRays;
-  this->GridTimeMs = gridMs;
-  this->MaskTimeMs = maskMs;
-  this->NumberOfUncertainSamples = nUncertain;
-  this->NumberOfFlaggedSamples = flaggedTotal;
-  this->NumberOfOccupiedCells = occupiedTotal;
-  this->NumberOfCells = cellsTotal;
-  this->MaxTrianglesPerCell = maxPerCell;
-  this->AverageTrianglesPerCell =
-    occupiedTotal > 0 ? static_cast<double>(listTotal) / occupiedTotal : 0.0;
-  this->NumberOfGlobalTriangles = globalTotal;
-  this->NumberOfAssignments = assignments.load();
-  this->NumberOfNecessaryAssignments = necessary.load();
-  this->NumberOfSegmentTests = segmentTests.load();
-  this->EffectiveGridResolution = gridUsed;
-  visibility->Modified();
-  impl.Uncertain->Modified();
-  impl.Masks->Modified();
-  this->LastTimeMs = ElapsedMs(start);
+  call.TracedRays = nTrace;
+  call.SamplesWithTracedRays = withTracedRays;
+  call.TraceMs = nWhole > 0 || nTrace > 0 ? ElapsedMs(traceStart) : 0.0;
   return 1;
 }
+
+//------------------------------------------------------------------------------
+// Statistics: the call's counts and times, for the getters.
+void vtkPenumbraGearsShadows::Internals::StoreStatistics(
+  vtkPenumbraGearsShadows* self, const CallState& call)
+{
+  self->TraceTimeMs = call.TraceMs;
+  self->NumberOfTracedCellSamples = call.TracedCellSamples;
+  self->NumberOfTracedRays = call.TracedRays;
+  self->NumberOfSamplesWithTracedRays = call.SamplesWithTracedRays;
+  self->GridTimeMs = call.GridMs;
+  self->MaskTimeMs = call.MaskMs;
+  self->NumberOfUncertainSamples = call.UncertainSamples;
+  self->NumberOfFlaggedSamples = call.Flagged;
+  self->NumberOfOccupiedCells = call.Occupied;
+  self->NumberOfCells = call.Cells;
+  self->MaxTrianglesPerCell = call.MaxPerCell;
+  self->AverageTrianglesPerCell =
+    call.Occupied > 0 ? static_cast<double>(call.ListTotal) / call.Occupied : 0.0;
+  self->NumberOfGlobalTriangles = call.GlobalTotal;
+  self->NumberOfAssignments = call.Assignments.load();
+  self->NumberOfNecessaryAssignments = call.Necessary.load();
+  self->NumberOfSegmentTests = call.SegmentTests.load();
+  self->EffectiveGridResolution = call.GridUsed;
+}
+
 
 //------------------------------------------------------------------------------
 void vtkPenumbraGearsShadows::PrintSelf(ostream& os, vtkIndent indent)
