@@ -116,9 +116,52 @@ struct Connectivity
   vtkIdType Complex = 0;
   vtkIdType BoundaryEdges = 0;
 
+  using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
   void Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes)
   {
     *this = Connectivity();
+    const std::vector<std::array<int, 3>> tris = this->WeldCasters(geometry);
+    this->Casters = static_cast<vtkIdType>(tris.size());
+    if (!silhouettes)
+    {
+      this->Loose = tris;
+      return;
+    }
+
+    OMesh mesh;
+    std::vector<OMesh::VertexHandle> handles;
+    handles.reserve(this->Points.size());
+    for (const Vec3& p : this->Points)
+    {
+      handles.push_back(mesh.add_vertex(OMesh::Point(
+        static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]))));
+    }
+    std::vector<int> faceTri; // OpenMesh face index -> index into tris
+    // OpenMesh reports every refused face on its error stream; we count them instead.
+    omerr().disable();
+    for (size_t i = 0; i < tris.size(); ++i)
+    {
+      const auto& t = tris[i];
+      OMesh::FaceHandle f = mesh.add_face(handles[t[0]], handles[t[1]], handles[t[2]]);
+      if (!f.is_valid())
+      {
+        ++this->Complex;
+        this->Loose.push_back(t);
+      }
+      else
+      {
+        faceTri.resize(static_cast<size_t>(f.idx()) + 1, -1);
+        faceTri[static_cast<size_t>(f.idx())] = static_cast<int>(i);
+      }
+    }
+    omerr().enable();
+    this->BuildComponents(mesh, tris, faceTri);
+  }
+
+  // The occluding, non-degenerate triangles as triples of welded points (into Points).
+  std::vector<std::array<int, 3>> WeldCasters(vtkPenumbraSceneGeometry* geometry)
+  {
     const vtkIdType nt = geometry->GetNumberOfTriangles();
     const double* tv = nt > 0 ? geometry->GetVertices()->GetPointer(0) : nullptr;
     // Weld exactly equal coordinates only: anything looser would move geometry and the
@@ -153,43 +196,13 @@ struct Connectivity
       }
       tris.push_back(idx);
     }
-    this->Casters = static_cast<vtkIdType>(tris.size());
-    if (!silhouettes)
-    {
-      this->Loose = tris;
-      return;
-    }
+    return tris;
+  }
 
-    using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
-    Mesh mesh;
-    std::vector<Mesh::VertexHandle> handles;
-    handles.reserve(this->Points.size());
-    for (const Vec3& p : this->Points)
-    {
-      handles.push_back(mesh.add_vertex(Mesh::Point(
-        static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]))));
-    }
-    std::vector<int> faceTri; // OpenMesh face index -> index into tris
-    // OpenMesh reports every refused face on its error stream; we count them instead.
-    omerr().disable();
-    for (size_t i = 0; i < tris.size(); ++i)
-    {
-      const auto& t = tris[i];
-      Mesh::FaceHandle f = mesh.add_face(handles[t[0]], handles[t[1]], handles[t[2]]);
-      if (!f.is_valid())
-      {
-        ++this->Complex;
-        this->Loose.push_back(t);
-      }
-      else
-      {
-        faceTri.resize(static_cast<size_t>(f.idx()) + 1, -1);
-        faceTri[static_cast<size_t>(f.idx())] = static_cast<int>(i);
-      }
-    }
-    omerr().enable();
-
-    // Components by flood fill over shared edges.
+  // Components of `mesh` by flood fill over shared edges.
+  void BuildComponents(const OMesh& mesh, const std::vector<std::array<int, 3>>& tris,
+    const std::vector<int>& faceTri)
+  {
     const int nf = static_cast<int>(mesh.n_faces());
     std::vector<int> component(static_cast<size_t>(nf), -1);
     std::vector<int> stack;
@@ -210,9 +223,9 @@ struct Connectivity
         const int f = stack.back();
         stack.pop_back();
         faces.push_back(f);
-        for (Mesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
+        for (OMesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
         {
-          const Mesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
+          const OMesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
           if (mesh.is_boundary(o))
           {
             closed = false;
@@ -227,88 +240,107 @@ struct Connectivity
           }
         }
       }
-      Component c;
-      c.Closed = closed;
-      for (int f : faces)
+      this->Components.push_back(this->MakeComponent(mesh, faces, closed, tris, faceTri, local));
+    }
+  }
+
+  // One component of BuildComponents from its `faces` (OpenMesh indices); `local` maps
+  // every face to its index in its component.
+  Component MakeComponent(const OMesh& mesh, const std::vector<int>& faces, bool closed,
+    const std::vector<std::array<int, 3>>& tris, const std::vector<int>& faceTri,
+    std::vector<int>& local) const
+  {
+    Component c;
+    c.Closed = closed;
+    for (int f : faces)
+    {
+      local[static_cast<size_t>(f)] = static_cast<int>(c.Faces.size());
+      c.Faces.push_back(tris[static_cast<size_t>(faceTri[static_cast<size_t>(f)])]);
+    }
+    for (int f : faces)
+    {
+      for (OMesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
       {
-        local[static_cast<size_t>(f)] = static_cast<int>(c.Faces.size());
-        c.Faces.push_back(tris[static_cast<size_t>(faceTri[static_cast<size_t>(f)])]);
-      }
-      for (int f : faces)
-      {
-        for (Mesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
+        const OMesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
+        const int g = mesh.is_boundary(o) ? -1 : mesh.face_handle(o).idx();
+        if (g < 0 || f < g) // each edge once
         {
-          const Mesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
-          const int g = mesh.is_boundary(o) ? -1 : mesh.face_handle(o).idx();
-          if (g < 0 || f < g) // each edge once
-          {
-            c.Edges.push_back({ mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx(),
-              local[static_cast<size_t>(f)], g < 0 ? -1 : local[static_cast<size_t>(g)] });
-          }
-        }
-      }
-      for (const auto& t : c.Faces)
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          const Vec3& p = this->Points[static_cast<size_t>(t[k])];
-          for (int a = 0; a < 3; ++a)
-          {
-            c.Bounds[2 * a] = std::min(c.Bounds[2 * a], p[a]);
-            c.Bounds[2 * a + 1] = std::max(c.Bounds[2 * a + 1], p[a]);
-          }
+          c.Edges.push_back({ mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx(),
+            local[static_cast<size_t>(f)], g < 0 ? -1 : local[static_cast<size_t>(g)] });
         }
       }
-      if (closed)
+    }
+    for (const auto& t : c.Faces)
+    {
+      for (int k = 0; k < 3; ++k)
       {
-        // Orientation: a closed mesh with inward normals has negative signed volume; turn it
-        // once so that "light-facing" means the outward side (Brabec, "Shadow Techniques for
-        // Interactive and Real-Time Applications", PhD thesis, 2003, §3.2.5).
-        double volume = 0.0;
-        const Vec3& ref = this->Points[static_cast<size_t>(c.Faces[0][0])];
-        for (const auto& t : c.Faces)
+        const Vec3& p = this->Points[static_cast<size_t>(t[k])];
+        for (int a = 0; a < 3; ++a)
         {
-          const Vec3 a = Sub(this->Points[static_cast<size_t>(t[0])], ref);
-          const Vec3 b = Sub(this->Points[static_cast<size_t>(t[1])], ref);
-          const Vec3 d = Sub(this->Points[static_cast<size_t>(t[2])], ref);
-          volume += Dot(a, Cross(b, d));
-        }
-        if (volume < 0.0)
-        {
-          for (auto& t : c.Faces)
-          {
-            std::swap(t[1], t[2]);
-          }
-          for (auto& e : c.Edges)
-          {
-            std::swap(e[0], e[1]);
-          }
-        }
-        // Flat closed surfaces (two coincident sheets) have no inside: treat them as open.
-        c.Closed = volume != 0.0;
-      }
-      if (c.Closed)
-      {
-        std::map<std::pair<int, int>, int> third; // directed edge -> third vertex of its face
-        for (const auto& t : c.Faces)
-        {
-          for (int k = 0; k < 3; ++k)
-          {
-            third[{ t[k], t[(k + 1) % 3] }] = t[(k + 2) % 3];
-          }
-        }
-        for (const auto& t : c.Faces)
-        {
-          std::array<int, 6> a;
-          for (int k = 0; k < 3; ++k)
-          {
-            a[static_cast<size_t>(2 * k)] = t[k];
-            a[static_cast<size_t>(2 * k + 1)] = third[{ t[(k + 1) % 3], t[k] }];
-          }
-          c.Adjacency.push_back(a);
+          c.Bounds[2 * a] = std::min(c.Bounds[2 * a], p[a]);
+          c.Bounds[2 * a + 1] = std::max(c.Bounds[2 * a + 1], p[a]);
         }
       }
-      this->Components.push_back(std::move(c));
+    }
+    if (closed)
+    {
+      this->Orient(c);
+    }
+    if (c.Closed)
+    {
+      AddAdjacency(c);
+    }
+    return c;
+  }
+
+  // Orientation: a closed mesh with inward normals has negative signed volume; turn it once
+  // so that "light-facing" means the outward side (Brabec 2003, ch. 3, §3.2.5).
+  void Orient(Component& c) const
+  {
+    double volume = 0.0;
+    const Vec3& ref = this->Points[static_cast<size_t>(c.Faces[0][0])];
+    for (const auto& t : c.Faces)
+    {
+      const Vec3 a = Sub(this->Points[static_cast<size_t>(t[0])], ref);
+      const Vec3 b = Sub(this->Points[static_cast<size_t>(t[1])], ref);
+      const Vec3 d = Sub(this->Points[static_cast<size_t>(t[2])], ref);
+      volume += Dot(a, Cross(b, d));
+    }
+    if (volume < 0.0)
+    {
+      for (auto& t : c.Faces)
+      {
+        std::swap(t[1], t[2]);
+      }
+      for (auto& e : c.Edges)
+      {
+        std::swap(e[0], e[1]);
+      }
+    }
+    // Flat closed surfaces (two coincident sheets) have no inside: treat them as open.
+    c.Closed = volume != 0.0;
+  }
+
+  // The GL_TRIANGLES_ADJACENCY faces of a closed component (see Component::Adjacency).
+  static void AddAdjacency(Component& c)
+  {
+    std::map<std::pair<int, int>, int> third; // directed edge -> third vertex of its face
+    for (const auto& t : c.Faces)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        third[{ t[k], t[(k + 1) % 3] }] = t[(k + 2) % 3];
+      }
+    }
+    for (const auto& t : c.Faces)
+    {
+      std::array<int, 6> a;
+      for (int k = 0; k < 3; ++k)
+      {
+        a[static_cast<size_t>(2 * k)] = t[k];
+        a[static_cast<size_t>(2 * k + 1)] = third[{ t[(k + 1) % 3], t[k] }];
+      }
+      c.Adjacency.push_back(a);
     }
   }
 };
@@ -1580,8 +1612,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
 
   // The volume cache: the set of `vl` for the pending `box`, built when missing (evicting
   // the least recently used set when full), stamped as used now.
-  VolumeSet* FindVolumes(
-    vtkPenumbraShadowVolumeShadows& self, const Group& g, const VolumeLight& vl, const double box[6])
+  VolumeSet* FindVolumes(vtkPenumbraShadowVolumeShadows& self, const Group& g,
+    const VolumeLight& vl, const double box[6])
   {
     const auto volumeStart = Clock::now();
     std::vector<double> key = { vl.Directional ? 1.0 : 0.0,
@@ -1757,7 +1789,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     }
   }
 
-  // ---- z-pass needs a camera outside every volume (Brabec 2003, §3.2.5); prove it for
+  // ---- z-pass needs a camera outside every volume (Brabec 2003, ch. 3, §3.2.5); prove it for
   // perspective cameras from the volumes actually drawn.
   void ChooseMethods(vtkPenumbraShadowVolumeShadows& self, Group& g)
   {
