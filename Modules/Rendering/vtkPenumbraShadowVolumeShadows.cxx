@@ -116,9 +116,52 @@ struct Connectivity
   vtkIdType Complex = 0;
   vtkIdType BoundaryEdges = 0;
 
+  using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
   void Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes)
   {
     *this = Connectivity();
+    const std::vector<std::array<int, 3>> tris = this->WeldCasters(geometry);
+    this->Casters = static_cast<vtkIdType>(tris.size());
+    if (!silhouettes)
+    {
+      this->Loose = tris;
+      return;
+    }
+
+    OMesh mesh;
+    std::vector<OMesh::VertexHandle> handles;
+    handles.reserve(this->Points.size());
+    for (const Vec3& p : this->Points)
+    {
+      handles.push_back(mesh.add_vertex(OMesh::Point(
+        static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]))));
+    }
+    std::vector<int> faceTri; // OpenMesh face index -> index into tris
+    // OpenMesh reports every refused face on its error stream; we count them instead.
+    omerr().disable();
+    for (size_t i = 0; i < tris.size(); ++i)
+    {
+      const auto& t = tris[i];
+      OMesh::FaceHandle f = mesh.add_face(handles[t[0]], handles[t[1]], handles[t[2]]);
+      if (!f.is_valid())
+      {
+        ++this->Complex;
+        this->Loose.push_back(t);
+      }
+      else
+      {
+        faceTri.resize(static_cast<size_t>(f.idx()) + 1, -1);
+        faceTri[static_cast<size_t>(f.idx())] = static_cast<int>(i);
+      }
+    }
+    omerr().enable();
+    this->BuildComponents(mesh, tris, faceTri);
+  }
+
+  // The occluding, non-degenerate triangles as triples of welded points (into Points).
+  std::vector<std::array<int, 3>> WeldCasters(vtkPenumbraSceneGeometry* geometry)
+  {
     const vtkIdType nt = geometry->GetNumberOfTriangles();
     const double* tv = nt > 0 ? geometry->GetVertices()->GetPointer(0) : nullptr;
     // Weld exactly equal coordinates only: anything looser would move geometry and the
@@ -153,43 +196,13 @@ struct Connectivity
       }
       tris.push_back(idx);
     }
-    this->Casters = static_cast<vtkIdType>(tris.size());
-    if (!silhouettes)
-    {
-      this->Loose = tris;
-      return;
-    }
+    return tris;
+  }
 
-    using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
-    Mesh mesh;
-    std::vector<Mesh::VertexHandle> handles;
-    handles.reserve(this->Points.size());
-    for (const Vec3& p : this->Points)
-    {
-      handles.push_back(mesh.add_vertex(Mesh::Point(
-        static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]))));
-    }
-    std::vector<int> faceTri; // OpenMesh face index -> index into tris
-    // OpenMesh reports every refused face on its error stream; we count them instead.
-    omerr().disable();
-    for (size_t i = 0; i < tris.size(); ++i)
-    {
-      const auto& t = tris[i];
-      Mesh::FaceHandle f = mesh.add_face(handles[t[0]], handles[t[1]], handles[t[2]]);
-      if (!f.is_valid())
-      {
-        ++this->Complex;
-        this->Loose.push_back(t);
-      }
-      else
-      {
-        faceTri.resize(static_cast<size_t>(f.idx()) + 1, -1);
-        faceTri[static_cast<size_t>(f.idx())] = static_cast<int>(i);
-      }
-    }
-    omerr().enable();
-
-    // Components by flood fill over shared edges.
+  // Components of `mesh` by flood fill over shared edges.
+  void BuildComponents(const OMesh& mesh, const std::vector<std::array<int, 3>>& tris,
+    const std::vector<int>& faceTri)
+  {
     const int nf = static_cast<int>(mesh.n_faces());
     std::vector<int> component(static_cast<size_t>(nf), -1);
     std::vector<int> stack;
@@ -210,9 +223,9 @@ struct Connectivity
         const int f = stack.back();
         stack.pop_back();
         faces.push_back(f);
-        for (Mesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
+        for (OMesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
         {
-          const Mesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
+          const OMesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
           if (mesh.is_boundary(o))
           {
             closed = false;
@@ -227,88 +240,107 @@ struct Connectivity
           }
         }
       }
-      Component c;
-      c.Closed = closed;
-      for (int f : faces)
+      this->Components.push_back(this->MakeComponent(mesh, faces, closed, tris, faceTri, local));
+    }
+  }
+
+  // One component of BuildComponents from its `faces` (OpenMesh indices); `local` maps
+  // every face to its index in its component.
+  Component MakeComponent(const OMesh& mesh, const std::vector<int>& faces, bool closed,
+    const std::vector<std::array<int, 3>>& tris, const std::vector<int>& faceTri,
+    std::vector<int>& local) const
+  {
+    Component c;
+    c.Closed = closed;
+    for (int f : faces)
+    {
+      local[static_cast<size_t>(f)] = static_cast<int>(c.Faces.size());
+      c.Faces.push_back(tris[static_cast<size_t>(faceTri[static_cast<size_t>(f)])]);
+    }
+    for (int f : faces)
+    {
+      for (OMesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
       {
-        local[static_cast<size_t>(f)] = static_cast<int>(c.Faces.size());
-        c.Faces.push_back(tris[static_cast<size_t>(faceTri[static_cast<size_t>(f)])]);
-      }
-      for (int f : faces)
-      {
-        for (Mesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
+        const OMesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
+        const int g = mesh.is_boundary(o) ? -1 : mesh.face_handle(o).idx();
+        if (g < 0 || f < g) // each edge once
         {
-          const Mesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
-          const int g = mesh.is_boundary(o) ? -1 : mesh.face_handle(o).idx();
-          if (g < 0 || f < g) // each edge once
-          {
-            c.Edges.push_back({ mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx(),
-              local[static_cast<size_t>(f)], g < 0 ? -1 : local[static_cast<size_t>(g)] });
-          }
-        }
-      }
-      for (const auto& t : c.Faces)
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          const Vec3& p = this->Points[static_cast<size_t>(t[k])];
-          for (int a = 0; a < 3; ++a)
-          {
-            c.Bounds[2 * a] = std::min(c.Bounds[2 * a], p[a]);
-            c.Bounds[2 * a + 1] = std::max(c.Bounds[2 * a + 1], p[a]);
-          }
+          c.Edges.push_back({ mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx(),
+            local[static_cast<size_t>(f)], g < 0 ? -1 : local[static_cast<size_t>(g)] });
         }
       }
-      if (closed)
+    }
+    for (const auto& t : c.Faces)
+    {
+      for (int k = 0; k < 3; ++k)
       {
-        // Orientation: a closed mesh with inward normals has negative signed volume; turn it
-        // once so that "light-facing" means the outward side (Brabec, "Shadow Techniques for
-        // Interactive and Real-Time Applications", PhD thesis, 2003, §3.2.5).
-        double volume = 0.0;
-        const Vec3& ref = this->Points[static_cast<size_t>(c.Faces[0][0])];
-        for (const auto& t : c.Faces)
+        const Vec3& p = this->Points[static_cast<size_t>(t[k])];
+        for (int a = 0; a < 3; ++a)
         {
-          const Vec3 a = Sub(this->Points[static_cast<size_t>(t[0])], ref);
-          const Vec3 b = Sub(this->Points[static_cast<size_t>(t[1])], ref);
-          const Vec3 d = Sub(this->Points[static_cast<size_t>(t[2])], ref);
-          volume += Dot(a, Cross(b, d));
-        }
-        if (volume < 0.0)
-        {
-          for (auto& t : c.Faces)
-          {
-            std::swap(t[1], t[2]);
-          }
-          for (auto& e : c.Edges)
-          {
-            std::swap(e[0], e[1]);
-          }
-        }
-        // Flat closed surfaces (two coincident sheets) have no inside: treat them as open.
-        c.Closed = volume != 0.0;
-      }
-      if (c.Closed)
-      {
-        std::map<std::pair<int, int>, int> third; // directed edge -> third vertex of its face
-        for (const auto& t : c.Faces)
-        {
-          for (int k = 0; k < 3; ++k)
-          {
-            third[{ t[k], t[(k + 1) % 3] }] = t[(k + 2) % 3];
-          }
-        }
-        for (const auto& t : c.Faces)
-        {
-          std::array<int, 6> a;
-          for (int k = 0; k < 3; ++k)
-          {
-            a[static_cast<size_t>(2 * k)] = t[k];
-            a[static_cast<size_t>(2 * k + 1)] = third[{ t[(k + 1) % 3], t[k] }];
-          }
-          c.Adjacency.push_back(a);
+          c.Bounds[2 * a] = std::min(c.Bounds[2 * a], p[a]);
+          c.Bounds[2 * a + 1] = std::max(c.Bounds[2 * a + 1], p[a]);
         }
       }
-      this->Components.push_back(std::move(c));
+    }
+    if (closed)
+    {
+      this->Orient(c);
+    }
+    if (c.Closed)
+    {
+      AddAdjacency(c);
+    }
+    return c;
+  }
+
+  // Orientation: a closed mesh with inward normals has negative signed volume; turn it once
+  // so that "light-facing" means the outward side (Brabec 2003, ch. 3, §3.2.5).
+  void Orient(Component& c) const
+  {
+    double volume = 0.0;
+    const Vec3& ref = this->Points[static_cast<size_t>(c.Faces[0][0])];
+    for (const auto& t : c.Faces)
+    {
+      const Vec3 a = Sub(this->Points[static_cast<size_t>(t[0])], ref);
+      const Vec3 b = Sub(this->Points[static_cast<size_t>(t[1])], ref);
+      const Vec3 d = Sub(this->Points[static_cast<size_t>(t[2])], ref);
+      volume += Dot(a, Cross(b, d));
+    }
+    if (volume < 0.0)
+    {
+      for (auto& t : c.Faces)
+      {
+        std::swap(t[1], t[2]);
+      }
+      for (auto& e : c.Edges)
+      {
+        std::swap(e[0], e[1]);
+      }
+    }
+    // Flat closed surfaces (two coincident sheets) have no inside: treat them as open.
+    c.Closed = volume != 0.0;
+  }
+
+  // The GL_TRIANGLES_ADJACENCY faces of a closed component (see Component::Adjacency).
+  static void AddAdjacency(Component& c)
+  {
+    std::map<std::pair<int, int>, int> third; // directed edge -> third vertex of its face
+    for (const auto& t : c.Faces)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        third[{ t[k], t[(k + 1) % 3] }] = t[(k + 2) % 3];
+      }
+    }
+    for (const auto& t : c.Faces)
+    {
+      std::array<int, 6> a;
+      for (int k = 0; k < 3; ++k)
+      {
+        a[static_cast<size_t>(2 * k)] = t[k];
+        a[static_cast<size_t>(2 * k + 1)] = third[{ t[(k + 1) % 3], t[k] }];
+      }
+      c.Adjacency.push_back(a);
     }
   }
 };
@@ -1345,6 +1377,911 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     this->Height = h;
     return complete;
   }
+
+  // ---- One ComputeGroup call, in named phases (ComputeGroup runs them in order).
+  // One light of the group.
+  struct Job
+  {
+    vtkLight* Light = nullptr;
+    vtkFloatArray* Visibility = nullptr;
+    float* Vis = nullptr;
+    penumbra_light_views::FrameInputs In;
+    std::vector<unsigned char> State;
+    VolumeLight VL;
+    VolumeSet* Volumes = nullptr; // null: nothing to count (no pending sample)
+    bool ZPass = false;
+    int Channel = -1; // its channel in the mask
+  };
+
+  // What the phases of one call share.
+  struct Group
+  {
+    vtkRenderer* Renderer = nullptr;
+    vtkPenumbraSceneGeometry* Geometry = nullptr;
+    vtkPenumbraViewSamples* Samples = nullptr;
+    std::vector<Job> Jobs;
+    // What depends on the samples, the geometry and the window only (ReadShared): the same
+    // for every job, so the first job's.
+    const penumbra_light_views::FrameInputs* In = nullptr;
+    vtkOpenGLRenderWindow* Window = nullptr;
+    vtkIdType N = 0;
+    int Width = 0;
+    int Height = 0;
+    vtkCamera* Camera = nullptr;
+    double Scale = 1.0; // scene scale (UpdateConnectivity)
+    double RebasedBounds[6] = { 0, 0, 0, 0, 0, 0 };
+    int Counted = 0; // lights with samples to count, one mask channel each
+    bool Parallel = false;
+    Clock::time_point StencilStart; // sample depths and counting (StencilTimeMs)
+    vtkShaderProgram* Program = nullptr;
+    vtkShaderProgram* GSProgram = nullptr; // null: no GPU silhouettes in this group
+    vtkShaderProgram* MaskProgram = nullptr;
+  };
+
+  // ---- Input checks (shared with the other map-based techniques), per light: a light that
+  // cannot be shadowed here (an area light, say) fails alone.
+  static void ReadJobs(vtkPenumbraShadowVolumeShadows& self, Group& g, vtkLight* const* lights,
+    vtkFloatArray* const* visibilities, int count)
+  {
+    g.Jobs.reserve(static_cast<size_t>(count));
+    for (int i = 0; i < count; ++i)
+    {
+      Job job;
+      std::string inputError;
+      if (!job.In.Read(g.Renderer, g.Geometry, g.Samples, lights[i], visibilities[i], inputError))
+      {
+        vtkErrorWithObjectMacro(&self, << "shadow volumes: " << inputError);
+        if (visibilities[i])
+        {
+          visibilities[i]->SetNumberOfTuples(0);
+        }
+        continue;
+      }
+      job.Light = lights[i];
+      job.Visibility = visibilities[i];
+      g.Jobs.push_back(std::move(job));
+    }
+  }
+
+  // What every job shares (needs at least one job). Null, or why the group fails.
+  static const char* ReadShared(Group& g)
+  {
+    g.In = &g.Jobs.front().In;
+    g.Window = g.In->Window;
+    g.N = g.In->NumberOfSamples;
+    g.Width = g.Samples->GetWidth();
+    g.Height = g.Samples->GetHeight();
+    if (static_cast<vtkIdType>(g.Width) * g.Height != g.N)
+    {
+      return "view samples are not a width x height image";
+    }
+    g.Camera = g.Renderer->GetActiveCamera();
+    if (!g.Camera)
+    {
+      return "the renderer has no camera";
+    }
+    return nullptr;
+  }
+
+  // ---- Connectivity, once per geometry change, and its statistics; then the scene scale.
+  void UpdateConnectivity(vtkPenumbraShadowVolumeShadows& self, Group& g)
+  {
+    vtkPenumbraSceneGeometry* geometry = g.Geometry;
+    const auto connectivityStart = Clock::now();
+    {
+      double origin[3];
+      geometry->GetOrigin(origin);
+      if (!this->HaveMesh || this->Geometry != geometry ||
+          this->GeometryTime != geometry->GetGeometryTime() ||
+          this->FlagsTime != geometry->GetFlagsTime() ||
+          !std::equal(origin, origin + 3, this->Origin) ||
+          this->BuiltWithSilhouettes != self.Silhouettes)
+      {
+        this->Mesh.Build(geometry, self.Silhouettes);
+        this->HaveMesh = true;
+        this->Geometry = geometry;
+        this->GeometryTime = geometry->GetGeometryTime();
+        this->FlagsTime = geometry->GetFlagsTime();
+        std::copy(origin, origin + 3, this->Origin);
+        this->BuiltWithSilhouettes = self.Silhouettes;
+        this->Volumes.clear();
+        this->PointsUploaded = false;
+        ++self.NumberOfConnectivityBuilds;
+        self.ConnectivityTimeMs = ElapsedMs(connectivityStart);
+      }
+    }
+    const Connectivity& mesh = this->Mesh;
+    self.NumberOfCasterTriangles = mesh.Casters;
+    self.NumberOfComplexFaces = mesh.Complex;
+    self.NumberOfBoundaryEdges = mesh.BoundaryEdges;
+    self.NumberOfClosedComponents = static_cast<vtkIdType>(
+      std::count_if(mesh.Components.begin(),
+                    mesh.Components.end(),
+                    [](const Connectivity::Component& c) { return c.Closed; }));
+    self.NumberOfOpenComponents =
+      static_cast<vtkIdType>(mesh.Components.size()) - self.NumberOfClosedComponents;
+    self.NumberOfPerTriangleVolumes = static_cast<vtkIdType>(mesh.Loose.size());
+
+    // Scene scale from the geometry alone (every sample lies on it), so that the extrusion
+    // length and with it the cached volumes do not depend on the camera.
+    double all[6];
+    geometry->GetBounds(all);
+    for (int c = 0; c < 3 && vtkMath::AreBoundsInitialized(all); ++c)
+    {
+      const double lo = all[2 * c] - this->Origin[c], hi = all[2 * c + 1] - this->Origin[c];
+      g.Scale = std::max({ g.Scale, std::fabs(lo), std::fabs(hi), hi - lo });
+      g.RebasedBounds[2 * c] = lo;
+      g.RebasedBounds[2 * c + 1] = hi;
+    }
+  }
+
+  // ---- Per light: facing, spot cone, lights that are off, background (the reference's
+  // rules); then its volumes, once per light / connectivity / sample box / option change.
+  void PrepareLights(vtkPenumbraShadowVolumeShadows& self, Group& g)
+  {
+    ++this->Clock;
+    for (Job& job : g.Jobs)
+    {
+      if (this->PrepareLight(self, g, job))
+      {
+        job.Channel = g.Counted++;
+      }
+    }
+  }
+
+  // One light of PrepareLights. False: every sample decided, nothing to count.
+  bool PrepareLight(vtkPenumbraShadowVolumeShadows& self, const Group& g, Job& job)
+  {
+    const penumbra_light_views::FrameInputs& in = *g.In;
+    const vtkIdType n = g.N;
+    const LightSetup& setup = job.In.Light;
+    vtkFloatArray* visibility = job.Visibility;
+    visibility->SetNumberOfComponents(1);
+    visibility->SetNumberOfTuples(n);
+    float* vis = n ? visibility->GetPointer(0) : nullptr;
+    job.Vis = vis;
+    job.State.assign(static_cast<size_t>(n), Decided);
+    const penumbra_light_views::FacingCounts facing =
+      penumbra_light_views::ClassifyFacing(setup,
+                                           n,
+                                           in.Positions,
+                                           in.Normals,
+                                           in.Props,
+                                           in.Shift,
+                                           this->Mesh.Casters > 0,
+                                           vis,
+                                           job.State.data(),
+                                           Pending,
+                                           Decided);
+    self.NumberOfCountedSamples += facing.Pending;
+    if (facing.Pending == 0)
+    {
+      visibility->Modified();
+      return false;
+    }
+
+    double box[6];
+    PendingBox(in, job.State, g.Scale, box);
+
+    VolumeLight& vl = job.VL;
+    vl.Directional = setup.Type == LightSetup::Kind::Directional;
+    std::copy(setup.Direction, setup.Direction + 3, vl.Direction.begin());
+    std::copy(setup.Position, setup.Position + 3, vl.Position.begin());
+    // A prism longer than four times the whole scene's extent reaches past every sample.
+    vl.Extrusion = 4.0 * g.Scale + 1.0;
+
+    job.Volumes = this->FindVolumes(self, g, vl, box);
+    const VolumeSet& vs = *job.Volumes;
+    self.NumberOfSilhouetteEdges = vs.SilhouetteEdges < 0 || self.NumberOfSilhouetteEdges < 0
+      ? -1
+      : self.NumberOfSilhouetteEdges + vs.SilhouetteEdges;
+    self.NumberOfCulledVolumes += vs.Culled;
+    self.NumberOfVolumeTriangles += vs.AllVertices / 3;
+    return true;
+  }
+
+  // Box of the pending samples in the geometry's frame (culling, extrusion length), grown
+  // by the float rounding of the samples (they are float32).
+  static void PendingBox(const penumbra_light_views::FrameInputs& in,
+    const std::vector<unsigned char>& state, double scale, double box[6])
+  {
+    const double* shift = in.Shift;
+    for (int c = 0; c < 3; ++c)
+    {
+      box[2 * c] = VTK_DOUBLE_MAX;
+      box[2 * c + 1] = -VTK_DOUBLE_MAX;
+    }
+    for (vtkIdType s = 0; s < in.NumberOfSamples; ++s)
+    {
+      if (state[static_cast<size_t>(s)] == Pending)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          const double p = static_cast<double>(in.Positions[3 * s + c]) + shift[c];
+          box[2 * c] = std::min(box[2 * c], p);
+          box[2 * c + 1] = std::max(box[2 * c + 1], p);
+        }
+      }
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      box[2 * c] -= 1e-5 * scale;
+      box[2 * c + 1] += 1e-5 * scale;
+    }
+  }
+
+  // The volume cache: the set of `vl` for the pending `box`, built when missing (evicting
+  // the least recently used set when full), stamped as used now.
+  VolumeSet* FindVolumes(vtkPenumbraShadowVolumeShadows& self, const Group& g,
+    const VolumeLight& vl, const double box[6])
+  {
+    const auto volumeStart = Clock::now();
+    std::vector<double> key = { vl.Directional ? 1.0 : 0.0,
+                                vl.Direction[0],
+                                vl.Direction[1],
+                                vl.Direction[2],
+                                vl.Position[0],
+                                vl.Position[1],
+                                vl.Position[2],
+                                vl.Extrusion,
+                                self.Cull ? 1.0 : 0.0,
+                                self.GPUSilhouettes ? 1.0 : 0.0,
+                                self.Resolve ? 1.0 : 0.0 };
+    if (self.Cull)
+    {
+      key.insert(key.end(), box, box + 6);
+    }
+    auto found = std::find_if(this->Volumes.begin(),
+                              this->Volumes.end(),
+                              [&](const std::unique_ptr<VolumeSet>& v) { return v->Key == key; });
+    if (found == this->Volumes.end())
+    {
+      if (this->Volumes.size() >= MaxVolumeSets)
+      {
+        // The least recently used set; the sets of this group are the newest, so stay.
+        auto oldest =
+          std::min_element(this->Volumes.begin(),
+                           this->Volumes.end(),
+                           [](const std::unique_ptr<VolumeSet>& a,
+                              const std::unique_ptr<VolumeSet>& b) { return a->Stamp < b->Stamp; });
+        this->Evict(static_cast<size_t>(oldest - this->Volumes.begin()));
+      }
+      this->Volumes.push_back(std::unique_ptr<VolumeSet>(new VolumeSet));
+      found = this->Volumes.end() - 1;
+      VolumeSet& build = **found;
+      build.Key = key;
+      ++self.NumberOfVolumeBuilds;
+      BuildVolumes(build, this->Mesh, vl, self.Cull ? box : nullptr, g.RebasedBounds,
+        self.GPUSilhouettes, self.Resolve);
+      self.VolumeTimeMs += ElapsedMs(volumeStart);
+    }
+    (*found)->Stamp = this->Clock;
+    return found->get();
+  }
+
+  // ---- Sample depths. The camera matrix and the sample depths depend on the samples and the
+  // camera only: one computation and one upload per frame serve every light (Brabec 2003,
+  // ch. 8: the scene depth once, then per light a cleared stencil and its volumes).
+  void ComputeSampleDepths(vtkPenumbraShadowVolumeShadows& self, Group& g)
+  {
+    g.StencilStart = Clock::now();
+    vtkCamera* camera = g.Camera;
+    vtkPenumbraViewSamples* samples = g.Samples;
+    vtkPenumbraSceneGeometry* geometry = g.Geometry;
+    const int width = g.Width;
+    g.Parallel = camera->GetParallelProjection() != 0;
+    // The view's aspect is the renderer's: the samples may hold several surfaces per pixel
+    // (see SampleLayout), so their own height says nothing about it. Samples the pass did not
+    // make (a renderer without a window) are taken as one image of the view.
+    const double aspect = g.Renderer->GetRenderWindow() && g.Renderer->GetTiledAspectRatio() > 0.0
+      ? g.Renderer->GetTiledAspectRatio()
+      : static_cast<double>(width) / std::max(g.Height, 1);
+    const int viewHeight = std::max(1, static_cast<int>(std::lround(width / aspect)));
+    auto address = [](const void* p)
+    { return static_cast<double>(reinterpret_cast<std::uintptr_t>(p)); };
+    const std::vector<double> depthKey = {
+      address(samples),
+      static_cast<double>(samples->GetMTime()),
+      static_cast<double>(samples->GetPositions()->GetMTime()),
+      static_cast<double>(samples->GetPropIndices()->GetMTime()),
+      static_cast<double>(samples->GetTriangleIds()->GetMTime()),
+      static_cast<double>(camera->GetMTime()),
+      address(geometry),
+      static_cast<double>(geometry->GetGeometryTime()),
+      this->Origin[0],
+      this->Origin[1],
+      this->Origin[2],
+      static_cast<double>(width),
+      static_cast<double>(viewHeight),
+      static_cast<double>(g.N)
+    };
+    if (depthKey != this->DepthKey)
+    {
+      this->DepthKey = depthKey;
+      this->DepthUploaded = false;
+      ++self.NumberOfDepthComputations;
+      double unproject[4][4];
+      double projection[4][4]; // world -> clip as VTK draws it, rebased
+      this->CameraRows(camera, aspect, g.Parallel, *g.In, unproject, projection);
+      this->Layout.Place(*g.In, projection, width, viewHeight);
+      this->Layout.ComputeDepths(*g.In, this->Rows, unproject, this->Origin, g.Scale);
+    }
+
+    self.SampleDepthTimeMs += ElapsedMs(g.StencilStart);
+  }
+
+  // Camera: VTK's world -> clip for this image into `projection` (and Projection) and its
+  // inverse into `unproject`, rebased; Rows the same with a reversed float depth fitted to the
+  // samples.
+  void CameraRows(vtkCamera* camera, double aspect, bool parallel,
+    const penumbra_light_views::FrameInputs& in, double unproject[4][4],
+    double projection[4][4])
+  {
+    double(&rows)[4][4] = this->Rows;
+    const double* shift = in.Shift;
+    const vtkIdType n = in.NumberOfSamples;
+    vtkMatrix4x4* m = camera->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
+    vtkNew<vtkMatrix4x4> inverse;
+    vtkMatrix4x4::Invert(m, inverse);
+    for (int r = 0; r < 4; ++r)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        unproject[r][c] = inverse->GetElement(r, c);
+      }
+    }
+    vtkMatrix4x4* view = camera->GetViewTransformMatrix();
+    for (int r = 0; r < 4; ++r)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        rows[r][c] = m->GetElement(r, c);
+      }
+    }
+    // Rebase: x_world = x_rebased + origin.
+    for (int r = 0; r < 4; ++r)
+    {
+      rows[r][3] +=
+        rows[r][0] * this->Origin[0] + rows[r][1] * this->Origin[1] + rows[r][2] * this->Origin[2];
+    }
+    std::copy(&rows[0][0], &rows[0][0] + 16, &projection[0][0]);
+    std::copy(&rows[0][0], &rows[0][0] + 16, &this->Projection[0][0]);
+    // Eye depth (positive in front) as a row of the rebased frame.
+    double eye[4];
+    for (int c = 0; c < 4; ++c)
+    {
+      eye[c] = -view->GetElement(2, c);
+    }
+    eye[3] += eye[0] * this->Origin[0] + eye[1] * this->Origin[1] + eye[2] * this->Origin[2];
+    double nearest = VTK_DOUBLE_MAX, farthest = 0.0;
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      if (in.Props[s] >= 0)
+      {
+        double z = eye[3];
+        for (int c = 0; c < 3; ++c)
+        {
+          z += eye[c] * (static_cast<double>(in.Positions[3 * s + c]) + shift[c]);
+        }
+        nearest = std::min(nearest, z);
+        farthest = std::max(farthest, z);
+      }
+    }
+    if (!parallel)
+    {
+      // d = nearPlane / eye depth (w row unchanged): 1 at half the nearest sample, 0 at
+      // infinity; depth clamp keeps what lies closer.
+      const double nearPlane = std::max(0.5 * nearest, 1e-9 * (1.0 + std::fabs(farthest)));
+      // z_clip = nearPlane * w_vertex: a point at infinity (w = 0) gets depth 0.
+      rows[2][0] = rows[2][1] = rows[2][2] = 0.0;
+      rows[2][3] = nearPlane;
+    }
+    else
+    {
+      const double margin = 0.25 * (farthest - nearest) + 1e-6 * (1.0 + std::fabs(farthest));
+      const double zn = nearest - margin, zf = farthest + margin;
+      // d = (zf - eye depth) / (zf - zn).
+      for (int c = 0; c < 4; ++c)
+      {
+        rows[2][c] = (c == 3 ? zf : 0.0) - eye[c];
+        rows[2][c] /= (zf - zn);
+      }
+    }
+  }
+
+  // ---- z-pass needs a camera outside every volume (Brabec 2003, ch. 3, §3.2.5); prove it for
+  // perspective cameras from the volumes actually drawn.
+  void ChooseMethods(vtkPenumbraShadowVolumeShadows& self, Group& g)
+  {
+    for (Job& job : g.Jobs)
+    {
+      if (!job.Volumes)
+      {
+        continue;
+      }
+      const VolumeSet& vs = *job.Volumes;
+      const VolumeLight& vl = job.VL;
+      bool zpass = self.Method == METHOD_ZPASS;
+      if (self.Method == METHOD_AUTO && !g.Parallel)
+      {
+        double eyeWorld[3];
+        g.Camera->GetPosition(eyeWorld);
+        const Vec3 eye = { eyeWorld[0] - this->Origin[0],
+                           eyeWorld[1] - this->Origin[1],
+                           eyeWorld[2] - this->Origin[2] };
+        const double tol = 1e-5 * g.Scale;
+        bool outside = true;
+        const std::vector<float>& V = vs.Vertices;
+        for (GLsizei i = 0; i + 2 < vs.CapVertices && outside; i += 3)
+        {
+          Vec3 v[3];
+          for (int k = 0; k < 3; ++k)
+          {
+            const float* f = V.data() + 4 * static_cast<size_t>(i + k);
+            v[k] = { f[0], f[1], f[2] };
+          }
+          outside = !SegmentMayTouch(vl, eye, v, tol);
+        }
+        // GPU components: their front faces are not known here, so every face must stay clear.
+        for (size_t i = 0; i + 5 < vs.AdjacencyIndices.size() && outside; i += 6)
+        {
+          const Vec3 v[3] = { this->Mesh.Points[vs.AdjacencyIndices[i]],
+                              this->Mesh.Points[vs.AdjacencyIndices[i + 2]],
+                              this->Mesh.Points[vs.AdjacencyIndices[i + 4]] };
+          outside = !SegmentMayTouch(vl, eye, v, tol);
+        }
+        zpass = outside;
+      }
+      job.ZPass = zpass;
+      self.UsedZPass = self.UsedZPass || zpass;
+    }
+  }
+
+  // ---- GL: the context, the features the counting needs and its shaders. Null, or why the
+  // group fails.
+  const char* ReadyGL(Group& g)
+  {
+    vtkOpenGLRenderWindow* win = g.Window;
+    win->MakeCurrent();
+    if (this->Window && this->Window != win)
+    {
+      this->Release(nullptr);
+    }
+    this->Window = win;
+    if (!HasDepthClamp())
+    {
+      return "depth clamping (OpenGL 3.2 or ARB_depth_clamp) is required";
+    }
+    if (!glClipControl)
+    {
+      return "glClipControl (OpenGL 4.5 or ARB_clip_control) is required for the "
+             "reversed float depth";
+    }
+    g.Program = ReadyProgram(win, vtkPenumbraShadowVolumeVS, vtkPenumbraShadowVolumeFS, "");
+    if (!g.Program)
+    {
+      return "the shadow volume shaders do not compile or link";
+    }
+    if (std::any_of(g.Jobs.begin(),
+                    g.Jobs.end(),
+                    [](const Job& j) { return j.Volumes && j.Volumes->AdjacencyCount > 0; }))
+    {
+      g.GSProgram = ReadyProgram(win, vtkPenumbraShadowVolumeAdjacencyVS,
+        vtkPenumbraShadowVolumeFS, vtkPenumbraShadowVolumeAdjacencyGS);
+      if (!g.GSProgram)
+      {
+        return "GPU silhouettes need a geometry shader with triangles_adjacency input, "
+               "which does not compile or link here; use CPU silhouettes";
+      }
+    }
+    g.MaskProgram =
+      ReadyProgram(win, vtkPenumbraShadowVolumeMaskVS, vtkPenumbraShadowVolumeMaskFS, "");
+    if (!g.MaskProgram)
+    {
+      return "the shadow mask shaders do not compile or link";
+    }
+    this->CollectGarbage();
+    return nullptr;
+  }
+
+  // The program of these shaders, compiled and linked; null if it is not.
+  static vtkShaderProgram* ReadyProgram(
+    vtkOpenGLRenderWindow* win, const char* vs, const char* fs, const char* gs)
+  {
+    vtkShaderProgram* program = win->GetShaderCache()->ReadyShaderProgram(vs, fs, gs);
+    return program && program->GetCompiled() ? program : nullptr;
+  }
+
+  // Depth clamping (GL 3.2 core, or ARB_depth_clamp) keeps the volumes' far parts.
+  static bool HasDepthClamp()
+  {
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    bool clamp = major * 10 + minor >= 32;
+    GLint extensions = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
+    for (GLint i = 0; i < extensions && !clamp; ++i)
+    {
+      const GLubyte* name = glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
+      clamp = name && std::strcmp(reinterpret_cast<const char*>(name), "GL_ARB_depth_clamp") == 0;
+    }
+    return clamp;
+  }
+
+  // ---- Brabec 2003, ch. 8: the scene depth once, then per light a cleared stencil, its
+  // volumes and a copy of "count != 0" into its channel of one RGBA mask; one read-back per
+  // mask. False when the counting framebuffer is incomplete.
+  bool CountInStencil(vtkPenumbraShadowVolumeShadows& self, const Group& g)
+  {
+    vtkOpenGLState* ostate = g.Window->GetState();
+    ostate->PushFramebufferBindings();
+    bool complete;
+    {
+      vtkOpenGLState::ScopedglEnableDisable blend(ostate, GL_BLEND);
+      vtkOpenGLState::ScopedglEnableDisable depthTest(ostate, GL_DEPTH_TEST);
+      vtkOpenGLState::ScopedglEnableDisable scissor(ostate, GL_SCISSOR_TEST);
+      vtkOpenGLState::ScopedglEnableDisable cull(ostate, GL_CULL_FACE);
+      vtkOpenGLState::ScopedglEnableDisable stencilTest(ostate, GL_STENCIL_TEST);
+      vtkOpenGLState::ScopedglViewport viewport(ostate);
+      vtkOpenGLState::ScopedglDepthFunc depthFunc(ostate);
+      vtkOpenGLState::ScopedglDepthMask depthMask(ostate);
+      vtkOpenGLState::ScopedglColorMask colorMask(ostate);
+      const SampleLayout& layout = this->Layout;
+      const int channels = g.Counted == 1 ? 1 : 4;
+      this->MaskPixels.resize(static_cast<size_t>(channels) * layout.SampleAt.size());
+      complete = this->Allocate(layout.Width, layout.Height);
+      if (complete)
+      {
+        this->CountLayers(self, g, ostate);
+      }
+    }
+    ostate->PopFramebufferBindings();
+    return complete;
+  }
+
+  // CountInStencil in its complete framebuffer, inside its state savers: every layer.
+  void CountLayers(vtkPenumbraShadowVolumeShadows& self, const Group& g, vtkOpenGLState* ostate)
+  {
+    const SampleLayout& layout = this->Layout;
+    ostate->vtkglBindFramebuffer(GL_FRAMEBUFFER, this->Framebuffer);
+    ostate->vtkglStencilMask(0xff);
+
+    ostate->vtkglDisable(GL_BLEND);
+    ostate->vtkglDisable(GL_SCISSOR_TEST);
+    ostate->vtkglDisable(GL_CULL_FACE);
+    ostate->vtkglEnable(GL_STENCIL_TEST);
+    ostate->vtkglViewport(0, 0, layout.Width, layout.Height);
+    ostate->vtkglDepthMask(GL_FALSE);
+    const GLboolean hadClamp = glIsEnabled(GL_DEPTH_CLAMP);
+    glEnable(GL_DEPTH_CLAMP);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+
+    float matrix[16];
+    for (int r = 0; r < 4; ++r)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        matrix[4 * c + r] = static_cast<float>(this->Rows[r][c]);
+      }
+    }
+    const GLint loc = glGetAttribLocation(g.Program->GetHandle(), "vertexRebased");
+    const GLint pointLoc =
+      g.GSProgram ? glGetAttribLocation(g.GSProgram->GetHandle(), "vertexRebased") : -1;
+    if (g.GSProgram && !this->PointsUploaded)
+    {
+      this->UploadPoints(pointLoc);
+    }
+
+    // One pass per layer of samples (see SampleLayout), each in the same view-sized
+    // framebuffer.
+    for (int layer = 0; layer < layout.Layers; ++layer)
+    {
+      this->CountLayer(self, g, ostate, layer, matrix, loc);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glBindVertexArray(0);
+
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    if (!hadClamp)
+    {
+      glDisable(GL_DEPTH_CLAMP);
+    }
+    ostate->vtkglStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
+    ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
+
+    ++self.NumberOfMasks;
+  }
+
+  // GPU silhouettes: the welded points, once per connectivity.
+  void UploadPoints(GLint pointLoc)
+  {
+    std::vector<float> points;
+    points.reserve(3 * this->Mesh.Points.size());
+    for (const Vec3& p : this->Mesh.Points)
+    {
+      points.insert(
+        points.end(),
+        { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]) });
+    }
+    glBindVertexArray(this->PointArray);
+    glBindBuffer(GL_ARRAY_BUFFER, this->PointBuffer);
+    glBufferData(GL_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(points.size() * sizeof(float)),
+                 points.empty() ? nullptr : points.data(),
+                 GL_STATIC_DRAW);
+    if (pointLoc >= 0)
+    {
+      glEnableVertexAttribArray(static_cast<GLuint>(pointLoc));
+      glVertexAttribPointer(static_cast<GLuint>(pointLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    }
+    this->PointsUploaded = true;
+  }
+
+  // ---- One layer of samples: its depth, every counted light into its channel, one read-back
+  // for the whole group (the red channel alone for a single light).
+  void CountLayer(vtkPenumbraShadowVolumeShadows& self, const Group& g, vtkOpenGLState* ostate,
+    int layer, float matrix[16], GLint loc)
+  {
+    const SampleLayout& layout = this->Layout;
+    const size_t perLayer = static_cast<size_t>(layout.Width) * static_cast<size_t>(layout.Height);
+    const int channels = g.Counted == 1 ? 1 : 4;
+    bool stencilClear = false;
+    if (!this->DepthUploaded || layout.Layers > 1)
+    {
+      // This layer's depth and a zero stencil in one upload.
+      glBindTexture(GL_TEXTURE_2D, this->DepthStencil);
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+      glTexSubImage2D(GL_TEXTURE_2D,
+                      0,
+                      0,
+                      0,
+                      layout.Width,
+                      layout.Height,
+                      GL_DEPTH_STENCIL,
+                      GL_FLOAT_32_UNSIGNED_INT_24_8_REV,
+                      layout.DepthStencil.data() + 2 * perLayer * static_cast<size_t>(layer));
+      glBindTexture(GL_TEXTURE_2D, 0);
+      this->DepthUploaded = layout.Layers == 1; // one layer: kept for the next call
+      stencilClear = true;
+    }
+    // Every channel starts lit.
+    ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    const GLfloat lit[4] = { 1.0f, 1.0f, 1.0f, 1.0f };
+    glClearBufferfv(GL_COLOR, 0, lit);
+    for (const Job& job : g.Jobs)
+    {
+      if (!job.Volumes)
+      {
+        continue;
+      }
+      if (stencilClear)
+      {
+        stencilClear = false; // the upload left it zero
+      }
+      else
+      {
+        const GLint zero = 0;
+        glClearBufferiv(GL_STENCIL, 0, &zero);
+      }
+      this->CountLight(self, g, ostate, job, matrix, loc);
+    }
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0,
+                 0,
+                 layout.Width,
+                 layout.Height,
+                 channels == 1 ? GL_RED : GL_RGBA,
+                 GL_UNSIGNED_BYTE,
+                 this->MaskPixels.data() +
+                   static_cast<size_t>(channels) * perLayer * static_cast<size_t>(layer));
+  }
+
+  // One light on a cleared stencil: its volumes counted (z-pass or Carmack's reverse), then
+  // "count != 0" into its channel.
+  void CountLight(vtkPenumbraShadowVolumeShadows& self, const Group& g, vtkOpenGLState* ostate,
+    const Job& job, float matrix[16], GLint loc)
+  {
+    VolumeSet& vs = *job.Volumes;
+    const VolumeLight& vl = job.VL;
+    ostate->vtkglEnable(GL_DEPTH_TEST);
+    ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    // Reversed depth: nearer is greater.
+    ostate->vtkglDepthFunc(GL_GREATER);
+    ostate->vtkglStencilMask(0xff);
+    ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
+    if (job.ZPass)
+    {
+      // Count faces in front of the sample: entering +1, leaving -1.
+      ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
+      ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
+    }
+    else
+    {
+      // Carmack's reverse: count faces behind the sample (depth fails).
+      ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+      ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
+    }
+
+    this->BindVolumeBuffers(g, vs, loc);
+    glBeginQuery(GL_SAMPLES_PASSED, this->Query);
+    this->DrawVolumes(g, vs, vl, matrix, static_cast<float>(1.0 - self.CapOffset));
+    glEndQuery(GL_SAMPLES_PASSED);
+    GLuint passed = 0;
+    glGetQueryObjectuiv(this->Query, GL_QUERY_RESULT, &passed);
+    self.NumberOfPassedFragments += static_cast<vtkIdType>(passed);
+    if (self.MeasureFill)
+    {
+      // Every rasterized volume fragment, with the stencil left as counted.
+      ostate->vtkglDepthFunc(GL_ALWAYS);
+      ostate->vtkglStencilMask(0x00);
+      glBeginQuery(GL_SAMPLES_PASSED, this->Query);
+      this->DrawVolumes(g, vs, vl, matrix, 1.0f);
+      glEndQuery(GL_SAMPLES_PASSED);
+      GLuint fill = 0;
+      glGetQueryObjectuiv(this->Query, GL_QUERY_RESULT, &fill);
+      self.NumberOfFillFragments += static_cast<vtkIdType>(fill);
+      ostate->vtkglStencilMask(0xff);
+    }
+
+    // Step 3 of ch. 8: 0 into this light's channel where the count is not zero (the
+    // count wraps modulo 256).
+    ostate->vtkglDisable(GL_DEPTH_TEST);
+    ostate->vtkglStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
+    ostate->vtkglStencilFunc(GL_NOTEQUAL, 0, 0xff);
+    ostate->vtkglColorMask(job.Channel == 0, job.Channel == 1, job.Channel == 2, job.Channel == 3);
+    g.Window->GetShaderCache()->ReadyShaderProgram(g.MaskProgram);
+    glBindVertexArray(this->VertexArray);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+
+  // One light's buffers, uploaded once per volume build, bound for drawing.
+  void BindVolumeBuffers(const Group& g, VolumeSet& vs, GLint loc)
+  {
+    glBindVertexArray(this->VertexArray);
+    BindBuffer(GL_ARRAY_BUFFER, vs.Buffer,
+      static_cast<GLsizeiptr>(vs.Vertices.size() * sizeof(float)),
+      vs.Vertices.empty() ? nullptr : vs.Vertices.data());
+    if (loc >= 0)
+    {
+      glEnableVertexAttribArray(static_cast<GLuint>(loc));
+      glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+    }
+    if (g.GSProgram && vs.AdjacencyCount > 0)
+    {
+      glBindVertexArray(this->PointArray);
+      BindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.AdjacencyBuffer,
+        static_cast<GLsizeiptr>(vs.AdjacencyIndices.size() * sizeof(GLuint)),
+        vs.AdjacencyIndices.data());
+    }
+  }
+
+  // Binds `buffer` to `target`, first creating it with `bytes` of `data` if it does not exist.
+  static void BindBuffer(GLenum target, GLuint& buffer, GLsizeiptr bytes, const void* data)
+  {
+    if (!buffer)
+    {
+      glGenBuffers(1, &buffer);
+      glBindBuffer(target, buffer);
+      glBufferData(target, bytes, data, GL_STATIC_DRAW);
+    }
+    glBindBuffer(target, buffer);
+  }
+
+  // Every volume of one light once; light caps pushed back by `capScale` (1: not at all).
+  void DrawVolumes(const Group& g, const VolumeSet& vs, const VolumeLight& vl,
+    float matrix[16], float capScale)
+  {
+    g.Window->GetShaderCache()->ReadyShaderProgram(g.Program);
+    g.Program->SetUniformMatrix4x4("worldToClip", matrix);
+    glBindVertexArray(this->VertexArray);
+    if (vs.CapVertices > 0)
+    {
+      g.Program->SetUniformf("capScale", capScale);
+      glDrawArrays(GL_TRIANGLES, 0, vs.CapVertices);
+    }
+    if (vs.AllVertices > vs.CapVertices)
+    {
+      g.Program->SetUniformf("capScale", 1.0f);
+      glDrawArrays(GL_TRIANGLES, vs.CapVertices, vs.AllVertices - vs.CapVertices);
+    }
+    if (g.GSProgram && vs.AdjacencyCount > 0)
+    {
+      const float lightUniform[4] = {
+        static_cast<float>(vl.Directional ? vl.Direction[0] : vl.Position[0]),
+        static_cast<float>(vl.Directional ? vl.Direction[1] : vl.Position[1]),
+        static_cast<float>(vl.Directional ? vl.Direction[2] : vl.Position[2]),
+        vl.Directional ? 0.0f : 1.0f
+      };
+      g.Window->GetShaderCache()->ReadyShaderProgram(g.GSProgram);
+      g.GSProgram->SetUniformMatrix4x4("worldToClip", matrix);
+      g.GSProgram->SetUniformf("capScale", capScale);
+      g.GSProgram->SetUniform4f("light", lightUniform);
+      g.GSProgram->SetUniformf("extrusion", static_cast<float>(vl.Extrusion));
+      g.GSProgram->SetUniformf("farW", static_cast<float>(vs.FarW));
+      glBindVertexArray(this->PointArray);
+      glDrawElements(GL_TRIANGLES_ADJACENCY, vs.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
+    }
+  }
+
+  // ---- Every light: the mask read back into its visibility, then the samples the stencil
+  // could not count and the edge resolve. The lights done.
+  int FinishLights(vtkPenumbraShadowVolumeShadows& self, const Group& g)
+  {
+    int done = 0;
+    for (const Job& job : g.Jobs)
+    {
+      ++done;
+      if (!job.Volumes)
+      {
+        continue; // decided without counting
+      }
+      this->ApplyMask(g, job);
+      if (!this->TraceUncertain(self, g, job))
+      {
+        --done;
+        continue;
+      }
+      job.Visibility->Modified();
+    }
+    return done;
+  }
+
+  // Mask read-back: one light's channel into the visibility of its counted samples.
+  void ApplyMask(const Group& g, const Job& job)
+  {
+    float* vis = job.Vis;
+    const std::vector<unsigned char>& state = job.State;
+    const int channels = g.Counted == 1 ? 1 : 4;
+    const unsigned char* maskChannel = this->MaskPixels.data() + job.Channel;
+    const SampleLayout& layout = this->Layout;
+    for (vtkIdType s = 0; s < g.N; ++s)
+    {
+      const vtkIdType pixel = layout.Pixel[static_cast<size_t>(s)];
+      if (state[static_cast<size_t>(s)] == Pending && pixel >= 0)
+      {
+        vis[s] = maskChannel[static_cast<size_t>(channels) * static_cast<size_t>(pixel)] == 0
+          ? 0.0f
+          : 1.0f;
+      }
+    }
+  }
+
+  // ---- Samples the stencil could not count, and the edge resolve (see MarkTraced), traced
+  // exactly. False when tracing failed (the visibility is then emptied).
+  bool TraceUncertain(vtkPenumbraShadowVolumeShadows& self, const Group& g, const Job& job)
+  {
+    const SampleLayout& layout = this->Layout;
+    if (!self.Resolve && layout.Unplaced <= 0)
+    {
+      return true;
+    }
+    const vtkIdType n = g.N;
+    const auto resolveStart = Clock::now();
+    this->Mask->SetNumberOfComponents(1);
+    this->Mask->SetNumberOfTuples(n);
+    if (self.Resolve)
+    {
+      job.Volumes->Outline.Mark(this->Projection, layout.Width, layout.Height, this->OutlinePixels);
+    }
+    const vtkIdType traced = MarkTraced(layout, *g.In, job.VL, job.State, job.Vis,
+      self.Resolve ? this->OutlinePixels.data() : nullptr,
+      n ? this->Mask->GetPointer(0) : nullptr);
+    if (traced > 0)
+    {
+      self.Reference->SetGeometry(g.Geometry);
+      if (!self.Reference->ComputeVisibility(g.Samples, job.Light, job.Visibility, this->Mask))
+      {
+        vtkErrorWithObjectMacro(&self, << "shadow volumes: tracing the edge samples failed: "
+                                       << self.Reference->GetErrorMessage());
+        job.Visibility->SetNumberOfTuples(0);
+        return false;
+      }
+    }
+    self.NumberOfResolvedSamples += traced;
+    self.ResolveTimeMs += ElapsedMs(resolveStart);
+    return true;
+  }
 };
 
 //------------------------------------------------------------------------------
@@ -1464,765 +2401,38 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
                                                  int count)
 {
   Internals& impl = *this->Impl;
+  Internals::Group group;
+  group.Renderer = renderer;
+  group.Geometry = geometry;
+  group.Samples = samples;
 
-  // ---- Input checks (shared with the other map-based techniques), per light: a light that
-  // cannot be shadowed here (an area light, say) fails alone.
-  struct Job
-  {
-    vtkLight* Light = nullptr;
-    vtkFloatArray* Visibility = nullptr;
-    float* Vis = nullptr;
-    penumbra_light_views::FrameInputs In;
-    std::vector<unsigned char> State;
-    VolumeLight VL;
-    Internals::VolumeSet* Volumes = nullptr; // null: nothing to count (no pending sample)
-    bool ZPass = false;
-    int Channel = -1; // its channel in the mask
-  };
-  std::vector<Job> jobs;
-  jobs.reserve(static_cast<size_t>(count));
-  for (int i = 0; i < count; ++i)
-  {
-    Job job;
-    std::string inputError;
-    if (!job.In.Read(renderer, geometry, samples, lights[i], visibilities[i], inputError))
-    {
-      vtkErrorMacro(<< "shadow volumes: " << inputError);
-      if (visibilities[i])
-      {
-        visibilities[i]->SetNumberOfTuples(0);
-      }
-      continue;
-    }
-    job.Light = lights[i];
-    job.Visibility = visibilities[i];
-    jobs.push_back(std::move(job));
-  }
-  if (jobs.empty())
+  Internals::ReadJobs(*this, group, lights, visibilities, count);
+  if (group.Jobs.empty())
   {
     return 0;
   }
-  // What depends on the samples, the geometry and the window only is the same for every job.
-  const penumbra_light_views::FrameInputs& in = jobs.front().In;
-  vtkOpenGLRenderWindow* win = in.Window;
-  const vtkIdType n = in.NumberOfSamples;
-  const int width = samples->GetWidth();
-  const int height = samples->GetHeight();
-  if (static_cast<vtkIdType>(width) * height != n)
+  if (const char* error = Internals::ReadShared(group))
   {
-    PENUMBRA_SV_FAIL("view samples are not a width x height image");
+    PENUMBRA_SV_FAIL(error);
   }
-  vtkCamera* camera = renderer->GetActiveCamera();
-  if (!camera)
+  impl.UpdateConnectivity(*this, group);
+  impl.PrepareLights(*this, group);
+  if (group.Counted == 0)
   {
-    PENUMBRA_SV_FAIL("the renderer has no camera");
+    return static_cast<int>(group.Jobs.size());
   }
-  const double* shift = in.Shift;
-
-  // ---- Connectivity, once per geometry change.
-  const auto connectivityStart = Clock::now();
+  impl.ComputeSampleDepths(*this, group);
+  impl.ChooseMethods(*this, group);
+  if (const char* error = impl.ReadyGL(group))
   {
-    double origin[3];
-    geometry->GetOrigin(origin);
-    if (!impl.HaveMesh || impl.Geometry != geometry ||
-        impl.GeometryTime != geometry->GetGeometryTime() ||
-        impl.FlagsTime != geometry->GetFlagsTime() ||
-        !std::equal(origin, origin + 3, impl.Origin) ||
-        impl.BuiltWithSilhouettes != this->Silhouettes)
-    {
-      impl.Mesh.Build(geometry, this->Silhouettes);
-      impl.HaveMesh = true;
-      impl.Geometry = geometry;
-      impl.GeometryTime = geometry->GetGeometryTime();
-      impl.FlagsTime = geometry->GetFlagsTime();
-      std::copy(origin, origin + 3, impl.Origin);
-      impl.BuiltWithSilhouettes = this->Silhouettes;
-      impl.Volumes.clear();
-      impl.PointsUploaded = false;
-      ++this->NumberOfConnectivityBuilds;
-      this->ConnectivityTimeMs = ElapsedMs(connectivityStart);
-    }
+    PENUMBRA_SV_FAIL(error);
   }
-  const Connectivity& mesh = impl.Mesh;
-  this->NumberOfCasterTriangles = mesh.Casters;
-  this->NumberOfComplexFaces = mesh.Complex;
-  this->NumberOfBoundaryEdges = mesh.BoundaryEdges;
-  this->NumberOfClosedComponents = static_cast<vtkIdType>(
-    std::count_if(mesh.Components.begin(),
-                  mesh.Components.end(),
-                  [](const Connectivity::Component& c) { return c.Closed; }));
-  this->NumberOfOpenComponents =
-    static_cast<vtkIdType>(mesh.Components.size()) - this->NumberOfClosedComponents;
-  this->NumberOfPerTriangleVolumes = static_cast<vtkIdType>(mesh.Loose.size());
-
-  // Scene scale from the geometry alone (every sample lies on it), so that the extrusion
-  // length and with it the cached volumes do not depend on the camera.
-  double scale = 1.0;
-  double rebasedBounds[6] = { 0, 0, 0, 0, 0, 0 };
-  {
-    double all[6];
-    geometry->GetBounds(all);
-    for (int c = 0; c < 3 && vtkMath::AreBoundsInitialized(all); ++c)
-    {
-      const double lo = all[2 * c] - impl.Origin[c], hi = all[2 * c + 1] - impl.Origin[c];
-      scale = std::max({ scale, std::fabs(lo), std::fabs(hi), hi - lo });
-      rebasedBounds[2 * c] = lo;
-      rebasedBounds[2 * c + 1] = hi;
-    }
-  }
-
-  // ---- Per light: facing, spot cone, lights that are off, background (the reference's
-  // rules); then its volumes, once per light / connectivity / sample box / option change.
-  ++impl.Clock;
-  int counted = 0; // lights with samples to count, one mask channel each
-  for (Job& job : jobs)
-  {
-    const LightSetup& setup = job.In.Light;
-    vtkFloatArray* visibility = job.Visibility;
-    visibility->SetNumberOfComponents(1);
-    visibility->SetNumberOfTuples(n);
-    float* vis = n ? visibility->GetPointer(0) : nullptr;
-    job.Vis = vis;
-    job.State.assign(static_cast<size_t>(n), Decided);
-    std::vector<unsigned char>& state = job.State;
-    const penumbra_light_views::FacingCounts facing =
-      penumbra_light_views::ClassifyFacing(setup,
-                                           n,
-                                           in.Positions,
-                                           in.Normals,
-                                           in.Props,
-                                           shift,
-                                           mesh.Casters > 0,
-                                           vis,
-                                           state.data(),
-                                           Pending,
-                                           Decided);
-    this->NumberOfCountedSamples += facing.Pending;
-    if (facing.Pending == 0)
-    {
-      visibility->Modified();
-      continue;
-    }
-
-    // Box of the pending samples in the geometry's frame (culling, extrusion length), grown
-    // by the float rounding of the samples (they are float32).
-    double box[6] = { VTK_DOUBLE_MAX,  -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
-                      -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,  -VTK_DOUBLE_MAX };
-    for (vtkIdType s = 0; s < n; ++s)
-    {
-      if (state[static_cast<size_t>(s)] == Pending)
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          const double p = static_cast<double>(in.Positions[3 * s + c]) + shift[c];
-          box[2 * c] = std::min(box[2 * c], p);
-          box[2 * c + 1] = std::max(box[2 * c + 1], p);
-        }
-      }
-    }
-    for (int c = 0; c < 3; ++c)
-    {
-      box[2 * c] -= 1e-5 * scale;
-      box[2 * c + 1] += 1e-5 * scale;
-    }
-
-    VolumeLight& vl = job.VL;
-    vl.Directional = setup.Type == LightSetup::Kind::Directional;
-    std::copy(setup.Direction, setup.Direction + 3, vl.Direction.begin());
-    std::copy(setup.Position, setup.Position + 3, vl.Position.begin());
-    // A prism longer than four times the whole scene's extent reaches past every sample.
-    vl.Extrusion = 4.0 * scale + 1.0;
-
-    const auto volumeStart = Clock::now();
-    std::vector<double> key = { vl.Directional ? 1.0 : 0.0,
-                                vl.Direction[0],
-                                vl.Direction[1],
-                                vl.Direction[2],
-                                vl.Position[0],
-                                vl.Position[1],
-                                vl.Position[2],
-                                vl.Extrusion,
-                                this->Cull ? 1.0 : 0.0,
-                                this->GPUSilhouettes ? 1.0 : 0.0,
-                                this->Resolve ? 1.0 : 0.0 };
-    if (this->Cull)
-    {
-      key.insert(key.end(), box, box + 6);
-    }
-    auto found =
-      std::find_if(impl.Volumes.begin(),
-                   impl.Volumes.end(),
-                   [&](const std::unique_ptr<Internals::VolumeSet>& v) { return v->Key == key; });
-    if (found == impl.Volumes.end())
-    {
-      if (impl.Volumes.size() >= Internals::MaxVolumeSets)
-      {
-        // The least recently used set; the sets of this group are the newest, so stay.
-        auto oldest = std::min_element(impl.Volumes.begin(),
-                                       impl.Volumes.end(),
-                                       [](const std::unique_ptr<Internals::VolumeSet>& a,
-                                          const std::unique_ptr<Internals::VolumeSet>& b)
-                                       { return a->Stamp < b->Stamp; });
-        impl.Evict(static_cast<size_t>(oldest - impl.Volumes.begin()));
-      }
-      impl.Volumes.push_back(std::unique_ptr<Internals::VolumeSet>(new Internals::VolumeSet));
-      found = impl.Volumes.end() - 1;
-      Internals::VolumeSet& build = **found;
-      build.Key = key;
-      ++this->NumberOfVolumeBuilds;
-      impl.BuildVolumes(build, mesh, vl, this->Cull ? box : nullptr, rebasedBounds,
-        this->GPUSilhouettes, this->Resolve);
-      this->VolumeTimeMs += ElapsedMs(volumeStart);
-    }
-    (*found)->Stamp = impl.Clock;
-    job.Volumes = found->get();
-    const Internals::VolumeSet& vs = *job.Volumes;
-    this->NumberOfSilhouetteEdges = vs.SilhouetteEdges < 0 || this->NumberOfSilhouetteEdges < 0
-      ? -1
-      : this->NumberOfSilhouetteEdges + vs.SilhouetteEdges;
-    this->NumberOfCulledVolumes += vs.Culled;
-    this->NumberOfVolumeTriangles += vs.AllVertices / 3;
-    job.Channel = counted++;
-  }
-  if (counted == 0)
-  {
-    return static_cast<int>(jobs.size());
-  }
-
-  // ---- Camera: VTK's world -> clip for this image, rebased, with a reversed float depth.
-  const auto stencilStart = Clock::now();
-  const bool parallel = camera->GetParallelProjection() != 0;
-  // The camera matrix and the sample depths depend on the samples and the camera only: one
-  // computation and one upload per frame serve every light (Brabec 2003, ch. 8: the scene depth
-  // once, then per light a cleared stencil and its volumes).
-  // The view's aspect is the renderer's: the samples may hold several surfaces per pixel
-  // (see SampleLayout), so their own height says nothing about it. Samples the pass did not
-  // make (a renderer without a window) are taken as one image of the view.
-  const double aspect = renderer->GetRenderWindow() && renderer->GetTiledAspectRatio() > 0.0
-    ? renderer->GetTiledAspectRatio()
-    : static_cast<double>(width) / std::max(height, 1);
-  const int viewHeight = std::max(1, static_cast<int>(std::lround(width / aspect)));
-  auto address = [](const void* p)
-  { return static_cast<double>(reinterpret_cast<std::uintptr_t>(p)); };
-  const std::vector<double> depthKey = { address(samples),
-                                         static_cast<double>(samples->GetMTime()),
-                                         static_cast<double>(samples->GetPositions()->GetMTime()),
-                                         static_cast<double>(samples->GetPropIndices()->GetMTime()),
-                                         static_cast<double>(samples->GetTriangleIds()->GetMTime()),
-                                         static_cast<double>(camera->GetMTime()),
-                                         address(geometry),
-                                         static_cast<double>(geometry->GetGeometryTime()),
-                                         impl.Origin[0],
-                                         impl.Origin[1],
-                                         impl.Origin[2],
-                                         static_cast<double>(width),
-                                         static_cast<double>(viewHeight),
-                                         static_cast<double>(n) };
-  double(&rows)[4][4] = impl.Rows;
-  if (depthKey != impl.DepthKey)
-  {
-    impl.DepthKey = depthKey;
-    impl.DepthUploaded = false;
-    ++this->NumberOfDepthComputations;
-    double unproject[4][4];
-    double projection[4][4]; // world -> clip as VTK draws it, rebased
-    {
-      vtkMatrix4x4* m = camera->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
-      vtkNew<vtkMatrix4x4> inverse;
-      vtkMatrix4x4::Invert(m, inverse);
-      for (int r = 0; r < 4; ++r)
-      {
-        for (int c = 0; c < 4; ++c)
-        {
-          unproject[r][c] = inverse->GetElement(r, c);
-        }
-      }
-      vtkMatrix4x4* view = camera->GetViewTransformMatrix();
-      for (int r = 0; r < 4; ++r)
-      {
-        for (int c = 0; c < 4; ++c)
-        {
-          rows[r][c] = m->GetElement(r, c);
-        }
-      }
-      // Rebase: x_world = x_rebased + origin.
-      for (int r = 0; r < 4; ++r)
-      {
-        rows[r][3] +=
-          rows[r][0] * impl.Origin[0] + rows[r][1] * impl.Origin[1] + rows[r][2] * impl.Origin[2];
-      }
-      std::copy(&rows[0][0], &rows[0][0] + 16, &projection[0][0]);
-      std::copy(&rows[0][0], &rows[0][0] + 16, &this->Impl->Projection[0][0]);
-      // Eye depth (positive in front) as a row of the rebased frame.
-      double eye[4];
-      for (int c = 0; c < 4; ++c)
-      {
-        eye[c] = -view->GetElement(2, c);
-      }
-      eye[3] += eye[0] * impl.Origin[0] + eye[1] * impl.Origin[1] + eye[2] * impl.Origin[2];
-      double nearest = VTK_DOUBLE_MAX, farthest = 0.0;
-      for (vtkIdType s = 0; s < n; ++s)
-      {
-        if (in.Props[s] >= 0)
-        {
-          double z = eye[3];
-          for (int c = 0; c < 3; ++c)
-          {
-            z += eye[c] * (static_cast<double>(in.Positions[3 * s + c]) + shift[c]);
-          }
-          nearest = std::min(nearest, z);
-          farthest = std::max(farthest, z);
-        }
-      }
-      if (!parallel)
-      {
-        // d = nearPlane / eye depth (w row unchanged): 1 at half the nearest sample, 0 at
-        // infinity; depth clamp keeps what lies closer.
-        const double nearPlane = std::max(0.5 * nearest, 1e-9 * (1.0 + std::fabs(farthest)));
-        // z_clip = nearPlane * w_vertex: a point at infinity (w = 0) gets depth 0.
-        rows[2][0] = rows[2][1] = rows[2][2] = 0.0;
-        rows[2][3] = nearPlane;
-      }
-      else
-      {
-        const double margin = 0.25 * (farthest - nearest) + 1e-6 * (1.0 + std::fabs(farthest));
-        const double zn = nearest - margin, zf = farthest + margin;
-        // d = (zf - eye depth) / (zf - zn).
-        for (int c = 0; c < 4; ++c)
-        {
-          rows[2][c] = (c == 3 ? zf : 0.0) - eye[c];
-          rows[2][c] /= (zf - zn);
-        }
-      }
-    }
-    impl.Layout.Place(in, projection, width, viewHeight);
-    impl.Layout.ComputeDepths(in, rows, unproject, impl.Origin, scale);
-  }
-
-  this->SampleDepthTimeMs += ElapsedMs(stencilStart);
-
-  // z-pass needs a camera outside every volume (Brabec 2003, §3.2.5); prove it for perspective
-  // cameras from the volumes actually drawn.
-  for (Job& job : jobs)
-  {
-    if (!job.Volumes)
-    {
-      continue;
-    }
-    const Internals::VolumeSet& vs = *job.Volumes;
-    const VolumeLight& vl = job.VL;
-    bool zpass = this->Method == METHOD_ZPASS;
-    if (this->Method == METHOD_AUTO && !parallel)
-    {
-      double eyeWorld[3];
-      camera->GetPosition(eyeWorld);
-      const Vec3 eye = { eyeWorld[0] - impl.Origin[0],
-                         eyeWorld[1] - impl.Origin[1],
-                         eyeWorld[2] - impl.Origin[2] };
-      const double tol = 1e-5 * scale;
-      bool outside = true;
-      const std::vector<float>& V = vs.Vertices;
-      for (GLsizei i = 0; i + 2 < vs.CapVertices && outside; i += 3)
-      {
-        Vec3 v[3];
-        for (int k = 0; k < 3; ++k)
-        {
-          const float* f = V.data() + 4 * static_cast<size_t>(i + k);
-          v[k] = { f[0], f[1], f[2] };
-        }
-        outside = !SegmentMayTouch(vl, eye, v, tol);
-      }
-      // GPU components: their front faces are not known here, so every face must stay clear.
-      for (size_t i = 0; i + 5 < vs.AdjacencyIndices.size() && outside; i += 6)
-      {
-        const Vec3 v[3] = { mesh.Points[vs.AdjacencyIndices[i]],
-                            mesh.Points[vs.AdjacencyIndices[i + 2]],
-                            mesh.Points[vs.AdjacencyIndices[i + 4]] };
-        outside = !SegmentMayTouch(vl, eye, v, tol);
-      }
-      zpass = outside;
-    }
-    job.ZPass = zpass;
-    this->UsedZPass = this->UsedZPass || zpass;
-  }
-
-  // ---- GL: count in the stencil.
-  win->MakeCurrent();
-  if (impl.Window && impl.Window != win)
-  {
-    impl.Release(nullptr);
-  }
-  impl.Window = win;
-  {
-    // Depth clamping (GL 3.2 core, or ARB_depth_clamp) keeps the volumes' far parts.
-    GLint major = 0, minor = 0;
-    glGetIntegerv(GL_MAJOR_VERSION, &major);
-    glGetIntegerv(GL_MINOR_VERSION, &minor);
-    bool clamp = major * 10 + minor >= 32;
-    GLint extensions = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
-    for (GLint i = 0; i < extensions && !clamp; ++i)
-    {
-      const GLubyte* name = glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
-      clamp = name && std::strcmp(reinterpret_cast<const char*>(name), "GL_ARB_depth_clamp") == 0;
-    }
-    if (!clamp)
-    {
-      PENUMBRA_SV_FAIL("depth clamping (OpenGL 3.2 or ARB_depth_clamp) is required");
-    }
-  }
-  if (!glClipControl)
-  {
-    PENUMBRA_SV_FAIL("glClipControl (OpenGL 4.5 or ARB_clip_control) is required for the "
-                     "reversed float depth");
-  }
-  vtkShaderProgram* program = win->GetShaderCache()->ReadyShaderProgram(
-    vtkPenumbraShadowVolumeVS, vtkPenumbraShadowVolumeFS, "");
-  if (!program || !program->GetCompiled())
-  {
-    PENUMBRA_SV_FAIL("the shadow volume shaders do not compile or link");
-  }
-  vtkShaderProgram* gsProgram = nullptr;
-  if (std::any_of(jobs.begin(),
-                  jobs.end(),
-                  [](const Job& j) { return j.Volumes && j.Volumes->AdjacencyCount > 0; }))
-  {
-    gsProgram = win->GetShaderCache()->ReadyShaderProgram(vtkPenumbraShadowVolumeAdjacencyVS,
-                                                          vtkPenumbraShadowVolumeFS,
-                                                          vtkPenumbraShadowVolumeAdjacencyGS);
-    if (!gsProgram || !gsProgram->GetCompiled())
-    {
-      PENUMBRA_SV_FAIL("GPU silhouettes need a geometry shader with triangles_adjacency input, "
-                       "which does not compile or link here; use CPU silhouettes");
-    }
-  }
-  vtkShaderProgram* maskProgram = win->GetShaderCache()->ReadyShaderProgram(
-    vtkPenumbraShadowVolumeMaskVS, vtkPenumbraShadowVolumeMaskFS, "");
-  if (!maskProgram || !maskProgram->GetCompiled())
-  {
-    PENUMBRA_SV_FAIL("the shadow mask shaders do not compile or link");
-  }
-  impl.CollectGarbage();
-
-  // ---- Brabec 2003, ch. 8: the scene depth once, then per light a cleared stencil, its volumes
-  // and a copy of "count != 0" into its channel of one RGBA mask; one read-back per mask.
-  vtkOpenGLState* ostate = win->GetState();
-  ostate->PushFramebufferBindings();
-  bool complete;
-  {
-    vtkOpenGLState::ScopedglEnableDisable blend(ostate, GL_BLEND);
-    vtkOpenGLState::ScopedglEnableDisable depthTest(ostate, GL_DEPTH_TEST);
-    vtkOpenGLState::ScopedglEnableDisable scissor(ostate, GL_SCISSOR_TEST);
-    vtkOpenGLState::ScopedglEnableDisable cull(ostate, GL_CULL_FACE);
-    vtkOpenGLState::ScopedglEnableDisable stencilTest(ostate, GL_STENCIL_TEST);
-    vtkOpenGLState::ScopedglViewport viewport(ostate);
-    vtkOpenGLState::ScopedglDepthFunc depthFunc(ostate);
-    vtkOpenGLState::ScopedglDepthMask depthMask(ostate);
-    vtkOpenGLState::ScopedglColorMask colorMask(ostate);
-    const SampleLayout& layout = impl.Layout;
-    const size_t perLayer = static_cast<size_t>(layout.Width) * static_cast<size_t>(layout.Height);
-    const int channels = counted == 1 ? 1 : 4;
-    impl.MaskPixels.resize(static_cast<size_t>(channels) * layout.SampleAt.size());
-    complete = impl.Allocate(layout.Width, layout.Height);
-    if (complete)
-    {
-      ostate->vtkglBindFramebuffer(GL_FRAMEBUFFER, impl.Framebuffer);
-      ostate->vtkglStencilMask(0xff);
-
-      ostate->vtkglDisable(GL_BLEND);
-      ostate->vtkglDisable(GL_SCISSOR_TEST);
-      ostate->vtkglDisable(GL_CULL_FACE);
-      ostate->vtkglEnable(GL_STENCIL_TEST);
-      ostate->vtkglViewport(0, 0, layout.Width, layout.Height);
-      ostate->vtkglDepthMask(GL_FALSE);
-      const GLboolean hadClamp = glIsEnabled(GL_DEPTH_CLAMP);
-      glEnable(GL_DEPTH_CLAMP);
-      glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-
-      float matrix[16];
-      for (int r = 0; r < 4; ++r)
-      {
-        for (int c = 0; c < 4; ++c)
-        {
-          matrix[4 * c + r] = static_cast<float>(rows[r][c]);
-        }
-      }
-      const GLint loc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
-      const GLint pointLoc =
-        gsProgram ? glGetAttribLocation(gsProgram->GetHandle(), "vertexRebased") : -1;
-      if (gsProgram && !impl.PointsUploaded)
-      {
-        std::vector<float> points;
-        points.reserve(3 * mesh.Points.size());
-        for (const Vec3& p : mesh.Points)
-        {
-          points.insert(
-            points.end(),
-            { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]) });
-        }
-        glBindVertexArray(impl.PointArray);
-        glBindBuffer(GL_ARRAY_BUFFER, impl.PointBuffer);
-        glBufferData(GL_ARRAY_BUFFER,
-                     static_cast<GLsizeiptr>(points.size() * sizeof(float)),
-                     points.empty() ? nullptr : points.data(),
-                     GL_STATIC_DRAW);
-        if (pointLoc >= 0)
-        {
-          glEnableVertexAttribArray(static_cast<GLuint>(pointLoc));
-          glVertexAttribPointer(static_cast<GLuint>(pointLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-        }
-        impl.PointsUploaded = true;
-      }
-
-      // One pass per layer of samples (see SampleLayout), each in the same view-sized
-      // framebuffer.
-      for (int layer = 0; layer < layout.Layers; ++layer)
-      {
-        bool stencilClear = false;
-        if (!impl.DepthUploaded || layout.Layers > 1)
-        {
-          // This layer's depth and a zero stencil in one upload.
-          glBindTexture(GL_TEXTURE_2D, impl.DepthStencil);
-          glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-          glTexSubImage2D(GL_TEXTURE_2D,
-                          0,
-                          0,
-                          0,
-                          layout.Width,
-                          layout.Height,
-                          GL_DEPTH_STENCIL,
-                          GL_FLOAT_32_UNSIGNED_INT_24_8_REV,
-                          layout.DepthStencil.data() + 2 * perLayer * static_cast<size_t>(layer));
-          glBindTexture(GL_TEXTURE_2D, 0);
-          impl.DepthUploaded = layout.Layers == 1; // one layer: kept for the next call
-          stencilClear = true;
-        }
-        // Every channel starts lit.
-        ostate->vtkglColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        const GLfloat lit[4] = { 1.0f, 1.0f, 1.0f, 1.0f };
-        glClearBufferfv(GL_COLOR, 0, lit);
-        for (Job& job : jobs)
-        {
-          if (!job.Volumes)
-          {
-            continue;
-          }
-          Internals::VolumeSet& vs = *job.Volumes;
-          const VolumeLight& vl = job.VL;
-          if (stencilClear)
-          {
-            stencilClear = false; // the upload left it zero
-          }
-          else
-          {
-            const GLint zero = 0;
-            glClearBufferiv(GL_STENCIL, 0, &zero);
-          }
-          ostate->vtkglEnable(GL_DEPTH_TEST);
-          ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-          // Reversed depth: nearer is greater.
-          ostate->vtkglDepthFunc(GL_GREATER);
-          ostate->vtkglStencilMask(0xff);
-          ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
-          if (job.ZPass)
-          {
-            // Count faces in front of the sample: entering +1, leaving -1.
-            ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
-            ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
-          }
-          else
-          {
-            // Carmack's reverse: count faces behind the sample (depth fails).
-            ostate->vtkglStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
-            ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
-          }
-
-          // This light's buffers: uploaded once per volume build.
-          glBindVertexArray(impl.VertexArray);
-          if (!vs.Buffer)
-          {
-            glGenBuffers(1, &vs.Buffer);
-            glBindBuffer(GL_ARRAY_BUFFER, vs.Buffer);
-            glBufferData(GL_ARRAY_BUFFER,
-                         static_cast<GLsizeiptr>(vs.Vertices.size() * sizeof(float)),
-                         vs.Vertices.empty() ? nullptr : vs.Vertices.data(),
-                         GL_STATIC_DRAW);
-          }
-          glBindBuffer(GL_ARRAY_BUFFER, vs.Buffer);
-          if (loc >= 0)
-          {
-            glEnableVertexAttribArray(static_cast<GLuint>(loc));
-            glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
-          }
-          if (gsProgram && vs.AdjacencyCount > 0)
-          {
-            glBindVertexArray(impl.PointArray);
-            if (!vs.AdjacencyBuffer)
-            {
-              glGenBuffers(1, &vs.AdjacencyBuffer);
-              glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.AdjacencyBuffer);
-              glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-                           static_cast<GLsizeiptr>(vs.AdjacencyIndices.size() * sizeof(GLuint)),
-                           vs.AdjacencyIndices.data(),
-                           GL_STATIC_DRAW);
-            }
-            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.AdjacencyBuffer);
-          }
-          const float lightUniform[4] = {
-            static_cast<float>(vl.Directional ? vl.Direction[0] : vl.Position[0]),
-            static_cast<float>(vl.Directional ? vl.Direction[1] : vl.Position[1]),
-            static_cast<float>(vl.Directional ? vl.Direction[2] : vl.Position[2]),
-            vl.Directional ? 0.0f : 1.0f
-          };
-          // Every volume once; light caps pushed back by `capScale` (1: not at all).
-          auto drawVolumes = [&](float capScale)
-          {
-            win->GetShaderCache()->ReadyShaderProgram(program);
-            program->SetUniformMatrix4x4("worldToClip", matrix);
-            glBindVertexArray(impl.VertexArray);
-            if (vs.CapVertices > 0)
-            {
-              program->SetUniformf("capScale", capScale);
-              glDrawArrays(GL_TRIANGLES, 0, vs.CapVertices);
-            }
-            if (vs.AllVertices > vs.CapVertices)
-            {
-              program->SetUniformf("capScale", 1.0f);
-              glDrawArrays(GL_TRIANGLES, vs.CapVertices, vs.AllVertices - vs.CapVertices);
-            }
-            if (gsProgram && vs.AdjacencyCount > 0)
-            {
-              win->GetShaderCache()->ReadyShaderProgram(gsProgram);
-              gsProgram->SetUniformMatrix4x4("worldToClip", matrix);
-              gsProgram->SetUniformf("capScale", capScale);
-              gsProgram->SetUniform4f("light", lightUniform);
-              gsProgram->SetUniformf("extrusion", static_cast<float>(vl.Extrusion));
-              gsProgram->SetUniformf("farW", static_cast<float>(vs.FarW));
-              glBindVertexArray(impl.PointArray);
-              glDrawElements(GL_TRIANGLES_ADJACENCY, vs.AdjacencyCount, GL_UNSIGNED_INT, nullptr);
-            }
-          };
-          glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
-          drawVolumes(static_cast<float>(1.0 - this->CapOffset));
-          glEndQuery(GL_SAMPLES_PASSED);
-          GLuint passed = 0;
-          glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &passed);
-          this->NumberOfPassedFragments += static_cast<vtkIdType>(passed);
-          if (this->MeasureFill)
-          {
-            // Every rasterized volume fragment, with the stencil left as counted.
-            ostate->vtkglDepthFunc(GL_ALWAYS);
-            ostate->vtkglStencilMask(0x00);
-            glBeginQuery(GL_SAMPLES_PASSED, impl.Query);
-            drawVolumes(1.0f);
-            glEndQuery(GL_SAMPLES_PASSED);
-            GLuint fill = 0;
-            glGetQueryObjectuiv(impl.Query, GL_QUERY_RESULT, &fill);
-            this->NumberOfFillFragments += static_cast<vtkIdType>(fill);
-            ostate->vtkglStencilMask(0xff);
-          }
-
-          // Step 3 of ch. 8: 0 into this light's channel where the count is not zero (the
-          // count wraps modulo 256).
-          ostate->vtkglDisable(GL_DEPTH_TEST);
-          ostate->vtkglStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
-          ostate->vtkglStencilFunc(GL_NOTEQUAL, 0, 0xff);
-          ostate->vtkglColorMask(
-            job.Channel == 0, job.Channel == 1, job.Channel == 2, job.Channel == 3);
-          win->GetShaderCache()->ReadyShaderProgram(maskProgram);
-          glBindVertexArray(impl.VertexArray);
-          glDrawArrays(GL_TRIANGLES, 0, 3);
-        }
-        // One read-back per layer for the whole group: the red channel alone for a single
-        // light.
-        glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        glReadPixels(0,
-                     0,
-                     layout.Width,
-                     layout.Height,
-                     channels == 1 ? GL_RED : GL_RGBA,
-                     GL_UNSIGNED_BYTE,
-                     impl.MaskPixels.data() + static_cast<size_t>(channels) * perLayer * static_cast<size_t>(layer));
-      }
-      glBindBuffer(GL_ARRAY_BUFFER, 0);
-      glBindVertexArray(0);
-
-      glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-      if (!hadClamp)
-      {
-        glDisable(GL_DEPTH_CLAMP);
-      }
-      ostate->vtkglStencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
-      ostate->vtkglStencilFunc(GL_ALWAYS, 0, 0xff);
-
-      ++this->NumberOfMasks;
-    }
-  }
-  ostate->PopFramebufferBindings();
-  if (!complete)
+  if (!impl.CountInStencil(*this, group))
   {
     PENUMBRA_SV_FAIL("a DEPTH32F_STENCIL8 + RGBA8 framebuffer is not supported here");
   }
-  this->StencilTimeMs += ElapsedMs(stencilStart);
-
-  int done = 0;
-  for (Job& job : jobs)
-  {
-    ++done;
-    if (!job.Volumes)
-    {
-      continue; // decided without counting
-    }
-    vtkLight* light = job.Light;
-    vtkFloatArray* visibility = job.Visibility;
-    float* vis = job.Vis;
-    const std::vector<unsigned char>& state = job.State;
-    const VolumeLight& vl = job.VL;
-    const int channels = counted == 1 ? 1 : 4;
-    const unsigned char* maskChannel = impl.MaskPixels.data() + job.Channel;
-    const SampleLayout& layout = impl.Layout;
-    for (vtkIdType s = 0; s < n; ++s)
-    {
-      const vtkIdType pixel = layout.Pixel[static_cast<size_t>(s)];
-      if (state[static_cast<size_t>(s)] == Pending && pixel >= 0)
-      {
-        vis[s] = maskChannel[static_cast<size_t>(channels) * static_cast<size_t>(pixel)] == 0
-          ? 0.0f
-          : 1.0f;
-      }
-    }
-
-    // ---- Samples the stencil could not count, and the edge resolve (see MarkTraced).
-    if (this->Resolve || layout.Unplaced > 0)
-    {
-      const auto resolveStart = Clock::now();
-      impl.Mask->SetNumberOfComponents(1);
-      impl.Mask->SetNumberOfTuples(n);
-      if (this->Resolve)
-      {
-        job.Volumes->Outline.Mark(impl.Projection, layout.Width, layout.Height, impl.OutlinePixels);
-      }
-      const vtkIdType traced = MarkTraced(layout, in, vl, state, vis,
-        this->Resolve ? impl.OutlinePixels.data() : nullptr, n ? impl.Mask->GetPointer(0) : nullptr);
-      if (traced > 0)
-      {
-        this->Reference->SetGeometry(geometry);
-        if (!this->Reference->ComputeVisibility(samples, light, visibility, impl.Mask))
-        {
-          vtkErrorMacro(<< "shadow volumes: tracing the edge samples failed: "
-                        << this->Reference->GetErrorMessage());
-          visibility->SetNumberOfTuples(0);
-          --done;
-          continue;
-        }
-      }
-      this->NumberOfResolvedSamples += traced;
-      this->ResolveTimeMs += ElapsedMs(resolveStart);
-    }
-
-    visibility->Modified();
-  }
-  return done;
+  this->StencilTimeMs += ElapsedMs(group.StencilStart);
+  return impl.FinishLights(*this, group);
 }
 
 //------------------------------------------------------------------------------
