@@ -364,13 +364,17 @@ int CountViews(const LightMaps& maps)
   return views;
 }
 
-// A lookup program's source with the shared GLSL pieces in place; double precision for the
-// facing rules needs GL_ARB_gpu_shader_fp64 (core since GL 4.0).
+// A program's source with the shared GLSL pieces in place. Only the facing rules (Classify)
+// use double precision, so only programs with them need GL_ARB_gpu_shader_fp64 (core since
+// GL 4.0): the tile programs run where it is missing.
 std::string ComposeShader(const char* source)
 {
   std::string fs = source;
-  vtkShaderProgram::Substitute(fs, "//VTK::System::Dec",
-    "//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n", false);
+  if (fs.find("//PENUMBRA::Classify") != std::string::npos)
+  {
+    vtkShaderProgram::Substitute(fs, "//VTK::System::Dec",
+      "//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n", false);
+  }
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Classify", vtkPenumbraShadowMapClassify, false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::TileSample", vtkPenumbraShadowMapTileSample, false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Compare", vtkPenumbraShadowMapCompare, false);
