@@ -62,6 +62,7 @@
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowTechnique.h"
+#include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowVolumeShadows.h"
 #include "vtkPenumbraTechniques.h"
 #include "vtkPenumbraViewSamples.h"
@@ -125,6 +126,8 @@ struct Row
   double UncertainShare = -1;
   // Shadow volumes with measure_fill: rasterized volume fragments per frame; -1 = not measured.
   long long FillFragments = -1;
+  // Shadow maps: texels along s x t of the last light's map (RESM chooses them).
+  std::string MapSize;
   vtkIdType FalseLit = 0, FalseShadow = 0, Candidates = 0, Ties = 0;
   double RatioToNoShadow = 0;
   // --still-frames: median frame when nothing changes (the pass reuses its visibility).
@@ -286,7 +289,7 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
   out << "scene,technique,setting,width,height,median_ms,min_ms,extraction_ms,samples_ms,"
          "technique_ms,shading_ms,ratio_to_no_shadow,error_kind,mismatch_rate,false_lit,"
          "false_shadow,candidates,ties,mae,rmse,max_error,p95_error,uncertain_share,fill_fragments,"
-         "still_ms,still_ratio_to_no_shadow\n";
+         "map_size,still_ms,still_ratio_to_no_shadow\n";
   for (const Row& r : rows)
   {
     out << r.Scene << "," << r.Technique << ",\"" << r.Setting << "\"," << r.Width << ","
@@ -297,6 +300,7 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
         << "," << r.MaxError << "," << r.P95 << ","
         << (r.UncertainShare < 0 ? std::string() : std::to_string(r.UncertainShare)) << ","
         << (r.FillFragments < 0 ? std::string() : std::to_string(r.FillFragments)) << ","
+        << r.MapSize << ","
         << (r.StillMs < 0 ? std::string() : std::to_string(r.StillMs)) << ","
         << (r.StillRatio < 0 ? std::string() : std::to_string(r.StillRatio)) << "\n";
   }
@@ -323,8 +327,8 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
          "error of visibility for area/linear lights.\n\n"
       << "| scene | technique | setting | size | median ms | × no-shadow | extract | samples | "
          "technique | shading | mismatch | false lit | false shadow | ties | MAE | p95 | uncertain | "
-         "fill | still ms (×) |\n"
-      << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+         "fill | map | still ms (×) |\n"
+      << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   auto phase = [](double v) { return v < 0 ? std::string("–") : Fixed(v, 1); };
   for (const Row& r : rows)
   {
@@ -336,7 +340,7 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
         << r.Ties << " | " << Fixed(r.MAE, 4) << " | " << Fixed(r.P95, 3) << " | "
         << (r.UncertainShare < 0 ? std::string("–") : Fixed(100.0 * r.UncertainShare, 2) + " %")
         << " | " << (r.FillFragments < 0 ? std::string("–") : std::to_string(r.FillFragments))
-        << " | "
+        << " | " << (r.MapSize.empty() ? std::string("–") : r.MapSize) << " | "
         << (r.StillMs < 0 ? std::string("–")
                           : Fixed(r.StillMs, 1) + " (" + Fixed(r.StillRatio, 2) + ")")
         << " |\n";
@@ -784,6 +788,19 @@ vtkSmartPointer<vtkFloatArray> ReadPass(SceneContext& ctx, const TechniqueSpec& 
     if (auto* volumes = vtkPenumbraShadowVolumeShadows::SafeDownCast(technique))
     {
       row.FillFragments = volumes->GetNumberOfFillFragments();
+    }
+    if (auto* maps = vtkPenumbraShadowMapShadows::SafeDownCast(technique))
+    {
+      int size[2];
+      maps->GetLastMapSize(size);
+      row.MapSize = std::to_string(size[0]) + "×" + std::to_string(size[1]);
+      double need[2];
+      maps->GetLastEstimate(need);
+      if (need[0] > 0.0 || need[1] > 0.0)
+      {
+        row.MapSize += " (need " + std::to_string(std::lround(need[0])) + "×" +
+          std::to_string(std::lround(need[1])) + ")";
+      }
     }
     auto* gears = vtkPenumbraGearsShadows::SafeDownCast(technique);
     if (gears && gears->GetLastLightWasArea())

@@ -365,9 +365,9 @@ ScopedPassState::~ScopedPassState()
 }
 
 //------------------------------------------------------------------------------
-MapRenderState::MapRenderState(
-  vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int size, bool colorWrites)
-  : ScopedPassState(state, fbo, size, size)
+MapRenderState::MapRenderState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo,
+  int width, int height, bool colorWrites)
+  : ScopedPassState(state, fbo, width, height)
 {
   state->vtkglEnable(GL_DEPTH_TEST);
   state->vtkglDepthFunc(GL_LESS);

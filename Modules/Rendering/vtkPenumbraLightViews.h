@@ -178,7 +178,12 @@ private:
 class MapRenderState : public ScopedPassState
 {
 public:
-  MapRenderState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int size, bool colorWrites);
+  MapRenderState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int size, bool colorWrites)
+    : MapRenderState(state, fbo, size, size, colorWrites)
+  {
+  }
+  MapRenderState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int width, int height,
+    bool colorWrites);
   ~MapRenderState();
 
 private:

@@ -26,6 +26,7 @@
 
 #include "vtkPenumbraShadowMapClassify.h"
 #include "vtkPenumbraShadowMapCompare.h"
+#include "vtkPenumbraShadowMapEstimateFS.h"
 #include "vtkPenumbraShadowMapExtentFS.h"
 #include "vtkPenumbraShadowMapFS.h"
 #include "vtkPenumbraShadowMapFrameFS.h"
@@ -86,7 +87,7 @@ struct LightMaps
   std::vector<double> Key;
   bool Valid = false;
   bool Paraboloid = false;
-  int Size = 0;
+  int Width = 0, Height = 0; // texels (non-square only for one-view lights)
   std::vector<View> Views;
   std::vector<std::vector<float>> Maps;                      // CPU lookup
   std::vector<vtkSmartPointer<vtkTextureObject>> Textures;  // GPU lookup (compare mode)
@@ -354,6 +355,114 @@ TileOutputs TilesFromSamples(const penumbra_light_views::FrameInputs& in, int wi
   return out;
 }
 
+// RESM's need of one CPU sample set (Ferko 2013; the CPU twin of
+// vtkPenumbraShadowMapEstimateFS.glsl, whose comment has the rule): per 4 x 4-sample tile,
+// the largest number of texels across the map a pending sample needs along s and t, and the
+// number of samples estimated; 4 floats a tile like the GPU pass's first output.
+std::vector<float> EstimateSamples(const penumbra_light_views::FrameInputs& in, int width,
+  int height, const unsigned char* state, const View& view)
+{
+  const int tw = (width + Tile - 1) / Tile;
+  std::vector<float> needs(static_cast<size_t>(4 * TileCount(width, height)), 0.0f);
+  // Map coordinates of sample s, false when it cannot serve as a neighbour.
+  auto mapAt = [&](vtkIdType s, double p[3], double st[2]) {
+    SamplePoint(in, s, p);
+    double depth;
+    return in.Props[s] >= 0 && std::isfinite(p[0]) && std::isfinite(p[1]) &&
+      std::isfinite(p[2]) && view.Project(p, st[0], st[1], depth);
+  };
+  for (vtkIdType s = 0; s < in.NumberOfSamples; ++s)
+  {
+    double p[3], st[2];
+    if (state[s] != Pending || !mapAt(s, p, st))
+    {
+      continue;
+    }
+    const int x = static_cast<int>(s % width), y = static_cast<int>(s / width);
+    const double n[3] = { in.Normals[3 * s], in.Normals[3 * s + 1], in.Normals[3 * s + 2] };
+    double step[2][2];
+    bool found[2] = { false, false };
+    for (int axis = 0; axis < 2; ++axis)
+    {
+      for (int side = 1; side >= -1 && !found[axis]; side -= 2)
+      {
+        const int qx = x + (axis == 0 ? side : 0), qy = y + (axis == 1 ? side : 0);
+        if (qx < 0 || qy < 0 || qx >= width || qy >= height)
+        {
+          continue;
+        }
+        const vtkIdType q = static_cast<vtkIdType>(qy) * width + qx;
+        double pq[3], sq[2];
+        if (in.Props[q] != in.Props[s] || !mapAt(q, pq, sq))
+        {
+          continue;
+        }
+        const double d[3] = { pq[0] - p[0], pq[1] - p[1], pq[2] - p[2] };
+        const double length = Norm3(d);
+        if (length > 0.0 && std::abs(vtkMath::Dot(n, d)) <= 1e-3 * Norm3(n) * length)
+        {
+          step[axis][0] = side * (sq[0] - st[0]);
+          step[axis][1] = side * (sq[1] - st[1]);
+          found[axis] = true;
+        }
+      }
+    }
+    // Columns a = d(s,t)/dx, b = d(s,t)/dy.
+    const double det = std::abs(step[0][0] * step[1][1] - step[1][0] * step[0][1]);
+    if (!found[0] || !found[1] || !(det > 0.0))
+    {
+      continue;
+    }
+    float* tile = needs.data() + 4 * ((y / Tile) * tw + x / Tile);
+    tile[0] = std::max(tile[0], static_cast<float>(2.0 * std::hypot(step[0][1], step[1][1]) / det));
+    tile[1] = std::max(tile[1], static_cast<float>(2.0 * std::hypot(step[0][0], step[1][0]) / det));
+    tile[2] += 1.0f;
+  }
+  return needs;
+}
+
+// The Coverage quantile of the tiles' needs per axis (tiles laid out as EstimateSamples()
+// returns them); false when no sample was estimated.
+bool NeedQuantile(const std::vector<float>& needs, double coverage, double need[2])
+{
+  std::vector<float> axis[2];
+  for (size_t t = 0; t + 3 < needs.size(); t += 4)
+  {
+    if (needs[t + 2] > 0.0f && std::isfinite(needs[t]) && std::isfinite(needs[t + 1]))
+    {
+      axis[0].push_back(needs[t]);
+      axis[1].push_back(needs[t + 1]);
+    }
+  }
+  if (axis[0].empty())
+  {
+    return false;
+  }
+  const size_t k = std::min(axis[0].size() - 1,
+    static_cast<size_t>(std::ceil(coverage * static_cast<double>(axis[0].size()))) - 1);
+  for (int a = 0; a < 2; ++a)
+  {
+    std::nth_element(axis[a].begin(), axis[a].begin() + static_cast<std::ptrdiff_t>(k), axis[a].end());
+    need[a] = axis[a][k];
+  }
+  return true;
+}
+
+// A map side for a need: rounded up to a multiple of 64 texels, clamped to [64, largest];
+// the current side is kept while the need stays between 85 % of it and it (hysteresis: a
+// view or light that moves a little does not make the map shimmer between sizes).
+int QuantisedSide(double need, int largest, int current)
+{
+  constexpr int Quantum = 64;
+  const double steps = std::ceil(std::min(need, static_cast<double>(largest)) / Quantum);
+  const int side = std::max(Quantum, std::min(largest, Quantum * static_cast<int>(steps)));
+  if (current > 0 && current <= largest && side < current && side >= 0.85 * current)
+  {
+    return current;
+  }
+  return side;
+}
+
 int CountViews(const LightMaps& maps)
 {
   int views = 0;
@@ -381,6 +490,13 @@ std::string ComposeShader(const char* source)
   return fs;
 }
 
+// An orthographic view's texel in world units, its larger side (the maps may be non-square):
+// the footprint of the slope-scaled bias.
+double OrthoFootprint(const View& view, const LightMaps& m)
+{
+  return std::max(2.0 / (Norm3(view.Row[0]) * m.Width), 2.0 / (Norm3(view.Row[1]) * m.Height));
+}
+
 // The uniforms of one slot's view (vtkPenumbraShadowMapCompare.glsl).
 void SetSlotUniforms(vtkShaderProgram* program, const LightMaps& m, int slot)
 {
@@ -397,7 +513,7 @@ void SetSlotUniforms(vtkShaderProgram* program, const LightMaps& m, int slot)
   program->SetUniformi("perspective", view.Perspective ? 1 : 0);
   program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
   program->SetUniformf("tanHalf", static_cast<float>(view.TanHalf));
-  program->SetUniformf("footprintScale", static_cast<float>(2.0 / (Norm3(view.Row[0]) * m.Size)));
+  program->SetUniformf("footprintScale", static_cast<float>(OrthoFootprint(view, m)));
   program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(view.Row[2])));
 }
 
@@ -437,7 +553,7 @@ struct vtkPenumbraShadowMapShadows::Internals
   penumbra_light_views::CasterBuffers Casters;
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   vtkSmartPointer<vtkTextureObject> DepthTextures[2]; // first layer, second (midpoint) layer
-  int MapSize = 0;
+  int MapSize[2] = { 0, 0 };
 
   // Paraboloid casters: per hemisphere, clipped and tessellated, relative to the light
   // (3 floats position + 4 floats plane per vertex).
@@ -467,6 +583,9 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<TileOutputs> ExtentData; // per layer: the point-light reduction's outputs
   // Per-view tile boxes for directional and spot lights, and the view they belong to.
   std::unique_ptr<vtkOpenGLQuadHelper> TilesQuad;
+  // RESM: the per-light resolution estimate over the G-buffer (tile needs and read-back).
+  std::unique_ptr<vtkOpenGLQuadHelper> EstimateQuad;
+  std::vector<TileOutputs> EstimateData;
   std::vector<TileOutputs> TileData;
   std::vector<double> TileKey;
   vtkSmartPointer<vtkTextureObject> NoMap;
@@ -481,9 +600,15 @@ struct vtkPenumbraShadowMapShadows::Internals
     double pending);
   void FitViews(const LightSetup& setup, const ReceiverExtent& e, int slotMode, int size,
     LightMaps* maps);
+  using Estimator = std::function<bool(const View&, std::vector<float>&, std::string&)>;
+  bool PlanMaps(vtkPenumbraShadowMapShadows* self, const LightSetup& setup,
+    const ReceiverExtent& extent, const Estimator& estimate, LightMaps* maps, int size[2],
+    std::string& error);
   bool RenderMaps(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
     vtkPenumbraSceneGeometry* geometry, const LightSetup& setup, const ReceiverExtent& extent,
-    LightMaps* maps, std::string& error);
+    const int size[2], LightMaps* maps, std::string& error);
+  bool EstimateFrame(vtkPenumbraFrame* frame, const LightSetup& setup, const View& view,
+    std::vector<float>& needs, std::string& error);
   void SetCompareUniforms(vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program,
     const LightSetup& setup, const LightMaps& m);
   bool LookupList(vtkPenumbraShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
@@ -512,12 +637,13 @@ struct vtkPenumbraShadowMapShadows::Internals
   }
 
   // A depth texture the lookup samples with the hardware compare.
-  static vtkSmartPointer<vtkTextureObject> CompareTexture(vtkOpenGLRenderWindow* win, int size)
+  static vtkSmartPointer<vtkTextureObject> CompareTexture(
+    vtkOpenGLRenderWindow* win, int width, int height)
   {
     auto tex = FloatTexture(win);
     tex->SetDepthTextureCompare(true);
     tex->SetDepthTextureCompareFunction(vtkTextureObject::Lequal);
-    tex->AllocateDepth(size, size, vtkTextureObject::Float32);
+    tex->AllocateDepth(width, height, vtkTextureObject::Float32);
     return tex;
   }
 
@@ -578,7 +704,7 @@ struct vtkPenumbraShadowMapShadows::Internals
         this->ExtentFBO->ReleaseGraphicsResources(this->Window);
       }
       for (auto* quad : { this->LookupQuad.get(), this->MidpointQuad.get(), this->ExtentQuad.get(),
-             this->FrameQuad.get(), this->TilesQuad.get() })
+             this->FrameQuad.get(), this->TilesQuad.get(), this->EstimateQuad.get() })
       {
         if (quad)
         {
@@ -593,6 +719,7 @@ struct vtkPenumbraShadowMapShadows::Internals
     this->ExtentQuad.reset();
     this->FrameQuad.reset();
     this->TilesQuad.reset();
+    this->EstimateQuad.reset();
     this->TileKey.clear();
     this->ExtentFBO = nullptr;
     this->NoMap = nullptr;
@@ -609,15 +736,15 @@ struct vtkPenumbraShadowMapShadows::Internals
     {
       tex = nullptr;
     }
-    this->MapSize = 0;
+    this->MapSize[0] = this->MapSize[1] = 0;
     this->Window = nullptr;
     // Cached maps were fitted to this window's samples (and their textures are gone).
     this->Cache.clear();
   }
 
-  void AllocateMaps(vtkOpenGLRenderWindow* win, int size)
+  void AllocateMaps(vtkOpenGLRenderWindow* win, int width, int height)
   {
-    if (this->FBO && this->MapSize == size)
+    if (this->FBO && this->MapSize[0] == width && this->MapSize[1] == height)
     {
       return;
     }
@@ -631,9 +758,10 @@ struct vtkPenumbraShadowMapShadows::Internals
       tex->SetMagnificationFilter(vtkTextureObject::Nearest);
       tex->SetWrapS(vtkTextureObject::ClampToEdge);
       tex->SetWrapT(vtkTextureObject::ClampToEdge);
-      tex->AllocateDepth(size, size, vtkTextureObject::Float32);
+      tex->AllocateDepth(width, height, vtkTextureObject::Float32);
     }
-    this->MapSize = size;
+    this->MapSize[0] = width;
+    this->MapSize[1] = height;
   }
 
   // Clips every caster against each hemisphere's equator plane (in light space, before the
@@ -843,7 +971,7 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   std::vector<double> key = impl.MapKey(this, renderer, light, geometry, in.Shift,
     static_cast<double>(n), static_cast<double>(facing.Pending));
   LightMaps* maps = &penumbra_light_views::LightCacheEntry(impl.Cache, light);
-  if (!maps->Valid || maps->Key != key || maps->Size != this->Resolution)
+  if (!maps->Valid || maps->Key != key)
   {
     ReceiverExtent extent;
     if (slotMode == SlotsOne)
@@ -868,11 +996,20 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     }
     std::string error;
     maps->Key.swap(key);
-    if (!impl.RenderMaps(this, in.Window, geometry, setup, extent, maps, error))
+    const int width = samples->GetWidth(), height = samples->GetHeight();
+    auto estimate = [&](const View& view, std::vector<float>& needs, std::string&) {
+      needs = EstimateSamples(in, width, height, state, view);
+      return true;
+    };
+    int size[2];
+    if (!impl.PlanMaps(this, setup, extent, estimate, maps, size, error) ||
+      !impl.RenderMaps(this, in.Window, geometry, setup, extent, size, maps, error))
     {
       PENUMBRA_SM_FAIL("shadow maps: " << error);
     }
   }
+  this->LastMapSize[0] = maps->Width;
+  this->LastMapSize[1] = maps->Height;
   this->NumberOfViews = CountViews(*maps);
 
   const auto lookupStart = Clock::now();
@@ -1047,24 +1184,105 @@ void vtkPenumbraShadowMapShadows::Internals::FitViews(
 }
 
 //------------------------------------------------------------------------------
-// Fits and renders every slot a receiver needs (Brabec 2003, ch. 4-6): linear float depth,
-// depth clamping, the midpoint layer on request; the maps stay on the GPU for the GPU lookup
-// and are read back for the CPU one.
+// Fits the light's views to its receivers and chooses the maps' size: Resolution, or for
+// RESM the Coverage quantile of the receivers' estimated need (see SetResolutionMode()).
+bool vtkPenumbraShadowMapShadows::Internals::PlanMaps(vtkPenumbraShadowMapShadows* self,
+  const LightSetup& setup, const ReceiverExtent& extent, const Estimator& estimate,
+  LightMaps* maps, int size[2], std::string& error)
+{
+  const int slotMode = this->SlotMode(self, setup);
+  const int slots = slotMode == SlotsCube ? 6 : (slotMode == SlotsParaboloid ? 2 : 1);
+  maps->Views.assign(static_cast<size_t>(slots), View());
+  this->FitViews(setup, extent, slotMode, self->Resolution, maps);
+  size[0] = size[1] = self->Resolution;
+  self->LastEstimate[0] = self->LastEstimate[1] = 0.0;
+  if (self->ResolutionMode != RESOLUTION_ESTIMATED || slotMode != SlotsOne || !extent.Used[0])
+  {
+    return true;
+  }
+  std::vector<float> needs;
+  if (!estimate(maps->Views[0], needs, error))
+  {
+    return false;
+  }
+  double need[2];
+  if (!NeedQuantile(needs, self->Coverage, need))
+  {
+    // No sample with a neighbour on its plane (a view of isolated pixels): the fixed size.
+    size[0] = size[1] = std::min(self->Resolution, self->MaxResolution);
+    return true;
+  }
+  const int current[2] = { maps->Valid ? maps->Width : 0, maps->Valid ? maps->Height : 0 };
+  for (int a = 0; a < 2; ++a)
+  {
+    self->LastEstimate[a] = need[a];
+    size[a] = QuantisedSide(need[a], self->MaxResolution, current[a]);
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// RESM's estimate over the frame's G-buffer (vtkPenumbraShadowMapEstimateFS), for the view
+// PlanMaps() fitted: the tiles' needs of every layer, read back as a few kilobytes.
+bool vtkPenumbraShadowMapShadows::Internals::EstimateFrame(vtkPenumbraFrame* frame,
+  const LightSetup& setup, const View& view, std::vector<float>& needs, std::string& error)
+{
+  if (!this->EstimateQuad)
+  {
+    this->EstimateQuad.reset(new vtkOpenGLQuadHelper(frame->GetWindow(), nullptr,
+      ComposeShader(vtkPenumbraShadowMapEstimateFS).c_str(), ""));
+  }
+  auto uniforms = [&](vtkShaderProgram* program) {
+    float matrix[16];
+    view.ToFloatMatrix(matrix);
+    program->SetUniformMatrix4x4("lightMatrix", matrix);
+    program->SetUniformi("perspective", view.Perspective ? 1 : 0);
+    program->SetUniformi("lightKind",
+      setup.Type == LightSetup::Kind::Directional ? 0 : (setup.Type == LightSetup::Kind::Spot ? 2 : 1));
+    float direction[3], position[3], axis[3];
+    for (int c = 0; c < 3; ++c)
+    {
+      direction[c] = static_cast<float>(setup.Direction[c]);
+      position[c] = static_cast<float>(setup.Position[c]);
+      axis[c] = static_cast<float>(setup.Axis[c]);
+    }
+    program->SetUniform3f("estimateDirection", direction);
+    program->SetUniform3f("estimatePosition", position);
+    program->SetUniform3f("estimateAxis", axis);
+    program->SetUniformf("estimateCosCone", static_cast<float>(setup.CosCone));
+  };
+  if (!this->TilePass(frame, *this->EstimateQuad, uniforms, this->EstimateData))
+  {
+    error = "the resolution-estimate program does not compile on this OpenGL implementation";
+    return false;
+  }
+  needs.clear();
+  for (const TileOutputs& layer : this->EstimateData)
+  {
+    needs.insert(needs.end(), layer[0].begin(), layer[0].end());
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Renders every slot a receiver needs (Brabec 2003, ch. 4-6) into the views PlanMaps()
+// fitted: linear float depth, depth clamping, the midpoint layer on request; the maps stay on
+// the GPU for the GPU lookup and are read back for the CPU one.
 bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShadows* self,
   vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry, const LightSetup& setup,
-  const ReceiverExtent& extent, LightMaps* maps, std::string& error)
+  const ReceiverExtent& extent, const int size[2], LightMaps* maps, std::string& error)
 {
   const auto mapStart = Clock::now();
-  const int size = self->Resolution;
+  const int width = size[0], height = size[1];
   const int slotMode = this->SlotMode(self, setup);
   const bool paraboloid = slotMode == SlotsParaboloid;
   const int slots = slotMode == SlotsCube ? 6 : (paraboloid ? 2 : 1);
   double origin[3];
   geometry->GetOrigin(origin);
   maps->Valid = false;
-  maps->Size = size;
+  maps->Width = width;
+  maps->Height = height;
   maps->Paraboloid = paraboloid;
-  maps->Views.assign(static_cast<size_t>(slots), View());
   maps->Maps.assign(static_cast<size_t>(slots), std::vector<float>());
   // GPU lookup: the slots' compare textures are kept and redrawn when their size still fits.
   for (size_t slot = static_cast<size_t>(slots); slot < maps->Textures.size(); ++slot)
@@ -1075,7 +1293,6 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
     }
   }
   maps->Textures.resize(static_cast<size_t>(slots));
-  this->FitViews(setup, extent, slotMode, size, maps);
 
   // ---- Render and read back every used slot.
   // Orthographic views store clip z as it is (linear already); the others write the linear
@@ -1114,12 +1331,12 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
       this->ParaboloidKey = paraboloidKey;
     }
   }
-  this->AllocateMaps(win, size);
+  this->AllocateMaps(win, width, height);
   const bool midpoint = self->DepthMode == DEPTH_MIDPOINT;
   const float peelGap = static_cast<float>(std::max(self->Bias, 1e-6));
   vtkOpenGLState* ostate = win->GetState();
-  penumbra_light_views::MapRenderState renderState(ostate, this->FBO, size, false);
-  const float mapSize[2] = { static_cast<float>(size), static_cast<float>(size) };
+  penumbra_light_views::MapRenderState renderState(ostate, this->FBO, width, height, false);
+  const float mapSize[2] = { static_cast<float>(width), static_cast<float>(height) };
   if (paraboloid)
   {
     program->SetUniformf("mapScale", static_cast<float>(maps->MapScale));
@@ -1141,7 +1358,7 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
     }
   }
   program->SetUniformf("peelGap", peelGap);
-  const size_t texels = static_cast<size_t>(size) * size;
+  const size_t texels = static_cast<size_t>(width) * height;
   const bool gpuLookup = self->Lookup == LOOKUP_GPU;
   if (gpuLookup && midpoint && !this->MidpointQuad)
   {
@@ -1164,14 +1381,15 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
     // The midpoint pass below draws with its own vertex array.
     glBindVertexArray(paraboloid ? this->ParaboloidArray : this->Casters.VertexArray);
     auto& kept = maps->Textures[static_cast<size_t>(slot)];
-    if (kept && (!gpuLookup || static_cast<int>(kept->GetWidth()) != size))
+    if (kept && (!gpuLookup || static_cast<int>(kept->GetWidth()) != width ||
+                  static_cast<int>(kept->GetHeight()) != height))
     {
       kept->ReleaseGraphicsResources(win);
       kept = nullptr;
     }
     if (gpuLookup && !kept)
     {
-      kept = Internals::CompareTexture(win, size);
+      kept = Internals::CompareTexture(win, width, height);
     }
     vtkTextureObject* slotTexture = kept;
     GLsizei count = this->Casters.VertexCount;
@@ -1240,7 +1458,7 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
         this->SecondLayer.resize(texels);
         target = this->SecondLayer.data();
       }
-      glReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, target);
+      glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, target);
     }
     if (midpoint && gpuLookup)
     {
@@ -1402,7 +1620,7 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
 {
   const vtkIdType n = in.NumberOfSamples;
   const float* nrm = in.Normals;
-  const int size = m.Size;
+  const int width = m.Width, height = m.Height;
   const int slotMode = this->SlotMode(self, setup);
   const int radius = self->Filter == FILTER_PCF ? (self->PCFKernel | 1) / 2 : 0;
   const double slopeBias = self->SlopeBias * (1.0 + radius);
@@ -1446,7 +1664,7 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
         depthPerLength = 1.0 / m.Far;
         // d(angle)/d(radius) = 2 / (1 + r^2) on the paraboloid.
         footprint = distance * 2.0 / (1.0 + xy[0] * xy[0] + xy[1] * xy[1]) * 2.0 /
-          (size * m.MapScale);
+          (width * m.MapScale);
       }
       else
       {
@@ -1458,7 +1676,7 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
         if (view.Perspective)
         {
           depthPerLength = 1.0 / view.Far;
-          footprint = 2.0 * view.TanHalf * depth * view.Far / size;
+          footprint = 2.0 * view.TanHalf * depth * view.Far / std::min(width, height);
           for (int c = 0; c < 3; ++c)
           {
             toLight[c] = setup.Position[c] - p[c];
@@ -1467,7 +1685,7 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
         else
         {
           depthPerLength = Norm3(view.Row[2]);
-          footprint = 2.0 / (Norm3(view.Row[0]) * size);
+          footprint = OrthoFootprint(view, m);
           std::copy(setup.Direction, setup.Direction + 3, toLight);
         }
       }
@@ -1479,17 +1697,19 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
         std::min(MaxTangent, std::sqrt(std::max(0.0, 1.0 - cosine * cosine)) / cosine);
       const double threshold =
         depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
-      const int ix = std::min(size - 1, std::max(0, static_cast<int>(std::floor((ms * 0.5 + 0.5) * size))));
-      const int iy = std::min(size - 1, std::max(0, static_cast<int>(std::floor((mt * 0.5 + 0.5) * size))));
+      const int ix =
+        std::min(width - 1, std::max(0, static_cast<int>(std::floor((ms * 0.5 + 0.5) * width))));
+      const int iy =
+        std::min(height - 1, std::max(0, static_cast<int>(std::floor((mt * 0.5 + 0.5) * height))));
       int litTaps = 0, taps = 0;
       for (int dy = -radius; dy <= radius; ++dy)
       {
         // PCF stays inside the map: it never reads across a cube face or paraboloid rim.
-        const int y = std::min(size - 1, std::max(0, iy + dy));
+        const int y = std::min(height - 1, std::max(0, iy + dy));
         for (int dx = -radius; dx <= radius; ++dx)
         {
-          const int x = std::min(size - 1, std::max(0, ix + dx));
-          litTaps += map[static_cast<size_t>(y) * size + x] >= threshold;
+          const int x = std::min(width - 1, std::max(0, ix + dx));
+          litTaps += map[static_cast<size_t>(y) * width + x] >= threshold;
           ++taps;
         }
       }
@@ -1513,7 +1733,8 @@ void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(
   program->SetUniform3f("lightPosition", centre);
   program->SetUniform3f("toLightDirection", toLight);
   program->SetUniformf("mapScale", static_cast<float>(m.MapScale));
-  program->SetUniformf("mapSize", static_cast<float>(m.Size));
+  const float mapSize[2] = { static_cast<float>(m.Width), static_cast<float>(m.Height) };
+  program->SetUniform2f("mapSize", mapSize);
   program->SetUniformf("constantBias", static_cast<float>(self->Bias));
   program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias * (1.0 + radius)));
   program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
@@ -1560,7 +1781,7 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
     std::vector<double> key = this->MapKey(
       self, frame->GetRenderer(), light, geometry, noShift, -samples, frame->GetNumberOfLayers());
     maps = &penumbra_light_views::LightCacheEntry(this->Cache, light);
-    if (!maps->Valid || maps->Key != key || maps->Size != self->Resolution)
+    if (!maps->Valid || maps->Key != key)
     {
       ReceiverExtent extent;
       if (!this->ReduceExtent(self, frame, setup, extent, error))
@@ -1568,11 +1789,18 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
         return false;
       }
       maps->Key.swap(key);
-      if (!this->RenderMaps(self, win, geometry, setup, extent, maps, error))
+      auto estimate = [&](const View& view, std::vector<float>& needs, std::string& why) {
+        return this->EstimateFrame(frame, setup, view, needs, why);
+      };
+      int size[2];
+      if (!this->PlanMaps(self, setup, extent, estimate, maps, size, error) ||
+        !this->RenderMaps(self, win, geometry, setup, extent, size, maps, error))
       {
         return false;
       }
     }
+    self->LastMapSize[0] = maps->Width;
+    self->LastMapSize[1] = maps->Height;
     self->NumberOfViews = CountViews(*maps);
   }
   const auto lookupStart = Clock::now();
@@ -1722,7 +1950,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
       ComposeShader(vtkPenumbraShadowMapFrameFS).c_str(), ""));
     // A sampler2DShadow must never share a unit with the G-buffer's sampler2Ds, even when
     // no map is read: a 1 x 1 stand-in is bound when there is none.
-    this->NoMap = Internals::CompareTexture(win, 1);
+    this->NoMap = Internals::CompareTexture(win, 1, 1);
   }
   vtkShaderProgram* program = this->FrameQuad->Program;
   if (!program || !program->GetCompiled())
@@ -1778,10 +2006,27 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
 }
 
 //------------------------------------------------------------------------------
+void vtkPenumbraShadowMapShadows::GetLastMapSize(int size[2])
+{
+  size[0] = this->LastMapSize[0];
+  size[1] = this->LastMapSize[1];
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraShadowMapShadows::GetLastEstimate(double need[2])
+{
+  need[0] = this->LastEstimate[0];
+  need[1] = this->LastEstimate[1];
+}
+
+//------------------------------------------------------------------------------
 void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Resolution: " << this->Resolution << "\n";
+  os << indent << "ResolutionMode: " << this->ResolutionMode << "\n";
+  os << indent << "MaxResolution: " << this->MaxResolution << "\n";
+  os << indent << "Coverage: " << this->Coverage << "\n";
   os << indent << "Filter: " << (this->Filter == FILTER_PCF ? "pcf" : "none") << "\n";
   os << indent << "PCFKernel: " << this->PCFKernel << "\n";
   os << indent << "Bias: " << this->Bias << "\n";

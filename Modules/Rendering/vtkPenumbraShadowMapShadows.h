@@ -104,6 +104,57 @@ public:
   vtkGetMacro(Resolution, int);
   ///@}
 
+  enum ResolutionModes
+  {
+    RESOLUTION_FIXED = 0,    ///< Resolution x Resolution texels for every view
+    RESOLUTION_ESTIMATED = 1 ///< RESM: the view samples' need, per axis (see below)
+  };
+
+  ///@{
+  /**
+   * RESOLUTION_FIXED (default) or RESOLUTION_ESTIMATED: resolution-estimation shadow
+   * mapping (RESM; Ferko 2013, in the alias-free shadow mapping thesis it belongs to). For
+   * directional and spot lights the view is fitted tightly to the receivers as always, and
+   * every sample that can be lit (facing the light, inside the cone) estimates the map
+   * resolution it needs: the Jacobian J of its map coordinates with respect to screen pixels
+   * (finite differences to a neighbour on its own plane) gives 2 |row of J| / |det J| texels
+   * across the map per axis, so that a texel projects back onto at most one pixel. The map
+   * gets, per axis, the Coverage quantile of the 4 x 4-sample tiles' largest needs, rounded up
+   * to a multiple of 64, clamped to [64, MaxResolution]; it shrinks only when the need falls
+   * below 85 % of the current size (hysteresis against shimmering), and grows at once. The
+   * estimate runs when the maps are rebuilt (light, casters or view changed), on the GPU from
+   * the G-buffer, or on the CPU for a CPU sample set. Point lights keep Resolution per face.
+   */
+  vtkSetClampMacro(ResolutionMode, int, RESOLUTION_FIXED, RESOLUTION_ESTIMATED);
+  vtkGetMacro(ResolutionMode, int);
+  ///@}
+
+  ///@{
+  /**
+   * RESM: the largest map side in texels. Default 4096, clamped to [64, 16384] (llvmpipe's
+   * largest texture).
+   */
+  vtkSetClampMacro(MaxResolution, int, 64, 16384);
+  vtkGetMacro(MaxResolution, int);
+  ///@}
+
+  ///@{
+  /**
+   * RESM: the share of the view's tiles whose samples get at least the resolution they need.
+   * Default 0.99; 1 takes the largest need, which a single grazing sample drives to
+   * MaxResolution (Ferko's outliers). Clamped to [0.5, 1].
+   */
+  vtkSetClampMacro(Coverage, double, 0.5, 1.0);
+  vtkGetMacro(Coverage, double);
+  ///@}
+
+  /**
+   * The map size (texels along s and t) of the last light computed, and for RESM the
+   * estimated need before rounding and clamping (0 when nothing was estimated).
+   */
+  void GetLastMapSize(int size[2]);
+  void GetLastEstimate(double need[2]);
+
   ///@{
   /**
    * FILTER_NONE (default) or FILTER_PCF. PCF returns the fraction of lit taps, so
@@ -219,6 +270,11 @@ protected:
   ~vtkPenumbraShadowMapShadows() override;
 
   int Resolution = 2048;
+  int ResolutionMode = RESOLUTION_FIXED;
+  int MaxResolution = 4096;
+  double Coverage = 0.99;
+  int LastMapSize[2] = { 0, 0 };
+  double LastEstimate[2] = { 0.0, 0.0 };
   int Filter = FILTER_NONE;
   int PCFKernel = 3;
   double Bias = 1e-4;

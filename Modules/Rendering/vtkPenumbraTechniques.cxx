@@ -230,9 +230,9 @@ void InstallConservative(vtkRenderer* ren, Options& opts)
   InstallShadowPass(ren, technique);
 }
 
-void InstallShadowMap(vtkRenderer* ren, Options& opts)
+// The options shadowmap and resm share: everything but how big the maps are.
+void ReadShadowMapOptions(Options& opts, vtkPenumbraShadowMapShadows* technique)
 {
-  const int resolution = opts.Integer("resolution", 2048, 64, 8192);
   const int filter = opts.Choice("filter", { "none", "pcf" });
   const int kernel = opts.Integer("pcf_kernel", 3, 3, 9);
   if (kernel % 2 == 0)
@@ -244,9 +244,6 @@ void InstallShadowMap(vtkRenderer* ren, Options& opts)
   const int depth = opts.Choice("depth", { "linear", "midpoint" });
   const int point = opts.Choice("point", { "cube", "paraboloid" });
   const int lookup = opts.Choice("lookup", { "gpu", "cpu" });
-  opts.RejectUnknown();
-  vtkNew<vtkPenumbraShadowMapShadows> technique;
-  technique->SetResolution(resolution);
   technique->SetFilter(filter == 1 ? vtkPenumbraShadowMapShadows::FILTER_PCF
                                    : vtkPenumbraShadowMapShadows::FILTER_NONE);
   technique->SetPCFKernel(kernel);
@@ -258,6 +255,27 @@ void InstallShadowMap(vtkRenderer* ren, Options& opts)
                                      : vtkPenumbraShadowMapShadows::POINT_CUBE);
   technique->SetLookup(lookup == 1 ? vtkPenumbraShadowMapShadows::LOOKUP_CPU
                                    : vtkPenumbraShadowMapShadows::LOOKUP_GPU);
+}
+
+void InstallShadowMap(vtkRenderer* ren, Options& opts)
+{
+  vtkNew<vtkPenumbraShadowMapShadows> technique;
+  technique->SetResolution(opts.Integer("resolution", 2048, 64, 8192));
+  ReadShadowMapOptions(opts, technique);
+  opts.RejectUnknown();
+  InstallShadowPass(ren, technique);
+}
+
+void InstallRESM(vtkRenderer* ren, Options& opts)
+{
+  vtkNew<vtkPenumbraShadowMapShadows> technique;
+  technique->SetResolutionMode(vtkPenumbraShadowMapShadows::RESOLUTION_ESTIMATED);
+  technique->SetMaxResolution(opts.Integer("max_resolution", 4096, 64, 16384));
+  technique->SetCoverage(opts.Number("coverage", 0.99, 0.5, 1.0));
+  // Point lights are not estimated: their cube faces or hemispheres keep this size.
+  technique->SetResolution(opts.Integer("resolution", 2048, 64, 8192));
+  ReadShadowMapOptions(opts, technique);
+  opts.RejectUnknown();
   InstallShadowPass(ren, technique);
 }
 
@@ -309,6 +327,8 @@ void InstallGears(vtkRenderer* ren, Options& opts)
 //   Alias-Free Hard Shadows", Eurographics 2009 Areas Papers;
 // - Brabec 2003: Brabec, "Shadow Techniques for Interactive and Real-Time Applications", PhD
 //   thesis, 2003;
+// - Ferko 2013: Ferko, resolution-estimation shadow mapping (RESM), in the alias-free shadow
+//   mapping work of his doctoral thesis (Comenius University Bratislava);
 // - Wang et al. 2014: Wang, Wang, Shi, Popescu, "GEARS: A General and Efficient Algorithm for
 //   Rendering Shadows", Computer Graphics Forum 33(6), 2014.
 const std::vector<Technique>& Registry()
@@ -327,6 +347,10 @@ const std::vector<Technique>& Registry()
       "practical shadow maps (Brabec 2003): linear depth, fitted to the visible receivers, PCF, "
       "cube or dual-paraboloid maps for point lights",
       InstallShadowMap },
+    { "resm",
+      "shadow maps at the resolution the view samples need (RESM, Ferko 2013): tight fit, "
+      "per-axis size from the samples' light-space footprints, up to max_resolution",
+      InstallRESM },
     { "volumes",
       "exact hard shadows with stencil shadow volumes (Brabec 2003, ch. 3, 8, 9): OpenMesh "
       "silhouettes for closed meshes, per-triangle volumes otherwise, z-fail with caps and "

@@ -14,7 +14,7 @@ uniform float depthPerLengthOrtho; // orthographic: |row 2|
 uniform vec3 lightPosition; // rebased; cube and paraboloid centre
 uniform vec3 toLightDirection; // directional: unit vector towards the light
 uniform float mapScale;    // paraboloid coordinates -> NDC
-uniform float mapSize;
+uniform vec2 mapSize;      // texels (non-square only for one-view lights)
 uniform float constantBias;
 uniform float slopeBias;   // SlopeBias * (1 + radius)
 uniform float maxTangent;
@@ -56,7 +56,7 @@ float penumbraCompare(vec3 p, vec3 normal)
     st = xy * mapScale;
     depth = distance * invFar;
     depthPerLength = invFar;
-    footprint = distance * 2.0 / (1.0 + dot(xy, xy)) * 2.0 / (mapSize * mapScale);
+    footprint = distance * 2.0 / (1.0 + dot(xy, xy)) * 2.0 / (mapSize.x * mapScale);
     toLight = -q;
   }
   else
@@ -67,7 +67,7 @@ float penumbraCompare(vec3 p, vec3 normal)
       st = clip.xy / clip.w;
       depth = clip.w * invFar;
       depthPerLength = invFar;
-      footprint = 2.0 * tanHalf * clip.w / mapSize;
+      footprint = 2.0 * tanHalf * clip.w / min(mapSize.x, mapSize.y);
       toLight = normalize(lightPosition - p);
     }
     else
@@ -82,8 +82,8 @@ float penumbraCompare(vec3 p, vec3 normal)
   float cosine = max(1e-9, dot(normal, toLight));
   float tangent = min(maxTangent, sqrt(max(0.0, 1.0 - cosine * cosine)) / cosine);
   float threshold = depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
-  int size = int(mapSize);
-  ivec2 texel = clamp(ivec2(floor((st * 0.5 + 0.5) * mapSize)), ivec2(0), ivec2(size - 1));
+  ivec2 size = ivec2(mapSize);
+  ivec2 texel = clamp(ivec2(floor((st * 0.5 + 0.5) * mapSize)), ivec2(0), size - 1);
   float lit = 0.0;
   float taps = 0.0;
   for (int dy = -radius; dy <= radius; ++dy)
@@ -91,7 +91,7 @@ float penumbraCompare(vec3 p, vec3 normal)
     for (int dx = -radius; dx <= radius; ++dx)
     {
       // PCF stays inside the map, as on the CPU.
-      vec2 t = (vec2(clamp(texel + ivec2(dx, dy), ivec2(0), ivec2(size - 1))) + 0.5) / mapSize;
+      vec2 t = (vec2(clamp(texel + ivec2(dx, dy), ivec2(0), size - 1)) + 0.5) / mapSize;
       lit += texture(shadowMap, vec3(t, threshold));
       taps += 1.0;
     }

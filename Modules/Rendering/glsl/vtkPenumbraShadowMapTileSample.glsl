@@ -5,10 +5,12 @@ uniform sampler2D sampleNormals;   // xyz facet normal toward the camera, w = pr
 uniform ivec2 sampleSize;
 uniform int tile;
 
-bool penumbraTileSample(int i, int j, out vec3 p, out vec3 n)
+bool penumbraSampleAt(ivec2 cell, out vec3 p, out vec3 n, out float prop)
 {
-  ivec2 cell = ivec2(gl_FragCoord.xy) * tile + ivec2(i, j);
-  if (cell.x >= sampleSize.x || cell.y >= sampleSize.y)
+  p = vec3(0.0);
+  n = vec3(0.0);
+  prop = -1.0;
+  if (any(lessThan(cell, ivec2(0))) || cell.x >= sampleSize.x || cell.y >= sampleSize.y)
   {
     return false;
   }
@@ -16,6 +18,13 @@ bool penumbraTileSample(int i, int j, out vec3 p, out vec3 n)
   vec4 normal = texelFetch(sampleNormals, cell, 0);
   p = position.xyz;
   n = normal.xyz;
+  prop = normal.w;
   return position.w >= 0.5 && normal.w >= 0.0 && !any(isnan(p)) && !any(isinf(p)) &&
     !any(isnan(n)) && !any(isinf(n));
+}
+
+bool penumbraTileSample(int i, int j, out vec3 p, out vec3 n)
+{
+  float prop;
+  return penumbraSampleAt(ivec2(gl_FragCoord.xy) * tile + ivec2(i, j), p, n, prop);
 }

@@ -139,11 +139,11 @@ int Compare(vtkRenderer* renderer, int index, Comparison& out, vtkFloatArray* re
 }
 
 int RenderAndCompare(vtkRenderer* renderer, const std::string& options, int width, int height,
-  Comparison& out, const char* label)
+  Comparison& out, const char* label, const char* name = "shadowmap")
 {
   auto window = WindowFor(renderer, width, height);
   vtkNew<vtkPenumbraTechniques> techniques;
-  CHECK(techniques->Apply(renderer, "shadowmap", options.c_str()));
+  CHECK(techniques->Apply(renderer, name, options.c_str()));
   window->Render();
   RUN(Compare(renderer, 0, out));
   vtkPenumbraShadowMapShadows* technique = TechniqueOf(renderer);
@@ -604,8 +604,112 @@ int CheckBadInput()
 }
 }
 
+// RESM (Ferko 2013): a 6 x 6 m plane seen straight down by a parallel camera, lit straight
+// down: a sample's map step per pixel is the pixel size over the fitted extent, so the
+// need along each axis is the plane's width in pixels (closed form: 6 m / (8 m / 512 px) =
+// 384, less one pixel for the sample centres, plus the fit's 1e-3 padding), on the GPU and
+// the CPU path alike. The map side is rounded up to 64 texels and follows the view with
+// hysteresis: a need 14 % lower keeps it, a much lower one shrinks it, a higher one grows it.
+vtkSmartPointer<vtkRenderer> PlaneFromAbove(double parallelScale)
+{
+  auto renderer = vtkSmartPointer<vtkRenderer>::New();
+  vtkNew<vtkPlaneSource> plane;
+  plane->SetOrigin(-3, -3, 0);
+  plane->SetPoint1(3, -3, 0);
+  plane->SetPoint2(-3, 3, 0);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(plane->GetOutputPort());
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  renderer->AddActor(actor);
+  vtkNew<vtkLight> light;
+  light->SetLightTypeToSceneLight();
+  light->SetPositional(false);
+  light->SetPosition(0, 0, 1);
+  light->SetFocalPoint(0, 0, 0);
+  renderer->AddLight(light);
+  vtkCamera* cam = renderer->GetActiveCamera();
+  cam->SetParallelProjection(true);
+  cam->SetPosition(0, 0, 10);
+  cam->SetFocalPoint(0, 0, 0);
+  cam->SetViewUp(0, 1, 0);
+  cam->SetParallelScale(parallelScale);
+  renderer->ResetCameraClippingRange();
+  return renderer;
+}
+
+int CheckRESMClosedForm()
+{
+  for (const char* options : { "{}", "{\"lookup\": \"cpu\"}" })
+  {
+    auto renderer = PlaneFromAbove(4.0);
+    auto window = WindowFor(renderer, 512, 512);
+    vtkNew<vtkPenumbraTechniques> techniques;
+    CHECK(techniques->Apply(renderer, "resm", options));
+    vtkPenumbraShadowMapShadows* technique = TechniqueOf(renderer);
+    CHECK(technique != nullptr);
+    // Nothing casts onto the plane: the maps are fitted and sized all the same.
+    auto sizeAt = [&](double scale, int size[2], double need[2]) {
+      renderer->GetActiveCamera()->SetParallelScale(scale);
+      window->Render();
+      technique->GetLastMapSize(size);
+      technique->GetLastEstimate(need);
+      std::printf("resm %-20s scale %.1f need %.1f x %.1f map %d x %d\n", options, scale, need[0],
+        need[1], size[0], size[1]);
+    };
+    int size[2];
+    double need[2];
+    sizeAt(4.0, size, need);
+    const double expected = 383.0 * (1.0 + 2e-3);
+    CHECK(std::abs(need[0] - expected) < 0.01 * expected);
+    CHECK(std::abs(need[1] - expected) < 0.01 * expected);
+    CHECK(size[0] == 384 && size[1] == 384);
+    sizeAt(3.6, size, need); // need about 426: rounded up to 448
+    CHECK(size[0] == 448 && size[1] == 448);
+    sizeAt(4.0, size, need); // 384 again, within 15 % of 448: kept
+    CHECK(size[0] == 448 && size[1] == 448);
+    sizeAt(6.0, size, need); // need about 256: shrinks
+    CHECK(size[0] == 256 && size[1] == 256);
+    sizeAt(3.6, size, need); // grows back at once
+    CHECK(size[0] == 448 && size[1] == 448);
+    window->RemoveRenderer(renderer);
+    window->Finalize();
+  }
+  return EXIT_SUCCESS;
+}
+
+// RESM's mismatch falls as the largest allowed map rises; at the estimate (no cap) it is as
+// small as a square map of the estimate's larger side, within a stated margin.
+int CheckRESMSeries()
+{
+  const int caps[] = { 128, 512, 8192 };
+  double rates[3];
+  int largest[3];
+  for (int i = 0; i < 3; ++i)
+  {
+    auto renderer = PlaneAndBox();
+    Comparison c;
+    RUN(RenderAndCompare(renderer, "{\"max_resolution\": " + std::to_string(caps[i]) + "}", 320,
+      240, c, "plane+box directional", "resm"));
+    rates[i] = c.MismatchRate;
+    int size[2];
+    TechniqueOf(renderer)->GetLastMapSize(size);
+    largest[i] = std::max(size[0], size[1]);
+    CHECK(largest[i] <= caps[i]);
+  }
+  CHECK(rates[0] >= rates[1] && rates[1] >= rates[2] && rates[0] > rates[2]);
+  auto renderer = PlaneAndBox();
+  Comparison square;
+  RUN(RenderAndCompare(renderer, "{\"resolution\": " + std::to_string(largest[2]) + "}", 320,
+    240, square, "plane+box directional"));
+  CHECK(rates[2] <= 1.5 * square.MismatchRate + 1e-4);
+  return EXIT_SUCCESS;
+}
+
 int TestShadowMapShadows(int, char*[])
 {
+  RUN(CheckRESMClosedForm());
+  RUN(CheckRESMSeries());
   RUN(CheckBadInput());
   RUN(CheckParaboloidRoundTrip());
   RUN(CheckMapCache());
