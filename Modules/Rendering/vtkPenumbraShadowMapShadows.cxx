@@ -357,10 +357,11 @@ TileOutputs TilesFromSamples(const penumbra_light_views::FrameInputs& in, int wi
 
 // RESM's need of one CPU sample set (Ferko 2013; the CPU twin of
 // vtkPenumbraShadowMapEstimateFS.glsl, whose comment has the rule): per 4 x 4-sample tile,
-// the largest number of texels across the map a pending sample needs along s and t, and the
-// number of samples estimated; 4 floats a tile like the GPU pass's first output.
+// the largest number of texels across the map a pending sample on every `step`-th row and
+// column needs along s and t, and the number of samples estimated; 4 floats a tile like the
+// GPU pass's first output.
 std::vector<float> EstimateSamples(const penumbra_light_views::FrameInputs& in, int width,
-  int height, const unsigned char* state, const View& view)
+  int height, const unsigned char* state, const View& view, int step)
 {
   const int tw = (width + Tile - 1) / Tile;
   std::vector<float> needs(static_cast<size_t>(4 * TileCount(width, height)), 0.0f);
@@ -374,11 +375,12 @@ std::vector<float> EstimateSamples(const penumbra_light_views::FrameInputs& in, 
   for (vtkIdType s = 0; s < in.NumberOfSamples; ++s)
   {
     double p[3], st[2];
-    if (state[s] != Pending || !mapAt(s, p, st))
+    const int x = static_cast<int>(s % width), y = static_cast<int>(s / width);
+    if ((x % Tile) % step != 0 || (y % Tile) % step != 0 || state[s] != Pending ||
+      !mapAt(s, p, st))
     {
       continue;
     }
-    const int x = static_cast<int>(s % width), y = static_cast<int>(s / width);
     const double n[3] = { in.Normals[3 * s], in.Normals[3 * s + 1], in.Normals[3 * s + 2] };
     double step[2][2];
     bool found[2] = { false, false };
@@ -608,7 +610,7 @@ struct vtkPenumbraShadowMapShadows::Internals
     vtkPenumbraSceneGeometry* geometry, const LightSetup& setup, const ReceiverExtent& extent,
     const int size[2], LightMaps* maps, std::string& error);
   bool EstimateFrame(vtkPenumbraFrame* frame, const LightSetup& setup, const View& view,
-    std::vector<float>& needs, std::string& error);
+    int step, std::vector<float>& needs, std::string& error);
   void SetCompareUniforms(vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program,
     const LightSetup& setup, const LightMaps& m);
   bool LookupList(vtkPenumbraShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
@@ -998,7 +1000,7 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     maps->Key.swap(key);
     const int width = samples->GetWidth(), height = samples->GetHeight();
     auto estimate = [&](const View& view, std::vector<float>& needs, std::string&) {
-      needs = EstimateSamples(in, width, height, state, view);
+      needs = EstimateSamples(in, width, height, state, view, this->AnalysisStep);
       return true;
     };
     int size[2];
@@ -1225,7 +1227,8 @@ bool vtkPenumbraShadowMapShadows::Internals::PlanMaps(vtkPenumbraShadowMapShadow
 // RESM's estimate over the frame's G-buffer (vtkPenumbraShadowMapEstimateFS), for the view
 // PlanMaps() fitted: the tiles' needs of every layer, read back as a few kilobytes.
 bool vtkPenumbraShadowMapShadows::Internals::EstimateFrame(vtkPenumbraFrame* frame,
-  const LightSetup& setup, const View& view, std::vector<float>& needs, std::string& error)
+  const LightSetup& setup, const View& view, int step, std::vector<float>& needs,
+  std::string& error)
 {
   if (!this->EstimateQuad)
   {
@@ -1233,6 +1236,7 @@ bool vtkPenumbraShadowMapShadows::Internals::EstimateFrame(vtkPenumbraFrame* fra
       ComposeShader(vtkPenumbraShadowMapEstimateFS).c_str(), ""));
   }
   auto uniforms = [&](vtkShaderProgram* program) {
+    program->SetUniformi("step", step);
     float matrix[16];
     view.ToFloatMatrix(matrix);
     program->SetUniformMatrix4x4("lightMatrix", matrix);
@@ -1790,7 +1794,7 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
       }
       maps->Key.swap(key);
       auto estimate = [&](const View& view, std::vector<float>& needs, std::string& why) {
-        return this->EstimateFrame(frame, setup, view, needs, why);
+        return this->EstimateFrame(frame, setup, view, self->AnalysisStep, needs, why);
       };
       int size[2];
       if (!this->PlanMaps(self, setup, extent, estimate, maps, size, error) ||
@@ -2006,20 +2010,6 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
 }
 
 //------------------------------------------------------------------------------
-void vtkPenumbraShadowMapShadows::GetLastMapSize(int size[2])
-{
-  size[0] = this->LastMapSize[0];
-  size[1] = this->LastMapSize[1];
-}
-
-//------------------------------------------------------------------------------
-void vtkPenumbraShadowMapShadows::GetLastEstimate(double need[2])
-{
-  need[0] = this->LastEstimate[0];
-  need[1] = this->LastEstimate[1];
-}
-
-//------------------------------------------------------------------------------
 void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -2027,6 +2017,7 @@ void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ResolutionMode: " << this->ResolutionMode << "\n";
   os << indent << "MaxResolution: " << this->MaxResolution << "\n";
   os << indent << "Coverage: " << this->Coverage << "\n";
+  os << indent << "AnalysisStep: " << this->AnalysisStep << "\n";
   os << indent << "Filter: " << (this->Filter == FILTER_PCF ? "pcf" : "none") << "\n";
   os << indent << "PCFKernel: " << this->PCFKernel << "\n";
   os << indent << "Bias: " << this->Bias << "\n";

@@ -148,12 +148,21 @@ public:
   vtkGetMacro(Coverage, double);
   ///@}
 
+  ///@{
+  /**
+   * RESM: the estimate analyses every AnalysisStep-th sample per axis (its neighbours stay
+   * the adjacent pixels), AnalysisStep^2 times less work. Default 2, clamped to [1, 4].
+   */
+  vtkSetClampMacro(AnalysisStep, int, 1, 4);
+  vtkGetMacro(AnalysisStep, int);
+  ///@}
+
   /**
    * The map size (texels along s and t) of the last light computed, and for RESM the
    * estimated need before rounding and clamping (0 when nothing was estimated).
    */
-  void GetLastMapSize(int size[2]);
-  void GetLastEstimate(double need[2]);
+  vtkGetVector2Macro(LastMapSize, int);
+  vtkGetVector2Macro(LastEstimate, double);
 
   ///@{
   /**
@@ -273,6 +282,7 @@ protected:
   int ResolutionMode = RESOLUTION_FIXED;
   int MaxResolution = 4096;
   double Coverage = 0.99;
+  int AnalysisStep = 2;
   int LastMapSize[2] = { 0, 0 };
   double LastEstimate[2] = { 0.0, 0.0 };
   int Filter = FILTER_NONE;

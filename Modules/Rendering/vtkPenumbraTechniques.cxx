@@ -272,6 +272,7 @@ void InstallRESM(vtkRenderer* ren, Options& opts)
   technique->SetResolutionMode(vtkPenumbraShadowMapShadows::RESOLUTION_ESTIMATED);
   technique->SetMaxResolution(opts.Integer("max_resolution", 4096, 64, 16384));
   technique->SetCoverage(opts.Number("coverage", 0.99, 0.5, 1.0));
+  technique->SetAnalysisStep(opts.Integer("analysis_step", 2, 1, 4));
   // Point lights are not estimated: their cube faces or hemispheres keep this size.
   technique->SetResolution(opts.Integer("resolution", 2048, 64, 8192));
   ReadShadowMapOptions(opts, technique);

@@ -6,7 +6,9 @@
 // pixels, from its right/upper (else left/lower) neighbour on the same plane; a texel must
 // project back onto at most one pixel, which needs 2 sqrt(a_t^2 + b_t^2) / |det J| texels
 // across the map along s and 2 sqrt(a_s^2 + b_s^2) / |det J| along t (J = [a b], columns:
-// d(s,t)/dx, d(s,t)/dy). Each fragment reduces a tile x tile block to the largest need.
+// d(s,t)/dx, d(s,t)/dy). Each fragment reduces a tile x tile block to the largest need of
+// the samples on every `step`-th row and column (the analysis at a lower resolution, as
+// Brabec et al. 2000 fit theirs; the neighbours stay the adjacent pixels).
 // The CPU twin is EstimateSamples() in vtkPenumbraShadowMapShadows.cxx.
 // Out 0: largest need along s, along t, number of estimated samples, 0.
 in vec2 texCoord;
@@ -18,6 +20,7 @@ uniform vec3 estimateDirection; // directional: unit vector towards the light
 uniform vec3 estimatePosition;  // positional: rebased
 uniform vec3 estimateAxis;      // spot: unit axis away from the light
 uniform float estimateCosCone;
+uniform int step;              // analyse every step-th sample per axis
 
 //PENUMBRA::TileSample
 
@@ -64,9 +67,9 @@ void main()
 {
   vec2 need = vec2(0.0);
   int count = 0;
-  for (int j = 0; j < tile; ++j)
+  for (int j = 0; j < tile; j += step)
   {
-    for (int i = 0; i < tile; ++i)
+    for (int i = 0; i < tile; i += step)
     {
       ivec2 cell = ivec2(gl_FragCoord.xy) * tile + ivec2(i, j);
       vec3 p;
