@@ -44,5 +44,32 @@ int TestTechniqueRegistry(int, char*[])
   CHECK(t->Apply(ren, "none", ""));
   CHECK(ren->GetPass() == nullptr);
   CHECK(!t->Apply(nullptr, "none", ""));
+
+  // Every table row is documented, and its default passes its own validation.
+  for (int i = 0; i < vtkPenumbraTechniques::GetNumberOfTechniques(); ++i)
+  {
+    const char* name = vtkPenumbraTechniques::GetTechniqueName(i);
+    std::string defaults;
+    for (int o = 0; o < vtkPenumbraTechniques::GetNumberOfOptions(name); ++o)
+    {
+      CHECK(std::strlen(vtkPenumbraTechniques::GetOptionDoc(name, o)) > 0);
+      CHECK(!vtkPenumbraTechniques::GetOptionRange(name, o).empty());
+      defaults += (defaults.empty() ? "{" : ", ") + std::string("\"") +
+        vtkPenumbraTechniques::GetOptionName(name, o) +
+        "\": " + vtkPenumbraTechniques::GetOptionDefault(name, o);
+    }
+    defaults += defaults.empty() ? "{}" : "}";
+    vtkNew<vtkRenderer> fresh;
+    CHECK(t->Apply(fresh, name, defaults.c_str()));
+  }
+  CHECK(vtkPenumbraTechniques::GetOptionName("shadowmap", 99) == nullptr);
+  CHECK(vtkPenumbraTechniques::GetNumberOfOptions("nope") == 0);
+  // Allowed-value lists and ranges from the tables.
+  CHECK(!t->Apply(ren, "raytraced", R"({"samples": 5})"));
+  CHECK(std::string(t->GetErrorMessage()) == "samples: expected one of 0, 4, 8, 16, 32, got 5");
+  CHECK(!t->Apply(ren, "shadowmap", R"({"pcf_kernel": 4})"));
+  CHECK(!t->Apply(ren, "gears", R"({"path": "fpga"})"));
+  CHECK(std::string(t->GetErrorMessage()) ==
+    R"(path: expected one of "auto", "cpu", "gpu", got "fpga")");
   return EXIT_SUCCESS;
 }
