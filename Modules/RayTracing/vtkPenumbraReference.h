@@ -65,7 +65,7 @@
 #define vtkPenumbraReference_h
 
 #include "vtkObject.h"
-#include "vtkPenumbraAnalysisModule.h" // For export macro
+#include "vtkPenumbraRayTracingModule.h" // For export macro
 
 #include <memory> // For std::unique_ptr
 
@@ -77,7 +77,7 @@ class vtkPenumbraViewSamples;
 class vtkTypeUInt32Array;
 class vtkUnsignedCharArray;
 
-class VTKPENUMBRAANALYSIS_EXPORT vtkPenumbraReference : public vtkObject
+class VTKPENUMBRARAYTRACING_EXPORT vtkPenumbraReference : public vtkObject
 {
 public:
   static vtkPenumbraReference* New();
