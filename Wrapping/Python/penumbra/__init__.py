@@ -22,6 +22,7 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from .vtkPenumbraHeadless import *  # noqa: F401,F403
 from .vtkPenumbraSources import *  # noqa: F401,F403
 from .vtkPenumbraScene import *  # noqa: F401,F403
+from .vtkPenumbraSceneIO import *  # noqa: F401,F403
 from .vtkPenumbraRayTracing import *  # noqa: F401,F403
 from .vtkPenumbraAnalysis import *  # noqa: F401,F403
 from .vtkPenumbraRendering import *  # noqa: F401,F403
