@@ -101,9 +101,7 @@ def disable_shadows(renderer):
 
 def shadow_pass(renderer):
     """The vtkPenumbraShadowPass `renderer` draws with, or None."""
-    camera = renderer.GetPass()
-    delegate = camera.GetDelegatePass() if camera is not None and camera.IsA("vtkCameraPass") else None
-    return delegate if delegate is not None and delegate.IsA("vtkPenumbraShadowPass") else None
+    return vtkPenumbraShadowPass.GetInstalled(renderer)
 
 
 def visibility(renderer, light=0, translucent=False):
