@@ -68,6 +68,7 @@
 #include "vtkPenumbraRayTracingModule.h" // For export macro
 
 #include <memory> // For std::unique_ptr
+#include <string> // For std::string
 
 class vtkFloatArray;
 class vtkLight;
@@ -232,6 +233,7 @@ private:
   std::unique_ptr<Internals> Impl;
 
   struct LightRays;
+  int Fail(const std::string& text);
   int EnsureScene();
   int Run(vtkPenumbraViewSamples* samples, const LightRays& light, vtkFloatArray* visibility,
     vtkTypeUInt32Array* masks, const unsigned char* subset = nullptr);
