@@ -1,6 +1,12 @@
 // The technique registry: names are unique, options are validated, a failed Apply leaves the
 // renderer as it was.
 #include "vtkNew.h"
+#include "vtkPenumbraConservativeShadows.h"
+#include "vtkPenumbraGearsShadows.h"
+#include "vtkPenumbraRayTracedShadows.h"
+#include "vtkPenumbraShadowMapShadows.h"
+#include "vtkPenumbraShadowPass.h"
+#include "vtkPenumbraShadowVolumeShadows.h"
 #include "vtkPenumbraTechniques.h"
 #include "vtkRenderPass.h"
 #include "vtkRenderer.h"
@@ -13,8 +19,75 @@
 
 #include "PenumbraTestMacros.h"
 
+namespace
+{
+// The technique `name` installs on `renderer` with the table's defaults.
+template <class T>
+T* Installed(vtkPenumbraTechniques* t, vtkRenderer* renderer, const char* name)
+{
+  if (!t->Apply(renderer, name, "{}"))
+  {
+    return nullptr;
+  }
+  vtkPenumbraShadowPass* pass = vtkPenumbraShadowPass::GetInstalled(renderer);
+  return pass ? T::SafeDownCast(pass->GetTechnique()) : nullptr;
+}
+
+// The option tables' defaults are the classes' own defaults, so a technique used directly
+// (vtkNew<...>, SetTechnique()) behaves as the registry's.
+int DefaultsMatchTheClasses()
+{
+  vtkNew<vtkPenumbraTechniques> t;
+  vtkNew<vtkRenderer> ren;
+
+  vtkNew<vtkPenumbraShadowMapShadows> sm;
+  auto* smDefault = Installed<vtkPenumbraShadowMapShadows>(t, ren, "shadowmap");
+  CHECK(smDefault != nullptr);
+  CHECK(smDefault->GetResolution() == sm->GetResolution() &&
+    smDefault->GetFilter() == sm->GetFilter() && smDefault->GetPCFKernel() == sm->GetPCFKernel() &&
+    smDefault->GetBias() == sm->GetBias() && smDefault->GetSlopeBias() == sm->GetSlopeBias() &&
+    smDefault->GetDepthMode() == sm->GetDepthMode() &&
+    smDefault->GetPointMode() == sm->GetPointMode() && smDefault->GetLookup() == sm->GetLookup());
+
+  vtkNew<vtkPenumbraConservativeShadows> csm;
+  auto* csmDefault = Installed<vtkPenumbraConservativeShadows>(t, ren, "conservative");
+  CHECK(csmDefault != nullptr);
+  CHECK(csmDefault->GetResolution() == csm->GetResolution() &&
+    csmDefault->GetLayers() == csm->GetLayers() &&
+    csmDefault->GetMapBuilder() == csm->GetMapBuilder());
+
+  vtkNew<vtkPenumbraShadowVolumeShadows> sv;
+  auto* svDefault = Installed<vtkPenumbraShadowVolumeShadows>(t, ren, "volumes");
+  CHECK(svDefault != nullptr);
+  CHECK(svDefault->GetSilhouettes() == sv->GetSilhouettes() &&
+    svDefault->GetGPUSilhouettes() == sv->GetGPUSilhouettes() &&
+    svDefault->GetMethod() == sv->GetMethod() && svDefault->GetCull() == sv->GetCull() &&
+    svDefault->GetCapOffset() == sv->GetCapOffset() && svDefault->GetResolve() == sv->GetResolve() &&
+    svDefault->GetMeasureFill() == sv->GetMeasureFill() &&
+    svDefault->GetLightsPerMask() == sv->GetLightsPerMask());
+
+  vtkNew<vtkPenumbraGearsShadows> gears;
+  auto* gearsDefault = Installed<vtkPenumbraGearsShadows>(t, ren, "gears");
+  CHECK(gearsDefault != nullptr);
+  CHECK(gearsDefault->GetSamplesPerAxis() == gears->GetSamplesPerAxis() &&
+    gearsDefault->GetGridResolution() == gears->GetGridResolution() &&
+    gearsDefault->GetCameraDistanceFactor() == gears->GetCameraDistanceFactor() &&
+    gearsDefault->GetTraceThreshold() == gears->GetTraceThreshold() &&
+    gearsDefault->GetPath() == gears->GetPath());
+
+  vtkNew<vtkPenumbraRayTracedShadows> rt;
+  auto* rtDefault = Installed<vtkPenumbraRayTracedShadows>(t, ren, "raytraced");
+  CHECK(rtDefault != nullptr && rtDefault->GetSamplesPerAxis() == rt->GetSamplesPerAxis());
+  return EXIT_SUCCESS;
+}
+}
+
 int TestTechniqueRegistry(int, char*[])
 {
+  if (DefaultsMatchTheClasses() != EXIT_SUCCESS)
+  {
+    return EXIT_FAILURE;
+  }
   std::set<std::string> names;
   for (int i = 0; i < vtkPenumbraTechniques::GetNumberOfTechniques(); ++i)
   {
