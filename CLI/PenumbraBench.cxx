@@ -72,8 +72,7 @@ bool ParseTechnique(const std::string& text, TechniqueSpec& spec, std::string& e
 
 vtkPenumbraShadowPass* ShadowPassOf(vtkRenderer* ren)
 {
-  auto* camera = vtkCameraPass::SafeDownCast(ren->GetPass());
-  return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+  return vtkPenumbraShadowPass::GetInstalled(ren);
 }
 
 void Progress(int done, int total, const std::string& what)

@@ -3,9 +3,9 @@
 #ifndef PenumbraCLI_h
 #define PenumbraCLI_h
 
+#include "vtkPenumbraDiagnostics.h" // For penumbra::Clock, penumbra::ElapsedMs
 #include "vtkSmartPointer.h"
 
-#include <chrono>
 #include <string>
 
 class vtkCallbackCommand;
@@ -16,12 +16,8 @@ class vtkRenderer;
 
 namespace penumbra_cli
 {
-using Clock = std::chrono::steady_clock;
-
-inline double MsSince(Clock::time_point since)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
-}
+using Clock = penumbra::Clock;
+constexpr auto MsSince = penumbra::ElapsedMs;
 
 // Records VTK errors raised while rendering (shader compile failures, GL errors) so a run
 // fails instead of producing a silently wrong image. VTK's own printing is kept off stderr.

@@ -40,7 +40,8 @@ int Usage(const char* why)
   }
   std::cerr << "usage: penumbra-render SCENE.json -o OUT.png [--size WxH] [--technique NAME]"
                " [--option KEY=VALUE]...\n"
-               "       penumbra-render --list-techniques\n";
+               "       penumbra-render --list-techniques\n"
+               "       penumbra-render --options-markdown   (the technique section of SCHEMA.md)\n";
   return 2;
 }
 }
@@ -87,11 +88,12 @@ int main(int argc, char* argv[])
     }
     else if (a == "--list-techniques")
     {
-      for (int t = 0; t < vtkPenumbraTechniques::GetNumberOfTechniques(); ++t)
-      {
-        std::cout << vtkPenumbraTechniques::GetTechniqueName(t) << "\t"
-                  << vtkPenumbraTechniques::GetTechniqueDescription(t) << "\n";
-      }
+      std::cout << vtkPenumbraTechniques::GetTechniqueList();
+      return 0;
+    }
+    else if (a == "--options-markdown")
+    {
+      std::cout << vtkPenumbraTechniques::GetOptionsMarkdown();
       return 0;
     }
     else if (a == "-h" || a == "--help")

@@ -12,10 +12,12 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
+#include "vtkPenumbraVisibilityRules.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
@@ -48,12 +50,8 @@ using penumbra_light_views::View;
 
 namespace
 {
-using Clock = std::chrono::steady_clock;
-
-double ElapsedMs(Clock::time_point start)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using penumbra::Clock;
+using penumbra::ElapsedMs;
 
 // Per-sample classification states.
 enum : unsigned char
@@ -69,79 +67,23 @@ constexpr std::uint32_t FullBit = 0x80000000u;
 constexpr size_t MaxCachedMapBytes = static_cast<size_t>(512) << 20;
 constexpr std::uint32_t IdMask = 0x7fffffffu;
 
-enum class Hit
-{
-  Clear,  // the ray provably hits the triangle beyond the tie band: the sample is shadowed
-  Miss,   // the ray provably does not hit it where the reference would count a blocker
-  Unknown // too close to call in double against the float ray tracer: trace it
-};
+using penumbra_rules::Hit;
 
 // The exact test against the texel's triangle of Hertel, Hormann, Westermann, "A Hybrid GPU
 // Rendering Pipeline for Alias-Free Hard Shadows", Eurographics 2009 Areas Papers, §4.2, made
-// exact: the shadow ray o + t d (d unit) against one triangle, in
-// double. The reference (float Embree) counts a blocker for t in [tieLimit, tmax), calls
-// [tnear, tieLimit) a tie and ignores t < tnear. errPos bounds how far the float ray and
-// vertices may differ from ours (a length); every decision keeps that much margin, grown by
-// 1/|cos| where a shifted ray slides along the plane.
-Hit TestRay(const double o[3], const double d[3], double tnear, double tieLimit, double tmax,
-  const double* tri, double errPos)
+// exact by the tracer's own decision (penumbra_rules::SegmentTest). A ray on an edge is left
+// to the tracer: only a clear hit shadows a sample here.
+Hit TestRay(const double o[3], const double d[3], double tieLimit, double tmax, const double* tri,
+  vtkIdType id, double errPos)
 {
-  const double* v0 = tri;
-  const double* v1 = tri + 3;
-  const double* v2 = tri + 6;
-  double e1[3], e2[3], n[3];
-  for (int c = 0; c < 3; ++c)
-  {
-    e1[c] = v1[c] - v0[c];
-    e2[c] = v2[c] - v0[c];
-  }
-  vtkMath::Cross(e1, e2, n);
-  const double area2 = vtkMath::Norm(n);
-  if (!(area2 > 0.0) || !std::isfinite(area2))
+  penumbra_rules::ExactTriangle triangle;
+  if (!penumbra_rules::MakeExactTriangle(tri, id, triangle))
   {
     return Hit::Unknown;
   }
-  for (int c = 0; c < 3; ++c)
-  {
-    n[c] /= area2;
-  }
-  const double cosine = vtkMath::Dot(d, n);
-  const double toPlane[3] = { v0[0] - o[0], v0[1] - o[1], v0[2] - o[2] };
-  const double height = vtkMath::Dot(toPlane, n); // signed distance of the plane from o
-  if (!(std::fabs(cosine) > 1e-6))
-  {
-    // Grazing: a float rounding of the direction may move the hit anywhere.
-    (void)height;
-    return Hit::Unknown;
-  }
-  const double slack = errPos * (1.0 + 1.0 / std::fabs(cosine));
-  const double t = height / cosine;
-  if (t < tnear - slack || t > tmax + slack)
-  {
-    return Hit::Miss;
-  }
-  const bool clearT = t > tieLimit + slack && t < tmax - slack;
-  const double x[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
-  const double* verts[3] = { v0, v1, v2 };
-  bool inside = true;
-  for (int i = 0; i < 3; ++i)
-  {
-    const double* a = verts[(i + 1) % 3];
-    const double* b = verts[(i + 2) % 3];
-    const double ab[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
-    const double ax[3] = { x[0] - a[0], x[1] - a[1], x[2] - a[2] };
-    double c[3];
-    vtkMath::Cross(ab, ax, c);
-    const double len = vtkMath::Norm(ab);
-    // Signed distance of x to edge ab inside the triangle's plane (positive inside).
-    const double distance = len > 0.0 ? vtkMath::Dot(c, n) / len : -1.0;
-    if (distance < -slack)
-    {
-      return Hit::Miss;
-    }
-    inside = inside && distance > slack;
-  }
-  return inside && clearT ? Hit::Clear : Hit::Unknown;
+  int edge = 0;
+  const Hit hit = penumbra_rules::SegmentTest(o, d, tieLimit, tmax, triangle, errPos, edge);
+  return hit == Hit::OnEdge ? Hit::Unknown : hit;
 }
 }
 
@@ -310,14 +252,6 @@ void vtkPenumbraConservativeShadows::ReleaseGraphicsResources(vtkWindow* window)
 }
 
 //------------------------------------------------------------------------------
-#define PENUMBRA_CSM_FAIL(text)                                                                  \
-  do                                                                                             \
-  {                                                                                              \
-    vtkErrorMacro(<< text);                                                                      \
-    return 0;                                                                                    \
-  } while (false)
-
-//------------------------------------------------------------------------------
 int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
   vtkFloatArray* visibility)
@@ -337,7 +271,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     std::string inputError;
     if (!in.Read(renderer, geometry, samples, light, visibility, inputError))
     {
-      PENUMBRA_CSM_FAIL("conservative shadows: " << inputError);
+      PENUMBRA_FAIL("conservative shadows: " << inputError);
     }
   }
   vtkOpenGLRenderWindow* win = in.Window;
@@ -345,7 +279,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   const vtkIdType nTriangles = in.NumberOfTriangles;
   if (nTriangles >= static_cast<vtkIdType>(IdMask))
   {
-    PENUMBRA_CSM_FAIL("scene geometry has too many triangles for 31-bit map ids: " << nTriangles);
+    PENUMBRA_FAIL("scene geometry has too many triangles for 31-bit map ids: " << nTriangles);
   }
   const double* shift = in.Shift;
   const LightSetup& setup = in.Light;
@@ -385,17 +319,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   // ---- Pass A (Hertel et al. 2009, §4.2 and §5: facing and projection, plus the
   // reference's light rules): decide what needs no map, and find the box the light cameras
   // must cover.
-  double diagonal = 0.0;
-  {
-    double gb[6];
-    geometry->GetBounds(gb);
-    if (vtkMath::AreBoundsInitialized(gb))
-    {
-      diagonal = std::sqrt((gb[1] - gb[0]) * (gb[1] - gb[0]) + (gb[3] - gb[2]) * (gb[3] - gb[2]) +
-        (gb[5] - gb[4]) * (gb[5] - gb[4]));
-    }
-    diagonal = std::isfinite(diagonal) && diagonal > 0.0 ? diagonal : 1.0;
-  }
+  const double diagonal = penumbra_rules::SceneDiagonal(geometry);
   const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(setup, n,
     pos, nrm, props, shift, anyCaster, vis, state, Pending, Decided);
   std::atomic<vtkIdType> lit(facing.Lit), shadowed(facing.Shadowed);
@@ -481,7 +405,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
       : nullptr;
     if (gpu && (!program || !program->GetCompiled()))
     {
-      PENUMBRA_CSM_FAIL("the conservative shadow map shaders do not compile or link on this "
+      PENUMBRA_FAIL("the conservative shadow map shaders do not compile or link on this "
                         "OpenGL implementation (a geometry shader is required)");
     }
     const int layers = this->Layers;
@@ -727,17 +651,17 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
             rayOk = distance > 0.0;
             tmax = distance * (1.0 - epsilon);
           }
-          const double scale = std::max(vtkMath::Norm(p), diagonal);
-          const double tnear = epsilon * scale;
-          const double tieLimit = tieFactor * tnear;
-          const double errPos = 4e-6 * scale;
+          const penumbra_rules::RayBand band =
+            penumbra_rules::SampleBand(p, diagonal, epsilon, tieFactor);
+          const double tieLimit = band.TieLimit;
+          const double errPos = 4e-6 * band.Scale;
 
           bool nearClear = true;
           for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
           {
             const vtkIdType blocker = nearTriangles[k];
             const Hit hit = nearTestable && blocker != own
-              ? TestRay(p, d, tnear, tieLimit, tmax, tv + 9 * blocker, errPos)
+              ? TestRay(p, d, tieLimit, tmax, tv + 9 * blocker, blocker, errPos)
               : (blocker == own ? Hit::Miss : Hit::Unknown);
             if (hit == Hit::Clear)
             {
@@ -765,7 +689,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
             {
               break;
             }
-            const Hit hit = TestRay(p, d, tnear, tieLimit, tmax, tv + 9 * blocker, errPos);
+            const Hit hit = TestRay(p, d, tieLimit, tmax, tv + 9 * blocker, blocker, errPos);
             if (hit == Hit::Clear)
             {
               vis[s] = 0.0f;
@@ -806,7 +730,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     this->Reference->SetGeometry(geometry);
     if (!this->Reference->ComputeVisibility(samples, light, visibility, impl.Mask))
     {
-      PENUMBRA_CSM_FAIL(
+      PENUMBRA_FAIL(
         "tracing the uncertain samples failed: " << this->Reference->GetErrorMessage());
     }
   }

@@ -8,11 +8,13 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraGearsCompute.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
+#include "vtkPenumbraVisibilityRules.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
@@ -35,12 +37,8 @@ vtkStandardNewMacro(vtkPenumbraGearsShadows);
 
 namespace
 {
-using Clock = std::chrono::steady_clock;
-
-double ElapsedMs(Clock::time_point start)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using penumbra::Clock;
+using penumbra::ElapsedMs;
 
 constexpr int MaxK = 64; // vtkPenumbraAreaLight's SamplesPerAxis limit: one 64-bit word per row
 
@@ -50,15 +48,8 @@ constexpr int MaxK = 64; // vtkPenumbraAreaLight's SamplesPerAxis limit: one 64-
 constexpr double RelativePositionTolerance = 1e-6;
 
 // A caster in the geometry's rebased frame with the float32 rounding Embree's copy has, and
-// what the per-ray test needs precomputed.
-struct Caster
-{
-  double V[3][3];
-  double N[3];     // unit normal
-  double M[3][3];  // unit in-plane normals of the edges (k, k+1), pointing inside
-  double MD[3];    // M[k] . V[k]
-  vtkIdType Id;    // global triangle index (own-triangle exclusion)
-};
+// what the per-ray test needs precomputed (the tracer's rules).
+using Caster = penumbra_rules::ExactTriangle;
 
 // A caster's bounding sphere, kept apart from the casters so the cheap rejects touch 32 bytes
 // per triangle instead of a whole Caster.
@@ -68,57 +59,8 @@ struct Sphere
   double Radius;
 };
 
-enum class Hit
-{
-  Clear,   // the reference's ray provably hits beyond the tie band and before its end
-  Miss,    // provably no hit the reference would count
-  OnEdge,  // clear in t and inside two edges, within the tolerance of the third only
-  Unknown  // otherwise too close to call (grazing, near the tie band or the ray end)
-};
-
-// The reference's decision for one light-sample ray o + t d (d unit) and one caster, in
-// double. The reference counts a blocker for t in [tieLimit, tmax] and computes visibility
-// as if hits below tieLimit (below tnear, or near-contact ties) were not there, so anything
-// provably below tieLimit is a miss. Every decision keeps `errPos` of margin (grown by
-// 1/|cos| where a shifted ray slides along the plane). `edge` receives the edge of OnEdge.
-Hit SegmentTest(const double o[3], const double d[3], double tieLimit, double tmax,
-  const Caster& tri, double errPos, int& edge)
-{
-  const double cosine = vtkMath::Dot(d, tri.N);
-  if (!(std::fabs(cosine) > 1e-6))
-  {
-    return Hit::Unknown; // grazing: a float rounding of the direction moves the hit anywhere
-  }
-  const double height = tri.N[0] * (tri.V[0][0] - o[0]) + tri.N[1] * (tri.V[0][1] - o[1]) +
-    tri.N[2] * (tri.V[0][2] - o[2]);
-  const double slack = errPos * (1.0 + 1.0 / std::fabs(cosine));
-  const double t = height / cosine;
-  if (t < tieLimit - slack || t > tmax + slack)
-  {
-    return Hit::Miss;
-  }
-  const bool clearT = t > tieLimit + slack && t < tmax - slack;
-  const double x[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
-  int near = 0;
-  for (int e = 0; e < 3; ++e)
-  {
-    const double distance = vtkMath::Dot(tri.M[e], x) - tri.MD[e];
-    if (distance < -slack)
-    {
-      return Hit::Miss;
-    }
-    if (!(distance > slack))
-    {
-      ++near;
-      edge = e;
-    }
-  }
-  if (!clearT || near > 1)
-  {
-    return Hit::Unknown;
-  }
-  return near == 0 ? Hit::Clear : Hit::OnEdge;
-}
+using penumbra_rules::Hit;
+using penumbra_rules::SegmentTest;
 
 // Embree's watertight test never lets a ray slip between two triangles that share an edge
 // (the same float vertices) and lie on opposite sides of it as seen along the ray. So a ray
@@ -147,43 +89,6 @@ bool SealedEdge(const Caster& a, int ea, const Caster& b, int eb, const double d
     (std::fabs(ca[0] - a0[0]) + std::fabs(ca[1] - a0[1]) + std::fabs(ca[2] - a0[2]) +
       std::fabs(cb[0] - a0[0]) + std::fabs(cb[1] - a0[1]) + std::fabs(cb[2] - a0[2]));
   return sa * sb < -1e-6 * scale * scale;
-}
-
-bool MakeCaster(const double* v9, vtkIdType id, Caster& c)
-{
-  for (int i = 0; i < 3; ++i)
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      c.V[i][k] = static_cast<double>(static_cast<float>(v9[3 * i + k]));
-    }
-  }
-  double e1[3], e2[3];
-  for (int k = 0; k < 3; ++k)
-  {
-    e1[k] = c.V[1][k] - c.V[0][k];
-    e2[k] = c.V[2][k] - c.V[0][k];
-  }
-  vtkMath::Cross(e1, e2, c.N);
-  const double area2 = vtkMath::Normalize(c.N);
-  if (!(area2 > 0.0) || !std::isfinite(area2))
-  {
-    return false; // zero area after rounding: Embree cannot hit it either
-  }
-  for (int e = 0; e < 3; ++e)
-  {
-    const double* a = c.V[e];
-    const double* b = c.V[(e + 1) % 3];
-    const double ab[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
-    vtkMath::Cross(c.N, ab, c.M[e]); // points to the left of ab, i.e. inside for CCW
-    if (!(vtkMath::Normalize(c.M[e]) > 0.0))
-    {
-      return false;
-    }
-    c.MD[e] = vtkMath::Dot(c.M[e], a);
-  }
-  c.Id = id;
-  return true;
 }
 
 inline std::uint64_t Span(int lo, int hi)
@@ -829,14 +734,14 @@ struct CallState
     {
       return false;
     }
-    const double scale = std::max(vtkMath::Norm(r.P), this->Diagonal);
+    const penumbra_rules::RayBand band =
+      penumbra_rules::SampleBand(r.P, this->Diagonal, this->Epsilon, this->TieFactor);
     r.Own = this->Tris[s];
     r.Epsilon = this->Epsilon;
-    r.TNear = this->Epsilon * scale;
+    r.TNear = band.TNear;
     r.TNearF = static_cast<float>(r.TNear);
-    r.TieLimit =
-      static_cast<double>(static_cast<float>(this->TieFactor * this->Epsilon * scale));
-    r.ErrPos = RelativePositionTolerance * scale;
+    r.TieLimit = static_cast<double>(static_cast<float>(band.TieLimit));
+    r.ErrPos = RelativePositionTolerance * band.Scale;
     return true;
   }
 
@@ -969,7 +874,7 @@ struct vtkPenumbraGearsShadows::Internals
     for (vtkIdType t = 0; v && t < n; ++t)
     {
       Caster c;
-      if (geometry->IsOccluder(t) && MakeCaster(v + 9 * t, t, c))
+      if (geometry->IsOccluder(t) && penumbra_rules::MakeExactTriangle(v + 9 * t, t, c))
       {
         this->Casters.push_back(c);
         Sphere b;
@@ -1004,17 +909,7 @@ struct vtkPenumbraGearsShadows::Internals
       this->CasterData.push_back(b.Radius);
     }
     ++this->CasterVersion;
-    double bounds[6];
-    geometry->GetBounds(bounds);
-    double diagonal = 0.0;
-    if (vtkMath::AreBoundsInitialized(bounds))
-    {
-      diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
-        (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
-        (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
-    }
-    // The reference's scale rule (vtkPenumbraReference::EnsureScene).
-    this->Diagonal = std::isfinite(diagonal) && diagonal > 0.0 ? diagonal : 1.0;
+    this->Diagonal = penumbra_rules::SceneDiagonal(geometry);
     this->Triangles = n;
     this->GeometryTime = geometry->GetGeometryTime();
     this->FlagsTime = geometry->GetFlagsTime();
@@ -1103,14 +998,6 @@ double vtkPenumbraGearsShadows::GetBlockingShare()
     : 0.0;
 }
 
-#define PENUMBRA_GEARS_FAIL_FOR(self, text)                                                    \
-  do                                                                                             \
-  {                                                                                              \
-    vtkErrorWithObjectMacro(self, << text);                                                      \
-    return 0;                                                                                    \
-  } while (false)
-#define PENUMBRA_GEARS_FAIL(text) PENUMBRA_GEARS_FAIL_FOR(this, text)
-
 //------------------------------------------------------------------------------
 // Wang et al. 2014, §3, for one area light: the input checks and light set-up, the sample
 // classification, then per side of the light plane the grid (A.1-A.2), the triangle lists
@@ -1122,7 +1009,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   const auto start = Clock::now();
   if (!geometry || !samples || !light || !visibility)
   {
-    PENUMBRA_GEARS_FAIL("needs scene geometry, view samples, a light and an output array");
+    PENUMBRA_FAIL("needs scene geometry, view samples, a light and an output array");
   }
   this->Reference->SetGeometry(geometry);
   auto* area = vtkPenumbraAreaLight::SafeDownCast(light);
@@ -1137,18 +1024,18 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   const std::string problem = area->GetValidityMessage();
   if (!problem.empty())
   {
-    PENUMBRA_GEARS_FAIL("invalid area light: " << problem);
+    PENUMBRA_FAIL("invalid area light: " << problem);
   }
   Internals& impl = *this->Impl;
   CallState call;
   if (!impl.ReadSamples(samples, call))
   {
-    PENUMBRA_GEARS_FAIL("view sample arrays are missing or do not match the sample count");
+    PENUMBRA_FAIL("view sample arrays are missing or do not match the sample count");
   }
   impl.UpdateCasters(geometry);
   if (!impl.SetUpLight(this, area, geometry, samples, call))
   {
-    PENUMBRA_GEARS_FAIL("unsupported light sampling: " << call.Light.K << " samples per axis");
+    PENUMBRA_FAIL("unsupported light sampling: " << call.Light.K << " samples per axis");
   }
   impl.SetUpOutputs(this, visibility, call);
   impl.ChoosePath(this, renderer, call);
@@ -1249,7 +1136,7 @@ bool vtkPenumbraGearsShadows::Internals::SetUpLight(vtkPenumbraGearsShadows* sel
   ls.HalfU = std::fabs(ls.Su0);
   ls.HalfV = std::fabs(ls.Sv0);
   ls.Diagonal = std::sqrt(width * width + height * height);
-  call.Off = !used->GetSwitch() || used->GetIntensity() == 0.0;
+  call.Off = !penumbra_rules::LightEmits(used);
 
   for (int c = 0; c < 3; ++c)
   {
@@ -2097,7 +1984,7 @@ int vtkPenumbraGearsShadows::Internals::TraceUndecided(vtkPenumbraGearsShadows* 
   {
     if (!self->Reference->ComputeVisibility(samples, call.Used, visibility, this->Uncertain))
     {
-      PENUMBRA_GEARS_FAIL_FOR(self,
+      PENUMBRA_FAIL_FOR(self,
         "tracing the uncertain samples failed: " << self->Reference->GetErrorMessage());
     }
   }
@@ -2109,7 +1996,7 @@ int vtkPenumbraGearsShadows::Internals::TraceUndecided(vtkPenumbraGearsShadows* 
     if (!self->Reference->TraceAreaRays(samples, call.Used, nTrace, call.TraceSamples.data(),
           call.TraceLights.data(), lit.data()))
     {
-      PENUMBRA_GEARS_FAIL_FOR(self,
+      PENUMBRA_FAIL_FOR(self,
         "tracing the undecided light samples failed: " << self->Reference->GetErrorMessage());
     }
     vtkIdType previous = -1;

@@ -1,5 +1,7 @@
 #include "vtkPenumbraLightViews.h"
 
+#include "vtkPenumbraVisibilityRules.h"
+
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
@@ -161,7 +163,7 @@ bool LightSetup::Read(vtkLight* light, const double geometryOrigin[3], std::stri
     error = "light position or focal point is not finite";
     return false;
   }
-  this->Off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  this->Off = !penumbra_rules::LightEmits(light);
   if (!light->GetPositional())
   {
     this->Type = Kind::Directional;

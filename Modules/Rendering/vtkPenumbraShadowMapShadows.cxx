@@ -10,6 +10,7 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraLightViews.h"
@@ -55,12 +56,8 @@ using penumbra_light_views::View;
 
 namespace
 {
-using Clock = std::chrono::steady_clock;
-
-double ElapsedMs(Clock::time_point start)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using penumbra::Clock;
+using penumbra::ElapsedMs;
 
 constexpr unsigned char Decided = 0;
 constexpr unsigned char Pending = 1;
@@ -923,14 +920,6 @@ void vtkPenumbraShadowMapShadows::DirectionFromParaboloid(
 }
 
 //------------------------------------------------------------------------------
-#define PENUMBRA_SM_FAIL(text)                                                                   \
-  do                                                                                             \
-  {                                                                                              \
-    vtkErrorMacro(<< text);                                                                      \
-    return 0;                                                                                    \
-  } while (false)
-
-//------------------------------------------------------------------------------
 int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
   vtkFloatArray* visibility)
@@ -946,7 +935,7 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     std::string inputError;
     if (!in.Read(renderer, geometry, samples, light, visibility, inputError))
     {
-      PENUMBRA_SM_FAIL("shadow maps: " << inputError);
+      PENUMBRA_FAIL("shadow maps: " << inputError);
     }
   }
   const LightSetup& setup = in.Light;
@@ -1007,7 +996,7 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     if (!impl.PlanMaps(this, setup, extent, estimate, maps, size, error) ||
       !impl.RenderMaps(this, in.Window, geometry, setup, extent, size, maps, error))
     {
-      PENUMBRA_SM_FAIL("shadow maps: " << error);
+      PENUMBRA_FAIL("shadow maps: " << error);
     }
   }
   this->LastMapSize[0] = maps->Width;
@@ -1020,7 +1009,7 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     std::string error;
     if (!impl.LookupList(this, in, setup, *maps, state, vis, error))
     {
-      PENUMBRA_SM_FAIL("shadow maps: " << error);
+      PENUMBRA_FAIL("shadow maps: " << error);
     }
   }
   else

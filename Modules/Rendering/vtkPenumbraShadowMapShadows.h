@@ -39,7 +39,8 @@
  * CPU (vtkSMPTools, double precision) after reading the maps back. A sample is shadowed
  * when stored depth < sample depth - bias, with
  *   bias = Bias + SlopeBias * (1 + r) * texel footprint * tan(angle to the light) / range,
- * r the PCF kernel radius in texels (0 without PCF) and tan clamped to 20.
+ * r the PCF kernel radius in texels (0 without PCF) and tan clamped to 1000 (0.057 degrees
+ * from grazing; lower caps leave grazing receivers in their own shadow).
  *
  * Caching: a light's maps are rendered again only when the light (position, focal point,
  * cone, positional flag, switched on), the casters (geometry or flags time), the camera or

@@ -1,5 +1,7 @@
 #include "vtkPenumbraShadowPass.h"
 
+#include "vtkCameraPass.h"
+
 #include "vtkActor.h"
 #include "vtkCollection.h"
 #include "vtkFloatArray.h"
@@ -644,4 +646,11 @@ void vtkPenumbraShadowPass::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Technique: " << (this->Impl->Technique ? this->Impl->Technique->GetClassName() : "(none)")
      << "\n";
   os << indent << "Lights: " << this->Impl->Lights.size() << "\n";
+}//------------------------------------------------------------------------------
+vtkPenumbraShadowPass* vtkPenumbraShadowPass::GetInstalled(vtkRenderer* renderer)
+{
+  auto* camera = renderer ? vtkCameraPass::SafeDownCast(renderer->GetPass()) : nullptr;
+  return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
 }
+
+

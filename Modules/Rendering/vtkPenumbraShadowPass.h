@@ -49,12 +49,19 @@ class vtkPenumbraSceneGeometry;
 class vtkPenumbraShadowTechnique;
 class vtkPenumbraViewSamples;
 class vtkPenumbraViewSamplesPass;
+class vtkRenderer;
 class vtkWindow;
 
 class VTKPENUMBRARENDERING_EXPORT vtkPenumbraShadowPass : public vtkOpenGLRenderPass
 {
 public:
   static vtkPenumbraShadowPass* New();
+
+  /**
+   * The shadow pass `renderer` draws with when it is installed the way vtkPenumbraTechniques
+   * installs it (the renderer's vtkCameraPass delegating to it); nullptr otherwise.
+   */
+  static vtkPenumbraShadowPass* GetInstalled(vtkRenderer* renderer);
   vtkTypeMacro(vtkPenumbraShadowPass, vtkOpenGLRenderPass);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 

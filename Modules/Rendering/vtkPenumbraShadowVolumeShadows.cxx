@@ -15,6 +15,7 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
@@ -57,13 +58,9 @@ using penumbra_light_views::LightSetup;
 
 namespace
 {
-using Clock = std::chrono::steady_clock;
+using penumbra::Clock;
+using penumbra::ElapsedMs;
 using Vec3 = std::array<double, 3>;
-
-double ElapsedMs(Clock::time_point start)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 Vec3 Sub(const Vec3& a, const Vec3& b)
 {
@@ -2378,21 +2375,6 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibilities(vtkRenderer* renderer,
 }
 
 //------------------------------------------------------------------------------
-#define PENUMBRA_SV_FAIL(text)                                                                     \
-  do                                                                                               \
-  {                                                                                                \
-    vtkErrorMacro(<< "shadow volumes: " << text);                                                  \
-    for (int failed = 0; failed < count; ++failed)                                                 \
-    {                                                                                              \
-      if (visibilities[failed])                                                                    \
-      {                                                                                            \
-        visibilities[failed]->SetNumberOfTuples(0);                                                \
-      }                                                                                            \
-    }                                                                                              \
-    return 0;                                                                                      \
-  } while (false)
-
-//------------------------------------------------------------------------------
 int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
                                                  vtkPenumbraSceneGeometry* geometry,
                                                  vtkPenumbraViewSamples* samples,
@@ -2401,6 +2383,18 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
                                                  int count)
 {
   Internals& impl = *this->Impl;
+  // A failure reports the error and leaves every output empty.
+  auto fail = [&](const std::string& text) {
+    vtkErrorMacro(<< "shadow volumes: " << text);
+    for (int failed = 0; failed < count; ++failed)
+    {
+      if (visibilities[failed])
+      {
+        visibilities[failed]->SetNumberOfTuples(0);
+      }
+    }
+    return 0;
+  };
   Internals::Group group;
   group.Renderer = renderer;
   group.Geometry = geometry;
@@ -2413,7 +2407,7 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
   }
   if (const char* error = Internals::ReadShared(group))
   {
-    PENUMBRA_SV_FAIL(error);
+    return fail(error);
   }
   impl.UpdateConnectivity(*this, group);
   impl.PrepareLights(*this, group);
@@ -2425,11 +2419,11 @@ int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
   impl.ChooseMethods(*this, group);
   if (const char* error = impl.ReadyGL(group))
   {
-    PENUMBRA_SV_FAIL(error);
+    return fail(error);
   }
   if (!impl.CountInStencil(*this, group))
   {
-    PENUMBRA_SV_FAIL("a DEPTH32F_STENCIL8 + RGBA8 framebuffer is not supported here");
+    return fail("a DEPTH32F_STENCIL8 + RGBA8 framebuffer is not supported here");
   }
   this->StencilTimeMs += ElapsedMs(group.StencilStart);
   return impl.FinishLights(*this, group);

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
 #include <stdexcept>
@@ -33,102 +34,160 @@ struct OptionError : std::runtime_error
   using std::runtime_error::runtime_error;
 };
 
-// Reads the options a technique knows and rejects the rest, so a typo never silently falls
-// back to a default.
+enum class OptionType
+{
+  Integer,
+  Number,
+  Boolean,
+  Choice
+};
+
+// One row of a technique's option table: everything validation, --list-techniques, the
+// scene schema and the Python docstrings say about the option comes from here (the pbrt-v4
+// rule: each option and its default named once).
+struct OptionSpec
+{
+  const char* Name;
+  OptionType Type;
+  json Default;
+  double Min = 0.0; // Integer, Number: inclusive range
+  double Max = 0.0;
+  std::vector<json> Values = {}; // Choice: the strings; Integer: the only values allowed, if any
+  const char* Unit = "";
+  const char* Doc = "";
+};
+
+using OptionTable = std::vector<OptionSpec>;
+
+const char* TypeName(OptionType type)
+{
+  switch (type)
+  {
+    case OptionType::Integer:
+      return "integer";
+    case OptionType::Number:
+      return "number";
+    case OptionType::Boolean:
+      return "boolean";
+    case OptionType::Choice:
+      return "choice";
+  }
+  return "";
+}
+
+std::string JoinValues(const std::vector<json>& values)
+{
+  std::string text;
+  for (const auto& v : values)
+  {
+    text += (text.empty() ? "" : ", ") + v.dump();
+  }
+  return text;
+}
+
+// "64..8192", "0, 4, 8, 16, 32", "\"cpu\", \"gpu\"" or "true, false".
+std::string RangeText(const OptionSpec& spec)
+{
+  switch (spec.Type)
+  {
+    case OptionType::Integer:
+      return spec.Values.empty() ? json(static_cast<long long>(spec.Min)).dump() + ".." +
+          json(static_cast<long long>(spec.Max)).dump()
+                                 : JoinValues(spec.Values);
+    case OptionType::Number:
+      return json(spec.Min).dump() + ".." + json(spec.Max).dump();
+    case OptionType::Boolean:
+      return "true, false";
+    case OptionType::Choice:
+      return JoinValues(spec.Values);
+  }
+  return "";
+}
+
+// Checks `j` against a technique's table: known names only, each value of its type and in its
+// range. Values are then read by name; an absent option gives the table's default.
 class Options
 {
 public:
-  explicit Options(const json& j)
+  Options(const json& j, const OptionTable& table)
     : J(j)
+    , Table(table)
   {
-  }
-
-  int Integer(const char* key, int def, int lo, int hi)
-  {
-    this->Known.emplace_back(key);
-    if (!this->J.contains(key))
+    for (const auto& spec : table)
     {
-      return def;
-    }
-    const json& v = this->J.at(key);
-    if (!v.is_number_integer() || v.get<long long>() < lo || v.get<long long>() > hi)
-    {
-      throw OptionError(std::string(key) + ": expected an integer in [" + std::to_string(lo) +
-        ", " + std::to_string(hi) + "], got " + v.dump());
-    }
-    return static_cast<int>(v.get<long long>());
-  }
-
-  double Number(const char* key, double def, double lo, double hi)
-  {
-    this->Known.emplace_back(key);
-    if (!this->J.contains(key))
-    {
-      return def;
-    }
-    const json& v = this->J.at(key);
-    if (!v.is_number() || !(v.get<double>() >= lo) || !(v.get<double>() <= hi))
-    {
-      throw OptionError(std::string(key) + ": expected a number in [" + json(lo).dump() + ", " +
-        json(hi).dump() + "], got " + v.dump());
-    }
-    return v.get<double>();
-  }
-
-  bool Boolean(const char* key, bool def)
-  {
-    this->Known.emplace_back(key);
-    if (!this->J.contains(key))
-    {
-      return def;
-    }
-    const json& v = this->J.at(key);
-    if (!v.is_boolean())
-    {
-      throw OptionError(std::string(key) + ": expected true or false, got " + v.dump());
-    }
-    return v.get<bool>();
-  }
-
-  // One of `choices` (index returned); the first choice is the default.
-  int Choice(const char* key, const std::vector<std::string>& choices)
-  {
-    this->Known.emplace_back(key);
-    if (!this->J.contains(key))
-    {
-      return 0;
-    }
-    const json& v = this->J.at(key);
-    for (size_t i = 0; v.is_string() && i < choices.size(); ++i)
-    {
-      if (v.get<std::string>() == choices[i])
+      if (j.contains(spec.Name))
       {
-        return static_cast<int>(i);
+        Check(spec, j.at(spec.Name));
       }
     }
-    std::string allowed;
-    for (const auto& c : choices)
+    this->RejectUnknown();
+  }
+
+  int Integer(const char* key) const { return static_cast<int>(this->Value(key).get<long long>()); }
+  double Number(const char* key) const { return this->Value(key).get<double>(); }
+  bool Boolean(const char* key) const { return this->Value(key).get<bool>(); }
+
+  // The index of the chosen value in the option's choices.
+  int Choice(const char* key) const
+  {
+    const json& v = this->Value(key);
+    const auto& values = this->Spec(key).Values;
+    return static_cast<int>(std::find(values.begin(), values.end(), v) - values.begin());
+  }
+
+private:
+  static void Check(const OptionSpec& spec, const json& v)
+  {
+    const std::string key = spec.Name;
+    switch (spec.Type)
     {
-      allowed += (allowed.empty() ? "\"" : ", \"") + c + "\"";
+      case OptionType::Integer:
+        if (!v.is_number_integer() || v.get<long long>() < spec.Min ||
+          v.get<long long>() > spec.Max)
+        {
+          throw OptionError(key + ": expected an integer in [" + json(static_cast<long long>(spec.Min)).dump() +
+            ", " + json(static_cast<long long>(spec.Max)).dump() + "], got " + v.dump());
+        }
+        if (!spec.Values.empty() &&
+          std::find(spec.Values.begin(), spec.Values.end(), v) == spec.Values.end())
+        {
+          throw OptionError(key + ": expected one of " + JoinValues(spec.Values) + ", got " + v.dump());
+        }
+        return;
+      case OptionType::Number:
+        if (!v.is_number() || !(v.get<double>() >= spec.Min) || !(v.get<double>() <= spec.Max))
+        {
+          throw OptionError(key + ": expected a number in [" + json(spec.Min).dump() + ", " +
+            json(spec.Max).dump() + "], got " + v.dump());
+        }
+        return;
+      case OptionType::Boolean:
+        if (!v.is_boolean())
+        {
+          throw OptionError(key + ": expected true or false, got " + v.dump());
+        }
+        return;
+      case OptionType::Choice:
+        if (std::find(spec.Values.begin(), spec.Values.end(), v) == spec.Values.end())
+        {
+          throw OptionError(key + ": expected one of " + JoinValues(spec.Values) + ", got " + v.dump());
+        }
+        return;
     }
-    throw OptionError(std::string(key) + ": expected one of " + allowed + ", got " + v.dump());
   }
 
   void RejectUnknown() const
   {
     for (auto it = this->J.begin(); it != this->J.end(); ++it)
     {
-      bool known = false;
-      for (const auto& k : this->Known)
-      {
-        known = known || k == it.key();
-      }
+      const bool known = std::any_of(this->Table.begin(), this->Table.end(),
+        [&](const OptionSpec& spec) { return it.key() == spec.Name; });
       if (!known)
       {
         std::string allowed;
-        for (const auto& k : this->Known)
+        for (const auto& spec : this->Table)
         {
-          allowed += (allowed.empty() ? "" : ", ") + k;
+          allowed += (allowed.empty() ? "" : ", ") + std::string(spec.Name);
         }
         throw OptionError(it.key() + ": unknown option" +
           (allowed.empty() ? std::string(" (this technique has none)")
@@ -137,9 +196,26 @@ public:
     }
   }
 
-private:
+  const OptionSpec& Spec(const char* key) const
+  {
+    for (const auto& spec : this->Table)
+    {
+      if (std::strcmp(spec.Name, key) == 0)
+      {
+        return spec;
+      }
+    }
+    throw std::logic_error(std::string("option not in the technique's table: ") + key);
+  }
+
+  const json& Value(const char* key) const
+  {
+    const OptionSpec& spec = this->Spec(key);
+    return this->J.contains(key) ? this->J.at(key) : spec.Default;
+  }
+
   const json& J;
-  std::vector<std::string> Known;
+  const OptionTable& Table;
 };
 
 // A pass dropped while it still holds GL objects leaks them (VTK's shadow baker even reports
@@ -168,22 +244,25 @@ struct Technique
 {
   const char* Name;
   const char* Description;
-  std::function<void(vtkRenderer*, Options&)> Install;
+  OptionTable Table;
+  std::function<void(vtkRenderer*, const Options&)> Install;
 };
 
-void InstallNone(vtkRenderer* ren, Options& opts)
+void InstallNone(vtkRenderer* ren, const Options&)
 {
-  opts.RejectUnknown();
   InstallPass(ren, nullptr);
 }
 
-void InstallVTKShadowMap(vtkRenderer* ren, Options& opts)
+const OptionTable VTKShadowMapOptions = {
+  { "resolution", OptionType::Integer, 1024, 16, 16384, {}, "texels",
+    "shadow map texels per side" },
+};
+
+void InstallVTKShadowMap(vtkRenderer* ren, const Options& opts)
 {
-  const int resolution = opts.Integer("resolution", 1024, 16, 16384);
-  opts.RejectUnknown();
   // The composition of VTK's own TestShadowMapPass: bake the maps, then shade with them.
   vtkNew<vtkShadowMapPass> shadows;
-  shadows->GetShadowMapBakerPass()->SetResolution(resolution);
+  shadows->GetShadowMapBakerPass()->SetResolution(opts.Integer("resolution"));
   vtkNew<vtkRenderPassCollection> passes;
   passes->AddItem(shadows->GetShadowMapBakerPass());
   passes->AddItem(shadows);
@@ -196,130 +275,193 @@ void InstallVTKShadowMap(vtkRenderer* ren, Options& opts)
 
 // Light samples per axis for area/linear lights: 0 keeps the light's own k; otherwise one of
 // the values Wang et al. 2014 measure, so GEARS and the ray tracer can be compared at equal k.
-int SamplesOption(Options& opts)
-{
-  const int k = opts.Integer("samples", 0, 0, 32);
-  if (k != 0 && k != 4 && k != 8 && k != 16 && k != 32)
-  {
-    throw OptionError("samples: expected 0 (the light's own) or one of 4, 8, 16, 32, got " +
-      std::to_string(k));
-  }
-  return k;
-}
+const OptionSpec SamplesOption = { "samples", OptionType::Integer, 0, 0, 32, { 0, 4, 8, 16, 32 },
+  "samples per axis",
+  "light samples per axis of area and linear lights (k x k, at the light's cell centres); 0 "
+  "keeps the light's own `samples`" };
 
-void InstallRayTraced(vtkRenderer* ren, Options& opts)
+const OptionTable RayTracedOptions = { SamplesOption };
+
+void InstallRayTraced(vtkRenderer* ren, const Options& opts)
 {
-  const int samples = SamplesOption(opts);
-  opts.RejectUnknown();
   vtkNew<vtkPenumbraRayTracedShadows> technique;
-  technique->SetSamplesPerAxis(samples);
+  technique->SetSamplesPerAxis(opts.Integer("samples"));
   InstallShadowPass(ren, technique);
 }
 
-void InstallConservative(vtkRenderer* ren, Options& opts)
+const OptionTable ConservativeOptions = {
+  { "resolution", OptionType::Integer, 1024, 64, 8192, {}, "texels",
+    "conservative shadow map texels per side (per cube face for point lights)" },
+  { "layers", OptionType::Integer, 2, 2, 4, {}, "",
+    "depth-peeled map layers; more layers let more samples look past their own and "
+    "neighbouring triangles, but cost more than the rays they save on llvmpipe" },
+  { "map", OptionType::Choice, "cpu", 0, 0, { "cpu", "gpu" }, "",
+    "who builds the map: \"cpu\", exact conservative rasterization in double precision with "
+    "vtkSMPTools (several times faster on llvmpipe), or \"gpu\", a geometry-shader program with "
+    "one draw per layer, read back; both are exact" },
+};
+
+void InstallConservative(vtkRenderer* ren, const Options& opts)
 {
-  const int resolution = opts.Integer("resolution", 1024, 64, 8192);
-  const int layers = opts.Integer("layers", 2, 2, 4);
-  const int map = opts.Choice("map", { "cpu", "gpu" });
-  opts.RejectUnknown();
   vtkNew<vtkPenumbraConservativeShadows> technique;
-  technique->SetResolution(resolution);
-  technique->SetLayers(layers);
-  technique->SetMapBuilder(map == 1 ? vtkPenumbraConservativeShadows::MAP_GPU
-                                    : vtkPenumbraConservativeShadows::MAP_CPU);
+  technique->SetResolution(opts.Integer("resolution"));
+  technique->SetLayers(opts.Integer("layers"));
+  technique->SetMapBuilder(opts.Choice("map") == 1 ? vtkPenumbraConservativeShadows::MAP_GPU
+                                                   : vtkPenumbraConservativeShadows::MAP_CPU);
   InstallShadowPass(ren, technique);
 }
 
-// The options shadowmap and resm share: everything but how big the maps are.
-void ReadShadowMapOptions(Options& opts, vtkPenumbraShadowMapShadows* technique)
+const OptionTable ShadowMapOptions = {
+  { "resolution", OptionType::Integer, 2048, 64, 8192, {}, "texels",
+    "texels per side (per cube face or paraboloid hemisphere for point lights)" },
+  { "filter", OptionType::Choice, "none", 0, 0, { "none", "pcf" }, "",
+    "\"none\": the nearest texel, 0/1 like a hardware compare; \"pcf\": percentage-closer "
+    "filtering, the mean of the compared taps (fractional visibility at shadow edges)" },
+  { "pcf_kernel", OptionType::Integer, 3, 3, 9, { 3, 5, 7, 9 }, "texels",
+    "odd kernel width of \"pcf\"" },
+  { "bias", OptionType::Number, 1e-4, 0.0, 0.1, {}, "fraction of the depth range",
+    "constant depth bias as a fraction of the light view's depth range (orthographic: the "
+    "fitted receiver depth span; perspective/paraboloid: the farthest receiver's distance)" },
+  { "slope_bias", OptionType::Number, 1.0, 0.0, 16.0, {}, "texel footprints",
+    "slope-scaled bias in texel footprints (times 1 + PCF radius; the slope's tangent is capped "
+    "at 1000)" },
+  { "depth", OptionType::Choice, "linear", 0, 0, { "linear", "midpoint" }, "",
+    "\"linear\": nearest surface; \"midpoint\": Woo's midpoint of the first two surfaces, one "
+    "more depth-peeled pass per view" },
+  { "point", OptionType::Choice, "cube", 0, 0, { "cube", "paraboloid" }, "",
+    "point lights: \"cube\", six 90-degree faces (only those holding receivers are rendered), "
+    "or \"paraboloid\", two dual-paraboloid hemispheres with exact per-sample projection" },
+  { "lookup", OptionType::Choice, "gpu", 0, 0, { "gpu", "cpu" }, "",
+    "\"gpu\": a fragment program compares each sample with `sampler2DShadow`, the maps never "
+    "leave the GPU; \"cpu\": maps read back and compared in double precision with vtkSMPTools "
+    "(same answers up to float rounding)" },
+};
+
+// Everything shadowmap and resm share but how big the maps are.
+void ReadShadowMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* technique)
 {
-  const int filter = opts.Choice("filter", { "none", "pcf" });
-  const int kernel = opts.Integer("pcf_kernel", 3, 3, 9);
-  if (kernel % 2 == 0)
-  {
-    throw OptionError("pcf_kernel: expected an odd integer in [3, 9], got " + std::to_string(kernel));
-  }
-  const double bias = opts.Number("bias", 1e-4, 0.0, 0.1);
-  const double slopeBias = opts.Number("slope_bias", 1.0, 0.0, 16.0);
-  const int depth = opts.Choice("depth", { "linear", "midpoint" });
-  const int point = opts.Choice("point", { "cube", "paraboloid" });
-  const int lookup = opts.Choice("lookup", { "gpu", "cpu" });
-  technique->SetFilter(filter == 1 ? vtkPenumbraShadowMapShadows::FILTER_PCF
-                                   : vtkPenumbraShadowMapShadows::FILTER_NONE);
-  technique->SetPCFKernel(kernel);
-  technique->SetBias(bias);
-  technique->SetSlopeBias(slopeBias);
-  technique->SetDepthMode(depth == 1 ? vtkPenumbraShadowMapShadows::DEPTH_MIDPOINT
-                                     : vtkPenumbraShadowMapShadows::DEPTH_LINEAR);
-  technique->SetPointMode(point == 1 ? vtkPenumbraShadowMapShadows::POINT_PARABOLOID
-                                     : vtkPenumbraShadowMapShadows::POINT_CUBE);
-  technique->SetLookup(lookup == 1 ? vtkPenumbraShadowMapShadows::LOOKUP_CPU
-                                   : vtkPenumbraShadowMapShadows::LOOKUP_GPU);
+  technique->SetResolution(opts.Integer("resolution"));
+  technique->SetFilter(opts.Choice("filter") == 1 ? vtkPenumbraShadowMapShadows::FILTER_PCF
+                                                  : vtkPenumbraShadowMapShadows::FILTER_NONE);
+  technique->SetPCFKernel(opts.Integer("pcf_kernel"));
+  technique->SetBias(opts.Number("bias"));
+  technique->SetSlopeBias(opts.Number("slope_bias"));
+  technique->SetDepthMode(opts.Choice("depth") == 1 ? vtkPenumbraShadowMapShadows::DEPTH_MIDPOINT
+                                                    : vtkPenumbraShadowMapShadows::DEPTH_LINEAR);
+  technique->SetPointMode(opts.Choice("point") == 1 ? vtkPenumbraShadowMapShadows::POINT_PARABOLOID
+                                                    : vtkPenumbraShadowMapShadows::POINT_CUBE);
+  technique->SetLookup(opts.Choice("lookup") == 1 ? vtkPenumbraShadowMapShadows::LOOKUP_CPU
+                                                  : vtkPenumbraShadowMapShadows::LOOKUP_GPU);
 }
 
-void InstallShadowMap(vtkRenderer* ren, Options& opts)
+void InstallShadowMap(vtkRenderer* ren, const Options& opts)
 {
   vtkNew<vtkPenumbraShadowMapShadows> technique;
-  technique->SetResolution(opts.Integer("resolution", 2048, 64, 8192));
   ReadShadowMapOptions(opts, technique);
-  opts.RejectUnknown();
   InstallShadowPass(ren, technique);
 }
 
-void InstallRESM(vtkRenderer* ren, Options& opts)
+// RESM: shadowmap's options (resolution then only sizes point lights' faces) and the
+// estimate's.
+OptionTable RESMTable()
+{
+  OptionTable table = ShadowMapOptions;
+  table[0].Doc = "point lights only (not estimated): texels per cube face or paraboloid "
+                 "hemisphere";
+  table.push_back({ "max_resolution", OptionType::Integer, 4096, 64, 16384, {}, "texels",
+    "largest map side the estimate may choose" });
+  table.push_back({ "coverage", OptionType::Number, 0.99, 0.5, 1.0, {}, "",
+    "share of the view's 4 x 4-sample tiles whose samples get the resolution they need (1: the "
+    "largest need, which one grazing sample drives to max_resolution)" });
+  table.push_back({ "analysis_step", OptionType::Integer, 2, 1, 4, {}, "samples",
+    "the estimate analyses every n-th sample per axis (n^2 times less work)" });
+  return table;
+}
+const OptionTable RESMOptions = RESMTable();
+
+void InstallRESM(vtkRenderer* ren, const Options& opts)
 {
   vtkNew<vtkPenumbraShadowMapShadows> technique;
+  ReadShadowMapOptions(opts, technique);
   technique->SetResolutionMode(vtkPenumbraShadowMapShadows::RESOLUTION_ESTIMATED);
-  technique->SetMaxResolution(opts.Integer("max_resolution", 4096, 64, 16384));
-  technique->SetCoverage(opts.Number("coverage", 0.99, 0.5, 1.0));
-  technique->SetAnalysisStep(opts.Integer("analysis_step", 2, 1, 4));
-  // Point lights are not estimated: their cube faces or hemispheres keep this size.
-  technique->SetResolution(opts.Integer("resolution", 2048, 64, 8192));
-  ReadShadowMapOptions(opts, technique);
-  opts.RejectUnknown();
+  technique->SetMaxResolution(opts.Integer("max_resolution"));
+  technique->SetCoverage(opts.Number("coverage"));
+  technique->SetAnalysisStep(opts.Integer("analysis_step"));
   InstallShadowPass(ren, technique);
 }
 
-void InstallVolumes(vtkRenderer* ren, Options& opts)
+const OptionTable VolumesOptions = {
+  { "silhouettes", OptionType::Choice, "cpu", 0, 0, { "cpu", "gpu", "none" }, "",
+    "\"cpu\": silhouette edges from OpenMesh half-edges, in double; \"gpu\": a geometry shader "
+    "with triangle adjacency finds and extrudes them (Brabec 2003, ch. 9); \"none\": one volume "
+    "per triangle for every caster, the brute-force baseline" },
+  { "method", OptionType::Choice, "auto", 0, 0, { "auto", "zfail", "zpass" }, "",
+    "\"auto\": z-pass when the camera provably lies outside every volume, else z-fail; "
+    "\"zfail\": always (caps and depth clamp make it correct with the camera inside a volume); "
+    "\"zpass\": always, wrong where the camera is inside a volume (for comparison only)" },
+  { "cull", OptionType::Boolean, true, 0, 0, {}, "",
+    "skip casters whose volumes cannot reach the box of the light-facing samples" },
+  { "cap_offset", OptionType::Number, 1.0 / 131072.0, 0.0, 1e-3, {}, "fraction of eye depth",
+    "how far light caps are pushed back (default 2^-17), so that a sample never counts its own "
+    "caster surface" },
+  { "resolve", OptionType::Boolean, true, 0, 0, {}, "",
+    "ray trace the samples next to a change of the stencil result, next to background or "
+    "facing-away samples, and those the light grazes (cosine below 1e-3); false gives the pure "
+    "stencil answer" },
+  { "measure_fill", OptionType::Boolean, false, 0, 0, {}, "",
+    "draw the volumes once more without depth test to count their fragments (the bench's fill "
+    "column)" },
+  { "lights_per_mask", OptionType::Integer, 4, 1, 4, {}, "lights",
+    "lights counted into one RGBA mask before it is read back (Brabec 2003, ch. 8); only speed "
+    "depends on it" },
+};
+
+void InstallVolumes(vtkRenderer* ren, const Options& opts)
 {
-  const int silhouettes = opts.Choice("silhouettes", { "cpu", "gpu", "none" });
-  const int method = opts.Choice("method", { "auto", "zfail", "zpass" });
-  const bool cull = opts.Boolean("cull", true);
-  const double capOffset = opts.Number("cap_offset", 1.0 / 131072.0, 0.0, 1e-3);
-  const bool resolve = opts.Boolean("resolve", true);
-  const bool measureFill = opts.Boolean("measure_fill", false);
-  const int lightsPerMask = opts.Integer("lights_per_mask", 4, 1, 4);
-  opts.RejectUnknown();
+  const int silhouettes = opts.Choice("silhouettes");
+  const int method = opts.Choice("method");
   vtkNew<vtkPenumbraShadowVolumeShadows> technique;
   technique->SetSilhouettes(silhouettes != 2);
   technique->SetGPUSilhouettes(silhouettes == 1);
   technique->SetMethod(method == 1 ? vtkPenumbraShadowVolumeShadows::METHOD_ZFAIL
       : method == 2                ? vtkPenumbraShadowVolumeShadows::METHOD_ZPASS
                                    : vtkPenumbraShadowVolumeShadows::METHOD_AUTO);
-  technique->SetCull(cull);
-  technique->SetCapOffset(capOffset);
-  technique->SetResolve(resolve);
-  technique->SetMeasureFill(measureFill);
-  technique->SetLightsPerMask(lightsPerMask);
+  technique->SetCull(opts.Boolean("cull"));
+  technique->SetCapOffset(opts.Number("cap_offset"));
+  technique->SetResolve(opts.Boolean("resolve"));
+  technique->SetMeasureFill(opts.Boolean("measure_fill"));
+  technique->SetLightsPerMask(opts.Integer("lights_per_mask"));
   InstallShadowPass(ren, technique);
 }
 
-void InstallGears(vtkRenderer* ren, Options& opts)
+const OptionTable GearsOptions = {
+  SamplesOption,
+  { "grid", OptionType::Integer, 128, 1, 4096, {}, "cells per side",
+    "grid cells per side over the projected view samples; only speed depends on it" },
+  { "camera_distance", OptionType::Number, 1.0, 0.01, 100.0, {}, "light diagonals",
+    "distance of the grid camera behind the light centre; only the tightness of the blocker "
+    "lists depends on it" },
+  { "trace_threshold", OptionType::Number, 0.5, 0.0, 1e6, {}, "triangles per light sample",
+    "a cell whose blocker list is longer than this times k^2 has its samples ray traced whole "
+    "instead of masked; 0 masks every cell, as the compute path always does; only speed "
+    "depends on it" },
+  { "path", OptionType::Choice, "auto", 0, 0, { "auto", "cpu", "gpu" }, "",
+    "where the per-sample masks are built: \"auto\" (the path measured faster, the CPU on Mesa "
+    "llvmpipe), \"cpu\" (vtkSMPTools) or \"gpu\" (a GL 4.3 compute shader, k <= 32); the same "
+    "visibility bit for bit, and the CPU answers where the compute path cannot run" },
+};
+
+void InstallGears(vtkRenderer* ren, const Options& opts)
 {
-  const int samples = SamplesOption(opts);
-  const int grid = opts.Integer("grid", 128, 1, 4096);
-  const double cameraDistance = opts.Number("camera_distance", 1.0, 0.01, 100.0);
-  const double traceThreshold = opts.Number("trace_threshold", 0.5, 0.0, 1e6);
-  const int path = opts.Choice("path", { "auto", "cpu", "gpu" });
-  opts.RejectUnknown();
+  const int path = opts.Choice("path");
   vtkNew<vtkPenumbraGearsShadows> technique;
   technique->SetPath(path == 2 ? vtkPenumbraGearsShadows::PATH_GPU
       : path == 1              ? vtkPenumbraGearsShadows::PATH_CPU
                                : vtkPenumbraGearsShadows::PATH_AUTO);
-  technique->SetSamplesPerAxis(samples);
-  technique->SetGridResolution(grid);
-  technique->SetCameraDistanceFactor(cameraDistance);
-  technique->SetTraceThreshold(traceThreshold);
+  technique->SetSamplesPerAxis(opts.Integer("samples"));
+  technique->SetGridResolution(opts.Integer("grid"));
+  technique->SetCameraDistanceFactor(opts.Number("camera_distance"));
+  technique->SetTraceThreshold(opts.Number("trace_threshold"));
   InstallShadowPass(ren, technique);
 }
 
@@ -335,32 +477,40 @@ void InstallGears(vtkRenderer* ren, Options& opts)
 const std::vector<Technique>& Registry()
 {
   static const std::vector<Technique> techniques = {
-    { "none", "plain VTK rendering without shadows", InstallNone },
-    { "vtk-shadowmap", "VTK's vtkShadowMapPass (exponential shadow map; peer for comparison)",
-      InstallVTKShadowMap },
-    { "raytraced", "exact shadows ray traced on the CPU for every view sample (Embree reference)",
-      InstallRayTraced },
+    { "none", "plain VTK rendering without shadows", {}, InstallNone },
+    { "vtk-shadowmap",
+      "VTK's vtkShadowMapPass (exponential shadow map; directional lights and spot lights under "
+      "90 degrees, opaque props only; peer for comparison)",
+      VTKShadowMapOptions, InstallVTKShadowMap },
+    { "raytraced",
+      "exact shadows from every light type, ray traced on the CPU (Embree) for every view sample "
+      "and light sample",
+      RayTracedOptions, InstallRayTraced },
     { "conservative",
-      "exact hard shadows: conservative shadow map classifies, CPU rays resolve the uncertain "
-      "samples (Hertel et al. 2009)",
-      InstallConservative },
+      "exact hard shadows from point, spot and directional lights: a conservative shadow map "
+      "classifies the samples as lit, shadowed or uncertain, CPU rays resolve the uncertain ones "
+      "(Hertel et al. 2009)",
+      ConservativeOptions, InstallConservative },
     { "shadowmap",
-      "practical shadow maps (Brabec 2003): linear depth, fitted to the visible receivers, PCF, "
-      "cube or dual-paraboloid maps for point lights",
-      InstallShadowMap },
+      "practical shadow maps (Brabec 2003, ch. 4-6): linear 32-bit float depth fitted to the "
+      "visible receivers with depth clamping, PCF, Woo's midpoint depth, cube or dual-paraboloid "
+      "maps for point lights; point, spot and directional lights",
+      ShadowMapOptions, InstallShadowMap },
     { "resm",
-      "shadow maps at the resolution the view samples need (RESM, Ferko 2013): tight fit, "
-      "per-axis size from the samples' light-space footprints, up to max_resolution",
-      InstallRESM },
+      "shadow maps at the resolution the view samples need (RESM, Ferko 2013): the tight fit of "
+      "shadowmap, per light and axis the size at which a texel covers at most a pixel, up to "
+      "max_resolution; directional and spot lights (point lights: shadowmap's fixed size)",
+      RESMOptions, InstallRESM },
     { "volumes",
       "exact hard shadows with stencil shadow volumes (Brabec 2003, ch. 3, 8, 9): OpenMesh "
       "silhouettes for closed meshes, per-triangle volumes otherwise, z-fail with caps and "
-      "depth clamp, four lights per RGBA mask",
-      InstallVolumes },
+      "depth clamp, four lights per RGBA mask; point, spot and directional lights",
+      VolumesOptions, InstallVolumes },
     { "gears",
       "exact soft shadows from area and linear lights (GEARS, Wang et al. 2014): per-cell lists of "
-      "potential blockers, k x k light-sample masks on the CPU",
-      InstallGears },
+      "potential blockers, k x k light-sample masks built on the CPU or by a compute shader; "
+      "other lights are ray traced",
+      GearsOptions, InstallGears },
   };
   return techniques;
 }
@@ -403,6 +553,109 @@ bool vtkPenumbraTechniques::HasTechnique(const char* name)
   return Find(name) != nullptr;
 }
 
+namespace
+{
+// Row `index` of technique `name`'s option table, or nullptr.
+const OptionSpec* FindOption(const char* technique, int index)
+{
+  const Technique* t = Find(technique);
+  return (t && index >= 0 && index < static_cast<int>(t->Table.size()))
+    ? &t->Table[static_cast<size_t>(index)]
+    : nullptr;
+}
+
+std::string MarkdownCell(std::string text)
+{
+  for (size_t at = text.find('|'); at != std::string::npos; at = text.find('|', at + 2))
+  {
+    text.replace(at, 1, "\\|");
+  }
+  return text;
+}
+}
+
+int vtkPenumbraTechniques::GetNumberOfOptions(const char* technique)
+{
+  const Technique* t = Find(technique);
+  return t ? static_cast<int>(t->Table.size()) : 0;
+}
+
+const char* vtkPenumbraTechniques::GetOptionName(const char* technique, int index)
+{
+  const OptionSpec* spec = FindOption(technique, index);
+  return spec ? spec->Name : nullptr;
+}
+
+const char* vtkPenumbraTechniques::GetOptionType(const char* technique, int index)
+{
+  const OptionSpec* spec = FindOption(technique, index);
+  return spec ? TypeName(spec->Type) : nullptr;
+}
+
+std::string vtkPenumbraTechniques::GetOptionDefault(const char* technique, int index)
+{
+  const OptionSpec* spec = FindOption(technique, index);
+  return spec ? spec->Default.dump() : std::string();
+}
+
+std::string vtkPenumbraTechniques::GetOptionRange(const char* technique, int index)
+{
+  const OptionSpec* spec = FindOption(technique, index);
+  return spec ? RangeText(*spec) : std::string();
+}
+
+const char* vtkPenumbraTechniques::GetOptionUnit(const char* technique, int index)
+{
+  const OptionSpec* spec = FindOption(technique, index);
+  return spec ? spec->Unit : nullptr;
+}
+
+const char* vtkPenumbraTechniques::GetOptionDoc(const char* technique, int index)
+{
+  const OptionSpec* spec = FindOption(technique, index);
+  return spec ? spec->Doc : nullptr;
+}
+
+std::string vtkPenumbraTechniques::GetTechniqueList()
+{
+  std::string text;
+  for (const auto& t : Registry())
+  {
+    text += std::string(t.Name) + "\t" + t.Description + "\n";
+    for (const auto& spec : t.Table)
+    {
+      text += "    " + std::string(spec.Name) + " (" + TypeName(spec.Type) + "; default " +
+        spec.Default.dump() + "; " + RangeText(spec) +
+        (*spec.Unit ? std::string("; ") + spec.Unit : "") + "): " + spec.Doc + "\n";
+    }
+  }
+  return text;
+}
+
+std::string vtkPenumbraTechniques::GetOptionsMarkdown()
+{
+  std::string text = "<!-- Generated by `penumbra-render --options-markdown` from the option tables in\n"
+                     "     Modules/Rendering/vtkPenumbraTechniques.cxx: edit those, then regenerate. -->\n";
+  for (const auto& t : Registry())
+  {
+    text += "\n### `" + std::string(t.Name) + "`\n\n" + t.Description + ".\n\n";
+    if (t.Table.empty())
+    {
+      text += "No options.\n";
+      continue;
+    }
+    text += "| option | type | default | range or choices | unit | meaning |\n"
+            "|---|---|---|---|---|---|\n";
+    for (const auto& spec : t.Table)
+    {
+      text += "| `" + std::string(spec.Name) + "` | " + TypeName(spec.Type) + " | " +
+        MarkdownCell(spec.Default.dump()) + " | " + MarkdownCell(RangeText(spec)) + " | " +
+        (*spec.Unit ? spec.Unit : "—") + " | " + MarkdownCell(spec.Doc) + " |\n";
+    }
+  }
+  return text;
+}
+
 int vtkPenumbraTechniques::Apply(vtkRenderer* renderer, const char* name, const char* options)
 {
   this->ErrorMessage.clear();
@@ -430,7 +683,7 @@ int vtkPenumbraTechniques::Apply(vtkRenderer* renderer, const char* name, const 
     {
       throw OptionError("options must be a JSON object");
     }
-    Options opts(parsed);
+    const Options opts(parsed, technique->Table);
     technique->Install(renderer, opts);
   }
   catch (const OptionError& e)

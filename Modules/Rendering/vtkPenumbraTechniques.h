@@ -7,50 +7,11 @@
  * `penumbra-render --technique` switch and the benchmark all go through Apply(), so a new
  * technique becomes available everywhere by registering it in this one place.
  *
- * Registered techniques:
- *  - `none`: plain VTK rendering, no shadows. No options.
- *  - `vtk-shadowmap`: VTK's own vtkShadowMapPass (exponential shadow maps; directional
- *    lights and spot lights under 90 degrees only; opaque geometry only). Options:
- *    `resolution` (integer texels per side, default 1024, 16..16384).
- *  - `raytraced`: vtkPenumbraShadowPass with vtkPenumbraRayTracedShadows: exact shadows from
- *    every light type, one CPU ray per view sample and light sample. Options: `samples`
- *    (light samples per axis of area/linear lights: 0, default, keeps the light's own k, or
- *    one of 4, 8, 16, 32).
- *  - `conservative`: vtkPenumbraShadowPass with vtkPenumbraConservativeShadows (Hertel
- *    et al. 2009): exact hard shadows from point, spot and directional lights; a
- *    conservative shadow map classifies the samples and only the uncertain ones are ray traced.
- *    Options: `resolution` (integer CSM texels per side, per cube face for point lights, default
- *    1024, 64..8192), `layers` (integer depth-peeled map layers, default 2, 2..4; more
- *    layers let more samples look past their own and neighbouring triangles) and `map`
- *    ("cpu", default: exact double-precision conservative rasterization with vtkSMPTools,
- *    or "gpu": a geometry-shader program).
- *  - `shadowmap`: vtkPenumbraShadowPass with vtkPenumbraShadowMapShadows (Brabec 2003,
- *    ch. 4-6): classical depth-compare shadow maps with linear 32-bit float depth, fitted to the
- *    visible receivers, depth clamping. Options: `resolution` (integer texels per side, per
- *    cube face / hemisphere for point lights, default 2048, 64..8192); `filter` ("none",
- *    default: one nearest texel, 0/1 like a hardware compare; or "pcf": percentage-closer
- *    filtering, fractional visibility); `pcf_kernel` (odd integer kernel width in texels,
- *    default 3, 3..9, used with "pcf"); `bias` (constant bias as a fraction of the light
- *    view's depth range, i.e. unit-free, default 1e-4, 0..0.1); `slope_bias` (slope-scaled
- *    bias in texel footprints, default 1.0, 0..16); `depth` ("linear", default, or
- *    "midpoint": Woo's midpoint of the first two surfaces, one more pass per view);
- *    `point` ("cube", default: six faces, or "paraboloid": two dual-paraboloid hemispheres,
- *    exact per-sample projection); `lookup` ("gpu", default: hardware depth compare, or
- *    "cpu": maps read back and compared in double precision).
- *  - `volumes`: vtkPenumbraShadowPass with vtkPenumbraShadowVolumeShadows (Brabec 2003,
- *    ch. 3, 8, 9): exact hard shadows with stencil shadow volumes. Options: `silhouettes`
- *    ("cpu", default: OpenMesh; "gpu": geometry shader with triangle adjacency; "none":
- *    per-triangle volumes), `method` ("auto", default, "zfail" or "zpass"), `cull` (boolean,
- *    default true: skip casters that cannot shadow a visible receiver), `resolve` (boolean, default
- *    true: ray trace the samples next to stencil changes), `cap_offset` (0..1e-3, default 2^-17),
- *    `measure_fill` (boolean, default false: count stencil fragments) and `lights_per_mask`
- *    (1..4, default 4).
- *  - `gears`: vtkPenumbraShadowPass with vtkPenumbraGearsShadows (Wang et al. 2014):
- *    exact soft shadows of area and linear lights at k x k light samples (hard lights are exact
- *    too). Options: `samples` (as for `raytraced`), `grid` (cells per axis, default 128, 1..4096),
- *    `camera_distance` (light-aligned camera distance in light diagonals, default 1,
- *    0.01..100) and `path` ("auto", default, chooses the CPU; "cpu"; or "gpu": the GL 4.3
- *    compute path).
+ * Registered techniques: `none`, `vtk-shadowmap`, `raytraced`, `conservative`, `shadowmap`,
+ * `volumes` and `gears`. Each has one option table (name, type, default, range or choices,
+ * unit, one-line doc) in vtkPenumbraTechniques.cxx; Apply() validates against it, and the
+ * option accessors below, `penumbra-render --list-techniques`, the option section of
+ * Data/Scenes/SCHEMA.md (GetOptionsMarkdown()) and the Python docstrings are produced from it.
  *
  * Options are JSON text (an object); unknown options and out-of-range values are rejected
  * with a message naming the option.
@@ -89,6 +50,34 @@ public:
   static const char* GetTechniqueDescription(int index);
   static bool HasTechnique(const char* name);
   ///@}
+
+  ///@{
+  /**
+   * Technique `technique`'s option table, row `index` in [0, GetNumberOfOptions()):
+   * the option's name, type ("integer", "number", "boolean" or "choice"), default as JSON
+   * text, range ("64..8192") or choices ("\"cpu\", \"gpu\""), unit ("" when unit-free) and a
+   * one-line doc. Unknown techniques have no options; a row out of range gives nullptr / "".
+   */
+  static int GetNumberOfOptions(const char* technique);
+  static const char* GetOptionName(const char* technique, int index);
+  static const char* GetOptionType(const char* technique, int index);
+  static std::string GetOptionDefault(const char* technique, int index);
+  static std::string GetOptionRange(const char* technique, int index);
+  static const char* GetOptionUnit(const char* technique, int index);
+  static const char* GetOptionDoc(const char* technique, int index);
+  ///@}
+
+  /**
+   * Every technique with its description and options, as `penumbra-render --list-techniques`
+   * prints it.
+   */
+  static std::string GetTechniqueList();
+
+  /**
+   * The technique section of Data/Scenes/SCHEMA.md (Markdown, one table per technique);
+   * a test compares the committed file with it.
+   */
+  static std::string GetOptionsMarkdown();
 
   /**
    * Makes `renderer` draw with technique `name` configured by `options` (JSON object text;

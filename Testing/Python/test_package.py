@@ -59,7 +59,7 @@ class PackageTest(unittest.TestCase):
     def test_every_module_is_wrapped(self):
         for name in ("vtkPenumbraEGLRenderWindow", "vtkPenumbraHeadlessFactory",
                      "vtkPenumbraSceneReader", "vtkPenumbraAreaLight", "vtkPenumbraShadowKeys",
-                     "vtkPenumbraTechniques", "vtkPenumbraImageIO", "vtkPenumbraCityBlockSource",
+                     "vtkPenumbraTechniques", "vtkPenumbraImageIO", "vtkPenumbraReference", "vtkPenumbraCityBlockSource",
                      "vtkPenumbraIsosurfaceSource", "vtkPenumbraRoomSource",
                      "vtkPenumbraTerrainSource"):
             self.assertTrue(hasattr(penumbra, name), name)

@@ -9,6 +9,9 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from penumbra_testing import SCENES_DIR, image_luminance, run_render
 
+GENERATED_BEGIN = "<!-- BEGIN technique options -->"
+GENERATED_END = "<!-- END technique options -->"
+
 
 def read_png(path):
     image = vtkImageData()
@@ -68,6 +71,31 @@ class RenderCliTest(unittest.TestCase):
                     self.assertEqual(code, 2)
                     self.assertIn(fragment, stderr)
                     self.assertFalse(os.path.exists(out))
+
+    def test_schema_options_match_the_option_tables(self):
+        # SCHEMA.md's technique section is generated from the registry's option tables; a
+        # change to a table must come with `penumbra-render --options-markdown` pasted in.
+        code, generated, stderr = run_render("--options-markdown")
+        self.assertEqual(code, 0, stderr)
+        with open(os.path.join(SCENES_DIR, "SCHEMA.md"), encoding="utf-8") as f:
+            schema = f.read()
+        begin = schema.index(GENERATED_BEGIN) + len(GENERATED_BEGIN) + 1
+        end = schema.index(GENERATED_END)
+        self.assertEqual(schema[begin:end], generated,
+                         "Data/Scenes/SCHEMA.md is out of date: replace the text between the "
+                         "markers with the output of `penumbra-render --options-markdown`")
+
+    def test_list_techniques_shows_every_option(self):
+        code, listing, stderr = run_render("--list-techniques")
+        self.assertEqual(code, 0, stderr)
+        t = penumbra.vtkPenumbraTechniques
+        for index in range(t.GetNumberOfTechniques()):
+            name = t.GetTechniqueName(index)
+            self.assertIn(name + "\t" + t.GetTechniqueDescription(index), listing)
+            for option in penumbra.technique_options(name):
+                self.assertIn("    %s (%s; default " % (option["name"], option["type"]), listing)
+                self.assertIn(option["doc"], listing)
+                self.assertIn(option["doc"], penumbra.enable_shadows.__doc__)
 
 
 if __name__ == "__main__":

@@ -22,6 +22,8 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
 from .vtkPenumbraHeadless import *  # noqa: F401,F403
 from .vtkPenumbraSources import *  # noqa: F401,F403
 from .vtkPenumbraScene import *  # noqa: F401,F403
+from .vtkPenumbraSceneIO import *  # noqa: F401,F403
+from .vtkPenumbraRayTracing import *  # noqa: F401,F403
 from .vtkPenumbraAnalysis import *  # noqa: F401,F403
 from .vtkPenumbraRendering import *  # noqa: F401,F403
 
@@ -57,6 +59,40 @@ def enable_shadows(renderer, technique="raytraced", **options):
     return shadow_pass(renderer)
 
 
+def technique_options(technique):
+    """`technique`'s option table as a list of dicts with keys name, type ("integer", "number",
+    "boolean" or "choice"), default, range (text: "64..8192" or the choices), unit and doc — the
+    table vtkPenumbraTechniques validates against. An unknown technique has none."""
+    import json
+
+    t = vtkPenumbraTechniques
+    return [{"name": t.GetOptionName(technique, i),
+             "type": t.GetOptionType(technique, i),
+             "default": json.loads(t.GetOptionDefault(technique, i)),
+             "range": t.GetOptionRange(technique, i),
+             "unit": t.GetOptionUnit(technique, i),
+             "doc": t.GetOptionDoc(technique, i)}
+            for i in range(t.GetNumberOfOptions(technique))]
+
+
+def _techniques_doc():
+    """The technique list appended to enable_shadows' docstring, read from the option tables."""
+    lines = ["", "    Techniques and their options:", ""]
+    for index in range(vtkPenumbraTechniques.GetNumberOfTechniques()):
+        name = vtkPenumbraTechniques.GetTechniqueName(index)
+        lines.append("    ``%s``: %s." % (name, vtkPenumbraTechniques.GetTechniqueDescription(index)))
+        for option in technique_options(name):
+            unit = "; " + option["unit"] if option["unit"] else ""
+            lines.append("        ``%s`` (%s; default %r; %s%s): %s" % (
+                option["name"], option["type"], option["default"], option["range"], unit,
+                option["doc"]))
+        lines.append("")
+    return "\n".join(lines)
+
+
+enable_shadows.__doc__ += _techniques_doc()
+
+
 def disable_shadows(renderer):
     """Removes the shadows enable_shadows() (or vtkPenumbraTechniques) installed: `renderer`
     draws with VTK's default passes again."""
@@ -65,9 +101,7 @@ def disable_shadows(renderer):
 
 def shadow_pass(renderer):
     """The vtkPenumbraShadowPass `renderer` draws with, or None."""
-    camera = renderer.GetPass()
-    delegate = camera.GetDelegatePass() if camera is not None and camera.IsA("vtkCameraPass") else None
-    return delegate if delegate is not None and delegate.IsA("vtkPenumbraShadowPass") else None
+    return vtkPenumbraShadowPass.GetInstalled(renderer)
 
 
 def visibility(renderer, light=0, translucent=False):

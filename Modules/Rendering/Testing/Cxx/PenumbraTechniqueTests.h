@@ -45,8 +45,7 @@ inline const char* Name(LightType type)
 // The shadow pass a registry technique installed (camera pass -> shadow pass).
 inline vtkPenumbraShadowPass* ShadowPass(vtkRenderer* renderer)
 {
-  auto* camera = vtkCameraPass::SafeDownCast(renderer->GetPass());
-  return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+  return vtkPenumbraShadowPass::GetInstalled(renderer);
 }
 
 // Replaces the renderer's lights by one of `type` aimed at `target` from `from`; a spot

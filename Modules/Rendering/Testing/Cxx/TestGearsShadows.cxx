@@ -50,8 +50,7 @@ namespace
 {
 vtkPenumbraShadowPass* ShadowPass(vtkRenderer* renderer)
 {
-  auto* camera = vtkCameraPass::SafeDownCast(renderer->GetPass());
-  return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+  return vtkPenumbraShadowPass::GetInstalled(renderer);
 }
 
 vtkSmartPointer<vtkRenderer> ReadScene(const std::string& file, vtkPenumbraSceneReader* reader)

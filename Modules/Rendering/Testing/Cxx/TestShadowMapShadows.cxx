@@ -43,8 +43,7 @@ namespace
 {
 vtkPenumbraShadowPass* ShadowPassOf(vtkRenderer* renderer)
 {
-  auto* camera = vtkCameraPass::SafeDownCast(renderer->GetPass());
-  return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+  return vtkPenumbraShadowPass::GetInstalled(renderer);
 }
 
 vtkPenumbraShadowMapShadows* TechniqueOf(vtkRenderer* renderer)

@@ -95,8 +95,7 @@ struct Scene
 
   vtkPenumbraShadowPass* Pass()
   {
-    auto* camera = vtkCameraPass::SafeDownCast(this->Renderer->GetPass());
-    return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+    return vtkPenumbraShadowPass::GetInstalled(this->Renderer);
   }
 
   double Luminance(double x, double y)

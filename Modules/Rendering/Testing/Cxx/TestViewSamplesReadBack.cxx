@@ -105,8 +105,7 @@ int CheckReadBackModes(bool parallel)
   vtkNew<vtkPenumbraTechniques> techniques;
   CHECK(techniques->Apply(frame.Renderer, "raytraced", ""));
   frame.Window->Render();
-  auto* camera = vtkCameraPass::SafeDownCast(frame.Renderer->GetPass());
-  auto* pass = vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass());
+  auto* pass = vtkPenumbraShadowPass::GetInstalled(frame.Renderer);
   CHECK(pass != nullptr);
   vtkPenumbraViewSamplesPass* gbuffer = pass->GetViewSamplesPass();
   CHECK(gbuffer->GetReadBackMode() == vtkPenumbraViewSamplesPass::READ_BACK_POSITIONS);

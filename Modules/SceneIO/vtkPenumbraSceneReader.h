@@ -21,14 +21,14 @@
 #define vtkPenumbraSceneReader_h
 
 #include "vtkObject.h"
-#include "vtkPenumbraSceneModule.h" // For export macro
+#include "vtkPenumbraSceneIOModule.h" // For export macro
 
 #include <memory> // For std::unique_ptr
 
 class vtkActor;
 class vtkRenderer;
 
-class VTKPENUMBRASCENE_EXPORT vtkPenumbraSceneReader : public vtkObject
+class VTKPENUMBRASCENEIO_EXPORT vtkPenumbraSceneReader : public vtkObject
 {
 public:
   static vtkPenumbraSceneReader* New();

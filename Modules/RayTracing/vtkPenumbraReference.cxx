@@ -8,9 +8,11 @@
 #include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
+#include "vtkPenumbraVisibilityRules.h"
 #include "vtkSMPTools.h"
 #include "vtkTypeUInt32Array.h"
 #include "vtkUnsignedCharArray.h"
@@ -34,12 +36,8 @@ namespace
 constexpr unsigned int NoPrimitive = RTC_INVALID_GEOMETRY_ID;
 constexpr int MaxConvergedSamplesPerAxis = 256;
 
-using Clock = std::chrono::steady_clock;
-
-double ElapsedMs(Clock::time_point start)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using penumbra::Clock;
+using penumbra::ElapsedMs;
 
 // Per-ray state the filter reads: Embree hands our context pointer back to the filter, so
 // the extra members must follow the RTCIntersectContext it starts with.
@@ -153,9 +151,10 @@ struct vtkPenumbraReference::Internals
     {
       ray.Origin[c] = static_cast<float>(p[c]);
     }
-    const double scale = std::max(vtkMath::Norm(p), this->Diagonal);
-    ray.TNear = static_cast<float>(epsilon * scale);
-    ray.TieLimit = static_cast<float>(tieFactor * epsilon * scale);
+    const penumbra_rules::RayBand band =
+      penumbra_rules::SampleBand(p, this->Diagonal, epsilon, tieFactor);
+    ray.TNear = static_cast<float>(band.TNear);
+    ray.TieLimit = static_cast<float>(band.TieLimit);
     const vtkIdType count = static_cast<vtkIdType>(this->TriangleToPrimitive.size());
     ray.Own = tri >= 0 && tri < count ? this->TriangleToPrimitive[static_cast<size_t>(tri)]
                                       : NoPrimitive;
@@ -324,13 +323,11 @@ std::string CheckSamples(vtkPenumbraViewSamples* samples, SampleInput& in)
 
 //------------------------------------------------------------------------------
 // One place for every failure: the message is kept for GetErrorMessage() and reported.
-#define PENUMBRA_REFERENCE_FAIL(text)                                                            \
-  do                                                                                             \
-  {                                                                                              \
-    this->Impl->Error = (text);                                                                  \
-    vtkErrorMacro(<< this->Impl->Error);                                                         \
-    return 0;                                                                                    \
-  } while (false)
+int vtkPenumbraReference::Fail(const std::string& text)
+{
+  this->Impl->Error = text;
+  PENUMBRA_FAIL(this->Impl->Error);
+}
 
 //------------------------------------------------------------------------------
 int vtkPenumbraReference::ComputeVisibility(
@@ -346,17 +343,17 @@ int vtkPenumbraReference::ComputeVisibility(vtkPenumbraViewSamples* samples, vtk
   this->Impl->Error.clear();
   if (!mask)
   {
-    PENUMBRA_REFERENCE_FAIL("no sample mask (null vtkUnsignedCharArray)");
+    return this->Fail("no sample mask (null vtkUnsignedCharArray)");
   }
   if (!samples || !visibility)
   {
-    PENUMBRA_REFERENCE_FAIL("no view samples or no visibility array");
+    return this->Fail("no view samples or no visibility array");
   }
   const vtkIdType n = samples->GetNumberOfSamples();
   if (mask->GetNumberOfTuples() != n || mask->GetNumberOfComponents() != 1 ||
     visibility->GetNumberOfTuples() != n || visibility->GetNumberOfComponents() != 1)
   {
-    PENUMBRA_REFERENCE_FAIL("the sample mask and the visibility array must have one "
+    return this->Fail("the sample mask and the visibility array must have one "
                             "component and one tuple per view sample");
   }
   return this->ComputeHardVisibility(samples, light, visibility, mask);
@@ -370,11 +367,11 @@ int vtkPenumbraReference::ComputeHardVisibility(vtkPenumbraViewSamples* samples,
   this->Impl->Error.clear();
   if (!light)
   {
-    PENUMBRA_REFERENCE_FAIL("no light (null vtkLight)");
+    return this->Fail("no light (null vtkLight)");
   }
   if (!visibility)
   {
-    PENUMBRA_REFERENCE_FAIL("no output array for the visibility (null vtkFloatArray)");
+    return this->Fail("no output array for the visibility (null vtkFloatArray)");
   }
   LightRays rays;
   if (auto* area = vtkPenumbraAreaLight::SafeDownCast(light))
@@ -382,7 +379,7 @@ int vtkPenumbraReference::ComputeHardVisibility(vtkPenumbraViewSamples* samples,
     const std::string problem = area->GetValidityMessage();
     if (!problem.empty())
     {
-      PENUMBRA_REFERENCE_FAIL("invalid area light: " + problem);
+      return this->Fail("invalid area light: " + problem);
     }
     const int n = area->GetNumberOfSamples();
     rays.Kind = LightKind::Area;
@@ -399,7 +396,7 @@ int vtkPenumbraReference::ComputeHardVisibility(vtkPenumbraViewSamples* samples,
     light->GetTransformedFocalPoint(focal);
     if (!Finite3(position) || !Finite3(focal))
     {
-      PENUMBRA_REFERENCE_FAIL("light position or focal point is not finite");
+      return this->Fail("light position or focal point is not finite");
     }
     if (!light->GetPositional())
     {
@@ -410,7 +407,7 @@ int vtkPenumbraReference::ComputeHardVisibility(vtkPenumbraViewSamples* samples,
       }
       if (!(vtkMath::Normalize(rays.Direction) > 0.0))
       {
-        PENUMBRA_REFERENCE_FAIL(
+        return this->Fail(
           "directional light has no direction (position equals focal point)");
       }
     }
@@ -430,13 +427,13 @@ int vtkPenumbraReference::ComputeHardVisibility(vtkPenumbraViewSamples* samples,
         }
         if (!(vtkMath::Normalize(rays.Axis) > 0.0))
         {
-          PENUMBRA_REFERENCE_FAIL("spot light has no axis (position equals focal point)");
+          return this->Fail("spot light has no axis (position equals focal point)");
         }
         rays.CosCone = std::cos(vtkMath::RadiansFromDegrees(cone));
       }
     }
   }
-  rays.Off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  rays.Off = !penumbra_rules::LightEmits(light);
   const int ok =
     this->Run(samples, rays, visibility, nullptr, mask && mask->GetNumberOfTuples() ? mask->GetPointer(0) : nullptr);
   if (ok)
@@ -454,16 +451,16 @@ int vtkPenumbraReference::ComputeAreaMasks(
   this->Impl->Error.clear();
   if (!light)
   {
-    PENUMBRA_REFERENCE_FAIL("no area light (null vtkPenumbraAreaLight)");
+    return this->Fail("no area light (null vtkPenumbraAreaLight)");
   }
   if (!masks)
   {
-    PENUMBRA_REFERENCE_FAIL("no output array for the masks (null vtkTypeUInt32Array)");
+    return this->Fail("no output array for the masks (null vtkTypeUInt32Array)");
   }
   const std::string problem = light->GetValidityMessage();
   if (!problem.empty())
   {
-    PENUMBRA_REFERENCE_FAIL("invalid area light: " + problem);
+    return this->Fail("invalid area light: " + problem);
   }
   LightRays rays;
   rays.Kind = LightKind::Area;
@@ -473,7 +470,7 @@ int vtkPenumbraReference::ComputeAreaMasks(
   {
     light->GetSamplePosition(j, &rays.Points[3 * static_cast<size_t>(j)]);
   }
-  rays.Off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  rays.Off = !penumbra_rules::LightEmits(light);
   const int ok = this->Run(samples, rays, nullptr, masks);
   if (ok)
   {
@@ -492,23 +489,23 @@ int vtkPenumbraReference::TraceAreaRays(vtkPenumbraViewSamples* samples,
   impl.Error.clear();
   if (!light || count < 0 || (count > 0 && (!sampleIds || !lightSamples || !visible)))
   {
-    PENUMBRA_REFERENCE_FAIL("TraceAreaRays needs an area light and count >= 0 input and output "
+    return this->Fail("TraceAreaRays needs an area light and count >= 0 input and output "
                             "entries");
   }
   const std::string problem = light->GetValidityMessage();
   if (!problem.empty())
   {
-    PENUMBRA_REFERENCE_FAIL("invalid area light: " + problem);
+    return this->Fail("invalid area light: " + problem);
   }
   SampleInput in;
   const std::string sampleProblem = CheckSamples(samples, in);
   if (!sampleProblem.empty())
   {
-    PENUMBRA_REFERENCE_FAIL(sampleProblem);
+    return this->Fail(sampleProblem);
   }
   if (!this->Geometry)
   {
-    PENUMBRA_REFERENCE_FAIL("no scene geometry: call SetGeometry() first");
+    return this->Fail("no scene geometry: call SetGeometry() first");
   }
   if (!this->EnsureScene())
   {
@@ -520,7 +517,7 @@ int vtkPenumbraReference::TraceAreaRays(vtkPenumbraViewSamples* samples,
     if (sampleIds[i] < 0 || sampleIds[i] >= in.Count || lightSamples[i] < 0 ||
       lightSamples[i] >= nLight)
     {
-      PENUMBRA_REFERENCE_FAIL("TraceAreaRays: entry " + std::to_string(i) +
+      return this->Fail("TraceAreaRays: entry " + std::to_string(i) +
         " names a view sample or light sample out of range");
     }
   }
@@ -540,7 +537,7 @@ int vtkPenumbraReference::TraceAreaRays(vtkPenumbraViewSamples* samples,
   {
     in.Shift[c] -= geometryOrigin[c];
   }
-  const bool off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  const bool off = !penumbra_rules::LightEmits(light);
   const double epsilon = this->RelativeEpsilon;
   const double tieFactor = this->TieFactor;
   std::atomic<vtkIdType> rayCount(0);
@@ -591,21 +588,21 @@ int vtkPenumbraReference::ComputeConvergedVisibility(vtkPenumbraViewSamples* sam
   this->Impl->Error.clear();
   if (!light)
   {
-    PENUMBRA_REFERENCE_FAIL("no area light (null vtkPenumbraAreaLight)");
+    return this->Fail("no area light (null vtkPenumbraAreaLight)");
   }
   if (!visibility)
   {
-    PENUMBRA_REFERENCE_FAIL("no output array for the visibility (null vtkFloatArray)");
+    return this->Fail("no output array for the visibility (null vtkFloatArray)");
   }
   if (samplesPerAxis < 1 || samplesPerAxis > MaxConvergedSamplesPerAxis)
   {
-    PENUMBRA_REFERENCE_FAIL("samples per axis must be in [1, " +
+    return this->Fail("samples per axis must be in [1, " +
       std::to_string(MaxConvergedSamplesPerAxis) + "], got " + std::to_string(samplesPerAxis));
   }
   const std::string problem = light->GetValidityMessage();
   if (!problem.empty())
   {
-    PENUMBRA_REFERENCE_FAIL("invalid area light: " + problem);
+    return this->Fail("invalid area light: " + problem);
   }
   double u[3], v[3], nrm[3];
   light->GetAxes(u, v, nrm);
@@ -632,7 +629,7 @@ int vtkPenumbraReference::ComputeConvergedVisibility(vtkPenumbraViewSamples* sam
       rays.Points[3 * static_cast<size_t>(index) + c] = centre[c] + su * u[c] + sv * v[c];
     }
   }
-  rays.Off = !light->GetSwitch() || light->GetIntensity() == 0.0;
+  rays.Off = !penumbra_rules::LightEmits(light);
   const int ok = this->Run(samples, rays, visibility, nullptr);
   if (ok)
   {
@@ -664,12 +661,12 @@ int vtkPenumbraReference::EnsureScene()
     (!vertices || !flags || vertices->GetNumberOfComponents() != 9 ||
       vertices->GetNumberOfTuples() != nTriangles || flags->GetNumberOfTuples() != nTriangles))
   {
-    PENUMBRA_REFERENCE_FAIL("scene geometry is inconsistent: vertex or flag arrays do not "
+    return this->Fail("scene geometry is inconsistent: vertex or flag arrays do not "
                             "match its number of triangles");
   }
   if (nTriangles > static_cast<vtkIdType>(std::numeric_limits<unsigned int>::max() / 3))
   {
-    PENUMBRA_REFERENCE_FAIL("scene geometry has too many triangles for one Embree scene");
+    return this->Fail("scene geometry has too many triangles for one Embree scene");
   }
 
   if (!impl.Device)
@@ -677,7 +674,7 @@ int vtkPenumbraReference::EnsureScene()
     impl.Device = rtcNewDevice(nullptr);
     if (!impl.Device)
     {
-      PENUMBRA_REFERENCE_FAIL("cannot create an Embree device");
+      return this->Fail("cannot create an Embree device");
     }
     rtcSetDeviceErrorFunction(impl.Device, EmbreeError, &impl.DeviceError);
   }
@@ -707,7 +704,7 @@ int vtkPenumbraReference::EnsureScene()
   impl.Scene = rtcNewScene(impl.Device);
   if (!impl.Scene)
   {
-    PENUMBRA_REFERENCE_FAIL("cannot create an Embree scene: " + impl.DeviceError);
+    return this->Fail("cannot create an Embree scene: " + impl.DeviceError);
   }
   rtcSetSceneFlags(impl.Scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   rtcSetSceneBuildQuality(impl.Scene, RTC_BUILD_QUALITY_HIGH);
@@ -722,7 +719,7 @@ int vtkPenumbraReference::EnsureScene()
     if (!vb || !ib)
     {
       rtcReleaseGeometry(mesh);
-      PENUMBRA_REFERENCE_FAIL("cannot allocate Embree buffers: " + impl.DeviceError);
+      return this->Fail("cannot allocate Embree buffers: " + impl.DeviceError);
     }
     for (size_t prim = 0; prim < count; ++prim)
     {
@@ -744,19 +741,10 @@ int vtkPenumbraReference::EnsureScene()
   rtcCommitScene(impl.Scene);
   if (!impl.DeviceError.empty())
   {
-    PENUMBRA_REFERENCE_FAIL("building the Embree scene failed: " + impl.DeviceError);
+    return this->Fail("building the Embree scene failed: " + impl.DeviceError);
   }
 
-  double bounds[6];
-  geometry->GetBounds(bounds);
-  double diagonal = 0.0;
-  if (vtkMath::AreBoundsInitialized(bounds))
-  {
-    diagonal = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
-      (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
-      (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
-  }
-  impl.Diagonal = std::isfinite(diagonal) && diagonal > 0.0 ? diagonal : 1.0;
+  impl.Diagonal = penumbra_rules::SceneDiagonal(geometry);
 
   impl.Built = true;
   impl.BuiltGeometryTime = geometry->GetGeometryTime();
@@ -780,11 +768,11 @@ int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& 
   const std::string problem = CheckSamples(samples, in);
   if (!problem.empty())
   {
-    PENUMBRA_REFERENCE_FAIL(problem);
+    return this->Fail(problem);
   }
   if (!this->Geometry)
   {
-    PENUMBRA_REFERENCE_FAIL("no scene geometry: call SetGeometry() first");
+    return this->Fail("no scene geometry: call SetGeometry() first");
   }
   if (!this->EnsureScene())
   {

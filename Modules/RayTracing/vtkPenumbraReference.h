@@ -65,9 +65,10 @@
 #define vtkPenumbraReference_h
 
 #include "vtkObject.h"
-#include "vtkPenumbraAnalysisModule.h" // For export macro
+#include "vtkPenumbraRayTracingModule.h" // For export macro
 
 #include <memory> // For std::unique_ptr
+#include <string> // For std::string
 
 class vtkFloatArray;
 class vtkLight;
@@ -77,7 +78,7 @@ class vtkPenumbraViewSamples;
 class vtkTypeUInt32Array;
 class vtkUnsignedCharArray;
 
-class VTKPENUMBRAANALYSIS_EXPORT vtkPenumbraReference : public vtkObject
+class VTKPENUMBRARAYTRACING_EXPORT vtkPenumbraReference : public vtkObject
 {
 public:
   static vtkPenumbraReference* New();
@@ -232,6 +233,7 @@ private:
   std::unique_ptr<Internals> Impl;
 
   struct LightRays;
+  int Fail(const std::string& text);
   int EnsureScene();
   int Run(vtkPenumbraViewSamples* samples, const LightRays& light, vtkFloatArray* visibility,
     vtkTypeUInt32Array* masks, const unsigned char* subset = nullptr);
