@@ -47,6 +47,7 @@ int Usage(const char* why)
 
 int main(int argc, char* argv[])
 {
+  penumbra_cli::InstallMessageWindow("penumbra-render");
   std::string scenePath, outPath, technique, sizeArg;
   nlohmann::json overrides = nlohmann::json::object();
   for (int i = 1; i < argc; ++i)

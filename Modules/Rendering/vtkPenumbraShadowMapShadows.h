@@ -76,6 +76,7 @@ public:
    * samples back (vtkPenumbraShadowTechnique::ComputeFrame()).
    */
   int ComputeFrame(vtkPenumbraFrame* frame) override;
+  bool ReadsSamples() override { return this->Lookup == LOOKUP_CPU; }
 
   void ReleaseGraphicsResources(vtkWindow* window) override;
 

@@ -1,6 +1,8 @@
 #include "vtkPenumbraTechniques.h"
 
 #include "vtkCameraPass.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPenumbraConservativeShadows.h"
@@ -10,6 +12,7 @@
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowVolumeShadows.h"
 #include "vtkRenderPassCollection.h"
+#include "vtkRenderState.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSequencePass.h"
@@ -20,6 +23,7 @@
 
 #include <cstring>
 #include <functional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -177,12 +181,51 @@ void InstallNone(vtkRenderer* ren, Options& opts)
   InstallPass(ren, nullptr);
 }
 
+// VTK's vtkShadowMapPass with one addition: it says, once per light, which lights it leaves
+// unshadowed (its baker's LightCreatesShadow(): headlights, positional lights with a cone of
+// 90 degrees or more, i.e. point lights and Penumbra's area lights), instead of drawing them
+// without a shadow and without a word.
+class CheckedShadowMapPass : public vtkShadowMapPass
+{
+public:
+  static CheckedShadowMapPass* New();
+  vtkTypeMacro(CheckedShadowMapPass, vtkShadowMapPass);
+  void Render(const vtkRenderState* s) override
+  {
+    vtkLightCollection* lights = s->GetRenderer()->GetLights();
+    vtkCollectionSimpleIterator it;
+    lights->InitTraversal(it);
+    int index = 0;
+    while (vtkLight* light = lights->GetNextLight(it))
+    {
+      if (!light->GetSwitch())
+      {
+        continue;
+      }
+      if (!this->GetShadowMapBakerPass()->LightCreatesShadow(light) &&
+        this->Told.insert(light).second)
+      {
+        vtkWarningMacro("Light " << index << " gets no shadow from vtk-shadowmap: VTK's "
+                        "vtkShadowMapPass shadows only directional lights and spot lights with a "
+                        "cone under 90 degrees (not point, area, linear or head lights); use "
+                        "auto, shadowmap or raytraced to shadow it");
+      }
+      ++index;
+    }
+    this->Superclass::Render(s);
+  }
+
+private:
+  std::set<vtkLight*> Told;
+};
+vtkStandardNewMacro(CheckedShadowMapPass);
+
 void InstallVTKShadowMap(vtkRenderer* ren, Options& opts)
 {
   const int resolution = opts.Integer("resolution", 1024, 16, 16384);
   opts.RejectUnknown();
   // The composition of VTK's own TestShadowMapPass: bake the maps, then shade with them.
-  vtkNew<vtkShadowMapPass> shadows;
+  vtkNew<CheckedShadowMapPass> shadows;
   shadows->GetShadowMapBakerPass()->SetResolution(resolution);
   vtkNew<vtkRenderPassCollection> passes;
   passes->AddItem(shadows->GetShadowMapBakerPass());
