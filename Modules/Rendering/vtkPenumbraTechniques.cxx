@@ -5,6 +5,7 @@
 #include "vtkLightCollection.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPenumbraAutoShadows.h"
 #include "vtkPenumbraConservativeShadows.h"
 #include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
@@ -347,6 +348,21 @@ void InstallGears(vtkRenderer* ren, Options& opts)
   InstallShadowPass(ren, technique);
 }
 
+// Per light, the technique the measurements favour (vtkPenumbraAutoShadows says which and
+// why, citing docs/benchmarks.md and docs/gears.md).
+void InstallAuto(vtkRenderer* ren, Options& opts)
+{
+  const int quality = opts.Choice("quality", { "balanced", "exact", "fast" });
+  const int samples = SamplesOption(opts);
+  opts.RejectUnknown();
+  vtkNew<vtkPenumbraAutoShadows> technique;
+  technique->SetQuality(quality == 1 ? vtkPenumbraAutoShadows::QUALITY_EXACT
+      : quality == 2                 ? vtkPenumbraAutoShadows::QUALITY_FAST
+                                     : vtkPenumbraAutoShadows::QUALITY_BALANCED);
+  technique->SetSamplesPerAxis(samples);
+  InstallShadowPass(ren, technique);
+}
+
 // The descriptions cite the papers by short name:
 // - Hertel et al. 2009: Hertel, Hormann, Westermann, "A Hybrid GPU Rendering Pipeline for
 //   Alias-Free Hard Shadows", Eurographics 2009 Areas Papers;
@@ -358,6 +374,10 @@ const std::vector<Technique>& Registry()
 {
   static const std::vector<Technique> techniques = {
     { "none", "plain VTK rendering without shadows", InstallNone },
+    { "auto",
+      "per light, the technique measured best for it: raytraced for hard lights, gears for area "
+      "and linear lights (exact); quality=fast uses shadow maps",
+      InstallAuto },
     { "vtk-shadowmap", "VTK's vtkShadowMapPass (exponential shadow map; peer for comparison)",
       InstallVTKShadowMap },
     { "raytraced", "exact shadows ray traced on the CPU for every view sample (Embree reference)",

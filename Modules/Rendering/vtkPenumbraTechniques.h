@@ -9,6 +9,12 @@
  *
  * Registered techniques:
  *  - `none`: plain VTK rendering, no shadows. No options.
+ *  - `auto` (the default of scene files, the CLI, the examples and the Python helper):
+ *    vtkPenumbraShadowPass with vtkPenumbraAutoShadows: per light, the technique the
+ *    project's measurements favour (hard lights `raytraced`, area and linear lights `gears`;
+ *    see that class for the numbers). Options: `quality` ("balanced", default, "exact", or
+ *    "fast": shadow maps for hard lights and k = 4 for soft ones) and `samples` (as for
+ *    `raytraced`, for area and linear lights).
  *  - `vtk-shadowmap`: VTK's own vtkShadowMapPass (exponential shadow maps; directional
  *    lights and spot lights under 90 degrees only; opaque geometry only). Options:
  *    `resolution` (integer texels per side, default 1024, 16..16384).

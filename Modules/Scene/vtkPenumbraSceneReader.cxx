@@ -357,7 +357,7 @@ struct vtkPenumbraSceneReader::Internals
   // The scene's up axis (unit): the sun's elevation and azimuth and the default camera are
   // relative to it.
   double Up[3] = { 0, 0, 1 };
-  std::string TechniqueName = "vtk-shadowmap";
+  std::string TechniqueName = "auto";
   std::string TechniqueOptions = "{}";
   std::vector<std::string> ObjectNames;
   std::vector<vtkSmartPointer<vtkActor>> Actors;
@@ -1177,7 +1177,7 @@ void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, 
 
   this->BuildCamera(ctx, root.contains("camera") ? root.at("camera") : json::object());
 
-  this->TechniqueName = "vtk-shadowmap";
+  this->TechniqueName = "auto";
   this->TechniqueOptions = "{}";
   if (root.contains("technique"))
   {

@@ -139,10 +139,63 @@ int TestFallbackForAreaLights()
   }
   return EXIT_SUCCESS;
 }
+
+// `auto` on a sun, a point light and an area light: every light is shadowed, the area light
+// softly, each by the technique auto chose for it, and each light's visibility is that
+// technique's (the same frame rendered with the chosen technique alone).
+int TestAuto()
+{
+  std::vector<vtkSmartPointer<vtkFloatArray>> automatic, traced, gears;
+  std::vector<std::string> names, tracedNames, gearsNames;
+  Counter warnings, none;
+  RUN(RenderWith("auto", "", automatic, names, warnings));
+  RUN(RenderWith("raytraced", "", traced, tracedNames, none));
+  RUN(RenderWith("gears", "", gears, gearsNames, none));
+  CHECK(warnings.Warnings == 0);
+  CHECK(names[Sun] == "raytraced" && names[Point] == "raytraced" && names[Area] == "gears");
+  for (int light : { Sun, Point, Area })
+  {
+    CHECK(automatic[light]->GetNumberOfTuples() == Width * Height);
+    CHECK(Differences(automatic[light], traced[light]) == 0);
+  }
+  CHECK(Differences(automatic[Area], gears[Area]) == 0);
+  CHECK(HasSoftValues(automatic[Area]));
+  CHECK(!HasSoftValues(automatic[Sun]) && !HasSoftValues(automatic[Point]));
+  // Every light casts a shadow somewhere in the view.
+  for (int light : { Sun, Point, Area })
+  {
+    bool shadowed = false;
+    for (vtkIdType i = 0; i < automatic[light]->GetNumberOfTuples() && !shadowed; ++i)
+    {
+      shadowed = automatic[light]->GetValue(i) == 0.0f;
+    }
+    CHECK(shadowed);
+  }
+
+  // quality=exact chooses the same; quality=fast gives hard lights shadow maps (the same
+  // visibility as `shadowmap` alone) and soft lights k = 4.
+  std::vector<vtkSmartPointer<vtkFloatArray>> exact, fast, maps;
+  std::vector<std::string> exactNames, fastNames, mapNames;
+  RUN(RenderWith("auto", R"({"quality": "exact"})", exact, exactNames, none));
+  CHECK(exactNames == names);
+  RUN(RenderWith("auto", R"({"quality": "fast"})", fast, fastNames, none));
+  RUN(RenderWith("shadowmap", "", maps, mapNames, none));
+  CHECK(fastNames[Sun] == "shadowmap" && fastNames[Point] == "shadowmap");
+  CHECK(fastNames[Area] == "gears");
+  CHECK(Differences(fast[Sun], maps[Sun]) == 0 && Differences(fast[Point], maps[Point]) == 0);
+  CHECK(Differences(fast[Area], gears[Area]) == 0); // the scene's area light has k = 4
+
+  vtkNew<vtkPenumbraTechniques> techniques;
+  vtkNew<vtkRenderer> ren;
+  CHECK(!techniques->Apply(ren, "auto", R"({"quality": "best"})"));
+  CHECK(std::string(techniques->GetErrorMessage()).find("quality: expected one of") == 0);
+  return EXIT_SUCCESS;
+}
 }
 
 int TestPerLightTechniques(int, char*[])
 {
   RUN(TestFallbackForAreaLights());
+  RUN(TestAuto());
   return EXIT_SUCCESS;
 }
