@@ -69,6 +69,22 @@ class RenderCliTest(unittest.TestCase):
                     self.assertIn(fragment, stderr)
                     self.assertFalse(os.path.exists(out))
 
+    def test_explain_and_auto_by_default(self):
+        # A scene without a technique block gets auto; --explain says per light what shadowed
+        # it and why.
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "x.png")
+            code, stdout, stderr = run_render(os.path.join(SCENES_DIR, "mixed_lights.json"), "-o",
+                                              out, "--size", "96x72", "--explain")
+            self.assertEqual(code, 0, stderr)
+            self.assertEqual(stderr, "")
+            self.assertIn("technique auto)", stdout)
+            self.assertIn("explain    technique auto", stdout)
+            self.assertIn("light 0 (directional light): raytraced - hard light", stdout)
+            self.assertIn("light 1 (point light): raytraced - hard light", stdout)
+            self.assertIn("light 2 (area light, 4x4 samples): gears - soft light", stdout)
+            self.assertIn("skipped lights: 0; lights off: 0", stdout)
+
     def test_messages_are_sentences_said_once(self):
         # What a new user tripped over: a light a technique cannot shadow is said once, as a
         # sentence naming the light and what was done, never with VTK's "In file, line N".

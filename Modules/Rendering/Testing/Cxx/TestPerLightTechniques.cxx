@@ -4,14 +4,19 @@
 #include "PenumbraTechniqueTests.h"
 #include "PenumbraTestMacros.h"
 
+#include "vtkActor.h"
 #include "vtkCallbackCommand.h"
+#include "vtkCamera.h"
 #include "vtkCommand.h"
 #include "vtkFloatArray.h"
+#include "vtkLightCollection.h"
 #include "vtkNew.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraTechniques.h"
+#include "vtkPlaneSource.h"
+#include "vtkPolyDataMapper.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
@@ -191,10 +196,113 @@ int TestAuto()
   CHECK(std::string(techniques->GetErrorMessage()).find("quality: expected one of") == 0);
   return EXIT_SUCCESS;
 }
+
+vtkSmartPointer<vtkLight> AddLight(vtkRenderer* ren, const double from[3], const double to[3],
+  bool positional, double cone, double intensity, bool on)
+{
+  auto light = vtkSmartPointer<vtkLight>::New();
+  light->SetLightTypeToSceneLight();
+  light->SetPosition(from[0], from[1], from[2]);
+  light->SetFocalPoint(to[0], to[1], to[2]);
+  light->SetPositional(positional);
+  light->SetConeAngle(cone);
+  light->SetIntensity(intensity);
+  light->SetSwitch(on);
+  ren->AddLight(light);
+  return light;
+}
+
+// Lights no visible sample can receive get no shadow work, and the explanation counts them:
+// a spot light aimed at the sky (every sample outside its cone), a black light; a
+// switched-off light is counted apart. (Facing away: TestLightBelowPlane.)
+int TestSkippedLights()
+{
+  vtkNew<vtkPenumbraSceneReader> reader;
+  vtkSmartPointer<vtkRenderer> ren = ReadScene("mixed_lights.json", reader);
+  CHECK(ren);
+  const double high[3] = { 0, 0, 200 }, sky[3] = { 0, 0, 400 }, origin[3] = { 0, 0, 0 };
+  AddLight(ren, high, sky, true, 20.0, 1.0, true);     // 3: spot at the sky
+  AddLight(ren, high, origin, true, 180.0, 0.0, true); // 4: black
+  AddLight(ren, high, origin, true, 180.0, 1.0, false); // off
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(ren, "auto", ""));
+  vtkPenumbraShadowPass* pass = ShadowPass(ren);
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(ren, Width, Height);
+  window->Render();
+  const std::string text = pass->GetExplanation();
+  std::cout << text;
+  CHECK(pass->GetNumberOfLights() == 5);
+  CHECK(pass->GetNumberOfSkippedLights() == 2);
+  CHECK(pass->GetNumberOfLightsOff() == 1);
+  for (int light : { 3, 4 })
+  {
+    CHECK(!pass->GetLightTechnique(light) && !pass->GetVisibility(light));
+  }
+  for (int light : { Sun, Point, Area })
+  {
+    CHECK(pass->GetLightTechnique(light) && pass->GetVisibility(light));
+  }
+  for (const char* line :
+    { "light 0 (directional light): raytraced - hard light, quality=balanced",
+      "light 2 (area light, 4x4 samples): gears - soft light",
+      "light 3 (spot light): skipped, no shadow work - every visible sample lies outside its cone",
+      "light 4 (point light): skipped, no shadow work - it casts no light",
+      "skipped lights: 2; lights off: 1" })
+  {
+    CHECK(text.find(line) != std::string::npos);
+  }
+
+  // A technique that works on the GPU reads no samples back, so with the area light off (its
+  // fallback, GEARS, would read them) only the black light is skipped; the spot light is
+  // shadowed (and comes out unlit, as the rules say).
+  vtkLight* area = vtkLight::SafeDownCast(ren->GetLights()->GetItemAsObject(Area));
+  area->SetSwitch(0);
+  CHECK(techniques->Apply(ren, "shadowmap", ""));
+  pass = ShadowPass(ren);
+  window->Render();
+  CHECK(pass->GetNumberOfLightsOff() == 2);
+  CHECK(pass->GetNumberOfSkippedLights() == 1);
+  CHECK(pass->GetLightTechnique(2) && !pass->GetLightTechnique(3)); // spot, black
+  return EXIT_SUCCESS;
+}
+
+// A plane seen from above and a sun below it: every sample faces away (N.L = -1), so the
+// light is skipped and the frame is the unshadowed one.
+int TestLightBelowPlane()
+{
+  vtkNew<vtkPlaneSource> plane;
+  plane->SetOrigin(-1, -1, 0);
+  plane->SetPoint1(1, -1, 0);
+  plane->SetPoint2(-1, 1, 0);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(plane->GetOutputPort());
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  vtkNew<vtkRenderer> ren;
+  ren->AddActor(actor);
+  const double below[3] = { 0.3, 0.2, -1 }, origin[3] = { 0, 0, 0 };
+  AddLight(ren, below, origin, false, 30.0, 1.0, true);
+  ren->GetActiveCamera()->SetPosition(0, 0, 5);
+  ren->GetActiveCamera()->SetFocalPoint(0, 0, 0);
+  ren->ResetCamera();
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(ren, "auto", ""));
+  vtkPenumbraShadowPass* pass = ShadowPass(ren);
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(ren, 64, 64);
+  window->Render();
+  CHECK(pass->GetNumberOfSkippedLights() == 1);
+  CHECK(!pass->GetLightTechnique(0) && !pass->GetVisibility(0));
+  CHECK(pass->GetExplanation().find(
+          "light 0 (directional light): skipped, no shadow work - every visible sample faces "
+          "away from it") != std::string::npos);
+  return EXIT_SUCCESS;
+}
 }
 
 int TestPerLightTechniques(int, char*[])
 {
+  RUN(TestSkippedLights());
+  RUN(TestLightBelowPlane());
   RUN(TestFallbackForAreaLights());
   RUN(TestAuto());
   return EXIT_SUCCESS;
