@@ -4,14 +4,12 @@
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
-#include "vtkPenumbraShadowMapShadows.h"
 #include "vtkSmartPointer.h"
 
 // The members are made on first use: a scene without area lights never builds GEARS.
 struct vtkPenumbraAutoShadows::Internals
 {
   vtkSmartPointer<vtkPenumbraRayTracedShadows> Traced;
-  vtkSmartPointer<vtkPenumbraShadowMapShadows> Maps;
   vtkSmartPointer<vtkPenumbraGearsShadows> Gears;
 };
 
@@ -37,38 +35,42 @@ vtkPenumbraShadowTechnique* vtkPenumbraAutoShadows::SelectTechnique(
     const int k = this->SamplesPerAxis > 0 ? this->SamplesPerAxis
       : this->Quality == QUALITY_FAST     ? 4
                                           : 0;
+    const int used = k > 0 ? k : area->GetSamplesPerAxis();
+    const std::string fast = this->Quality == QUALITY_FAST && this->SamplesPerAxis == 0
+      ? "; quality=fast: k = 4, the cheapest measured setting"
+      : "";
+    // Both are exact and give the same visibility at the same k; only the time differs.
+    if (used <= 4)
+    {
+      if (!impl.Traced)
+      {
+        impl.Traced = vtkSmartPointer<vtkPenumbraRayTracedShadows>::New();
+      }
+      impl.Traced->SetSamplesPerAxis(k);
+      why = "soft light at k = " + std::to_string(used) +
+        ": exact; at k <= 4 the ray tracer was as fast as gears or faster (docs/gears.md: "
+        "city 79 vs 76 ms, area_light 226 vs 1046 ms)" + fast;
+      return impl.Traced;
+    }
     if (!impl.Gears)
     {
       impl.Gears = vtkSmartPointer<vtkPenumbraGearsShadows>::New();
     }
     impl.Gears->SetSamplesPerAxis(k);
-    const int used = k > 0 ? k : area->GetSamplesPerAxis();
-    why = "soft light: exact soft shadows at k = " + std::to_string(used) +
-      ", the same visibility as raytraced at that k and 2.5-25x faster on the city for k >= 8 "
-      "(docs/gears.md)" +
-      (this->Quality == QUALITY_FAST && this->SamplesPerAxis == 0
-          ? std::string("; quality=fast: k = 4, the cheapest measured setting")
-          : std::string());
+    why = "soft light at k = " + std::to_string(used) +
+      ": exact, the same visibility as raytraced at that k and 2.5-25x faster on the city "
+      "for k >= 8 (docs/gears.md)" + fast;
     return impl.Gears;
-  }
-  if (this->Quality == QUALITY_FAST)
-  {
-    if (!impl.Maps)
-    {
-      impl.Maps = vtkSmartPointer<vtkPenumbraShadowMapShadows>::New();
-    }
-    why = "hard light, quality=fast: shadow maps on the GPU, nothing read back; mismatch "
-          "about 2.5e-4 at 2048^2 (docs/benchmarks.md)";
-    return impl.Maps;
   }
   if (!impl.Traced)
   {
     impl.Traced = vtkSmartPointer<vtkPenumbraRayTracedShadows>::New();
   }
-  why = std::string("hard light, quality=") +
-    (this->Quality == QUALITY_EXACT ? "exact" : "balanced") +
-    ": the fastest exact hard-shadow technique measured, 1.4-2.5x the unshadowed frame "
-    "against 1.8-3.4x for conservative and 2.9-5.6x for volumes (docs/benchmarks.md)";
+  static const char* const names[] = { "exact", "balanced", "fast" };
+  why = std::string("hard light, quality=") + names[this->Quality] +
+    ": the fastest hard-shadow technique measured, and exact: 1.4-2.5x the unshadowed frame "
+    "against 1.8-3.4x for conservative, 2.9-5.6x for volumes and 1.7-3.2x for shadowmap "
+    "(docs/benchmarks.md)";
   return impl.Traced;
 }
 
@@ -92,7 +94,7 @@ void vtkPenumbraAutoShadows::ReleaseGraphicsResources(vtkWindow* window)
 {
   Internals& impl = *this->Impl;
   for (vtkPenumbraShadowTechnique* t :
-    { static_cast<vtkPenumbraShadowTechnique*>(impl.Traced), static_cast<vtkPenumbraShadowTechnique*>(impl.Maps),
+    { static_cast<vtkPenumbraShadowTechnique*>(impl.Traced),
       static_cast<vtkPenumbraShadowTechnique*>(impl.Gears) })
   {
     if (t)

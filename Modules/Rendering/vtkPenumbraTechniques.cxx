@@ -376,7 +376,7 @@ const std::vector<Technique>& Registry()
     { "none", "plain VTK rendering without shadows", InstallNone },
     { "auto",
       "per light, the technique measured best for it: raytraced for hard lights, gears for area "
-      "and linear lights (exact); quality=fast uses shadow maps",
+      "and linear lights (exact); quality=fast uses 4 x 4 light samples",
       InstallAuto },
     { "vtk-shadowmap", "VTK's vtkShadowMapPass (exponential shadow map; peer for comparison)",
       InstallVTKShadowMap },

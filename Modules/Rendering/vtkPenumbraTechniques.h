@@ -13,7 +13,7 @@
  *    vtkPenumbraShadowPass with vtkPenumbraAutoShadows: per light, the technique the
  *    project's measurements favour (hard lights `raytraced`, area and linear lights `gears`;
  *    see that class for the numbers). Options: `quality` ("balanced", default, "exact", or
- *    "fast": shadow maps for hard lights and k = 4 for soft ones) and `samples` (as for
+ *    "fast": k = 4 light samples for soft lights) and `samples` (as for
  *    `raytraced`, for area and linear lights).
  *  - `vtk-shadowmap`: VTK's own vtkShadowMapPass (exponential shadow maps; directional
  *    lights and spot lights under 90 degrees only; opaque geometry only). Options:

@@ -82,7 +82,7 @@ class RenderCliTest(unittest.TestCase):
             self.assertIn("explain    technique auto", stdout)
             self.assertIn("light 0 (directional light): raytraced - hard light", stdout)
             self.assertIn("light 1 (point light): raytraced - hard light", stdout)
-            self.assertIn("light 2 (area light, 4x4 samples): gears - soft light", stdout)
+            self.assertIn("light 2 (area light, 8x8 samples): gears - soft light at k = 8", stdout)
             self.assertIn("skipped lights: 0; lights off: 0", stdout)
 
     def test_messages_are_sentences_said_once(self):
@@ -92,7 +92,7 @@ class RenderCliTest(unittest.TestCase):
             out = os.path.join(tmp, "x.png")
             for scene, technique, fragment in (
                     ("mixed_lights.json", "conservative",
-                     "penumbra-render: warning: Light 2 (area light, 4x4 samples): conservative "
+                     "penumbra-render: warning: Light 2 (area light, 8x8 samples): conservative "
                      "cannot shadow it (hard shadows only); shadowed by gears instead"),
                     ("room_point_light.json", "vtk-shadowmap",
                      "penumbra-render: warning: Light 0 gets no shadow from vtk-shadowmap: VTK's "

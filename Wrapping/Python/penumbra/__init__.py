@@ -42,11 +42,11 @@ def enable_shadows(renderer, technique="auto", **options):
 
     `technique`: a name of `penumbra-render --list-techniques` (default: `auto`, which picks
     per light the technique the project's measurements favour: exact `raytraced` shadows for
-    hard lights, exact `gears` soft shadows for area and linear lights; options `quality`
-    ("balanced", "exact" or "fast") and `samples`); keyword options as in a scene file's
-    technique block, e.g. ``resolution=4096, filter="pcf"`` for `shadowmap`. Raises ValueError
-    naming the unknown technique or the option and its problem; the renderer is then left as
-    it was.
+    hard lights, exact `gears` soft shadows for area and linear lights (`raytraced` at
+    k <= 4); options `quality` ("balanced", "exact" or "fast") and `samples`); keyword
+    options as in a scene file's technique block, e.g. ``resolution=4096, filter="pcf"`` for
+    `shadowmap`. Raises ValueError naming the unknown technique or the option and its
+    problem; the renderer is then left as it was.
     """
     import json
 
