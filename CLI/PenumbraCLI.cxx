@@ -37,9 +37,10 @@ public:
     const char* kind = type == MESSAGE_TYPE_ERROR ? "error: "
       : type == MESSAGE_TYPE_WARNING || type == MESSAGE_TYPE_GENERIC_WARNING ? "warning: "
                                                                               : "";
-    std::cerr << this->Program << ": " << kind << penumbra_cli::MessageText(text) << std::endl;
+    std::cerr << (this->BelowProgress ? "\n" : "") << this->Program << ": " << kind << penumbra_cli::MessageText(text) << std::endl;
   }
   std::string Program = "penumbra";
+  bool BelowProgress = false;
 };
 vtkStandardNewMacro(MessageWindow);
 }
@@ -62,10 +63,11 @@ std::string MessageText(const char* text)
   return s;
 }
 
-void InstallMessageWindow(const char* program)
+void InstallMessageWindow(const char* program, bool belowProgress)
 {
   vtkNew<MessageWindow> window;
   window->Program = program;
+  window->BelowProgress = belowProgress;
   vtkOutputWindow::SetInstance(window);
   // VTK's logger would print every message a second time, with its own prefix.
   vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);

@@ -49,8 +49,9 @@ std::string MessageText(const char* text);
 
 // Makes VTK's output window print each message as "program: [warning: ]sentence" on stderr
 // (MessageText()). Errors are left to an ErrorLog when one watches the output window (the
-// program then reports them once, with what it was doing).
-void InstallMessageWindow(const char* program);
+// program then reports them once, with what it was doing). `belowProgress`: each message
+// starts on a new line, below a progress bar drawn with '\r'.
+void InstallMessageWindow(const char* program, bool belowProgress = false);
 
 // Offscreen window (the headless EGL window when no X display is set) with a stencil buffer
 // and no multisampling, so pixels map one to one onto view samples. Returns nullptr with

@@ -1089,7 +1089,7 @@ int WriteResults(const Options& o, const BenchRun& run)
 
 int main(int argc, char* argv[])
 {
-  penumbra_cli::InstallMessageWindow("penumbra-bench");
+  penumbra_cli::InstallMessageWindow("penumbra-bench", true);
   Options options;
   int status = ParseArguments(argc, argv, options);
   status = status < 0 ? CheckOptions(options) : status;
