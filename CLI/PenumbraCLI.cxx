@@ -4,6 +4,9 @@
 #include "vtkCommand.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkLogger.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
 #include "vtkOutputWindow.h"
 #include "vtkPenumbraEGLRenderWindow.h"
 #include "vtkPointData.h"
@@ -14,9 +17,62 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
+#include <regex>
+
+namespace
+{
+class MessageWindow : public vtkOutputWindow
+{
+public:
+  static MessageWindow* New();
+  vtkTypeMacro(MessageWindow, vtkOutputWindow);
+  void DisplayText(const char* text) override
+  {
+    const MessageTypes type = this->GetCurrentMessageType();
+    if (type == MESSAGE_TYPE_ERROR && this->HasObserver(vtkCommand::ErrorEvent))
+    {
+      return; // an ErrorLog has it and the program reports it
+    }
+    const char* kind = type == MESSAGE_TYPE_ERROR ? "error: "
+      : type == MESSAGE_TYPE_WARNING || type == MESSAGE_TYPE_GENERIC_WARNING ? "warning: "
+                                                                              : "";
+    std::cerr << (this->BelowProgress ? "\n" : "") << this->Program << ": " << kind << penumbra_cli::MessageText(text) << std::endl;
+  }
+  std::string Program = "penumbra";
+  bool BelowProgress = false;
+};
+vtkStandardNewMacro(MessageWindow);
+}
 
 namespace penumbra_cli
 {
+std::string MessageText(const char* text)
+{
+  std::string s = text ? text : "";
+  // "ERROR: In file, line N\n", "Warning: In ...", "Generic Warning: In ...".
+  static const std::regex location(R"(^\s*(ERROR|Warning|Generic Warning|Debug): In [^\n]*\n)");
+  s = std::regex_replace(s, location, "", std::regex_constants::format_first_only);
+  // "vtkSomeClass (0x55d0c0ffee00): " of vtkErrorMacro and vtkWarningMacro.
+  static const std::regex object(R"(^\s*[A-Za-z_][A-Za-z0-9_:<>]* \((0x)?[0-9a-fA-F]+\): )");
+  s = std::regex_replace(s, object, "", std::regex_constants::format_first_only);
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' '))
+  {
+    s.pop_back();
+  }
+  return s;
+}
+
+void InstallMessageWindow(const char* program, bool belowProgress)
+{
+  vtkNew<MessageWindow> window;
+  window->Program = program;
+  window->BelowProgress = belowProgress;
+  vtkOutputWindow::SetInstance(window);
+  // VTK's logger would print every message a second time, with its own prefix.
+  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
+}
+
 ErrorLog::ErrorLog()
   : Command(vtkSmartPointer<vtkCallbackCommand>::New())
 {
@@ -40,11 +96,7 @@ void ErrorLog::OnError(vtkObject*, unsigned long, void* client, void* data)
   auto* log = static_cast<ErrorLog*>(client);
   if (log->First.empty())
   {
-    log->First = data ? static_cast<const char*>(data) : "unknown VTK error";
-    while (!log->First.empty() && (log->First.back() == '\n' || log->First.back() == ' '))
-    {
-      log->First.pop_back();
-    }
+    log->First = data ? MessageText(static_cast<const char*>(data)) : "unknown VTK error";
   }
 }
 

@@ -38,6 +38,17 @@ private:
   std::string First;
 };
 
+// The sentence of a VTK message, without the "ERROR: In /path/file.cxx, line N" line and the
+// "vtkClass (0x...): " prefix VTK's macros put before it: a user needs what went wrong, not
+// where in VTK's sources it was noticed.
+std::string MessageText(const char* text);
+
+// Makes VTK's output window print each message as "program: [warning: ]sentence" on stderr
+// (MessageText()). Errors are left to an ErrorLog when one watches the output window (the
+// program then reports them once, with what it was doing). `belowProgress`: each message
+// starts on a new line, below a progress bar drawn with '\r'.
+void InstallMessageWindow(const char* program, bool belowProgress = false);
+
 // Offscreen window (the headless EGL window when no X display is set) with a stencil buffer
 // and no multisampling, so pixels map one to one onto view samples. Returns nullptr with
 // `error` set when no window can work (VTK's X window forced without an X display, which

@@ -10,22 +10,25 @@
 // files. A progress bar goes to stderr.
 //
 // Method, per scene:
-//  - the view samples and the exact visibility of the scene's first shadowed light come from
-//    the ray-traced reference on the very same camera and window size (for an area or linear
-//    light: a converged 64 x 64-sample estimate; for hard lights: one exact ray per sample,
-//    near-ties reported and excluded);
+//  - the view samples and the exact visibility of every light of the scene that is on and
+//    emits come from the ray-traced reference on the very same camera and window size (for an
+//    area or linear light: a converged 64 x 64-sample estimate; for hard lights: one exact ray
+//    per sample, near-ties reported and excluded); each point gives one row per light, with
+//    the frame's times and that light's error;
 //  - each technique renders `warmup` frames, then `frames` timed frames (glFinish before the
 //    clock stops); the median is reported, with the phases of vtkPenumbraShadowPass. Nothing
 //    moves by default, so techniques that cache (shadow maps) are timed on reuse; with
 //    --moving-light the measured light moves by a negligible amount before every frame
-//    (1e-9 of its position's scale), which invalidates such caches, and is put back for one
+//    (1e-9 of its position's scale; the scene's first measured light), which invalidates such caches, and is put back for one
 //    untimed frame before the error is measured; --moving-camera does the same with the
 //    camera, so the view samples are rendered every frame; the pass's reuse of unchanged
 //    frames is off for timed frames, --still-frames times it separately;
-//  - techniques with a `samples` option (k x k soft shadows: gears, raytraced) only run on
-//    scenes whose measured light is an area or linear light; GEARS points also print their
-//    grid statistics and the samples that differ from raytraced at the same k;
-//  - its visibility for that light is read from the pass, or, for passes that do not expose
+//  - techniques with a `samples` option (k x k soft shadows: gears, raytraced) are scored on
+//    area and linear lights only, hard-shadow techniques on the lights they can shadow (the
+//    pass hands the others to its soft fallback, which is not the technique's work); GEARS
+//    points also print their grid statistics and the samples that differ from raytraced at
+//    the same k; the `light_technique` column names what shadowed the light (auto's choice);
+//  - its visibility for each light is read from the pass, or, for passes that do not expose
 //    one (VTK's vtkShadowMapPass), recovered as the ratio of a white, diffuse-only render
 //    with shadows to the same render without, lit by that light alone.
 //
@@ -87,6 +90,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -118,6 +122,11 @@ std::string SamplesKey(const std::string& setting)
 struct Row
 {
   std::string Scene, Technique, Setting, ErrorKind;
+  // The measured light: its number among the lights that are on (VTK's shader order), what
+  // it is, how many the scene measures, and the technique that shadowed it ("" for VTK's
+  // pass and none).
+  int Light = 0, SceneLights = 1;
+  std::string LightKind, LightTechnique;
   int Width = 0, Height = 0;
   double MedianMs = 0, MinMs = 0;
   double ExtractionMs = -1, SamplesMs = -1, TechniqueMs = -1, ShadingMs = -1;
@@ -160,9 +169,11 @@ std::string ResolveScene(const std::string& name)
   return std::string(PENUMBRA_SCENES_DIR) + "/" + name + ".json";
 }
 
-// The first light that is on and actually emits: the one whose shadows are measured.
-int MeasuredLight(vtkRenderer* ren, vtkLight** light)
+// Every light that is on and actually emits, with its number in VTK's shader order (the
+// lights that are on): the lights whose shadows are measured.
+std::vector<std::pair<vtkLight*, int>> MeasuredLights(vtkRenderer* ren)
 {
+  std::vector<std::pair<vtkLight*, int>> measured;
   vtkLightCollection* lights = ren->GetLights();
   vtkCollectionSimpleIterator it;
   lights->InitTraversal(it);
@@ -175,12 +186,24 @@ int MeasuredLight(vtkRenderer* ren, vtkLight** light)
     }
     if (l->GetIntensity() > 0.0)
     {
-      *light = l;
-      return shaderIndex;
+      measured.emplace_back(l, shaderIndex);
     }
     ++shaderIndex;
   }
-  return -1;
+  return measured;
+}
+
+std::string KindOf(vtkLight* light)
+{
+  if (auto* area = vtkPenumbraAreaLight::SafeDownCast(light))
+  {
+    return area->GetShape() == vtkPenumbraAreaLight::Line ? "linear" : "area";
+  }
+  if (!light->GetPositional())
+  {
+    return "directional";
+  }
+  return light->GetConeAngle() < 90.0 ? "spot" : "point";
 }
 
 // Visibility of `light` recovered from images: white diffuse-only render lit by that light
@@ -286,13 +309,14 @@ std::string Sci(double v)
 void WriteCSV(const std::string& path, const std::vector<Row>& rows)
 {
   std::ofstream out(path);
-  out << "scene,technique,setting,width,height,median_ms,min_ms,extraction_ms,samples_ms,"
+  out << "scene,technique,setting,light,light_kind,light_technique,width,height,median_ms,min_ms,extraction_ms,samples_ms,"
          "technique_ms,shading_ms,ratio_to_no_shadow,error_kind,mismatch_rate,false_lit,"
          "false_shadow,candidates,ties,mae,rmse,max_error,p95_error,uncertain_share,fill_fragments,"
          "map_size,still_ms,still_ratio_to_no_shadow\n";
   for (const Row& r : rows)
   {
-    out << r.Scene << "," << r.Technique << ",\"" << r.Setting << "\"," << r.Width << ","
+    out << r.Scene << "," << r.Technique << ",\"" << r.Setting << "\"," << r.Light << ","
+        << r.LightKind << "," << r.LightTechnique << "," << r.Width << ","
         << r.Height << "," << r.MedianMs << "," << r.MinMs << "," << r.ExtractionMs << ","
         << r.SamplesMs << "," << r.TechniqueMs << "," << r.ShadingMs << "," << r.RatioToNoShadow
         << "," << r.ErrorKind << "," << r.MismatchRate << "," << r.FalseLit << ","
@@ -321,18 +345,20 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
   out << "# Shadow techniques: error against run time\n\n"
       << "Median of " << o.Frames << " frames after " << o.Warmup
       << " warm-up frame(s), glFinish before each clock reading, " << moving
-      << "Error is measured on the "
-         "scene's first light against the exact reference on the same view samples: mismatch "
+      << "Error is measured per light (one row each; the frame times are the frame's, all "
+         "lights shadowed) against the exact reference on the same view samples: mismatch "
          "rate over lit-candidate samples for hard lights (near-ties excluded), mean absolute "
          "error of visibility for area/linear lights.\n\n"
-      << "| scene | technique | setting | size | median ms | × no-shadow | extract | samples | "
+      << "| scene | technique | setting | light | shadowed by | size | median ms | × no-shadow | extract | samples | "
          "technique | shading | mismatch | false lit | false shadow | ties | MAE | p95 | uncertain | "
          "fill | map | still ms (×) |\n"
-      << "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      << "|---|---|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   auto phase = [](double v) { return v < 0 ? std::string("–") : Fixed(v, 1); };
   for (const Row& r : rows)
   {
-    out << "| " << r.Scene << " | " << r.Technique << " | " << r.Setting << " | " << r.Width
+    out << "| " << r.Scene << " | " << r.Technique << " | " << r.Setting << " | " << r.Light
+        << " " << r.LightKind << " | " << (r.LightTechnique.empty() ? "–" : r.LightTechnique)
+        << " | " << r.Width
         << "×" << r.Height << " | " << Fixed(r.MedianMs, 1) << " | "
         << Fixed(r.RatioToNoShadow, 2) << " | " << phase(r.ExtractionMs) << " | "
         << phase(r.SamplesMs) << " | " << phase(r.TechniqueMs) << " | " << phase(r.ShadingMs)
@@ -361,7 +387,8 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
              "visibility differs from the ray tracer at the same k in the same run.\n\n";
       gears = true;
     }
-    out << "- " << r.Scene << " " << r.Setting << ": " << r.GearsStats << "\n";
+    out << "- " << r.Scene << " " << r.Setting << " light " << r.Light << ": " << r.GearsStats
+        << "\n";
   }
   if (!failures.empty())
   {
@@ -431,7 +458,8 @@ bool WriteChart(const std::string& path, const std::vector<Row>& rows, std::stri
       {
         continue;
       }
-      const std::string label = TechniqueSpec{ r.Technique, r.Setting }.Label();
+      const std::string label = TechniqueSpec{ r.Technique, r.Setting }.Label() +
+        (r.SceneLights > 1 ? " light " + std::to_string(r.Light) : std::string());
       auto table = vtkSmartPointer<vtkTable>::New();
       vtkNew<vtkFloatArray> x;
       x->SetName("time");
@@ -690,42 +718,56 @@ struct SceneContext
   vtkRenderWindow* Window = nullptr;
   penumbra_cli::ErrorLog* Errors = nullptr;
   vtkPenumbraTechniques* Registry = nullptr;
-  vtkLight* Light = nullptr;
-  int LightIndex = -1;                  // in VTK's shader numbering
-  vtkPenumbraAreaLight* Area = nullptr; // Light, if it is an area or linear light
   vtkNew<vtkPenumbraViewSamples> Samples;
-  vtkNew<vtkFloatArray> Reference;
-  vtkNew<vtkUnsignedCharArray> Ties; // hard lights: near-ties, excluded from the comparison
-  // The ray tracer's visibility per setting ("samples=16"), so a GEARS point at the same k
-  // can be checked for exactness on the full-size frame.
-  std::map<std::string, vtkSmartPointer<vtkFloatArray>> TracedAtK;
+  // One per light that is on and emits, each scored on its own.
+  struct Measured
+  {
+    vtkLight* Light = nullptr;
+    int LightIndex = -1;                  // in VTK's shader numbering
+    vtkPenumbraAreaLight* Area = nullptr; // Light, if it is an area or linear light
+    vtkNew<vtkFloatArray> Reference;
+    vtkNew<vtkUnsignedCharArray> Ties; // hard lights: near-ties, excluded from the comparison
+    // The ray tracer's visibility per setting ("samples=16"), so a GEARS point at the same k
+    // can be checked for exactness on the full-size frame.
+    std::map<std::string, vtkSmartPointer<vtkFloatArray>> TracedAtK;
+  };
+  std::vector<std::unique_ptr<Measured>> Lights;
 };
+using Measured = SceneContext::Measured;
 
-// View samples and exact visibility of the measured light, from the ray tracer on the very
+// View samples and exact visibility of every measured light, from the ray tracer on the very
 // same camera and window size. Returns why there is no reference, or "".
 std::string ComputeReference(SceneContext& ctx)
 {
   ctx.Registry->Apply(ctx.Renderer, "raytraced", "{}");
   ctx.Window->Render();
   vtkPenumbraShadowPass* refPass = ShadowPassOf(ctx.Renderer);
-  ctx.LightIndex = MeasuredLight(ctx.Renderer, &ctx.Light);
-  if (!refPass || ctx.LightIndex < 0 || ctx.Errors->Raised())
+  const auto lights = MeasuredLights(ctx.Renderer);
+  if (!refPass || lights.empty() || ctx.Errors->Raised())
   {
     return ctx.Errors->Raised() ? ctx.Errors->FirstError() : "no light to measure";
   }
   ctx.Samples->DeepCopy(refPass->GetViewSamples());
-  ctx.Area = vtkPenumbraAreaLight::SafeDownCast(ctx.Light);
-  if (ctx.Area)
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(refPass->GetGeometry());
+  ctx.Lights.clear();
+  for (const auto& l : lights)
   {
-    vtkNew<vtkPenumbraReference> converged;
-    converged->SetGeometry(refPass->GetGeometry());
-    converged->ComputeConvergedVisibility(ctx.Samples, ctx.Area, 64, ctx.Reference);
-  }
-  else
-  {
-    ctx.Reference->DeepCopy(refPass->GetVisibility(ctx.LightIndex));
-    auto* tracer = vtkPenumbraRayTracedShadows::SafeDownCast(refPass->GetTechnique());
-    ctx.Ties->DeepCopy(tracer->GetReference()->GetTies());
+    auto m = std::make_unique<Measured>();
+    m->Light = l.first;
+    m->LightIndex = l.second;
+    m->Area = vtkPenumbraAreaLight::SafeDownCast(l.first);
+    if (m->Area)
+    {
+      reference->ComputeConvergedVisibility(ctx.Samples, m->Area, 64, m->Reference);
+    }
+    else
+    {
+      // Traced again light by light: the ties are the last traced light's.
+      reference->ComputeVisibility(ctx.Samples, m->Light, m->Reference);
+      m->Ties->DeepCopy(reference->GetTies());
+    }
+    ctx.Lights.push_back(std::move(m));
   }
   return "";
 }
@@ -733,7 +775,7 @@ std::string ComputeReference(SceneContext& ctx)
 // GEARS grid statistics of the last frame (Wang et al. 2014, Tables 5-6 analogues), and how
 // many samples differ from the ray tracer at the same k.
 std::string GearsStatistics(
-  vtkPenumbraGearsShadows* gears, vtkPenumbraShadowPass* pass, const SceneContext& ctx, const TechniqueSpec& spec)
+  vtkPenumbraGearsShadows* gears, vtkPenumbraShadowPass* pass, const Measured& ctx, const TechniqueSpec& spec)
 {
   std::ostringstream stats;
   stats << gears->GetNumberOfOccupiedCells() << " / " << gears->GetNumberOfCells()
@@ -768,8 +810,9 @@ std::string GearsStatistics(
 }
 
 // The pass's phases and technique statistics of the last frame into `row`; returns a copy of
-// its visibility of the measured light, or nullptr for passes that expose none.
-vtkSmartPointer<vtkFloatArray> ReadPass(SceneContext& ctx, const TechniqueSpec& spec, Row& row)
+// its visibility of light `m`, or nullptr for passes that expose none.
+vtkSmartPointer<vtkFloatArray> ReadPass(
+  SceneContext& ctx, Measured& m, const TechniqueSpec& spec, Row& row)
 {
   vtkPenumbraShadowPass* pass = ShadowPassOf(ctx.Renderer);
   if (!pass)
@@ -780,7 +823,8 @@ vtkSmartPointer<vtkFloatArray> ReadPass(SceneContext& ctx, const TechniqueSpec& 
   row.SamplesMs = pass->GetSamplesTimeMs();
   row.TechniqueMs = pass->GetTechniqueTimeMs();
   row.ShadingMs = pass->GetShadingTimeMs();
-  if (vtkPenumbraShadowTechnique* technique = pass->GetTechnique())
+  row.LightTechnique = pass->GetLightTechniqueName(m.LightIndex);
+  if (vtkPenumbraShadowTechnique* technique = pass->GetLightTechnique(m.LightIndex))
   {
     // The share of the last light the technique handled in the last frame (the measured
     // light in single-light scenes).
@@ -789,13 +833,12 @@ vtkSmartPointer<vtkFloatArray> ReadPass(SceneContext& ctx, const TechniqueSpec& 
     {
       row.FillFragments = volumes->GetNumberOfFillFragments();
     }
-    if (auto* maps = vtkPenumbraShadowMapShadows::SafeDownCast(technique))
+    int size[2];
+    double need[2];
+    auto* maps = vtkPenumbraShadowMapShadows::SafeDownCast(technique);
+    if (maps && maps->GetMapSize(pass->GetLight(m.LightIndex), size, need))
     {
-      int size[2];
-      maps->GetLastMapSize(size);
       row.MapSize = std::to_string(size[0]) + "×" + std::to_string(size[1]);
-      double need[2];
-      maps->GetLastEstimate(need);
       if (need[0] > 0.0 || need[1] > 0.0)
       {
         row.MapSize += " (need " + std::to_string(std::lround(need[0])) + "×" +
@@ -803,39 +846,43 @@ vtkSmartPointer<vtkFloatArray> ReadPass(SceneContext& ctx, const TechniqueSpec& 
       }
     }
     auto* gears = vtkPenumbraGearsShadows::SafeDownCast(technique);
-    if (gears && gears->GetLastLightWasArea())
+    if (gears && gears->GetLastLightWasArea() && m.Area)
     {
-      row.GearsStats = GearsStatistics(gears, pass, ctx, spec);
-      std::cerr << "\n" << ctx.Label << " gears " << spec.Setting << ": " << row.GearsStats << "\n";
+      row.GearsStats = GearsStatistics(gears, pass, m, spec);
+      std::cerr << "\n" << ctx.Label << " gears " << spec.Setting << " light " << m.LightIndex
+                << ": " << row.GearsStats << "\n";
     }
   }
   auto estimate = vtkSmartPointer<vtkFloatArray>::New();
-  if (vtkFloatArray* v = pass->GetVisibility(ctx.LightIndex))
+  if (vtkFloatArray* v = pass->GetVisibility(m.LightIndex))
   {
     estimate->DeepCopy(v);
   }
   if (spec.Name == "raytraced")
   {
-    ctx.TracedAtK[SamplesKey(spec.Setting)] = estimate;
+    m.TracedAtK[SamplesKey(spec.Setting)] = estimate;
   }
   return estimate;
 }
 
 // Error of `estimate` against the reference into `row`, and the point's images.
-void ScorePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o,
+void ScorePoint(SceneContext& ctx, Measured& m, const TechniqueSpec& spec, const Options& o,
   vtkSmartPointer<vtkFloatArray> estimate, Row& row)
 {
   vtkSmartPointer<vtkUnsignedCharArray> measurable; // null: every valid sample counts
   if (!estimate || estimate->GetNumberOfTuples() != ctx.Samples->GetNumberOfSamples())
   {
     measurable = vtkSmartPointer<vtkUnsignedCharArray>::New();
-    estimate = RecoverVisibility(ctx.Renderer, ctx.Window, ctx.Light, ctx.Samples, measurable);
+    estimate = RecoverVisibility(ctx.Renderer, ctx.Window, m.Light, ctx.Samples, measurable);
   }
   const std::string stem = o.OutDir + "/" + FileSafe(ctx.Label + "__" + spec.Name + "_" + spec.Setting);
+  // Error images per light; the first light keeps the name single-light scenes always had.
+  const std::string errorStem =
+    stem + (m.LightIndex == ctx.Lights.front()->LightIndex ? "" : "_light" + std::to_string(m.LightIndex));
   vtkNew<vtkPenumbraMetrics> metrics;
-  if (!ctx.Area)
+  if (!m.Area)
   {
-    metrics->CompareHard(estimate, ctx.Reference, ctx.Ties, measurable);
+    metrics->CompareHard(estimate, m.Reference, m.Ties, measurable);
     row.MismatchRate = metrics->GetMismatchRate();
     row.FalseLit = metrics->GetFalseLit();
     row.FalseShadow = metrics->GetFalseShadow();
@@ -843,19 +890,19 @@ void ScorePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o,
     row.Ties = metrics->GetTies();
     if (o.Images)
     {
-      metrics->WriteErrorImage(o.Width, o.Height, (stem + "_error.png").c_str());
+      metrics->WriteErrorImage(o.Width, o.Height, (errorStem + "_error.png").c_str());
     }
   }
-  metrics->CompareSoft(estimate, ctx.Reference, measurable, ctx.Area ? nullptr : ctx.Ties.Get());
+  metrics->CompareSoft(estimate, m.Reference, measurable, m.Area ? nullptr : m.Ties.Get());
   row.MAE = metrics->GetMAE();
   row.RMSE = metrics->GetRMSE();
   row.MaxError = metrics->GetMaxError();
   row.P95 = metrics->GetP95Error();
-  if (ctx.Area && o.Images)
+  if (m.Area && o.Images)
   {
-    metrics->WriteErrorImage(o.Width, o.Height, (stem + "_error.png").c_str());
+    metrics->WriteErrorImage(o.Width, o.Height, (errorStem + "_error.png").c_str());
   }
-  if (o.Images)
+  if (o.Images && errorStem == stem)
   {
     ctx.Window->Render();
     vtkNew<vtkPenumbraImageIO> io;
@@ -863,14 +910,29 @@ void ScorePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o,
   }
 }
 
-// One technique on one scene: timed frames, phases, error against the reference. Appends a
-// row, or a failure, or nothing where the technique has nothing to say about the light.
+// Whether `spec` has anything to say about light `m`: a light-sample count means nothing
+// for a hard light, and a hard-shadow technique nothing for an area light (the pass hands
+// that light to its soft fallback, whose work it is not).
+bool Scores(const SceneContext& ctx, const Measured& m, const TechniqueSpec& spec)
+{
+  if (!m.Area && spec.Options.contains("samples"))
+  {
+    return false;
+  }
+  vtkPenumbraShadowPass* pass = ShadowPassOf(ctx.Renderer);
+  return !(m.Area && pass && pass->GetTechnique() && !pass->GetTechnique()->CanShadow(m.Light));
+}
+
+// One technique on one scene: timed frames, phases, and per light its error against the
+// reference. Appends a row per light it scores, or a failure, or nothing where the technique
+// has nothing to say about any light.
 void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o, BenchRun& run)
 {
   const std::string what = ctx.Label + ": " + spec.Name + " " + spec.Setting;
-  if (!ctx.Area && spec.Options.contains("samples"))
+  if (spec.Options.contains("samples") &&
+    std::none_of(ctx.Lights.begin(), ctx.Lights.end(), [](const auto& m) { return m->Area; }))
   {
-    return; // a light-sample count means nothing for a hard light
+    return; // a light-sample count means nothing for hard lights
   }
   Progress(run.Done, run.Total, what);
   if (!ctx.Registry->Apply(ctx.Renderer, spec.Name.c_str(), spec.Options.dump().c_str()))
@@ -878,11 +940,12 @@ void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o
     run.Fail(what, ctx.Registry->GetErrorMessage()); // options were checked before the run
     return;
   }
-  vtkPenumbraShadowPass* applied = ShadowPassOf(ctx.Renderer);
-  if (ctx.Area && applied && applied->GetTechnique() && !applied->GetTechnique()->HandlesAreaLights())
+  if (std::none_of(ctx.Lights.begin(), ctx.Lights.end(),
+        [&](const auto& m) { return Scores(ctx, *m, spec); }))
   {
-    return; // a hard-shadow technique has nothing to say about an area light
+    return;
   }
+  vtkPenumbraShadowPass* applied = ShadowPassOf(ctx.Renderer);
   // Timed frames redo the shadow work (the pass would otherwise reuse a still frame's
   // visibility); --still-frames times that reuse separately.
   if (applied)
@@ -891,9 +954,10 @@ void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o
   }
   // --moving-light, --moving-camera: a new light or camera position for every frame, by a
   // negligible amount, restored afterwards.
+  vtkLight* moving = ctx.Lights.front()->Light;
   vtkCamera* camera = ctx.Renderer->GetActiveCamera();
   double home[3], eye[3];
-  ctx.Light->GetPosition(home);
+  moving->GetPosition(home);
   camera->GetPosition(eye);
   auto nudge = [](const double p[3], int f) {
     return (f + 1) * 1e-9 * (1.0 + std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2]));
@@ -902,7 +966,7 @@ void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o
     std::numeric_limits<double>::infinity(), [&](int f) {
       if (o.MovingLight)
       {
-        ctx.Light->SetPosition(home[0] + nudge(home, f), home[1], home[2]);
+        moving->SetPosition(home[0] + nudge(home, f), home[1], home[2]);
       }
       if (o.MovingCamera)
       {
@@ -911,7 +975,7 @@ void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o
     });
   if (o.MovingLight || o.MovingCamera)
   {
-    ctx.Light->SetPosition(home);
+    moving->SetPosition(home);
     camera->SetPosition(eye);
     ctx.Window->Render();
     ctx.Window->WaitForCompletion();
@@ -922,21 +986,37 @@ void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o
     ctx.Errors->Clear();
     return;
   }
-  Row row;
-  row.Scene = ctx.Label;
-  row.Technique = spec.Name;
-  row.Setting = spec.Setting;
-  row.Width = o.Width;
-  row.Height = o.Height;
-  row.MedianMs = times.Median();
-  row.MinMs = times.Ms.front();
-  row.ErrorKind = ctx.Area ? "soft" : "hard";
-  ScorePoint(ctx, spec, o, ReadPass(ctx, spec, row), row);
-  if (o.StillFrames)
+  double stillMs = -1.0;
+  const size_t first = run.Rows.size();
+  for (auto& m : ctx.Lights)
   {
-    row.StillMs = TimeStillFrames(ctx.Renderer, ctx.Window, o.Frames); // after the phases were read
+    if (!Scores(ctx, *m, spec))
+    {
+      continue;
+    }
+    Row row;
+    row.Scene = ctx.Label;
+    row.Technique = spec.Name;
+    row.Setting = spec.Setting;
+    row.Light = m->LightIndex;
+    row.SceneLights = static_cast<int>(ctx.Lights.size());
+    row.LightKind = KindOf(m->Light);
+    row.Width = o.Width;
+    row.Height = o.Height;
+    row.MedianMs = times.Median();
+    row.MinMs = times.Ms.front();
+    row.ErrorKind = m->Area ? "soft" : "hard";
+    ScorePoint(ctx, *m, spec, o, ReadPass(ctx, *m, spec, row), row);
+    run.Rows.push_back(row);
   }
-  run.Rows.push_back(row);
+  if (o.StillFrames && run.Rows.size() > first)
+  {
+    stillMs = TimeStillFrames(ctx.Renderer, ctx.Window, o.Frames); // after the phases were read
+    for (size_t r = first; r < run.Rows.size(); ++r)
+    {
+      run.Rows[r].StillMs = stillMs;
+    }
+  }
 }
 
 // Every technique on one scene. Returns -1 to go on, or the exit status (no window).
@@ -1025,6 +1105,7 @@ int WriteResults(const Options& o, const BenchRun& run)
 
 int main(int argc, char* argv[])
 {
+  penumbra_cli::InstallMessageWindow("penumbra-bench", true);
   Options options;
   int status = ParseArguments(argc, argv, options);
   status = status < 0 ? CheckOptions(options) : status;

@@ -1,18 +1,22 @@
 // penumbra-render: renders a Penumbra scene file with shadows to an image, headless.
 //
 //   penumbra-render scene.json -o out.png [--size WxH] [--technique NAME] [--option K=V]...
+//                   [--explain]
 //
-// Prints the time of each phase on stdout. Any problem with the arguments or the scene gives
+// Prints the time of each phase on stdout; with --explain also, per light, the technique that
+// shadowed it and why, or why it got no shadow work (vtkPenumbraShadowPass::GetExplanation()). Any problem with the arguments or the scene gives
 // one message on stderr, exit status 2, and no output file.
 
 #include "PenumbraCLI.h"
 
+#include "vtkCameraPass.h"
 #include "vtkCommand.h"
 #include "vtkCallbackCommand.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPenumbraImageIO.h"
 #include "vtkPenumbraSceneReader.h"
+#include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraTechniques.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
@@ -39,7 +43,7 @@ int Usage(const char* why)
     std::cerr << "penumbra-render: " << why << "\n";
   }
   std::cerr << "usage: penumbra-render SCENE.json -o OUT.png [--size WxH] [--technique NAME]"
-               " [--option KEY=VALUE]...\n"
+               " [--option KEY=VALUE]... [--explain]\n"
                "       penumbra-render --list-techniques\n"
                "       penumbra-render --options-markdown   (the technique section of SCHEMA.md)\n";
   return 2;
@@ -48,7 +52,9 @@ int Usage(const char* why)
 
 int main(int argc, char* argv[])
 {
+  penumbra_cli::InstallMessageWindow("penumbra-render");
   std::string scenePath, outPath, technique, sizeArg;
+  bool explain = false;
   nlohmann::json overrides = nlohmann::json::object();
   for (int i = 1; i < argc; ++i)
   {
@@ -85,6 +91,10 @@ int main(int argc, char* argv[])
       const std::string v = kv.substr(eq + 1);
       nlohmann::json parsed = nlohmann::json::parse(v, nullptr, false);
       overrides[kv.substr(0, eq)] = parsed.is_discarded() ? nlohmann::json(v) : parsed;
+    }
+    else if (a == "--explain")
+    {
+      explain = true;
     }
     else if (a == "--list-techniques")
     {
@@ -206,5 +216,22 @@ int main(int argc, char* argv[])
   std::printf("write      %9.1f ms  (read back, encode)\n", writeMs);
   std::printf("total      %9.1f ms\n", MsSince(t0));
   std::cout << "wrote      " << outPath << "\n";
+  if (explain)
+  {
+    // The pass behind the camera pass, as vtkPenumbraTechniques installs it.
+    auto* camera = vtkCameraPass::SafeDownCast(ren->GetPass());
+    auto* pass = camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+    std::cout << "explain    technique " << name << "\n";
+    if (pass)
+    {
+      std::cout << pass->GetExplanation();
+    }
+    else
+    {
+      std::cout << (name == "none" ? "no shadows: every light is unshadowed\n"
+                                   : "VTK's vtkShadowMapPass: directional lights and spot lights "
+                                     "under 90 degrees are shadowed, no other light\n");
+    }
+  }
   return 0;
 }

@@ -75,6 +75,26 @@ struct vtkPenumbraFrame::Internals
     vtkSmartPointer<vtkFloatArray> Values; // CPU answers: stacked samples
   };
   std::vector<Shadowed> Lights;
+  // SetActiveLights(): the lights a technique sees, as indices into Lights; empty with
+  // Subset false = all of them.
+  std::vector<int> Active;
+  bool Subset = false;
+
+  // The entry of Lights that shadowed light `k` of the current view names, or nullptr.
+  Shadowed* Slot(int k)
+  {
+    if (this->Subset)
+    {
+      if (k < 0 || static_cast<size_t>(k) >= this->Active.size())
+      {
+        return nullptr;
+      }
+      k = this->Active[static_cast<size_t>(k)];
+    }
+    return k >= 0 && static_cast<size_t>(k) < this->Lights.size()
+      ? &this->Lights[static_cast<size_t>(k)]
+      : nullptr;
+  }
 
   // Per layer and pass light: the CPU copy (valid when Fresh), the diagram-scaled factor.
   std::vector<vtkSmartPointer<vtkFloatArray>> Visibility[2], Factor[2];
@@ -284,21 +304,39 @@ vtkPenumbraViewSamples* vtkPenumbraFrame::GetSamples()
 
 int vtkPenumbraFrame::GetNumberOfShadowedLights()
 {
-  return static_cast<int>(this->Impl->Lights.size());
+  return static_cast<int>(
+    this->Impl->Subset ? this->Impl->Active.size() : this->Impl->Lights.size());
+}
+
+void vtkPenumbraFrame::SetActiveLights(const std::vector<int>& ks)
+{
+  this->Impl->Active.clear();
+  for (int k : ks)
+  {
+    if (k >= 0 && static_cast<size_t>(k) < this->Impl->Lights.size())
+    {
+      this->Impl->Active.push_back(k);
+    }
+  }
+  this->Impl->Subset = true;
+}
+
+void vtkPenumbraFrame::ClearActiveLights()
+{
+  this->Impl->Active.clear();
+  this->Impl->Subset = false;
 }
 
 vtkLight* vtkPenumbraFrame::GetShadowedLight(int k)
 {
-  return k >= 0 && k < this->GetNumberOfShadowedLights()
-    ? this->Impl->Lights[static_cast<size_t>(k)].Light.Get()
-    : nullptr;
+  const auto* l = this->Impl->Slot(k);
+  return l ? l->Light.Get() : nullptr;
 }
 
 int vtkPenumbraFrame::GetLightIndex(int k)
 {
-  return k >= 0 && k < this->GetNumberOfShadowedLights()
-    ? this->Impl->Lights[static_cast<size_t>(k)].Index
-    : -1;
+  const auto* l = this->Impl->Slot(k);
+  return l ? l->Index : -1;
 }
 
 void vtkPenumbraFrame::SetVisibility(int k, vtkFloatArray* visibility)
@@ -306,14 +344,15 @@ void vtkPenumbraFrame::SetVisibility(int k, vtkFloatArray* visibility)
   Internals& impl = *this->Impl;
   const vtkIdType expected =
     static_cast<vtkIdType>(impl.Width) * impl.Height * impl.NumberOfLayers;
-  if (k < 0 || k >= this->GetNumberOfShadowedLights() || !visibility ||
-    visibility->GetNumberOfTuples() != expected || visibility->GetNumberOfComponents() != 1)
+  auto* slot = impl.Slot(k);
+  if (!slot || !visibility || visibility->GetNumberOfTuples() != expected ||
+    visibility->GetNumberOfComponents() != 1)
   {
     vtkErrorMacro("SetVisibility: light " << k << " needs one value per stacked sample ("
                                           << expected << ")");
     return;
   }
-  auto& l = impl.Lights[static_cast<size_t>(k)];
+  auto& l = *slot;
   l.State = Answer::CPU;
   l.Values = visibility;
   for (int layer = 0; layer < impl.NumberOfLayers; ++layer)
@@ -325,9 +364,9 @@ void vtkPenumbraFrame::SetVisibility(int k, vtkFloatArray* visibility)
 void vtkPenumbraFrame::MarkOnGPU(int k)
 {
   Internals& impl = *this->Impl;
-  if (k >= 0 && k < this->GetNumberOfShadowedLights())
+  if (auto* slot = impl.Slot(k))
   {
-    auto& l = impl.Lights[static_cast<size_t>(k)];
+    auto& l = *slot;
     l.State = Answer::GPU;
     l.Values = nullptr;
     for (int layer = 0; layer < impl.NumberOfLayers; ++layer)
@@ -339,8 +378,8 @@ void vtkPenumbraFrame::MarkOnGPU(int k)
 
 bool vtkPenumbraFrame::HasVisibility(int k)
 {
-  return k >= 0 && k < this->GetNumberOfShadowedLights() &&
-    this->Impl->Lights[static_cast<size_t>(k)].State != Answer::None;
+  const auto* l = this->Impl->Slot(k);
+  return l && l->State != Answer::None;
 }
 
 vtkPenumbraFrame::VisibilityTarget vtkPenumbraFrame::BindVisibilityTarget(int layer, int k)
@@ -452,6 +491,8 @@ void vtkPenumbraFrame::Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* ge
     impl.SamplesTime.Modified();
   }
   impl.Lights.clear();
+  impl.Active.clear();
+  impl.Subset = false;
   impl.AllocateTextures();
   for (int layer = 0; layer < 2; ++layer)
   {

@@ -34,6 +34,7 @@
 #include "vtkPenumbraRenderingModule.h" // For export macro
 
 #include <memory> // For std::unique_ptr
+#include <vector> // For SetActiveLights
 
 class vtkFloatArray;
 class vtkLight;
@@ -94,6 +95,21 @@ public:
   int GetNumberOfShadowedLights();
   vtkLight* GetShadowedLight(int k);
   int GetLightIndex(int k);
+  ///@}
+
+  ///@{
+  /**
+   * Restricts what a technique sees of the frame to some of its shadowed lights: while set,
+   * GetNumberOfShadowedLights() is `ks.size()` and shadowed light k of every call above and
+   * below is the frame's shadowed light `ks[k]`. vtkPenumbraShadowPass uses it to hand each
+   * technique only the lights it shadows this frame (different lights of one frame may use
+   * different techniques); each light keeps its own visibility textures, so the techniques
+   * never see each other's lights. Begin() and ClearActiveLights() show every light again.
+   */
+#ifndef __VTK_WRAP__
+  void SetActiveLights(const std::vector<int>& ks);
+#endif
+  void ClearActiveLights();
   ///@}
 
   /**

@@ -85,6 +85,7 @@ struct LightMaps
   bool Valid = false;
   bool Paraboloid = false;
   int Width = 0, Height = 0; // texels (non-square only for one-view lights)
+  double Need[2] = { 0.0, 0.0 }; // RESM: the estimate the size came from
   std::vector<View> Views;
   std::vector<std::vector<float>> Maps;                      // CPU lookup
   std::vector<vtkSmartPointer<vtkTextureObject>> Textures;  // GPU lookup (compare mode)
@@ -1186,7 +1187,7 @@ bool vtkPenumbraShadowMapShadows::Internals::PlanMaps(vtkPenumbraShadowMapShadow
   maps->Views.assign(static_cast<size_t>(slots), View());
   this->FitViews(setup, extent, slotMode, self->Resolution, maps);
   size[0] = size[1] = self->Resolution;
-  self->LastEstimate[0] = self->LastEstimate[1] = 0.0;
+  self->LastEstimate[0] = self->LastEstimate[1] = maps->Need[0] = maps->Need[1] = 0.0;
   if (self->ResolutionMode != RESOLUTION_ESTIMATED || slotMode != SlotsOne || !extent.Used[0])
   {
     return true;
@@ -1206,7 +1207,7 @@ bool vtkPenumbraShadowMapShadows::Internals::PlanMaps(vtkPenumbraShadowMapShadow
   const int current[2] = { maps->Valid ? maps->Width : 0, maps->Valid ? maps->Height : 0 };
   for (int a = 0; a < 2; ++a)
   {
-    self->LastEstimate[a] = need[a];
+    self->LastEstimate[a] = maps->Need[a] = need[a];
     size[a] = QuantisedSide(need[a], self->MaxResolution, current[a]);
   }
   return true;
@@ -1996,6 +1997,22 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
     gbuffer->GetNormalTexture()->Deactivate();
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPenumbraShadowMapShadows::GetMapSize(vtkLight* light, int size[2], double need[2])
+{
+  for (const LightMaps& maps : this->Impl->Cache)
+  {
+    if (light && maps.Light == light && maps.Valid)
+    {
+      size[0] = maps.Width;
+      size[1] = maps.Height;
+      std::copy(maps.Need, maps.Need + 2, need);
+      return true;
+    }
+  }
+  return false;
 }
 
 //------------------------------------------------------------------------------

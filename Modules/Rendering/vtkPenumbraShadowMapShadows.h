@@ -77,6 +77,7 @@ public:
    * samples back (vtkPenumbraShadowTechnique::ComputeFrame()).
    */
   int ComputeFrame(vtkPenumbraFrame* frame) override;
+  bool ReadsSamples() override { return this->Lookup == LOOKUP_CPU; }
 
   void ReleaseGraphicsResources(vtkWindow* window) override;
 
@@ -164,6 +165,12 @@ public:
    */
   vtkGetVector2Macro(LastMapSize, int);
   vtkGetVector2Macro(LastEstimate, double);
+
+  /**
+   * The cached map size of `light` (texels along s and t) and, for RESM, its estimated need
+   * (0 when not estimated); false when the light has no maps.
+   */
+  bool GetMapSize(vtkLight* light, int size[2], double need[2]);
 
   ///@{
   /**

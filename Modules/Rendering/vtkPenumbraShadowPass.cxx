@@ -20,7 +20,10 @@
 #include "vtkOverlayPass.h"
 #include "vtkCamera.h"
 #include "vtkMatrix4x4.h"
+#include "vtkMath.h"
+#include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraFrame.h"
+#include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraShadowTechnique.h"
@@ -41,7 +44,12 @@
 #include "vtkPenumbraVisibilityDec.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
+#include <map>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -76,6 +84,107 @@ bool IsTranslucentReceiver(vtkProp* prop)
     vtkPenumbraShadowKeys::ReceivesShadows(prop);
 }
 
+// "directional", "spot", "point", "area 4x4", "linear 8": how explanations name a light.
+std::string LightKind(vtkLight* light)
+{
+  if (auto* area = vtkPenumbraAreaLight::SafeDownCast(light))
+  {
+    const int k = area->GetSamplesPerAxis();
+    return area->GetShape() == vtkPenumbraAreaLight::Line
+      ? "linear light, " + std::to_string(k) + " samples"
+      : "area light, " + std::to_string(k) + "x" + std::to_string(k) + " samples";
+  }
+  if (!light->GetPositional())
+  {
+    return "directional light";
+  }
+  return light->GetConeAngle() < 90.0 ? "spot light" : "point light";
+}
+
+// Why `light` needs no shadow work for any of `samples`, or "" when some valid sample may be
+// lit by it. The rules are the exact reference's (vtkPenumbraReference): a sample whose
+// normal faces away from the light (N.L <= 0; for an area or linear light, from every point
+// of the emitter, tested at its corners, which bound the light samples) and a sample outside
+// a spot light's cone get visibility 0 without a ray, and VTK's own shading gives them no
+// light from it either, so when that holds for every visible sample nothing needs shadowing.
+std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples)
+{
+  double pos[3], focal[3];
+  light->GetTransformedPosition(pos);
+  light->GetTransformedFocalPoint(focal);
+  double axis[3] = { focal[0] - pos[0], focal[1] - pos[1], focal[2] - pos[2] };
+  const double axisLength = vtkMath::Normalize(axis);
+  std::vector<std::array<double, 3>> points; // positional emitter points (corners)
+  auto* area = vtkPenumbraAreaLight::SafeDownCast(light);
+  double u[3], v[3], n[3];
+  if (area && area->GetAxes(u, v, n))
+  {
+    area->GetCentre(pos);
+    const double hw = 0.5 * area->GetWidth();
+    const double hh = area->GetShape() == vtkPenumbraAreaLight::Line ? 0.0 : 0.5 * area->GetHeight();
+    for (double a : { -hw, hw })
+    {
+      for (double b : { -hh, hh })
+      {
+        points.push_back({ pos[0] + a * u[0] + b * v[0], pos[1] + a * u[1] + b * v[1],
+          pos[2] + a * u[2] + b * v[2] });
+      }
+    }
+  }
+  else if (light->GetPositional())
+  {
+    points.push_back({ pos[0], pos[1], pos[2] });
+  }
+  const bool spot = !area && light->GetPositional() && light->GetConeAngle() < 90.0 && axisLength > 0;
+  const double cosCone = std::cos(vtkMath::RadiansFromDegrees(light->GetConeAngle()));
+  // A directional light shines along the axis from the position toward the focal point.
+  const double toLight[3] = { -axis[0], -axis[1], -axis[2] };
+  const float* normals = samples->GetNormals()->GetPointer(0);
+  bool anyValid = false, anyInCone = false;
+  const vtkIdType count = samples->GetNumberOfSamples();
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    double p[3];
+    if (!samples->GetWorldPosition(i, p))
+    {
+      continue;
+    }
+    anyValid = true;
+    const float* nrm = normals + 3 * i;
+    if (points.empty())
+    {
+      if (nrm[0] * toLight[0] + nrm[1] * toLight[1] + nrm[2] * toLight[2] > 0.0)
+      {
+        return "";
+      }
+      continue;
+    }
+    if (spot)
+    {
+      double d[3] = { p[0] - pos[0], p[1] - pos[1], p[2] - pos[2] };
+      const double len = vtkMath::Norm(d);
+      if (len > 0 && vtkMath::Dot(d, axis) < cosCone * len)
+      {
+        continue; // outside the cone
+      }
+      anyInCone = true;
+    }
+    for (const auto& q : points)
+    {
+      if (nrm[0] * (q[0] - p[0]) + nrm[1] * (q[1] - p[1]) + nrm[2] * (q[2] - p[2]) > 0.0)
+      {
+        return "";
+      }
+    }
+  }
+  if (!anyValid)
+  {
+    return "no surface is visible";
+  }
+  return spot && !anyInCone ? "every visible sample lies outside its cone"
+                            : "every visible sample faces away from it";
+}
+
 // Texture units left to VTK's own textures (colour, normal, PBR maps ...) in a receiver's
 // shader; the rest can hold shadowed lights' visibility.
 constexpr int ReservedTextureUnits = 8;
@@ -102,6 +211,22 @@ struct vtkPenumbraShadowPass::Internals
   bool HasFrame = false; // Frame holds a frame rendered with shadows
 
   std::vector<vtkSmartPointer<vtkLight>> Lights; // switched-on, shader order
+  int LightsOff = 0;                              // switched-off lights of the renderer
+
+  // The technique for lights the pass's technique cannot shadow (SetFallbackTechnique()).
+  vtkSmartPointer<vtkPenumbraShadowTechnique> Fallback;
+  // Lights already told they are shadowed by the fallback (said once, not every frame).
+  std::set<std::pair<vtkLight*, vtkPenumbraShadowTechnique*>> Warned;
+
+  // Per light of the last computed frame: the technique that shadowed it and why, or why it
+  // got no shadow work (GetExplanation()).
+  struct Report
+  {
+    vtkSmartPointer<vtkPenumbraShadowTechnique> Technique;
+    std::string Why, Skipped;
+  };
+  std::vector<Report> Reports;
+  int NumberOfSkipped = 0;
 
   // Per light: whether the shaders scale its colour by its visibility (empty: no light is
   // shadowed); shader code depends on it.
@@ -139,11 +264,14 @@ struct vtkPenumbraShadowPass::Internals
   std::vector<double> LightsKey();
   void RenderSamples(const vtkRenderState* s);
   void ComputeVisibility(vtkPenumbraShadowPass* pass);
+  vtkPenumbraShadowTechnique* Choose(vtkPenumbraShadowPass* pass, size_t i);
+  void SkipUnreachedLights(bool readsSamples);
 };
 
 void vtkPenumbraShadowPass::Internals::CollectLights(vtkRenderer* ren)
 {
   this->Lights.clear();
+  this->LightsOff = 0;
   vtkLightCollection* lights = ren->GetLights();
   vtkCollectionSimpleIterator it;
   lights->InitTraversal(it);
@@ -152,6 +280,10 @@ void vtkPenumbraShadowPass::Internals::CollectLights(vtkRenderer* ren)
     if (light->GetSwitch())
     {
       this->Lights.emplace_back(light);
+    }
+    else
+    {
+      ++this->LightsOff;
     }
   }
 }
@@ -215,6 +347,8 @@ std::vector<double> vtkPenumbraShadowPass::Internals::LightsKey()
   }
   key.push_back(reinterpret_cast<std::uintptr_t>(this->Technique.Get()));
   key.push_back(static_cast<double>(this->Technique ? this->Technique->GetMTime() : 0));
+  key.push_back(reinterpret_cast<std::uintptr_t>(this->Fallback.Get()));
+  key.push_back(static_cast<double>(this->Fallback ? this->Fallback->GetMTime() : 0));
   return key;
 }
 
@@ -244,30 +378,122 @@ void vtkPenumbraShadowPass::Internals::RenderSamples(const vtkRenderState* s)
   win->WaitForCompletion();
 }
 
+// The technique that shadows light i this frame: the pass's technique's choice, or the
+// fallback for a light it cannot shadow (said once per light, as a warning).
+vtkPenumbraShadowTechnique* vtkPenumbraShadowPass::Internals::Choose(
+  vtkPenumbraShadowPass* pass, size_t i)
+{
+  vtkLight* light = this->Lights[i];
+  Report& report = this->Reports[i];
+  vtkPenumbraShadowTechnique* chosen = this->Technique->SelectTechnique(light, report.Why);
+  if (!chosen || !chosen->CanShadow(light))
+  {
+    if (!this->Fallback)
+    {
+      // Exact soft shadows at the light's own k (Wang, Wang, Shi, Popescu, "GEARS: A General
+      // and Efficient Algorithm for Rendering Shadows", Computer Graphics Forum 33(6), 2014).
+      this->Fallback = vtkSmartPointer<vtkPenumbraGearsShadows>::New();
+    }
+    const std::string refused = chosen ? chosen->GetTechniqueName() : this->Technique->GetTechniqueName();
+    chosen = this->Fallback;
+    report.Why = refused + " cannot shadow it (hard shadows only); shadowed by " +
+      chosen->GetTechniqueName() + " instead (soft shadows)";
+    if (this->Warned.insert({ light, chosen }).second)
+    {
+      vtkWarningWithObjectMacro(pass, "Light " << i << " (" << LightKind(light) << "): "
+                                               << report.Why);
+    }
+  }
+  report.Technique = chosen;
+  return chosen;
+}
+
+// Lights no visible sample can receive (all face away, all outside the cone) get no shadow
+// work. Tested only where the samples are on the CPU anyway (a technique of this frame reads
+// them back, or an earlier frame of this view did): a GPU-only frame reads nothing back.
+void vtkPenumbraShadowPass::Internals::SkipUnreachedLights(bool readsSamples)
+{
+  if (!readsSamples && !this->Frame->GetSamplesReadBack())
+  {
+    return;
+  }
+  vtkPenumbraViewSamples* samples = nullptr;
+  for (size_t i = 0; i < this->Lights.size(); ++i)
+  {
+    Report& report = this->Reports[i];
+    if (!report.Skipped.empty() || !report.Technique)
+    {
+      continue;
+    }
+    samples = samples ? samples : this->Frame->GetSamples();
+    if (!samples)
+    {
+      return;
+    }
+    report.Skipped = NothingToShadow(this->Lights[i], samples);
+    if (!report.Skipped.empty())
+    {
+      report.Technique = nullptr;
+      ++this->NumberOfSkipped;
+    }
+  }
+}
+
 void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* pass)
 {
   vtkPenumbraFrame* frame = this->Frame;
+  this->Reports.assign(this->Lights.size(), Report());
+  this->NumberOfSkipped = 0;
+  // Each light's technique first: whether any of them reads the samples back decides whether
+  // the pass may look at the samples to skip lights.
+  bool readsSamples = false;
+  for (size_t i = 0; i < this->Lights.size(); ++i)
+  {
+    if (!Internals::CastsLight(this->Lights[i]))
+    {
+      this->Reports[i].Skipped = "it casts no light (zero intensity or black)";
+      ++this->NumberOfSkipped;
+      continue;
+    }
+    readsSamples = this->Choose(pass, i)->ReadsSamples() || readsSamples;
+  }
+  this->SkipUnreachedLights(readsSamples);
+
   // Each shadowed light's visibility takes a texture unit in the receivers' shaders; VTK's
   // own textures keep a few.
   GLint units = 16;
   glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
   const int budget = std::max(1, static_cast<int>(units) - ReservedTextureUnits);
   int skipped = 0;
+  // The lights each technique shadows, as the frame numbers its shadowed lights; in the
+  // order the techniques first appear, so a frame's work is deterministic.
+  std::vector<std::pair<vtkPenumbraShadowTechnique*, std::vector<int>>> groups;
   for (size_t i = 0; i < this->Lights.size(); ++i)
   {
-    if (!Internals::CastsLight(this->Lights[i]))
+    Report& report = this->Reports[i];
+    if (!report.Technique)
     {
       continue;
     }
-    if (frame->GetNumberOfShadowedLights() < budget)
-    {
-      frame->AddShadowedLight(this->Lights[i], static_cast<int>(i));
-    }
-    else
+    if (frame->GetNumberOfShadowedLights() >= budget)
     {
       ++skipped;
+      report.Technique = nullptr;
+      report.Skipped = "over the texture-unit budget of this OpenGL implementation";
+      continue;
     }
+    const int k = frame->GetNumberOfShadowedLights();
+    frame->AddShadowedLight(this->Lights[i], static_cast<int>(i));
+    auto group = std::find_if(groups.begin(), groups.end(),
+      [&](const auto& g) { return g.first == report.Technique.Get(); });
+    if (group == groups.end())
+    {
+      groups.emplace_back(report.Technique.Get(), std::vector<int>());
+      group = groups.end() - 1;
+    }
+    group->second.push_back(k);
   }
+  this->NumberOfSkipped += skipped;
   if (skipped > 0 && skipped != this->LastSkipped)
   {
     vtkErrorWithObjectMacro(pass, << skipped << " lights rendered without shadows: this OpenGL "
@@ -275,10 +501,12 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
       << " lights can be shadowed");
   }
   this->LastSkipped = skipped;
-  if (frame->GetNumberOfShadowedLights() > 0)
+  for (auto& group : groups)
   {
-    this->Technique->ComputeFrame(frame);
+    frame->SetActiveLights(group.second);
+    group.first->ComputeFrame(frame);
   }
+  frame->ClearActiveLights();
   std::vector<char> injected(this->Lights.size(), 0);
   bool any = false;
   for (int k = 0; k < frame->GetNumberOfShadowedLights(); ++k)
@@ -330,6 +558,75 @@ void vtkPenumbraShadowPass::SetTechnique(vtkPenumbraShadowTechnique* technique)
 vtkPenumbraShadowTechnique* vtkPenumbraShadowPass::GetTechnique()
 {
   return this->Impl->Technique;
+}
+
+void vtkPenumbraShadowPass::SetFallbackTechnique(vtkPenumbraShadowTechnique* technique)
+{
+  if (this->Impl->Fallback != technique)
+  {
+    this->Impl->Fallback = technique;
+    this->Modified();
+  }
+}
+
+vtkPenumbraShadowTechnique* vtkPenumbraShadowPass::GetFallbackTechnique()
+{
+  return this->Impl->Fallback;
+}
+
+vtkPenumbraShadowTechnique* vtkPenumbraShadowPass::GetLightTechnique(int index)
+{
+  const auto& reports = this->Impl->Reports;
+  return this->Impl->HasFrame && index >= 0 && static_cast<size_t>(index) < reports.size()
+    ? reports[static_cast<size_t>(index)].Technique.Get()
+    : nullptr;
+}
+
+const char* vtkPenumbraShadowPass::GetLightTechniqueName(int index)
+{
+  vtkPenumbraShadowTechnique* t = this->GetLightTechnique(index);
+  return t ? t->GetTechniqueName() : "";
+}
+
+int vtkPenumbraShadowPass::GetNumberOfSkippedLights()
+{
+  return this->Impl->HasFrame ? this->Impl->NumberOfSkipped : 0;
+}
+
+int vtkPenumbraShadowPass::GetNumberOfLightsOff()
+{
+  return this->Impl->LightsOff;
+}
+
+std::string vtkPenumbraShadowPass::GetExplanation()
+{
+  const Internals& impl = *this->Impl;
+  std::ostringstream out;
+  if (!impl.Technique)
+  {
+    out << "no technique: every light is unshadowed\n";
+  }
+  else if (!impl.HasFrame)
+  {
+    out << "no shadow work in the last frame (no light casts light, or nothing was visible)\n";
+  }
+  for (size_t i = 0; impl.HasFrame && i < impl.Lights.size() && i < impl.Reports.size(); ++i)
+  {
+    const Internals::Report& r = impl.Reports[i];
+    out << "light " << i << " (" << LightKind(impl.Lights[i]) << "): ";
+    if (r.Technique)
+    {
+      out << r.Technique->GetTechniqueName() << " - " << r.Why << "\n";
+    }
+    else
+    {
+      out << "skipped, no shadow work - " << (r.Skipped.empty() ? "the technique failed" : r.Skipped)
+          << "\n";
+    }
+  }
+  out << "skipped lights: " << this->GetNumberOfSkippedLights() << "; lights off: " << impl.LightsOff
+      << " (no shadow work)\n";
+  return out.str();
 }
 
 void vtkPenumbraShadowPass::SetDelegatePass(vtkRenderPass* pass)
@@ -633,6 +930,10 @@ void vtkPenumbraShadowPass::ReleaseGraphicsResources(vtkWindow* w)
   if (impl.Technique)
   {
     impl.Technique->ReleaseGraphicsResources(w);
+  }
+  if (impl.Fallback)
+  {
+    impl.Fallback->ReleaseGraphicsResources(w);
   }
   impl.Frame->Release(w);
   impl.HasFrame = false;

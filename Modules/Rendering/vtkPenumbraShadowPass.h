@@ -41,6 +41,7 @@
 #include "vtkPenumbraRenderingModule.h" // For export macro
 
 #include <memory> // For std::unique_ptr
+#include <string> // For GetExplanation
 
 class vtkFloatArray;
 class vtkLight;
@@ -72,6 +73,47 @@ public:
   void SetTechnique(vtkPenumbraShadowTechnique* technique);
   vtkPenumbraShadowTechnique* GetTechnique();
   ///@}
+
+  ///@{
+  /**
+   * The technique that shadows the lights the technique cannot (see
+   * vtkPenumbraShadowTechnique::SelectTechnique(): area and linear lights with a hard-shadow
+   * technique). Default: none set, and the first such light gets vtkPenumbraGearsShadows at
+   * the light's own samples, exact soft shadows (Wang, Wang, Shi, Popescu, "GEARS: A General
+   * and Efficient Algorithm for Rendering Shadows", Computer Graphics Forum 33(6), 2014).
+   * The pass warns once per light that it did so, naming the light and the technique.
+   */
+  void SetFallbackTechnique(vtkPenumbraShadowTechnique* technique);
+  vtkPenumbraShadowTechnique* GetFallbackTechnique();
+  ///@}
+
+  ///@{
+  /**
+   * What the last computed frame did per light `index` (see GetNumberOfLights()): the
+   * technique that shadowed it (nullptr when it got no shadow work) and its registry name
+   * ("" then). Different lights of one frame may use different techniques.
+   */
+  vtkPenumbraShadowTechnique* GetLightTechnique(int index);
+  const char* GetLightTechniqueName(int index);
+  ///@}
+
+  /**
+   * Lights of the last computed frame that are switched on but got no shadow work: black
+   * lights, lights no visible sample can receive (every sample faces away from them or lies
+   * outside a spot light's cone; tested where the samples are on the CPU anyway), lights
+   * over the texture-unit budget.
+   */
+  int GetNumberOfSkippedLights();
+
+  /** The renderer's switched-off lights in the last frame (never any shadow work). */
+  int GetNumberOfLightsOff();
+
+  /**
+   * Per light of the last computed frame, the technique chosen and why, or why the light
+   * was skipped; then the number of skipped lights and of lights off. One line per light
+   * (`penumbra-render --explain` prints it).
+   */
+  std::string GetExplanation();
 
   ///@{
   /**

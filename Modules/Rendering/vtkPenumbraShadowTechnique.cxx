@@ -5,8 +5,46 @@
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkNew.h"
+#include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraViewSamples.h"
+
+#include <cstring>
+
+bool vtkPenumbraShadowTechnique::CanShadow(vtkLight* light)
+{
+  return light && (this->HandlesAreaLights() || !vtkPenumbraAreaLight::SafeDownCast(light));
+}
+
+vtkPenumbraShadowTechnique* vtkPenumbraShadowTechnique::SelectTechnique(
+  vtkLight* light, std::string& why)
+{
+  if (!this->CanShadow(light))
+  {
+    why = std::string(this->GetTechniqueName()) + " cannot shadow this light";
+    return nullptr;
+  }
+  why = "the pass's technique";
+  return this;
+}
+
+const char* vtkPenumbraShadowTechnique::GetTechniqueName()
+{
+  // The registry's names (vtkPenumbraTechniques), so messages use the names users type.
+  static const char* const names[][2] = { { "vtkPenumbraRayTracedShadows", "raytraced" },
+    { "vtkPenumbraConservativeShadows", "conservative" },
+    { "vtkPenumbraShadowMapShadows", "shadowmap" },
+    { "vtkPenumbraShadowVolumeShadows", "volumes" }, { "vtkPenumbraGearsShadows", "gears" },
+    { "vtkPenumbraAutoShadows", "auto" } };
+  for (const auto& n : names)
+  {
+    if (std::strcmp(this->GetClassName(), n[0]) == 0)
+    {
+      return n[1];
+    }
+  }
+  return this->GetClassName();
+}
 
 int vtkPenumbraShadowTechnique::ComputeFrame(vtkPenumbraFrame* frame)
 {

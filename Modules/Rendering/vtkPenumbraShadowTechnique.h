@@ -24,6 +24,7 @@
 #include "vtkPenumbraRenderingModule.h" // For export macro
 #include "vtkSmartPointer.h"                // For FrameResults
 
+#include <string> // For SelectTechnique
 #include <vector> // For FrameResults
 
 class vtkCollection;
@@ -91,6 +92,35 @@ public:
    * renders such a light unshadowed; the benchmark skips them on area-light scenes.
    */
   virtual bool HandlesAreaLights() { return false; }
+
+  /**
+   * True when this technique can shadow `light`: every light, except area and linear lights
+   * (vtkPenumbraAreaLight) for techniques that do not HandlesAreaLights().
+   */
+  virtual bool CanShadow(vtkLight* light);
+
+  /**
+   * The technique that shadows `light` this frame, with a short reason in `why` (for
+   * vtkPenumbraShadowPass::GetExplanation()). Default: this technique when CanShadow(light),
+   * else nullptr, and the pass then shadows the light with its soft fallback
+   * (vtkPenumbraShadowPass::SetFallbackTechnique()) and says so once. A technique that
+   * chooses per light (`auto`, vtkPenumbraAutoShadows) returns one of its members; the pass
+   * hands each technique only the lights it was chosen for (vtkPenumbraFrame::SetActiveLights()).
+   */
+  virtual vtkPenumbraShadowTechnique* SelectTechnique(vtkLight* light, std::string& why);
+
+  /**
+   * True when ComputeFrame() reads the view samples back to the CPU (the default
+   * ComputeFrame() does). The pass then also uses them to skip lights no visible sample
+   * faces; GPU techniques return false and the pass reads nothing back for them.
+   */
+  virtual bool ReadsSamples() { return true; }
+
+  /**
+   * The name this technique is registered under in vtkPenumbraTechniques ("raytraced",
+   * "gears", ...), or the class name for a technique that is not registered.
+   */
+  virtual const char* GetTechniqueName();
 
   /**
    * Wall-clock time of the last ComputeVisibility call, in milliseconds.

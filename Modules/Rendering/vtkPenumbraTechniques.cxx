@@ -1,8 +1,11 @@
 #include "vtkPenumbraTechniques.h"
 
 #include "vtkCameraPass.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPenumbraAutoShadows.h"
 #include "vtkPenumbraConservativeShadows.h"
 #include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
@@ -10,6 +13,7 @@
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowVolumeShadows.h"
 #include "vtkRenderPassCollection.h"
+#include "vtkRenderState.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSequencePass.h"
@@ -21,6 +25,7 @@
 #include <algorithm>
 #include <cstring>
 #include <functional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -253,6 +258,45 @@ void InstallNone(vtkRenderer* ren, const Options&)
   InstallPass(ren, nullptr);
 }
 
+// VTK's vtkShadowMapPass with one addition: it says, once per light, which lights it leaves
+// unshadowed (its baker's LightCreatesShadow(): headlights, positional lights with a cone of
+// 90 degrees or more, i.e. point lights and Penumbra's area lights), instead of drawing them
+// without a shadow and without a word.
+class CheckedShadowMapPass : public vtkShadowMapPass
+{
+public:
+  static CheckedShadowMapPass* New();
+  vtkTypeMacro(CheckedShadowMapPass, vtkShadowMapPass);
+  void Render(const vtkRenderState* s) override
+  {
+    vtkLightCollection* lights = s->GetRenderer()->GetLights();
+    vtkCollectionSimpleIterator it;
+    lights->InitTraversal(it);
+    int index = 0;
+    while (vtkLight* light = lights->GetNextLight(it))
+    {
+      if (!light->GetSwitch())
+      {
+        continue;
+      }
+      if (!this->GetShadowMapBakerPass()->LightCreatesShadow(light) &&
+        this->Told.insert(light).second)
+      {
+        vtkWarningMacro("Light " << index << " gets no shadow from vtk-shadowmap: VTK's "
+                        "vtkShadowMapPass shadows only directional lights and spot lights with a "
+                        "cone under 90 degrees (not point, area, linear or head lights); use "
+                        "auto, shadowmap or raytraced to shadow it");
+      }
+      ++index;
+    }
+    this->Superclass::Render(s);
+  }
+
+private:
+  std::set<vtkLight*> Told;
+};
+vtkStandardNewMacro(CheckedShadowMapPass);
+
 const OptionTable VTKShadowMapOptions = {
   { "resolution", OptionType::Integer, 1024, 16, 16384, {}, "texels",
     "shadow map texels per side" },
@@ -261,7 +305,7 @@ const OptionTable VTKShadowMapOptions = {
 void InstallVTKShadowMap(vtkRenderer* ren, const Options& opts)
 {
   // The composition of VTK's own TestShadowMapPass: bake the maps, then shade with them.
-  vtkNew<vtkShadowMapPass> shadows;
+  vtkNew<CheckedShadowMapPass> shadows;
   shadows->GetShadowMapBakerPass()->SetResolution(opts.Integer("resolution"));
   vtkNew<vtkRenderPassCollection> passes;
   passes->AddItem(shadows->GetShadowMapBakerPass());
@@ -465,6 +509,26 @@ void InstallGears(vtkRenderer* ren, const Options& opts)
   InstallShadowPass(ren, technique);
 }
 
+// Per light, the technique the measurements favour (vtkPenumbraAutoShadows says which and
+// why, citing docs/benchmarks.md and docs/gears.md).
+const OptionTable AutoOptions = {
+  { "quality", OptionType::Choice, "balanced", 0, 0, { "balanced", "exact", "fast" }, "",
+    "\"balanced\" and \"exact\": the exact technique measured fastest for each light; "
+    "\"fast\": area and linear lights at 4 x 4 light samples" },
+  SamplesOption,
+};
+
+void InstallAuto(vtkRenderer* ren, const Options& opts)
+{
+  const int quality = opts.Choice("quality");
+  vtkNew<vtkPenumbraAutoShadows> technique;
+  technique->SetQuality(quality == 1 ? vtkPenumbraAutoShadows::QUALITY_EXACT
+      : quality == 2                 ? vtkPenumbraAutoShadows::QUALITY_FAST
+                                     : vtkPenumbraAutoShadows::QUALITY_BALANCED);
+  technique->SetSamplesPerAxis(opts.Integer("samples"));
+  InstallShadowPass(ren, technique);
+}
+
 // The descriptions cite the papers by short name:
 // - Hertel et al. 2009: Hertel, Hormann, Westermann, "A Hybrid GPU Rendering Pipeline for
 //   Alias-Free Hard Shadows", Eurographics 2009 Areas Papers;
@@ -478,6 +542,10 @@ const std::vector<Technique>& Registry()
 {
   static const std::vector<Technique> techniques = {
     { "none", "plain VTK rendering without shadows", {}, InstallNone },
+    { "auto",
+      "per light, the technique measured best for it: raytraced for hard lights, gears for area "
+      "and linear lights (exact); quality=fast uses 4 x 4 light samples",
+      AutoOptions, InstallAuto },
     { "vtk-shadowmap",
       "VTK's vtkShadowMapPass (exponential shadow map; directional lights and spot lights under "
       "90 degrees, opaque props only; peer for comparison)",

@@ -7,7 +7,9 @@
  * `penumbra-render --technique` switch and the benchmark all go through Apply(), so a new
  * technique becomes available everywhere by registering it in this one place.
  *
- * Registered techniques: `none`, `vtk-shadowmap`, `raytraced`, `conservative`, `shadowmap`,
+ * Registered techniques: `none`, `auto` (the default of scene files, the CLI, the examples and
+ * the Python helper: per light, the technique the project's measurements favour, see
+ * vtkPenumbraAutoShadows), `vtk-shadowmap`, `raytraced`, `conservative`, `shadowmap`, `resm`,
  * `volumes` and `gears`. Each has one option table (name, type, default, range or choices,
  * unit, one-line doc) in vtkPenumbraTechniques.cxx; Apply() validates against it, and the
  * option accessors below, `penumbra-render --list-techniques`, the option section of

@@ -44,6 +44,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
@@ -300,6 +301,33 @@ bool NonZero(const std::vector<double>& v)
   return std::fabs(v[0]) + std::fabs(v[1]) + std::fabs(v[2]) > 0.0;
 }
 
+// Turns `v`, given in a z-up frame, into the scene's frame whose up axis is `up` (unit): the
+// shortest rotation taking +z to `up` (Rodrigues' formula about z x up), a half turn about
+// +x when `up` is -z. So for "up": "y", north (+y of the z-up frame) becomes -z and east stays
+// +x, the usual mapping of geographic axes onto a y-up mesh (e.g. glTF).
+void FromZUp(const double up[3], double v[3])
+{
+  const double c = up[2]; // cos of the angle between +z and up
+  double axis[3] = { -up[1], up[0], 0.0 }; // z x up
+  const double s = vtkMath::Normalize(axis);
+  if (s < 1e-12)
+  {
+    if (c < 0) // half turn about +x
+    {
+      v[1] = -v[1];
+      v[2] = -v[2];
+    }
+    return;
+  }
+  double cross[3];
+  vtkMath::Cross(axis, v, cross);
+  const double dot = vtkMath::Dot(axis, v);
+  for (int i = 0; i < 3; ++i)
+  {
+    v[i] = v[i] * c + cross[i] * s + axis[i] * dot * (1.0 - c);
+  }
+}
+
 vtkIdType CountNonFinite(vtkPolyData* pd)
 {
   vtkIdType bad = 0;
@@ -326,7 +354,10 @@ struct vtkPenumbraSceneReader::Internals
   vtkSmartPointer<vtkRenderer> Renderer;
   int Width = 640;
   int Height = 480;
-  std::string TechniqueName = "vtk-shadowmap";
+  // The scene's up axis (unit): the sun's elevation and azimuth and the default camera are
+  // relative to it.
+  double Up[3] = { 0, 0, 1 };
+  std::string TechniqueName = "auto";
   std::string TechniqueOptions = "{}";
   std::vector<std::string> ObjectNames;
   std::vector<vtkSmartPointer<vtkActor>> Actors;
@@ -368,6 +399,7 @@ struct vtkPenumbraSceneReader::Internals
     const Ctx& ctx, const std::string& field, const json& gen, const char* dataDir) const;
   void BuildObject(const Ctx& ctx, const json& obj, size_t index, const char* dataDir);
   void BuildLight(const Ctx& ctx, const json& obj, size_t index);
+  void ReadUp(const Ctx& ctx, const json& root);
   void BuildCamera(const Ctx& ctx, const json& cam);
   void Build(const Ctx& ctx, const json& root, const char* dataDir);
 };
@@ -764,6 +796,40 @@ void vtkPenumbraSceneReader::Internals::BuildObject(
   this->Actors.push_back(actor);
 }
 
+// "up": an axis name ("x", "y", "z", "-x", "-y", "-z") or a non-zero vector; default "z".
+void vtkPenumbraSceneReader::Internals::ReadUp(const Ctx& ctx, const json& root)
+{
+  this->Up[0] = this->Up[1] = 0.0;
+  this->Up[2] = 1.0;
+  if (!root.contains("up"))
+  {
+    return;
+  }
+  const json& up = root.at("up");
+  if (up.is_string())
+  {
+    const std::string name = up.get<std::string>();
+    const std::vector<std::string> axes = { "x", "y", "z", "-x", "-y", "-z" };
+    const auto it = std::find(axes.begin(), axes.end(), name);
+    if (it == axes.end())
+    {
+      ctx.Fail("up", "expected \"x\", \"y\", \"z\", \"-x\", \"-y\", \"-z\" or a vector [x, y, z], got " +
+          Quote(name));
+    }
+    const int axis = static_cast<int>(it - axes.begin());
+    this->Up[2] = 0.0;
+    this->Up[axis % 3] = axis < 3 ? 1.0 : -1.0;
+    return;
+  }
+  std::vector<double> v = ctx.Vector(root, "", "up", 3, {});
+  if (!NonZero(v))
+  {
+    ctx.Fail("up", "must be a non-zero vector");
+  }
+  std::copy(v.begin(), v.end(), this->Up);
+  vtkMath::Normalize(this->Up);
+}
+
 void vtkPenumbraSceneReader::Internals::BuildLight(const Ctx& ctx, const json& obj, size_t index)
 {
   const std::string field = "lights[" + std::to_string(index) + "]";
@@ -796,11 +862,14 @@ void vtkPenumbraSceneReader::Internals::BuildLight(const Ctx& ctx, const json& o
     }
     else
     {
-      // Sun convention: azimuth clockwise from +y (north) toward +x (east), elevation above
-      // the z = 0 horizon; the light travels from the sun toward the scene.
+      // Sun convention: azimuth clockwise from north toward east, elevation above the
+      // horizon; the light travels from the sun toward the scene. For the default z-up scene
+      // north is +y, east +x and the horizon z = 0; another "up" turns them (FromZUp).
       const double el = vtkMath::RadiansFromDegrees(ctx.Number(obj, field, "elevation", 45.0));
       const double az = vtkMath::RadiansFromDegrees(ctx.Number(obj, field, "azimuth", 135.0));
-      dir = { -std::cos(el) * std::sin(az), -std::cos(el) * std::cos(az), -std::sin(el) };
+      double d[3] = { -std::cos(el) * std::sin(az), -std::cos(el) * std::cos(az), -std::sin(el) };
+      FromZUp(this->Up, d);
+      dir = { d[0], d[1], d[2] };
     }
     light = vtkSmartPointer<vtkLight>::New();
     light->SetPositional(false);
@@ -1000,10 +1069,12 @@ void vtkPenumbraSceneReader::Internals::BuildCamera(const Ctx& ctx, const json& 
     }
     else
     {
-      // Default view of a z-up world from the south-west, slightly above.
-      c->SetPosition(-1, -1.5, 1.2);
+      // Default view from the south-west, slightly above (in the scene's up frame).
+      double pos[3] = { -1, -1.5, 1.2 };
+      FromZUp(this->Up, pos);
+      c->SetPosition(pos);
       c->SetFocalPoint(0, 0, 0);
-      c->SetViewUp(0, 0, 1);
+      c->SetViewUp(this->Up);
     }
     this->Renderer->ResetCamera();
     c->Azimuth(ctx.Number(cam, field, "azimuth", 0.0));
@@ -1050,7 +1121,8 @@ void vtkPenumbraSceneReader::Internals::BuildCamera(const Ctx& ctx, const json& 
 
 void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, const char* dataDir)
 {
-  ctx.Keys(root, "", { "description", "image", "background", "camera", "objects", "lights", "technique" });
+  ctx.Keys(root, "",
+    { "description", "image", "background", "up", "camera", "objects", "lights", "technique" });
   if (root.contains("description") && !root.at("description").is_string())
   {
     ctx.Fail("description", "expected a string");
@@ -1092,6 +1164,7 @@ void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, 
     }
   }
 
+  this->ReadUp(ctx, root);
   if (!root.contains("lights") || !root.at("lights").is_array() || root.at("lights").empty())
   {
     ctx.Fail("lights", "missing: a scene needs a list with at least one light");
@@ -1104,7 +1177,7 @@ void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, 
 
   this->BuildCamera(ctx, root.contains("camera") ? root.at("camera") : json::object());
 
-  this->TechniqueName = "vtk-shadowmap";
+  this->TechniqueName = "auto";
   this->TechniqueOptions = "{}";
   if (root.contains("technique"))
   {

@@ -84,7 +84,8 @@ public:
   ///@}
 
   /**
-   * Technique named by the scene's "technique" block; "vtk-shadowmap" if none is given.
+   * Technique named by the scene's "technique" block; "auto" (a technique chosen per light,
+   * see vtkPenumbraAutoShadows) if none is given.
    */
   const char* GetTechniqueName();
 

@@ -88,13 +88,46 @@ class BenchTest(unittest.TestCase):
                 "--techniques", "none,raytraced:samples=4,gears:samples=4")
             self.assertEqual(code, 0, stderr)
             rows = read_csv(out, "results.csv")
-            self.assertEqual(sorted((r["scene"], r["technique"]) for r in rows),
-                             [("area_light", "gears"), ("area_light", "none"),
-                              ("area_light", "raytraced"), ("default", "none")])
-            by = {r["technique"]: r for r in rows if r["scene"] == "area_light"}
-            self.assertEqual(float(by["gears"]["mae"]), float(by["raytraced"]["mae"]))
+            # area_light has an area and a linear light: one row per light.
+            self.assertEqual(sorted((r["scene"], r["technique"], r["light"]) for r in rows),
+                             [("area_light", "gears", "0"), ("area_light", "gears", "1"),
+                              ("area_light", "none", "0"), ("area_light", "none", "1"),
+                              ("area_light", "raytraced", "0"), ("area_light", "raytraced", "1"),
+                              ("default", "none", "0")])
+            by = {(r["technique"], r["light"]): r for r in rows if r["scene"] == "area_light"}
+            for light in ("0", "1"):
+                self.assertEqual(float(by[("gears", light)]["mae"]),
+                                 float(by[("raytraced", light)]["mae"]))
+            self.assertEqual(by[("gears", "1")]["light_kind"], "linear")
+            self.assertEqual(by[("gears", "1")]["light_technique"], "gears")
             self.assertIn("GEARS statistics", stdout)
             self.assertIn("differs from raytraced samples=4 in 0 samples", stdout)
+
+    def test_every_light_is_measured(self):
+        # One row per light: a sun, a point light and an area light; a hard-shadow technique
+        # is scored on the hard lights only (the pass gives the area light to its fallback).
+        with tempfile.TemporaryDirectory() as out:
+            code, stdout, stderr = run_bench(out, "--scenes", "mixed_lights", "--no-images",
+                                             "--techniques", "none,raytraced,conservative")
+            self.assertEqual(code, 0, stderr)
+            rows = read_csv(out, "results.csv")
+            got = sorted((r["technique"], r["light"], r["light_kind"]) for r in rows)
+            self.assertEqual(got, [("conservative", "0", "directional"),
+                                   ("conservative", "1", "point"),
+                                   ("none", "0", "directional"), ("none", "1", "point"),
+                                   ("none", "2", "area"),
+                                   ("raytraced", "0", "directional"), ("raytraced", "1", "point"),
+                                   ("raytraced", "2", "area")])
+            for r in rows:
+                if r["technique"] == "raytraced":
+                    self.assertEqual(r["light_technique"], "raytraced")
+                    self.assertEqual(float(r["mismatch_rate"]), 0.0, r)
+            # Each light has its own shadows: no shadows is wrong for each of them.
+            none = {r["light"]: r for r in rows if r["technique"] == "none"}
+            self.assertGreater(int(none["0"]["false_lit"]), 0)
+            self.assertGreater(int(none["1"]["false_lit"]), 0)
+            self.assertGreater(float(none["2"]["mae"]), 0.0)
+            self.assertIn("| mixed_lights | raytraced | default | 2 area | raytraced |", stdout)
 
     def test_skips_and_failures(self):
         # Hard-shadow techniques are not run under an area light; a scene that cannot be
@@ -118,7 +151,8 @@ class BenchTest(unittest.TestCase):
             self.assertIn("dark: no light to measure", stderr)
             rows = read_csv(out, "results.csv")
             self.assertEqual(sorted((r["scene"], r["technique"]) for r in rows),
-                             [("area_light", "gears"), ("area_light", "none"),
+                             [("area_light", "gears"), ("area_light", "gears"),
+                              ("area_light", "none"), ("area_light", "none"),
                               ("default", "conservative"), ("default", "none")])
             with open(os.path.join(out, "results.md")) as f:
                 md = f.read()

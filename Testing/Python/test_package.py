@@ -124,6 +124,23 @@ class PackageTest(unittest.TestCase):
         win.Render()
         self.assertGreater(window_luminance(win)[sy][sx], 150)
 
+    def test_enable_shadows_defaults_to_auto(self):
+        ren = occluder_scene()
+        win = vtkRenderWindow()
+        win.SetSize(SIZE, SIZE)
+        win.AddRenderer(ren)
+        shadows = penumbra.enable_shadows(ren)
+        self.assertTrue(shadows.GetTechnique().IsA("vtkPenumbraAutoShadows"))
+        win.Render()
+        self.assertEqual(shadows.GetLightTechniqueName(0), "raytraced")
+        self.assertIn("light 0 (directional light): raytraced - hard light", shadows.GetExplanation())
+        sx, sy = pixel(-1.0, 0.0)
+        self.assertEqual(penumbra.visibility(ren, light=0)[sy][sx], 0.0)
+        with self.assertRaisesRegex(ValueError, "quality: expected one of"):
+            penumbra.enable_shadows(ren, quality="best")
+        self.assertEqual(penumbra.enable_shadows(ren, quality="fast").GetTechnique().GetQuality(),
+                         penumbra.vtkPenumbraAutoShadows.QUALITY_FAST)
+
     def test_enable_shadows_names_the_bad_option(self):
         ren = vtkRenderer()
         with self.assertRaisesRegex(ValueError, "resolutoin: unknown option"):

@@ -97,6 +97,42 @@ class RenderCliTest(unittest.TestCase):
                 self.assertIn(option["doc"], listing)
                 self.assertIn(option["doc"], penumbra.enable_shadows.__doc__)
 
+    def test_explain_and_auto_by_default(self):
+        # A scene without a technique block gets auto; --explain says per light what shadowed
+        # it and why.
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "x.png")
+            code, stdout, stderr = run_render(os.path.join(SCENES_DIR, "mixed_lights.json"), "-o",
+                                              out, "--size", "96x72", "--explain")
+            self.assertEqual(code, 0, stderr)
+            self.assertEqual(stderr, "")
+            self.assertIn("technique auto)", stdout)
+            self.assertIn("explain    technique auto", stdout)
+            self.assertIn("light 0 (directional light): raytraced - hard light", stdout)
+            self.assertIn("light 1 (point light): raytraced - hard light", stdout)
+            self.assertIn("light 2 (area light, 8x8 samples): gears - soft light at k = 8", stdout)
+            self.assertIn("skipped lights: 0; lights off: 0", stdout)
+
+    def test_messages_are_sentences_said_once(self):
+        # What a new user tripped over: a light a technique cannot shadow is said once, as a
+        # sentence naming the light and what was done, never with VTK's "In file, line N".
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "x.png")
+            for scene, technique, fragment in (
+                    ("mixed_lights.json", "conservative",
+                     "penumbra-render: warning: Light 2 (area light, 8x8 samples): conservative "
+                     "cannot shadow it (hard shadows only); shadowed by gears instead"),
+                    ("room_point_light.json", "vtk-shadowmap",
+                     "penumbra-render: warning: Light 0 gets no shadow from vtk-shadowmap: VTK's "
+                     "vtkShadowMapPass shadows only directional lights and spot lights")):
+                with self.subTest(technique=technique):
+                    code, _, stderr = run_render(os.path.join(SCENES_DIR, scene), "-o", out,
+                                                 "--size", "96x72", "--technique", technique)
+                    self.assertEqual(code, 0, stderr)
+                    self.assertIn(fragment, stderr)
+                    self.assertEqual(stderr.count(fragment), 1, stderr)
+                    self.assertNotRegex(stderr, r"\.cxx|line [0-9]|0x[0-9a-f]{6}|WARN\|")
+
 
 if __name__ == "__main__":
     unittest.main()

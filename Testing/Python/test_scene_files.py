@@ -2,6 +2,7 @@
 a non-zero exit and no output file."""
 
 import glob
+import json
 import math
 import os
 import tempfile
@@ -117,3 +118,63 @@ class SceneFilesTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class SceneUpAxisTest(unittest.TestCase):
+    """A scene's "up" axis turns the sun's elevation and azimuth (and the default camera):
+    the z-up convention rotated by the shortest turn taking +z to up."""
+
+    def sun_direction(self, up, elevation, azimuth):
+        scene = {"objects": [{"generator": {"type": "city_block"}}],
+                 "lights": [{"type": "directional", "elevation": elevation, "azimuth": azimuth}]}
+        if up is not None:
+            scene["up"] = up
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "scene.json")
+            with open(path, "w") as f:
+                json.dump(scene, f)
+            reader = penumbra.load_scene(path)
+        light = reader.GetRenderer().GetLights().GetItemAsObject(0)
+        # Position - focal point points toward the sun.
+        p, f = light.GetPosition(), light.GetFocalPoint()
+        toward = [p[i] - f[i] for i in range(3)]
+        norm = math.sqrt(sum(c * c for c in toward))
+        return [c / norm for c in toward], reader
+
+    def assertDirection(self, got, expected):
+        for g, e in zip(got, expected):
+            self.assertAlmostEqual(g, e, places=9, msg=(got, expected))
+
+    def test_default_is_z_up(self):
+        self.assertDirection(self.sun_direction(None, 90, 0)[0], [0, 0, 1])
+        self.assertDirection(self.sun_direction(None, 0, 0)[0], [0, 1, 0])   # north
+        self.assertDirection(self.sun_direction(None, 0, 90)[0], [1, 0, 0])  # east
+
+    def test_y_up(self):
+        for up in ("y", [0, 1, 0], [0, 5, 0]):
+            with self.subTest(up=up):
+                self.assertDirection(self.sun_direction(up, 90, 0)[0], [0, 1, 0])
+                self.assertDirection(self.sun_direction(up, 0, 0)[0], [0, 0, -1])  # north: -z
+                self.assertDirection(self.sun_direction(up, 0, 90)[0], [1, 0, 0])  # east: +x
+        # The automatic camera looks with the scene's up.
+        _, reader = self.sun_direction("y", 45, 135)
+        up = reader.GetRenderer().GetActiveCamera().GetViewUp()
+        self.assertEqual(max(range(3), key=lambda i: abs(up[i])), 1, up)
+        self.assertGreater(up[1], 0.5)
+
+    def test_other_axes(self):
+        self.assertDirection(self.sun_direction("-z", 90, 0)[0], [0, 0, -1])
+        self.assertDirection(self.sun_direction("x", 90, 0)[0], [1, 0, 0])
+        self.assertDirection(self.sun_direction("-y", 90, 0)[0], [0, -1, 0])
+
+    def test_bad_up_is_refused(self):
+        for up, message in (("w", "up: expected"), ([0, 0, 0], "up: must be a non-zero vector"),
+                            ([1, 2], "up")):
+            with self.subTest(up=up), tempfile.TemporaryDirectory() as d:
+                path = os.path.join(d, "scene.json")
+                with open(path, "w") as f:
+                    json.dump({"up": up, "objects": [{"generator": {"type": "city_block"}}],
+                               "lights": [{"type": "directional"}]}, f)
+                with self.assertRaises(ValueError) as caught:
+                    penumbra.load_scene(path)
+                self.assertIn(message, str(caught.exception))

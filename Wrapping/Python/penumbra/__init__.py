@@ -6,7 +6,7 @@ Use it exactly like VTK::
     from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer
 
     renderer = vtkRenderer()                       # ... actors and lights as usual ...
-    penumbra.enable_shadows(renderer, "shadowmap", resolution=4096, filter="pcf")
+    penumbra.enable_shadows(renderer)              # "auto": per light, exact shadows
     window.Render()
     shadow = penumbra.visibility(renderer, light=0)   # NumPy (height, width), 1 lit, 0 shadowed
     penumbra.disable_shadows(renderer)
@@ -38,14 +38,17 @@ def load_scene(path):
     return reader
 
 
-def enable_shadows(renderer, technique="raytraced", **options):
+def enable_shadows(renderer, technique="auto", **options):
     """Shadows `renderer` with the named technique and returns its vtkPenumbraShadowPass (None
     for VTK's own `vtk-shadowmap` and for `none`).
 
-    `technique`: a name of `penumbra-render --list-techniques` (default: `raytraced`, exact);
-    keyword options as in a scene file's technique block, e.g. ``resolution=4096,
-    filter="pcf"`` for `shadowmap`. Raises ValueError naming the unknown technique or the
-    option and its problem; the renderer is then left as it was.
+    `technique`: a name of `penumbra-render --list-techniques` (default: `auto`, which picks
+    per light the technique the project's measurements favour: exact `raytraced` shadows for
+    hard lights, exact `gears` soft shadows for area and linear lights (`raytraced` at
+    k <= 4); options `quality` ("balanced", "exact" or "fast") and `samples`); keyword
+    options as in a scene file's technique block, e.g. ``resolution=4096, filter="pcf"`` for
+    `shadowmap`. Raises ValueError naming the unknown technique or the option and its
+    problem; the renderer is then left as it was.
     """
     import json
 
