@@ -4,6 +4,7 @@
 
 #include "vtkActor.h"
 #include "vtkCollection.h"
+#include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkProperty.h"
 #include "vtkIdTypeArray.h"
@@ -40,6 +41,9 @@
 #include "vtkTranslucentPass.h"
 #include "vtkVolumetricPass.h"
 #include "vtk_glew.h"
+
+#include <cfloat>
+#include <limits>
 
 #include "vtkPenumbraVisibilityDec.h"
 
@@ -107,7 +111,43 @@ std::string LightKind(vtkLight* light)
 // of the emitter, tested at its corners, which bound the light samples) and a sample outside
 // a spot light's cone get visibility 0 without a ray, and VTK's own shading gives them no
 // light from it either, so when that holds for every visible sample nothing needs shadowing.
-std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples)
+// Whether the ray from p towards a directional light (`toLight`, `toPoint` null) or the
+// segment from p to a positional light `toPoint` meets the box (slab test).
+bool RayMeetsBox(const double p[3], const double toLight[3], const double* toPoint, const double box[6])
+{
+  double t0 = 0.0, t1 = toPoint ? 1.0 : std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a)
+  {
+    const double d = toPoint ? toPoint[a] - p[a] : toLight[a];
+    if (d == 0.0)
+    {
+      if (p[a] < box[2 * a] || p[a] > box[2 * a + 1])
+      {
+        return false;
+      }
+      continue;
+    }
+    double ta = (box[2 * a] - p[a]) / d, tb = (box[2 * a + 1] - p[a]) / d;
+    if (ta > tb)
+    {
+      std::swap(ta, tb);
+    }
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Why a light needs no shadow work this frame, or "" when it may shadow a visible sample:
+// no visible surface, every visible sample faces away or lies outside the cone, or (hard
+// lights) no visible sample's ray to the light meets the casters' box (world coordinates,
+// padded; null: no casters at all).
+std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
+  const double* casterBox, const double* sampleBox)
 {
   double pos[3], focal[3];
   light->GetTransformedPosition(pos);
@@ -140,7 +180,37 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples)
   // A directional light shines along the axis from the position toward the focal point.
   const double toLight[3] = { -axis[0], -axis[1], -axis[2] };
   const float* normals = samples->GetNormals()->GetPointer(0);
-  bool anyValid = false, anyInCone = false;
+  bool anyValid = false, anyInCone = false, anyLit = false;
+  // Hard lights: a lit sample matters only if its ray to the light can meet a caster.
+  const bool hard = points.size() <= 1;
+  if (hard && casterBox && sampleBox)
+  {
+    // All the visible samples' rays at once: for a directional light, p + t L meets the
+    // casters' box C for some p in the samples' box S iff t L meets C - S (a box); for a
+    // positional light every segment lies in the box around S and the light.
+    double box[6];
+    for (int a = 0; a < 3; ++a)
+    {
+      box[2 * a] = points.empty() ? casterBox[2 * a] - sampleBox[2 * a + 1]
+                                  : std::min(sampleBox[2 * a], points[0][a]);
+      box[2 * a + 1] = points.empty() ? casterBox[2 * a + 1] - sampleBox[2 * a]
+                                      : std::max(sampleBox[2 * a + 1], points[0][a]);
+    }
+    const double zero[3] = { 0, 0, 0 };
+    const bool apart = points.empty()
+      ? !RayMeetsBox(zero, toLight, nullptr, box)
+      : (box[0] > casterBox[1] || box[1] < casterBox[0] || box[2] > casterBox[3] ||
+          box[3] < casterBox[2] || box[4] > casterBox[5] || box[5] < casterBox[4]);
+    if (apart)
+    {
+      return "no caster lies between it and any visible surface";
+    }
+  }
+  auto mayBeShadowed = [&](const double p[3]) {
+    anyLit = true;
+    return hard && casterBox &&
+      RayMeetsBox(p, toLight, points.empty() ? nullptr : points[0].data(), casterBox);
+  };
   const vtkIdType count = samples->GetNumberOfSamples();
   for (vtkIdType i = 0; i < count; ++i)
   {
@@ -153,7 +223,8 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples)
     const float* nrm = normals + 3 * i;
     if (points.empty())
     {
-      if (nrm[0] * toLight[0] + nrm[1] * toLight[1] + nrm[2] * toLight[2] > 0.0)
+      if (nrm[0] * toLight[0] + nrm[1] * toLight[1] + nrm[2] * toLight[2] > 0.0 &&
+        mayBeShadowed(p))
       {
         return "";
       }
@@ -173,13 +244,22 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples)
     {
       if (nrm[0] * (q[0] - p[0]) + nrm[1] * (q[1] - p[1]) + nrm[2] * (q[2] - p[2]) > 0.0)
       {
-        return "";
+        if (!hard || mayBeShadowed(p))
+        {
+          return "";
+        }
+        break;
       }
     }
   }
   if (!anyValid)
   {
     return "no surface is visible";
+  }
+  if (anyLit)
+  {
+    return casterBox ? "no caster lies between it and any visible sample it lights"
+                     : "nothing casts shadows";
   }
   return spot && !anyInCone ? "every visible sample lies outside its cone"
                             : "every visible sample faces away from it";
@@ -266,6 +346,87 @@ struct vtkPenumbraShadowPass::Internals
   void ComputeVisibility(vtkPenumbraShadowPass* pass);
   vtkPenumbraShadowTechnique* Choose(vtkPenumbraShadowPass* pass, size_t i);
   void SkipUnreachedLights(bool readsSamples);
+
+  // The casters' bounding box in world coordinates, padded for rounding; null without
+  // casters. Kept while the geometry and its flags are unchanged.
+  std::array<double, 6> Casters{};
+  bool HasCasters = false;
+  std::vector<double> CastersKey;
+  const double* CasterBox()
+  {
+    const std::vector<double> key = { static_cast<double>(this->Geometry->GetGeometryTime()),
+      static_cast<double>(this->Geometry->GetFlagsTime()) };
+    if (key != this->CastersKey)
+    {
+      this->CastersKey = key;
+      this->HasCasters = false;
+      double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
+      vtkDoubleArray* vertices = this->Geometry->GetVertices();
+      const vtkIdType n = vertices ? this->Geometry->GetNumberOfTriangles() : 0;
+      for (vtkIdType t = 0; t < n; ++t)
+      {
+        if (!this->Geometry->IsOccluder(t))
+        {
+          continue;
+        }
+        this->HasCasters = true;
+        const double* v = vertices->GetPointer(9 * t);
+        for (int c = 0; c < 9; ++c)
+        {
+          lo[c % 3] = std::min(lo[c % 3], v[c]);
+          hi[c % 3] = std::max(hi[c % 3], v[c]);
+        }
+      }
+      double origin[3];
+      this->Geometry->GetOrigin(origin);
+      double scale = 0.0;
+      for (int a = 0; a < 3; ++a)
+      {
+        scale = std::max({ scale, std::abs(lo[a] + origin[a]), std::abs(hi[a] + origin[a]), hi[a] - lo[a] });
+      }
+      const double pad = 1e-6 * scale;
+      for (int a = 0; a < 3 && this->HasCasters; ++a)
+      {
+        this->Casters[2 * a] = lo[a] + origin[a] - pad;
+        this->Casters[2 * a + 1] = hi[a] + origin[a] + pad;
+      }
+    }
+    return this->HasCasters ? this->Casters.data() : nullptr;
+  }
+
+  // The visible samples' bounding box in world coordinates, once per view; null when no
+  // sample has a surface.
+  std::array<double, 6> Samples{};
+  bool HasSamples = false;
+  vtkMTimeType SamplesKey = 0;
+  const double* SampleBox(vtkPenumbraViewSamples* samples)
+  {
+    if (this->Frame->GetSamplesTime() != this->SamplesKey)
+    {
+      this->SamplesKey = this->Frame->GetSamplesTime();
+      this->HasSamples = false;
+      double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
+      for (vtkIdType i = 0; i < samples->GetNumberOfSamples(); ++i)
+      {
+        double p[3];
+        if (samples->GetWorldPosition(i, p))
+        {
+          this->HasSamples = true;
+          for (int a = 0; a < 3; ++a)
+          {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+          }
+        }
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        this->Samples[2 * a] = lo[a];
+        this->Samples[2 * a + 1] = hi[a];
+      }
+    }
+    return this->HasSamples ? this->Samples.data() : nullptr;
+  }
 };
 
 void vtkPenumbraShadowPass::Internals::CollectLights(vtkRenderer* ren)
@@ -430,7 +591,8 @@ void vtkPenumbraShadowPass::Internals::SkipUnreachedLights(bool readsSamples)
     {
       return;
     }
-    report.Skipped = NothingToShadow(this->Lights[i], samples);
+    report.Skipped =
+      NothingToShadow(this->Lights[i], samples, this->CasterBox(), this->SampleBox(samples));
     if (!report.Skipped.empty())
     {
       report.Technique = nullptr;

@@ -306,10 +306,46 @@ int TestLightBelowPlane()
           "away from it") != std::string::npos);
   return EXIT_SUCCESS;
 }
+
+// A sun whose only caster stands outside the view on the side away from it
+// (unreachable_light.json): no visible sample's ray can meet the caster's box, so the light
+// gets no shadow work. Turned to come from behind the tower, low, its shadow reaches the view:
+// the light is shadowed again and some samples are in shadow.
+int TestUnreachableCaster()
+{
+  vtkNew<vtkPenumbraSceneReader> reader;
+  vtkSmartPointer<vtkRenderer> ren = ReadScene("unreachable_light.json", reader);
+  CHECK(ren);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(ren, "auto", ""));
+  vtkPenumbraShadowPass* pass = ShadowPass(ren);
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(ren, 128, 96);
+  window->Render();
+  CHECK(pass->GetNumberOfSkippedLights() == 1);
+  CHECK(!pass->GetLightTechnique(0) && !pass->GetVisibility(0));
+  CHECK(pass->GetExplanation().find("light 0 (directional light): skipped, no shadow work - no "
+                                    "caster lies between it and any visible surface") !=
+    std::string::npos);
+  vtkLight* sun = vtkLight::SafeDownCast(ren->GetLights()->GetItemAsObject(0));
+  sun->SetPosition(1.0, 0.0, 0.2); // towards the light, seen from the focal point
+  sun->SetFocalPoint(0.0, 0.0, 0.0);
+  window->Render();
+  CHECK(pass->GetNumberOfSkippedLights() == 0);
+  vtkFloatArray* visibility = pass->GetVisibility(0);
+  CHECK(visibility);
+  vtkIdType shadowed = 0;
+  for (vtkIdType i = 0; i < visibility->GetNumberOfTuples(); ++i)
+  {
+    shadowed += visibility->GetValue(i) == 0.0f;
+  }
+  CHECK(shadowed > 100);
+  return EXIT_SUCCESS;
+}
 }
 
 int TestPerLightTechniques(int, char*[])
 {
+  RUN(TestUnreachableCaster());
   RUN(TestSkippedLights());
   RUN(TestLightBelowPlane());
   RUN(TestFallbackForAreaLights());
