@@ -36,6 +36,16 @@ class ExamplesTest(unittest.TestCase):
                            check=True, timeout=300)
             self.assertGreater(spread(out), 40)
 
+    def test_two_line_example(self):
+        # A plain VTK script with `import penumbra` and `penumbra.enable_shadows(renderer)`.
+        script = os.path.join(SOURCE_DIR, "Examples", "Python", "add_shadows.py")
+        with open(script, encoding="utf-8") as f:
+            self.assertEqual(f.read().count("# added line"), 2)
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "shadows.png")
+            subprocess.run([sys.executable, script, out], check=True, timeout=300)
+            self.assertGreater(spread(out), 40)
+
 
 if __name__ == "__main__":
     unittest.main()
