@@ -9,7 +9,6 @@
 
 #include "PenumbraCLI.h"
 
-#include "vtkCameraPass.h"
 #include "vtkCommand.h"
 #include "vtkCallbackCommand.h"
 #include "vtkImageData.h"
@@ -218,9 +217,7 @@ int main(int argc, char* argv[])
   std::cout << "wrote      " << outPath << "\n";
   if (explain)
   {
-    // The pass behind the camera pass, as vtkPenumbraTechniques installs it.
-    auto* camera = vtkCameraPass::SafeDownCast(ren->GetPass());
-    auto* pass = camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+    vtkPenumbraShadowPass* pass = vtkPenumbraShadowPass::GetInstalled(ren);
     std::cout << "explain    technique " << name << "\n";
     if (pass)
     {

@@ -204,17 +204,17 @@ struct Connectivity
     std::vector<int> component(static_cast<size_t>(nf), -1);
     std::vector<int> stack;
     std::vector<int> local(static_cast<size_t>(nf), -1); // face -> index in its component
-    for (int seed = 0; seed < nf; ++seed)
+    for (int start = 0; start < nf; ++start)
     {
-      if (component[static_cast<size_t>(seed)] >= 0)
+      if (component[static_cast<size_t>(start)] >= 0)
       {
         continue;
       }
       std::vector<int> faces;
       bool closed = true;
       const int id = static_cast<int>(this->Components.size());
-      component[static_cast<size_t>(seed)] = id;
-      stack.assign(1, seed);
+      component[static_cast<size_t>(start)] = id;
+      stack.assign(1, start);
       while (!stack.empty())
       {
         const int f = stack.back();
