@@ -285,22 +285,30 @@ float ConservativeDepth(const Footprint& fp, bool perspective, double x0, double
   }
   return f;
 }
-}
 
-//------------------------------------------------------------------------------
-CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int size, int layers,
-  const double* vertices, const std::vector<vtkIdType>& casters, std::vector<float>* depth,
-  std::vector<std::uint32_t>* ids, std::vector<vtkIdType>& nearTriangles)
+// The conservative rasterization both users share: footprints, tile bins and the texel loop.
+// `visit(texel, triangle, depth)` is called for every overlapping texel/triangle pair, tile by
+// tile in parallel (a texel's pairs in caster order, from one thread); it returns the work it
+// did (summed into VisitWork). Texels with active[texel] == 0 are skipped (null: all active).
+template <class Visit>
+CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const double* vertices,
+  const std::vector<vtkIdType>& casters, const unsigned char* active,
+  std::vector<vtkIdType>& nearTriangles, Visit&& visit)
 {
   CpuMapStats stats;
-  const size_t texels = static_cast<size_t>(size) * size;
-  for (int k = 0; k < layers; ++k)
+  const int tiles = (size + TileSize - 1) / TileSize;
+  // Tiles without an active texel get no triangles binned.
+  std::vector<unsigned char> tileActive(static_cast<size_t>(tiles) * tiles, active ? 0 : 1);
+  for (int y = 0; active && y < size; ++y)
   {
-    depth[k].assign(texels, std::numeric_limits<float>::infinity());
-    ids[k].assign(texels, 0u);
+    for (int x = 0; x < size; ++x)
+    {
+      tileActive[static_cast<size_t>(y / TileSize) * tiles + x / TileSize] |=
+        active[static_cast<size_t>(y) * size + x];
+    }
   }
 
-  // 1. Footprints, in parallel (the caster order is kept, so the map is deterministic).
+  // 1. Footprints, in parallel (the caster order is kept, so the result is deterministic).
   const vtkIdType nc = static_cast<vtkIdType>(casters.size());
   std::vector<Footprint> footprints(casters.size());
   std::vector<unsigned char> status(casters.size(), 0);
@@ -314,8 +322,20 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
   });
 
   // 2. Bin them to tiles (counting sort, in caster order).
-  const int tiles = (size + TileSize - 1) / TileSize;
   std::vector<vtkIdType> start(static_cast<size_t>(tiles) * tiles + 1, 0);
+  auto forTiles = [&](const Footprint& fp, auto&& f) {
+    for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
+    {
+      for (int tx = fp.X0 / TileSize; tx <= fp.X1 / TileSize; ++tx)
+      {
+        const size_t tile = static_cast<size_t>(ty) * tiles + tx;
+        if (tileActive[tile])
+        {
+          f(tile);
+        }
+      }
+    }
+  };
   for (size_t i = 0; i < footprints.size(); ++i)
   {
     if (status[i] == 2)
@@ -328,14 +348,7 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
       continue;
     }
     ++stats.Triangles;
-    const Footprint& fp = footprints[i];
-    for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
-    {
-      for (int tx = fp.X0 / TileSize; tx <= fp.X1 / TileSize; ++tx)
-      {
-        ++start[static_cast<size_t>(ty) * tiles + tx + 1];
-      }
-    }
+    forTiles(footprints[i], [&](size_t tile) { ++start[tile + 1]; });
   }
   for (size_t t = 1; t < start.size(); ++t)
   {
@@ -345,25 +358,18 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
   std::vector<std::uint32_t> binned(static_cast<size_t>(start.back()));
   for (size_t i = 0; i < footprints.size(); ++i)
   {
-    if (status[i] != 1)
+    if (status[i] == 1)
     {
-      continue;
-    }
-    const Footprint& fp = footprints[i];
-    for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
-    {
-      for (int tx = fp.X0 / TileSize; tx <= fp.X1 / TileSize; ++tx)
-      {
-        binned[static_cast<size_t>(fill[static_cast<size_t>(ty) * tiles + tx]++)] =
-          static_cast<std::uint32_t>(i);
-      }
+      forTiles(footprints[i], [&](size_t tile) {
+        binned[static_cast<size_t>(fill[tile]++)] = static_cast<std::uint32_t>(i);
+      });
     }
   }
 
-  // 3. Rasterize tile by tile: each texel keeps its `layers` smallest conservative depths.
-  std::atomic<vtkIdType> tests(0), writes(0);
+  // 3. Rasterize tile by tile.
+  std::atomic<vtkIdType> tests(0), writes(0), work(0);
   vtkSMPTools::For(0, static_cast<vtkIdType>(tiles) * tiles, [&](vtkIdType begin, vtkIdType end) {
-    vtkIdType localTests = 0, localWrites = 0;
+    vtkIdType localTests = 0, localWrites = 0, localWork = 0;
     for (vtkIdType tile = begin; tile < end; ++tile)
     {
       const int tx0 = static_cast<int>(tile % tiles) * TileSize;
@@ -374,12 +380,16 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
            ++b)
       {
         const Footprint& fp = footprints[binned[static_cast<size_t>(b)]];
-        const std::uint32_t id = static_cast<std::uint32_t>(fp.Id) + 1u;
         for (int y = std::max(ty0, fp.Y0); y <= std::min(ty1, fp.Y1); ++y)
         {
           const double y0 = y - Grow, y1 = y + 1 + Grow;
           for (int x = std::max(tx0, fp.X0); x <= std::min(tx1, fp.X1); ++x)
           {
+            const size_t texel = static_cast<size_t>(y) * size + x;
+            if (active && !active[texel])
+            {
+              continue;
+            }
             const double x0 = x - Grow, x1 = x + 1 + Grow;
             ++localTests;
             if (!Overlaps(fp, x0, x1, y0, y1))
@@ -387,32 +397,62 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
               continue;
             }
             ++localWrites;
-            const float d = ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1);
-            const size_t texel = static_cast<size_t>(y) * size + x;
-            // Sorted insertion; equal depths keep caster order.
-            for (int k = 0; k < layers; ++k)
-            {
-              if (d < depth[k][texel])
-              {
-                for (int j = layers - 1; j > k; --j)
-                {
-                  depth[j][texel] = depth[j - 1][texel];
-                  ids[j][texel] = ids[j - 1][texel];
-                }
-                depth[k][texel] = d;
-                ids[k][texel] = id;
-                break;
-              }
-            }
+            localWork +=
+              visit(texel, fp.Id, ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1));
           }
         }
       }
     }
     tests += localTests;
     writes += localWrites;
+    work += localWork;
   });
   stats.TexelTests = tests.load();
   stats.TexelWrites = writes.load();
+  stats.VisitWork = work.load();
   return stats;
+}
+}
+
+//------------------------------------------------------------------------------
+CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int size, int layers,
+  const double* vertices, const std::vector<vtkIdType>& casters, std::vector<float>* depth,
+  std::vector<std::uint32_t>* ids, std::vector<vtkIdType>& nearTriangles)
+{
+  const size_t texels = static_cast<size_t>(size) * size;
+  for (int k = 0; k < layers; ++k)
+  {
+    depth[k].assign(texels, std::numeric_limits<float>::infinity());
+    ids[k].assign(texels, 0u);
+  }
+  // Each texel keeps its `layers` smallest conservative depths, sorted; equal depths keep
+  // caster order.
+  return Rasterize(view, size, vertices, casters, nullptr, nearTriangles,
+    [&](size_t texel, vtkIdType triangle, float d) -> vtkIdType {
+      const std::uint32_t id = static_cast<std::uint32_t>(triangle) + 1u;
+      for (int k = 0; k < layers; ++k)
+      {
+        if (d < depth[k][texel])
+        {
+          for (int j = layers - 1; j > k; --j)
+          {
+            depth[j][texel] = depth[j - 1][texel];
+            ids[j][texel] = ids[j - 1][texel];
+          }
+          depth[k][texel] = d;
+          ids[k][texel] = id;
+          break;
+        }
+      }
+      return 0;
+    });
+}
+
+//------------------------------------------------------------------------------
+CpuMapStats RasterizeConservative(const penumbra_light_views::View& view, int size,
+  const double* vertices, const std::vector<vtkIdType>& casters, const unsigned char* active,
+  std::vector<vtkIdType>& nearTriangles, const TexelVisitor& visit)
+{
+  return Rasterize(view, size, vertices, casters, active, nearTriangles, visit);
 }
 }
