@@ -92,38 +92,7 @@ inline bool Behind(float triangleDepth, double sampleDepth)
 {
   return triangleDepth > sampleDepth + 1e-6 * (1.0 + std::fabs(sampleDepth));
 }
-}
 
-struct vtkPenumbraLinkedListShadows::Internals
-{
-  penumbra_light_views::CasterBuffers Casters; // CPU lists only, never uploaded
-  vtkNew<vtkUnsignedCharArray> State;
-  std::vector<double> Depth;        // per sample
-  std::vector<vtkIdType> Texel;     // per sample, its texel in its view
-  std::vector<vtkIdType> Listed;    // the view's listable samples, ascending
-  std::vector<vtkIdType> Start;     // per texel + 1: the compressed rows' starts
-  std::vector<vtkIdType> Nodes;     // sample ids, row by row
-  std::vector<unsigned char> Active; // per texel: holds an undecided sample
-  std::vector<vtkIdType> Near;      // the apex region's triangles
-};
-
-//------------------------------------------------------------------------------
-vtkPenumbraLinkedListShadows::vtkPenumbraLinkedListShadows()
-  : Classifier(vtkPenumbraConservativeShadows::New())
-  , Reference(vtkPenumbraReference::New())
-  , Impl(new Internals)
-{
-}
-
-//------------------------------------------------------------------------------
-vtkPenumbraLinkedListShadows::~vtkPenumbraLinkedListShadows()
-{
-  this->Classifier->Delete();
-  this->Reference->Delete();
-}
-
-namespace
-{
 // Projects the view's pending samples into its grid: `texel` and `depth` per listable sample
 // (appended to `listed`, ascending); a sample outside the grid or behind the apex, or on a
 // positional light, is left to the tracer (Pending).
@@ -162,51 +131,106 @@ void ProjectSamples(const View& view, int size, signed char viewIndex,
   }
 }
 
-// The per-texel lists of `count` samples from `first` (Johnson et al. 2005's grid of lists;
-// the CPU form of Ferko 2014's head pointers and node pool): counts, prefix sum, fill, in
-// sample order. Marks the texels with samples active and the samples open; returns the
-// longest list, and the number of non-empty texels in `rows`.
-vtkIdType BuildLists(int size, const vtkIdType* first, vtkIdType count,
-  const std::vector<vtkIdType>& texel, unsigned char* state, std::vector<vtkIdType>& start,
-  std::vector<vtkIdType>& nodes, std::vector<unsigned char>& active, vtkIdType& rows)
+// The per-texel lists of one pass (Johnson et al. 2005's grid of lists; the CPU form of
+// Ferko 2014's head pointers and node pool): the nodes sorted by texel, then sample, and per
+// texel the index of its first node. Head and Active have a value per texel and are reset
+// only where a list was, so a pass with few samples costs no full-grid clear.
+struct Lists
 {
-  const size_t texels = static_cast<size_t>(size) * size;
-  start.assign(texels + 1, 0);
-  active.assign(texels, 0);
-  for (vtkIdType i = 0; i < count; ++i)
+  std::vector<vtkIdType> Head;        // per texel: first node, -1 when empty
+  std::vector<unsigned char> Active;  // per texel: holds an undecided sample
+  std::vector<vtkIdType> Nodes;       // sample ids
+  std::vector<vtkIdType> NodeTexel;   // per node: its texel
+  std::vector<vtkIdType> Counts;      // dense passes: the counting sort's rows
+
+  // Lists the `count` samples from `first` (texel per sample in `texel`), marks them open
+  // and their texels active; returns the longest list, and the non-empty texels in `rows`.
+  vtkIdType Build(int size, const vtkIdType* first, vtkIdType count,
+    const std::vector<vtkIdType>& texel, unsigned char* state, vtkIdType& rows)
   {
-    ++start[static_cast<size_t>(texel[static_cast<size_t>(first[i])]) + 1];
+    const size_t texels = static_cast<size_t>(size) * size;
+    if (this->Head.size() != texels)
+    {
+      this->Head.assign(texels, -1);
+      this->Active.assign(texels, 0);
+    }
+    this->Nodes.resize(static_cast<size_t>(count));
+    this->NodeTexel.resize(static_cast<size_t>(count));
+    auto texelOf = [&](vtkIdType i) { return texel[static_cast<size_t>(first[i])]; };
+    if (static_cast<size_t>(count) * 8 >= texels)
+    {
+      // Dense: counting sort (counts, prefix sum, fill), linear in texels and samples.
+      this->Counts.assign(texels + 1, 0);
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        ++this->Counts[static_cast<size_t>(texelOf(i)) + 1];
+      }
+      for (size_t t = 0; t < texels; ++t)
+      {
+        this->Counts[t + 1] += this->Counts[t];
+      }
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        const vtkIdType j = this->Counts[static_cast<size_t>(texelOf(i))]++;
+        this->Nodes[static_cast<size_t>(j)] = first[i];
+        this->NodeTexel[static_cast<size_t>(j)] = texelOf(i);
+      }
+    }
+    else
+    {
+      // Sparse: sort the few (texel, sample) pairs instead of sweeping the grid.
+      std::vector<std::pair<vtkIdType, vtkIdType>> pairs(static_cast<size_t>(count));
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        pairs[static_cast<size_t>(i)] = { texelOf(i), first[i] };
+      }
+      std::sort(pairs.begin(), pairs.end());
+      for (size_t j = 0; j < pairs.size(); ++j)
+      {
+        this->NodeTexel[j] = pairs[j].first;
+        this->Nodes[j] = pairs[j].second;
+      }
+    }
+    vtkIdType longest = 0;
+    rows = 0;
+    for (vtkIdType j = 0; j < count;)
+    {
+      const vtkIdType t = this->NodeTexel[static_cast<size_t>(j)];
+      this->Head[static_cast<size_t>(t)] = j;
+      this->Active[static_cast<size_t>(t)] = 1;
+      const vtkIdType begin = j;
+      for (; j < count && this->NodeTexel[static_cast<size_t>(j)] == t; ++j)
+      {
+        state[this->Nodes[static_cast<size_t>(j)]] = Open;
+      }
+      longest = std::max(longest, j - begin);
+      ++rows;
+    }
+    return longest;
   }
-  vtkIdType longest = 0;
-  rows = 0;
-  for (size_t t = 0; t < texels; ++t)
+
+  // Empties the texels of the last Build.
+  void Clear()
   {
-    const vtkIdType length = start[t + 1];
-    longest = std::max(longest, length);
-    rows += length > 0;
-    active[t] = length > 0;
-    start[t + 1] += start[t];
+    for (vtkIdType t : this->NodeTexel)
+    {
+      this->Head[static_cast<size_t>(t)] = -1;
+      this->Active[static_cast<size_t>(t)] = 0;
+    }
   }
-  nodes.resize(static_cast<size_t>(count));
-  std::vector<vtkIdType> fill(start.begin(), start.end() - 1);
-  for (vtkIdType i = 0; i < count; ++i)
-  {
-    const vtkIdType s = first[i];
-    nodes[static_cast<size_t>(fill[static_cast<size_t>(texel[static_cast<size_t>(s)])]++)] = s;
-    state[s] = Open;
-  }
-  return longest;
-}
+};
 
 // Irregular rasterization (Ferko 2014; Johnson et al. 2005): every caster triangle meets the
 // samples listed at each texel its conservative footprint touches. A texel whose samples are
 // all shadowed drops out. Returns the number of exact tests; the apex region's triangles go
 // to `nearTriangles`.
 vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
-  const std::vector<vtkIdType>& casters, const std::vector<vtkIdType>& start,
-  const std::vector<vtkIdType>& nodes, std::vector<unsigned char>& active,
-  std::vector<vtkIdType>& nearTriangles)
+  const std::vector<vtkIdType>& casters, Lists& lists, std::vector<vtkIdType>& nearTriangles)
 {
+  const std::vector<vtkIdType>& nodes = lists.Nodes;
+  const std::vector<vtkIdType>& nodeTexel = lists.NodeTexel;
+  const vtkIdType count = static_cast<vtkIdType>(nodes.size());
+  std::vector<unsigned char>& active = lists.Active;
   const double* vertices = ctx.In->TriangleVertices;
   const vtkIdType* own = ctx.In->Triangles;
   unsigned char* state = ctx.State;
@@ -217,7 +241,10 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
       int made = -1; // -1 not yet, 0 without area, 1 made
       vtkIdType tests = 0;
       bool open = false;
-      for (vtkIdType j = start[texel]; j < start[texel + 1]; ++j)
+      const vtkIdType row = static_cast<vtkIdType>(texel);
+      for (vtkIdType j = lists.Head[texel]; j >= 0 && j < count &&
+           nodeTexel[static_cast<size_t>(j)] == row;
+           ++j)
       {
         const vtkIdType s = nodes[static_cast<size_t>(j)];
         if (state[s] == Shadowed)
@@ -282,6 +309,32 @@ vtkIdType TestNearTriangles(const TestContext& ctx, const vtkIdType* listed, vtk
   });
   return tests.load();
 }
+}
+
+struct vtkPenumbraLinkedListShadows::Internals
+{
+  penumbra_light_views::CasterBuffers Casters; // CPU lists only, never uploaded
+  vtkNew<vtkUnsignedCharArray> State;
+  std::vector<double> Depth;        // per sample
+  std::vector<vtkIdType> Texel;     // per sample, its texel in its view
+  std::vector<vtkIdType> Listed;    // the view's listable samples, ascending
+  Lists Grid;
+  std::vector<vtkIdType> Near;      // the apex region's triangles
+};
+
+//------------------------------------------------------------------------------
+vtkPenumbraLinkedListShadows::vtkPenumbraLinkedListShadows()
+  : Classifier(vtkPenumbraConservativeShadows::New())
+  , Reference(vtkPenumbraReference::New())
+  , Impl(new Internals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkPenumbraLinkedListShadows::~vtkPenumbraLinkedListShadows()
+{
+  this->Classifier->Delete();
+  this->Reference->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -363,15 +416,15 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
       listStart = Clock::now();
       vtkIdType passRows = 0;
       this->MaxListLength = std::max(this->MaxListLength,
-        BuildLists(size, impl.Listed.data() + first, count, impl.Texel, state, impl.Start,
-          impl.Nodes, impl.Active, passRows));
+        impl.Grid.Build(size, impl.Listed.data() + first, count, impl.Texel, state, passRows));
       rows += passRows;
       this->ListTimeMs += ElapsedMs(listStart);
       const auto rasterStart = Clock::now();
       impl.Near.clear();
-      this->NumberOfTests += RasterizeLists(views[vi], size, ctx, impl.Casters.TriangleIds,
-        impl.Start, impl.Nodes, impl.Active, impl.Near);
+      this->NumberOfTests +=
+        RasterizeLists(views[vi], size, ctx, impl.Casters.TriangleIds, impl.Grid, impl.Near);
       this->NumberOfTests += TestNearTriangles(ctx, impl.Listed.data() + first, count, impl.Near);
+      impl.Grid.Clear();
       this->RasterTimeMs += ElapsedMs(rasterStart);
       ++this->NumberOfPasses;
     }
