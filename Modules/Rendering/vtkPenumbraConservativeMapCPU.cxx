@@ -67,10 +67,44 @@ int ClipAgainst(Clip* poly, int n, double a, double b, double s)
   return m;
 }
 
-// Projects triangle `id` into `view`. Returns 0 when it misses the view, 1 when `fp` is
-// ready to rasterize, 2 when it reaches the apex region (perspective views).
+// Which tiles hold an active texel, as a summed-area table over (tiles + 1)^2 entries.
+struct TileCull
+{
+  int Tiles = 0;
+  std::vector<int> Sum;
+
+  // True when no tile that texel range [x0, x1] x [y0, y1] (clamped to the map) touches is active.
+  bool Empty(int size, double x0, double x1, double y0, double y1) const
+  {
+    // Clamped before the conversion (huge or NaN coordinates keep the whole map).
+    auto texel = [size](double v) {
+      return std::max(0, std::min(size - 1, static_cast<int>(std::min<double>(size, std::max(-1.0, std::floor(v))))));
+    };
+    if (!std::isfinite(x0 + x1 + y0 + y1))
+    {
+      return false;
+    }
+    if (x1 < 0.0 || y1 < 0.0 || x0 >= size || y0 >= size)
+    {
+      return true;
+    }
+    const int tx0 = texel(x0) / TileSize, tx1 = texel(x1) / TileSize;
+    const int ty0 = texel(y0) / TileSize, ty1 = texel(y1) / TileSize;
+    if (tx0 > tx1 || ty0 > ty1)
+    {
+      return true;
+    }
+    const int w = this->Tiles + 1;
+    return this->Sum[(ty1 + 1) * w + tx1 + 1] - this->Sum[ty0 * w + tx1 + 1] -
+      this->Sum[(ty1 + 1) * w + tx0] + this->Sum[ty0 * w + tx0] == 0;
+  }
+};
+
+// Projects triangle `id` into `view`. Returns 0 when it misses the view (or, with `cull`,
+// every active tile), 1 when `fp` is ready to rasterize, 2 when it reaches the apex region
+// (perspective views).
 int MakeFootprint(const penumbra_light_views::View& view, int size, const double* tri,
-  vtkIdType id, Footprint& fp)
+  vtkIdType id, Footprint& fp, const TileCull* cull)
 {
   const double slack = 1.0 + 2.0 / size; // one texel beyond the map on each side
   Clip poly[MaxPolygon];
@@ -111,6 +145,15 @@ int MakeFootprint(const penumbra_light_views::View& view, int size, const double
     X[k] = (c.P[0] / c.P[3] * 0.5 + 0.5) * size;
     Y[k] = (c.P[1] / c.P[3] * 0.5 + 0.5) * size;
     Q[k] = view.Perspective ? view.Far / c.P[3] : c.P[2];
+  }
+  // All vertices are in front of the apex here, so the projected triangle (which clipping only
+  // shrinks) lies in the box of the projected vertices, widened by a texel for rounding.
+  if (cull &&
+    cull->Empty(size, std::min({ X[0], X[1], X[2] }) - Grow - 1.0,
+      std::max({ X[0], X[1], X[2] }) + Grow + 1.0, std::min({ Y[0], Y[1], Y[2] }) - Grow - 1.0,
+      std::max({ Y[0], Y[1], Y[2] }) + Grow + 1.0))
+  {
+    return 0;
   }
   {
     const double ex1 = X[1] - X[0], ey1 = Y[1] - Y[0], eq1 = Q[1] - Q[0];
@@ -308,6 +351,22 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
     }
   }
 
+  TileCull cull;
+  if (active)
+  {
+    cull.Tiles = tiles;
+    cull.Sum.assign(static_cast<size_t>(tiles + 1) * (tiles + 1), 0);
+    for (int ty = 0; ty < tiles; ++ty)
+    {
+      for (int tx = 0; tx < tiles; ++tx)
+      {
+        const size_t w = static_cast<size_t>(tiles) + 1;
+        cull.Sum[(ty + 1) * w + tx + 1] = tileActive[static_cast<size_t>(ty) * tiles + tx] +
+          cull.Sum[ty * w + tx + 1] + cull.Sum[(ty + 1) * w + tx] - cull.Sum[ty * w + tx];
+      }
+    }
+  }
+
   // 1. Footprints, in parallel (the caster order is kept, so the result is deterministic).
   const vtkIdType nc = static_cast<vtkIdType>(casters.size());
   std::vector<Footprint> footprints(casters.size());
@@ -317,7 +376,8 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
     {
       const vtkIdType id = casters[static_cast<size_t>(i)];
       status[static_cast<size_t>(i)] = static_cast<unsigned char>(
-        MakeFootprint(view, size, vertices + 9 * id, id, footprints[static_cast<size_t>(i)]));
+        MakeFootprint(view, size, vertices + 9 * id, id, footprints[static_cast<size_t>(i)],
+          active ? &cull : nullptr));
     }
   });
 
