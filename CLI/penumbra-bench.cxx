@@ -59,6 +59,7 @@
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraImageIO.h"
+#include "vtkPenumbraLinkedListShadows.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraRayTracedShadows.h"
 #include "vtkPenumbraReference.h"
@@ -844,6 +845,16 @@ vtkSmartPointer<vtkFloatArray> ReadPass(
         row.MapSize += " (need " + std::to_string(std::lround(need[0])) + "×" +
           std::to_string(std::lround(need[1])) + ")";
       }
+    }
+    if (auto* llsm = vtkPenumbraLinkedListShadows::SafeDownCast(technique))
+    {
+      std::cerr << "\n" << ctx.Label << " " << spec.Name << " " << spec.Setting << ": listed "
+                << Fixed(100.0 * llsm->GetListedFraction(), 1) << " %, lists max "
+                << llsm->GetMaxListLength() << " mean " << Fixed(llsm->GetMeanListLength(), 2)
+                << ", " << llsm->GetNumberOfTests() << " tests, " << llsm->GetNumberOfTracedSamples()
+                << " traced; classify " << Fixed(llsm->GetClassifyTimeMs(), 1) << " ms, lists "
+                << Fixed(llsm->GetListTimeMs(), 1) << " ms, raster " << Fixed(llsm->GetRasterTimeMs(), 1)
+                << " ms, trace " << Fixed(llsm->GetTraceTimeMs(), 1) << " ms\n";
     }
     auto* gears = vtkPenumbraGearsShadows::SafeDownCast(technique);
     if (gears && gears->GetLastLightWasArea() && m.Area)

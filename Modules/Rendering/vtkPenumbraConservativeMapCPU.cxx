@@ -67,10 +67,44 @@ int ClipAgainst(Clip* poly, int n, double a, double b, double s)
   return m;
 }
 
-// Projects triangle `id` into `view`. Returns 0 when it misses the view, 1 when `fp` is
-// ready to rasterize, 2 when it reaches the apex region (perspective views).
+// Which tiles hold an active texel, as a summed-area table over (tiles + 1)^2 entries.
+struct TileCull
+{
+  int Tiles = 0;
+  std::vector<int> Sum;
+
+  // True when no tile that texel range [x0, x1] x [y0, y1] (clamped to the map) touches is active.
+  bool Empty(int size, double x0, double x1, double y0, double y1) const
+  {
+    // Clamped before the conversion (huge or NaN coordinates keep the whole map).
+    auto texel = [size](double v) {
+      return std::max(0, std::min(size - 1, static_cast<int>(std::min<double>(size, std::max(-1.0, std::floor(v))))));
+    };
+    if (!std::isfinite(x0 + x1 + y0 + y1))
+    {
+      return false;
+    }
+    if (x1 < 0.0 || y1 < 0.0 || x0 >= size || y0 >= size)
+    {
+      return true;
+    }
+    const int tx0 = texel(x0) / TileSize, tx1 = texel(x1) / TileSize;
+    const int ty0 = texel(y0) / TileSize, ty1 = texel(y1) / TileSize;
+    if (tx0 > tx1 || ty0 > ty1)
+    {
+      return true;
+    }
+    const int w = this->Tiles + 1;
+    return this->Sum[(ty1 + 1) * w + tx1 + 1] - this->Sum[ty0 * w + tx1 + 1] -
+      this->Sum[(ty1 + 1) * w + tx0] + this->Sum[ty0 * w + tx0] == 0;
+  }
+};
+
+// Projects triangle `id` into `view`. Returns 0 when it misses the view (or, with `cull`,
+// every active tile), 1 when `fp` is ready to rasterize, 2 when it reaches the apex region
+// (perspective views).
 int MakeFootprint(const penumbra_light_views::View& view, int size, const double* tri,
-  vtkIdType id, Footprint& fp)
+  vtkIdType id, Footprint& fp, const TileCull* cull)
 {
   const double slack = 1.0 + 2.0 / size; // one texel beyond the map on each side
   Clip poly[MaxPolygon];
@@ -111,6 +145,15 @@ int MakeFootprint(const penumbra_light_views::View& view, int size, const double
     X[k] = (c.P[0] / c.P[3] * 0.5 + 0.5) * size;
     Y[k] = (c.P[1] / c.P[3] * 0.5 + 0.5) * size;
     Q[k] = view.Perspective ? view.Far / c.P[3] : c.P[2];
+  }
+  // All vertices are in front of the apex here, so the projected triangle (which clipping only
+  // shrinks) lies in the box of the projected vertices, widened by a texel for rounding.
+  if (cull &&
+    cull->Empty(size, std::min({ X[0], X[1], X[2] }) - Grow - 1.0,
+      std::max({ X[0], X[1], X[2] }) + Grow + 1.0, std::min({ Y[0], Y[1], Y[2] }) - Grow - 1.0,
+      std::max({ Y[0], Y[1], Y[2] }) + Grow + 1.0))
+  {
+    return 0;
   }
   {
     const double ex1 = X[1] - X[0], ey1 = Y[1] - Y[0], eq1 = Q[1] - Q[0];
@@ -285,22 +328,46 @@ float ConservativeDepth(const Footprint& fp, bool perspective, double x0, double
   }
   return f;
 }
-}
 
-//------------------------------------------------------------------------------
-CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int size, int layers,
-  const double* vertices, const std::vector<vtkIdType>& casters, std::vector<float>* depth,
-  std::vector<std::uint32_t>* ids, std::vector<vtkIdType>& nearTriangles)
+// The conservative rasterization both users share: footprints, tile bins and the texel loop.
+// `visit(texel, triangle, depth)` is called for every overlapping texel/triangle pair, tile by
+// tile in parallel (a texel's pairs in caster order, from one thread); it returns the work it
+// did (summed into VisitWork). Texels with active[texel] == 0 are skipped (null: all active).
+template <class Visit>
+CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const double* vertices,
+  const std::vector<vtkIdType>& casters, const unsigned char* active,
+  std::vector<vtkIdType>& nearTriangles, Visit&& visit)
 {
   CpuMapStats stats;
-  const size_t texels = static_cast<size_t>(size) * size;
-  for (int k = 0; k < layers; ++k)
+  const int tiles = (size + TileSize - 1) / TileSize;
+  // Tiles without an active texel get no triangles binned.
+  std::vector<unsigned char> tileActive(static_cast<size_t>(tiles) * tiles, active ? 0 : 1);
+  for (int y = 0; active && y < size; ++y)
   {
-    depth[k].assign(texels, std::numeric_limits<float>::infinity());
-    ids[k].assign(texels, 0u);
+    for (int x = 0; x < size; ++x)
+    {
+      tileActive[static_cast<size_t>(y / TileSize) * tiles + x / TileSize] |=
+        active[static_cast<size_t>(y) * size + x];
+    }
   }
 
-  // 1. Footprints, in parallel (the caster order is kept, so the map is deterministic).
+  TileCull cull;
+  if (active)
+  {
+    cull.Tiles = tiles;
+    cull.Sum.assign(static_cast<size_t>(tiles + 1) * (tiles + 1), 0);
+    for (int ty = 0; ty < tiles; ++ty)
+    {
+      for (int tx = 0; tx < tiles; ++tx)
+      {
+        const size_t w = static_cast<size_t>(tiles) + 1;
+        cull.Sum[(ty + 1) * w + tx + 1] = tileActive[static_cast<size_t>(ty) * tiles + tx] +
+          cull.Sum[ty * w + tx + 1] + cull.Sum[(ty + 1) * w + tx] - cull.Sum[ty * w + tx];
+      }
+    }
+  }
+
+  // 1. Footprints, in parallel (the caster order is kept, so the result is deterministic).
   const vtkIdType nc = static_cast<vtkIdType>(casters.size());
   std::vector<Footprint> footprints(casters.size());
   std::vector<unsigned char> status(casters.size(), 0);
@@ -309,13 +376,26 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
     {
       const vtkIdType id = casters[static_cast<size_t>(i)];
       status[static_cast<size_t>(i)] = static_cast<unsigned char>(
-        MakeFootprint(view, size, vertices + 9 * id, id, footprints[static_cast<size_t>(i)]));
+        MakeFootprint(view, size, vertices + 9 * id, id, footprints[static_cast<size_t>(i)],
+          active ? &cull : nullptr));
     }
   });
 
   // 2. Bin them to tiles (counting sort, in caster order).
-  const int tiles = (size + TileSize - 1) / TileSize;
   std::vector<vtkIdType> start(static_cast<size_t>(tiles) * tiles + 1, 0);
+  auto forTiles = [&](const Footprint& fp, auto&& f) {
+    for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
+    {
+      for (int tx = fp.X0 / TileSize; tx <= fp.X1 / TileSize; ++tx)
+      {
+        const size_t tile = static_cast<size_t>(ty) * tiles + tx;
+        if (tileActive[tile])
+        {
+          f(tile);
+        }
+      }
+    }
+  };
   for (size_t i = 0; i < footprints.size(); ++i)
   {
     if (status[i] == 2)
@@ -328,14 +408,7 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
       continue;
     }
     ++stats.Triangles;
-    const Footprint& fp = footprints[i];
-    for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
-    {
-      for (int tx = fp.X0 / TileSize; tx <= fp.X1 / TileSize; ++tx)
-      {
-        ++start[static_cast<size_t>(ty) * tiles + tx + 1];
-      }
-    }
+    forTiles(footprints[i], [&](size_t tile) { ++start[tile + 1]; });
   }
   for (size_t t = 1; t < start.size(); ++t)
   {
@@ -345,25 +418,18 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
   std::vector<std::uint32_t> binned(static_cast<size_t>(start.back()));
   for (size_t i = 0; i < footprints.size(); ++i)
   {
-    if (status[i] != 1)
+    if (status[i] == 1)
     {
-      continue;
-    }
-    const Footprint& fp = footprints[i];
-    for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
-    {
-      for (int tx = fp.X0 / TileSize; tx <= fp.X1 / TileSize; ++tx)
-      {
-        binned[static_cast<size_t>(fill[static_cast<size_t>(ty) * tiles + tx]++)] =
-          static_cast<std::uint32_t>(i);
-      }
+      forTiles(footprints[i], [&](size_t tile) {
+        binned[static_cast<size_t>(fill[tile]++)] = static_cast<std::uint32_t>(i);
+      });
     }
   }
 
-  // 3. Rasterize tile by tile: each texel keeps its `layers` smallest conservative depths.
-  std::atomic<vtkIdType> tests(0), writes(0);
+  // 3. Rasterize tile by tile.
+  std::atomic<vtkIdType> tests(0), writes(0), work(0);
   vtkSMPTools::For(0, static_cast<vtkIdType>(tiles) * tiles, [&](vtkIdType begin, vtkIdType end) {
-    vtkIdType localTests = 0, localWrites = 0;
+    vtkIdType localTests = 0, localWrites = 0, localWork = 0;
     for (vtkIdType tile = begin; tile < end; ++tile)
     {
       const int tx0 = static_cast<int>(tile % tiles) * TileSize;
@@ -374,12 +440,16 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
            ++b)
       {
         const Footprint& fp = footprints[binned[static_cast<size_t>(b)]];
-        const std::uint32_t id = static_cast<std::uint32_t>(fp.Id) + 1u;
         for (int y = std::max(ty0, fp.Y0); y <= std::min(ty1, fp.Y1); ++y)
         {
           const double y0 = y - Grow, y1 = y + 1 + Grow;
           for (int x = std::max(tx0, fp.X0); x <= std::min(tx1, fp.X1); ++x)
           {
+            const size_t texel = static_cast<size_t>(y) * size + x;
+            if (active && !active[texel])
+            {
+              continue;
+            }
             const double x0 = x - Grow, x1 = x + 1 + Grow;
             ++localTests;
             if (!Overlaps(fp, x0, x1, y0, y1))
@@ -387,32 +457,62 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
               continue;
             }
             ++localWrites;
-            const float d = ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1);
-            const size_t texel = static_cast<size_t>(y) * size + x;
-            // Sorted insertion; equal depths keep caster order.
-            for (int k = 0; k < layers; ++k)
-            {
-              if (d < depth[k][texel])
-              {
-                for (int j = layers - 1; j > k; --j)
-                {
-                  depth[j][texel] = depth[j - 1][texel];
-                  ids[j][texel] = ids[j - 1][texel];
-                }
-                depth[k][texel] = d;
-                ids[k][texel] = id;
-                break;
-              }
-            }
+            localWork +=
+              visit(texel, fp.Id, ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1));
           }
         }
       }
     }
     tests += localTests;
     writes += localWrites;
+    work += localWork;
   });
   stats.TexelTests = tests.load();
   stats.TexelWrites = writes.load();
+  stats.VisitWork = work.load();
   return stats;
+}
+}
+
+//------------------------------------------------------------------------------
+CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int size, int layers,
+  const double* vertices, const std::vector<vtkIdType>& casters, std::vector<float>* depth,
+  std::vector<std::uint32_t>* ids, std::vector<vtkIdType>& nearTriangles)
+{
+  const size_t texels = static_cast<size_t>(size) * size;
+  for (int k = 0; k < layers; ++k)
+  {
+    depth[k].assign(texels, std::numeric_limits<float>::infinity());
+    ids[k].assign(texels, 0u);
+  }
+  // Each texel keeps its `layers` smallest conservative depths, sorted; equal depths keep
+  // caster order.
+  return Rasterize(view, size, vertices, casters, nullptr, nearTriangles,
+    [&](size_t texel, vtkIdType triangle, float d) -> vtkIdType {
+      const std::uint32_t id = static_cast<std::uint32_t>(triangle) + 1u;
+      for (int k = 0; k < layers; ++k)
+      {
+        if (d < depth[k][texel])
+        {
+          for (int j = layers - 1; j > k; --j)
+          {
+            depth[j][texel] = depth[j - 1][texel];
+            ids[j][texel] = ids[j - 1][texel];
+          }
+          depth[k][texel] = d;
+          ids[k][texel] = id;
+          break;
+        }
+      }
+      return 0;
+    });
+}
+
+//------------------------------------------------------------------------------
+CpuMapStats RasterizeConservative(const penumbra_light_views::View& view, int size,
+  const double* vertices, const std::vector<vtkIdType>& casters, const unsigned char* active,
+  std::vector<vtkIdType>& nearTriangles, const TexelVisitor& visit)
+{
+  return Rasterize(view, size, vertices, casters, active, nearTriangles, visit);
 }
 }

@@ -21,6 +21,10 @@
  * near a surface) are not rasterized; they are returned in `nearTriangles` for an exact
  * per-sample test, since their projection would cover (almost) the whole view.
  *
+ * The same rasterization serves the irregular z-buffer of linked-list shadow maps (Ferko 2014;
+ * Johnson et al. 2005) through RasterizeConservative(): there every overlapping texel/triangle
+ * pair tests the triangle against the view samples listed at that texel.
+ *
  * Not wrapped and not installed.
  */
 
@@ -30,6 +34,7 @@
 #include "vtkType.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace penumbra_light_views
@@ -45,6 +50,7 @@ struct CpuMapStats
   vtkIdType Triangles = 0;   // casters that reached the view's frustum
   vtkIdType TexelTests = 0;  // texel/triangle overlap tests
   vtkIdType TexelWrites = 0; // texel/triangle pairs that overlapped
+  vtkIdType VisitWork = 0;   // RasterizeConservative: the sum of the visitor's answers
 };
 
 /**
@@ -57,6 +63,24 @@ struct CpuMapStats
 CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int size, int layers,
   const double* vertices, const std::vector<vtkIdType>& casters, std::vector<float>* depth,
   std::vector<std::uint32_t>* ids, std::vector<vtkIdType>& nearTriangles);
+
+/**
+ * Called for each texel/triangle pair whose overlap the rasterization cannot rule out, with
+ * the triangle's conservative (never too large) stored depth over the texel; returns the work
+ * it did (summed into CpuMapStats::VisitWork). Calls run in parallel over tiles of texels; all
+ * calls for one texel come from one thread, in caster order.
+ */
+using TexelVisitor = std::function<vtkIdType(size_t texel, vtkIdType triangle, float depth)>;
+
+/**
+ * The rasterization of BuildConservativeMap() with `visit` in place of the map writes. Texels
+ * with `active[texel] == 0` are skipped (their tiles bin no triangles); `active` may change
+ * during the call for texels the visitor owns, and null means all texels are active.
+ * Triangles reaching the apex region are appended to `nearTriangles` instead.
+ */
+CpuMapStats RasterizeConservative(const penumbra_light_views::View& view, int size,
+  const double* vertices, const std::vector<vtkIdType>& casters, const unsigned char* active,
+  std::vector<vtkIdType>& nearTriangles, const TexelVisitor& visit);
 }
 
 #endif

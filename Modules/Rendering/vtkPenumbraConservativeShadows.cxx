@@ -68,23 +68,6 @@ constexpr size_t MaxCachedMapBytes = static_cast<size_t>(512) << 20;
 constexpr std::uint32_t IdMask = 0x7fffffffu;
 
 using penumbra_rules::Hit;
-
-// The exact test against the texel's triangle of Hertel, Hormann, Westermann, "A Hybrid GPU
-// Rendering Pipeline for Alias-Free Hard Shadows", Eurographics 2009 Areas Papers, §4.2, made
-// exact by the tracer's own decision (penumbra_rules::SegmentTest). A ray on an edge is left
-// to the tracer: only a clear hit shadows a sample here.
-Hit TestRay(const double o[3], const double d[3], double tieLimit, double tmax, const double* tri,
-  vtkIdType id, double errPos)
-{
-  penumbra_rules::ExactTriangle triangle;
-  if (!penumbra_rules::MakeExactTriangle(tri, id, triangle))
-  {
-    return Hit::Unknown;
-  }
-  int edge = 0;
-  const Hit hit = penumbra_rules::SegmentTest(o, d, tieLimit, tmax, triangle, errPos, edge);
-  return hit == Hit::OnEdge ? Hit::Unknown : hit;
-}
 }
 
 struct vtkPenumbraConservativeShadows::Internals
@@ -258,6 +241,43 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
 {
   const auto start = Clock::now();
   Internals& impl = *this->Impl;
+  if (!this->Classify(renderer, geometry, samples, light, visibility, impl.Mask))
+  {
+    return 0;
+  }
+
+  // ---- Rays only for the uncertain samples. On the CPU with Embree rather than the paper's
+  // GPU kD-tree (Hertel et al. 2009, §5): on llvmpipe the "GPU" runs on the same CPU cores,
+  // and a divergent per-fragment traversal in its SIMD fragment pipeline loses to Embree's
+  // SIMD-optimised BVH over a compact list of samples.
+  const auto traceStart = Clock::now();
+  if (this->NumberOfUncertainSamples > 0)
+  {
+    this->Reference->SetGeometry(geometry);
+    if (!this->Reference->ComputeVisibility(samples, light, visibility, impl.Mask))
+    {
+      PENUMBRA_FAIL(
+        "tracing the uncertain samples failed: " << this->Reference->GetErrorMessage());
+    }
+    this->TraceTimeMs = ElapsedMs(traceStart);
+  }
+  this->NumberOfRays = this->NumberOfUncertainSamples;
+  visibility->Modified();
+  this->LastTimeMs = ElapsedMs(start);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
+  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
+  vtkFloatArray* visibility, vtkUnsignedCharArray* uncertainMask)
+{
+  const auto start = Clock::now();
+  Internals& impl = *this->Impl;
+  if (!uncertainMask)
+  {
+    PENUMBRA_FAIL("conservative shadows: an uncertain-sample mask array is required");
+  }
   this->NumberOfLitSamples = this->NumberOfShadowedSamples = this->NumberOfUncertainSamples = 0;
   this->NumberOfRays = 0;
   this->MapTimeMs = this->ClassifyTimeMs = this->TraceTimeMs = 0.0;
@@ -283,18 +303,13 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   }
   const double* shift = in.Shift;
   const LightSetup& setup = in.Light;
-  using Kind = LightSetup::Kind;
-  const Kind kind = setup.Type;
-  const double* direction = setup.Direction;
-  const double* position = setup.Position;
-  const double cone = setup.Cone;
 
   visibility->SetNumberOfComponents(1);
   visibility->SetNumberOfTuples(n);
   float* vis = n ? visibility->GetPointer(0) : nullptr;
-  impl.Mask->SetNumberOfComponents(1);
-  impl.Mask->SetNumberOfTuples(n);
-  unsigned char* state = n ? impl.Mask->GetPointer(0) : nullptr;
+  uncertainMask->SetNumberOfComponents(1);
+  uncertainMask->SetNumberOfTuples(n);
+  unsigned char* state = n ? uncertainMask->GetPointer(0) : nullptr;
   const float* pos = in.Positions;
   const float* nrm = in.Normals;
   const int* props = in.Props;
@@ -325,72 +340,12 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
   std::atomic<vtkIdType> lit(facing.Lit), shadowed(facing.Shadowed);
 
   // ---- Light cameras.
+  // The views cover the pending samples only (FitViews): casters nearer the light than the
+  // samples' depth range keep a conservative (clamped or negative) depth, and a map fitted
+  // to the whole scene would waste its texels.
   std::vector<View> views;
   std::vector<signed char> sampleView;
-  if (facing.Pending > 0)
-  {
-    // The views cover the pending samples only: a shadow ray projects to its sample's own
-    // map point, so casters outside that footprint cannot block any of them, and casters
-    // nearer the light than the samples' depth range keep a conservative (clamped or
-    // negative) depth. A map fitted to the whole scene would waste its texels.
-    double box[6] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
-      std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
-      std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
-    for (vtkIdType s = 0; s < n; ++s)
-    {
-      if (state[s] == Pending)
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          const double v = static_cast<double>(pos[3 * s + c]) + shift[c];
-          box[2 * c] = std::min(box[2 * c], v);
-          box[2 * c + 1] = std::max(box[2 * c + 1], v);
-        }
-      }
-    }
-    if (kind == Kind::Directional)
-    {
-      const double travel[3] = { -direction[0], -direction[1], -direction[2] };
-      views.push_back(penumbra_light_views::OrthographicView(travel, box));
-    }
-    else if (kind == Kind::Spot && cone <= 60.0)
-    {
-      // The square frustum circumscribes the cone with a degree to spare.
-      views.push_back(
-        penumbra_light_views::PerspectiveView(
-          position, setup.Axis, std::tan(vtkMath::RadiansFromDegrees(cone + 1.0)), box));
-    }
-    else
-    {
-      for (int face = 0; face < 6; ++face)
-      {
-        double f[3] = { 0, 0, 0 };
-        f[face / 2] = (face % 2) ? -1.0 : 1.0;
-        views.push_back(penumbra_light_views::PerspectiveView(position, f, 1.0, box));
-      }
-    }
-    sampleView.assign(static_cast<size_t>(n), -1);
-    for (vtkIdType s = 0; s < n; ++s)
-    {
-      if (state[s] != Pending)
-      {
-        continue;
-      }
-      if (views.size() == 1)
-      {
-        sampleView[static_cast<size_t>(s)] = 0;
-        continue;
-      }
-      double v[3];
-      int best = 0;
-      for (int c = 0; c < 3; ++c)
-      {
-        v[c] = static_cast<double>(pos[3 * s + c]) + shift[c] - position[c];
-        best = std::fabs(v[c]) > std::fabs(v[best]) ? c : best;
-      }
-      sampleView[static_cast<size_t>(s)] = static_cast<signed char>(2 * best + (v[best] < 0.0));
-    }
-  }
+  penumbra_light_views::FitViews(setup, n, pos, shift, state, Pending, views, sampleView);
   this->NumberOfViews = static_cast<int>(views.size());
 
   // ---- Per view: render both CSM layers, read them back, classify its samples.
@@ -634,34 +589,16 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
           const vtkIdType own = tris[s];
 
           // The reference's ray: same direction, same scale-relative epsilons.
-          double d[3];
-          double tmax = std::numeric_limits<double>::infinity();
-          bool rayOk = true;
-          if (kind == Kind::Directional)
-          {
-            std::copy(direction, direction + 3, d);
-          }
-          else
-          {
-            for (int c = 0; c < 3; ++c)
-            {
-              d[c] = position[c] - p[c];
-            }
-            const double distance = vtkMath::Normalize(d);
-            rayOk = distance > 0.0;
-            tmax = distance * (1.0 - epsilon);
-          }
-          const penumbra_rules::RayBand band =
-            penumbra_rules::SampleBand(p, diagonal, epsilon, tieFactor);
-          const double tieLimit = band.TieLimit;
-          const double errPos = 4e-6 * band.Scale;
+          const penumbra_light_views::ShadowRay ray =
+            penumbra_light_views::MakeShadowRay(setup, p, diagonal, epsilon, tieFactor);
+          const bool rayOk = ray.Ok;
 
           bool nearClear = true;
           for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
           {
             const vtkIdType blocker = nearTriangles[k];
             const Hit hit = nearTestable && blocker != own
-              ? TestRay(p, d, tieLimit, tmax, tv + 9 * blocker, blocker, errPos)
+              ? penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker)
               : (blocker == own ? Hit::Miss : Hit::Unknown);
             if (hit == Hit::Clear)
             {
@@ -689,7 +626,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
             {
               break;
             }
-            const Hit hit = TestRay(p, d, tieLimit, tmax, tv + 9 * blocker, blocker, errPos);
+            const Hit hit = penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker);
             if (hit == Hit::Clear)
             {
               vis[s] = 0.0f;
@@ -712,35 +649,21 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     shadowed += viewShadowed.load();
   }
 
-  // ---- Rays only for the uncertain samples. On the CPU with Embree rather than the paper's
-  // GPU kD-tree (Hertel et al. 2009, §5): on llvmpipe the "GPU" runs on the same CPU cores,
-  // and a divergent per-fragment traversal in its SIMD fragment pipeline loses to Embree's
-  // SIMD-optimised BVH over a compact list of samples.
-  const auto traceStart = Clock::now();
+  // ---- The uncertain samples, for the caller to resolve.
   vtkIdType uncertain = 0;
   for (vtkIdType s = 0; s < n; ++s)
   {
     // Samples still pending here had no view (cannot happen with full coverage) and are
-    // traced too, so nothing is ever left undecided.
+    // uncertain too, so nothing is ever left undecided.
     state[s] = (state[s] == Uncertain || state[s] == Pending) ? 1 : 0;
     uncertain += state[s];
   }
-  if (uncertain > 0)
-  {
-    this->Reference->SetGeometry(geometry);
-    if (!this->Reference->ComputeVisibility(samples, light, visibility, impl.Mask))
-    {
-      PENUMBRA_FAIL(
-        "tracing the uncertain samples failed: " << this->Reference->GetErrorMessage());
-    }
-  }
-  this->TraceTimeMs = uncertain > 0 ? ElapsedMs(traceStart) : 0.0;
   this->MapTimeMs = uploadMs + mapMs;
   this->ClassifyTimeMs = classifyMs;
   this->NumberOfLitSamples = lit.load();
   this->NumberOfShadowedSamples = shadowed.load();
   this->NumberOfUncertainSamples = uncertain;
-  this->NumberOfRays = uncertain;
+  uncertainMask->Modified();
   visibility->Modified();
   this->LastTimeMs = ElapsedMs(start);
   return 1;

@@ -56,6 +56,7 @@
 #include <memory> // For std::unique_ptr
 
 class vtkPenumbraReference;
+class vtkUnsignedCharArray;
 
 class VTKPENUMBRARENDERING_EXPORT vtkPenumbraConservativeShadows
   : public vtkPenumbraShadowTechnique
@@ -69,6 +70,18 @@ public:
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
 
   void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  /**
+   * Steps 1 and 2 without step 3: fills `visibility` like ComputeVisibility for every sample
+   * the map decides, and sets `uncertainMask[s]` (resized to one value per sample) to 1 for
+   * the uncertain ones, whose visibility is left at 1, else 0. For techniques that resolve the
+   * uncertain samples another way (the hybrid linked-list shadow maps, vtkPenumbraLinkedListShadows).
+   * The counters describe this classification; NumberOfRays is 0. Returns 1 on success, 0 on
+   * failure (with an error reported).
+   */
+  int Classify(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility,
+    vtkUnsignedCharArray* uncertainMask);
 
   ///@{
   /**

@@ -340,6 +340,124 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
 }
 
 //------------------------------------------------------------------------------
+void FitViews(const LightSetup& light, vtkIdType n, const float* pos, const double shift[3],
+  const unsigned char* state, unsigned char pendingValue, std::vector<View>& views,
+  std::vector<signed char>& sampleView)
+{
+  views.clear();
+  sampleView.assign(static_cast<size_t>(n), -1);
+  double box[6] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
+  bool any = false;
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    if (state[s] == pendingValue)
+    {
+      any = true;
+      for (int c = 0; c < 3; ++c)
+      {
+        const double v = static_cast<double>(pos[3 * s + c]) + shift[c];
+        box[2 * c] = std::min(box[2 * c], v);
+        box[2 * c + 1] = std::max(box[2 * c + 1], v);
+      }
+    }
+  }
+  if (!any)
+  {
+    return;
+  }
+  using Kind = LightSetup::Kind;
+  if (light.Type == Kind::Directional)
+  {
+    const double travel[3] = { -light.Direction[0], -light.Direction[1], -light.Direction[2] };
+    views.push_back(OrthographicView(travel, box));
+  }
+  else if (light.Type == Kind::Spot && light.Cone <= 60.0)
+  {
+    views.push_back(PerspectiveView(
+      light.Position, light.Axis, std::tan(vtkMath::RadiansFromDegrees(light.Cone + 1.0)), box));
+  }
+  else
+  {
+    for (int face = 0; face < 6; ++face)
+    {
+      double f[3] = { 0, 0, 0 };
+      f[face / 2] = (face % 2) ? -1.0 : 1.0;
+      views.push_back(PerspectiveView(light.Position, f, 1.0, box));
+    }
+  }
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    if (state[s] != pendingValue)
+    {
+      continue;
+    }
+    if (views.size() == 1)
+    {
+      sampleView[static_cast<size_t>(s)] = 0;
+      continue;
+    }
+    double v[3];
+    int best = 0;
+    for (int c = 0; c < 3; ++c)
+    {
+      v[c] = static_cast<double>(pos[3 * s + c]) + shift[c] - light.Position[c];
+      best = std::fabs(v[c]) > std::fabs(v[best]) ? c : best;
+    }
+    sampleView[static_cast<size_t>(s)] = static_cast<signed char>(2 * best + (v[best] < 0.0));
+  }
+}
+
+//------------------------------------------------------------------------------
+ShadowRay MakeShadowRay(
+  const LightSetup& light, const double p[3], double diagonal, double epsilon, double tieFactor)
+{
+  ShadowRay ray;
+  std::copy(p, p + 3, ray.P);
+  ray.TMax = std::numeric_limits<double>::infinity();
+  ray.Ok = true;
+  if (light.Type == LightSetup::Kind::Directional)
+  {
+    std::copy(light.Direction, light.Direction + 3, ray.D);
+  }
+  else
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      ray.D[c] = light.Position[c] - p[c];
+    }
+    const double distance = vtkMath::Normalize(ray.D);
+    ray.Ok = distance > 0.0;
+    ray.TMax = distance * (1.0 - epsilon);
+  }
+  const penumbra_rules::RayBand band = penumbra_rules::SampleBand(p, diagonal, epsilon, tieFactor);
+  ray.TieLimit = band.TieLimit;
+  ray.ErrPos = 4e-6 * band.Scale;
+  return ray;
+}
+
+//------------------------------------------------------------------------------
+penumbra_rules::Hit TestShadowRay(const ShadowRay& ray, const penumbra_rules::ExactTriangle& triangle)
+{
+  int edge = 0;
+  const penumbra_rules::Hit hit =
+    penumbra_rules::SegmentTest(ray.P, ray.D, ray.TieLimit, ray.TMax, triangle, ray.ErrPos, edge);
+  return hit == penumbra_rules::Hit::OnEdge ? penumbra_rules::Hit::Unknown : hit;
+}
+
+//------------------------------------------------------------------------------
+penumbra_rules::Hit TestShadowRay(const ShadowRay& ray, const double* tri, vtkIdType id)
+{
+  penumbra_rules::ExactTriangle triangle;
+  if (!penumbra_rules::MakeExactTriangle(tri, id, triangle))
+  {
+    return penumbra_rules::Hit::Unknown;
+  }
+  return TestShadowRay(ray, triangle);
+}
+
+//------------------------------------------------------------------------------
 ScopedPassState::ScopedPassState(
   vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int width, int height)
   : State(state)

@@ -15,6 +15,7 @@
 #define vtkPenumbraLightViews_h
 
 #include "vtkOpenGLState.h" // For the scoped state savers
+#include "vtkPenumbraVisibilityRules.h" // For penumbra_rules::Hit
 #include "vtkType.h"
 #include "vtk_glew.h"
 
@@ -140,6 +141,49 @@ struct FacingCounts
 FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* pos,
   const float* nrm, const int* props, const double shift[3], bool anyCaster, float* vis,
   unsigned char* pending, unsigned char pendingValue, unsigned char decidedValue);
+
+/**
+ * The light cameras that cover the samples with `state[s] == pendingValue`: directional
+ * lights one orthographic view along the light fitted to their box; spot lights with a cone
+ * of at most 60 degrees one perspective view circumscribing the cone (a degree to spare);
+ * wider spots and point lights six 90-degree cube faces. `sampleView[s]` receives the view
+ * of each such sample (its dominant axis for cube faces), -1 for the others. A shadow ray
+ * projects to its own sample's map point, so views fitted to the samples lose no caster that
+ * could block one of them. No views when no sample is pending.
+ */
+void FitViews(const LightSetup& light, vtkIdType n, const float* pos, const double shift[3],
+  const unsigned char* state, unsigned char pendingValue, std::vector<View>& views,
+  std::vector<signed char>& sampleView);
+
+/**
+ * A view sample's shadow ray as vtkPenumbraReference casts it: origin P (rebased), unit
+ * direction D towards the light, end TMax (infinite for directional lights), the tie band's
+ * limit and the rounding margin ErrPos of penumbra_rules::SegmentTest. Ok is false for a
+ * sample on a positional light (no direction).
+ */
+struct ShadowRay
+{
+  double P[3];
+  double D[3];
+  double TMax;
+  double TieLimit;
+  double ErrPos;
+  bool Ok;
+};
+ShadowRay MakeShadowRay(const LightSetup& light, const double p[3], double diagonal,
+  double epsilon, double tieFactor);
+
+/**
+ * penumbra_rules::SegmentTest of `ray` against `triangle`, with a ray on an edge (OnEdge)
+ * left to the tracer (Unknown): only Clear may shadow a sample, only Miss may leave it lit.
+ */
+penumbra_rules::Hit TestShadowRay(const ShadowRay& ray, const penumbra_rules::ExactTriangle& triangle);
+
+/**
+ * The same against triangle `id` (9 rebased coordinates at `tri`); a triangle without area
+ * after rounding is left to the tracer too (Unknown).
+ */
+penumbra_rules::Hit TestShadowRay(const ShadowRay& ray, const double* tri, vtkIdType id);
 
 /**
  * The GL state every pass of the techniques into its own framebuffer saves and sets: the

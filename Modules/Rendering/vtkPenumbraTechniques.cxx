@@ -8,6 +8,7 @@
 #include "vtkPenumbraAutoShadows.h"
 #include "vtkPenumbraConservativeShadows.h"
 #include "vtkPenumbraGearsShadows.h"
+#include "vtkPenumbraLinkedListShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
 #include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
@@ -355,6 +356,38 @@ void InstallConservative(vtkRenderer* ren, const Options& opts)
   InstallShadowPass(ren, technique);
 }
 
+const OptionTable LinkedListOptions = {
+  { "resolution", OptionType::Integer, 1024, 1, 4096, {}, "texels",
+    "list-grid texels per side (per cube face for point lights); only speed depends on it: "
+    "fewer texels give longer lists, 1 tests every caster against every sample" },
+  { "capacity", OptionType::Integer, 0, 0, 2147483647, {}, "samples",
+    "node-pool size: at most this many samples are listed per pass, the others in further "
+    "passes (none is dropped); 0: one node per sample, one pass" },
+};
+
+// llsm-hybrid: llsm's options and its classifier's.
+OptionTable LinkedListHybridTable()
+{
+  OptionTable table = LinkedListOptions;
+  table.push_back({ "classify_resolution", OptionType::Integer, 1024, 64, 8192, {}, "texels",
+    "texels per side of the conservative shadow map that decides the easy samples" });
+  return table;
+}
+const OptionTable LinkedListHybridOptions = LinkedListHybridTable();
+
+void InstallLinkedList(vtkRenderer* ren, const Options& opts, bool hybrid)
+{
+  vtkNew<vtkPenumbraLinkedListShadows> technique;
+  technique->SetResolution(opts.Integer("resolution"));
+  technique->SetListCapacity(opts.Integer("capacity"));
+  technique->SetHybrid(hybrid);
+  if (hybrid)
+  {
+    technique->GetClassifier()->SetResolution(opts.Integer("classify_resolution"));
+  }
+  InstallShadowPass(ren, technique);
+}
+
 const OptionTable ShadowMapOptions = {
   { "resolution", OptionType::Integer, 2048, 64, 8192, {}, "texels",
     "texels per side (per cube face or paraboloid hemisphere for point lights)" },
@@ -536,6 +569,8 @@ void InstallAuto(vtkRenderer* ren, const Options& opts)
 //   thesis, 2003;
 // - Ferko 2013: Ferko, resolution-estimation shadow mapping (RESM), in the alias-free shadow
 //   mapping work of his doctoral thesis (Comenius University Bratislava);
+// - Ferko 2014: Ferko, linked-list shadow maps (LLSM), the irregular z-buffer of Johnson et al.
+//   2005 built with per-texel linked lists, in the same thesis;
 // - Wang et al. 2014: Wang, Wang, Shi, Popescu, "GEARS: A General and Efficient Algorithm for
 //   Rendering Shadows", Computer Graphics Forum 33(6), 2014.
 const std::vector<Technique>& Registry()
@@ -559,6 +594,19 @@ const std::vector<Technique>& Registry()
       "classifies the samples as lit, shadowed or uncertain, CPU rays resolve the uncertain ones "
       "(Hertel et al. 2009)",
       ConservativeOptions, InstallConservative },
+    { "llsm",
+      "exact hard shadows without rays where they can be decided: linked-list shadow maps "
+      "(Ferko 2014), per light-view texel a list of the view samples, every caster rasterized "
+      "conservatively and tested exactly against the samples of the texels it covers; CPU rays "
+      "only for undecidable ones; point, spot and directional lights",
+      LinkedListOptions,
+      [](vtkRenderer* ren, const Options& opts) { InstallLinkedList(ren, opts, false); } },
+    { "llsm-hybrid",
+      "llsm for the hard samples only: a conservative shadow map (Hertel et al. 2009) decides "
+      "the easy ones, the lists the rest (the hybrid LLSM of Ferko's thesis, with an exact "
+      "classifier)",
+      LinkedListHybridOptions,
+      [](vtkRenderer* ren, const Options& opts) { InstallLinkedList(ren, opts, true); } },
     { "shadowmap",
       "practical shadow maps (Brabec 2003, ch. 4-6): linear 32-bit float depth fitted to the "
       "visible receivers with depth clamping, PCF, Woo's midpoint depth, cube or dual-paraboloid "

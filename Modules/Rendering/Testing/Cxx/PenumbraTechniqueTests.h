@@ -1,15 +1,20 @@
 // Helpers shared by the technique tests of this module: light types, the pass a registry
-// technique installs, a light aimed at a target, and the scene files.
+// technique installs, a light aimed at a target, the plane-and-box scene, and the scene files.
 #ifndef PenumbraTechniqueTests_h
 #define PenumbraTechniqueTests_h
 
+#include "vtkActor.h"
+#include "vtkCamera.h"
 #include "vtkCameraPass.h"
+#include "vtkCubeSource.h"
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowTechnique.h"
+#include "vtkPlaneSource.h"
+#include "vtkPolyDataMapper.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
@@ -65,6 +70,55 @@ inline void SetLight(vtkRenderer* renderer, LightType type, const double from[3]
   light->SetPositional(type != LightType::Directional);
   light->SetConeAngle(type == LightType::Spot ? spotCone : 180.0);
   renderer->AddLight(light);
+}
+
+// Plane z = 0 (8 x 6 m) under a box occluder at z = 1 - thickness .. 1, lit from (1.5, 0.7, 3)
+// towards the origin (spot lights: 35 degrees). With `zoom` a parallel camera looks straight
+// down at the shadow of (0, 0, 1) through a window `zoom` metres high.
+inline vtkSmartPointer<vtkRenderer> PlaneScene(
+  LightType type, double thickness, double halfWidth, double zoom = 0.0)
+{
+  auto renderer = vtkSmartPointer<vtkRenderer>::New();
+  vtkNew<vtkPlaneSource> plane;
+  plane->SetOrigin(-4, -3, 0);
+  plane->SetPoint1(4, -3, 0);
+  plane->SetPoint2(-4, 3, 0);
+  plane->SetResolution(8, 6);
+  vtkNew<vtkCubeSource> box;
+  box->SetBounds(-halfWidth, halfWidth, -0.5, 0.5, 1.0 - thickness, 1.0);
+  vtkPolyDataAlgorithm* sources[] = { plane, box };
+  for (auto* source : sources)
+  {
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputConnection(source->GetOutputPort());
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    renderer->AddActor(actor);
+  }
+  vtkCamera* camera = renderer->GetActiveCamera();
+  camera->SetPosition(0.5, -6, 8);
+  camera->SetFocalPoint(0, 0, 0);
+  camera->SetViewUp(0, 0, 1);
+  renderer->ResetCamera();
+  const double from[3] = { 1.5, 0.7, 3.0 };
+  const double target[3] = { 0, 0, 0 };
+  SetLight(renderer, type, from, target, 35.0);
+  if (zoom > 0.0)
+  {
+    double shadow[2]; // where the shadow of (0, 0, 1) falls on z = 0
+    for (int c = 0; c < 2; ++c)
+    {
+      shadow[c] = type == LightType::Directional ? -from[c] / from[2]
+                                                 : from[c] - from[c] * from[2] / (from[2] - 1.0);
+    }
+    camera->ParallelProjectionOn();
+    camera->SetPosition(shadow[0], shadow[1], 5);
+    camera->SetFocalPoint(shadow[0], shadow[1], 0);
+    camera->SetViewUp(0, 1, 0);
+    camera->SetParallelScale(0.5 * zoom);
+    renderer->ResetCameraClippingRange();
+  }
+  return renderer;
 }
 
 // A width x height window without multisampling that renders `renderer`.

@@ -40,12 +40,6 @@ namespace
 {
 using namespace penumbra_technique_tests;
 
-// Spot lights of this test open by 35 degrees.
-void SetLight(vtkRenderer* renderer, LightType type, const double from[3], const double target[3])
-{
-  penumbra_technique_tests::SetLight(renderer, type, from, target, 35.0);
-}
-
 struct Outcome
 {
   vtkIdType Shadowed = 0;    // samples the technique shadows
@@ -166,56 +160,7 @@ int CompareWithReference(const std::string& label, vtkRenderer* renderer, int re
   return EXIT_SUCCESS;
 }
 
-// (a) Plane z = 0 with a thin square occluder at z = 1 (seen from above). With `zoom` the
-// parallel camera looks straight down at the shadow of the occluder's centre through a
-// window `zoom` metres high (so that a very thin shadow covers whole samples).
-vtkSmartPointer<vtkRenderer> PlaneScene(LightType type, double occluderThickness,
-  double occluderHalfWidth, double zoom = 0.0)
-{
-  auto renderer = vtkSmartPointer<vtkRenderer>::New();
-  vtkNew<vtkPlaneSource> plane;
-  plane->SetOrigin(-4, -3, 0);
-  plane->SetPoint1(4, -3, 0);
-  plane->SetPoint2(-4, 3, 0);
-  plane->SetResolution(8, 6);
-  vtkNew<vtkCubeSource> box;
-  box->SetBounds(-occluderHalfWidth, occluderHalfWidth, -0.5, 0.5, 1.0 - occluderThickness, 1.0);
-  vtkPolyDataAlgorithm* sources[] = { plane, box };
-  for (auto* source : sources)
-  {
-    vtkNew<vtkPolyDataMapper> mapper;
-    mapper->SetInputConnection(source->GetOutputPort());
-    vtkNew<vtkActor> actor;
-    actor->SetMapper(mapper);
-    renderer->AddActor(actor);
-  }
-  vtkCamera* cam = renderer->GetActiveCamera();
-  cam->SetPosition(0.5, -6, 8);
-  cam->SetFocalPoint(0, 0, 0);
-  cam->SetViewUp(0, 0, 1);
-  renderer->ResetCamera();
-  const double target[3] = { 0, 0, 0 };
-  const double from[3] = { 1.5, 0.7, 3.0 };
-  SetLight(renderer, type, from, target);
-  if (zoom > 0.0)
-  {
-    // Where the shadow of (0, 0, 1) falls on z = 0.
-    double shadow[2];
-    for (int c = 0; c < 2; ++c)
-    {
-      shadow[c] = type == LightType::Directional ? -from[c] / from[2]
-                                                 : from[c] - from[c] * from[2] / (from[2] - 1.0);
-    }
-    cam->ParallelProjectionOn();
-    cam->SetPosition(shadow[0], shadow[1], 5);
-    cam->SetFocalPoint(shadow[0], shadow[1], 0);
-    cam->SetViewUp(0, 1, 0);
-    cam->SetParallelScale(0.5 * zoom);
-    renderer->ResetCameraClippingRange();
-  }
-  return renderer;
-}
-
+// (a) Plane z = 0 with a thin square occluder at z = 1 (PlaneScene, spot lights 35 degrees).
 int CheckPlane()
 {
   for (LightType type : { LightType::Directional, LightType::Spot, LightType::Point })

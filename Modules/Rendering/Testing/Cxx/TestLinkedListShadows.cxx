@@ -1,0 +1,277 @@
+// vtkPenumbraLinkedListShadows (linked-list shadow maps, Ferko 2014: the irregular z-buffer of
+// Johnson et al. 2005 with per-texel lists of view samples, alone and as the hybrid LLSM behind
+// a conservative shadow map) against the exact reference on the same view samples: zero
+// mismatches outside reference ties for directional, spot and point lights on a plane with a
+// thin occluder, a wire thinner than a list texel, the default city scene and the hard-light
+// torture scenes; still exact with a one-texel grid and with a node pool far smaller than the
+// samples; the degenerate frames (no geometry, no casters, every sample facing away) give the
+// reference's answer; the statistics add up.
+#include "vtkActor.h"
+#include "vtkActorCollection.h"
+#include "vtkFloatArray.h"
+#include "vtkLight.h"
+#include "vtkNew.h"
+#include "vtkPenumbraConservativeShadows.h"
+#include "vtkPenumbraLinkedListShadows.h"
+#include "vtkPenumbraMetrics.h"
+#include "vtkPenumbraReference.h"
+#include "vtkPenumbraSceneReader.h"
+#include "vtkPenumbraShadowKeys.h"
+#include "vtkPenumbraShadowPass.h"
+#include "vtkPenumbraTechniques.h"
+#include "vtkPenumbraViewSamples.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "PenumbraTechniqueTests.h"
+#include "PenumbraTestMacros.h"
+
+#include <cstdio>
+#include <string>
+
+namespace
+{
+using namespace penumbra_technique_tests;
+
+// The shadowed samples outside ties, summed over a comparison's lights.
+struct Shadows
+{
+  vtkIdType Technique = 0;
+  vtkIdType Reference = 0;
+};
+
+// Renders `renderer` (128 x 96) with `name` ("llsm" or "llsm-hybrid") and `options`, then
+// compares each light's visibility, from the pass and recomputed directly (the statistics
+// belong to that call), with the reference's. Fails on any mismatch outside ties.
+int Compare(const std::string& label, vtkRenderer* renderer, const std::string& name,
+  const std::string& options, Shadows* shadows = nullptr, int minPasses = 1)
+{
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, name.c_str(), options.c_str()));
+  window->Render();
+  vtkPenumbraShadowPass* pass = ShadowPass(renderer);
+  CHECK(pass != nullptr && pass->GetNumberOfLights() >= 1);
+  auto* llsm = vtkPenumbraLinkedListShadows::SafeDownCast(pass->GetTechnique());
+  CHECK(llsm != nullptr && llsm->GetHybrid() == (name == "llsm-hybrid"));
+  vtkPenumbraViewSamples* samples = pass->GetViewSamples();
+  CHECK(samples->GetNumberOfValidSamples() > 0);
+
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(pass->GetGeometry());
+  vtkNew<vtkPenumbraMetrics> metrics;
+  for (int i = 0; i < pass->GetNumberOfLights(); ++i)
+  {
+    vtkNew<vtkFloatArray> direct, ref;
+    CHECK(llsm->ComputeVisibility(renderer, pass->GetGeometry(), samples, pass->GetLight(i), direct));
+    CHECK(reference->ComputeVisibility(samples, pass->GetLight(i), ref));
+    vtkUnsignedCharArray* ties = reference->GetTies();
+    vtkIdType mismatches[2] = { 0, 0 };
+    vtkFloatArray* answers[2] = { pass->GetVisibility(i), direct };
+    for (int k = 0; k < 2; ++k)
+    {
+      CHECK(answers[k] != nullptr && metrics->CompareHard(answers[k], ref, ties));
+      mismatches[k] = metrics->GetFalseLit() + metrics->GetFalseShadow();
+    }
+    for (vtkIdType s = 0; shadows && s < ref->GetNumberOfTuples(); ++s)
+    {
+      shadows->Reference += ref->GetValue(s) == 0.0f && !ties->GetValue(s);
+      shadows->Technique += direct->GetValue(s) == 0.0f && !ties->GetValue(s);
+    }
+    const vtkIdType valid = llsm->GetNumberOfValidSamples();
+    std::printf("%-40s light %d: valid %lld, listed %lld (%.1f%%, sent %.1f%%), lists max %lld "
+                "mean %.2f, tests %lld, traced %lld, passes %d, views %d, ties %lld, "
+                "mismatches %lld (direct %lld); classify %.1f, lists %.1f, raster %.1f, "
+                "trace %.1f ms\n",
+      (name + " " + label).c_str(), i, static_cast<long long>(valid),
+      static_cast<long long>(llsm->GetNumberOfListedSamples()), 100.0 * llsm->GetListedFraction(),
+      100.0 * llsm->GetUncertainFraction(), static_cast<long long>(llsm->GetMaxListLength()),
+      llsm->GetMeanListLength(), static_cast<long long>(llsm->GetNumberOfTests()),
+      static_cast<long long>(llsm->GetNumberOfTracedSamples()), llsm->GetNumberOfPasses(),
+      llsm->GetNumberOfViews(), static_cast<long long>(reference->GetNumberOfTies()),
+      static_cast<long long>(mismatches[0]), static_cast<long long>(mismatches[1]),
+      llsm->GetClassifyTimeMs(), llsm->GetListTimeMs(), llsm->GetRasterTimeMs(),
+      llsm->GetTraceTimeMs());
+    CHECK(mismatches[0] == 0 && mismatches[1] == 0);
+    CHECK(valid == samples->GetNumberOfValidSamples());
+    CHECK(llsm->GetNumberOfListedSamples() <= valid);
+    CHECK(llsm->GetNumberOfTracedSamples() <= valid);
+    CHECK(llsm->GetReference()->GetNumberOfRays() <= llsm->GetNumberOfTracedSamples());
+    CHECK(llsm->GetMaxListLength() >= (llsm->GetNumberOfListedSamples() > 0 ? 1 : 0));
+    CHECK(llsm->GetNumberOfPasses() >= (llsm->GetNumberOfListedSamples() > 0 ? minPasses : 0));
+    if (llsm->GetHybrid())
+    {
+      // The hybrid lists exactly the classifier's uncertain samples.
+      CHECK(llsm->GetNumberOfListedSamples() <=
+        llsm->GetClassifier()->GetNumberOfUncertainSamples());
+      CHECK(llsm->GetUncertainFraction() == llsm->GetListedFraction());
+    }
+  }
+  renderer->GetRenderWindow()->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
+// Both techniques with the same options.
+int CompareBoth(const std::string& label, vtkRenderer* renderer, const std::string& options,
+  Shadows* shadows = nullptr, int minPasses = 1)
+{
+  for (const char* name : { "llsm", "llsm-hybrid" })
+  {
+    RUN(Compare(label, renderer, name, options, shadows, minPasses));
+  }
+  return EXIT_SUCCESS;
+}
+
+const LightType HardLights[] = { LightType::Directional, LightType::Spot, LightType::Point };
+
+int CheckPlane()
+{
+  for (LightType type : HardLights)
+  {
+    RUN(CompareBoth(std::string("plane+box ") + Name(type), PlaneScene(type, 0.02, 0.5),
+      "{\"resolution\": 256}"));
+  }
+  return EXIT_SUCCESS;
+}
+
+// A 1 mm wire seen through an 8 cm window, under a 256^2 grid spanning metres: far thinner
+// than a texel, it must still reach every sample its shadow falls on.
+int CheckThinWire()
+{
+  for (LightType type : HardLights)
+  {
+    Shadows shadows;
+    RUN(CompareBoth(std::string("sub-texel wire ") + Name(type),
+      PlaneScene(type, 0.001, 0.0005, 0.08), "{\"resolution\": 256}", &shadows));
+    std::printf("  wire shadow: technique %lld, reference %lld samples\n",
+      static_cast<long long>(shadows.Technique), static_cast<long long>(shadows.Reference));
+    CHECK(shadows.Reference > 0 && shadows.Technique == shadows.Reference);
+  }
+  return EXIT_SUCCESS;
+}
+
+// A one-texel grid (every caster meets every sample) and a node pool of 97 samples (many
+// passes) give the same exact answer.
+int CheckDegenerateLists()
+{
+  for (LightType type : HardLights)
+  {
+    const std::string light = Name(type);
+    RUN(CompareBoth("plane+box one texel " + light, PlaneScene(type, 0.02, 0.5),
+      "{\"resolution\": 1}"));
+    RUN(Compare("plane+box capacity 97 " + light, PlaneScene(type, 0.02, 0.5), "llsm",
+      "{\"resolution\": 64, \"capacity\": 97}", nullptr, 10));
+  }
+  return EXIT_SUCCESS;
+}
+
+int CheckDefaultScene()
+{
+  for (LightType type : { LightType::AsInScene, LightType::Spot, LightType::Point })
+  {
+    vtkNew<vtkPenumbraSceneReader> reader;
+    vtkSmartPointer<vtkRenderer> renderer = DefaultSceneWith(type, reader, 35.0);
+    CHECK(renderer != nullptr);
+    RUN(CompareBoth(std::string("default.json ") + Name(type), renderer, "{}"));
+  }
+  return EXIT_SUCCESS;
+}
+
+int CheckTortureScenes()
+{
+  const char* scenes[] = { "thin_occluders.json", "grazing_light.json", "zenith_light.json",
+    "coplanar_contact.json", "bad_triangles.json", "georef_1e7.json", "depth_range.json",
+    "point_light_in_room.json", "point_light_on_surface.json" };
+  for (const char* scene : scenes)
+  {
+    vtkNew<vtkPenumbraSceneReader> reader;
+    vtkSmartPointer<vtkRenderer> renderer = ReadScene(std::string("torture/") + scene, reader);
+    CHECK(renderer != nullptr);
+    RUN(CompareBoth(std::string("torture/") + scene, renderer, "{\"resolution\": 512}"));
+  }
+  return EXIT_SUCCESS;
+}
+
+// Frames without work: no geometry in the light's way (no casters), every sample facing
+// away from the light, and a scene without any prop. The answers are the reference's, and
+// nothing is listed.
+int CheckEmptyFrames()
+{
+  for (const char* name : { "llsm", "llsm-hybrid" })
+  {
+    auto noCasters = PlaneScene(LightType::Point, 0.02, 0.5);
+    vtkActorCollection* actors = noCasters->GetActors();
+    actors->InitTraversal();
+    while (vtkActor* actor = actors->GetNextActor())
+    {
+      vtkPenumbraShadowKeys::SetCastsShadows(actor, false);
+    }
+    RUN(Compare("no casters", noCasters, name, "{}"));
+    auto* llsm = vtkPenumbraLinkedListShadows::SafeDownCast(ShadowPass(noCasters)->GetTechnique());
+    CHECK(llsm->GetNumberOfListedSamples() == 0 && llsm->GetNumberOfTracedSamples() == 0);
+
+    auto backFacing = PlaneScene(LightType::Directional, 0.02, 0.5);
+    const double below[3] = { 0.3, 0.2, -3.0 };
+    const double target[3] = { 0, 0, 0 };
+    SetLight(backFacing, LightType::Directional, below, target, 35.0);
+    RUN(Compare("every sample facing away", backFacing, name, "{}"));
+    llsm = vtkPenumbraLinkedListShadows::SafeDownCast(ShadowPass(backFacing)->GetTechnique());
+    CHECK(llsm->GetNumberOfListedSamples() == 0 && llsm->GetNumberOfTracedSamples() == 0);
+    CHECK(llsm->GetNumberOfViews() == 0);
+
+    // No props at all: every sample is background and keeps -1.
+    vtkNew<vtkRenderer> empty;
+    SetLight(empty, LightType::Spot, below, target, 35.0);
+    vtkSmartPointer<vtkRenderWindow> window = TestWindow(empty, 64, 48);
+    vtkNew<vtkPenumbraTechniques> techniques;
+    CHECK(techniques->Apply(empty, name, "{}"));
+    window->Render();
+    vtkPenumbraShadowPass* pass = ShadowPass(empty);
+    CHECK(pass != nullptr);
+    vtkNew<vtkFloatArray> out;
+    llsm = vtkPenumbraLinkedListShadows::SafeDownCast(pass->GetTechnique());
+    if (pass->GetNumberOfLights() > 0)
+    {
+      CHECK(llsm->ComputeVisibility(
+        empty, pass->GetGeometry(), pass->GetViewSamples(), pass->GetLight(0), out));
+      for (vtkIdType s = 0; s < out->GetNumberOfTuples(); ++s)
+      {
+        CHECK(out->GetValue(s) == -1.0f);
+      }
+      CHECK(llsm->GetNumberOfValidSamples() == 0 && llsm->GetNumberOfListedSamples() == 0);
+    }
+    empty->GetRenderWindow()->RemoveRenderer(empty);
+    window->Finalize();
+  }
+  return EXIT_SUCCESS;
+}
+
+int CheckBadInput()
+{
+  vtkNew<vtkPenumbraLinkedListShadows> technique;
+  CHECK(RefusesNullInputs(technique));
+  vtkNew<vtkPenumbraTechniques> techniques;
+  vtkNew<vtkRenderer> renderer;
+  CHECK(techniques->Apply(renderer, "llsm", "{\"resolution\": 0}") == 0);
+  CHECK(techniques->Apply(renderer, "llsm", "{\"capacity\": -1}") == 0);
+  CHECK(techniques->Apply(renderer, "llsm", "{\"classify_resolution\": 512}") == 0);
+  CHECK(techniques->Apply(renderer, "llsm-hybrid", "{\"classify_resolution\": 512}") == 1);
+  CHECK(techniques->Apply(renderer, "llsm", "{\"resolution\": 1, \"capacity\": 5}") == 1);
+  return EXIT_SUCCESS;
+}
+}
+
+int TestLinkedListShadows(int, char*[])
+{
+  RUN(CheckBadInput());
+  RUN(CheckPlane());
+  RUN(CheckThinWire());
+  RUN(CheckDegenerateLists());
+  RUN(CheckEmptyFrames());
+  RUN(CheckDefaultScene());
+  RUN(CheckTortureScenes());
+  return EXIT_SUCCESS;
+}

@@ -1,0 +1,176 @@
+/**
+ * @class   vtkPenumbraLinkedListShadows
+ * @brief   Exact hard shadows by irregular rasterization: linked-list shadow maps (LLSM,
+ *          Ferko 2014) and the hybrid LLSM of the same thesis, on the CPU.
+ *
+ * LLSM builds the irregular z-buffer of Johnson, Lee, Burns, Mark, "The Irregular Z-Buffer:
+ * Hardware Acceleration for Irregular Data Structures", ACM TOG 24(4), 2005, the way Ferko
+ * (2014) builds it on the GPU: per light-view texel, a list of the view samples that project
+ * into it; then every caster triangle is rasterized *conservatively* in light space, and each
+ * texel it touches tests it against the samples of its list. A sample's shadow ray projects to
+ * its own texel point (orthographic views: it runs along the view axis; perspective views: it
+ * runs to the apex), so the triangles tested against a sample are all that can block it, and
+ * the result equals ray-traced hard shadows without a ray tracer.
+ *
+ * Per light and call:
+ * 1. The samples to decide: those facing the light (the reference's facing and cone rules),
+ *    or with SetHybrid(true) only the ones a conservative shadow map cannot decide
+ *    (vtkPenumbraConservativeShadows::Classify, Hertel, Hormann, Westermann 2009): the hybrid
+ *    LLSM of Ferko's thesis sends only hard samples to the lists, with an exact classifier in
+ *    place of its resolution criterion (which relies on a biased standard shadow map).
+ * 2. Light views fitted to those samples: directional lights one orthographic view, spot
+ *    lights up to 60 degrees one perspective view, others six cube faces.
+ * 3. Lists: the CPU form of the per-texel linked lists (head pointers, node pool, atomic
+ *    counter) is a counting sort into compressed rows (counts, prefix sum, fill), one node
+ *    per sample. A node pool smaller than the samples (SetListCapacity) never drops one: the
+ *    samples are listed in several passes of at most that many nodes each.
+ * 4. Irregular rasterization: the conservative separating-axis rasterizer in double precision
+ *    that builds the conservative technique's maps (vtkPenumbraConservativeMapCPU.h, a texel
+ *    grown by a quarter for the tracer's float rounding), in parallel over tiles with
+ *    vtkSMPTools, visits only texels with open samples. Per sample: its own triangle never
+ *    blocks; a triangle whose conservative depth over the texel lies beyond the sample cannot;
+ *    otherwise the reference's exact double-precision decision (penumbra_rules::SegmentTest)
+ *    shadows it (clear hit), passes over the triangle (clear miss) or marks it unknown.
+ *    Triangles that reach a perspective view's apex region (a light on or near a surface)
+ *    would cover the whole view: they are tested against every sample of the view instead
+ *    (beyond 256 of them, the view's open samples are traced).
+ * 5. Unknown samples (grazing, on an edge, in the tie band, outside every view) are traced by
+ *    vtkPenumbraReference, so the answer equals the reference's bit for bit.
+ *
+ * Area lights are rejected (error, the pass renders that light unshadowed).
+ *
+ * Memory per view: 8 bytes per texel (row starts) plus 1 (open flag) and 16 bytes per
+ * listed sample; 9 MiB at the default 1024^2.
+ */
+
+#ifndef vtkPenumbraLinkedListShadows_h
+#define vtkPenumbraLinkedListShadows_h
+
+#include "vtkPenumbraRenderingModule.h" // For export macro
+#include "vtkPenumbraShadowTechnique.h"
+
+#include <memory> // For std::unique_ptr
+
+class vtkPenumbraConservativeShadows;
+class vtkPenumbraReference;
+
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraLinkedListShadows : public vtkPenumbraShadowTechnique
+{
+public:
+  static vtkPenumbraLinkedListShadows* New();
+  vtkTypeMacro(vtkPenumbraLinkedListShadows, vtkPenumbraShadowTechnique);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
+
+  ///@{
+  /**
+   * List-grid texels per side (per cube face for point lights). Default 1024, clamped to
+   * [1, 4096]. Only speed depends on it: fewer texels give longer lists, more texels more
+   * rasterization; 1 tests every caster against every sample.
+   */
+  vtkSetClampMacro(Resolution, int, 1, 4096);
+  vtkGetMacro(Resolution, int);
+  ///@}
+
+  ///@{
+  /**
+   * Node-pool capacity: at most this many samples are listed per pass; the others wait for
+   * the next pass (the rasterization is repeated), so none is dropped. Default 0: one node
+   * per sample, a single pass.
+   */
+  vtkSetClampMacro(ListCapacity, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(ListCapacity, vtkIdType);
+  ///@}
+
+  ///@{
+  /**
+   * Hybrid LLSM: only the samples a conservative shadow map cannot decide enter the lists
+   * (see the class description). Default false.
+   */
+  vtkSetMacro(Hybrid, bool);
+  vtkGetMacro(Hybrid, bool);
+  vtkBooleanMacro(Hybrid, bool);
+  ///@}
+
+  /**
+   * The hybrid's classifier (its Resolution and Layers are the classification's settings).
+   */
+  vtkPenumbraConservativeShadows* GetClassifier() { return this->Classifier; }
+
+  /**
+   * The ray tracer for the unknown samples (exposed for its statistics and epsilons).
+   */
+  vtkPenumbraReference* GetReference() { return this->Reference; }
+
+  ///@{
+  /**
+   * Statistics of the last ComputeVisibility call. Valid samples (not background); samples
+   * that entered the lists; the longest list and the mean length of the non-empty ones;
+   * exact triangle/sample tests; samples traced by the reference; list passes (more than
+   * one per view when the capacity is below the samples); light views.
+   */
+  vtkGetMacro(NumberOfValidSamples, vtkIdType);
+  vtkGetMacro(NumberOfListedSamples, vtkIdType);
+  vtkGetMacro(MaxListLength, vtkIdType);
+  vtkGetMacro(MeanListLength, double);
+  vtkGetMacro(NumberOfTests, vtkIdType);
+  vtkGetMacro(NumberOfTracedSamples, vtkIdType);
+  vtkGetMacro(NumberOfPasses, int);
+  vtkGetMacro(NumberOfViews, int);
+  ///@}
+
+  /**
+   * Listed / valid samples of the last call; 0 without valid samples.
+   */
+  double GetListedFraction();
+
+  /**
+   * The share of the valid samples handed on to an exact fallback: for the hybrid, the share
+   * the classifier sent to the lists (GetListedFraction()); otherwise the share traced.
+   */
+  double GetUncertainFraction() override;
+
+  ///@{
+  /**
+   * Phase times of the last call in milliseconds: classification (facing, or the hybrid's
+   * conservative map), list construction, irregular rasterization with its tests, tracing.
+   */
+  vtkGetMacro(ClassifyTimeMs, double);
+  vtkGetMacro(ListTimeMs, double);
+  vtkGetMacro(RasterTimeMs, double);
+  vtkGetMacro(TraceTimeMs, double);
+  ///@}
+
+protected:
+  vtkPenumbraLinkedListShadows();
+  ~vtkPenumbraLinkedListShadows() override;
+
+  int Resolution = 1024;
+  vtkIdType ListCapacity = 0;
+  bool Hybrid = false;
+  vtkIdType NumberOfValidSamples = 0;
+  vtkIdType NumberOfListedSamples = 0;
+  vtkIdType MaxListLength = 0;
+  double MeanListLength = 0.0;
+  vtkIdType NumberOfTests = 0;
+  vtkIdType NumberOfTracedSamples = 0;
+  int NumberOfPasses = 0;
+  int NumberOfViews = 0;
+  double ClassifyTimeMs = 0.0;
+  double ListTimeMs = 0.0;
+  double RasterTimeMs = 0.0;
+  double TraceTimeMs = 0.0;
+  vtkPenumbraConservativeShadows* Classifier;
+  vtkPenumbraReference* Reference;
+
+private:
+  vtkPenumbraLinkedListShadows(const vtkPenumbraLinkedListShadows&) = delete;
+  void operator=(const vtkPenumbraLinkedListShadows&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
