@@ -11,9 +11,10 @@
 //
 // Method, per scene:
 //  - the view samples and the exact visibility of the scene's first shadowed light come from
-//    the ray-traced reference on the very same camera and window size (for an area or linear
-//    light: a converged 64 x 64-sample estimate; for hard lights: one exact ray per sample,
-//    near-ties reported and excluded);
+//    the ray-traced reference on the very same camera and window size (for an area light: a
+//    converged 64 x 64-sample estimate; for a linear light: the exact interval union of
+//    vtkPenumbraLineReference, near-ties excluded; for hard lights: one exact ray per sample,
+//    near-ties reported and excluded); results.md names each scene's reference;
 //  - each technique renders `warmup` frames, then `frames` timed frames (glFinish before the
 //    clock stops); the median is reported, with the phases of vtkPenumbraShadowPass. Nothing
 //    moves by default, so techniques that cache (shadow maps) are timed on reuse; with
@@ -58,6 +59,7 @@
 #include "vtkPenumbraImageIO.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraRayTracedShadows.h"
+#include "vtkPenumbraLineReference.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowPass.h"
@@ -307,7 +309,8 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
 }
 
 void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
-  const std::vector<std::string>& failures, const Options& o)
+  const std::vector<std::string>& failures, const std::vector<std::string>& references,
+  const Options& o)
 {
   std::ofstream out(path);
   const char* moving = o.MovingLight && o.MovingCamera
@@ -344,6 +347,14 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
         << (r.StillMs < 0 ? std::string("–")
                           : Fixed(r.StillMs, 1) + " (" + Fixed(r.StillRatio, 2) + ")")
         << " |\n";
+  }
+  if (!references.empty())
+  {
+    out << "\nReference per scene:\n\n";
+    for (const std::string& line : references)
+    {
+      out << "- " << line << "\n";
+    }
   }
   bool gears = false;
   for (const Row& r : rows)
@@ -671,6 +682,7 @@ struct BenchRun
 {
   std::vector<Row> Rows;
   std::vector<std::string> Failures;
+  std::vector<std::string> References; // per scene: which reference the errors are against
   int Done = 0, Total = 0;
 
   void Fail(const std::string& what, const std::string& why)
@@ -699,6 +711,7 @@ struct SceneContext
   // The ray tracer's visibility per setting ("samples=16"), so a GEARS point at the same k
   // can be checked for exactness on the full-size frame.
   std::map<std::string, vtkSmartPointer<vtkFloatArray>> TracedAtK;
+  std::string ReferenceNote; // which reference, for results.md
 };
 
 // View samples and exact visibility of the measured light, from the ray tracer on the very
@@ -715,17 +728,33 @@ std::string ComputeReference(SceneContext& ctx)
   }
   ctx.Samples->DeepCopy(refPass->GetViewSamples());
   ctx.Area = vtkPenumbraAreaLight::SafeDownCast(ctx.Light);
-  if (ctx.Area)
+  if (ctx.Area && ctx.Area->GetShape() == vtkPenumbraAreaLight::Line)
+  {
+    // A linear light has an exact answer: no sampling error left in the yardstick.
+    vtkNew<vtkPenumbraLineReference> exact;
+    exact->SetGeometry(refPass->GetGeometry());
+    if (!exact->ComputeVisibility(ctx.Samples, ctx.Area, ctx.Reference))
+    {
+      return exact->GetErrorMessage();
+    }
+    ctx.Ties->DeepCopy(exact->GetTies());
+    ctx.ReferenceNote = "exact linear-light interval union (vtkPenumbraLineReference), " +
+      std::to_string(exact->GetNumberOfTies()) + " near-tie samples excluded, " +
+      Fixed(exact->GetLastTimeMs(), 0) + " ms";
+  }
+  else if (ctx.Area)
   {
     vtkNew<vtkPenumbraReference> converged;
     converged->SetGeometry(refPass->GetGeometry());
     converged->ComputeConvergedVisibility(ctx.Samples, ctx.Area, 64, ctx.Reference);
+    ctx.ReferenceNote = "converged area-light estimate, 64 x 64 light samples";
   }
   else
   {
     ctx.Reference->DeepCopy(refPass->GetVisibility(ctx.LightIndex));
     auto* tracer = vtkPenumbraRayTracedShadows::SafeDownCast(refPass->GetTechnique());
     ctx.Ties->DeepCopy(tracer->GetReference()->GetTies());
+    ctx.ReferenceNote = "exact hard-shadow rays, near-ties excluded";
   }
   return "";
 }
@@ -846,7 +875,9 @@ void ScorePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o,
       metrics->WriteErrorImage(o.Width, o.Height, (stem + "_error.png").c_str());
     }
   }
-  metrics->CompareSoft(estimate, ctx.Reference, measurable, ctx.Area ? nullptr : ctx.Ties.Get());
+  const bool exactSoft = ctx.Area && ctx.Area->GetShape() == vtkPenumbraAreaLight::Line;
+  metrics->CompareSoft(estimate, ctx.Reference, measurable,
+    !ctx.Area || exactSoft ? ctx.Ties.Get() : nullptr);
   row.MAE = metrics->GetMAE();
   row.RMSE = metrics->GetRMSE();
   row.MaxError = metrics->GetMaxError();
@@ -981,6 +1012,7 @@ int MeasureScene(const std::string& sceneName, const Options& o, BenchRun& run)
   }
   else
   {
+    run.References.push_back(label + ": " + ctx.ReferenceNote);
     ++run.Done;
     for (const auto& spec : o.Techniques)
     {
@@ -1010,7 +1042,7 @@ int MeasureScene(const std::string& sceneName, const Options& o, BenchRun& run)
 int WriteResults(const Options& o, const BenchRun& run)
 {
   WriteCSV(o.OutDir + "/results.csv", run.Rows);
-  WriteMarkdown(o.OutDir + "/results.md", run.Rows, run.Failures, o);
+  WriteMarkdown(o.OutDir + "/results.md", run.Rows, run.Failures, run.References, o);
   std::string chartError;
   if (!WriteChart(o.OutDir + "/chart.png", run.Rows, chartError))
   {
