@@ -76,6 +76,26 @@ constexpr int MaxSubdivisions = 32;
 // 0.26 % at 2048² and 8192², 640 x 480).
 constexpr double MaxTangent = 1000.0;
 
+// Fast PCF (Brabec 2003, ch. 5.2): the 2 x 2 texels around the continuous map position
+// (ms, mt) in [-1, 1], compared with `threshold` and weighted bilinearly; the taps stay
+// inside the map like PCF's. vtkPenumbraShadowMapCompare.glsl has the float twin.
+double BilinearLookup(
+  const std::vector<float>& map, int width, int height, double ms, double mt, double threshold)
+{
+  const double fx = (ms * 0.5 + 0.5) * width - 0.5;
+  const double fy = (mt * 0.5 + 0.5) * height - 0.5;
+  const double bx = std::floor(fx), by = std::floor(fy);
+  const double wx = fx - bx, wy = fy - by;
+  auto lit = [&](double x, double y) {
+    const int ix = std::min(width - 1, std::max(0, static_cast<int>(x)));
+    const int iy = std::min(height - 1, std::max(0, static_cast<int>(y)));
+    return map[static_cast<size_t>(iy) * width + ix] >= threshold ? 1.0 : 0.0;
+  };
+  const double bottom = (1.0 - wx) * lit(bx, by) + wx * lit(bx + 1.0, by);
+  const double top = (1.0 - wx) * lit(bx, by + 1.0) + wx * lit(bx + 1.0, by + 1.0);
+  return (1.0 - wy) * bottom + wy * top;
+}
+
 // One light's maps, kept until the light, the casters, the view or the settings change.
 // Slots: 0 (directional, spot), 2 * axis + negative (cube faces), hemisphere (paraboloid).
 struct LightMaps
@@ -548,6 +568,18 @@ void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup, boo
 
 struct vtkPenumbraShadowMapShadows::Internals
 {
+  // Half width of the PCF kernel (0 without PCF): the taps of the box filter.
+  static int TapRadius(vtkPenumbraShadowMapShadows* self)
+  {
+    return self->Filter == FILTER_PCF ? (self->PCFKernel | 1) / 2 : 0;
+  }
+  // Texels the filter reaches from the sample's texel, for the slope bias: Fast PCF's
+  // 2 x 2 taps reach one texel.
+  static int BiasRadius(vtkPenumbraShadowMapShadows* self)
+  {
+    return self->Filter == FILTER_BILINEAR ? 1 : TapRadius(self);
+  }
+
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
   penumbra_light_views::CasterBuffers Casters;
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
@@ -1615,8 +1647,9 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
   const float* nrm = in.Normals;
   const int width = m.Width, height = m.Height;
   const int slotMode = this->SlotMode(self, setup);
-  const int radius = self->Filter == FILTER_PCF ? (self->PCFKernel | 1) / 2 : 0;
-  const double slopeBias = self->SlopeBias * (1.0 + radius);
+  const int radius = TapRadius(self);
+  const bool bilinear = self->Filter == FILTER_BILINEAR;
+  const double slopeBias = self->SlopeBias * (1.0 + BiasRadius(self));
   const double constantBias = self->Bias;
   // ---- Per-sample lookup on the CPU, double precision (see the class description).
   vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
@@ -1690,6 +1723,11 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
         std::min(MaxTangent, std::sqrt(std::max(0.0, 1.0 - cosine * cosine)) / cosine);
       const double threshold =
         depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
+      if (bilinear)
+      {
+        vis[s] = static_cast<float>(BilinearLookup(map, width, height, ms, mt, threshold));
+        continue;
+      }
       const int ix =
         std::min(width - 1, std::max(0, static_cast<int>(std::floor((ms * 0.5 + 0.5) * width))));
       const int iy =
@@ -1717,8 +1755,9 @@ void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(
   vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightSetup& setup,
   const LightMaps& m)
 {
-  const int radius = self->Filter == FILTER_PCF ? (self->PCFKernel | 1) / 2 : 0;
+  const int radius = TapRadius(self);
   program->SetUniformi("slotMode", this->SlotMode(self, setup));
+  program->SetUniformi("bilinear", self->Filter == FILTER_BILINEAR ? 1 : 0);
   const float centre[3] = { static_cast<float>(setup.Position[0]),
     static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
   const float toLight[3] = { static_cast<float>(setup.Direction[0]),
@@ -1729,7 +1768,7 @@ void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(
   const float mapSize[2] = { static_cast<float>(m.Width), static_cast<float>(m.Height) };
   program->SetUniform2f("mapSize", mapSize);
   program->SetUniformf("constantBias", static_cast<float>(self->Bias));
-  program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias * (1.0 + radius)));
+  program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias * (1.0 + BiasRadius(self))));
   program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
   program->SetUniformi("radius", radius);
 }
@@ -2007,7 +2046,9 @@ void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaxResolution: " << this->MaxResolution << "\n";
   os << indent << "Coverage: " << this->Coverage << "\n";
   os << indent << "AnalysisStep: " << this->AnalysisStep << "\n";
-  os << indent << "Filter: " << (this->Filter == FILTER_PCF ? "pcf" : "none") << "\n";
+  os << indent << "Filter: "
+     << (this->Filter == FILTER_PCF ? "pcf" : this->Filter == FILTER_BILINEAR ? "bilinear" : "none")
+     << "\n";
   os << indent << "PCFKernel: " << this->PCFKernel << "\n";
   os << indent << "Bias: " << this->Bias << "\n";
   os << indent << "SlopeBias: " << this->SlopeBias << "\n";

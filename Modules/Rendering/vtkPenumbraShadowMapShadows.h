@@ -83,7 +83,8 @@ public:
   enum FilterModes
   {
     FILTER_NONE = 0, ///< one nearest texel, 0 or 1 (what a hardware depth compare gives)
-    FILTER_PCF = 1   ///< percentage-closer filtering over PCFKernel^2 nearest texels (ch. 5)
+    FILTER_PCF = 1,  ///< percentage-closer filtering over PCFKernel^2 nearest texels (ch. 5)
+    FILTER_BILINEAR = 2 ///< Fast PCF: bilinear weights of the 2 x 2 adjacent compared texels
   };
   enum DepthModes
   {
@@ -167,10 +168,16 @@ public:
 
   ///@{
   /**
-   * FILTER_NONE (default) or FILTER_PCF. PCF returns the fraction of lit taps, so
-   * visibility takes values between 0 and 1 at shadow edges.
+   * FILTER_NONE (default), FILTER_PCF or FILTER_BILINEAR. PCF returns the fraction of lit
+   * taps, so visibility takes values between 0 and 1 at shadow edges. FILTER_BILINEAR is
+   * Fast PCF (Brabec 2003, ch. 5.2): the four texels adjacent to the sample's continuous map
+   * position are compared and their 0/1 results weighted bilinearly by the position's
+   * fraction between the texel centres, so the visibility ramps over one texel at an edge and
+   * is 0 or 1 elsewhere; four taps, explicitly weighted on the GPU and the CPU alike (a
+   * GL_LINEAR depth compare weights in an implementation-defined way). Its slope bias uses a
+   * radius of 1 texel.
    */
-  vtkSetClampMacro(Filter, int, FILTER_NONE, FILTER_PCF);
+  vtkSetClampMacro(Filter, int, FILTER_NONE, FILTER_BILINEAR);
   vtkGetMacro(Filter, int);
   ///@}
 

@@ -314,16 +314,19 @@ void InstallConservative(vtkRenderer* ren, const Options& opts)
 const OptionTable ShadowMapOptions = {
   { "resolution", OptionType::Integer, 2048, 64, 8192, {}, "texels",
     "texels per side (per cube face or paraboloid hemisphere for point lights)" },
-  { "filter", OptionType::Choice, "none", 0, 0, { "none", "pcf" }, "",
+  { "filter", OptionType::Choice, "none", 0, 0, { "none", "pcf", "bilinear" }, "",
     "\"none\": the nearest texel, 0/1 like a hardware compare; \"pcf\": percentage-closer "
-    "filtering, the mean of the compared taps (fractional visibility at shadow edges)" },
+    "filtering, the mean of the compared taps (fractional visibility at shadow edges); "
+    "\"bilinear\": Fast PCF (Brabec 2003, ch. 5), the 2 x 2 adjacent compared texels weighted "
+    "bilinearly (a one-texel ramp at edges, four taps)" },
   { "pcf_kernel", OptionType::Integer, 3, 3, 9, { 3, 5, 7, 9 }, "texels",
     "odd kernel width of \"pcf\"" },
   { "bias", OptionType::Number, 1e-4, 0.0, 0.1, {}, "fraction of the depth range",
     "constant depth bias as a fraction of the light view's depth range (orthographic: the "
     "fitted receiver depth span; perspective/paraboloid: the farthest receiver's distance)" },
   { "slope_bias", OptionType::Number, 1.0, 0.0, 16.0, {}, "texel footprints",
-    "slope-scaled bias in texel footprints (times 1 + PCF radius; the slope's tangent is capped "
+    "slope-scaled bias in texel footprints (times 1 + the filter's reach: PCF radius, 1 for "
+    "bilinear; the slope's tangent is capped "
     "at 1000)" },
   { "depth", OptionType::Choice, "linear", 0, 0, { "linear", "midpoint" }, "",
     "\"linear\": nearest surface; \"midpoint\": Woo's midpoint of the first two surfaces, one "
@@ -341,8 +344,9 @@ const OptionTable ShadowMapOptions = {
 void ReadShadowMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* technique)
 {
   technique->SetResolution(opts.Integer("resolution"));
-  technique->SetFilter(opts.Choice("filter") == 1 ? vtkPenumbraShadowMapShadows::FILTER_PCF
-                                                  : vtkPenumbraShadowMapShadows::FILTER_NONE);
+  const int filters[] = { vtkPenumbraShadowMapShadows::FILTER_NONE,
+    vtkPenumbraShadowMapShadows::FILTER_PCF, vtkPenumbraShadowMapShadows::FILTER_BILINEAR };
+  technique->SetFilter(filters[opts.Choice("filter")]);
   technique->SetPCFKernel(opts.Integer("pcf_kernel"));
   technique->SetBias(opts.Number("bias"));
   technique->SetSlopeBias(opts.Number("slope_bias"));

@@ -1,7 +1,7 @@
 // Shadow-map comparison shared by the lookups (Brabec 2003, ch. 4-5): the slot a sample
 // falls into (one view, a cube face, a paraboloid hemisphere), its projection, linear depth
 // and slope-scaled bias, and the hardware depth compare (sampler2DShadow, LEQUAL, nearest
-// texels; PCF averages the compared taps). The same projection, slot choice and bias as the
+// texels; PCF averages the compared taps, Fast PCF weights the 2 x 2 adjacent ones). The same projection, slot choice and bias as the
 // CPU lookup of vtkPenumbraShadowMapShadows, in float.
 uniform int slotMode;      // 0 one view, 1 cube faces, 2 paraboloid hemispheres
 uniform int slot;          // the slot this draw looks up
@@ -19,6 +19,7 @@ uniform float constantBias;
 uniform float slopeBias;   // SlopeBias * (1 + radius)
 uniform float maxTangent;
 uniform int radius;        // PCF radius in texels, 0 without PCF
+uniform int bilinear;      // 1: Fast PCF, the 2 x 2 adjacent taps weighted bilinearly (ch. 5.2)
 uniform sampler2DShadow shadowMap; // hardware compare: LEQUAL, nearest
 
 int penumbraSlot(vec3 p)
@@ -83,6 +84,21 @@ float penumbraCompare(vec3 p, vec3 normal)
   float tangent = min(maxTangent, sqrt(max(0.0, 1.0 - cosine * cosine)) / cosine);
   float threshold = depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
   ivec2 size = ivec2(mapSize);
+  if (bilinear != 0)
+  {
+    // The same taps and weights as BilinearLookup() on the CPU.
+    vec2 f = (st * 0.5 + 0.5) * mapSize - 0.5;
+    vec2 b = floor(f);
+    vec2 w = f - b;
+    ivec2 i0 = ivec2(b);
+    float l[4];
+    for (int k = 0; k < 4; ++k)
+    {
+      ivec2 i = clamp(i0 + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
+      l[k] = texture(shadowMap, vec3((vec2(i) + 0.5) / mapSize, threshold));
+    }
+    return mix(mix(l[0], l[1], w.x), mix(l[2], l[3], w.x), w.y);
+  }
   ivec2 texel = clamp(ivec2(floor((st * 0.5 + 0.5) * mapSize)), ivec2(0), size - 1);
   float lit = 0.0;
   float taps = 0.0;
