@@ -394,6 +394,53 @@ void InstallRESM(vtkRenderer* ren, const Options& opts)
   InstallShadowPass(ren, technique);
 }
 
+// PCSS: shadowmap's map options (no filter: the soft lookup is the filter) and the soft
+// lookup's taps and reach (Fernando 2005).
+OptionTable PCSSTable()
+{
+  OptionTable table;
+  for (const OptionSpec& spec : ShadowMapOptions)
+  {
+    const std::string name = spec.Name;
+    if (name != "filter" && name != "pcf_kernel" && name != "lookup")
+    {
+      table.push_back(spec);
+    }
+  }
+  table.push_back({ "search_taps", OptionType::Integer, 6, 1, 16, {}, "taps per light axis",
+    "blocker-search taps on a stratified grid over the light (n x n for a rectangle, n for a "
+    "line)" });
+  table.push_back({ "filter_taps", OptionType::Integer, 8, 1, 32, {}, "taps per light axis",
+    "PCF taps over the light's image at the blockers' depth (n x n for a rectangle, n for a "
+    "line): the number of visibility levels" });
+  table.push_back({ "search_depth", OptionType::Number, 0.2, 0.01, 0.99, {},
+    "fraction of the receiver's distance",
+    "the nearest blocker the search looks for, as a fraction of the receiver's distance from "
+    "the light (smaller: a wider search)" });
+  table.push_back({ "max_radius", OptionType::Number, 64.0, 1.0, 4096.0, {}, "texels",
+    "no tap lies farther from the sample (bounds the cost of huge lights)" });
+  return table;
+}
+const OptionTable PCSSOptions = PCSSTable();
+
+void InstallPCSS(vtkRenderer* ren, const Options& opts)
+{
+  vtkNew<vtkPenumbraShadowMapShadows> technique;
+  technique->SetResolution(opts.Integer("resolution"));
+  technique->SetBias(opts.Number("bias"));
+  technique->SetSlopeBias(opts.Number("slope_bias"));
+  technique->SetDepthMode(opts.Choice("depth") == 1 ? vtkPenumbraShadowMapShadows::DEPTH_MIDPOINT
+                                                    : vtkPenumbraShadowMapShadows::DEPTH_LINEAR);
+  technique->SetPointMode(opts.Choice("point") == 1 ? vtkPenumbraShadowMapShadows::POINT_PARABOLOID
+                                                    : vtkPenumbraShadowMapShadows::POINT_CUBE);
+  technique->SetAreaLightMode(vtkPenumbraShadowMapShadows::AREA_PCSS);
+  technique->SetSearchTaps(opts.Integer("search_taps"));
+  technique->SetFilterTaps(opts.Integer("filter_taps"));
+  technique->SetSearchDepth(opts.Number("search_depth"));
+  technique->SetMaxRadius(opts.Number("max_radius"));
+  InstallShadowPass(ren, technique);
+}
+
 const OptionTable VolumesOptions = {
   { "silhouettes", OptionType::Choice, "cpu", 0, 0, { "cpu", "gpu", "none" }, "",
     "\"cpu\": silhouette edges from OpenMesh half-edges, in double; \"gpu\": a geometry shader "
@@ -515,6 +562,11 @@ const std::vector<Technique>& Registry()
       "potential blockers, k x k light-sample masks built on the CPU or by a compute shader; "
       "other lights are ray traced",
       GearsOptions, InstallGears },
+    { "pcss",
+      "percentage-closer soft shadows (Fernando 2005) from area and linear lights: one "
+      "perspective map from the light's centre, a blocker search and a PCF kernel shaped like "
+      "the light's image in the map; other lights get shadowmap's hard shadows",
+      PCSSOptions, InstallPCSS },
   };
   return techniques;
 }

@@ -14,6 +14,7 @@
 #include "vtkLightCollection.h"
 #include "vtkMath.h"
 #include "vtkNew.h"
+#include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -284,6 +285,67 @@ int CheckBilinearEdges()
     static_cast<long long>(c[0].Mismatches), static_cast<long long>(c[1].Mismatches));
   CHECK(fractional > 0);
   CHECK(awayFromEdges == 0);
+  return EXIT_SUCCESS;
+}
+
+// PCSS (Fernando 2005) at its limits, on the plane and box under an area light where the
+// directional light was: a tiny light converges to the exact hard shadow (small MAE, like
+// the hard shadow map), a huge one stays finite with every value in [0, 1].
+int CheckPCSSLimits()
+{
+  const double sizes[2] = { 1e-3, 50.0 };
+  for (double size : sizes)
+  {
+    auto renderer = PlaneAndBox();
+    renderer->RemoveAllLights();
+    vtkNew<vtkPenumbraAreaLight> light;
+    light->SetPosition(1.5, 0.7, 3.0);
+    light->SetFocalPoint(0, 0, 0);
+    light->SetWidth(size);
+    light->SetHeight(size);
+    light->SetSamplesPerAxis(4);
+    renderer->AddLight(light);
+    auto window = WindowFor(renderer, 200, 150);
+    vtkNew<vtkPenumbraTechniques> techniques;
+    CHECK(techniques->Apply(renderer, "pcss", "{}"));
+    window->Render();
+    vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
+    CHECK(pass && pass->GetVisibility(0));
+    CHECK(pass->GetTechnique()->HandlesAreaLights());
+    vtkFloatArray* vis = pass->GetVisibility(0);
+    vtkNew<vtkPenumbraReference> reference;
+    reference->SetGeometry(pass->GetGeometry());
+    vtkNew<vtkFloatArray> exact;
+    CHECK(reference->ComputeConvergedVisibility(pass->GetViewSamples(), light, 16, exact));
+    vtkNew<vtkPenumbraMetrics> metrics;
+    CHECK(metrics->CompareSoft(vis, exact));
+    float lo = 1.0f, hi = 0.0f;
+    vtkIdType bad = 0, valid = 0;
+    for (vtkIdType i = 0; i < vis->GetNumberOfTuples(); ++i)
+    {
+      const float v = vis->GetValue(i);
+      if (exact->GetValue(i) < 0.0f)
+      {
+        continue;
+      }
+      ++valid;
+      bad += std::isfinite(v) && v >= 0.0f && v <= 1.0f ? 0 : 1;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    std::printf("pcss, light %g x %g: MAE %.4f against the converged reference, values in "
+                "[%g, %g], %lld of %lld outside [0, 1]\n",
+      size, size, metrics->GetMAE(), lo, hi, static_cast<long long>(bad),
+      static_cast<long long>(valid));
+    CHECK(valid > 0 && bad == 0);
+    if (size < 1.0)
+    {
+      CHECK(metrics->GetMAE() < 0.01); // the hard shadow, up to aliasing at its edges
+      CHECK(lo == 0.0f && hi == 1.0f);
+    }
+    window->RemoveRenderer(renderer);
+    window->Finalize();
+  }
   return EXIT_SUCCESS;
 }
 
@@ -781,6 +843,7 @@ int TestShadowMapShadows(int, char*[])
   RUN(CheckMapCache());
   RUN(CheckLookupsAgree());
   RUN(CheckBilinearEdges());
+  RUN(CheckPCSSLimits());
   RUN(CheckResolutionSeries());
   RUN(CheckGrazingLight());
   RUN(CheckNonSquare());
