@@ -12,9 +12,10 @@
 // Method, per scene:
 //  - the view samples and the exact visibility of every light of the scene that is on and
 //    emits come from the ray-traced reference on the very same camera and window size (for an
-//    area or linear light: a converged 64 x 64-sample estimate; for hard lights: one exact ray
-//    per sample, near-ties reported and excluded); each point gives one row per light, with
-//    the frame's times and that light's error;
+//    area light: a converged 64 x 64-sample estimate; for a linear light: the exact interval
+//    union of vtkPenumbraLineReference, near-ties excluded; for hard lights: one exact ray per
+//    sample, near-ties reported and excluded); each point gives one row per light, with the
+//    frame's times and that light's error; results.md names each light's reference;
 //  - each technique renders `warmup` frames, then `frames` timed frames (glFinish before the
 //    clock stops); the median is reported, with the phases of vtkPenumbraShadowPass. Nothing
 //    moves by default, so techniques that cache (shadow maps) are timed on reuse; with
@@ -62,6 +63,7 @@
 #include "vtkPenumbraLinkedListShadows.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraRayTracedShadows.h"
+#include "vtkPenumbraLineReference.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowPass.h"
@@ -332,7 +334,8 @@ void WriteCSV(const std::string& path, const std::vector<Row>& rows)
 }
 
 void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
-  const std::vector<std::string>& failures, const Options& o)
+  const std::vector<std::string>& failures, const std::vector<std::string>& references,
+  const Options& o)
 {
   std::ofstream out(path);
   const char* moving = o.MovingLight && o.MovingCamera
@@ -371,6 +374,14 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
         << (r.StillMs < 0 ? std::string("–")
                           : Fixed(r.StillMs, 1) + " (" + Fixed(r.StillRatio, 2) + ")")
         << " |\n";
+  }
+  if (!references.empty())
+  {
+    out << "\nReference per scene:\n\n";
+    for (const std::string& line : references)
+    {
+      out << "- " << line << "\n";
+    }
   }
   bool gears = false;
   for (const Row& r : rows)
@@ -700,6 +711,7 @@ struct BenchRun
 {
   std::vector<Row> Rows;
   std::vector<std::string> Failures;
+  std::vector<std::string> References; // per scene: which reference the errors are against
   int Done = 0, Total = 0;
 
   void Fail(const std::string& what, const std::string& why)
@@ -731,6 +743,7 @@ struct SceneContext
     // The ray tracer's visibility per setting ("samples=16"), so a GEARS point at the same k
     // can be checked for exactness on the full-size frame.
     std::map<std::string, vtkSmartPointer<vtkFloatArray>> TracedAtK;
+    std::string ReferenceNote; // which reference, for results.md
   };
   std::vector<std::unique_ptr<Measured>> Lights;
 };
@@ -758,15 +771,31 @@ std::string ComputeReference(SceneContext& ctx)
     m->Light = l.first;
     m->LightIndex = l.second;
     m->Area = vtkPenumbraAreaLight::SafeDownCast(l.first);
-    if (m->Area)
+    if (m->Area && m->Area->GetShape() == vtkPenumbraAreaLight::Line)
+    {
+      // A linear light has an exact answer: no sampling error left in the yardstick.
+      vtkNew<vtkPenumbraLineReference> exact;
+      exact->SetGeometry(refPass->GetGeometry());
+      if (!exact->ComputeVisibility(ctx.Samples, m->Area, m->Reference))
+      {
+        return exact->GetErrorMessage();
+      }
+      m->Ties->DeepCopy(exact->GetTies());
+      m->ReferenceNote = "exact linear-light interval union (vtkPenumbraLineReference), " +
+        std::to_string(exact->GetNumberOfTies()) + " near-tie samples excluded, " +
+        Fixed(exact->GetLastTimeMs(), 0) + " ms";
+    }
+    else if (m->Area)
     {
       reference->ComputeConvergedVisibility(ctx.Samples, m->Area, 64, m->Reference);
+      m->ReferenceNote = "converged area-light estimate, 64 x 64 light samples";
     }
     else
     {
       // Traced again light by light: the ties are the last traced light's.
       reference->ComputeVisibility(ctx.Samples, m->Light, m->Reference);
       m->Ties->DeepCopy(reference->GetTies());
+      m->ReferenceNote = "exact hard-shadow rays, near-ties excluded";
     }
     ctx.Lights.push_back(std::move(m));
   }
@@ -904,7 +933,9 @@ void ScorePoint(SceneContext& ctx, Measured& m, const TechniqueSpec& spec, const
       metrics->WriteErrorImage(o.Width, o.Height, (errorStem + "_error.png").c_str());
     }
   }
-  metrics->CompareSoft(estimate, m.Reference, measurable, m.Area ? nullptr : m.Ties.Get());
+  const bool exactSoft = m.Area && m.Area->GetShape() == vtkPenumbraAreaLight::Line;
+  metrics->CompareSoft(estimate, m.Reference, measurable,
+    !m.Area || exactSoft ? m.Ties.Get() : nullptr);
   row.MAE = metrics->GetMAE();
   row.RMSE = metrics->GetRMSE();
   row.MaxError = metrics->GetMaxError();
@@ -1072,6 +1103,11 @@ int MeasureScene(const std::string& sceneName, const Options& o, BenchRun& run)
   }
   else
   {
+    for (const auto& m : ctx.Lights)
+    {
+      run.References.push_back(
+        label + ", light " + std::to_string(m->LightIndex) + ": " + m->ReferenceNote);
+    }
     ++run.Done;
     for (const auto& spec : o.Techniques)
     {
@@ -1101,7 +1137,7 @@ int MeasureScene(const std::string& sceneName, const Options& o, BenchRun& run)
 int WriteResults(const Options& o, const BenchRun& run)
 {
   WriteCSV(o.OutDir + "/results.csv", run.Rows);
-  WriteMarkdown(o.OutDir + "/results.md", run.Rows, run.Failures, o);
+  WriteMarkdown(o.OutDir + "/results.md", run.Rows, run.Failures, run.References, o);
   std::string chartError;
   if (!WriteChart(o.OutDir + "/chart.png", run.Rows, chartError))
   {

@@ -4,6 +4,7 @@
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
 #include "vtkMath.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLQuadHelper.h"
@@ -22,6 +23,7 @@
 #include "vtkShaderProgram.h"
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
+#include "vtkTextureUnitManager.h"
 #include "vtkWeakPointer.h"
 #include "vtk_glew.h"
 
@@ -75,6 +77,30 @@ constexpr int MaxSubdivisions = 32;
 // torture/grazing_light's lit samples shadowed at 2048² and 4096²; this cap: 1.5 % and
 // 0.26 % at 2048² and 8192², 640 x 480).
 constexpr double MaxTangent = 1000.0;
+
+// PCSS: an area or linear light's map is a spot light's at its centre along its normal, with
+// a cone just under 90 degrees (the widest a single perspective map fits).
+constexpr double AreaConeDegrees = 89.0;
+
+// Fast PCF (Brabec 2003, ch. 5.2): the 2 x 2 texels around the continuous map position
+// (ms, mt) in [-1, 1], compared with `threshold` and weighted bilinearly; the taps stay
+// inside the map like PCF's. vtkPenumbraShadowMapCompare.glsl has the float twin.
+double BilinearLookup(
+  const std::vector<float>& map, int width, int height, double ms, double mt, double threshold)
+{
+  const double fx = (ms * 0.5 + 0.5) * width - 0.5;
+  const double fy = (mt * 0.5 + 0.5) * height - 0.5;
+  const double bx = std::floor(fx), by = std::floor(fy);
+  const double wx = fx - bx, wy = fy - by;
+  auto lit = [&](double x, double y) {
+    const int ix = std::min(width - 1, std::max(0, static_cast<int>(x)));
+    const int iy = std::min(height - 1, std::max(0, static_cast<int>(y)));
+    return map[static_cast<size_t>(iy) * width + ix] >= threshold ? 1.0 : 0.0;
+  };
+  const double bottom = (1.0 - wx) * lit(bx, by) + wx * lit(bx + 1.0, by);
+  const double top = (1.0 - wx) * lit(bx, by + 1.0) + wx * lit(bx + 1.0, by + 1.0);
+  return (1.0 - wy) * bottom + wy * top;
+}
 
 // One light's maps, kept until the light, the casters, the view or the settings change.
 // Slots: 0 (directional, spot), 2 * axis + negative (cube faces), hemisphere (paraboloid).
@@ -547,8 +573,82 @@ void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup, boo
 }
 }
 
+namespace
+{
+bool AreaAsSpot(vtkPenumbraAreaLight* area, LightSetup& setup, std::string& error)
+{
+  const std::string problem = area->GetValidityMessage();
+  double u[3], v[3], n[3];
+  if (!problem.empty() || !area->GetAxes(u, v, n))
+  {
+    error = "invalid area light: " + problem;
+    return false;
+  }
+  setup.Type = LightSetup::Kind::Spot;
+  std::copy(n, n + 3, setup.Axis);
+  setup.Cone = AreaConeDegrees;
+  setup.CosCone = std::cos(vtkMath::RadiansFromDegrees(AreaConeDegrees));
+  return true;
+}
+
+// A depth map read as raw depth on its own texture unit (PCSS's blocker search), through a
+// sampler object that turns the texture's compare mode off; also binds the map on the
+// programs that do not use it, so that the sampler2D never shares a unit with the
+// sampler2DShadow.
+class RawDepthBinding
+{
+public:
+  RawDepthBinding(vtkOpenGLRenderWindow* win, GLuint& sampler, vtkTextureObject* map)
+  {
+    if (!sampler)
+    {
+      glGenSamplers(1, &sampler);
+      glSamplerParameteri(sampler, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+      glSamplerParameteri(sampler, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glSamplerParameteri(sampler, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glSamplerParameteri(sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glSamplerParameteri(sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    // An alias of the map (not owning its handle), bound through VTK so that its texture
+    // unit bookkeeping stays right; the sampler object overrides the compare mode there.
+    // Its parameters are the map's (VTK sends them to the shared texture on binding).
+    this->Alias->SetContext(win);
+    this->Alias->SetMinificationFilter(vtkTextureObject::Nearest);
+    this->Alias->SetMagnificationFilter(vtkTextureObject::Nearest);
+    this->Alias->SetWrapS(vtkTextureObject::ClampToEdge);
+    this->Alias->SetWrapT(vtkTextureObject::ClampToEdge);
+    this->Alias->SetDepthTextureCompare(true);
+    this->Alias->SetDepthTextureCompareFunction(vtkTextureObject::Lequal);
+    this->Alias->AssignToExistingTexture(map->GetHandle(), GL_TEXTURE_2D);
+    this->Alias->Activate();
+    glBindSampler(static_cast<GLuint>(this->Alias->GetTextureUnit()), sampler);
+  }
+  ~RawDepthBinding()
+  {
+    glBindSampler(static_cast<GLuint>(this->Alias->GetTextureUnit()), 0);
+    this->Alias->Deactivate();
+  }
+  int GetUnit() { return this->Alias->GetTextureUnit(); }
+
+private:
+  vtkNew<vtkTextureObject> Alias;
+};
+}
+
 struct vtkPenumbraShadowMapShadows::Internals
 {
+  // Half width of the PCF kernel (0 without PCF): the taps of the box filter.
+  static int TapRadius(vtkPenumbraShadowMapShadows* self)
+  {
+    return self->Filter == FILTER_PCF ? (self->PCFKernel | 1) / 2 : 0;
+  }
+  // Texels the filter reaches from the sample's texel, for the slope bias: Fast PCF's
+  // 2 x 2 taps reach one texel.
+  static int BiasRadius(vtkPenumbraShadowMapShadows* self)
+  {
+    return self->Filter == FILTER_BILINEAR ? 1 : TapRadius(self);
+  }
+
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
   penumbra_light_views::CasterBuffers Casters;
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
@@ -589,6 +689,7 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<TileOutputs> TileData;
   std::vector<double> TileKey;
   vtkSmartPointer<vtkTextureObject> NoMap;
+  GLuint RawDepthSampler = 0; // PCSS: reads the compare-mode maps as raw depth
   static constexpr int ExtentTile = Tile;
 
   // Phases (see the definitions).
@@ -611,6 +712,8 @@ struct vtkPenumbraShadowMapShadows::Internals
     int step, std::vector<float>& needs, std::string& error);
   void SetCompareUniforms(vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program,
     const LightSetup& setup, const LightMaps& m);
+  void SetSoftUniforms(
+    vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightMaps& m);
   bool LookupList(vtkPenumbraShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
     const LightSetup& setup, const LightMaps& m, const unsigned char* state, float* vis,
     std::string& error);
@@ -712,6 +815,11 @@ struct vtkPenumbraShadowMapShadows::Internals
         }
       }
     }
+    if (this->RawDepthSampler && this->Window)
+    {
+      glDeleteSamplers(1, &this->RawDepthSampler);
+    }
+    this->RawDepthSampler = 0;
     this->LookupFBO = nullptr;
     this->ListPositions = this->ListNormals = this->ListVisibility = nullptr;
     this->LookupQuad.reset();
@@ -1591,7 +1699,11 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupList(vtkPenumbraShadowMapShad
       SetSlotUniforms(program, m, static_cast<int>(slot));
       map->Activate();
       program->SetUniformi("shadowMap", map->GetTextureUnit());
-      quad.Render();
+      {
+        RawDepthBinding raw(win, this->RawDepthSampler, map);
+        program->SetUniformi("depthMap", raw.GetUnit());
+        quad.Render();
+      }
       map->Deactivate();
     }
     this->ListPositions->Deactivate();
@@ -1616,8 +1728,9 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
   const float* nrm = in.Normals;
   const int width = m.Width, height = m.Height;
   const int slotMode = this->SlotMode(self, setup);
-  const int radius = self->Filter == FILTER_PCF ? (self->PCFKernel | 1) / 2 : 0;
-  const double slopeBias = self->SlopeBias * (1.0 + radius);
+  const int radius = TapRadius(self);
+  const bool bilinear = self->Filter == FILTER_BILINEAR;
+  const double slopeBias = self->SlopeBias * (1.0 + BiasRadius(self));
   const double constantBias = self->Bias;
   // ---- Per-sample lookup on the CPU, double precision (see the class description).
   vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
@@ -1691,6 +1804,11 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
         std::min(MaxTangent, std::sqrt(std::max(0.0, 1.0 - cosine * cosine)) / cosine);
       const double threshold =
         depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
+      if (bilinear)
+      {
+        vis[s] = static_cast<float>(BilinearLookup(map, width, height, ms, mt, threshold));
+        continue;
+      }
       const int ix =
         std::min(width - 1, std::max(0, static_cast<int>(std::floor((ms * 0.5 + 0.5) * width))));
       const int iy =
@@ -1718,8 +1836,9 @@ void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(
   vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightSetup& setup,
   const LightMaps& m)
 {
-  const int radius = self->Filter == FILTER_PCF ? (self->PCFKernel | 1) / 2 : 0;
+  const int radius = TapRadius(self);
   program->SetUniformi("slotMode", this->SlotMode(self, setup));
+  program->SetUniformi("bilinear", self->Filter == FILTER_BILINEAR ? 1 : 0);
   const float centre[3] = { static_cast<float>(setup.Position[0]),
     static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
   const float toLight[3] = { static_cast<float>(setup.Direction[0]),
@@ -1730,9 +1849,40 @@ void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(
   const float mapSize[2] = { static_cast<float>(m.Width), static_cast<float>(m.Height) };
   program->SetUniform2f("mapSize", mapSize);
   program->SetUniformf("constantBias", static_cast<float>(self->Bias));
-  program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias * (1.0 + radius)));
+  program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias * (1.0 + BiasRadius(self))));
   program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
   program->SetUniformi("radius", radius);
+  this->SetSoftUniforms(self, program, m);
+}
+
+//------------------------------------------------------------------------------
+// PCSS's uniforms (vtkPenumbraShadowMapCompare.glsl): the light's half extents in world
+// units, the taps, the search depth and the tap radius in NDC.
+void vtkPenumbraShadowMapShadows::Internals::SetSoftUniforms(
+  vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightMaps& m)
+{
+  auto* area = vtkPenumbraAreaLight::SafeDownCast(m.Light.Get());
+  double u[3] = { 0, 0, 0 }, v[3] = { 0, 0, 0 }, n[3];
+  const bool soft = area && self->AreaLightMode == AREA_PCSS && area->GetAxes(u, v, n);
+  program->SetUniformi("pcss", soft ? 1 : 0);
+  if (!soft)
+  {
+    return;
+  }
+  const bool line = area->GetShape() == vtkPenumbraAreaLight::Line;
+  float hu[3], hv[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    hu[c] = static_cast<float>(0.5 * area->GetWidth() * u[c]);
+    hv[c] = line ? 0.0f : static_cast<float>(0.5 * area->GetHeight() * v[c]);
+  }
+  program->SetUniform3f("lightU", hu);
+  program->SetUniform3f("lightV", hv);
+  program->SetUniformi("searchTaps", self->SearchTaps);
+  program->SetUniformi("filterTaps", self->FilterTaps);
+  program->SetUniformf("searchDepth", static_cast<float>(self->SearchDepth));
+  const int side = std::max(1, std::min(m.Width, m.Height));
+  program->SetUniformf("maxRadius", static_cast<float>(2.0 * self->MaxRadius / side));
 }
 
 //------------------------------------------------------------------------------
@@ -1753,15 +1903,16 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
     error = "the frame has no light, geometry or OpenGL window";
     return false;
   }
-  if (vtkPenumbraAreaLight::SafeDownCast(light))
+  auto* area = vtkPenumbraAreaLight::SafeDownCast(light);
+  if (area && self->AreaLightMode != AREA_PCSS)
   {
-    error = "area and linear lights need a soft-shadow technique (gears, raytraced)";
+    error = "area and linear lights need a soft-shadow technique (gears, raytraced, pcss)";
     return false;
   }
   double origin[3];
   geometry->GetOrigin(origin);
   LightSetup setup;
-  if (!setup.Read(light, origin, error))
+  if (!setup.Read(light, origin, error) || (area && !AreaAsSpot(area, setup, error)))
   {
     return false;
   }
@@ -1990,7 +2141,11 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
       }
       map->Activate();
       program->SetUniformi("shadowMap", map->GetTextureUnit());
-      this->FrameQuad->Render();
+      {
+        RawDepthBinding raw(win, this->RawDepthSampler, map);
+        program->SetUniformi("depthMap", raw.GetUnit());
+        this->FrameQuad->Render();
+      }
       map->Deactivate();
     }
     gbuffer->GetPositionTexture()->Deactivate();
@@ -2024,7 +2179,9 @@ void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaxResolution: " << this->MaxResolution << "\n";
   os << indent << "Coverage: " << this->Coverage << "\n";
   os << indent << "AnalysisStep: " << this->AnalysisStep << "\n";
-  os << indent << "Filter: " << (this->Filter == FILTER_PCF ? "pcf" : "none") << "\n";
+  os << indent << "Filter: "
+     << (this->Filter == FILTER_PCF ? "pcf" : this->Filter == FILTER_BILINEAR ? "bilinear" : "none")
+     << "\n";
   os << indent << "PCFKernel: " << this->PCFKernel << "\n";
   os << indent << "Bias: " << this->Bias << "\n";
   os << indent << "SlopeBias: " << this->SlopeBias << "\n";

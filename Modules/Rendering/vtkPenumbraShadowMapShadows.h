@@ -49,7 +49,17 @@
  * Memory: the cached maps keep 4 bytes per texel and view, e.g. 16 MiB per view at 2048^2
  * (96 MiB for a cube at 2048^2), per light, as GPU textures (GPU lookup) or CPU arrays.
  *
- * Area lights are rejected (error; the pass renders that light unshadowed).
+ * Area and linear lights are rejected (error; the pass renders that light unshadowed) unless
+ * AreaLightMode is AREA_PCSS (the `pcss` technique): then each gets one perspective map from
+ * its centre along its normal (fitted like a spot light with a cone just under 90 degrees,
+ * whose facing and cone rules it then follows) and percentage-closer soft shadows: Fernando,
+ * "Percentage-Closer Soft Shadows", NVIDIA 2005, with the search region and the filter
+ * kernel the light's own rectangle or segment projected into the map (its U and V axes
+ * through the map's rows), taps on a stratified grid of light points. A blocker at
+ * light-view depth wb hides light point centre + o from a receiver at depth w where the map
+ * shows it at st + xy(o) (1/wb - 1/w), so the blocker search looks at the light's image for
+ * wb = SearchDepth * w, the average depth of the blockers found fixes wb, and PCF over the
+ * light's image at that wb gives the visible fraction. GPU lookup only.
  */
 
 #ifndef vtkPenumbraShadowMapShadows_h
@@ -81,10 +91,67 @@ public:
 
   void ReleaseGraphicsResources(vtkWindow* window) override;
 
+  /**
+   * True with AREA_PCSS: area and linear lights get percentage-closer soft shadows.
+   */
+  bool HandlesAreaLights() override { return this->AreaLightMode == AREA_PCSS; }
+
+  enum AreaLightModes
+  {
+    AREA_NONE = 0, ///< area and linear lights are rejected (hard-shadow technique)
+    AREA_PCSS = 1  ///< percentage-closer soft shadows (Fernando 2005)
+  };
+
+  ///@{
+  /**
+   * AREA_NONE (default) or AREA_PCSS, see the class description. PCSS needs the GPU lookup.
+   */
+  vtkSetClampMacro(AreaLightMode, int, AREA_NONE, AREA_PCSS);
+  vtkGetMacro(AreaLightMode, int);
+  ///@}
+
+  ///@{
+  /**
+   * PCSS blocker-search taps per light axis (n x n for a rectangle, n for a line). Default
+   * 6, clamped to [1, 16].
+   */
+  vtkSetClampMacro(SearchTaps, int, 1, 16);
+  vtkGetMacro(SearchTaps, int);
+  ///@}
+
+  ///@{
+  /**
+   * PCSS filter taps per light axis (n x n for a rectangle, n for a line): the number of
+   * visibility levels. Default 8, clamped to [1, 32].
+   */
+  vtkSetClampMacro(FilterTaps, int, 1, 32);
+  vtkGetMacro(FilterTaps, int);
+  ///@}
+
+  ///@{
+  /**
+   * PCSS: the nearest blocker the search looks for, as a fraction of the receiver's distance
+   * from the light along its axis (smaller finds blockers nearer the light, over a wider
+   * region). Default 0.2, clamped to [0.01, 0.99].
+   */
+  vtkSetClampMacro(SearchDepth, double, 0.01, 0.99);
+  vtkGetMacro(SearchDepth, double);
+  ///@}
+
+  ///@{
+  /**
+   * PCSS: no tap lies farther than this from the sample, in map texels (bounds the cost of
+   * huge lights; the penumbra is then too narrow). Default 64, clamped to [1, 4096].
+   */
+  vtkSetClampMacro(MaxRadius, double, 1.0, 4096.0);
+  vtkGetMacro(MaxRadius, double);
+  ///@}
+
   enum FilterModes
   {
     FILTER_NONE = 0, ///< one nearest texel, 0 or 1 (what a hardware depth compare gives)
-    FILTER_PCF = 1   ///< percentage-closer filtering over PCFKernel^2 nearest texels (ch. 5)
+    FILTER_PCF = 1,  ///< percentage-closer filtering over PCFKernel^2 nearest texels (ch. 5)
+    FILTER_BILINEAR = 2 ///< Fast PCF: bilinear weights of the 2 x 2 adjacent compared texels
   };
   enum DepthModes
   {
@@ -174,10 +241,16 @@ public:
 
   ///@{
   /**
-   * FILTER_NONE (default) or FILTER_PCF. PCF returns the fraction of lit taps, so
-   * visibility takes values between 0 and 1 at shadow edges.
+   * FILTER_NONE (default), FILTER_PCF or FILTER_BILINEAR. PCF returns the fraction of lit
+   * taps, so visibility takes values between 0 and 1 at shadow edges. FILTER_BILINEAR is
+   * Fast PCF (Brabec 2003, ch. 5.2): the four texels adjacent to the sample's continuous map
+   * position are compared and their 0/1 results weighted bilinearly by the position's
+   * fraction between the texel centres, so the visibility ramps over one texel at an edge and
+   * is 0 or 1 elsewhere; four taps, explicitly weighted on the GPU and the CPU alike (a
+   * GL_LINEAR depth compare weights in an implementation-defined way). Its slope bias uses a
+   * radius of 1 texel.
    */
-  vtkSetClampMacro(Filter, int, FILTER_NONE, FILTER_PCF);
+  vtkSetClampMacro(Filter, int, FILTER_NONE, FILTER_BILINEAR);
   vtkGetMacro(Filter, int);
   ///@}
 
@@ -300,6 +373,11 @@ protected:
   int DepthMode = DEPTH_LINEAR;
   int PointMode = POINT_CUBE;
   int Lookup = LOOKUP_GPU;
+  int AreaLightMode = AREA_NONE;
+  int SearchTaps = 6;
+  int FilterTaps = 8;
+  double SearchDepth = 0.2;
+  double MaxRadius = 64.0;
   int NumberOfMapRenders = 0;
   int NumberOfViews = 0;
   int NumberOfUploads = 0;

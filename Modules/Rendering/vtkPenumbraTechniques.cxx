@@ -391,16 +391,19 @@ void InstallLinkedList(vtkRenderer* ren, const Options& opts, bool hybrid)
 const OptionTable ShadowMapOptions = {
   { "resolution", OptionType::Integer, 2048, 64, 8192, {}, "texels",
     "texels per side (per cube face or paraboloid hemisphere for point lights)" },
-  { "filter", OptionType::Choice, "none", 0, 0, { "none", "pcf" }, "",
+  { "filter", OptionType::Choice, "none", 0, 0, { "none", "pcf", "bilinear" }, "",
     "\"none\": the nearest texel, 0/1 like a hardware compare; \"pcf\": percentage-closer "
-    "filtering, the mean of the compared taps (fractional visibility at shadow edges)" },
+    "filtering, the mean of the compared taps (fractional visibility at shadow edges); "
+    "\"bilinear\": Fast PCF (Brabec 2003, ch. 5), the 2 x 2 adjacent compared texels weighted "
+    "bilinearly (a one-texel ramp at edges, four taps)" },
   { "pcf_kernel", OptionType::Integer, 3, 3, 9, { 3, 5, 7, 9 }, "texels",
     "odd kernel width of \"pcf\"" },
   { "bias", OptionType::Number, 1e-4, 0.0, 0.1, {}, "fraction of the depth range",
     "constant depth bias as a fraction of the light view's depth range (orthographic: the "
     "fitted receiver depth span; perspective/paraboloid: the farthest receiver's distance)" },
   { "slope_bias", OptionType::Number, 1.0, 0.0, 16.0, {}, "texel footprints",
-    "slope-scaled bias in texel footprints (times 1 + PCF radius; the slope's tangent is capped "
+    "slope-scaled bias in texel footprints (times 1 + the filter's reach: PCF radius, 1 for "
+    "bilinear; the slope's tangent is capped "
     "at 1000)" },
   { "depth", OptionType::Choice, "linear", 0, 0, { "linear", "midpoint" }, "",
     "\"linear\": nearest surface; \"midpoint\": Woo's midpoint of the first two surfaces, one "
@@ -418,8 +421,9 @@ const OptionTable ShadowMapOptions = {
 void ReadShadowMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* technique)
 {
   technique->SetResolution(opts.Integer("resolution"));
-  technique->SetFilter(opts.Choice("filter") == 1 ? vtkPenumbraShadowMapShadows::FILTER_PCF
-                                                  : vtkPenumbraShadowMapShadows::FILTER_NONE);
+  const int filters[] = { vtkPenumbraShadowMapShadows::FILTER_NONE,
+    vtkPenumbraShadowMapShadows::FILTER_PCF, vtkPenumbraShadowMapShadows::FILTER_BILINEAR };
+  technique->SetFilter(filters[opts.Choice("filter")]);
   technique->SetPCFKernel(opts.Integer("pcf_kernel"));
   technique->SetBias(opts.Number("bias"));
   technique->SetSlopeBias(opts.Number("slope_bias"));
@@ -464,6 +468,53 @@ void InstallRESM(vtkRenderer* ren, const Options& opts)
   technique->SetMaxResolution(opts.Integer("max_resolution"));
   technique->SetCoverage(opts.Number("coverage"));
   technique->SetAnalysisStep(opts.Integer("analysis_step"));
+  InstallShadowPass(ren, technique);
+}
+
+// PCSS: shadowmap's map options (no filter: the soft lookup is the filter) and the soft
+// lookup's taps and reach (Fernando 2005).
+OptionTable PCSSTable()
+{
+  OptionTable table;
+  for (const OptionSpec& spec : ShadowMapOptions)
+  {
+    const std::string name = spec.Name;
+    if (name != "filter" && name != "pcf_kernel" && name != "lookup")
+    {
+      table.push_back(spec);
+    }
+  }
+  table.push_back({ "search_taps", OptionType::Integer, 6, 1, 16, {}, "taps per light axis",
+    "blocker-search taps on a stratified grid over the light (n x n for a rectangle, n for a "
+    "line)" });
+  table.push_back({ "filter_taps", OptionType::Integer, 8, 1, 32, {}, "taps per light axis",
+    "PCF taps over the light's image at the blockers' depth (n x n for a rectangle, n for a "
+    "line): the number of visibility levels" });
+  table.push_back({ "search_depth", OptionType::Number, 0.2, 0.01, 0.99, {},
+    "fraction of the receiver's distance",
+    "the nearest blocker the search looks for, as a fraction of the receiver's distance from "
+    "the light (smaller: a wider search)" });
+  table.push_back({ "max_radius", OptionType::Number, 64.0, 1.0, 4096.0, {}, "texels",
+    "no tap lies farther from the sample (bounds the cost of huge lights)" });
+  return table;
+}
+const OptionTable PCSSOptions = PCSSTable();
+
+void InstallPCSS(vtkRenderer* ren, const Options& opts)
+{
+  vtkNew<vtkPenumbraShadowMapShadows> technique;
+  technique->SetResolution(opts.Integer("resolution"));
+  technique->SetBias(opts.Number("bias"));
+  technique->SetSlopeBias(opts.Number("slope_bias"));
+  technique->SetDepthMode(opts.Choice("depth") == 1 ? vtkPenumbraShadowMapShadows::DEPTH_MIDPOINT
+                                                    : vtkPenumbraShadowMapShadows::DEPTH_LINEAR);
+  technique->SetPointMode(opts.Choice("point") == 1 ? vtkPenumbraShadowMapShadows::POINT_PARABOLOID
+                                                    : vtkPenumbraShadowMapShadows::POINT_CUBE);
+  technique->SetAreaLightMode(vtkPenumbraShadowMapShadows::AREA_PCSS);
+  technique->SetSearchTaps(opts.Integer("search_taps"));
+  technique->SetFilterTaps(opts.Integer("filter_taps"));
+  technique->SetSearchDepth(opts.Number("search_depth"));
+  technique->SetMaxRadius(opts.Number("max_radius"));
   InstallShadowPass(ren, technique);
 }
 
@@ -627,6 +678,11 @@ const std::vector<Technique>& Registry()
       "potential blockers, k x k light-sample masks built on the CPU or by a compute shader; "
       "other lights are ray traced",
       GearsOptions, InstallGears },
+    { "pcss",
+      "percentage-closer soft shadows (Fernando 2005) from area and linear lights: one "
+      "perspective map from the light's centre, a blocker search and a PCF kernel shaped like "
+      "the light's image in the map; other lights get shadowmap's hard shadows",
+      PCSSOptions, InstallPCSS },
   };
   return techniques;
 }

@@ -14,6 +14,7 @@
 #include "vtkLightCollection.h"
 #include "vtkMath.h"
 #include "vtkNew.h"
+#include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -166,11 +167,15 @@ int CheckLookupsAgree()
   {
     const char* Scene; // nullptr: plane + box
     const char* Options;
+    float Tolerance; // per sample; Fast PCF's weights come from float vs double positions
   };
-  const Case cases[] = { { nullptr, "" }, { nullptr, "\"filter\": \"pcf\", \"pcf_kernel\": 5" },
-    { nullptr, "\"depth\": \"midpoint\"" },
-    { "torture/point_light_in_room.json", "\"point\": \"cube\"" },
-    { "torture/point_light_in_room.json", "\"point\": \"paraboloid\"" } };
+  const Case cases[] = { { nullptr, "", 1e-6f },
+    { nullptr, "\"filter\": \"pcf\", \"pcf_kernel\": 5", 1e-6f },
+    { nullptr, "\"filter\": \"bilinear\", \"resolution\": 512", 2e-3f },
+    { nullptr, "\"depth\": \"midpoint\"", 1e-6f },
+    { "torture/point_light_in_room.json", "\"point\": \"cube\"", 1e-6f },
+    { "torture/point_light_in_room.json", "\"point\": \"paraboloid\"", 1e-6f },
+    { "torture/point_light_in_room.json", "\"filter\": \"bilinear\"", 2e-3f } };
   for (const Case& c : cases)
   {
     vtkNew<vtkFloatArray> answers[2];
@@ -208,7 +213,7 @@ int CheckLookupsAgree()
     vtkIdType differ = 0, shadowed = 0;
     for (vtkIdType i = 0; i < answers[0]->GetNumberOfTuples(); ++i)
     {
-      differ += std::fabs(answers[0]->GetValue(i) - answers[1]->GetValue(i)) > 1e-6f;
+      differ += std::fabs(answers[0]->GetValue(i) - answers[1]->GetValue(i)) > c.Tolerance;
       shadowed += answers[1]->GetValue(i) == 0.0f;
     }
     std::printf("lookup gpu vs cpu %-34s %-40s valid %lld shadowed %lld differ %lld\n",
@@ -216,6 +221,130 @@ int CheckLookupsAgree()
       static_cast<long long>(shadowed), static_cast<long long>(differ));
     CHECK(shadowed > 0);
     CHECK(differ <= valid / 1000);
+  }
+  return EXIT_SUCCESS;
+}
+
+// Fast PCF (Brabec 2003, ch. 5.2) softens only edges: on a coarse map every sample with a
+// fractional value lies within a texel's footprint (a few pixels here) of a change of the
+// exact hard shadow or of a silhouette in the map (a change of prop: the taps of a box side
+// next to its top see the top), and samples away from them are exactly 0 or 1.
+int CheckBilinearEdges()
+{
+  const int width = 200, height = 150, reach = 4;
+  vtkNew<vtkFloatArray> answers[2], exact;
+  vtkNew<vtkIntArray> props;
+  const char* options[2] = { "{\"filter\": \"none\", \"resolution\": 256}",
+    "{\"filter\": \"bilinear\", \"resolution\": 256}" };
+  Comparison c[2];
+  for (int f = 0; f < 2; ++f)
+  {
+    auto renderer = PlaneAndBox();
+    auto window = WindowFor(renderer, width, height);
+    vtkNew<vtkPenumbraTechniques> techniques;
+    CHECK(techniques->Apply(renderer, "shadowmap", options[f]));
+    window->Render();
+    RUN(Compare(renderer, 0, c[f], exact));
+    answers[f]->DeepCopy(ShadowPassOf(renderer)->GetVisibility(0));
+    props->DeepCopy(ShadowPassOf(renderer)->GetViewSamples()->GetPropIndices());
+    window->RemoveRenderer(renderer);
+    window->Finalize();
+  }
+  vtkIdType fractional = 0, awayFromEdges = 0;
+  for (int y = 0; y < height; ++y)
+  {
+    for (int x = 0; x < width; ++x)
+    {
+      const float v = answers[1]->GetValue(y * width + x);
+      if (!(v > 0.0f && v < 1.0f))
+      {
+        continue;
+      }
+      ++fractional;
+      bool edge = false;
+      const float centre = exact->GetValue(y * width + x);
+      const int prop = props->GetValue(y * width + x);
+      for (int dy = -reach; dy <= reach && !edge; ++dy)
+      {
+        for (int dx = -reach; dx <= reach && !edge; ++dx)
+        {
+          const int xx = x + dx, yy = y + dy;
+          if (xx >= 0 && yy >= 0 && xx < width && yy < height)
+          {
+            const float other = exact->GetValue(yy * width + xx);
+            edge = (other >= 0.0f && other != centre) || props->GetValue(yy * width + xx) != prop;
+          }
+        }
+      }
+      awayFromEdges += edge ? 0 : 1;
+    }
+  }
+  std::printf("bilinear at 256^2: %lld fractional samples, %lld away from exact edges; "
+              "mismatch against the exact shadow: none %lld, bilinear %lld\n",
+    static_cast<long long>(fractional), static_cast<long long>(awayFromEdges),
+    static_cast<long long>(c[0].Mismatches), static_cast<long long>(c[1].Mismatches));
+  CHECK(fractional > 0);
+  CHECK(awayFromEdges == 0);
+  return EXIT_SUCCESS;
+}
+
+// PCSS (Fernando 2005) at its limits, on the plane and box under an area light where the
+// directional light was: a tiny light converges to the exact hard shadow (small MAE, like
+// the hard shadow map), a huge one stays finite with every value in [0, 1].
+int CheckPCSSLimits()
+{
+  const double sizes[2] = { 1e-3, 50.0 };
+  for (double size : sizes)
+  {
+    auto renderer = PlaneAndBox();
+    renderer->RemoveAllLights();
+    vtkNew<vtkPenumbraAreaLight> light;
+    light->SetPosition(1.5, 0.7, 3.0);
+    light->SetFocalPoint(0, 0, 0);
+    light->SetWidth(size);
+    light->SetHeight(size);
+    light->SetSamplesPerAxis(4);
+    renderer->AddLight(light);
+    auto window = WindowFor(renderer, 200, 150);
+    vtkNew<vtkPenumbraTechniques> techniques;
+    CHECK(techniques->Apply(renderer, "pcss", "{}"));
+    window->Render();
+    vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
+    CHECK(pass && pass->GetVisibility(0));
+    CHECK(pass->GetTechnique()->HandlesAreaLights());
+    vtkFloatArray* vis = pass->GetVisibility(0);
+    vtkNew<vtkPenumbraReference> reference;
+    reference->SetGeometry(pass->GetGeometry());
+    vtkNew<vtkFloatArray> exact;
+    CHECK(reference->ComputeConvergedVisibility(pass->GetViewSamples(), light, 16, exact));
+    vtkNew<vtkPenumbraMetrics> metrics;
+    CHECK(metrics->CompareSoft(vis, exact));
+    float lo = 1.0f, hi = 0.0f;
+    vtkIdType bad = 0, valid = 0;
+    for (vtkIdType i = 0; i < vis->GetNumberOfTuples(); ++i)
+    {
+      const float v = vis->GetValue(i);
+      if (exact->GetValue(i) < 0.0f)
+      {
+        continue;
+      }
+      ++valid;
+      bad += std::isfinite(v) && v >= 0.0f && v <= 1.0f ? 0 : 1;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    std::printf("pcss, light %g x %g: MAE %.4f against the converged reference, values in "
+                "[%g, %g], %lld of %lld outside [0, 1]\n",
+      size, size, metrics->GetMAE(), lo, hi, static_cast<long long>(bad),
+      static_cast<long long>(valid));
+    CHECK(valid > 0 && bad == 0);
+    if (size < 1.0)
+    {
+      CHECK(metrics->GetMAE() < 0.01); // the hard shadow, up to aliasing at its edges
+      CHECK(lo == 0.0f && hi == 1.0f);
+    }
+    window->RemoveRenderer(renderer);
+    window->Finalize();
   }
   return EXIT_SUCCESS;
 }
@@ -713,6 +842,8 @@ int TestShadowMapShadows(int, char*[])
   RUN(CheckParaboloidRoundTrip());
   RUN(CheckMapCache());
   RUN(CheckLookupsAgree());
+  RUN(CheckBilinearEdges());
+  RUN(CheckPCSSLimits());
   RUN(CheckResolutionSeries());
   RUN(CheckGrazingLight());
   RUN(CheckNonSquare());
