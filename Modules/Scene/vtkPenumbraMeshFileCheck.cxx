@@ -1050,9 +1050,19 @@ void CheckLegacy(const std::string& path)
         }
       }
     }
-    else
+    else if (word == "POINT_DATA" || word == "CELL_DATA" || word == "FIELD" || word == "METADATA")
     {
       return; // attributes and field data: vtkDataReader checks their counts itself
+    }
+    else
+    {
+      // vtkPolyDataReader misreads what follows an unknown keyword (a crash in ReadString).
+      std::string shown = word.substr(0, 40);
+      for (auto& c : shown)
+      {
+        c = std::isprint(static_cast<unsigned char>(c)) ? c : '?';
+      }
+      Fail("legacy VTK file: unknown keyword \"" + shown + "\"");
     }
   }
 }

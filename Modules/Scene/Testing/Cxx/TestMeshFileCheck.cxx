@@ -138,6 +138,8 @@ int TestLegacy()
     "POLYGONS: cell 1 of 2: a point id is missing, not an integer"));
   CHECK(Contains(Problem(Write("id.vtk", head + "POLYGONS 1 4\n3 0 1 4\n")),
     "POLYGONS: cell 1 uses point 4 but there are only 4 points"));
+  CHECK(Contains(Problem(Write("keyword.vtk", head.substr(0, 61) + "x" + head.substr(61) + "POLYGONS 1 4\n3 0 1 2\n")),
+    "unknown keyword \"POINTSx\""));
   CHECK(Contains(Problem(Write("size.vtk", head + "POLYGONS 1 5\n3 0 1 2\n")), "1 cells use 4 values, the header declares 5"));
   CHECK(Contains(Problem(Write("cut.vtk", head.substr(0, head.size() - 8))), "coordinate 9 of 12 is missing"));
   CHECK(Contains(Problem(Write("offsets.vtk", "# vtk DataFile Version 5.1\nfuzz\nASCII\nDATASET POLYDATA\n"
