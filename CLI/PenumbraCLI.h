@@ -42,7 +42,7 @@ private:
   std::string First;
 };
 
-// Offscreen window (the headless EGL window when no X display is set) with a stencil buffer
+// Offscreen window (a headless EGL or OSMesa window when no X display is set) with a stencil buffer
 // and no multisampling, so pixels map one to one onto view samples. Returns nullptr with
 // `error` set when no window can work (VTK's X window forced without an X display, which
 // VTK would answer with an abort).

@@ -11,8 +11,9 @@ Use it exactly like VTK::
     shadow = penumbra.visibility(renderer, light=0)   # NumPy (height, width), 1 lit, 0 shadowed
     penumbra.disable_shadows(renderer)
 
-Importing the package registers the headless EGL render window: with no X display (or with
-PENUMBRA_HEADLESS=1) ``vtkRenderWindow()`` renders offscreen without any X server.
+Importing the package registers the headless render window: with no X display (or with
+PENUMBRA_HEADLESS=1) ``vtkRenderWindow()`` renders offscreen on EGL without any X server;
+PENUMBRA_HEADLESS=osmesa uses Mesa's OSMesa instead.
 """
 
 # VTK's own OpenGL factory must be registered before ours decides whether to replace its
@@ -92,3 +93,4 @@ def visibility(renderer, light=0, translucent=False):
     if samples is None or values is None:
         return None
     return vtk_to_numpy(values).reshape(samples.GetHeight(), samples.GetWidth()).copy()
+
