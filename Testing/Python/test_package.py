@@ -58,7 +58,7 @@ def pixel(x, y):
 class PackageTest(unittest.TestCase):
     def test_every_module_is_wrapped(self):
         for name in ("vtkPenumbraEGLRenderWindow", "vtkPenumbraOSMesaRenderWindow",
-                     "vtkPenumbraHeadlessFactory",
+                     "vtkPenumbraHeadlessFactory", "vtkPenumbraImageCompare",
                      "vtkPenumbraSceneReader", "vtkPenumbraAreaLight", "vtkPenumbraShadowKeys",
                      "vtkPenumbraTechniques", "vtkPenumbraImageIO", "vtkPenumbraCityBlockSource",
                      "vtkPenumbraIsosurfaceSource", "vtkPenumbraRoomSource",

@@ -94,3 +94,45 @@ def visibility(renderer, light=0, translucent=False):
         return None
     return vtk_to_numpy(values).reshape(samples.GetHeight(), samples.GetWidth()).copy()
 
+
+def compare_images(image, baseline, threshold=None, fail_percent=None, diff=None):
+    """Compares the image file `image` with the baseline file `baseline` the way OpenImageIO's
+    ``idiff -fail threshold -failpercent fail_percent`` does (vtkPenumbraImageCompare: a pixel
+    fails when a channel differs by more than `threshold`, values in [0, 1]; default 0.02).
+
+    Returns ``(matches, message)``. On a mismatch, writes the difference image to `diff` if
+    given. Raises ValueError if a file cannot be read or the sizes or channels differ.
+    """
+    compare = vtkPenumbraImageCompare()
+    if threshold is not None:
+        compare.SetThreshold(threshold)
+    if fail_percent is not None:
+        compare.SetFailFraction(fail_percent / 100.0)
+    verdict = compare.Compare(str(image), str(baseline))
+    if verdict < 0:
+        raise ValueError(compare.GetMessage())
+    if verdict == 0 and diff is not None and not compare.WriteDifference(str(diff)):
+        raise ValueError(compare.GetMessage())
+    return verdict == 1, compare.GetMessage()
+
+
+def assert_matches_baseline(window, baseline, output, threshold=None, fail_percent=None):
+    """For a user's regression test: writes `window`'s last frame to `output` (PNG), compares it
+    with `baseline` (see compare_images) and raises AssertionError naming the difference image
+    (`output` with ``.diff.png``) on a mismatch."""
+    import os
+
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.SetInputBufferTypeToRGB()
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    io = vtkPenumbraImageIO()
+    if not io.Write(grab.GetOutput(), str(output)):
+        raise ValueError(io.GetErrorMessage())
+    diff = os.path.splitext(str(output))[0] + ".diff.png"
+    matches, message = compare_images(output, baseline, threshold, fail_percent, diff)
+    if not matches:
+        raise AssertionError("%s %s; difference image: %s" % (output, message, diff))
