@@ -973,6 +973,139 @@ void LegacyCellsOffsets(LegacyCursor& in, const std::string& keyword, long long 
   array("CONNECTIVITY", size, 0, points, false);
 }
 
+long long LegacyBoundedCount(LegacyCursor& in, const std::string& keyword, long long lo, long long hi)
+{
+  std::string w;
+  in.Word(w);
+  const long long n = LegacyCount(w, keyword);
+  if (n < lo || n > hi)
+  {
+    Fail("legacy VTK " + keyword + ": " + std::to_string(n) + " is outside " + std::to_string(lo) +
+      ".." + std::to_string(hi));
+  }
+  return n;
+}
+
+// `FIELD name arrays` and each array's `name components tuples type` header. Returns false
+// where the check must stop: binary values cannot be skipped without parsing their types.
+bool LegacyField(LegacyCursor& in, long long budget)
+{
+  std::string name, word;
+  in.Word(name);
+  const long long arrays = LegacyBoundedCount(in, "FIELD arrays", 0, 1 << 20);
+  for (long long a = 0; a < arrays; ++a)
+  {
+    std::string arrayName, type;
+    in.Word(arrayName);
+    const long long components = LegacyBoundedCount(in, "FIELD array components", 0, 1 << 20);
+    const long long n = LegacyBoundedCount(in, "FIELD array tuples", 0, PlyMaxCount);
+    if (components * n > budget)
+    {
+      Fail("legacy VTK FIELD array declares " + std::to_string(components * n) +
+        " values, more than the file can hold");
+    }
+    in.Word(type);
+    if (in.IsBinary())
+    {
+      return false;
+    }
+    for (long long v = 0; v < components * n && in.Word(word); ++v)
+    {
+    }
+  }
+  return true;
+}
+
+long long LegacyBytesBudget(const LegacyCursor& in, size_t fileSize)
+{
+  // Fewest bytes one value takes: a digit and a separator in ASCII, a byte in BINARY.
+  return static_cast<long long>(fileSize) / (in.IsBinary() ? 1 : 2) + 1;
+}
+
+// Attribute and field data: values are not checked (vtkDataReader parses them), but every
+// declared size is, against what the file can hold. vtkDataReader allocates what a header
+// declares before reading: `SCALARS s float 2147483647` (components) made it allocate and
+// clear tens of gigabytes for a 4-point file.
+void LegacyAttributes(LegacyCursor& in, long long points, long long cells, size_t fileSize)
+{
+  const long long budget = LegacyBytesBudget(in, fileSize);
+  long long tuples = points; // of the current POINT_DATA or CELL_DATA section
+  std::string word;
+  auto count = [&](const std::string& keyword, long long lo, long long hi) {
+    return LegacyBoundedCount(in, keyword, lo, hi);
+  };
+  auto fits = [&](const std::string& keyword, long long values) {
+    if (values > budget)
+    {
+      Fail("legacy VTK " + keyword + " declares " + std::to_string(values) +
+        " values, more than the file can hold");
+    }
+  };
+  while (in.Word(word))
+  {
+    std::string name, type;
+    if (word == "POINT_DATA" || word == "CELL_DATA")
+    {
+      const long long expected = word == "POINT_DATA" ? points : cells;
+      tuples = count(word, 0, PlyMaxCount);
+      if (expected >= 0 && tuples != expected)
+      {
+        Fail("legacy VTK " + word + " " + std::to_string(tuples) + " does not match the " +
+          std::to_string(expected) + (word == "POINT_DATA" ? " points" : " cells"));
+      }
+    }
+    else if (word == "SCALARS")
+    {
+      in.Word(name);
+      in.Word(type);
+      // The component count is optional; the next word is then LOOKUP_TABLE.
+      const size_t at = in.Pos;
+      std::string next;
+      in.Word(next);
+      long long components = 1;
+      if (next != "LOOKUP_TABLE")
+      {
+        in.Pos = at;
+        components = count("SCALARS components", 1, 4);
+      }
+      fits("SCALARS", tuples * components);
+    }
+    else if (word == "COLOR_SCALARS")
+    {
+      in.Word(name);
+      fits("COLOR_SCALARS", tuples * count("COLOR_SCALARS components", 1, 4));
+    }
+    else if (word == "TEXTURE_COORDINATES")
+    {
+      in.Word(name);
+      fits("TEXTURE_COORDINATES", tuples * count("TEXTURE_COORDINATES dimension", 1, 3));
+    }
+    else if (word == "VECTORS" || word == "NORMALS" || word == "TENSORS")
+    {
+      fits(word, tuples * (word == "TENSORS" ? 9 : 3));
+    }
+    else if (word == "LOOKUP_TABLE")
+    {
+      in.Word(name);
+      // "LOOKUP_TABLE default" names a table; a table itself gives its size.
+      const size_t at = in.Pos;
+      std::string size;
+      in.Word(size);
+      char* end = nullptr;
+      const long long n = std::strtoll(size.c_str(), &end, 10);
+      if (!size.empty() && *end == '\0')
+      {
+        fits("LOOKUP_TABLE", 4 * std::max(n, 0LL));
+      }
+      in.Pos = at;
+    }
+    else if (word == "FIELD" && !LegacyField(in, budget))
+    {
+      return;
+    }
+  }
+}
+
 void CheckLegacy(const std::string& path)
 {
   std::ifstream file(path, std::ios::binary);
@@ -994,10 +1127,12 @@ void CheckLegacy(const std::string& path)
   {
     Fail("legacy VTK file: the third line must be ASCII or BINARY");
   }
+  const size_t fileSize = data.size();
   LegacyCursor in(std::move(data), format[0] == "BINARY");
   in.Pos = head.Pos;
   std::string word;
   long long points = -1;
+  long long cells = 0;
   while (in.Word(word))
   {
     if (word == "DATASET")
@@ -1025,6 +1160,7 @@ void CheckLegacy(const std::string& path)
       {
         Fail("legacy VTK " + word + " come before any POINTS");
       }
+      cells += version >= 5.0 ? std::max(first - 1, 0LL) : first;
       if (version >= 5.0)
       {
         LegacyCellsOffsets(in, word, first, size, points);
@@ -1050,9 +1186,22 @@ void CheckLegacy(const std::string& path)
         }
       }
     }
-    else if (word == "POINT_DATA" || word == "CELL_DATA" || word == "FIELD" || word == "METADATA")
+    else if (word == "FIELD")
     {
-      return; // attributes and field data: vtkDataReader checks their counts itself
+      if (!LegacyField(in, LegacyBytesBudget(in, fileSize)))
+      {
+        return;
+      }
+    }
+    else if (word == "POINT_DATA" || word == "CELL_DATA")
+    {
+      in.Pos -= word.size();
+      LegacyAttributes(in, points, cells, fileSize);
+      return;
+    }
+    else if (word == "METADATA")
+    {
+      return; // information keys only
     }
     else
     {

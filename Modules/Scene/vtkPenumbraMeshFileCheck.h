@@ -23,7 +23,9 @@
  *    classic count-and-ids layout or version 5's OFFSETS/CONNECTIVITY) has the cells and
  *    the size its header declares, with point ids inside the points: VTK 9.1's
  *    vtkCellArray::ImportLegacyFormat trusts the per-cell counts and reads past the array
- *    otherwise. Attribute data is left to vtkDataReader, which checks its counts.
+ *    otherwise. Unknown keywords are refused. POINT_DATA and CELL_DATA must match the points
+ *    and cells, and every attribute and FIELD array header (components, tuples) must fit
+ *    in the file: vtkDataReader allocates what a header declares before reading a value.
  *  - Other formats: no structural check here; the scene reader still checks the connectivity
  *    of what any reader returns (vtkPenumbraMeshFileCheck::CheckConnectivity).
  *

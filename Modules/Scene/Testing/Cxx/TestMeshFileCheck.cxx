@@ -145,6 +145,17 @@ int TestLegacy()
   CHECK(Contains(Problem(Write("offsets.vtk", "# vtk DataFile Version 5.1\nfuzz\nASCII\nDATASET POLYDATA\n"
     "POINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 2 3\nOFFSETS vtktypeint64\n0 4\n"
     "CONNECTIVITY vtktypeint64\n0 1 2\n")), "OFFSETS value 2 of 2 is missing or outside [0, 4)"));
+  // Found by the fuzz run under AddressSanitizer: 2147483647 scalar components for 4 points
+  // made vtkDataReader allocate and clear tens of gigabytes (49 s, then no surface).
+  const std::string withPolys = head + "POLYGONS 1 4\n3 0 1 2\n";
+  CHECK(Problem(Write("attrs.vtk", withPolys + "POINT_DATA 4\nSCALARS s float 1\nLOOKUP_TABLE default\n0 1 2 3\n"
+    "CELL_DATA 1\nFIELD f 1\nc 2 1 float\n5 6\nNORMALS n float\n0 0 1\n")).empty());
+  CHECK(Contains(Problem(Write("comps.vtk", withPolys + "POINT_DATA 4\nSCALARS s float 2147483647\nLOOKUP_TABLE default\n0 1 2 3\n")),
+    "SCALARS components: 2147483647 is outside 1..4"));
+  CHECK(Contains(Problem(Write("pdata.vtk", withPolys + "POINT_DATA 5\nSCALARS s float\nLOOKUP_TABLE default\n0 1 2 3 4\n")),
+    "POINT_DATA 5 does not match the 4 points"));
+  CHECK(Contains(Problem(Write("field.vtk", withPolys + "CELL_DATA 1\nFIELD f 1\nc 1000 1000000 float\n1\n")),
+    "FIELD array declares 1000000000 values, more than the file can hold"));
   const std::string grid = "# vtk DataFile Version 3.0\nfuzz\nASCII\nDATASET UNSTRUCTURED_GRID\n"
                            "POINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n";
   CHECK(Problem(Write("tet.vtk", grid + "10\n")).empty());
