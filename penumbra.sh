@@ -18,7 +18,7 @@ packages=(
   build-essential cmake
   libvtk9-dev python3-vtk9 python3-numpy
   libglm-dev libopenmesh-dev libopenimageio-dev openimageio-tools libembree-dev nlohmann-json3-dev
-  libegl-dev libegl1-mesa-dev libgl1-mesa-dri libosmesa6-dev libglew-dev
+  libegl-dev libegl1-mesa-dev libgl1-mesa-dri libosmesa6-dev libglvnd-dev libglew-dev
 )
 
 setup() {

@@ -8,7 +8,7 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkOutputWindow.h"
-#include "vtkPenumbraEGLRenderWindow.h"
+#include "vtkPenumbraHeadlessRenderWindow.h"
 #include "vtkPointData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
@@ -105,7 +105,7 @@ vtkSmartPointer<vtkRenderWindow> MakeWindow(
 {
   auto window = vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
   const char* display = std::getenv("DISPLAY");
-  if (!vtkPenumbraEGLRenderWindow::SafeDownCast(window) && (!display || !*display))
+  if (!vtkPenumbraHeadlessRenderWindow::SafeDownCast(window) && (!display || !*display))
   {
     error = "no X display is set but VTK's X window was requested (PENUMBRA_HEADLESS=0); "
             "unset PENUMBRA_HEADLESS to render headless";

@@ -49,7 +49,7 @@ std::string MessageText(const char* text);
 // starts on a new line, below a progress bar drawn with '\r'.
 void InstallMessageWindow(const char* program, bool belowProgress = false);
 
-// Offscreen window (the headless EGL window when no X display is set) with a stencil buffer
+// Offscreen window (a headless EGL or OSMesa window when no X display is set) with a stencil buffer
 // and no multisampling, so pixels map one to one onto view samples. Returns nullptr with
 // `error` set when no window can work (VTK's X window forced without an X display, which
 // VTK would answer with an abort).
@@ -61,6 +61,16 @@ vtkSmartPointer<vtkImageData> GrabRGB(vtkRenderWindow* window);
 
 // The last frame as float luminance per pixel (mean of RGB in [0, 1]), rows bottom-up.
 vtkSmartPointer<vtkImageData> GrabLuminance(vtkRenderWindow* window);
+
+// penumbra-render's regression-image check (--baseline and its settings).
+struct BaselineOptions
+{
+  std::string Path;     // baseline image; empty: no check
+  double Threshold = -1.0; // per-channel difference a pixel may have; < 0: the compare's default
+  double FailPercent = -1.0; // percentage of pixels allowed over the threshold; < 0: default
+  std::string DiffPath; // difference image on a mismatch; empty: OUT.diff.png
+  bool ThresholdGiven = false; // a setting that only makes sense with Path
+};
 
 // "WxH" with 1..16384 per side.
 bool ParseSize(const std::string& text, int& width, int& height);

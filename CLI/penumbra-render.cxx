@@ -2,10 +2,14 @@
 //
 //   penumbra-render scene.json -o out.png [--size WxH] [--technique NAME] [--option K=V]...
 //                   [--explain]
+//                   [--baseline ref.png [--threshold T] [--fail-percent P] [--diff d.png]]
 //
 // Prints the time of each phase on stdout; with --explain also, per light, the technique that
-// shadowed it and why, or why it got no shadow work (vtkPenumbraShadowPass::GetExplanation()). Any problem with the arguments or the scene gives
-// one message on stderr, exit status 2, and no output file.
+// shadowed it and why, or why it got no shadow work (vtkPenumbraShadowPass::GetExplanation()).
+// Any problem with the arguments or the scene gives one message on stderr, exit status 2, and
+// no output file. With --baseline the written image is compared with ref.png
+// (vtkPenumbraImageCompare: OpenImageIO's idiff semantics); a mismatch writes a difference
+// image (default: OUT.diff.png) and exits with status 1.
 
 #include "PenumbraCLI.h"
 
@@ -13,6 +17,7 @@
 #include "vtkCallbackCommand.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPenumbraImageCompare.h"
 #include "vtkPenumbraImageIO.h"
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowPass.h"
@@ -20,6 +25,7 @@
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
+#include "vtksys/SystemTools.hxx"
 
 #include <nlohmann/json.hpp>
 
@@ -43,9 +49,53 @@ int Usage(const char* why)
   }
   std::cerr << "usage: penumbra-render SCENE.json -o OUT.png [--size WxH] [--technique NAME]"
                " [--option KEY=VALUE]... [--explain]\n"
+               "         [--baseline REF.png [--threshold T] [--fail-percent P] [--diff DIFF.png]]\n"
                "       penumbra-render --list-techniques\n"
-               "       penumbra-render --options-markdown   (the technique section of SCHEMA.md)\n";
+               "       penumbra-render --options-markdown   (the technique section of SCHEMA.md)\n"
+               "exit status: 0 rendered (and matches the baseline), 1 differs from the baseline,\n"
+               "             2 bad arguments or scene, 3 rendering failed\n";
   return 2;
+}
+
+// A number in [lo, hi] from a command-line value; false if it is not one.
+bool ParseFraction(const std::string& text, double lo, double hi, double& out)
+{
+  char* end = nullptr;
+  out = std::strtod(text.c_str(), &end);
+  return !text.empty() && *end == '\0' && out >= lo && out <= hi;
+}
+
+// Compares the written image with the baseline; the exit status of the program.
+int CheckBaseline(const std::string& outPath, const penumbra_cli::BaselineOptions& baseline)
+{
+  vtkNew<vtkPenumbraImageCompare> compare;
+  if (baseline.Threshold >= 0.0)
+  {
+    compare->SetThreshold(baseline.Threshold);
+  }
+  if (baseline.FailPercent >= 0.0)
+  {
+    compare->SetFailFraction(baseline.FailPercent / 100.0);
+  }
+  const int verdict = compare->Compare(outPath.c_str(), baseline.Path.c_str());
+  if (verdict == 1)
+  {
+    std::cout << "baseline   " << compare->GetMessage() << "\n";
+    return 0;
+  }
+  if (verdict < 0)
+  {
+    std::cerr << "penumbra-render: baseline: " << compare->GetMessage() << "\n";
+    return 1;
+  }
+  const std::string diff = baseline.DiffPath.empty()
+    ? vtksys::SystemTools::GetFilenamePath(outPath) + (vtksys::SystemTools::GetFilenamePath(outPath).empty() ? "" : "/") +
+      vtksys::SystemTools::GetFilenameWithoutLastExtension(outPath) + ".diff.png"
+    : baseline.DiffPath;
+  const bool wrote = compare->WriteDifference(diff.c_str());
+  std::cerr << "penumbra-render: " << outPath << " " << compare->GetMessage()
+            << (wrote ? "; difference image: " + diff : std::string("; ") + compare->GetMessage()) << "\n";
+  return 1;
 }
 }
 
@@ -54,6 +104,7 @@ int main(int argc, char* argv[])
   penumbra_cli::InstallMessageWindow("penumbra-render");
   std::string scenePath, outPath, technique, sizeArg;
   bool explain = false;
+  penumbra_cli::BaselineOptions baseline;
   nlohmann::json overrides = nlohmann::json::object();
   for (int i = 1; i < argc; ++i)
   {
@@ -73,6 +124,31 @@ int main(int argc, char* argv[])
     else if (a == "--size")
     {
       sizeArg = value("--size");
+    }
+    else if (a == "--baseline")
+    {
+      baseline.Path = value("--baseline");
+    }
+    else if (a == "--threshold")
+    {
+      if (!ParseFraction(value("--threshold"), 0.0, 1.0, baseline.Threshold))
+      {
+        return Usage("--threshold expects a number from 0 to 1 (per-channel difference)");
+      }
+      baseline.ThresholdGiven = true;
+    }
+    else if (a == "--fail-percent")
+    {
+      if (!ParseFraction(value("--fail-percent"), 0.0, 100.0, baseline.FailPercent))
+      {
+        return Usage("--fail-percent expects a number from 0 to 100");
+      }
+      baseline.ThresholdGiven = true;
+    }
+    else if (a == "--diff")
+    {
+      baseline.DiffPath = value("--diff");
+      baseline.ThresholdGiven = true;
     }
     else if (a == "--technique")
     {
@@ -130,6 +206,14 @@ int main(int argc, char* argv[])
   if (outPath.empty())
   {
     return Usage("no output file given (-o OUT.png)");
+  }
+  if (baseline.Path.empty() && baseline.ThresholdGiven)
+  {
+    return Usage("--threshold, --fail-percent and --diff need --baseline");
+  }
+  if (!baseline.Path.empty() && !vtksys::SystemTools::FileExists(baseline.Path, true))
+  {
+    return Usage(("baseline " + baseline.Path + " not found (render once without --baseline to make one)").c_str());
   }
   int width = 0, height = 0;
   if (!sizeArg.empty() && !penumbra_cli::ParseSize(sizeArg, width, height))
@@ -230,5 +314,5 @@ int main(int argc, char* argv[])
                                      "under 90 degrees are shadowed, no other light\n");
     }
   }
-  return 0;
+  return baseline.Path.empty() ? 0 : CheckBaseline(outPath, baseline);
 }

@@ -1,10 +1,7 @@
 #include "vtkPenumbraEGLRenderWindow.h"
 
 #include "vtkObjectFactory.h"
-#include "vtkOpenGLState.h"
-#include "vtkRenderer.h"
-#include "vtkRendererCollection.h"
-#include "vtk_glew.h"
+#include "vtkPenumbraOSMesaRenderWindow.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -190,72 +187,50 @@ struct vtkPenumbraEGLRenderWindow::Internals
 {
   EGLDisplay Display = EGL_NO_DISPLAY;
   EGLContext Context = EGL_NO_CONTEXT;
-  std::string Description;
-  std::string Capabilities;
-  bool FailureReported = false;
 };
 
 vtkStandardNewMacro(vtkPenumbraEGLRenderWindow);
 
 vtkPenumbraEGLRenderWindow::vtkPenumbraEGLRenderWindow()
   : DeviceIndex(DefaultDeviceIndex())
-  , Usable(false)
   , Impl(new Internals)
 {
-  // Nothing is ever shown: all rendering stays in VTK's offscreen framebuffers.
-  this->ShowWindow = false;
-  this->UseOffScreenBuffers = true;
-  this->OwnContext = 1;
-  this->ScreenSize[0] = 16384;
-  this->ScreenSize[1] = 16384;
 }
 
 vtkPenumbraEGLRenderWindow::~vtkPenumbraEGLRenderWindow()
 {
   this->Finalize();
-  vtkRenderer* ren;
-  vtkCollectionSimpleIterator rit;
-  this->Renderers->InitTraversal(rit);
-  while ((ren = this->Renderers->GetNextRenderer(rit)))
-  {
-    ren->SetRenderWindow(nullptr);
-  }
 }
 
-void vtkPenumbraEGLRenderWindow::CreateAWindow()
+bool vtkPenumbraEGLRenderWindow::HasContext()
+{
+  return this->Impl->Context != EGL_NO_CONTEXT;
+}
+
+bool vtkPenumbraEGLRenderWindow::CreateContext(std::string& why)
 {
   Internals& impl = *this->Impl;
-  if (impl.Context != EGL_NO_CONTEXT)
-  {
-    return;
-  }
-  auto fail = [&](const std::string& why) {
-    if (!impl.FailureReported)
-    {
-      vtkErrorMacro("Cannot create a headless OpenGL context: " << why);
-      impl.FailureReported = true;
-    }
+  auto fail = [&](const std::string& reason) {
     if (impl.Display != EGL_NO_DISPLAY)
     {
       CloseDisplay(impl.Display);
       impl.Display = EGL_NO_DISPLAY;
     }
-    this->Usable = false;
+    why = reason;
+    return false;
   };
 
   OpenedDisplay opened = OpenDisplay(this->DeviceIndex);
   if (opened.Display == EGL_NO_DISPLAY)
   {
-    fail(opened.Error);
-    return;
+    return fail(opened.Error);
   }
   impl.Display = opened.Display;
-  impl.Description = opened.Description;
+  this->ContextDescription = opened.Description;
 
   if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE)
   {
-    fail("eglBindAPI(EGL_OPENGL_API) failed: this EGL has no desktop OpenGL");
-    return;
+    return fail("eglBindAPI(EGL_OPENGL_API) failed: this EGL has no desktop OpenGL");
   }
   // EGL_SURFACE_TYPE defaults to EGL_WINDOW_BIT in eglChooseConfig; no surface is ever made,
   // so any surface type (mask 0) will do. Colour and depth buffers are VTK's own FBOs.
@@ -266,8 +241,7 @@ void vtkPenumbraEGLRenderWindow::CreateAWindow()
   if (eglChooseConfig(impl.Display, configAttribs, &config, 1, &numConfigs) != EGL_TRUE ||
     numConfigs < 1)
   {
-    fail("no EGL config renders desktop OpenGL");
-    return;
+    return fail("no EGL config renders desktop OpenGL");
   }
 
   // Newest core profile first; VTK needs 3.2, the shadow techniques use 4.3 features and
@@ -285,71 +259,27 @@ void vtkPenumbraEGLRenderWindow::CreateAWindow()
   }
   if (impl.Context == EGL_NO_CONTEXT)
   {
-    fail("no OpenGL 3.2+ core context could be created");
-    return;
+    return fail("no OpenGL 3.2+ core context could be created");
   }
+  vtkPenumbraOSMesaRenderWindow::ReleaseCurrentOSMesa();
   if (eglMakeCurrent(impl.Display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl.Context) != EGL_TRUE)
   {
     eglDestroyContext(impl.Display, impl.Context);
     impl.Context = EGL_NO_CONTEXT;
-    fail("eglMakeCurrent without a surface failed");
-    return;
+    return fail("eglMakeCurrent without a surface failed");
   }
-
-  this->Initialized = false;
-  this->OpenGLInit();
-  if (!this->Initialized)
-  {
-    // OpenGLInitContext reported why; release everything so nothing renders on a bad context.
-    eglMakeCurrent(impl.Display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    eglDestroyContext(impl.Display, impl.Context);
-    impl.Context = EGL_NO_CONTEXT;
-    impl.FailureReported = true;
-    fail("OpenGL initialisation failed");
-    return;
-  }
-  this->Usable = true;
-  this->Mapped = 0;
+  return true;
 }
 
-void vtkPenumbraEGLRenderWindow::OpenGLInitContext()
-{
-  if (!this->Initialized)
-  {
-    // Debian's GLEW is GLX-built: glewInit() loads every GL entry point, then fails to find a
-    // GLX display. The GL part is what VTK needs, so that code counts as success here.
-    glewExperimental = GL_TRUE;
-    const GLenum result = glewInit();
-    if (result != GLEW_OK && result != GLEW_ERROR_NO_GLX_DISPLAY)
-    {
-      vtkErrorMacro("GLEW could not load OpenGL: "
-        << reinterpret_cast<const char*>(glewGetErrorString(result)));
-      return;
-    }
-    if (!GLEW_VERSION_3_2)
-    {
-      vtkErrorMacro("OpenGL 3.2 or newer is required; this context offers "
-        << reinterpret_cast<const char*>(glGetString(GL_VERSION)));
-      return;
-    }
-    this->GlewInitValid = true;
-    this->Initialized = true;
-    GLfloat range[2] = { 1.0f, 1.0f };
-    glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, range);
-    this->MaximumHardwareLineWidth = (glGetError() == GL_NO_ERROR) ? range[1] : 1.0f;
-  }
-  // Now Initialized: the base class only records the context creation time.
-  this->Superclass::OpenGLInitContext();
-}
-
-void vtkPenumbraEGLRenderWindow::DestroyWindow()
+void vtkPenumbraEGLRenderWindow::DestroyContext()
 {
   Internals& impl = *this->Impl;
   if (impl.Context != EGL_NO_CONTEXT)
   {
-    this->MakeCurrent();
-    this->ReleaseGraphicsResources(this);
-    eglMakeCurrent(impl.Display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (eglGetCurrentContext() == impl.Context)
+    {
+      eglMakeCurrent(impl.Display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    }
     eglDestroyContext(impl.Display, impl.Context);
     impl.Context = EGL_NO_CONTEXT;
   }
@@ -358,63 +288,6 @@ void vtkPenumbraEGLRenderWindow::DestroyWindow()
     CloseDisplay(impl.Display);
     impl.Display = EGL_NO_DISPLAY;
   }
-  this->Usable = false;
-  this->Initialized = false;
-  this->Mapped = 0;
-}
-
-void vtkPenumbraEGLRenderWindow::Initialize()
-{
-  if (this->Impl->Context == EGL_NO_CONTEXT)
-  {
-    this->CreateAWindow();
-  }
-}
-
-void vtkPenumbraEGLRenderWindow::Finalize()
-{
-  this->DestroyWindow();
-}
-
-void vtkPenumbraEGLRenderWindow::Render()
-{
-  this->Initialize();
-  if (!this->Usable)
-  {
-    return;
-  }
-  this->Superclass::Render();
-}
-
-int vtkPenumbraEGLRenderWindow::ReadPixels(
-  const vtkRecti& rect, int front, int glFormat, int glType, void* data, int right)
-{
-  if (!this->Usable)
-  {
-    vtkErrorMacro("Cannot read pixels: the window has no usable OpenGL context");
-    return VTK_ERROR;
-  }
-  return this->Superclass::ReadPixels(rect, front, glFormat, glType, data, right);
-}
-
-void vtkPenumbraEGLRenderWindow::Start()
-{
-  this->Initialize();
-  if (!this->Usable)
-  {
-    return;
-  }
-  this->Superclass::Start();
-}
-
-void vtkPenumbraEGLRenderWindow::Frame()
-{
-  if (!this->Usable)
-  {
-    return;
-  }
-  this->MakeCurrent();
-  this->Superclass::Frame();
 }
 
 void vtkPenumbraEGLRenderWindow::MakeCurrent()
@@ -422,6 +295,8 @@ void vtkPenumbraEGLRenderWindow::MakeCurrent()
   Internals& impl = *this->Impl;
   if (impl.Context != EGL_NO_CONTEXT && eglGetCurrentContext() != impl.Context)
   {
+    // glvnd keeps one current context per thread: an OSMesa window's must be released first.
+    vtkPenumbraOSMesaRenderWindow::ReleaseCurrentOSMesa();
     eglMakeCurrent(impl.Display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl.Context);
   }
 }
@@ -440,27 +315,6 @@ bool vtkPenumbraEGLRenderWindow::IsCurrent()
   return this->Impl->Context != EGL_NO_CONTEXT && eglGetCurrentContext() == this->Impl->Context;
 }
 
-void vtkPenumbraEGLRenderWindow::SetSize(int width, int height)
-{
-  if (width < 1 || height < 1)
-  {
-    vtkErrorMacro("Window size must be positive, got " << width << "x" << height);
-    return;
-  }
-  this->Superclass::SetSize(width, height);
-}
-
-int* vtkPenumbraEGLRenderWindow::GetScreenSize()
-{
-  // No screen: report the largest framebuffer we are willing to allocate.
-  return this->ScreenSize;
-}
-
-void vtkPenumbraEGLRenderWindow::SetShowWindow(bool)
-{
-  // There is nothing to show; keep rendering offscreen whatever the caller asks.
-}
-
 void* vtkPenumbraEGLRenderWindow::GetGenericContext()
 {
   return this->Impl->Context;
@@ -471,34 +325,8 @@ void* vtkPenumbraEGLRenderWindow::GetGenericDisplayId()
   return this->Impl->Display;
 }
 
-const char* vtkPenumbraEGLRenderWindow::GetContextDescription()
-{
-  return this->Impl->Description.c_str();
-}
-
-const char* vtkPenumbraEGLRenderWindow::ReportCapabilities()
-{
-  Internals& impl = *this->Impl;
-  this->Initialize();
-  if (!this->Usable)
-  {
-    impl.Capabilities = "no usable headless OpenGL context";
-    return impl.Capabilities.c_str();
-  }
-  this->MakeCurrent();
-  std::ostringstream out;
-  out << "EGL: " << impl.Description << "\n";
-  out << "OpenGL vendor string:  " << glGetString(GL_VENDOR) << "\n";
-  out << "OpenGL renderer string:  " << glGetString(GL_RENDERER) << "\n";
-  out << "OpenGL version string:  " << glGetString(GL_VERSION) << "\n";
-  impl.Capabilities = out.str();
-  return impl.Capabilities.c_str();
-}
-
 void vtkPenumbraEGLRenderWindow::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "DeviceIndex: " << this->DeviceIndex << "\n";
-  os << indent << "Usable: " << (this->Usable ? "yes" : "no") << "\n";
-  os << indent << "Context: " << this->Impl->Description << "\n";
 }

@@ -12,30 +12,25 @@
  *  3. Mesa's surfaceless platform (EGL_MESA_platform_surfaceless), i.e. llvmpipe on a machine
  *     without a GPU.
  *
- * Rendering always goes to VTK's own offscreen framebuffers, so window sizes are unlimited by
- * any screen and `vtkWindowToImageFilter` / `GetPixelData` read the finished frame. Several
- * windows may live in one process; each owns its context and they share the EGL display.
- *
- * Debian's GLEW is built for GLX: `glewInit()` loads every GL entry point and then fails with
- * GLEW_ERROR_NO_GLX_DISPLAY because no X display exists. That code is treated as success.
- *
- * A failure to create a context (no EGL, no usable device, GL older than 3.2) is reported once
- * with vtkErrorMacro and leaves the window unusable, never crashing: `IsUsable()` says which.
+ * Several windows may live in one process; each owns its context and they share the EGL
+ * display. Offscreen rendering, sizes, read-back and failure reporting are those of
+ * vtkPenumbraHeadlessRenderWindow: a failure to create a context (no EGL, no usable device, GL
+ * older than 3.2) is reported once and leaves the window unusable, never crashing.
  */
 
 #ifndef vtkPenumbraEGLRenderWindow_h
 #define vtkPenumbraEGLRenderWindow_h
 
-#include "vtkOpenGLRenderWindow.h"
 #include "vtkPenumbraHeadlessModule.h" // For export macro
+#include "vtkPenumbraHeadlessRenderWindow.h"
 
 #include <memory> // For std::unique_ptr
 
-class VTKPENUMBRAHEADLESS_EXPORT vtkPenumbraEGLRenderWindow : public vtkOpenGLRenderWindow
+class VTKPENUMBRAHEADLESS_EXPORT vtkPenumbraEGLRenderWindow : public vtkPenumbraHeadlessRenderWindow
 {
 public:
   static vtkPenumbraEGLRenderWindow* New();
-  vtkTypeMacro(vtkPenumbraEGLRenderWindow, vtkOpenGLRenderWindow);
+  vtkTypeMacro(vtkPenumbraEGLRenderWindow, vtkPenumbraHeadlessRenderWindow);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -48,72 +43,21 @@ public:
   vtkGetMacro(DeviceIndex, int);
   ///@}
 
-  /**
-   * True once a context exists and OpenGL 3.2 or newer was initialised on it.
-   */
-  bool IsUsable() const { return this->Usable; }
-
-  /**
-   * Human-readable description of the EGL platform, device and GL renderer in use
-   * (empty before the first render).
-   */
-  const char* GetContextDescription();
-
-  /**
-   * Renders if a context could be created; otherwise reports the reason (once) and draws
-   * nothing, leaving the window unusable rather than crashing.
-   */
-  void Render() override;
-  void Start() override;
-  void Frame() override;
-  void Initialize() override;
-  void Finalize() override;
   void MakeCurrent() override;
   void ReleaseCurrent() override;
   bool IsCurrent() override;
-  void SetSize(int width, int height) override;
-  void SetSize(int a[2]) override { this->SetSize(a[0], a[1]); }
-  int* GetScreenSize() VTK_SIZEHINT(2) override;
-  void SetShowWindow(bool) override;
-  const char* ReportCapabilities() override;
-  vtkTypeBool IsDirect() override { return this->Usable ? 1 : 0; }
-  vtkTypeBool GetEventPending() override { return 0; }
   void* GetGenericContext() override;
   void* GetGenericDisplayId() override;
-  void SetWindowName(const char*) override {}
-  void SetWindowId(void*) override {}
-  void SetParentId(void*) override {}
-  void SetDisplayId(void*) override {}
-  void SetNextWindowId(void*) override {}
-  void SetWindowInfo(const char*) override {}
-  void SetNextWindowInfo(const char*) override {}
-  void SetParentInfo(const char*) override {}
-  void* GetGenericWindowId() override { return nullptr; }
-  void* GetGenericParentId() override { return nullptr; }
-  void* GetGenericDrawable() override { return nullptr; }
-  void HideCursor() override {}
-  void ShowCursor() override {}
-  void SetFullScreen(vtkTypeBool) override {}
-  void WindowRemap() override {}
-  bool GetPlatformSupportsRenderWindowSharing() override { return false; }
-
-  /**
-   * There is no on-screen framebuffer: the frame stays in VTK's display framebuffer.
-   */
-  void BlitDisplayFramebuffersToHardware() override {}
 
 protected:
   vtkPenumbraEGLRenderWindow();
   ~vtkPenumbraEGLRenderWindow() override;
 
-  void CreateAWindow() override;
-  void DestroyWindow() override;
-  void OpenGLInitContext() override;
-  int ReadPixels(
-    const vtkRecti& rect, int front, int glFormat, int glType, void* data, int right) override;
+  bool CreateContext(std::string& why) override;
+  bool HasContext() override;
+  void DestroyContext() override;
 
   int DeviceIndex;
-  bool Usable;
 
 private:
   vtkPenumbraEGLRenderWindow(const vtkPenumbraEGLRenderWindow&) = delete;

@@ -3,6 +3,7 @@
 #include "vtkGenericRenderWindowInteractor.h"
 #include "vtkObjectFactoryCollection.h"
 #include "vtkPenumbraEGLRenderWindow.h"
+#include "vtkPenumbraOSMesaRenderWindow.h"
 #include "vtkVersion.h"
 
 #include <cctype>
@@ -20,6 +21,23 @@ vtkObject* CreateEGLRenderWindow()
   return vtkPenumbraEGLRenderWindow::New();
 }
 
+vtkObject* CreateOSMesaRenderWindow()
+{
+  return vtkPenumbraOSMesaRenderWindow::New();
+}
+
+// PENUMBRA_HEADLESS in lower case ("" if unset).
+std::string HeadlessSetting()
+{
+  const char* env = std::getenv("PENUMBRA_HEADLESS");
+  std::string v(env ? env : "");
+  for (auto& c : v)
+  {
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  return v;
+}
+
 // VTK's X interactor would open the (absent) X display as soon as a window initialises it,
 // e.g. inside vtkContextView; the generic interactor needs no window system.
 vtkObject* CreateGenericInteractor()
@@ -35,8 +53,16 @@ vtkStandardNewMacro(vtkPenumbraHeadlessFactory);
 
 vtkPenumbraHeadlessFactory::vtkPenumbraHeadlessFactory()
 {
-  this->RegisterOverride("vtkRenderWindow", "vtkPenumbraEGLRenderWindow",
-    "Headless EGL render window", 1, CreateEGLRenderWindow);
+  if (vtkPenumbraHeadlessFactory::OSMesaRequested())
+  {
+    this->RegisterOverride("vtkRenderWindow", "vtkPenumbraOSMesaRenderWindow",
+      "Headless OSMesa render window", 1, CreateOSMesaRenderWindow);
+  }
+  else
+  {
+    this->RegisterOverride("vtkRenderWindow", "vtkPenumbraEGLRenderWindow",
+      "Headless EGL render window", 1, CreateEGLRenderWindow);
+  }
   this->RegisterOverride("vtkRenderWindowInteractor", "vtkGenericRenderWindowInteractor",
     "Interactor without a window system", 1, CreateGenericInteractor);
 }
@@ -48,24 +74,22 @@ const char* vtkPenumbraHeadlessFactory::GetVTKSourceVersion()
 
 bool vtkPenumbraHeadlessFactory::HeadlessRequested()
 {
-  if (const char* env = std::getenv("PENUMBRA_HEADLESS"))
+  const std::string v = HeadlessSetting();
+  if (v == "1" || v == "on" || v == "yes" || v == "true" || v == "egl" || v == "osmesa")
   {
-    std::string v(env);
-    for (auto& c : v)
-    {
-      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    }
-    if (v == "1" || v == "on" || v == "yes" || v == "true" || v == "egl")
-    {
-      return true;
-    }
-    if (v == "0" || v == "off" || v == "no" || v == "false" || v == "x" || v == "x11")
-    {
-      return false;
-    }
+    return true;
+  }
+  if (v == "0" || v == "off" || v == "no" || v == "false" || v == "x" || v == "x11")
+  {
+    return false;
   }
   const char* display = std::getenv("DISPLAY");
   return display == nullptr || *display == '\0';
+}
+
+bool vtkPenumbraHeadlessFactory::OSMesaRequested()
+{
+  return HeadlessSetting() == "osmesa";
 }
 
 void vtkPenumbraHeadlessFactory::Install()

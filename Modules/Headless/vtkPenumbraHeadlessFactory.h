@@ -1,13 +1,15 @@
 /**
  * @class   vtkPenumbraHeadlessFactory
- * @brief   Object factory that makes vtkRenderWindow::New() return a headless EGL window.
+ * @brief   Object factory that makes vtkRenderWindow::New() return a headless window.
  *
  * Installed automatically when this module is initialised (C++ `vtk_module_autoinit`, or
  * `import penumbra` in Python) if headless rendering is wanted:
  *
  *  - `PENUMBRA_HEADLESS=1` (or `on`, `egl`): always use vtkPenumbraEGLRenderWindow;
+ *  - `PENUMBRA_HEADLESS=osmesa`: always use vtkPenumbraOSMesaRenderWindow (Mesa's off-screen
+ *    library instead of EGL);
  *  - `PENUMBRA_HEADLESS=0` (or `off`, `x`): never; VTK's X window is used as usual;
- *  - unset: use it exactly when `DISPLAY` is unset or empty, i.e. when VTK's X window could
+ *  - unset: use the EGL window exactly when `DISPLAY` is unset or empty, i.e. when VTK's X window could
  *    only fail with "bad X server connection".
  *
  * When installed, vtkRenderWindowInteractor::New() also returns a
@@ -31,7 +33,7 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   const char* GetVTKSourceVersion() override;
-  const char* GetDescription() override { return "Penumbra headless EGL render window"; }
+  const char* GetDescription() override { return "Penumbra headless render window"; }
 
   /**
    * Whether the environment asks for headless rendering (see the class description).
@@ -39,7 +41,14 @@ public:
   static bool HeadlessRequested();
 
   /**
-   * Make vtkRenderWindow::New() return vtkPenumbraEGLRenderWindow from now on. Idempotent.
+   * Whether the environment asks for the OSMesa window (`PENUMBRA_HEADLESS=osmesa`) rather
+   * than the EGL one.
+   */
+  static bool OSMesaRequested();
+
+  /**
+   * Make vtkRenderWindow::New() return the headless window from now on: the OSMesa one if
+   * OSMesaRequested(), else the EGL one. Idempotent.
    */
   static void Install();
 

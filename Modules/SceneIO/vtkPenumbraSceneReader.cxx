@@ -4,6 +4,7 @@
 #include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraCityBlockSource.h"
 #include "vtkPenumbraIsosurfaceSource.h"
+#include "vtkPenumbraMeshFileCheck.h"
 #include "vtkPenumbraRoomSource.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
@@ -427,6 +428,13 @@ vtkSmartPointer<vtkPolyData> vtkPenumbraSceneReader::Internals::RunAlgorithm(
     ctx.Fail(field, what + " failed: " + msg);
   }
   vtkDataObject* out = alg->GetOutputDataObject(0);
+  // Readers pass cell point ids on as the file gives them; one past the points crashes the
+  // filters and the renderer later, far from the file that caused it.
+  const std::string badCells = vtkPenumbraMeshFileCheck::CheckConnectivity(vtkDataSet::SafeDownCast(out));
+  if (!badCells.empty())
+  {
+    ctx.Fail(field, what + " failed: " + badCells);
+  }
   vtkSmartPointer<vtkPolyData> pd = vtkPolyData::SafeDownCast(out);
   if (!pd)
   {
@@ -479,6 +487,13 @@ vtkSmartPointer<vtkPolyData> vtkPenumbraSceneReader::Internals::LoadFile(
   auto reader = readers.find(ext);
   if (reader != readers.end())
   {
+    // VTK 9.1's PLY and OBJ readers trust the file; check its structure first.
+    vtkNew<vtkPenumbraMeshFileCheck> check;
+    check->SetFileName(path.c_str());
+    if (!check->Check())
+    {
+      ctx.Fail(f, path + ": " + check->GetErrorMessage());
+    }
     vtkSmartPointer<vtkAlgorithm> alg = reader->second(path);
     return this->RunAlgorithm(ctx, f, alg, what);
   }
@@ -1126,6 +1141,16 @@ void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, 
   if (root.contains("description") && !root.at("description").is_string())
   {
     ctx.Fail("description", "expected a string");
+  }
+  // Refused before any mesh is read: the scene cannot be rendered as asked.
+  if (root.contains("lights") && root.at("lights").is_array() &&
+    root.at("lights").size() > static_cast<size_t>(vtkPenumbraSceneReader::MaximumNumberOfLights))
+  {
+    ctx.Fail("lights", std::to_string(root.at("lights").size()) + " lights, at most " +
+        std::to_string(vtkPenumbraSceneReader::MaximumNumberOfLights) +
+        " are allowed: VTK's lighting shader declares uniforms for every light (OpenGL 4.5 "
+        "guarantees 256 fragment uniform vectors) and each shadowed light needs a texture "
+        "unit; merge distant lights or use an area light");
   }
   this->Renderer = vtkSmartPointer<vtkRenderer>::New();
   this->Renderer->AutomaticLightCreationOff();

@@ -35,6 +35,20 @@ public:
   vtkTypeMacro(vtkPenumbraSceneReader, vtkObject);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  /**
+   * Most lights a scene file may have (switched on or off). VTK 9.1's lighting shader
+   * declares about seven uniforms per positional light, and OpenGL 4.5 guarantees only 256
+   * vec4 fragment uniform vectors (GL_MAX_FRAGMENT_UNIFORM_VECTORS): thousands of lights
+   * take a minute to compile and then fail to link. Of these lights, the shadow pass shadows
+   * as many as the receivers' texture units allow (GL_MAX_TEXTURE_IMAGE_UNITS - 8: 8 on a
+   * minimal OpenGL 4.5, 24 on Mesa llvmpipe). A scene with more lights is refused before any
+   * mesh is read.
+   */
+  enum
+  {
+    MaximumNumberOfLights = 32
+  };
+
   ///@{
   /**
    * The JSON scene file to read. Default: none.

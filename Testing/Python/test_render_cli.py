@@ -49,6 +49,49 @@ class RenderCliTest(unittest.TestCase):
                     self.assertGreater(darker, 0.03 * len(pixels), "too few shadowed pixels")
                     self.assertLess(brighter, 0.002 * len(pixels), "shadowing must not brighten pixels")
 
+    def test_baseline_check(self):
+        scene = os.path.join(SCENES_DIR, "default.json")
+        with tempfile.TemporaryDirectory() as tmp:
+            ref = os.path.join(tmp, "ref.png")
+            out = os.path.join(tmp, "out.png")
+            common = ("--size", "96x72", "--technique", "raytraced")
+            code, _, stderr = run_render(scene, "-o", ref, *common)
+            self.assertEqual(code, 0, stderr)
+            # The exact technique reproduces its own baseline.
+            code, stdout, stderr = run_render(scene, "-o", out, *common, "--baseline", ref)
+            self.assertEqual(code, 0, stderr)
+            self.assertIn("matches " + ref, stdout)
+            # Without shadows the image differs: exit 1, one line, a difference image.
+            code, _, stderr = run_render(scene, "-o", out, "--size", "96x72", "--technique", "none",
+                                         "--baseline", ref, "--threshold", "0.1")
+            self.assertEqual(code, 1)
+            lines = [l for l in stderr.splitlines() if l.strip()]
+            self.assertEqual(len(lines), 1, stderr)
+            self.assertIn("differs from " + ref, lines[0])
+            self.assertIn("difference image: " + os.path.join(tmp, "out.diff.png"), lines[0])
+            self.assertTrue(os.path.exists(os.path.join(tmp, "out.diff.png")))
+            # A large enough allowance accepts the same difference.
+            code, _, stderr = run_render(scene, "-o", out, "--size", "96x72", "--technique", "none",
+                                         "--baseline", ref, "--threshold", "0.1", "--fail-percent", "100")
+            self.assertEqual(code, 0, stderr)
+            # Size mismatch: a failure that says why.
+            code, _, stderr = run_render(scene, "-o", out, "--size", "64x48", "--technique", "raytraced",
+                                         "--baseline", ref)
+            self.assertEqual(code, 1)
+            self.assertIn("is 64x48", stderr)
+            # The Python helper gives the same verdicts.
+            matches, message = penumbra.compare_images(ref, ref)
+            self.assertTrue(matches, message)
+            with self.assertRaises(ValueError):
+                penumbra.compare_images(out, ref)
+            for args, fragment in (((scene, "-o", out, "--baseline", os.path.join(tmp, "nope.png")), "not found"),
+                                   ((scene, "-o", out, "--threshold", "0.1"), "need --baseline"),
+                                   ((scene, "-o", out, "--baseline", ref, "--threshold", "2"), "--threshold")):
+                with self.subTest(args=args[3:]):
+                    code, _, stderr = run_render(*args)
+                    self.assertEqual(code, 2)
+                    self.assertIn(fragment, stderr)
+
     def test_forced_x_window_without_display_fails_clearly(self):
         with tempfile.TemporaryDirectory() as tmp:
             out = os.path.join(tmp, "x.png")

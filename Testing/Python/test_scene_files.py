@@ -6,6 +6,7 @@ import json
 import math
 import os
 import tempfile
+import time
 import unittest
 
 import penumbra
@@ -29,6 +30,11 @@ BAD_SCENES = {
     "bad_technique_option.json": "technique: resolution: expected an integer",
     "unknown_generator.json": 'objects[0].generator.type: unknown generator "teapot"',
     "spot_cone_too_wide.json": "lights[0].cone_angle",
+    # Hostile mesh files, refused before VTK's readers see them.
+    "truncated_ply.json": "binary PLY ends inside element \"vertex\"",
+    "obj_missing_vertex.json": "OBJ line 6: vertex 7 does not exist (the file has 3)",
+    "ply_bad_face_index.json": "vertex index 9 is outside the 3 vertices",
+    "too_many_lights.json": "lights: 33 lights, at most 32 are allowed",
 }
 
 
@@ -64,6 +70,17 @@ class SceneFilesTest(unittest.TestCase):
                     self.assertIn(fragment, lines[0])
                     self.assertFalse(os.path.exists(out), "no output file on error")
             self.assertEqual(os.listdir(tmp), [], "no partial files left behind")
+
+    def test_thousands_of_lights_are_refused_at_once(self):
+        lights = ",".join('{"type": "point", "position": [%d, 0, 5]}' % i for i in range(3000))
+        text = '{"objects": [{"generator": {"type": "plane"}}], "lights": [%s]}' % lights
+        reader = penumbra.vtkPenumbraSceneReader()
+        reader.AddObserver("ErrorEvent", lambda *a: None)
+        start = time.monotonic()
+        self.assertEqual(reader.ReadFromString(text, "inline", ""), 0)
+        self.assertLess(time.monotonic() - start, 5.0)
+        self.assertIn("lights: 3000 lights, at most %d are allowed"
+                      % penumbra.vtkPenumbraSceneReader.MaximumNumberOfLights, reader.GetErrorMessage())
 
     def test_reader_reports_without_raising(self):
         reader = penumbra.vtkPenumbraSceneReader()

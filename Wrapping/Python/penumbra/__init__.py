@@ -11,8 +11,9 @@ Use it exactly like VTK::
     shadow = penumbra.visibility(renderer, light=0)   # NumPy (height, width), 1 lit, 0 shadowed
     penumbra.disable_shadows(renderer)
 
-Importing the package registers the headless EGL render window: with no X display (or with
-PENUMBRA_HEADLESS=1) ``vtkRenderWindow()`` renders offscreen without any X server.
+Importing the package registers the headless render window: with no X display (or with
+PENUMBRA_HEADLESS=1) ``vtkRenderWindow()`` renders offscreen on EGL without any X server;
+PENUMBRA_HEADLESS=osmesa uses Mesa's OSMesa instead.
 """
 
 # VTK's own OpenGL factory must be registered before ours decides whether to replace its
@@ -129,3 +130,46 @@ def visibility(renderer, light=0, translucent=False):
     if samples is None or values is None:
         return None
     return vtk_to_numpy(values).reshape(samples.GetHeight(), samples.GetWidth()).copy()
+
+
+def compare_images(image, baseline, threshold=None, fail_percent=None, diff=None):
+    """Compares the image file `image` with the baseline file `baseline` the way OpenImageIO's
+    ``idiff -fail threshold -failpercent fail_percent`` does (vtkPenumbraImageCompare: a pixel
+    fails when a channel differs by more than `threshold`, values in [0, 1]; default 0.02).
+
+    Returns ``(matches, message)``. On a mismatch, writes the difference image to `diff` if
+    given. Raises ValueError if a file cannot be read or the sizes or channels differ.
+    """
+    compare = vtkPenumbraImageCompare()
+    if threshold is not None:
+        compare.SetThreshold(threshold)
+    if fail_percent is not None:
+        compare.SetFailFraction(fail_percent / 100.0)
+    verdict = compare.Compare(str(image), str(baseline))
+    if verdict < 0:
+        raise ValueError(compare.GetMessage())
+    if verdict == 0 and diff is not None and not compare.WriteDifference(str(diff)):
+        raise ValueError(compare.GetMessage())
+    return verdict == 1, compare.GetMessage()
+
+
+def assert_matches_baseline(window, baseline, output, threshold=None, fail_percent=None):
+    """For a user's regression test: writes `window`'s last frame to `output` (PNG), compares it
+    with `baseline` (see compare_images) and raises AssertionError naming the difference image
+    (`output` with ``.diff.png``) on a mismatch."""
+    import os
+
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.SetInputBufferTypeToRGB()
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    io = vtkPenumbraImageIO()
+    if not io.Write(grab.GetOutput(), str(output)):
+        raise ValueError(io.GetErrorMessage())
+    diff = os.path.splitext(str(output))[0] + ".diff.png"
+    matches, message = compare_images(output, baseline, threshold, fail_percent, diff)
+    if not matches:
+        raise AssertionError("%s %s; difference image: %s" % (output, message, diff))

@@ -7,7 +7,7 @@
 #include "vtkCubeSource.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
-#include "vtkPenumbraEGLRenderWindow.h"
+#include "vtkPenumbraHeadlessRenderWindow.h"
 #include "vtkPlaneSource.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
@@ -27,7 +27,7 @@ int TestHeadlessShadowPass(int, char*[])
 {
   const int size = 128;
   vtkSmartPointer<vtkRenderWindow> win = vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
-  if (!vtkPenumbraEGLRenderWindow::SafeDownCast(win))
+  if (!vtkPenumbraHeadlessRenderWindow::SafeDownCast(win))
   {
     std::cerr << "vtkRenderWindow::New() did not give the headless window" << std::endl;
     return EXIT_FAILURE;
