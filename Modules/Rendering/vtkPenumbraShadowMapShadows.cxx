@@ -708,6 +708,18 @@ struct vtkPenumbraShadowMapShadows::Internals
   bool RenderMaps(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
     vtkPenumbraSceneGeometry* geometry, const LightSetup& setup, const ReceiverExtent& extent,
     const int size[2], LightMaps* maps, std::string& error);
+  vtkShaderProgram* MapProgram(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
+    const LightSetup& setup, bool paraboloid);
+  void BindCasters(vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program,
+    vtkPenumbraSceneGeometry* geometry, const LightSetup& setup, const LightMaps& maps);
+  GLsizei BindSlot(vtkShaderProgram* program, const LightMaps& maps, int slot);
+  vtkTextureObject* SlotTexture(
+    vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win, LightMaps* maps, int slot);
+  void DrawSlotLayers(vtkPenumbraShadowMapShadows* self, vtkOpenGLState* ostate,
+    vtkShaderProgram* program, GLsizei count, vtkTextureObject* slotTexture, LightMaps* maps,
+    int slot);
+  void ResolveMidpoint(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
+    vtkShaderProgram* program, vtkTextureObject* slotTexture, LightMaps* maps, int slot);
   bool EstimateFrame(vtkPenumbraFrame* frame, const LightSetup& setup, const View& view,
     int step, std::vector<float>& needs, std::string& error);
   void SetCompareUniforms(vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program,
@@ -1367,38 +1379,13 @@ bool vtkPenumbraShadowMapShadows::Internals::EstimateFrame(vtkPenumbraFrame* fra
 }
 
 //------------------------------------------------------------------------------
-// Renders every slot a receiver needs (Brabec 2003, ch. 4-6) into the views PlanMaps()
-// fitted: linear float depth, depth clamping, the midpoint layer on request; the maps stay on
-// the GPU for the GPU lookup and are read back for the CPU one.
-bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShadows* self,
-  vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry, const LightSetup& setup,
-  const ReceiverExtent& extent, const int size[2], LightMaps* maps, std::string& error)
+// The map program for a light: paraboloid, or perspective/orthographic; orthographic views
+// with linear depth store clip z as it is (linear already), the others write the linear
+// depth per fragment. Null when it does not compile.
+vtkShaderProgram* vtkPenumbraShadowMapShadows::Internals::MapProgram(
+  vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win, const LightSetup& setup,
+  bool paraboloid)
 {
-  const auto mapStart = Clock::now();
-  const int width = size[0], height = size[1];
-  const int slotMode = this->SlotMode(self, setup);
-  const bool paraboloid = slotMode == SlotsParaboloid;
-  const int slots = slotMode == SlotsCube ? 6 : (paraboloid ? 2 : 1);
-  double origin[3];
-  geometry->GetOrigin(origin);
-  maps->Valid = false;
-  maps->Width = width;
-  maps->Height = height;
-  maps->Paraboloid = paraboloid;
-  maps->Maps.assign(static_cast<size_t>(slots), std::vector<float>());
-  // GPU lookup: the slots' compare textures are kept and redrawn when their size still fits.
-  for (size_t slot = static_cast<size_t>(slots); slot < maps->Textures.size(); ++slot)
-  {
-    if (maps->Textures[slot])
-    {
-      maps->Textures[slot]->ReleaseGraphicsResources(win);
-    }
-  }
-  maps->Textures.resize(static_cast<size_t>(slots));
-
-  // ---- Render and read back every used slot.
-  // Orthographic views store clip z as it is (linear already); the others write the linear
-  // depth per fragment.
   const bool hardwareDepth =
     setup.Type == LightSetup::Kind::Directional && self->DepthMode == DEPTH_LINEAR;
   auto variant = [hardwareDepth](const char* source) {
@@ -1415,35 +1402,33 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
         vtkPenumbraShadowMapParaboloidVS, vtkPenumbraShadowMapParaboloidFS, "")
     : win->GetShaderCache()->ReadyShaderProgram(variant(vtkPenumbraShadowMapVS).c_str(),
         variant(vtkPenumbraShadowMapFS).c_str(), "");
-  if (!program || !program->GetCompiled())
+  return program && program->GetCompiled() ? program : nullptr;
+}
+
+//------------------------------------------------------------------------------
+// Binds the casters to the map program: the paraboloid casters (clipped and tessellated per
+// hemisphere, rebuilt when the light or the casters change) or the uploaded caster vertices,
+// with the uniforms every slot shares.
+void vtkPenumbraShadowMapShadows::Internals::BindCasters(vtkPenumbraShadowMapShadows* self,
+  vtkShaderProgram* program, vtkPenumbraSceneGeometry* geometry, const LightSetup& setup,
+  const LightMaps& maps)
+{
+  if (maps.Paraboloid)
   {
-    maps->Valid = false;
-    error = "the shadow map shaders do not compile or link on this OpenGL implementation";
-    return false;
-  }
-  if (paraboloid)
-  {
+    double origin[3];
+    geometry->GetOrigin(origin);
     std::vector<double> paraboloidKey = { setup.Position[0], setup.Position[1],
       setup.Position[2], static_cast<double>(geometry->GetGeometryTime()),
-      static_cast<double>(geometry->GetFlagsTime()), origin[0],
-      origin[1], origin[2] };
+      static_cast<double>(geometry->GetFlagsTime()), origin[0], origin[1], origin[2] };
     if (paraboloidKey != this->ParaboloidKey || !this->ParaboloidArray)
     {
       this->BuildParaboloidCasters(setup.Position);
       this->ParaboloidKey = paraboloidKey;
     }
-  }
-  this->AllocateMaps(win, width, height);
-  const bool midpoint = self->DepthMode == DEPTH_MIDPOINT;
-  const float peelGap = static_cast<float>(std::max(self->Bias, 1e-6));
-  vtkOpenGLState* ostate = win->GetState();
-  penumbra_light_views::MapRenderState renderState(ostate, this->FBO, width, height, false);
-  const float mapSize[2] = { static_cast<float>(width), static_cast<float>(height) };
-  if (paraboloid)
-  {
-    program->SetUniformf("mapScale", static_cast<float>(maps->MapScale));
-    program->SetUniformf("invMapScale", static_cast<float>(1.0 / maps->MapScale));
-    program->SetUniformf("invFar", static_cast<float>(1.0 / maps->Far));
+    const float mapSize[2] = { static_cast<float>(maps.Width), static_cast<float>(maps.Height) };
+    program->SetUniformf("mapScale", static_cast<float>(maps.MapScale));
+    program->SetUniformf("invMapScale", static_cast<float>(1.0 / maps.MapScale));
+    program->SetUniformf("invFar", static_cast<float>(1.0 / maps.Far));
     program->SetUniform2f("mapSize", mapSize);
     glBindVertexArray(this->ParaboloidArray);
   }
@@ -1459,10 +1444,192 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
       glBindBuffer(GL_ARRAY_BUFFER, 0);
     }
   }
-  program->SetUniformf("peelGap", peelGap);
-  const size_t texels = static_cast<size_t>(width) * height;
+  program->SetUniformf("peelGap", static_cast<float>(std::max(self->Bias, 1e-6)));
+}
+
+//------------------------------------------------------------------------------
+// Points the map program at one slot: the slot's paraboloid hemisphere buffer, or its view's
+// matrix. Returns the number of vertices to draw.
+GLsizei vtkPenumbraShadowMapShadows::Internals::BindSlot(
+  vtkShaderProgram* program, const LightMaps& maps, int slot)
+{
+  // The midpoint pass draws with its own vertex array.
+  glBindVertexArray(maps.Paraboloid ? this->ParaboloidArray : this->Casters.VertexArray);
+  if (!maps.Paraboloid)
+  {
+    const View& view = maps.Views[static_cast<size_t>(slot)];
+    float matrix[16];
+    view.ToFloatMatrix(matrix);
+    program->SetUniformMatrix4x4("lightMatrix", matrix);
+    program->SetUniformi("perspective", view.Perspective ? 1 : 0);
+    program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
+    return this->Casters.VertexCount;
+  }
+  const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexLight");
+  const GLint planeLoc = glGetAttribLocation(program->GetHandle(), "trianglePlane");
+  glBindBuffer(GL_ARRAY_BUFFER, this->ParaboloidBuffers[slot]);
+  const GLsizei stride = 7 * sizeof(float);
+  if (posLoc >= 0)
+  {
+    glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
+    glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  }
+  if (planeLoc >= 0)
+  {
+    glEnableVertexAttribArray(static_cast<GLuint>(planeLoc));
+    glVertexAttribPointer(static_cast<GLuint>(planeLoc), 4, GL_FLOAT, GL_FALSE, stride,
+      reinterpret_cast<const void*>(3 * sizeof(float)));
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+  return this->ParaboloidCounts[slot];
+}
+
+//------------------------------------------------------------------------------
+// Draws one slot's depth layers (the second, depth-peeled, for midpoint maps): with the GPU
+// lookup and linear depth straight into the slot's compare texture, otherwise into the
+// scratch layers, read back for the CPU lookup.
+void vtkPenumbraShadowMapShadows::Internals::DrawSlotLayers(vtkPenumbraShadowMapShadows* self,
+  vtkOpenGLState* ostate, vtkShaderProgram* program, GLsizei count, vtkTextureObject* slotTexture,
+  LightMaps* maps, int slot)
+{
   const bool gpuLookup = self->Lookup == LOOKUP_GPU;
-  if (gpuLookup && midpoint && !this->MidpointQuad)
+  const bool midpoint = self->DepthMode == DEPTH_MIDPOINT;
+  const size_t texels = static_cast<size_t>(maps->Width) * maps->Height;
+  std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
+  map.resize(gpuLookup ? 0 : texels);
+  for (int layer = 0; layer < (midpoint ? 2 : 1); ++layer)
+  {
+    this->FBO->AddDepthAttachment(
+      gpuLookup && !midpoint ? slotTexture : this->DepthTextures[layer].Get());
+    ostate->vtkglDrawBuffer(GL_NONE);
+    ostate->vtkglReadBuffer(GL_NONE);
+    const GLfloat one = 1.0f;
+    glClearBufferfv(GL_DEPTH, 0, &one);
+    program->SetUniformi("peel", layer);
+    if (layer == 1)
+    {
+      this->DepthTextures[0]->Activate();
+      program->SetUniformi("firstLayer", this->DepthTextures[0]->GetTextureUnit());
+    }
+    if (count > 0)
+    {
+      glDrawArrays(GL_TRIANGLES, 0, count);
+    }
+    if (layer == 1)
+    {
+      this->DepthTextures[0]->Deactivate();
+    }
+    if (gpuLookup)
+    {
+      continue; // the maps stay on the GPU
+    }
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    float* target = map.data();
+    if (layer == 1)
+    {
+      this->SecondLayer.resize(texels);
+      target = this->SecondLayer.data();
+    }
+    glReadPixels(0, 0, maps->Width, maps->Height, GL_DEPTH_COMPONENT, GL_FLOAT, target);
+  }
+}
+
+//------------------------------------------------------------------------------
+// Woo's midpoint (Brabec 2003, ch. 4.1.1) of a slot's two layers: on the GPU written as the
+// slot's depth, on the CPU into its map. No second surface leaves the far value 1 as the
+// second depth, so a lone surface stays lit by a half-range margin.
+void vtkPenumbraShadowMapShadows::Internals::ResolveMidpoint(vtkPenumbraShadowMapShadows* self,
+  vtkOpenGLRenderWindow* win, vtkShaderProgram* program, vtkTextureObject* slotTexture,
+  LightMaps* maps, int slot)
+{
+  if (self->Lookup == LOOKUP_GPU)
+  {
+    vtkOpenGLQuadHelper& quad = *this->MidpointQuad;
+    vtkOpenGLState* ostate = win->GetState();
+    win->GetShaderCache()->ReadyShaderProgram(quad.Program);
+    this->FBO->AddDepthAttachment(slotTexture);
+    ostate->vtkglDepthFunc(GL_ALWAYS);
+    this->DepthTextures[0]->Activate();
+    this->DepthTextures[1]->Activate();
+    quad.Program->SetUniformi("firstLayer", this->DepthTextures[0]->GetTextureUnit());
+    quad.Program->SetUniformi("secondLayer", this->DepthTextures[1]->GetTextureUnit());
+    quad.Render();
+    this->DepthTextures[0]->Deactivate();
+    this->DepthTextures[1]->Deactivate();
+    ostate->vtkglDepthFunc(GL_LESS);
+    // The map program is current again for the next slot.
+    win->GetShaderCache()->ReadyShaderProgram(program);
+    return;
+  }
+  std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
+  const float* second = this->SecondLayer.data();
+  vtkSMPTools::For(0, static_cast<vtkIdType>(map.size()), [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
+    {
+      map[static_cast<size_t>(i)] = 0.5f * (map[static_cast<size_t>(i)] + second[i]);
+    }
+  });
+}
+
+//------------------------------------------------------------------------------
+// The compare texture a slot's map is drawn into for the GPU lookup: the slot's kept texture
+// while its size still fits, a new one otherwise; null for the CPU lookup.
+vtkTextureObject* vtkPenumbraShadowMapShadows::Internals::SlotTexture(
+  vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win, LightMaps* maps, int slot)
+{
+  const bool gpuLookup = self->Lookup == LOOKUP_GPU;
+  auto& kept = maps->Textures[static_cast<size_t>(slot)];
+  if (kept && (!gpuLookup || static_cast<int>(kept->GetWidth()) != maps->Width ||
+                static_cast<int>(kept->GetHeight()) != maps->Height))
+  {
+    kept->ReleaseGraphicsResources(win);
+    kept = nullptr;
+  }
+  if (gpuLookup && !kept)
+  {
+    kept = Internals::CompareTexture(win, maps->Width, maps->Height);
+  }
+  return kept;
+}
+
+//------------------------------------------------------------------------------
+// Renders every slot a receiver needs (Brabec 2003, ch. 4-6) into the views PlanMaps()
+// fitted: linear float depth, depth clamping, the midpoint layer on request; the maps stay on
+// the GPU for the GPU lookup and are read back for the CPU one.
+bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShadows* self,
+  vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry, const LightSetup& setup,
+  const ReceiverExtent& extent, const int size[2], LightMaps* maps, std::string& error)
+{
+  const auto mapStart = Clock::now();
+  const int slotMode = this->SlotMode(self, setup);
+  const bool paraboloid = slotMode == SlotsParaboloid;
+  const int slots = slotMode == SlotsCube ? 6 : (paraboloid ? 2 : 1);
+  maps->Valid = false;
+  maps->Width = size[0];
+  maps->Height = size[1];
+  maps->Paraboloid = paraboloid;
+  maps->Maps.assign(static_cast<size_t>(slots), std::vector<float>());
+  // GPU lookup: the slots' compare textures are kept and redrawn when their size still fits.
+  for (size_t slot = static_cast<size_t>(slots); slot < maps->Textures.size(); ++slot)
+  {
+    if (maps->Textures[slot])
+    {
+      maps->Textures[slot]->ReleaseGraphicsResources(win);
+    }
+  }
+  maps->Textures.resize(static_cast<size_t>(slots));
+  vtkShaderProgram* program = this->MapProgram(self, win, setup, paraboloid);
+  if (!program)
+  {
+    error = "the shadow map shaders do not compile or link on this OpenGL implementation";
+    return false;
+  }
+  this->AllocateMaps(win, maps->Width, maps->Height);
+  const bool midpoint = self->DepthMode == DEPTH_MIDPOINT;
+  vtkOpenGLState* ostate = win->GetState();
+  penumbra_light_views::MapRenderState renderState(ostate, this->FBO, maps->Width, maps->Height, false);
+  this->BindCasters(self, program, geometry, setup, *maps);
+  if (self->Lookup == LOOKUP_GPU && midpoint && !this->MidpointQuad)
   {
     this->MidpointQuad.reset(
       new vtkOpenGLQuadHelper(win, nullptr, vtkPenumbraShadowMapMidpointFS, ""));
@@ -1471,126 +1638,22 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
   }
   for (int slot = 0; slot < slots; ++slot)
   {
+    auto& texture = maps->Textures[static_cast<size_t>(slot)];
     if (!extent.Used[static_cast<size_t>(slot)])
     {
-      if (maps->Textures[static_cast<size_t>(slot)])
+      if (texture)
       {
-        maps->Textures[static_cast<size_t>(slot)]->ReleaseGraphicsResources(win);
-        maps->Textures[static_cast<size_t>(slot)] = nullptr;
+        texture->ReleaseGraphicsResources(win);
+        texture = nullptr;
       }
       continue;
     }
-    // The midpoint pass below draws with its own vertex array.
-    glBindVertexArray(paraboloid ? this->ParaboloidArray : this->Casters.VertexArray);
-    auto& kept = maps->Textures[static_cast<size_t>(slot)];
-    if (kept && (!gpuLookup || static_cast<int>(kept->GetWidth()) != width ||
-                  static_cast<int>(kept->GetHeight()) != height))
+    const GLsizei count = this->BindSlot(program, *maps, slot);
+    vtkTextureObject* slotTexture = this->SlotTexture(self, win, maps, slot);
+    this->DrawSlotLayers(self, ostate, program, count, slotTexture, maps, slot);
+    if (midpoint)
     {
-      kept->ReleaseGraphicsResources(win);
-      kept = nullptr;
-    }
-    if (gpuLookup && !kept)
-    {
-      kept = Internals::CompareTexture(win, width, height);
-    }
-    vtkTextureObject* slotTexture = kept;
-    GLsizei count = this->Casters.VertexCount;
-    if (paraboloid)
-    {
-      const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexLight");
-      const GLint planeLoc = glGetAttribLocation(program->GetHandle(), "trianglePlane");
-      glBindBuffer(GL_ARRAY_BUFFER, this->ParaboloidBuffers[slot]);
-      const GLsizei stride = 7 * sizeof(float);
-      if (posLoc >= 0)
-      {
-        glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
-        glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, stride, nullptr);
-      }
-      if (planeLoc >= 0)
-      {
-        glEnableVertexAttribArray(static_cast<GLuint>(planeLoc));
-        glVertexAttribPointer(static_cast<GLuint>(planeLoc), 4, GL_FLOAT, GL_FALSE, stride,
-          reinterpret_cast<const void*>(3 * sizeof(float)));
-      }
-      glBindBuffer(GL_ARRAY_BUFFER, 0);
-      count = this->ParaboloidCounts[slot];
-    }
-    else
-    {
-      const View& view = maps->Views[static_cast<size_t>(slot)];
-      float matrix[16];
-      view.ToFloatMatrix(matrix);
-      program->SetUniformMatrix4x4("lightMatrix", matrix);
-      program->SetUniformi("perspective", view.Perspective ? 1 : 0);
-      program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
-    }
-    std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
-    map.resize(gpuLookup ? 0 : texels);
-    for (int layer = 0; layer < (midpoint ? 2 : 1); ++layer)
-    {
-      // GPU lookup, linear depth: straight into the slot's compare texture.
-      this->FBO->AddDepthAttachment(
-        gpuLookup && !midpoint ? slotTexture : this->DepthTextures[layer].Get());
-      ostate->vtkglDrawBuffer(GL_NONE);
-      ostate->vtkglReadBuffer(GL_NONE);
-      const GLfloat one = 1.0f;
-      glClearBufferfv(GL_DEPTH, 0, &one);
-      program->SetUniformi("peel", layer);
-      if (layer == 1)
-      {
-        this->DepthTextures[0]->Activate();
-        program->SetUniformi("firstLayer", this->DepthTextures[0]->GetTextureUnit());
-      }
-      if (count > 0)
-      {
-        glDrawArrays(GL_TRIANGLES, 0, count);
-      }
-      if (layer == 1)
-      {
-        this->DepthTextures[0]->Deactivate();
-      }
-      if (gpuLookup)
-      {
-        continue; // the maps stay on the GPU
-      }
-      glPixelStorei(GL_PACK_ALIGNMENT, 4);
-      float* target = map.data();
-      if (layer == 1)
-      {
-        this->SecondLayer.resize(texels);
-        target = this->SecondLayer.data();
-      }
-      glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, target);
-    }
-    if (midpoint && gpuLookup)
-    {
-      // The same midpoint on the GPU, written as the slot's depth.
-      vtkOpenGLQuadHelper& quad = *this->MidpointQuad;
-      win->GetShaderCache()->ReadyShaderProgram(quad.Program);
-      this->FBO->AddDepthAttachment(slotTexture);
-      ostate->vtkglDepthFunc(GL_ALWAYS);
-      this->DepthTextures[0]->Activate();
-      this->DepthTextures[1]->Activate();
-      quad.Program->SetUniformi("firstLayer", this->DepthTextures[0]->GetTextureUnit());
-      quad.Program->SetUniformi("secondLayer", this->DepthTextures[1]->GetTextureUnit());
-      quad.Render();
-      this->DepthTextures[0]->Deactivate();
-      this->DepthTextures[1]->Deactivate();
-      ostate->vtkglDepthFunc(GL_LESS);
-      // The map program is current again for the next slot.
-      win->GetShaderCache()->ReadyShaderProgram(program);
-    }
-    else if (midpoint)
-    {
-      // Woo's midpoint (ch. 4.1.1); no second surface leaves the far value 1 as the
-      // second depth, so a lone surface stays lit by a half-range margin.
-      const float* second = this->SecondLayer.data();
-      vtkSMPTools::For(0, static_cast<vtkIdType>(texels), [&](vtkIdType b, vtkIdType e) {
-        for (vtkIdType i = b; i < e; ++i)
-        {
-          map[static_cast<size_t>(i)] = 0.5f * (map[static_cast<size_t>(i)] + second[i]);
-        }
-      });
+      this->ResolveMidpoint(self, win, program, slotTexture, maps, slot);
     }
     ++self->NumberOfMapRenders;
   }
