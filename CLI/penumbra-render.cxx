@@ -99,132 +99,205 @@ int CheckBaseline(const std::string& outPath, const penumbra_cli::BaselineOption
 }
 }
 
-int main(int argc, char* argv[])
+namespace
 {
-  penumbra_cli::InstallMessageWindow("penumbra-render");
-  std::string scenePath, outPath, technique, sizeArg;
-  bool explain = false;
-  penumbra_cli::BaselineOptions baseline;
-  nlohmann::json overrides = nlohmann::json::object();
+// What the command line asks for.
+struct Arguments
+{
+  std::string ScenePath, OutPath, Technique, SizeArg;
+  bool Explain = false;
+  penumbra_cli::BaselineOptions Baseline;
+  nlohmann::json Overrides = nlohmann::json::object();
+  int Width = 0, Height = 0;
+};
+
+// Reads one flag (and its value) at argv[i]; returns an exit status to stop with, or -1.
+int ParseFlag(int argc, char* argv[], int& i, Arguments& args)
+{
+  const std::string a = argv[i];
+  auto value = [&](const char* flag) -> const char* {
+    if (i + 1 >= argc)
+    {
+      Usage((std::string(flag) + " needs a value").c_str());
+      std::exit(2);
+    }
+    return argv[++i];
+  };
+  penumbra_cli::BaselineOptions& baseline = args.Baseline;
+  if (a == "-o" || a == "--output")
+  {
+    args.OutPath = value("-o");
+  }
+  else if (a == "--size")
+  {
+    args.SizeArg = value("--size");
+  }
+  else if (a == "--baseline")
+  {
+    baseline.Path = value("--baseline");
+  }
+  else if (a == "--threshold")
+  {
+    if (!ParseFraction(value("--threshold"), 0.0, 1.0, baseline.Threshold))
+    {
+      return Usage("--threshold expects a number from 0 to 1 (per-channel difference)");
+    }
+    baseline.ThresholdGiven = true;
+  }
+  else if (a == "--fail-percent")
+  {
+    if (!ParseFraction(value("--fail-percent"), 0.0, 100.0, baseline.FailPercent))
+    {
+      return Usage("--fail-percent expects a number from 0 to 100");
+    }
+    baseline.ThresholdGiven = true;
+  }
+  else if (a == "--diff")
+  {
+    baseline.DiffPath = value("--diff");
+    baseline.ThresholdGiven = true;
+  }
+  else if (a == "--technique")
+  {
+    args.Technique = value("--technique");
+  }
+  else if (a == "--option")
+  {
+    const std::string kv = value("--option");
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0)
+    {
+      return Usage("--option expects KEY=VALUE");
+    }
+    // Values are JSON when they parse as JSON (numbers, booleans), strings otherwise.
+    const std::string v = kv.substr(eq + 1);
+    nlohmann::json parsed = nlohmann::json::parse(v, nullptr, false);
+    args.Overrides[kv.substr(0, eq)] = parsed.is_discarded() ? nlohmann::json(v) : parsed;
+  }
+  else if (a == "--explain")
+  {
+    args.Explain = true;
+  }
+  else if (a == "--list-techniques")
+  {
+    std::cout << vtkPenumbraTechniques::GetTechniqueList();
+    return 0;
+  }
+  else if (a == "--options-markdown")
+  {
+    std::cout << vtkPenumbraTechniques::GetOptionsMarkdown();
+    return 0;
+  }
+  else if (a == "-h" || a == "--help")
+  {
+    Usage(nullptr);
+    return 0;
+  }
+  else if (!a.empty() && a[0] == '-')
+  {
+    return Usage(("unknown option " + a).c_str());
+  }
+  else if (args.ScenePath.empty())
+  {
+    args.ScenePath = a;
+  }
+  else
+  {
+    return Usage("only one scene file may be given");
+  }
+  return -1;
+}
+
+// The whole command line, checked; returns an exit status to stop with, or -1.
+int ParseArguments(int argc, char* argv[], Arguments& args)
+{
   for (int i = 1; i < argc; ++i)
   {
-    const std::string a = argv[i];
-    auto value = [&](const char* flag) -> const char* {
-      if (i + 1 >= argc)
-      {
-        Usage((std::string(flag) + " needs a value").c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "-o" || a == "--output")
+    const int status = ParseFlag(argc, argv, i, args);
+    if (status >= 0)
     {
-      outPath = value("-o");
-    }
-    else if (a == "--size")
-    {
-      sizeArg = value("--size");
-    }
-    else if (a == "--baseline")
-    {
-      baseline.Path = value("--baseline");
-    }
-    else if (a == "--threshold")
-    {
-      if (!ParseFraction(value("--threshold"), 0.0, 1.0, baseline.Threshold))
-      {
-        return Usage("--threshold expects a number from 0 to 1 (per-channel difference)");
-      }
-      baseline.ThresholdGiven = true;
-    }
-    else if (a == "--fail-percent")
-    {
-      if (!ParseFraction(value("--fail-percent"), 0.0, 100.0, baseline.FailPercent))
-      {
-        return Usage("--fail-percent expects a number from 0 to 100");
-      }
-      baseline.ThresholdGiven = true;
-    }
-    else if (a == "--diff")
-    {
-      baseline.DiffPath = value("--diff");
-      baseline.ThresholdGiven = true;
-    }
-    else if (a == "--technique")
-    {
-      technique = value("--technique");
-    }
-    else if (a == "--option")
-    {
-      const std::string kv = value("--option");
-      const size_t eq = kv.find('=');
-      if (eq == std::string::npos || eq == 0)
-      {
-        return Usage("--option expects KEY=VALUE");
-      }
-      // Values are JSON when they parse as JSON (numbers, booleans), strings otherwise.
-      const std::string v = kv.substr(eq + 1);
-      nlohmann::json parsed = nlohmann::json::parse(v, nullptr, false);
-      overrides[kv.substr(0, eq)] = parsed.is_discarded() ? nlohmann::json(v) : parsed;
-    }
-    else if (a == "--explain")
-    {
-      explain = true;
-    }
-    else if (a == "--list-techniques")
-    {
-      std::cout << vtkPenumbraTechniques::GetTechniqueList();
-      return 0;
-    }
-    else if (a == "--options-markdown")
-    {
-      std::cout << vtkPenumbraTechniques::GetOptionsMarkdown();
-      return 0;
-    }
-    else if (a == "-h" || a == "--help")
-    {
-      Usage(nullptr);
-      return 0;
-    }
-    else if (!a.empty() && a[0] == '-')
-    {
-      return Usage(("unknown option " + a).c_str());
-    }
-    else if (scenePath.empty())
-    {
-      scenePath = a;
-    }
-    else
-    {
-      return Usage("only one scene file may be given");
+      return status;
     }
   }
-  if (scenePath.empty())
+  if (args.ScenePath.empty())
   {
     return Usage("no scene file given");
   }
-  if (outPath.empty())
+  if (args.OutPath.empty())
   {
     return Usage("no output file given (-o OUT.png)");
   }
-  if (baseline.Path.empty() && baseline.ThresholdGiven)
+  if (args.Baseline.Path.empty() && args.Baseline.ThresholdGiven)
   {
     return Usage("--threshold, --fail-percent and --diff need --baseline");
   }
-  if (!baseline.Path.empty() && !vtksys::SystemTools::FileExists(baseline.Path, true))
+  if (!args.Baseline.Path.empty() && !vtksys::SystemTools::FileExists(args.Baseline.Path, true))
   {
-    return Usage(("baseline " + baseline.Path + " not found (render once without --baseline to make one)").c_str());
+    return Usage(("baseline " + args.Baseline.Path +
+      " not found (render once without --baseline to make one)").c_str());
   }
-  int width = 0, height = 0;
-  if (!sizeArg.empty() && !penumbra_cli::ParseSize(sizeArg, width, height))
+  if (!args.SizeArg.empty() && !penumbra_cli::ParseSize(args.SizeArg, args.Width, args.Height))
   {
     return Usage("--size expects WxH with 1..16384 pixels per side, e.g. 800x600");
+  }
+  return -1;
+}
+
+// Installs the scene's technique, or the command line's (which starts from its defaults);
+// --option overrides both. Returns the technique's name, empty on failure (said on stderr).
+std::string ApplyTechnique(vtkPenumbraSceneReader* reader, const Arguments& args)
+{
+  const std::string name = args.Technique.empty() ? reader->GetTechniqueName() : args.Technique;
+  nlohmann::json options = args.Technique.empty()
+    ? nlohmann::json::parse(reader->GetTechniqueOptions())
+    : nlohmann::json::object();
+  for (auto it = args.Overrides.begin(); it != args.Overrides.end(); ++it)
+  {
+    options[it.key()] = it.value();
+  }
+  vtkNew<vtkPenumbraTechniques> techniques;
+  if (!techniques->Apply(reader->GetRenderer(), name.c_str(), options.dump().c_str()))
+  {
+    std::cerr << "penumbra-render: " << reader->GetSceneLabel() << ": technique"
+              << (args.Technique.empty() ? "" : " (from --technique/--option)") << ": "
+              << techniques->GetErrorMessage() << "\n";
+    return "";
+  }
+  return name;
+}
+
+// Per light, what shadowed it and why (--explain).
+void Explain(vtkRenderer* ren, const std::string& name)
+{
+  vtkPenumbraShadowPass* pass = vtkPenumbraShadowPass::GetInstalled(ren);
+  std::cout << "explain    technique " << name << "\n";
+  if (pass)
+  {
+    std::cout << pass->GetExplanation();
+  }
+  else
+  {
+    std::cout << (name == "none" ? "no shadows: every light is unshadowed\n"
+                                 : "VTK's vtkShadowMapPass: directional lights and spot lights "
+                                   "under 90 degrees are shadowed, no other light\n");
+  }
+}
+}
+
+int main(int argc, char* argv[])
+{
+  penumbra_cli::InstallMessageWindow("penumbra-render");
+  Arguments args;
+  const int status = ParseArguments(argc, argv, args);
+  if (status >= 0)
+  {
+    return status;
   }
 
   const auto t0 = Clock::now();
   vtkNew<vtkPenumbraSceneReader> reader;
   reader->AddObserver(vtkCommand::ErrorEvent, vtkNew<vtkCallbackCommand>());
-  reader->SetFileName(scenePath.c_str());
+  reader->SetFileName(args.ScenePath.c_str());
   if (!reader->Read())
   {
     std::cerr << "penumbra-render: " << reader->GetErrorMessage() << "\n";
@@ -234,20 +307,9 @@ int main(int argc, char* argv[])
 
   const auto t1 = Clock::now();
   vtkRenderer* ren = reader->GetRenderer();
-  const std::string name = technique.empty() ? reader->GetTechniqueName() : technique;
-  // A technique given on the command line starts from its defaults; --option overrides both.
-  nlohmann::json options = technique.empty() ? nlohmann::json::parse(reader->GetTechniqueOptions())
-                                             : nlohmann::json::object();
-  for (auto it = overrides.begin(); it != overrides.end(); ++it)
+  const std::string name = ApplyTechnique(reader, args);
+  if (name.empty())
   {
-    options[it.key()] = it.value();
-  }
-  vtkNew<vtkPenumbraTechniques> techniques;
-  if (!techniques->Apply(ren, name.c_str(), options.dump().c_str()))
-  {
-    std::cerr << "penumbra-render: " << reader->GetSceneLabel() << ": technique"
-              << (technique.empty() ? "" : " (from --technique/--option)") << ": "
-              << techniques->GetErrorMessage() << "\n";
     return 2;
   }
   const double setupMs = MsSince(t1);
@@ -255,8 +317,8 @@ int main(int argc, char* argv[])
   const auto t2 = Clock::now();
   penumbra_cli::ErrorLog errors;
   std::string windowError;
-  vtkSmartPointer<vtkRenderWindow> win = penumbra_cli::MakeWindow(
-    width ? width : reader->GetWidth(), height ? height : reader->GetHeight(), ren, errors, windowError);
+  vtkSmartPointer<vtkRenderWindow> win = penumbra_cli::MakeWindow(args.Width ? args.Width : reader->GetWidth(),
+    args.Height ? args.Height : reader->GetHeight(), ren, errors, windowError);
   if (!win)
   {
     std::cerr << "penumbra-render: " << windowError << "\n";
@@ -279,7 +341,7 @@ int main(int argc, char* argv[])
   const auto t4 = Clock::now();
   vtkSmartPointer<vtkImageData> image = penumbra_cli::GrabRGB(win);
   vtkNew<vtkPenumbraImageIO> io;
-  if (errors.Raised() || !io->Write(image, outPath.c_str()))
+  if (errors.Raised() || !io->Write(image, args.OutPath.c_str()))
   {
     std::cerr << "penumbra-render: "
               << (errors.Raised() ? "reading the image back failed: " + errors.FirstError()
@@ -298,21 +360,10 @@ int main(int argc, char* argv[])
   std::printf("frame      %9.1f ms  (second frame, steady state)\n", frameMs);
   std::printf("write      %9.1f ms  (read back, encode)\n", writeMs);
   std::printf("total      %9.1f ms\n", MsSince(t0));
-  std::cout << "wrote      " << outPath << "\n";
-  if (explain)
+  std::cout << "wrote      " << args.OutPath << "\n";
+  if (args.Explain)
   {
-    vtkPenumbraShadowPass* pass = vtkPenumbraShadowPass::GetInstalled(ren);
-    std::cout << "explain    technique " << name << "\n";
-    if (pass)
-    {
-      std::cout << pass->GetExplanation();
-    }
-    else
-    {
-      std::cout << (name == "none" ? "no shadows: every light is unshadowed\n"
-                                   : "VTK's vtkShadowMapPass: directional lights and spot lights "
-                                     "under 90 degrees are shadowed, no other light\n");
-    }
+    Explain(ren, name);
   }
-  return baseline.Path.empty() ? 0 : CheckBaseline(outPath, baseline);
+  return args.Baseline.Path.empty() ? 0 : CheckBaseline(args.OutPath, args.Baseline);
 }
