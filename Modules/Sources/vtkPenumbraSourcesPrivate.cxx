@@ -11,35 +11,19 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
+#include <glm/geometric.hpp>
+
 #include <cmath>
 
 namespace penumbra_sources
 {
 namespace
 {
-Vec3 Sub(const Vec3& a, const Vec3& b)
-{
-  return { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
-}
-
-Vec3 Cross(const Vec3& a, const Vec3& b)
-{
-  return { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
-}
-
-double Dot(const Vec3& a, const Vec3& b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
+// a / |a|, or zero for a zero vector (glm::normalize would divide by zero).
 Vec3 Normalized(const Vec3& a)
 {
-  const double len = std::sqrt(Dot(a, a));
-  if (len == 0.0)
-  {
-    return { 0.0, 0.0, 0.0 };
-  }
-  return { a[0] / len, a[1] / len, a[2] / len };
+  const double len = glm::length(a);
+  return len == 0.0 ? Vec3(0.0) : a / len;
 }
 
 // Keeps only "message" out of VTK's "ERROR: In file, line N\nclass (0x...): message\n\n".
@@ -128,10 +112,10 @@ void MeshBuilder::AddPolygon(const Vec3* corners, int count, const Vec3& facing,
   }
   // For a convex quad the diagonal cross product is a robust (area-weighted) normal.
   const Vec3 geometric = count == 3
-    ? Cross(Sub(corners[1], corners[0]), Sub(corners[2], corners[0]))
-    : Cross(Sub(corners[2], corners[0]), Sub(corners[3], corners[1]));
-  const bool flip = Dot(geometric, facing) < 0.0;
-  const Vec3 n = Normalized(flip ? Vec3{ -geometric[0], -geometric[1], -geometric[2] } : geometric);
+    ? glm::cross(corners[1] - corners[0], corners[2] - corners[0])
+    : glm::cross(corners[2] - corners[0], corners[3] - corners[1]);
+  const bool flip = glm::dot(geometric, facing) < 0.0;
+  const Vec3 n = Normalized(flip ? -geometric : geometric);
 
   vtkIdType ids[4];
   for (int i = 0; i < count; ++i)
@@ -148,11 +132,11 @@ void MeshBuilder::AddPolygon(const Vec3* corners, int count, const Vec3& facing,
 void MeshBuilder::AddGrid(const Vec3& origin, const Vec3& u, const Vec3& v, int nu, int nv,
   const Vec3& facing, int partId)
 {
-  Vec3 n = Cross(u, v);
-  const bool flip = Dot(n, facing) < 0.0;
+  Vec3 n = glm::cross(u, v);
+  const bool flip = glm::dot(n, facing) < 0.0;
   if (flip)
   {
-    n = { -n[0], -n[1], -n[2] };
+    n = -n;
   }
   n = Normalized(n);
 

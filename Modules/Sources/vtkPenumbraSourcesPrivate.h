@@ -15,6 +15,8 @@
 #include "vtkNew.h"
 #include "vtkType.h"
 
+#include <glm/vec3.hpp> // glm::dvec3: the double-precision vector of every Penumbra module
+
 #include <array>
 #include <cstdint>
 #include <random>
@@ -29,7 +31,7 @@ class vtkPolyData;
 
 namespace penumbra_sources
 {
-using Vec3 = std::array<double, 3>;
+using Vec3 = glm::dvec3;
 
 /**
  * Uniform double in [0, 1) built from two 32-bit draws (53 random bits). std's
