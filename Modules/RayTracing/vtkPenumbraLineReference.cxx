@@ -164,6 +164,28 @@ bool BlockedInterval(const double p[3], const double a[3], const double ab[3],
   }
   return true;
 }
+
+// Sorts `intervals` (all starting at or after `lo`) and returns the length of their union.
+double CoveredLength(std::vector<std::pair<double, double>>& intervals, double lo)
+{
+  std::sort(intervals.begin(), intervals.end());
+  double covered = 0.0, runLo = lo, runHi = lo;
+  for (const auto& interval : intervals)
+  {
+    if (interval.first > runHi)
+    {
+      covered += runHi - runLo;
+      runLo = interval.first;
+      runHi = interval.second;
+    }
+    else
+    {
+      runHi = std::max(runHi, interval.second);
+    }
+  }
+  covered += runHi - runLo;
+  return covered;
+}
 }
 
 struct vtkPenumbraLineReference::Internals
@@ -291,6 +313,50 @@ struct vtkPenumbraLineReference::Internals
         stack[top++] = node.Left + 1;
       }
     }
+  }
+
+  // One sample's visible length of the light segment a + t ab, t in [0, 1], in [0, 1]: the
+  // part above its tangent plane less the union of the intervals the triangles block.
+  // `blocked` is scratch; `tie` is set when a hit may lie in the tracer's tie band.
+  float SampleVisibility(const double p[3], const double normal[3], vtkIdType own,
+    const double a[3], const double ab[3], double epsilon, double endFraction,
+    double tieFactor, std::vector<std::pair<double, double>>& blocked, bool& tie,
+    vtkIdType& candidates) const
+  {
+    // Tangent plane: only light points with N.(x(t) - p) > 0 can count.
+    double lo = 0.0, hi = 1.0;
+    const double ap[3] = { a[0] - p[0], a[1] - p[1], a[2] - p[2] };
+    const double f0 = Dot3(normal, ap), f1 = Dot3(normal, ab);
+    if (!Clip(f0, f1, lo, hi) || (f1 == 0.0 && f0 == 0.0))
+    {
+      return 0.0f;
+    }
+    const double query[3][3] = { { p[0], p[1], p[2] },
+      { a[0] + lo * ab[0], a[1] + lo * ab[1], a[2] + lo * ab[2] },
+      { a[0] + hi * ab[0], a[1] + hi * ab[1], a[2] + hi * ab[2] } };
+    const penumbra_rules::RayBand band =
+      penumbra_rules::SampleBand(p, this->Diagonal, epsilon, tieFactor);
+    blocked.clear();
+    this->Query(query, 1e-9 * band.Scale, [&](const ExactTriangle& tri) {
+      if (tri.Id == own)
+      {
+        return;
+      }
+      ++candidates;
+      double tlo = lo, thi = hi, planeDistance = 0.0;
+      if (!BlockedInterval(p, a, ab, tri, endFraction, tlo, thi, planeDistance))
+      {
+        return;
+      }
+      if (planeDistance < band.TieLimit)
+      {
+        tie = true; // every hit could be inside the tracer's tie band
+        return;
+      }
+      blocked.emplace_back(tlo, thi);
+    });
+    const double covered = CoveredLength(blocked, lo);
+    return static_cast<float>(std::min(1.0, std::max(0.0, (hi - lo) - covered)));
   }
 };
 
@@ -476,58 +542,9 @@ int vtkPenumbraLineReference::ComputeVisibility(
         vis[s] = 1.0f;
         continue;
       }
-      // Tangent plane: only light points with N.(x(t) - p) > 0 can count.
-      double lo = 0.0, hi = 1.0;
-      const double ap[3] = { a[0] - p[0], a[1] - p[1], a[2] - p[2] };
-      const double f0 = Dot3(normal, ap), f1 = Dot3(normal, ab);
-      if (!Clip(f0, f1, lo, hi) || (f1 == 0.0 && f0 == 0.0))
-      {
-        vis[s] = 0.0f;
-        continue;
-      }
-      const double query[3][3] = { { p[0], p[1], p[2] },
-        { a[0] + lo * ab[0], a[1] + lo * ab[1], a[2] + lo * ab[2] },
-        { a[0] + hi * ab[0], a[1] + hi * ab[1], a[2] + hi * ab[2] } };
-      const penumbra_rules::RayBand band =
-        penumbra_rules::SampleBand(p, impl.Diagonal, epsilon, tieFactor);
-      const vtkIdType own = triangleIds[s];
-      blocked.clear();
       bool tie = false;
-      impl.Query(query, 1e-9 * band.Scale, [&](const ExactTriangle& tri) {
-        if (tri.Id == own)
-        {
-          return;
-        }
-        ++localCandidates;
-        double tlo = lo, thi = hi, planeDistance = 0.0;
-        if (!BlockedInterval(p, a, ab, tri, endFraction, tlo, thi, planeDistance))
-        {
-          return;
-        }
-        if (planeDistance < band.TieLimit)
-        {
-          tie = true; // every hit could be inside the tracer's tie band
-          return;
-        }
-        blocked.emplace_back(tlo, thi);
-      });
-      std::sort(blocked.begin(), blocked.end());
-      double covered = 0.0, runLo = lo, runHi = lo;
-      for (const auto& interval : blocked)
-      {
-        if (interval.first > runHi)
-        {
-          covered += runHi - runLo;
-          runLo = interval.first;
-          runHi = interval.second;
-        }
-        else
-        {
-          runHi = std::max(runHi, interval.second);
-        }
-      }
-      covered += runHi - runLo;
-      vis[s] = static_cast<float>(std::min(1.0, std::max(0.0, (hi - lo) - covered)));
+      vis[s] = impl.SampleVisibility(p, normal, triangleIds[s], a, ab, epsilon, endFraction,
+        tieFactor, blocked, tie, localCandidates);
       if (tie)
       {
         ties[s] = 1;

@@ -213,6 +213,100 @@ struct vtkPenumbraReference::Internals
     tie = !occluded && ctx.SawTie;
     return occluded;
   }
+
+  // Moves a copy of the light into the geometry's rebased frame.
+  static LightRays RebaseLight(const LightRays& light, const double geometryOrigin[3])
+  {
+    LightRays local = light;
+    if (local.Kind == LightKind::Point || local.Kind == LightKind::Spot)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        local.Position[c] -= geometryOrigin[c];
+      }
+    }
+    const size_t nLight = local.Points.size() / 3;
+    for (size_t j = 0; j < nLight; ++j)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        local.Points[3 * j + c] -= geometryOrigin[c];
+      }
+    }
+    return local;
+  }
+
+  // Area light: traces to every light point above the sample's tangent plane, sets the bits
+  // of the visible ones in `bitRow` (if any) and returns the lit fraction.
+  float TraceAreaSample(const SampleRay& ray, const LightRays& light, const double p[3],
+    const double normal[3], double epsilon, vtkTypeUInt32* bitRow, bool& anyTie,
+    vtkIdType& rays) const
+  {
+    const size_t nLight = light.Points.size() / 3;
+    int lit = 0;
+    anyTie = false;
+    for (size_t j = 0; j < nLight; ++j)
+    {
+      const double toLight[3] = { light.Points[3 * j] - p[0], light.Points[3 * j + 1] - p[1],
+        light.Points[3 * j + 2] - p[2] };
+      if (!(vtkMath::Dot(normal, toLight) > 0.0))
+      {
+        continue; // on or below the tangent plane: counts as occluded
+      }
+      bool tie = false;
+      if (this->Visible(ray, toLight, true, epsilon, tie, rays))
+      {
+        ++lit;
+        if (bitRow)
+        {
+          bitRow[j / 32] |= 1u << (j % 32);
+        }
+      }
+      anyTie = anyTie || tie;
+    }
+    return static_cast<float>(lit) / static_cast<float>(nLight);
+  }
+
+  // Directional, point and spot lights: 1 when the sample faces the light, lies inside a
+  // spot's cone and sees the light, 0 otherwise.
+  float TraceHardSample(const SampleRay& ray, const LightRays& light, const double p[3],
+    const double normal[3], double epsilon, bool& tie, vtkIdType& rays) const
+  {
+    double toLight[3];
+    bool bounded = true;
+    if (light.Kind == LightKind::Directional)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        toLight[c] = light.Direction[c];
+      }
+      bounded = false;
+    }
+    else
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        toLight[c] = light.Position[c] - p[c];
+      }
+    }
+    float value = 0.0f;
+    tie = false;
+    if (vtkMath::Dot(normal, toLight) > 0.0)
+    {
+      bool inside = true;
+      if (light.Kind == LightKind::Spot)
+      {
+        double fromLight[3] = { -toLight[0], -toLight[1], -toLight[2] };
+        inside = vtkMath::Normalize(fromLight) > 0.0 &&
+          vtkMath::Dot(fromLight, light.Axis) >= light.CosCone;
+      }
+      if (inside)
+      {
+        value = this->Visible(ray, toLight, bounded, epsilon, tie, rays) ? 1.0f : 0.0f;
+      }
+    }
+    return value;
+  }
 };
 
 //------------------------------------------------------------------------------
@@ -786,23 +880,10 @@ int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& 
   {
     in.Shift[c] -= geometryOrigin[c];
   }
-  LightRays local = light;
-  if (local.Kind == LightKind::Point || local.Kind == LightKind::Spot)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      local.Position[c] -= geometryOrigin[c];
-    }
-  }
+  const LightRays local = Internals::RebaseLight(light, geometryOrigin);
   const size_t nLight = local.Points.size() / 3;
-  for (size_t j = 0; j < nLight; ++j)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      local.Points[3 * j + c] -= geometryOrigin[c];
-    }
-  }
 
+  // ---- The outputs, sized and cleared.
   const vtkIdType n = in.Count;
   const int words = static_cast<int>((nLight + 31) / 32);
   float* vis = nullptr;
@@ -827,6 +908,7 @@ int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& 
   impl.Ties->SetNumberOfTuples(n);
   unsigned char* ties = n ? impl.Ties->GetPointer(0) : nullptr;
 
+  // ---- One pass over the samples: background, light off, area or hard light.
   const double epsilon = this->RelativeEpsilon;
   const double tieFactor = this->TieFactor;
   std::atomic<vtkIdType> rayCount(0);
@@ -856,94 +938,27 @@ int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& 
         }
         continue;
       }
+      vtkTypeUInt32* bitRow = bits ? bits + static_cast<size_t>(s) * words : nullptr;
       if (local.Off)
       {
         if (vis)
         {
           vis[s] = 1.0f;
         }
-        if (bits)
+        if (bitRow)
         {
           for (size_t j = 0; j < nLight; ++j)
           {
-            bits[static_cast<size_t>(s) * words + j / 32] |= 1u << (j % 32);
+            bitRow[j / 32] |= 1u << (j % 32);
           }
         }
         continue;
       }
       const Internals::SampleRay ray = impl.MakeRay(p, in.Triangles[s], epsilon, tieFactor);
-      auto visible = [&](const double toLight[3], bool bounded, bool& tie) -> bool {
-        return impl.Visible(ray, toLight, bounded, epsilon, tie, localRays);
-      };
-
-      if (local.Kind == LightKind::Area)
-      {
-        int lit = 0;
-        bool anyTie = false;
-        for (size_t j = 0; j < nLight; ++j)
-        {
-          const double toLight[3] = { local.Points[3 * j] - p[0], local.Points[3 * j + 1] - p[1],
-            local.Points[3 * j + 2] - p[2] };
-          if (!(vtkMath::Dot(normal, toLight) > 0.0))
-          {
-            continue; // on or below the tangent plane: counts as occluded
-          }
-          bool tie = false;
-          if (visible(toLight, true, tie))
-          {
-            ++lit;
-            if (bits)
-            {
-              bits[static_cast<size_t>(s) * words + j / 32] |= 1u << (j % 32);
-            }
-          }
-          anyTie = anyTie || tie;
-        }
-        if (vis)
-        {
-          vis[s] = static_cast<float>(lit) / static_cast<float>(nLight);
-        }
-        if (anyTie)
-        {
-          ties[s] = 1;
-          ++localTies;
-        }
-        continue;
-      }
-
-      double toLight[3];
-      bool bounded = true;
-      if (local.Kind == LightKind::Directional)
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          toLight[c] = local.Direction[c];
-        }
-        bounded = false;
-      }
-      else
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          toLight[c] = local.Position[c] - p[c];
-        }
-      }
-      float value = 0.0f;
       bool tie = false;
-      if (vtkMath::Dot(normal, toLight) > 0.0)
-      {
-        bool inside = true;
-        if (local.Kind == LightKind::Spot)
-        {
-          double fromLight[3] = { -toLight[0], -toLight[1], -toLight[2] };
-          inside = vtkMath::Normalize(fromLight) > 0.0 &&
-            vtkMath::Dot(fromLight, local.Axis) >= local.CosCone;
-        }
-        if (inside)
-        {
-          value = visible(toLight, bounded, tie) ? 1.0f : 0.0f;
-        }
-      }
+      const float value = local.Kind == LightKind::Area
+        ? impl.TraceAreaSample(ray, local, p, normal, epsilon, bitRow, tie, localRays)
+        : impl.TraceHardSample(ray, local, p, normal, epsilon, tie, localRays);
       if (vis)
       {
         vis[s] = value;

@@ -100,6 +100,83 @@ struct TileCull
   }
 };
 
+// The plane of the depth quantity Q through the projected vertices (X, Y), affine in the
+// texel coordinates; fp.PlaneOk stays false for a projection without area.
+void FitDepthPlane(const double X[3], const double Y[3], const double Q[3], Footprint& fp)
+{
+  const double ex1 = X[1] - X[0], ey1 = Y[1] - Y[0], eq1 = Q[1] - Q[0];
+  const double ex2 = X[2] - X[0], ey2 = Y[2] - Y[0], eq2 = Q[2] - Q[0];
+  const double det = ex1 * ey2 - ex2 * ey1;
+  const double scale = std::max({ ex1 * ex1 + ey1 * ey1, ex2 * ex2 + ey2 * ey2, 1e-300 });
+  if (std::fabs(det) > 1e-6 * scale)
+  {
+    fp.Plane[0] = (eq1 * ey2 - eq2 * ey1) / det;
+    fp.Plane[1] = (ex1 * eq2 - ex2 * eq1) / det;
+    fp.Plane[2] = Q[0] - fp.Plane[0] * X[0] - fp.Plane[1] * Y[0];
+    fp.PlaneOk = std::isfinite(fp.Plane[0]) && std::isfinite(fp.Plane[1]) &&
+      std::isfinite(fp.Plane[2]);
+  }
+}
+
+// Sets fp's edges from the clipped polygon (px, py) of n vertices, `extent` its box's larger
+// side. Separating axes of a convex polygon and a square: the square's axes (fp's texel
+// range) and the polygon's edge normals. A projection without area (edge-on triangle) is a
+// segment: its line is the remaining axis.
+void SetSeparatingAxes(const double* px, const double* py, int n, double extent, Footprint& fp)
+{
+  double area = 0.0;
+  for (int k = 0; k < n; ++k)
+  {
+    area += px[k] * py[(k + 1) % n] - px[(k + 1) % n] * py[k];
+  }
+  fp.NumEdges = 0;
+  fp.Line = !(std::fabs(area) > 1e-9 * extent * extent);
+  if (!fp.Line)
+  {
+    const double orient = area > 0.0 ? 1.0 : -1.0;
+    for (int k = 0; k < n; ++k)
+    {
+      const int j = (k + 1) % n;
+      const double a = -(py[j] - py[k]) * orient;
+      const double b = (px[j] - px[k]) * orient;
+      if (a == 0.0 && b == 0.0)
+      {
+        continue; // repeated vertex
+      }
+      double* e = fp.Edge[fp.NumEdges++];
+      e[0] = a;
+      e[1] = b;
+      e[2] = -(a * px[k] + b * py[k]);
+    }
+  }
+  else if (n > 0)
+  {
+    // The two farthest-apart vertices span the segment.
+    int ia = 0, ib = 0;
+    double best = -1.0;
+    for (int k = 0; k < n; ++k)
+    {
+      for (int j = k + 1; j < n; ++j)
+      {
+        const double d = (px[j] - px[k]) * (px[j] - px[k]) + (py[j] - py[k]) * (py[j] - py[k]);
+        if (d > best)
+        {
+          best = d;
+          ia = k;
+          ib = j;
+        }
+      }
+    }
+    if (best > 0.0)
+    {
+      double* e = fp.Edge[fp.NumEdges++];
+      e[0] = -(py[ib] - py[ia]);
+      e[1] = px[ib] - px[ia];
+      e[2] = -(e[0] * px[ia] + e[1] * py[ia]);
+    }
+  }
+}
+
 // Projects triangle `id` into `view`. Returns 0 when it misses the view (or, with `cull`,
 // every active tile), 1 when `fp` is ready to rasterize, 2 when it reaches the apex region
 // (perspective views).
@@ -155,20 +232,7 @@ int MakeFootprint(const penumbra_light_views::View& view, int size, const double
   {
     return 0;
   }
-  {
-    const double ex1 = X[1] - X[0], ey1 = Y[1] - Y[0], eq1 = Q[1] - Q[0];
-    const double ex2 = X[2] - X[0], ey2 = Y[2] - Y[0], eq2 = Q[2] - Q[0];
-    const double det = ex1 * ey2 - ex2 * ey1;
-    const double scale = std::max({ ex1 * ex1 + ey1 * ey1, ex2 * ex2 + ey2 * ey2, 1e-300 });
-    if (std::fabs(det) > 1e-6 * scale)
-    {
-      fp.Plane[0] = (eq1 * ey2 - eq2 * ey1) / det;
-      fp.Plane[1] = (ex1 * eq2 - ex2 * eq1) / det;
-      fp.Plane[2] = Q[0] - fp.Plane[0] * X[0] - fp.Plane[1] * Y[0];
-      fp.PlaneOk = std::isfinite(fp.Plane[0]) && std::isfinite(fp.Plane[1]) &&
-        std::isfinite(fp.Plane[2]);
-    }
-  }
+  FitDepthPlane(X, Y, Q, fp);
   int n = 3;
   n = ClipAgainst(poly, n, -1.0, 0.0, slack);
   n = n ? ClipAgainst(poly, n, 1.0, 0.0, slack) : 0;
@@ -212,61 +276,7 @@ int MakeFootprint(const penumbra_light_views::View& view, int size, const double
   {
     return 0;
   }
-  // Separating axes of a convex polygon and a square: the square's axes (the texel range
-  // above) and the polygon's edge normals. A projection without area (edge-on triangle) is
-  // a segment: its line is the remaining axis.
-  double area = 0.0;
-  for (int k = 0; k < n; ++k)
-  {
-    area += px[k] * py[(k + 1) % n] - px[(k + 1) % n] * py[k];
-  }
-  const double extent = std::max(xmax - xmin, ymax - ymin);
-  fp.NumEdges = 0;
-  fp.Line = !(std::fabs(area) > 1e-9 * extent * extent);
-  if (!fp.Line)
-  {
-    const double orient = area > 0.0 ? 1.0 : -1.0;
-    for (int k = 0; k < n; ++k)
-    {
-      const int j = (k + 1) % n;
-      const double a = -(py[j] - py[k]) * orient;
-      const double b = (px[j] - px[k]) * orient;
-      if (a == 0.0 && b == 0.0)
-      {
-        continue; // repeated vertex
-      }
-      double* e = fp.Edge[fp.NumEdges++];
-      e[0] = a;
-      e[1] = b;
-      e[2] = -(a * px[k] + b * py[k]);
-    }
-  }
-  else if (n > 0)
-  {
-    // The two farthest-apart vertices span the segment.
-    int ia = 0, ib = 0;
-    double best = -1.0;
-    for (int k = 0; k < n; ++k)
-    {
-      for (int j = k + 1; j < n; ++j)
-      {
-        const double d = (px[j] - px[k]) * (px[j] - px[k]) + (py[j] - py[k]) * (py[j] - py[k]);
-        if (d > best)
-        {
-          best = d;
-          ia = k;
-          ib = j;
-        }
-      }
-    }
-    if (best > 0.0)
-    {
-      double* e = fp.Edge[fp.NumEdges++];
-      e[0] = -(py[ib] - py[ia]);
-      e[1] = px[ib] - px[ia];
-      e[2] = -(e[0] * px[ia] + e[1] * py[ia]);
-    }
-  }
+  SetSeparatingAxes(px, py, n, std::max(xmax - xmin, ymax - ymin), fp);
   return 1;
 }
 

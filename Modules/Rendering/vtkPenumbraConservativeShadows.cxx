@@ -68,6 +68,22 @@ constexpr size_t MaxCachedMapBytes = static_cast<size_t>(512) << 20;
 constexpr std::uint32_t IdMask = 0x7fffffffu;
 
 using penumbra_rules::Hit;
+
+// The frame's inputs and settings that every view's map build and classification read.
+struct FrameContext
+{
+  const penumbra_light_views::FrameInputs* In = nullptr;
+  vtkPenumbraSceneGeometry* Geometry = nullptr;
+  int Size = 0;
+  int Layers = 0;
+  bool Gpu = false;
+  double Diagonal = 0.0;
+  double Epsilon = 0.0;
+  double TieFactor = 0.0;
+  float* Vis = nullptr;
+  unsigned char* State = nullptr;
+  const std::vector<signed char>* SampleView = nullptr;
+};
 }
 
 struct vtkPenumbraConservativeShadows::Internals
@@ -212,6 +228,320 @@ struct vtkPenumbraConservativeShadows::Internals
     this->Depth->AllocateDepth(size, size, vtkTextureObject::Float32);
     this->MapSize = size;
   }
+
+  // Makes `win` current (releasing another window's resources) and uploads the casters when
+  // the geometry changed; true when it uploaded.
+  bool UploadCasters(vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry, bool gpu)
+  {
+    win->MakeCurrent();
+    if (this->Window && this->Window != win)
+    {
+      this->Release(nullptr);
+    }
+    this->Window = win;
+    return this->Casters.Update(geometry, gpu);
+  }
+
+  // The cache key of a view's maps: everything they are built from.
+  static std::vector<double> MapKey(const FrameContext& f, const View& view)
+  {
+    std::vector<double> key = { view.Perspective ? 1.0 : 0.0, view.Far, view.NearW,
+      view.TanHalf, static_cast<double>(f.Size), static_cast<double>(f.Layers),
+      f.Gpu ? 1.0 : 0.0, static_cast<double>(f.Geometry->GetGeometryTime()),
+      static_cast<double>(f.Geometry->GetFlagsTime()) };
+    key.insert(key.end(), &view.Row[0][0], &view.Row[0][0] + 16);
+    key.insert(key.end(), f.In->GeometryOrigin, f.In->GeometryOrigin + 3);
+    return key;
+  }
+
+  // Builds a view's map layers (CPU or GPU) unless the cached ones have the same key.
+  void UpdateMaps(vtkPenumbraConservativeShadows& self, const FrameContext& f, const View& view,
+    LightMaps& cached, ViewMaps& maps)
+  {
+    std::vector<double> key = MapKey(f, view);
+    if (maps.Key == key)
+    {
+      return;
+    }
+    maps.Key.clear(); // invalid until built
+    ++self.NumberOfMapBuilds;
+    for (int k = 0; k < MaxLayers; ++k)
+    {
+      const size_t texels = k < f.Layers ? static_cast<size_t>(f.Size) * f.Size : 0;
+      maps.Depth[k].resize(texels);
+      maps.Ids[k].resize(texels);
+      maps.Depth[k].shrink_to_fit();
+      maps.Ids[k].shrink_to_fit();
+    }
+    maps.Near.clear();
+    if (!f.Gpu)
+    {
+      const penumbra_conservative::CpuMapStats stats =
+        penumbra_conservative::BuildConservativeMap(view, f.Size, f.Layers,
+          f.In->TriangleVertices, this->Casters.TriangleIds, maps.Depth, maps.Ids, maps.Near);
+      self.NumberOfTexelWrites += stats.TexelWrites;
+    }
+    else
+    {
+      this->RenderMaps(f.In->Window, view, f.Size, f.Layers, maps);
+    }
+    maps.Key = std::move(key);
+    this->Trim(cached, MaxCachedMapBytes);
+  }
+
+  // Perspective views: fills ViewIndices with the triangles that may reach the frustum.
+  void CullToFrustum(const View& view, int size)
+  {
+    // A cube face sees about a sixth of the scene, and llvmpipe pays per primitive in the
+    // geometry stage. Only triangles wholly outside one of the shader's side planes (by more
+    // than its rounding) are dropped, so nothing the shader would keep is lost. Indices only;
+    // the vertices stay uploaded.
+    const double slack = 1.0 + 8.0 / size; // the shader's frustumSlack
+    this->ViewIndices.clear();
+    const float* xyz = this->Casters.Vertices.data();
+    for (GLsizei tri = 0; tri < this->Casters.VertexCount / 3; ++tri)
+    {
+      int outside[4] = { 0, 0, 0, 0 };
+      for (int k = 0; k < 3; ++k)
+      {
+        const float* fv = xyz + 9 * static_cast<size_t>(tri) + 3 * k;
+        const double pv[3] = { fv[0], fv[1], fv[2] };
+        const double x = view.Dot(0, pv);
+        const double y = view.Dot(1, pv);
+        const double w = slack * view.Dot(3, pv);
+        // Outside by more than the float rounding of the shader's plane test.
+        const double margin = 1e-5 * (std::fabs(x) + std::fabs(y) + std::fabs(w));
+        outside[0] += x - w > margin;
+        outside[1] += -x - w > margin;
+        outside[2] += y - w > margin;
+        outside[3] += -y - w > margin;
+      }
+      if (outside[0] < 3 && outside[1] < 3 && outside[2] < 3 && outside[3] < 3)
+      {
+        for (GLuint k = 0; k < 3; ++k)
+        {
+          this->ViewIndices.push_back(3 * static_cast<GLuint>(tri) + k);
+        }
+      }
+    }
+  }
+
+  // Binds the caster positions and ids (and a perspective view's indices) for drawing.
+  void BindCasters(vtkShaderProgram* program, bool perspective)
+  {
+    glBindVertexArray(this->Casters.VertexArray);
+    if (perspective)
+    {
+      glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, this->Casters.Indices);
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+        static_cast<GLsizeiptr>(this->ViewIndices.size() * sizeof(GLuint)),
+        this->ViewIndices.empty() ? nullptr : this->ViewIndices.data(), GL_STREAM_DRAW);
+    }
+    const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
+    const GLint idLoc = glGetAttribLocation(program->GetHandle(), "triangleId");
+    if (posLoc >= 0)
+    {
+      glBindBuffer(GL_ARRAY_BUFFER, this->Casters.Positions);
+      glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
+      glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    }
+    if (idLoc >= 0)
+    {
+      glBindBuffer(GL_ARRAY_BUFFER, this->Casters.Ids);
+      glEnableVertexAttribArray(static_cast<GLuint>(idLoc));
+      glVertexAttribIPointer(static_cast<GLuint>(idLoc), 1, GL_UNSIGNED_INT, 0, nullptr);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+  }
+
+  // GPU builder: renders the view's id layers by depth peeling and reads them back.
+  void RenderMaps(
+    vtkOpenGLRenderWindow* win, const View& view, int size, int layers, ViewMaps& maps)
+  {
+    // Depth is written explicitly and clamped in the shader; clamping is on as a second
+    // line of defence (perspective window z loses precision far from the light). Colour (the id
+    // layers) is written.
+    penumbra_light_views::MapRenderState renderState(win->GetState(), this->FBO, size, true);
+
+    vtkShaderProgram* program = win->GetShaderCache()->ReadyShaderProgram(
+      vtkPenumbraConservativeMapVS, vtkPenumbraConservativeMapFS, vtkPenumbraConservativeMapGS);
+    float matrix[16];
+    view.ToFloatMatrix(matrix);
+    program->SetUniformMatrix4x4("lightMatrix", matrix);
+    const float mapSize[2] = { static_cast<float>(size), static_cast<float>(size) };
+    program->SetUniform2f("mapSize", mapSize);
+    program->SetUniformi("perspective", view.Perspective ? 1 : 0);
+    program->SetUniformf("nearW", static_cast<float>(view.NearW));
+    program->SetUniformf("frustumSlack", static_cast<float>(1.0 + 8.0 / size));
+    // Half the texel diagonal (enough to cover the texel square; the paper's §4.1 uses the
+    // whole diagonal) plus a quarter texel for the float rounding between the GPU
+    // projection and the classifier's double one.
+    program->SetUniformf("keepRadius", static_cast<float>(0.5 * std::sqrt(2.0) + 0.25));
+    program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
+
+    // Perspective views draw only the triangles that reach their frustum.
+    GLsizei drawCount = this->Casters.VertexCount;
+    if (view.Perspective)
+    {
+      this->CullToFrustum(view, size);
+      drawCount = static_cast<GLsizei>(this->ViewIndices.size());
+    }
+    this->BindCasters(program, view.Perspective);
+
+    const char* previousNames[] = { "layer1", "layer2", "layer3" };
+    for (int layer = 0; layer < layers; ++layer)
+    {
+      this->FBO->AddColorAttachment(0, this->IdTextures[layer]);
+      this->FBO->AddDepthAttachment(this->Depth);
+      this->FBO->ActivateDrawBuffers(1);
+      const GLuint zero[4] = { 0, 0, 0, 0 };
+      const GLfloat one = 1.0f;
+      glClearBufferuiv(GL_COLOR, 0, zero);
+      glClearBufferfv(GL_DEPTH, 0, &one);
+      program->SetUniformi("peel", layer);
+      // Depth peeling by id: the nearest triangles not yet stored.
+      for (int k = 0; k < layer; ++k)
+      {
+        this->IdTextures[k]->Activate();
+        program->SetUniformi(previousNames[k], this->IdTextures[k]->GetTextureUnit());
+      }
+      if (view.Perspective)
+      {
+        glDrawElements(GL_TRIANGLES, drawCount, GL_UNSIGNED_INT, nullptr);
+      }
+      else
+      {
+        glDrawArrays(GL_TRIANGLES, 0, drawCount);
+      }
+      for (int k = 0; k < layer; ++k)
+      {
+        this->IdTextures[k]->Deactivate();
+      }
+      this->FBO->ActivateReadBuffer(0);
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      glReadPixels(0, 0, size, size, GL_RED_INTEGER, GL_UNSIGNED_INT, maps.Ids[layer].data());
+      glReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, maps.Depth[layer].data());
+    }
+  }
+
+  // Classifies the pending samples of view `viewIndex` with its maps: lit, shadowed or uncertain.
+  static void ClassifyView(const FrameContext& f, const View& view, signed char viewIndex,
+    const ViewMaps& maps, std::atomic<vtkIdType>& viewLit, std::atomic<vtkIdType>& viewShadowed)
+  {
+    // The classification of Hertel et al. 2009, §4.2, with its rules made exact:
+    //  1. facing away from the light / outside the spot cone -> shadowed (Classify's pass A);
+    //  2. project into the map (double); outside the map or behind the apex -> uncertain;
+    //  3. walk the texel's layers k = 1..Layers (layer k: the nearest triangle no earlier
+    //     layer holds, with its conservative depth z_k):
+    //     a. empty, or z_k > sample depth + margin -> lit: every triangle not yet seen is
+    //        deeper than the sample, and the shadow ray projects to this one texel, so
+    //        only seen triangles could block it;
+    //     b. the sample's own triangle -> skip it (the reference never lets it block;
+    //        replaces the paper's inexact "own id -> lit" rule);
+    //     c. exact double-precision ray-triangle test with margins beyond the tie band
+    //        and float rounding: clear hit -> shadowed (the conservative depth alone
+    //        never shadows, "fully covered" or not: the paper's fully-covered rule is
+    //        not exact); clear miss -> skip it (e.g. a coplanar neighbour at a shared
+    //        edge); else uncertain;
+    //  4. layers exhausted -> uncertain (traced).
+    // The CPU builder keeps the triangles that reach a perspective view's apex region out
+    // of the map (they would cover all of it); each is tested exactly against the sample's
+    // ray first, with rule 3b/3c above. Beyond MaxNearTriangles of them the view's samples
+    // are all traced.
+    const std::vector<vtkIdType>& nearTriangles = maps.Near;
+    const bool nearTestable = nearTriangles.size() <= MaxNearTriangles;
+    const int size = f.Size;
+    const int layers = f.Layers;
+    const double* shift = f.In->Shift;
+    const float* pos = f.In->Positions;
+    const vtkIdType* tris = f.In->Triangles;
+    const double* tv = f.In->TriangleVertices;
+    const vtkIdType nTriangles = f.In->NumberOfTriangles;
+    const std::vector<signed char>& sampleView = *f.SampleView;
+    float* vis = f.Vis;
+    unsigned char* state = f.State;
+    vtkSMPTools::For(0, f.In->NumberOfSamples, [&](vtkIdType begin, vtkIdType end) {
+      vtkIdType localLit = 0, localShadowed = 0;
+      for (vtkIdType s = begin; s < end; ++s)
+      {
+        if (state[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
+        {
+          continue;
+        }
+        state[s] = Uncertain;
+        double p[3];
+        for (int c = 0; c < 3; ++c)
+        {
+          p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
+        }
+        double ms, mt, depth;
+        if (!view.Project(p, ms, mt, depth) || !(std::fabs(ms) <= 1.0) ||
+          !(std::fabs(mt) <= 1.0))
+        {
+          continue;
+        }
+        const int ix = std::min(size - 1, std::max(0, static_cast<int>((ms * 0.5 + 0.5) * size)));
+        const int iy = std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
+        const size_t texel = static_cast<size_t>(iy) * size + ix;
+        const double margin = 1e-6 * (1.0 + std::fabs(depth));
+        const vtkIdType own = tris[s];
+
+        // The reference's ray: same direction, same scale-relative epsilons.
+        const penumbra_light_views::ShadowRay ray =
+          penumbra_light_views::MakeShadowRay(f.In->Light, p, f.Diagonal, f.Epsilon, f.TieFactor);
+        const bool rayOk = ray.Ok;
+
+        bool nearClear = true;
+        for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
+        {
+          const vtkIdType blocker = nearTriangles[k];
+          const Hit hit = nearTestable && blocker != own
+            ? penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker)
+            : (blocker == own ? Hit::Miss : Hit::Unknown);
+          if (hit == Hit::Clear)
+          {
+            vis[s] = 0.0f;
+            state[s] = Decided;
+            ++localShadowed;
+          }
+          nearClear = hit == Hit::Miss;
+        }
+        for (int k = 0; k < layers && rayOk && nearClear; ++k)
+        {
+          const std::uint32_t id = maps.Ids[k][texel] & IdMask;
+          if (id == 0 || maps.Depth[k][texel] > depth + margin)
+          {
+            state[s] = Decided;
+            ++localLit;
+            break;
+          }
+          const vtkIdType blocker = static_cast<vtkIdType>(id) - 1;
+          if (blocker == own)
+          {
+            continue;
+          }
+          if (blocker >= nTriangles)
+          {
+            break;
+          }
+          const Hit hit = penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker);
+          if (hit == Hit::Clear)
+          {
+            vis[s] = 0.0f;
+            state[s] = Decided;
+            ++localShadowed;
+            break;
+          }
+          if (hit == Hit::Unknown)
+          {
+            break;
+          }
+        }
+      }
+      viewLit += localLit;
+      viewShadowed += localShadowed;
+    });
+  }
 };
 
 //------------------------------------------------------------------------------
@@ -313,18 +643,11 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   const float* pos = in.Positions;
   const float* nrm = in.Normals;
   const int* props = in.Props;
-  const vtkIdType* tris = in.Triangles;
 
   // ---- Upload the casters once per geometry change.
   const auto mapStart = Clock::now();
-  win->MakeCurrent();
-  if (impl.Window && impl.Window != win)
-  {
-    impl.Release(nullptr);
-  }
-  impl.Window = win;
   const bool gpu = this->MapBuilder == MAP_GPU;
-  if (impl.Casters.Update(geometry, gpu))
+  if (impl.UploadCasters(win, geometry, gpu))
   {
     ++this->NumberOfUploads;
   }
@@ -363,7 +686,6 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
       PENUMBRA_FAIL("the conservative shadow map shaders do not compile or link on this "
                         "OpenGL implementation (a geometry shader is required)");
     }
-    const int layers = this->Layers;
     if (gpu)
     {
       impl.AllocateMaps(win, size);
@@ -371,9 +693,18 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
     Internals::LightMaps& cached = impl.Entry(light);
     cached.Views.resize(views.size());
 
-    const double* tv = in.TriangleVertices;
-    const double epsilon = this->Reference->GetRelativeEpsilon();
-    const double tieFactor = this->Reference->GetTieFactor();
+    FrameContext frame;
+    frame.In = &in;
+    frame.Geometry = geometry;
+    frame.Size = size;
+    frame.Layers = this->Layers;
+    frame.Gpu = gpu;
+    frame.Diagonal = diagonal;
+    frame.Epsilon = this->Reference->GetRelativeEpsilon();
+    frame.TieFactor = this->Reference->GetTieFactor();
+    frame.Vis = vis;
+    frame.State = state;
+    frame.SampleView = &sampleView;
     std::atomic<vtkIdType> viewLit(0), viewShadowed(0);
 
     for (size_t vi = 0; vi < views.size(); ++vi)
@@ -381,268 +712,12 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
       const View& view = views[vi];
       const auto renderStart = Clock::now();
       Internals::ViewMaps& maps = cached.Views[vi];
-      std::vector<double> key = { view.Perspective ? 1.0 : 0.0, view.Far, view.NearW,
-        view.TanHalf, static_cast<double>(size), static_cast<double>(layers), gpu ? 1.0 : 0.0,
-        static_cast<double>(geometry->GetGeometryTime()),
-        static_cast<double>(geometry->GetFlagsTime()) };
-      key.insert(key.end(), &view.Row[0][0], &view.Row[0][0] + 16);
-      key.insert(key.end(), in.GeometryOrigin, in.GeometryOrigin + 3);
-      const bool rebuild = maps.Key != key;
-      if (rebuild)
-      {
-        maps.Key.clear(); // invalid until built
-        ++this->NumberOfMapBuilds;
-        for (int k = 0; k < Internals::MaxLayers; ++k)
-        {
-          const size_t texels = k < layers ? static_cast<size_t>(size) * size : 0;
-          maps.Depth[k].resize(texels);
-          maps.Ids[k].resize(texels);
-          maps.Depth[k].shrink_to_fit();
-          maps.Ids[k].shrink_to_fit();
-        }
-        maps.Near.clear();
-      }
-      if (rebuild && !gpu)
-      {
-        const penumbra_conservative::CpuMapStats stats = penumbra_conservative::
-          BuildConservativeMap(view, size, layers, tv, impl.Casters.TriangleIds, maps.Depth,
-            maps.Ids, maps.Near);
-        this->NumberOfTexelWrites += stats.TexelWrites;
-      }
-      else if (rebuild)
-      {
-        // Depth is written explicitly and clamped in the shader; clamping is on as a second
-        // line of defence (perspective window z loses precision far from the light). Colour (the id
-        // layers) is written.
-        penumbra_light_views::MapRenderState renderState(win->GetState(), impl.FBO, size, true);
-
-        program = win->GetShaderCache()->ReadyShaderProgram(
-          vtkPenumbraConservativeMapVS, vtkPenumbraConservativeMapFS, vtkPenumbraConservativeMapGS);
-        float matrix[16];
-        view.ToFloatMatrix(matrix);
-        program->SetUniformMatrix4x4("lightMatrix", matrix);
-        const float mapSize[2] = { static_cast<float>(size), static_cast<float>(size) };
-        program->SetUniform2f("mapSize", mapSize);
-        program->SetUniformi("perspective", view.Perspective ? 1 : 0);
-        program->SetUniformf("nearW", static_cast<float>(view.NearW));
-        program->SetUniformf("frustumSlack", static_cast<float>(1.0 + 8.0 / size));
-        // Half the texel diagonal (enough to cover the texel square; the paper's §4.1 uses the
-        // whole diagonal) plus a quarter texel for the float rounding between the GPU
-        // projection and the classifier's double one.
-        program->SetUniformf("keepRadius", static_cast<float>(0.5 * std::sqrt(2.0) + 0.25));
-        program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
-
-        // Perspective views draw only the triangles that reach their frustum: a cube face
-        // sees about a sixth of the scene, and llvmpipe pays per primitive in the geometry
-        // stage. Only triangles wholly outside one of the shader's side planes (by more than
-        // its rounding) are dropped, so nothing the shader would keep is lost. Indices only; the
-        // vertices stay uploaded.
-        GLsizei drawCount = impl.Casters.VertexCount;
-        if (view.Perspective)
-        {
-          const double slack = 1.0 + 8.0 / size; // the shader's frustumSlack
-          impl.ViewIndices.clear();
-          const float* xyz = impl.Casters.Vertices.data();
-          for (GLsizei tri = 0; tri < impl.Casters.VertexCount / 3; ++tri)
-          {
-            int outside[4] = { 0, 0, 0, 0 };
-            for (int k = 0; k < 3; ++k)
-            {
-              const float* fv = xyz + 9 * static_cast<size_t>(tri) + 3 * k;
-              const double pv[3] = { fv[0], fv[1], fv[2] };
-              const double x = view.Dot(0, pv);
-              const double y = view.Dot(1, pv);
-              const double w = slack * view.Dot(3, pv);
-              // Outside by more than the float rounding of the shader's plane test.
-              const double margin = 1e-5 * (std::fabs(x) + std::fabs(y) + std::fabs(w));
-              outside[0] += x - w > margin;
-              outside[1] += -x - w > margin;
-              outside[2] += y - w > margin;
-              outside[3] += -y - w > margin;
-            }
-            if (outside[0] < 3 && outside[1] < 3 && outside[2] < 3 && outside[3] < 3)
-            {
-              for (GLuint k = 0; k < 3; ++k)
-              {
-                impl.ViewIndices.push_back(3 * static_cast<GLuint>(tri) + k);
-              }
-            }
-          }
-          drawCount = static_cast<GLsizei>(impl.ViewIndices.size());
-        }
-        glBindVertexArray(impl.Casters.VertexArray);
-        if (view.Perspective)
-        {
-          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, impl.Casters.Indices);
-          glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-            static_cast<GLsizeiptr>(impl.ViewIndices.size() * sizeof(GLuint)),
-            impl.ViewIndices.empty() ? nullptr : impl.ViewIndices.data(), GL_STREAM_DRAW);
-        }
-        const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
-        const GLint idLoc = glGetAttribLocation(program->GetHandle(), "triangleId");
-        if (posLoc >= 0)
-        {
-          glBindBuffer(GL_ARRAY_BUFFER, impl.Casters.Positions);
-          glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
-          glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-        }
-        if (idLoc >= 0)
-        {
-          glBindBuffer(GL_ARRAY_BUFFER, impl.Casters.Ids);
-          glEnableVertexAttribArray(static_cast<GLuint>(idLoc));
-          glVertexAttribIPointer(static_cast<GLuint>(idLoc), 1, GL_UNSIGNED_INT, 0, nullptr);
-        }
-        glBindBuffer(GL_ARRAY_BUFFER, 0);
-
-        const char* previousNames[] = { "layer1", "layer2", "layer3" };
-        for (int layer = 0; layer < layers; ++layer)
-        {
-          impl.FBO->AddColorAttachment(0, impl.IdTextures[layer]);
-          impl.FBO->AddDepthAttachment(impl.Depth);
-          impl.FBO->ActivateDrawBuffers(1);
-          const GLuint zero[4] = { 0, 0, 0, 0 };
-          const GLfloat one = 1.0f;
-          glClearBufferuiv(GL_COLOR, 0, zero);
-          glClearBufferfv(GL_DEPTH, 0, &one);
-          program->SetUniformi("peel", layer);
-          // Depth peeling by id: the nearest triangles not yet stored.
-          for (int k = 0; k < layer; ++k)
-          {
-            impl.IdTextures[k]->Activate();
-            program->SetUniformi(previousNames[k], impl.IdTextures[k]->GetTextureUnit());
-          }
-          if (view.Perspective)
-          {
-            glDrawElements(GL_TRIANGLES, drawCount, GL_UNSIGNED_INT, nullptr);
-          }
-          else
-          {
-            glDrawArrays(GL_TRIANGLES, 0, drawCount);
-          }
-          for (int k = 0; k < layer; ++k)
-          {
-            impl.IdTextures[k]->Deactivate();
-          }
-          impl.FBO->ActivateReadBuffer(0);
-          glPixelStorei(GL_PACK_ALIGNMENT, 1);
-          glReadPixels(0, 0, size, size, GL_RED_INTEGER, GL_UNSIGNED_INT,
-            maps.Ids[layer].data());
-          glReadPixels(
-            0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, maps.Depth[layer].data());
-        }
-      }
-      if (rebuild)
-      {
-        maps.Key = key;
-        impl.Trim(cached, MaxCachedMapBytes);
-      }
+      impl.UpdateMaps(*this, frame, view, cached, maps);
       mapMs += ElapsedMs(renderStart);
 
-      // The classification of Hertel et al. 2009, §4.2, with its rules made exact:
-      //  1. facing away from the light / outside the spot cone -> shadowed (pass A above);
-      //  2. project into the map (double); outside the map or behind the apex -> uncertain;
-      //  3. walk the texel's layers k = 1..Layers (layer k: the nearest triangle no earlier
-      //     layer holds, with its conservative depth z_k):
-      //     a. empty, or z_k > sample depth + margin -> lit: every triangle not yet seen is
-      //        deeper than the sample, and the shadow ray projects to this one texel, so
-      //        only seen triangles could block it;
-      //     b. the sample's own triangle -> skip it (the reference never lets it block;
-      //        replaces the paper's inexact "own id -> lit" rule);
-      //     c. exact double-precision ray-triangle test with margins beyond the tie band
-      //        and float rounding: clear hit -> shadowed (the conservative depth alone
-      //        never shadows, "fully covered" or not: the paper's fully-covered rule is
-      //        not exact); clear miss -> skip it (e.g. a coplanar neighbour at a shared
-      //        edge); else uncertain;
-      //  4. layers exhausted -> uncertain (traced).
-      // The CPU builder keeps the triangles that reach a perspective view's apex region out
-      // of the map (they would cover all of it); each is tested exactly against the sample's
-      // ray first, with rule 3b/3c above. Beyond MaxNearTriangles of them the view's samples
-      // are all traced.
-      const std::vector<vtkIdType>& nearTriangles = maps.Near;
-      const bool nearTestable = nearTriangles.size() <= Internals::MaxNearTriangles;
       const auto classifyStart = Clock::now();
-      const signed char viewIndex = static_cast<signed char>(vi);
-      vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-        vtkIdType localLit = 0, localShadowed = 0;
-        for (vtkIdType s = begin; s < end; ++s)
-        {
-          if (state[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
-          {
-            continue;
-          }
-          state[s] = Uncertain;
-          double p[3];
-          for (int c = 0; c < 3; ++c)
-          {
-            p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
-          }
-          double ms, mt, depth;
-          if (!view.Project(p, ms, mt, depth) || !(std::fabs(ms) <= 1.0) ||
-            !(std::fabs(mt) <= 1.0))
-          {
-            continue;
-          }
-          const int ix = std::min(size - 1, std::max(0, static_cast<int>((ms * 0.5 + 0.5) * size)));
-          const int iy = std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
-          const size_t texel = static_cast<size_t>(iy) * size + ix;
-          const double margin = 1e-6 * (1.0 + std::fabs(depth));
-          const vtkIdType own = tris[s];
-
-          // The reference's ray: same direction, same scale-relative epsilons.
-          const penumbra_light_views::ShadowRay ray =
-            penumbra_light_views::MakeShadowRay(setup, p, diagonal, epsilon, tieFactor);
-          const bool rayOk = ray.Ok;
-
-          bool nearClear = true;
-          for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
-          {
-            const vtkIdType blocker = nearTriangles[k];
-            const Hit hit = nearTestable && blocker != own
-              ? penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker)
-              : (blocker == own ? Hit::Miss : Hit::Unknown);
-            if (hit == Hit::Clear)
-            {
-              vis[s] = 0.0f;
-              state[s] = Decided;
-              ++localShadowed;
-            }
-            nearClear = hit == Hit::Miss;
-          }
-          for (int k = 0; k < layers && rayOk && nearClear; ++k)
-          {
-            const std::uint32_t id = maps.Ids[k][texel] & IdMask;
-            if (id == 0 || maps.Depth[k][texel] > depth + margin)
-            {
-              state[s] = Decided;
-              ++localLit;
-              break;
-            }
-            const vtkIdType blocker = static_cast<vtkIdType>(id) - 1;
-            if (blocker == own)
-            {
-              continue;
-            }
-            if (blocker >= nTriangles)
-            {
-              break;
-            }
-            const Hit hit = penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker);
-            if (hit == Hit::Clear)
-            {
-              vis[s] = 0.0f;
-              state[s] = Decided;
-              ++localShadowed;
-              break;
-            }
-            if (hit == Hit::Unknown)
-            {
-              break;
-            }
-          }
-        }
-        viewLit += localLit;
-        viewShadowed += localShadowed;
-      });
+      Internals::ClassifyView(
+        frame, view, static_cast<signed char>(vi), maps, viewLit, viewShadowed);
       classifyMs += ElapsedMs(classifyStart);
     }
     lit += viewLit.load();

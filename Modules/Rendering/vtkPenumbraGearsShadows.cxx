@@ -372,14 +372,26 @@ struct MaskBuilder
     return any;
   }
 
-  // One potential blocker: loose per-row intervals bound the light samples it may block;
-  // inside the certain intervals it provably blocks, in between the segment test decides.
-  void Visit(std::uint32_t index)
+  // One triangle's planes seen from the sample P, affine over the light samples: Beyond (the
+  // light past the triangle's plane) and, when P sees the triangle as a proper cone, its
+  // three edge planes through P; with the loose (Delta) and certain (Sure) margins.
+  struct TriangleCone
+  {
+    Affine Beyond;
+    Affine Edges[3];
+    int NumberOfEdges = 0;
+    double DeltaEdge = 0, DeltaPlane = 0, SureEdge = 0, SurePlane = 0;
+    bool CertainCone = false;
+  };
+
+  // Cheap rejects: the triangle wholly farther from the light than the sample, or its
+  // bounding sphere outside the cone from P around the light.
+  bool Culled(std::uint32_t index) const
   {
     const SampleRays& r = *this->R;
     if (this->ZMin[index] > r.Z + this->FarSlack)
     {
-      return;
+      return true;
     }
     // The triangle's bounding sphere (grown by the tolerance) wholly outside the cone from P
     // around the light: no segment to a light sample comes near it.
@@ -399,15 +411,18 @@ struct MaskBuilder
         const double cosSum = this->ConeCos * cosB - this->ConeSin * sinB;
         if (cosSum > 0.0 && cosA < cosSum - 1e-12)
         {
-          return;
+          return true;
         }
       }
     }
-    const Caster& tri = this->Casters[index];
-    if (tri.Id == r.Own)
-    {
-      return; // the reference never lets a sample's own triangle block it
-    }
+    return false;
+  }
+
+  // The triangle's planes from P and their margins; false when it provably blocks no segment
+  // (no crossing, or every hit below the tie band).
+  bool Planes(const Caster& tri, TriangleCone& t) const
+  {
+    const SampleRays& r = *this->R;
     // Signed distances to the triangle's plane: of P, and (affine) of the light samples.
     const double h = vtkMath::Dot(tri.N, r.P) - vtkMath::Dot(tri.N, tri.V[0]);
     const Affine plane =
@@ -436,26 +451,24 @@ struct MaskBuilder
     // - no crossing: the whole light on P's side of the plane by more than 2 err;
     if (absH > err && sideMin > 2.0 * err)
     {
-      return;
+      return false;
     }
     // - every hit provably below the tie band: |h| + err < cos_min (tieLimit - err);
     if (absH + err < cosMin * (r.TieLimit - err))
     {
-      return;
+      return false;
     }
     // - a light sample can only be blocked where E >= -2 err dMax / |h| for all three edges
     //   and the light is beyond the plane or within 2 err of it;
     // - it is certainly blocked where E > 2 err dMax / |h| for all three edges, the light
     //   is beyond the plane by more than epsilon dMax + 2 err (clear of the ray end), and
     //   |h| > tieLimit + 2 err (clear of the tie band) with no grazing ray (cos > 2e-6).
-    const double deltaEdge = std::min(2.0 * err * dMax / std::max(absH, 1e-300), 4.0 * dMax);
-    const double deltaPlane = 2.0 * err;
+    t.DeltaEdge = std::min(2.0 * err * dMax / std::max(absH, 1e-300), 4.0 * dMax);
+    t.DeltaPlane = 2.0 * err;
     const bool certainPossible = absH > r.TieLimit + 2.0 * err && cosMin > 2e-6;
-    const double sureEdge = deltaEdge + 1e-9 * dMax;
-    const double surePlane = this->Epsilon * dMax + 2.0 * err + 1e-9 * dMax;
+    t.SureEdge = t.DeltaEdge + 1e-9 * dMax;
+    t.SurePlane = this->Epsilon * dMax + 2.0 * err + 1e-9 * dMax;
 
-    Affine edges[3];
-    int nEdges = 0;
     double a[3][3];
     for (int i = 0; i < 3; ++i)
     {
@@ -473,6 +486,7 @@ struct MaskBuilder
     // |det| > 1e-12 |a0| |a1| |a2|, squared to spare three square roots per triangle.
     const double mag2 = vtkMath::Dot(a[0], a[0]) * vtkMath::Dot(a[1], a[1]) * vtkMath::Dot(a[2], a[2]);
     const bool cone = det * det > 1e-24 * mag2;
+    t.NumberOfEdges = 0;
     for (int e = 0; cone && e < 3; ++e)
     {
       // Unit normal of the plane through P and edge e, pointing into the triangle's cone.
@@ -486,14 +500,84 @@ struct MaskBuilder
       {
         m[c] = (det > 0.0 ? cr[e][c] : -cr[e][c]) / len;
       }
-      edges[nEdges++] =
+      t.Edges[t.NumberOfEdges++] =
         this->L.Along(m, vtkMath::Dot(m, this->L.Centre) - vtkMath::Dot(m, r.P));
     }
-    const bool certainCone = certainPossible && cone && nEdges == 3;
+    t.CertainCone = certainPossible && cone && t.NumberOfEdges == 3;
+    t.Beyond = { -sgn * plane.Base, -sgn * plane.Di, -sgn * plane.Dj };
+    return true;
+  }
 
-    // Rows where every condition can hold somewhere (each is affine: its row maximum is at
-    // the first or last column); usually a few rows, often none.
-    const Affine beyond = { -sgn * plane.Base, -sgn * plane.Di, -sgn * plane.Dj };
+  // The exact segment test for the light samples in `maybe` on row j; an OnEdge hit blocks
+  // when a second triangle seals the same edge (SealedEdge). True when any is blocked.
+  bool TestSegments(std::uint32_t index, const Caster& tri, int j, std::uint64_t maybe)
+  {
+    const SampleRays& r = *this->R;
+    bool hitAny = false;
+    while (maybe)
+    {
+      const int i = __builtin_ctzll(maybe);
+      maybe &= maybe - 1;
+      const double* q = this->Point(i, j);
+      double d[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
+      const double dist = vtkMath::Normalize(d);
+      ++this->Tests;
+      int edge = 0;
+      const Hit hit =
+        SegmentTest(r.P, d, r.TieLimit, dist * (1.0 - this->Epsilon), tri, r.ErrPos, edge);
+      const std::uint64_t bit = std::uint64_t(1) << i;
+      if (hit == Hit::OnEdge)
+      {
+        const size_t slot = static_cast<size_t>(j * this->L.K + i);
+        if (!(this->Pending[j] & bit))
+        {
+          this->Pending[j] |= bit;
+          this->EdgeOwner[slot] = index;
+          this->EdgeIndex[slot] = static_cast<unsigned char>(edge);
+          continue;
+        }
+        const std::uint32_t other = this->EdgeOwner[slot];
+        if (other != index &&
+          SealedEdge(this->Casters[other], this->EdgeIndex[slot], tri, edge, d))
+        {
+          this->Blocked[j] |= bit;
+          hitAny = true;
+          continue;
+        }
+        this->Unknown[j] |= bit; // a third edge, or a silhouette: undecided
+      }
+      else if (hit == Hit::Clear)
+      {
+        this->Blocked[j] |= bit;
+        hitAny = true;
+      }
+      else if (hit == Hit::Unknown)
+      {
+        this->Unknown[j] |= bit;
+      }
+    }
+    return hitAny;
+  }
+
+  // One potential blocker: loose per-row intervals bound the light samples it may block;
+  // inside the certain intervals it provably blocks, in between the segment test decides.
+  void Visit(std::uint32_t index)
+  {
+    if (this->Culled(index))
+    {
+      return;
+    }
+    const Caster& tri = this->Casters[index];
+    if (tri.Id == this->R->Own)
+    {
+      return; // the reference never lets a sample's own triangle block it
+    }
+    TriangleCone t;
+    if (!this->Planes(tri, t))
+    {
+      return;
+    }
+
     // Rows where every condition can hold somewhere (each is affine: its row maximum is at
     // the first or last column); usually a few rows, often none.
     int jLo = 0, jHi = this->L.Rows - 1;
@@ -501,10 +585,10 @@ struct MaskBuilder
       const double best = f.Base + std::max(0.0, (this->L.K - 1) * f.Di);
       Narrow(best, f.Dj, delta, this->L.Rows, true, jLo, jHi);
     };
-    rows(beyond, deltaPlane);
-    for (int e = 0; e < nEdges && jLo <= jHi; ++e)
+    rows(t.Beyond, t.DeltaPlane);
+    for (int e = 0; e < t.NumberOfEdges && jLo <= jHi; ++e)
     {
-      rows(edges[e], deltaEdge);
+      rows(t.Edges[e], t.DeltaEdge);
     }
     // Per condition, the column bound as a linear function of the row: one division per
     // triangle instead of one per row.
@@ -513,11 +597,11 @@ struct MaskBuilder
       return;
     }
     ColumnBound loose[4], sure[4];
-    const int nLoose = 1 + nEdges;
-    loose[0] = ColumnBound(beyond, deltaPlane, true);
-    for (int e = 0; e < nEdges; ++e)
+    const int nLoose = 1 + t.NumberOfEdges;
+    loose[0] = ColumnBound(t.Beyond, t.DeltaPlane, true);
+    for (int e = 0; e < t.NumberOfEdges; ++e)
     {
-      loose[e + 1] = ColumnBound(edges[e], deltaEdge, true);
+      loose[e + 1] = ColumnBound(t.Edges[e], t.DeltaEdge, true);
     }
     bool sureReady = false; // built at the first row that has candidates
     bool hitAny = false;
@@ -538,14 +622,14 @@ struct MaskBuilder
       {
         continue;
       }
-      if (certainCone)
+      if (t.CertainCone)
       {
         if (!sureReady)
         {
-          sure[0] = ColumnBound(beyond, -surePlane, false);
+          sure[0] = ColumnBound(t.Beyond, -t.SurePlane, false);
           for (int e = 0; e < 3; ++e)
           {
-            sure[e + 1] = ColumnBound(edges[e], -sureEdge, false);
+            sure[e + 1] = ColumnBound(t.Edges[e], -t.SureEdge, false);
           }
           sureReady = true;
         }
@@ -562,47 +646,9 @@ struct MaskBuilder
           hitAny = true;
         }
       }
-      while (maybe)
+      if (this->TestSegments(index, tri, j, maybe))
       {
-        const int i = __builtin_ctzll(maybe);
-        maybe &= maybe - 1;
-        const double* q = this->Point(i, j);
-        double d[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
-        const double dist = vtkMath::Normalize(d);
-        ++this->Tests;
-        int edge = 0;
-        const Hit hit =
-          SegmentTest(r.P, d, r.TieLimit, dist * (1.0 - this->Epsilon), tri, r.ErrPos, edge);
-        const std::uint64_t bit = std::uint64_t(1) << i;
-        if (hit == Hit::OnEdge)
-        {
-          const size_t slot = static_cast<size_t>(j * this->L.K + i);
-          if (!(this->Pending[j] & bit))
-          {
-            this->Pending[j] |= bit;
-            this->EdgeOwner[slot] = index;
-            this->EdgeIndex[slot] = static_cast<unsigned char>(edge);
-            continue;
-          }
-          const std::uint32_t other = this->EdgeOwner[slot];
-          if (other != index &&
-            SealedEdge(this->Casters[other], this->EdgeIndex[slot], tri, edge, d))
-          {
-            this->Blocked[j] |= bit;
-            hitAny = true;
-            continue;
-          }
-          this->Unknown[j] |= bit; // a third edge, or a silhouette: undecided
-        }
-        else if (hit == Hit::Clear)
-        {
-          this->Blocked[j] |= bit;
-          hitAny = true;
-        }
-        else if (hit == Hit::Unknown)
-        {
-          this->Unknown[j] |= bit;
-        }
+        hitAny = true;
       }
     }
     if (hitAny)
