@@ -40,6 +40,9 @@
 #include <OpenMesh/Core/System/omstream.hh>
 #pragma GCC diagnostic pop
 
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -60,20 +63,16 @@ namespace
 {
 using penumbra::Clock;
 using penumbra::ElapsedMs;
-using Vec3 = std::array<double, 3>;
+using Vec3 = glm::dvec3;
 
-Vec3 Sub(const Vec3& a, const Vec3& b)
+// Lexicographic order, for welding vertices in a std::map.
+struct Vec3Less
 {
-  return { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
-}
-Vec3 Cross(const Vec3& a, const Vec3& b)
-{
-  return { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
-}
-double Dot(const Vec3& a, const Vec3& b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+  bool operator()(const Vec3& a, const Vec3& b) const
+  {
+    return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
+  }
+};
 
 // Below this cosine between the sample normal and the light direction a sample is traced
 // (see the edge resolve): about 0.06 degrees from grazing.
@@ -163,7 +162,7 @@ struct Connectivity
     const double* tv = nt > 0 ? geometry->GetVertices()->GetPointer(0) : nullptr;
     // Weld exactly equal coordinates only: anything looser would move geometry and the
     // reference sees the unwelded triangles.
-    std::map<Vec3, int> weld;
+    std::map<Vec3, int, Vec3Less> weld;
     std::vector<std::array<int, 3>> tris;
     for (vtkIdType t = 0; t < nt; ++t)
     {
@@ -177,8 +176,8 @@ struct Connectivity
       {
         v[k] = { tv[9 * t + 3 * k], tv[9 * t + 3 * k + 1], tv[9 * t + 3 * k + 2] };
       }
-      const Vec3 n = Cross(Sub(v[1], v[0]), Sub(v[2], v[0]));
-      if (!(Dot(n, n) > 0.0)) // zero-area: the reference skips them too
+      const Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
+      if (!(glm::dot(n, n) > 0.0)) // zero-area: the reference skips them too
       {
         continue;
       }
@@ -298,10 +297,10 @@ struct Connectivity
     const Vec3& ref = this->Points[static_cast<size_t>(c.Faces[0][0])];
     for (const auto& t : c.Faces)
     {
-      const Vec3 a = Sub(this->Points[static_cast<size_t>(t[0])], ref);
-      const Vec3 b = Sub(this->Points[static_cast<size_t>(t[1])], ref);
-      const Vec3 d = Sub(this->Points[static_cast<size_t>(t[2])], ref);
-      volume += Dot(a, Cross(b, d));
+      const Vec3 a = this->Points[static_cast<size_t>(t[0])] - ref;
+      const Vec3 b = this->Points[static_cast<size_t>(t[1])] - ref;
+      const Vec3 d = this->Points[static_cast<size_t>(t[2])] - ref;
+      volume += glm::dot(a, glm::cross(b, d));
     }
     if (volume < 0.0)
     {
@@ -354,15 +353,15 @@ struct VolumeLight
   // Outward facing test value of an oriented triangle: > 0 means it faces the light.
   double Facing(const Vec3& a, const Vec3& b, const Vec3& c) const
   {
-    const Vec3 n = Cross(Sub(b, a), Sub(c, a));
-    return this->Directional ? Dot(n, this->Direction) : Dot(n, Sub(this->Position, a));
+    const Vec3 n = glm::cross(b - a, c - a);
+    return this->Directional ? glm::dot(n, this->Direction) : glm::dot(n, this->Position - a);
   }
   // Direction of extrusion at v (away from the light), not normalized.
   Vec3 Away(const Vec3& v) const
   {
     return this->Directional
-      ? Vec3{ -this->Direction[0], -this->Direction[1], -this->Direction[2] }
-      : Sub(v, this->Position);
+      ? -this->Direction
+      : (v - this->Position);
   }
 };
 
@@ -384,16 +383,16 @@ double PositionalFarW(const Connectivity& mesh, const VolumeLight& light, const 
   {
     const Vec3 q = { bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)],
       bounds[4 + ((corner >> 2) & 1)] };
-    const Vec3 d = Sub(q, L);
-    farthest = std::max(farthest, std::sqrt(Dot(d, d)));
+    const Vec3 d = (q - L);
+    farthest = std::max(farthest, std::sqrt(glm::dot(d, d)));
   }
   double nearest = VTK_DOUBLE_MAX;
   auto visit = [&](const std::array<int, 3>& t) {
     const Vec3& a = mesh.Points[static_cast<size_t>(t[0])];
     const Vec3& b = mesh.Points[static_cast<size_t>(t[1])];
     const Vec3& c = mesh.Points[static_cast<size_t>(t[2])];
-    const Vec3 n = Cross(Sub(b, a), Sub(c, a));
-    const double f = Dot(n, Sub(L, a));
+    const Vec3 n = glm::cross(b - a, c - a);
+    const double f = glm::dot(n, L - a);
     if (!(f != 0.0))
     {
       return;
@@ -403,12 +402,12 @@ double PositionalFarW(const Connectivity& mesh, const VolumeLight& light, const 
     double radius = 0.0;
     for (const Vec3* v : { &a, &b, &c })
     {
-      const Vec3 d = Sub(*v, centre);
-      radius = std::max(radius, std::sqrt(Dot(d, d)));
+      const Vec3 d = (*v - centre);
+      radius = std::max(radius, std::sqrt(glm::dot(d, d)));
     }
-    const Vec3 toLight = Sub(L, centre);
+    const Vec3 toLight = (L - centre);
     const double bound =
-      std::max(std::fabs(f) / std::sqrt(Dot(n, n)), std::sqrt(Dot(toLight, toLight)) - radius);
+      std::max(std::fabs(f) / std::sqrt(glm::dot(n, n)), std::sqrt(glm::dot(toLight, toLight)) - radius);
     nearest = std::min(nearest, bound);
   };
   std::for_each(mesh.Loose.begin(), mesh.Loose.end(), visit);
@@ -433,7 +432,7 @@ bool VolumeMissesBox(const VolumeLight& light, const Vec3 v[3], const double box
     return m;
   };
   // The triangle's plane: the volume lies behind it.
-  const Vec3 n = Cross(Sub(v[1], v[0]), Sub(v[2], v[0]));
+  const Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
   if (minOver(n, v[0]) > 0.0)
   {
     return true;
@@ -443,7 +442,7 @@ bool VolumeMissesBox(const VolumeLight& light, const Vec3 v[3], const double box
   {
     const Vec3& u = v[k];
     const Vec3& w = v[(k + 1) % 3];
-    const Vec3 m = Cross(light.Away(u), Sub(w, u));
+    const Vec3 m = glm::cross(light.Away(u), w - u);
     if (minOver(m, u) > 0.0)
     {
       return true;
@@ -476,18 +475,15 @@ bool SegmentMayTouch(const VolumeLight& light, const Vec3& eye, const Vec3 v[3],
         eye[1] + light.Extrusion * light.Direction[1],
         eye[2] + light.Extrusion * light.Direction[2] }
     : light.Position;
-  Vec3 n = Cross(Sub(v[1], v[0]), Sub(v[2], v[0]));
-  const double len = std::sqrt(Dot(n, n));
+  Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
+  const double len = std::sqrt(glm::dot(n, n));
   if (!(len > 0.0))
   {
     return true;
   }
-  for (double& x : n)
-  {
-    x /= len;
-  }
-  const double d0 = Dot(n, Sub(eye, v[0]));
-  const double d1 = Dot(n, Sub(far, v[0]));
+  n /= len;
+  const double d0 = glm::dot(n, eye - v[0]);
+  const double d1 = glm::dot(n, far - v[0]);
   if ((d0 > tol && d1 > tol) || (d0 < -tol && d1 < -tol))
   {
     return false;
@@ -501,9 +497,9 @@ bool SegmentMayTouch(const VolumeLight& light, const Vec3& eye, const Vec3 v[3],
     eye[2] + t * (far[2] - eye[2]) };
   for (int k = 0; k < 3; ++k)
   {
-    const Vec3 e = Sub(v[(k + 1) % 3], v[k]);
-    const double el = std::sqrt(Dot(e, e));
-    if (el > 0.0 && Dot(Cross(e, Sub(x, v[k])), n) / el < -tol)
+    const Vec3 e = (v[(k + 1) % 3] - v[k]);
+    const double el = std::sqrt(glm::dot(e, e));
+    if (el > 0.0 && glm::dot(glm::cross(e, x - v[k]), n) / el < -tol)
     {
       return false;
     }
@@ -606,13 +602,13 @@ struct VolumeBuilder
     double m = 0.0;
     for (int k = 0; k < 3; ++k)
     {
-      m = std::max(m, std::sqrt(Dot(v[k], v[k])));
+      m = std::max(m, std::sqrt(glm::dot(v[k], v[k])));
     }
-    const Vec3 e1 = Sub(v[1], v[0]), e2 = Sub(v[2], v[0]);
-    const double l1 = std::sqrt(Dot(e1, e1)), l2 = std::sqrt(Dot(e2, e2));
+    const Vec3 e1 = (v[1] - v[0]), e2 = (v[2] - v[0]);
+    const double l1 = std::sqrt(glm::dot(e1, e1)), l2 = std::sqrt(glm::dot(e2, e2));
     const double lm = this->Light.Directional
       ? 1.0
-      : std::sqrt(Dot(this->Light.Position, this->Light.Position)) + m;
+      : std::sqrt(glm::dot(this->Light.Position, this->Light.Position)) + m;
     return std::fabs(f) <= 1e-6 * ((l1 + l2) * m * lm + l1 * l2 * lm);
   }
   // The nine edges of a face's prism: every volume edge whose neighbourhood changes when the
@@ -823,7 +819,7 @@ struct SampleLayout
       {
         const double* a = tv + 9 * t;
         const Vec3 va = { a[0], a[1], a[2] };
-        const Vec3 nrm = Cross(Sub({ a[3], a[4], a[5] }, va), Sub({ a[6], a[7], a[8] }, va));
+        const Vec3 nrm = glm::cross(Vec3(a[3], a[4], a[5]) - va, Vec3(a[6], a[7], a[8]) - va);
         // Pixel-centre ray in world coordinates, rebased.
         const vtkIdType inLayer = static_cast<vtkIdType>(pixel) % perLayer;
         const double x = static_cast<double>(inLayer % this->Width);
@@ -846,18 +842,20 @@ struct SampleLayout
           }
         }
         const Vec3 from = { ends[0][0], ends[0][1], ends[0][2] };
-        const Vec3 dir = Sub({ ends[1][0], ends[1][1], ends[1][2] }, from);
-        const double denom = Dot(nrm, dir);
-        if (std::fabs(denom) > 1e-12 * std::sqrt(Dot(nrm, nrm) * Dot(dir, dir)))
+        const Vec3 dir = Vec3(ends[1][0], ends[1][1], ends[1][2]) - from;
+        const double denom = glm::dot(nrm, dir);
+        if (std::fabs(denom) > 1e-12 * std::sqrt(glm::dot(nrm, nrm) * glm::dot(dir, dir)))
         {
-          const double u = Dot(nrm, Sub(va, from)) / denom;
+          const double u = glm::dot(nrm, va - from) / denom;
           const Vec3 q = { from[0] + u * dir[0], from[1] + u * dir[1], from[2] + u * dir[2] };
           // Only when the intersection stays near the sample (it is the same surface point
           // up to the G-buffer's float rounding).
-          const Vec3 d = Sub(q, { p[0], p[1], p[2] });
-          if (Dot(d, d) <= 1e-6 * scale * scale)
+          const Vec3 d = q - Vec3(p[0], p[1], p[2]);
+          if (glm::dot(d, d) <= 1e-6 * scale * scale)
           {
-            std::copy(q.begin(), q.end(), p);
+            p[0] = q.x;
+            p[1] = q.y;
+            p[2] = q.z;
           }
         }
       }
@@ -1562,8 +1560,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
 
     VolumeLight& vl = job.VL;
     vl.Directional = setup.Type == LightSetup::Kind::Directional;
-    std::copy(setup.Direction, setup.Direction + 3, vl.Direction.begin());
-    std::copy(setup.Position, setup.Position + 3, vl.Position.begin());
+    vl.Direction = Vec3(setup.Direction[0], setup.Direction[1], setup.Direction[2]);
+    vl.Position = Vec3(setup.Position[0], setup.Position[1], setup.Position[2]);
     // A prism longer than four times the whole scene's extent reaches past every sample.
     vl.Extrusion = 4.0 * g.Scale + 1.0;
 
