@@ -80,8 +80,8 @@ void Progress(int done, int total, const std::string& what)
   const int width = 30;
   const int filled = total > 0 ? width * done / total : width;
   std::cerr << "\r[" << std::string(static_cast<size_t>(filled), '#')
-            << std::string(static_cast<size_t>(width - filled), '.') << "] " << done << "/"
-            << total << " " << std::left << std::setw(48) << what.substr(0, 48) << std::flush;
+            << std::string(static_cast<size_t>(width - filled), '.') << "] " << done << "/" << total
+            << " " << std::left << std::setw(48) << what.substr(0, 48) << std::flush;
   if (done == total)
   {
     std::cerr << "\n";
@@ -142,8 +142,7 @@ FrameTimes TimeFrames(vtkRenderWindow* win, int warmup, int frames, double budge
     else if (more && timedMs > budgetMs)
     {
       result.OverBudget = std::to_string(result.Ms.size()) + " of " + std::to_string(frames) +
-        " frames took " + Seconds(timedMs) + ", more than the budget of " +
-        Seconds(budgetMs);
+        " frames took " + Seconds(timedMs) + ", more than the budget of " + Seconds(budgetMs);
     }
     if (!result.OverBudget.empty())
     {

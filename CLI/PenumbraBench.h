@@ -27,7 +27,10 @@ struct TechniqueSpec
   nlohmann::json Options = nlohmann::json::object();
 
   // "shadowmap resolution=2048", or the name alone for the default setting.
-  std::string Label() const { return this->Setting == "default" ? this->Name : this->Name + " " + this->Setting; }
+  std::string Label() const
+  {
+    return this->Setting == "default" ? this->Name : this->Name + " " + this->Setting;
+  }
 };
 
 // Everything the command line sets; each default is the member initialiser.
@@ -36,11 +39,11 @@ struct Options
   std::vector<std::string> SceneNames = { "default", "isosurface", "city_area_light" };
   std::vector<std::string> TechniqueTexts = { "none", "vtk-shadowmap:resolution=1024",
     "vtk-shadowmap:resolution=2048", "vtk-shadowmap:resolution=4096", "raytraced",
-    "conservative:resolution=1024", "conservative:resolution=2048",
-    "shadowmap:resolution=1024", "shadowmap:resolution=4096",
-    "shadowmap:resolution=2048;filter=pcf", "volumes", "volumes:silhouettes=gpu",
-    "volumes:measure_fill=true", "raytraced:samples=4", "gears:samples=4",
-    "raytraced:samples=8", "gears:samples=8", "raytraced:samples=16", "gears:samples=16" };
+    "conservative:resolution=1024", "conservative:resolution=2048", "shadowmap:resolution=1024",
+    "shadowmap:resolution=4096", "shadowmap:resolution=2048;filter=pcf", "volumes",
+    "volumes:silhouettes=gpu", "volumes:measure_fill=true", "raytraced:samples=4",
+    "gears:samples=4", "raytraced:samples=8", "gears:samples=8", "raytraced:samples=16",
+    "gears:samples=16" };
   // The parsed TechniqueTexts, with `none` first if it was not asked for (every point is
   // compared with the unshadowed frame).
   std::vector<TechniqueSpec> Techniques;

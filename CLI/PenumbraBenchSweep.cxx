@@ -221,14 +221,16 @@ void MeasureSweepRow(const SweepScene& scene, const Options& o, SweepRow& row)
   }
   const FrameTimes times = TimeFrames(
     scene.Window, o.Warmup, o.Frames, 1000.0 * o.BudgetSeconds,
-    [&](int) {
+    [&](int)
+    {
       if (row.Moving)
       {
         camera->Azimuth(0.5); // about the view-up axis through the focal point
         scene.Renderer->ResetCameraClippingRange();
       }
     },
-    [&]() {
+    [&]()
+    {
       if (pass)
       {
         techniqueMs.push_back(pass->GetTechniqueTimeMs());
@@ -300,7 +302,9 @@ void Summarize(std::vector<SweepRow>& rows)
     for (const SweepRow& s : rows)
     {
       none = s.Technique.Name == "none" && s.Triangles == r.Triangles && s.Moving == r.Moving &&
-          s.NotMeasured.empty() ? &s : none;
+          s.NotMeasured.empty()
+        ? &s
+        : none;
     }
     if (none && r.NotMeasured.empty())
     {
@@ -308,7 +312,8 @@ void Summarize(std::vector<SweepRow>& rows)
     }
     r.Exponent = Exponent(rows, r.Series());
     r.ExponentLastTwo = Exponent(rows, r.Series(), true);
-    r.ExponentMinusNone = r.Exponent - Exponent(rows, TechniqueSpec{ "none", "default" }.Label() + " " + r.Camera());
+    r.ExponentMinusNone =
+      r.Exponent - Exponent(rows, TechniqueSpec{ "none", "default" }.Label() + " " + r.Camera());
   }
 }
 
@@ -326,7 +331,8 @@ void WriteSweepCSV(const std::string& path, const std::vector<SweepRow>& rows, c
 {
   std::ofstream out(path);
   out << "triangles,technique,setting,camera,width,height,frames,median_ms,min_ms,ratio_to_none,"
-         "first_frame_ms,technique_ms,samples_ms,rss_before_mb,peak_rss_mb,exponent,exponent_minus_none,exponent_last_two,status\n";
+         "first_frame_ms,technique_ms,samples_ms,rss_before_mb,peak_rss_mb,exponent,exponent_minus_"
+         "none,exponent_last_two,status\n";
   for (const SweepRow& r : rows)
   {
     const double e = r.Exponent, d = r.ExponentMinusNone, l = r.ExponentLastTwo;
@@ -334,15 +340,16 @@ void WriteSweepCSV(const std::string& path, const std::vector<SweepRow>& rows, c
         << r.Camera() << "," << o.Width << "," << o.Height << "," << o.Frames << ","
         << Optional(r.MedianMs, 3) << "," << Optional(r.MinMs, 3) << ","
         << Optional(r.RatioToNone, 3) << "," << Optional(r.FirstFrameMs, 3) << ","
-        << Optional(r.TechniqueMs, 3) << ","
-        << Optional(r.SamplesMs, 3) << "," << Optional(r.RssBeforeMB, 0) << ","
-        << Optional(r.PeakRssMB, 0) << "," << (std::isnan(e) ? "" : Fixed(e, 3)) << ","
-        << (std::isnan(d) ? "" : Fixed(d, 3)) << "," << (std::isnan(l) ? "" : Fixed(l, 3)) << ",\""
+        << Optional(r.TechniqueMs, 3) << "," << Optional(r.SamplesMs, 3) << ","
+        << Optional(r.RssBeforeMB, 0) << "," << Optional(r.PeakRssMB, 0) << ","
+        << (std::isnan(e) ? "" : Fixed(e, 3)) << "," << (std::isnan(d) ? "" : Fixed(d, 3)) << ","
+        << (std::isnan(l) ? "" : Fixed(l, 3)) << ",\""
         << (r.NotMeasured.empty() ? "measured" : "not measured: " + r.NotMeasured) << "\"\n";
   }
 }
 
-void WriteSweepMarkdown(const std::string& path, const std::vector<SweepRow>& rows, const Options& o)
+void WriteSweepMarkdown(
+  const std::string& path, const std::vector<SweepRow>& rows, const Options& o)
 {
   std::ofstream out(path);
   out << "# Scale sweep: frame time against triangle count\n\n"
@@ -353,7 +360,8 @@ void WriteSweepMarkdown(const std::string& path, const std::vector<SweepRow>& ro
          "move (a technique may reuse the last frame's visibility); *moving*: the camera turns "
          "0.5° about the scene centre before every frame (warm-up frames included). *first "
          "frame*: the first frame after the technique is installed (scene extraction, "
-         "acceleration structures, shaders), rendered before the still row's warm-up. *technique* and *samples*: medians "
+         "acceleration structures, shaders), rendered before the still row's warm-up. *technique* "
+         "and *samples*: medians "
          "over the timed frames of vtkPenumbraShadowPass's technique phase (all lights) and "
          "view-sample phase (– where the pass is not Penumbra's). *peak RSS*: the process's "
          "peak resident memory (VmHWM) during the row (first frame included), after returning "
@@ -371,9 +379,9 @@ void WriteSweepMarkdown(const std::string& path, const std::vector<SweepRow>& ro
   {
     out << "| " << r.Triangles << " | " << r.Technique.Label() << " | " << r.Camera() << " | "
         << Dash(Optional(r.MedianMs, 1)) << " | " << Dash(Optional(r.RatioToNone, 2)) << " | "
-        << Dash(Optional(r.FirstFrameMs, 0)) << " | "
-        << Dash(Optional(r.TechniqueMs, 1)) << " | " << Dash(Optional(r.SamplesMs, 1)) << " | "
-        << Dash(Optional(r.RssBeforeMB, 0)) << " | " << Dash(Optional(r.PeakRssMB, 0)) << " | "
+        << Dash(Optional(r.FirstFrameMs, 0)) << " | " << Dash(Optional(r.TechniqueMs, 1)) << " | "
+        << Dash(Optional(r.SamplesMs, 1)) << " | " << Dash(Optional(r.RssBeforeMB, 0)) << " | "
+        << Dash(Optional(r.PeakRssMB, 0)) << " | "
         << (r.NotMeasured.empty() ? "" : "not measured: " + r.NotMeasured) << " |\n";
   }
   out << "\nCost exponent: least-squares slope of log(median frame ms) against log(caster "
@@ -391,14 +399,13 @@ void WriteSweepMarkdown(const std::string& path, const std::vector<SweepRow>& ro
     {
       continue;
     }
-    const auto measured = std::count_if(rows.begin(), rows.end(), [&](const SweepRow& s) {
-      return s.Series() == r.Series() && s.NotMeasured.empty();
-    });
+    const auto measured = std::count_if(rows.begin(), rows.end(),
+      [&](const SweepRow& s) { return s.Series() == r.Series() && s.NotMeasured.empty(); });
     out << "| " << r.Technique.Label() << " | " << r.Camera() << " | "
         << (std::isnan(r.Exponent) ? "–" : Fixed(r.Exponent, 2)) << " | "
         << (std::isnan(r.ExponentMinusNone) ? "–" : Fixed(r.ExponentMinusNone, 2)) << " | "
-        << (std::isnan(r.ExponentLastTwo) ? "–" : Fixed(r.ExponentLastTwo, 2)) << " | "
-        << measured << " |\n";
+        << (std::isnan(r.ExponentLastTwo) ? "–" : Fixed(r.ExponentLastTwo, 2)) << " | " << measured
+        << " |\n";
   }
 }
 
@@ -417,7 +424,8 @@ bool WriteSweepChart(const std::string& path, const std::vector<SweepRow>& rows,
   chart->SetShowLegend(true);
   chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::LEFT);
   chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
-  double range[4] = { std::numeric_limits<double>::max(), 0.0, std::numeric_limits<double>::max(), 0.0 };
+  double range[4] = { std::numeric_limits<double>::max(), 0.0, std::numeric_limits<double>::max(),
+    0.0 };
   std::vector<std::string> series, techniques;
   for (const SweepRow& r : rows)
   {
@@ -466,7 +474,8 @@ bool WriteSweepChart(const std::string& path, const std::vector<SweepRow>& rows,
       chart->AddPlot(x->GetNumberOfTuples() > 1 ? vtkChart::LINE : vtkChart::POINTS));
     plot->SetInputData(table, 0, 1);
     plot->SetLabel(name);
-    const auto colour = std::find(techniques.begin(), techniques.end(), first->Technique.Label()) - techniques.begin();
+    const auto colour = std::find(techniques.begin(), techniques.end(), first->Technique.Label()) -
+      techniques.begin();
     const double* rgb = Palette[colour % PaletteSize];
     plot->SetColor(rgb[0], rgb[1], rgb[2]);
     plot->SetWidth(2.0);
@@ -562,7 +571,8 @@ int RunSweep(const Options& o)
         {
           // What the sweep renders: the first shadowed still frame, for the reader to check.
           vtkNew<vtkPenumbraImageIO> io;
-          sceneImage = io->Write(penumbra_cli::GrabRGB(win), (o.OutDir + "/sweep_scene.png").c_str());
+          sceneImage =
+            io->Write(penumbra_cli::GrabRGB(win), (o.OutDir + "/sweep_scene.png").c_str());
         }
         rows.push_back(row);
         ++done;

@@ -34,10 +34,11 @@ public:
     {
       return; // an ErrorLog has it and the program reports it
     }
-    const char* kind = type == MESSAGE_TYPE_ERROR ? "error: "
+    const char* kind = type == MESSAGE_TYPE_ERROR                            ? "error: "
       : type == MESSAGE_TYPE_WARNING || type == MESSAGE_TYPE_GENERIC_WARNING ? "warning: "
-                                                                              : "";
-    std::cerr << (this->BelowProgress ? "\n" : "") << this->Program << ": " << kind << penumbra_cli::MessageText(text) << std::endl;
+                                                                             : "";
+    std::cerr << (this->BelowProgress ? "\n" : "") << this->Program << ": " << kind
+              << penumbra_cli::MessageText(text) << std::endl;
   }
   std::string Program = "penumbra";
   bool BelowProgress = false;

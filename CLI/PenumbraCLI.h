@@ -65,10 +65,10 @@ vtkSmartPointer<vtkImageData> GrabLuminance(vtkRenderWindow* window);
 // penumbra-render's regression-image check (--baseline and its settings).
 struct BaselineOptions
 {
-  std::string Path;     // baseline image; empty: no check
-  double Threshold = -1.0; // per-channel difference a pixel may have; < 0: the compare's default
+  std::string Path;          // baseline image; empty: no check
+  double Threshold = -1.0;   // per-channel difference a pixel may have; < 0: the compare's default
   double FailPercent = -1.0; // percentage of pixels allowed over the threshold; < 0: default
-  std::string DiffPath; // difference image on a mismatch; empty: OUT.diff.png
+  std::string DiffPath;      // difference image on a mismatch; empty: OUT.diff.png
   bool ThresholdGiven = false; // a setting that only makes sense with Path
 };
 

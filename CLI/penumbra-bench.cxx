@@ -20,10 +20,10 @@
 //    clock stops); the median is reported, with the phases of vtkPenumbraShadowPass. Nothing
 //    moves by default, so techniques that cache (shadow maps) are timed on reuse; with
 //    --moving-light the measured light moves by a negligible amount before every frame
-//    (1e-9 of its position's scale; the scene's first measured light), which invalidates such caches, and is put back for one
-//    untimed frame before the error is measured; --moving-camera does the same with the
-//    camera, so the view samples are rendered every frame; the pass's reuse of unchanged
-//    frames is off for timed frames, --still-frames times it separately;
+//    (1e-9 of its position's scale; the scene's first measured light), which invalidates such
+//    caches, and is put back for one untimed frame before the error is measured; --moving-camera
+//    does the same with the camera, so the view samples are rendered every frame; the pass's reuse
+//    of unchanged frames is off for timed frames, --still-frames times it separately;
 //  - techniques with a `samples` option (k x k soft shadows: gears, raytraced) are scored on
 //    area and linear lights only, hard-shadow techniques on the lights they can shadow (the
 //    pass hands the others to its soft fallback, which is not the technique's work); GEARS
@@ -41,14 +41,14 @@
 
 #include "vtkActor.h"
 #include "vtkActorCollection.h"
-#include "vtkCallbackCommand.h"
-#include "vtkCommand.h"
 #include "vtkAxis.h"
+#include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkCameraPass.h"
-#include "vtkChartMatrix.h"
 #include "vtkChartLegend.h"
+#include "vtkChartMatrix.h"
 #include "vtkChartXY.h"
+#include "vtkCommand.h"
 #include "vtkContextScene.h"
 #include "vtkContextView.h"
 #include "vtkFloatArray.h"
@@ -60,15 +60,15 @@
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraImageIO.h"
+#include "vtkPenumbraLineReference.h"
 #include "vtkPenumbraLinkedListShadows.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraRayTracedShadows.h"
-#include "vtkPenumbraLineReference.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneReader.h"
+#include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowTechnique.h"
-#include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowVolumeShadows.h"
 #include "vtkPenumbraTechniques.h"
 #include "vtkPenumbraViewSamples.h"
@@ -87,11 +87,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -156,7 +156,8 @@ int Usage(const char* why)
     std::cerr << "penumbra-bench: " << why << "\n";
   }
   std::cerr << "usage: penumbra-bench [--scenes A,B,...] [--techniques T[:k=v;k=v],...]"
-               " [--size WxH] [--frames N] [--warmup N] [--moving-light] [--moving-camera] [--still-frames] [--no-images]"
+               " [--size WxH] [--frames N] [--warmup N] [--moving-light] [--moving-camera] "
+               "[--still-frames] [--no-images]"
                " --out DIR\n"
                "       penumbra-bench --scale-sweep [N1,N2,...] [--budget SECONDS]"
                " [--techniques ...] [--size WxH] [--frames N] [--warmup N] --out DIR\n";
@@ -297,7 +298,8 @@ vtkSmartPointer<vtkFloatArray> RecoverVisibility(vtkRenderer* ren, vtkRenderWind
     const float lit = b->GetValue(i);
     const bool ok = samples->IsValid(i) && lit > 8.0f / 255.0f;
     measurable->SetValue(i, ok ? 1 : 0);
-    vis->SetValue(i, ok ? std::min(1.0f, a->GetValue(i) / lit) : (samples->IsValid(i) ? 0.0f : -1.0f));
+    vis->SetValue(
+      i, ok ? std::min(1.0f, a->GetValue(i) / lit) : (samples->IsValid(i) ? 0.0f : -1.0f));
   }
   return vis;
 }
@@ -312,23 +314,22 @@ std::string Sci(double v)
 void WriteCSV(const std::string& path, const std::vector<Row>& rows)
 {
   std::ofstream out(path);
-  out << "scene,technique,setting,light,light_kind,light_technique,width,height,median_ms,min_ms,extraction_ms,samples_ms,"
+  out << "scene,technique,setting,light,light_kind,light_technique,width,height,median_ms,min_ms,"
+         "extraction_ms,samples_ms,"
          "technique_ms,shading_ms,ratio_to_no_shadow,error_kind,mismatch_rate,false_lit,"
          "false_shadow,candidates,ties,mae,rmse,max_error,p95_error,uncertain_share,fill_fragments,"
          "map_size,still_ms,still_ratio_to_no_shadow\n";
   for (const Row& r : rows)
   {
     out << r.Scene << "," << r.Technique << ",\"" << r.Setting << "\"," << r.Light << ","
-        << r.LightKind << "," << r.LightTechnique << "," << r.Width << ","
-        << r.Height << "," << r.MedianMs << "," << r.MinMs << "," << r.ExtractionMs << ","
-        << r.SamplesMs << "," << r.TechniqueMs << "," << r.ShadingMs << "," << r.RatioToNoShadow
-        << "," << r.ErrorKind << "," << r.MismatchRate << "," << r.FalseLit << ","
-        << r.FalseShadow << "," << r.Candidates << "," << r.Ties << "," << r.MAE << "," << r.RMSE
-        << "," << r.MaxError << "," << r.P95 << ","
-        << (r.UncertainShare < 0 ? std::string() : std::to_string(r.UncertainShare)) << ","
+        << r.LightKind << "," << r.LightTechnique << "," << r.Width << "," << r.Height << ","
+        << r.MedianMs << "," << r.MinMs << "," << r.ExtractionMs << "," << r.SamplesMs << ","
+        << r.TechniqueMs << "," << r.ShadingMs << "," << r.RatioToNoShadow << "," << r.ErrorKind
+        << "," << r.MismatchRate << "," << r.FalseLit << "," << r.FalseShadow << "," << r.Candidates
+        << "," << r.Ties << "," << r.MAE << "," << r.RMSE << "," << r.MaxError << "," << r.P95
+        << "," << (r.UncertainShare < 0 ? std::string() : std::to_string(r.UncertainShare)) << ","
         << (r.FillFragments < 0 ? std::string() : std::to_string(r.FillFragments)) << ","
-        << r.MapSize << ","
-        << (r.StillMs < 0 ? std::string() : std::to_string(r.StillMs)) << ","
+        << r.MapSize << "," << (r.StillMs < 0 ? std::string() : std::to_string(r.StillMs)) << ","
         << (r.StillRatio < 0 ? std::string() : std::to_string(r.StillRatio)) << "\n";
   }
 }
@@ -341,29 +342,31 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
   const char* moving = o.MovingLight && o.MovingCamera
     ? "the light and the camera moving before every frame (no cached maps, view samples "
       "rendered every frame). "
-    : o.MovingLight ? "the light moving before every frame (no cached shadow maps; the view "
-                      "samples are kept). "
+    : o.MovingLight  ? "the light moving before every frame (no cached shadow maps; the view "
+                       "samples are kept). "
     : o.MovingCamera ? "the camera moving before every frame (view samples rendered every frame). "
                      : "nothing moving, the shadow work redone every frame (cached shadow maps "
                        "and view samples are reused). ";
-  out << "# Shadow techniques: error against run time\n\n"
-      << "Median of " << o.Frames << " frames after " << o.Warmup
-      << " warm-up frame(s), glFinish before each clock reading, " << moving
-      << "Error is measured per light (one row each; the frame times are the frame's, all "
-         "lights shadowed) against the exact reference on the same view samples: mismatch "
-         "rate over lit-candidate samples for hard lights (near-ties excluded), mean absolute "
-         "error of visibility for area/linear lights.\n\n"
-      << "| scene | technique | setting | light | shadowed by | size | median ms | × no-shadow | extract | samples | "
-         "technique | shading | mismatch | false lit | false shadow | ties | MAE | p95 | uncertain | "
-         "fill | map | still ms (×) |\n"
-      << "|---|---|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  out
+    << "# Shadow techniques: error against run time\n\n"
+    << "Median of " << o.Frames << " frames after " << o.Warmup
+    << " warm-up frame(s), glFinish before each clock reading, " << moving
+    << "Error is measured per light (one row each; the frame times are the frame's, all "
+       "lights shadowed) against the exact reference on the same view samples: mismatch "
+       "rate over lit-candidate samples for hard lights (near-ties excluded), mean absolute "
+       "error of visibility for area/linear lights.\n\n"
+    << "| scene | technique | setting | light | shadowed by | size | median ms | × no-shadow | "
+       "extract | samples | "
+       "technique | shading | mismatch | false lit | false shadow | ties | MAE | p95 | uncertain | "
+       "fill | map | still ms (×) |\n"
+    << "|---|---|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|-"
+       "--:|---:|---:|\n";
   auto phase = [](double v) { return v < 0 ? std::string("–") : Fixed(v, 1); };
   for (const Row& r : rows)
   {
-    out << "| " << r.Scene << " | " << r.Technique << " | " << r.Setting << " | " << r.Light
-        << " " << r.LightKind << " | " << (r.LightTechnique.empty() ? "–" : r.LightTechnique)
-        << " | " << r.Width
-        << "×" << r.Height << " | " << Fixed(r.MedianMs, 1) << " | "
+    out << "| " << r.Scene << " | " << r.Technique << " | " << r.Setting << " | " << r.Light << " "
+        << r.LightKind << " | " << (r.LightTechnique.empty() ? "–" : r.LightTechnique) << " | "
+        << r.Width << "×" << r.Height << " | " << Fixed(r.MedianMs, 1) << " | "
         << Fixed(r.RatioToNoShadow, 2) << " | " << phase(r.ExtractionMs) << " | "
         << phase(r.SamplesMs) << " | " << phase(r.TechniqueMs) << " | " << phase(r.ShadingMs)
         << " | " << Sci(r.MismatchRate) << " | " << r.FalseLit << " | " << r.FalseShadow << " | "
@@ -393,7 +396,8 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
     if (!gears)
     {
       out << "\nGEARS statistics of the last frame and the last light it handled (Wang et al. "
-             "2014, Tables 5-6): busy cells / cells, triangles per busy cell (max, mean), global-list "
+             "2014, Tables 5-6): busy cells / cells, triangles per busy cell (max, mean), "
+             "global-list "
              "triangles, assignments and the share that block at least one light sample, light "
              "samples the reference traced, phase times, and the number of view samples whose "
              "visibility differs from the ray tracer at the same k in the same run.\n\n";
@@ -547,7 +551,8 @@ int ParseArguments(int argc, char* argv[], Options& o)
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
-    auto value = [&]() -> std::string {
+    auto value = [&]() -> std::string
+    {
       if (i + 1 >= argc)
       {
         std::exit(Usage((a + " needs a value").c_str()));
@@ -694,7 +699,8 @@ int CheckOptions(Options& o)
   if (std::none_of(o.Techniques.begin(), o.Techniques.end(),
         [](const TechniqueSpec& t) { return t.Name == "none"; }))
   {
-    o.Techniques.insert(o.Techniques.begin(), TechniqueSpec{ "none", "default", nlohmann::json::object() });
+    o.Techniques.insert(
+      o.Techniques.begin(), TechniqueSpec{ "none", "default", nlohmann::json::object() });
   }
   if (!vtksys::SystemTools::MakeDirectory(o.OutDir))
   {
@@ -804,8 +810,8 @@ std::string ComputeReference(SceneContext& ctx)
 
 // GEARS grid statistics of the last frame (Wang et al. 2014, Tables 5-6 analogues), and how
 // many samples differ from the ray tracer at the same k.
-std::string GearsStatistics(
-  vtkPenumbraGearsShadows* gears, vtkPenumbraShadowPass* pass, const Measured& ctx, const TechniqueSpec& spec)
+std::string GearsStatistics(vtkPenumbraGearsShadows* gears, vtkPenumbraShadowPass* pass,
+  const Measured& ctx, const TechniqueSpec& spec)
 {
   std::ostringstream stats;
   stats << gears->GetNumberOfOccupiedCells() << " / " << gears->GetNumberOfCells()
@@ -877,20 +883,24 @@ vtkSmartPointer<vtkFloatArray> ReadPass(
     }
     if (auto* llsm = vtkPenumbraLinkedListShadows::SafeDownCast(technique))
     {
-      std::cerr << "\n" << ctx.Label << " " << spec.Name << " " << spec.Setting << ": listed "
+      std::cerr << "\n"
+                << ctx.Label << " " << spec.Name << " " << spec.Setting << ": listed "
                 << Fixed(100.0 * llsm->GetListedFraction(), 1) << " %, lists max "
                 << llsm->GetMaxListLength() << " mean " << Fixed(llsm->GetMeanListLength(), 2)
-                << ", " << llsm->GetNumberOfTests() << " tests, " << llsm->GetNumberOfTracedSamples()
-                << " traced; classify " << Fixed(llsm->GetClassifyTimeMs(), 1) << " ms, lists "
-                << Fixed(llsm->GetListTimeMs(), 1) << " ms, raster " << Fixed(llsm->GetRasterTimeMs(), 1)
-                << " ms, trace " << Fixed(llsm->GetTraceTimeMs(), 1) << " ms\n";
+                << ", " << llsm->GetNumberOfTests() << " tests, "
+                << llsm->GetNumberOfTracedSamples() << " traced; classify "
+                << Fixed(llsm->GetClassifyTimeMs(), 1) << " ms, lists "
+                << Fixed(llsm->GetListTimeMs(), 1) << " ms, raster "
+                << Fixed(llsm->GetRasterTimeMs(), 1) << " ms, trace "
+                << Fixed(llsm->GetTraceTimeMs(), 1) << " ms\n";
     }
     auto* gears = vtkPenumbraGearsShadows::SafeDownCast(technique);
     if (gears && gears->GetLastLightWasArea() && m.Area)
     {
       row.GearsStats = GearsStatistics(gears, pass, m, spec);
-      std::cerr << "\n" << ctx.Label << " gears " << spec.Setting << " light " << m.LightIndex
-                << ": " << row.GearsStats << "\n";
+      std::cerr << "\n"
+                << ctx.Label << " gears " << spec.Setting << " light " << m.LightIndex << ": "
+                << row.GearsStats << "\n";
     }
   }
   auto estimate = vtkSmartPointer<vtkFloatArray>::New();
@@ -915,10 +925,11 @@ void ScorePoint(SceneContext& ctx, Measured& m, const TechniqueSpec& spec, const
     measurable = vtkSmartPointer<vtkUnsignedCharArray>::New();
     estimate = RecoverVisibility(ctx.Renderer, ctx.Window, m.Light, ctx.Samples, measurable);
   }
-  const std::string stem = o.OutDir + "/" + FileSafe(ctx.Label + "__" + spec.Name + "_" + spec.Setting);
+  const std::string stem =
+    o.OutDir + "/" + FileSafe(ctx.Label + "__" + spec.Name + "_" + spec.Setting);
   // Error images per light; the first light keeps the name single-light scenes always had.
-  const std::string errorStem =
-    stem + (m.LightIndex == ctx.Lights.front()->LightIndex ? "" : "_light" + std::to_string(m.LightIndex));
+  const std::string errorStem = stem +
+    (m.LightIndex == ctx.Lights.front()->LightIndex ? "" : "_light" + std::to_string(m.LightIndex));
   vtkNew<vtkPenumbraMetrics> metrics;
   if (!m.Area)
   {
@@ -934,8 +945,8 @@ void ScorePoint(SceneContext& ctx, Measured& m, const TechniqueSpec& spec, const
     }
   }
   const bool exactSoft = m.Area && m.Area->GetShape() == vtkPenumbraAreaLight::Line;
-  metrics->CompareSoft(estimate, m.Reference, measurable,
-    !m.Area || exactSoft ? m.Ties.Get() : nullptr);
+  metrics->CompareSoft(
+    estimate, m.Reference, measurable, !m.Area || exactSoft ? m.Ties.Get() : nullptr);
   row.MAE = metrics->GetMAE();
   row.RMSE = metrics->GetRMSE();
   row.MaxError = metrics->GetMaxError();
@@ -982,8 +993,8 @@ void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o
     run.Fail(what, ctx.Registry->GetErrorMessage()); // options were checked before the run
     return;
   }
-  if (std::none_of(ctx.Lights.begin(), ctx.Lights.end(),
-        [&](const auto& m) { return Scores(ctx, *m, spec); }))
+  if (std::none_of(
+        ctx.Lights.begin(), ctx.Lights.end(), [&](const auto& m) { return Scores(ctx, *m, spec); }))
   {
     return;
   }
@@ -1001,20 +1012,21 @@ void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o
   double home[3], eye[3];
   moving->GetPosition(home);
   camera->GetPosition(eye);
-  auto nudge = [](const double p[3], int f) {
-    return (f + 1) * 1e-9 * (1.0 + std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2]));
-  };
-  const FrameTimes times = TimeFrames(ctx.Window, o.Warmup, o.Frames,
-    std::numeric_limits<double>::infinity(), [&](int f) {
-      if (o.MovingLight)
+  auto nudge = [](const double p[3], int f)
+  { return (f + 1) * 1e-9 * (1.0 + std::fabs(p[0]) + std::fabs(p[1]) + std::fabs(p[2])); };
+  const FrameTimes times =
+    TimeFrames(ctx.Window, o.Warmup, o.Frames, std::numeric_limits<double>::infinity(),
+      [&](int f)
       {
-        moving->SetPosition(home[0] + nudge(home, f), home[1], home[2]);
-      }
-      if (o.MovingCamera)
-      {
-        camera->SetPosition(eye[0] + nudge(eye, f), eye[1], eye[2]);
-      }
-    });
+        if (o.MovingLight)
+        {
+          moving->SetPosition(home[0] + nudge(home, f), home[1], home[2]);
+        }
+        if (o.MovingCamera)
+        {
+          camera->SetPosition(eye[0] + nudge(eye, f), eye[1], eye[2]);
+        }
+      });
   if (o.MovingLight || o.MovingCamera)
   {
     moving->SetPosition(home);
@@ -1064,7 +1076,8 @@ void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o
 // Every technique on one scene. Returns -1 to go on, or the exit status (no window).
 int MeasureScene(const std::string& sceneName, const Options& o, BenchRun& run)
 {
-  const int points = static_cast<int>(o.Techniques.size()) + 1; // the reference, then each technique
+  const int points =
+    static_cast<int>(o.Techniques.size()) + 1; // the reference, then each technique
   const std::string path = ResolveScene(sceneName);
   const std::string label = vtksys::SystemTools::GetFilenameWithoutLastExtension(path);
   Progress(run.Done, run.Total, label + ": loading");

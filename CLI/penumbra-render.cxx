@@ -13,8 +13,8 @@
 
 #include "PenumbraCLI.h"
 
-#include "vtkCommand.h"
 #include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPenumbraImageCompare.h"
@@ -47,13 +47,14 @@ int Usage(const char* why)
   {
     std::cerr << "penumbra-render: " << why << "\n";
   }
-  std::cerr << "usage: penumbra-render SCENE.json -o OUT.png [--size WxH] [--technique NAME]"
-               " [--option KEY=VALUE]... [--explain]\n"
-               "         [--baseline REF.png [--threshold T] [--fail-percent P] [--diff DIFF.png]]\n"
-               "       penumbra-render --list-techniques\n"
-               "       penumbra-render --options-markdown   (the technique section of SCHEMA.md)\n"
-               "exit status: 0 rendered (and matches the baseline), 1 differs from the baseline,\n"
-               "             2 bad arguments or scene, 3 rendering failed\n";
+  std::cerr
+    << "usage: penumbra-render SCENE.json -o OUT.png [--size WxH] [--technique NAME]"
+       " [--option KEY=VALUE]... [--explain]\n"
+       "         [--baseline REF.png [--threshold T] [--fail-percent P] [--diff DIFF.png]]\n"
+       "       penumbra-render --list-techniques\n"
+       "       penumbra-render --options-markdown   (the technique section of SCHEMA.md)\n"
+       "exit status: 0 rendered (and matches the baseline), 1 differs from the baseline,\n"
+       "             2 bad arguments or scene, 3 rendering failed\n";
   return 2;
 }
 
@@ -89,12 +90,14 @@ int CheckBaseline(const std::string& outPath, const penumbra_cli::BaselineOption
     return 1;
   }
   const std::string diff = baseline.DiffPath.empty()
-    ? vtksys::SystemTools::GetFilenamePath(outPath) + (vtksys::SystemTools::GetFilenamePath(outPath).empty() ? "" : "/") +
+    ? vtksys::SystemTools::GetFilenamePath(outPath) +
+      (vtksys::SystemTools::GetFilenamePath(outPath).empty() ? "" : "/") +
       vtksys::SystemTools::GetFilenameWithoutLastExtension(outPath) + ".diff.png"
     : baseline.DiffPath;
   const bool wrote = compare->WriteDifference(diff.c_str());
   std::cerr << "penumbra-render: " << outPath << " " << compare->GetMessage()
-            << (wrote ? "; difference image: " + diff : std::string("; ") + compare->GetMessage()) << "\n";
+            << (wrote ? "; difference image: " + diff : std::string("; ") + compare->GetMessage())
+            << "\n";
   return 1;
 }
 }
@@ -115,7 +118,8 @@ struct Arguments
 int ParseFlag(int argc, char* argv[], int& i, Arguments& args)
 {
   const std::string a = argv[i];
-  auto value = [&](const char* flag) -> const char* {
+  auto value = [&](const char* flag) -> const char*
+  {
     if (i + 1 >= argc)
     {
       Usage((std::string(flag) + " needs a value").c_str());
@@ -233,8 +237,9 @@ int ParseArguments(int argc, char* argv[], Arguments& args)
   }
   if (!args.Baseline.Path.empty() && !vtksys::SystemTools::FileExists(args.Baseline.Path, true))
   {
-    return Usage(("baseline " + args.Baseline.Path +
-      " not found (render once without --baseline to make one)").c_str());
+    return Usage(
+      ("baseline " + args.Baseline.Path + " not found (render once without --baseline to make one)")
+        .c_str());
   }
   if (!args.SizeArg.empty() && !penumbra_cli::ParseSize(args.SizeArg, args.Width, args.Height))
   {
@@ -317,8 +322,9 @@ int main(int argc, char* argv[])
   const auto t2 = Clock::now();
   penumbra_cli::ErrorLog errors;
   std::string windowError;
-  vtkSmartPointer<vtkRenderWindow> win = penumbra_cli::MakeWindow(args.Width ? args.Width : reader->GetWidth(),
-    args.Height ? args.Height : reader->GetHeight(), ren, errors, windowError);
+  vtkSmartPointer<vtkRenderWindow> win =
+    penumbra_cli::MakeWindow(args.Width ? args.Width : reader->GetWidth(),
+      args.Height ? args.Height : reader->GetHeight(), ren, errors, windowError);
   if (!win)
   {
     std::cerr << "penumbra-render: " << windowError << "\n";

@@ -42,7 +42,8 @@ int vtkPenumbraImageCompare::Compare(const char* image, const char* baseline)
   {
     if (!buf->read(0, 0, true, OIIO::TypeDesc::FLOAT))
     {
-      impl.Message = std::string(buf == &a ? image : baseline) + ": cannot read: " + buf->geterror();
+      impl.Message =
+        std::string(buf == &a ? image : baseline) + ": cannot read: " + buf->geterror();
       return -1;
     }
   }
@@ -57,8 +58,8 @@ int vtkPenumbraImageCompare::Compare(const char* image, const char* baseline)
     impl.Message = msg.str();
     return -1;
   }
-  const auto r = OIIO::ImageBufAlgo::compare(a, b, static_cast<float>(this->Threshold),
-    static_cast<float>(this->Threshold));
+  const auto r = OIIO::ImageBufAlgo::compare(
+    a, b, static_cast<float>(this->Threshold), static_cast<float>(this->Threshold));
   // OpenImageIO 2.4 sets r.error whenever some pixel fails; reading errors and size
   // mismatches were ruled out above, so nfail alone decides.
   this->NumberOfPixels = static_cast<vtkIdType>(sa.width) * sa.height;
@@ -96,8 +97,8 @@ int vtkPenumbraImageCompare::WriteDifference(const char* path)
   OIIO::ImageBuf clamped = OIIO::ImageBufAlgo::clamp(impl.Difference, 0.0f, 1.0f);
   if (!path || !clamped.write(path, OIIO::TypeDesc::UINT8))
   {
-    impl.Message = std::string(path ? path : "(none)") + ": cannot write the difference image: " +
-      clamped.geterror();
+    impl.Message = std::string(path ? path : "(none)") +
+      ": cannot write the difference image: " + clamped.geterror();
     return 0;
   }
   return 1;

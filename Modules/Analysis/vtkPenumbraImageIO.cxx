@@ -55,8 +55,9 @@ int vtkPenumbraImageIO::Write(vtkImageData* image, const char* path)
   // Temporary file in the target's folder, same extension so OIIO picks the format.
   const std::string target = path;
   const std::string ext = vtksys::SystemTools::GetFilenameLastExtension(target);
-  const std::string temp = vtksys::SystemTools::GetFilenamePath(vtksys::SystemTools::CollapseFullPath(target)) +
-    "/." + vtksys::SystemTools::GetFilenameWithoutLastExtension(target) + ".partial." +
+  const std::string temp =
+    vtksys::SystemTools::GetFilenamePath(vtksys::SystemTools::CollapseFullPath(target)) + "/." +
+    vtksys::SystemTools::GetFilenameWithoutLastExtension(target) + ".partial." +
     std::to_string(static_cast<long>(getpid())) + ext;
 
   auto out = OIIO::ImageOutput::create(target);
@@ -111,8 +112,8 @@ int vtkPenumbraImageIO::Read(const char* path, vtkImageData* image)
   const OIIO::stride_t rowBytes = static_cast<OIIO::stride_t>(pixelBytes) * spec.width;
   char* bottom = static_cast<char*>(image->GetScalarPointer());
   char* top = bottom + rowBytes * (spec.height - 1);
-  const bool ok = in->read_image(0, 0, 0, spec.nchannels, type, top,
-    static_cast<OIIO::stride_t>(pixelBytes), -rowBytes);
+  const bool ok = in->read_image(
+    0, 0, 0, spec.nchannels, type, top, static_cast<OIIO::stride_t>(pixelBytes), -rowBytes);
   if (!ok)
   {
     this->ErrorMessage = std::string(path) + ": read failed: " + in->geterror();

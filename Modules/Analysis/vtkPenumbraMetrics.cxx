@@ -38,8 +38,8 @@ enum class Kind
 bool SameSize(vtkUnsignedCharArray* a, vtkIdType n);
 
 // Why the arrays of a comparison cannot be compared, or nullptr if they can.
-const char* InputProblem(vtkFloatArray* test, vtkFloatArray* reference,
-  vtkUnsignedCharArray* ties, vtkUnsignedCharArray* mask)
+const char* InputProblem(vtkFloatArray* test, vtkFloatArray* reference, vtkUnsignedCharArray* ties,
+  vtkUnsignedCharArray* mask)
 {
   if (!test || !reference)
   {
@@ -167,10 +167,9 @@ int vtkPenumbraMetrics::CompareHard(vtkFloatArray* test, vtkFloatArray* referenc
       impl.Classes[i] = refLit ? ClassAgreeLit : ClassAgreeShadow;
     }
   }
-  this->MismatchRate = this->Candidates
-    ? static_cast<double>(this->FalseLit + this->FalseShadow) /
+  this->MismatchRate = this->Candidates ? static_cast<double>(this->FalseLit + this->FalseShadow) /
       static_cast<double>(this->Candidates)
-    : 0.0;
+                                        : 0.0;
   impl.Last = Kind::Hard;
   this->Modified();
   return 1;
@@ -225,7 +224,8 @@ int vtkPenumbraMetrics::CompareSoft(vtkFloatArray* test, vtkFloatArray* referenc
     // Nearest rank: the ceil(0.95 N)-th smallest value (1-based).
     const size_t rank = static_cast<size_t>(std::ceil(0.95 * static_cast<double>(count)));
     const size_t index = std::min(count, std::max<size_t>(rank, 1)) - 1;
-    std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(index), errors.end());
+    std::nth_element(
+      errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(index), errors.end());
     this->P95Error = errors[index];
   }
   impl.Last = Kind::Soft;
@@ -245,16 +245,17 @@ int vtkPenumbraMetrics::WriteErrorImage(int width, int height, const char* path)
   const size_t n = impl.Last == Kind::Hard ? impl.Classes.size() : impl.Errors.size();
   if (width < 1 || height < 1 || static_cast<size_t>(width) * static_cast<size_t>(height) != n)
   {
-    return this->Fail(("WriteErrorImage: " + std::to_string(width) + " x " +
-      std::to_string(height) + " does not match the " + std::to_string(n) +
-      " samples of the last comparison")
-                        .c_str());
+    return this->Fail(
+      ("WriteErrorImage: " + std::to_string(width) + " x " + std::to_string(height) +
+        " does not match the " + std::to_string(n) + " samples of the last comparison")
+        .c_str());
   }
   vtkNew<vtkImageData> image;
   image->SetDimensions(width, height, 1);
   image->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
   auto* rgb = static_cast<unsigned char*>(image->GetScalarPointer());
-  auto put = [rgb](size_t i, unsigned char r, unsigned char g, unsigned char b) {
+  auto put = [rgb](size_t i, unsigned char r, unsigned char g, unsigned char b)
+  {
     rgb[3 * i] = r;
     rgb[3 * i + 1] = g;
     rgb[3 * i + 2] = b;

@@ -51,8 +51,8 @@ OpenedDisplay OpenDisplay(int deviceIndex)
 {
   OpenedDisplay out;
   const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-  auto getPlatformDisplay =
-    reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
+  auto getPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+    eglGetProcAddress("eglGetPlatformDisplayEXT"));
   auto queryDevices =
     reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
   auto queryDeviceString =
@@ -79,8 +79,8 @@ OpenedDisplay OpenDisplay(int deviceIndex)
         out.Error = msg.str();
         return out;
       }
-      candidate =
-        getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[static_cast<size_t>(deviceIndex)], nullptr);
+      candidate = getPlatformDisplay(
+        EGL_PLATFORM_DEVICE_EXT, devices[static_cast<size_t>(deviceIndex)], nullptr);
       out.Description = "EGL device " + std::to_string(deviceIndex);
     }
     else
@@ -89,8 +89,9 @@ OpenedDisplay OpenDisplay(int deviceIndex)
       // through the surfaceless platform, which is what it is meant for.
       for (EGLint i = 0; i < count && candidate == EGL_NO_DISPLAY; ++i)
       {
-        const char* deviceExtensions =
-          queryDeviceString ? queryDeviceString(devices[static_cast<size_t>(i)], EGL_EXTENSIONS) : nullptr;
+        const char* deviceExtensions = queryDeviceString
+          ? queryDeviceString(devices[static_cast<size_t>(i)], EGL_EXTENSIONS)
+          : nullptr;
         if (HasExtension(deviceExtensions, "EGL_MESA_device_software"))
         {
           continue;
@@ -210,7 +211,8 @@ bool vtkPenumbraEGLRenderWindow::HasContext()
 bool vtkPenumbraEGLRenderWindow::CreateContext(std::string& why)
 {
   Internals& impl = *this->Impl;
-  auto fail = [&](const std::string& reason) {
+  auto fail = [&](const std::string& reason)
+  {
     if (impl.Display != EGL_NO_DISPLAY)
     {
       CloseDisplay(impl.Display);

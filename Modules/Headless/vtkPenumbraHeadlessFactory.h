@@ -9,8 +9,8 @@
  *  - `PENUMBRA_HEADLESS=osmesa`: always use vtkPenumbraOSMesaRenderWindow (Mesa's off-screen
  *    library instead of EGL);
  *  - `PENUMBRA_HEADLESS=0` (or `off`, `x`): never; VTK's X window is used as usual;
- *  - unset: use the EGL window exactly when `DISPLAY` is unset or empty, i.e. when VTK's X window could
- *    only fail with "bad X server connection".
+ *  - unset: use the EGL window exactly when `DISPLAY` is unset or empty, i.e. when VTK's X window
+ * could only fail with "bad X server connection".
  *
  * When installed, vtkRenderWindowInteractor::New() also returns a
  * vtkGenericRenderWindowInteractor, because VTK's X interactor opens the missing X display

@@ -36,7 +36,8 @@ void vtkPenumbraHeadlessRenderWindow::CreateAWindow()
   {
     return;
   }
-  auto fail = [&](const std::string& why) {
+  auto fail = [&](const std::string& why)
+  {
     if (!this->FailureReported)
     {
       vtkErrorMacro("Cannot create a headless OpenGL context: " << why);
@@ -74,8 +75,8 @@ void vtkPenumbraHeadlessRenderWindow::OpenGLInitContext()
     const GLenum result = glewInit();
     if (result != GLEW_OK && result != GLEW_ERROR_NO_GLX_DISPLAY)
     {
-      vtkErrorMacro("GLEW could not load OpenGL: "
-        << reinterpret_cast<const char*>(glewGetErrorString(result)));
+      vtkErrorMacro("GLEW could not load OpenGL: " << reinterpret_cast<const char*>(
+                      glewGetErrorString(result)));
       return;
     }
     if (!GLEW_VERSION_3_2)

@@ -53,24 +53,26 @@ const Dispatch& OSMesaDispatch()
 {
   static Dispatch dispatch;
   static std::once_flag once;
-  std::call_once(once, [] {
-    if (__glDispatchGetABIVersion() != GLdispatchABIVersion)
+  std::call_once(once,
+    []
     {
-      dispatch.Error = "glvnd's libGLdispatch has ABI version " +
-        std::to_string(__glDispatchGetABIVersion()) + ", this window supports version " +
-        std::to_string(GLdispatchABIVersion);
-      return;
-    }
-    __glDispatchInit();
-    dispatch.Vendor = __glDispatchNewVendorID();
-    dispatch.Table = __glDispatchCreateTable(
-      [](const char* name, void*) { return reinterpret_cast<void*>(OSMesaGetProcAddress(name)); },
-      nullptr);
-    if (!dispatch.Table)
-    {
-      dispatch.Error = "glvnd could not create a dispatch table for OSMesa";
-    }
-  });
+      if (__glDispatchGetABIVersion() != GLdispatchABIVersion)
+      {
+        dispatch.Error = "glvnd's libGLdispatch has ABI version " +
+          std::to_string(__glDispatchGetABIVersion()) + ", this window supports version " +
+          std::to_string(GLdispatchABIVersion);
+        return;
+      }
+      __glDispatchInit();
+      dispatch.Vendor = __glDispatchNewVendorID();
+      dispatch.Table = __glDispatchCreateTable([](const char* name, void*)
+        { return reinterpret_cast<void*>(OSMesaGetProcAddress(name)); },
+        nullptr);
+      if (!dispatch.Table)
+      {
+        dispatch.Error = "glvnd could not create a dispatch table for OSMesa";
+      }
+    });
   return dispatch;
 }
 
@@ -151,9 +153,9 @@ bool vtkPenumbraOSMesaRenderWindow::CreateContext(std::string& why)
   const int versions[][2] = { { 4, 5 }, { 4, 3 }, { 4, 1 }, { 3, 3 }, { 3, 2 } };
   for (const auto& v : versions)
   {
-    const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
-      OSMESA_STENCIL_BITS, 8, OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION,
-      v[0], OSMESA_CONTEXT_MINOR_VERSION, v[1], 0 };
+    const int attribs[] = { OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_STENCIL_BITS,
+      8, OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, v[0],
+      OSMESA_CONTEXT_MINOR_VERSION, v[1], 0 };
     impl.Context = OSMesaCreateContextAttribs(attribs, nullptr);
     if (impl.Context)
     {

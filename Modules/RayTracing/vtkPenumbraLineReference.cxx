@@ -37,9 +37,9 @@ constexpr int LeafSize = 4;
 struct Node
 {
   double Lo[3], Hi[3];
-  int Left = -1;  // inner node: children Left and Left + 1; leaf: -1
-  int First = 0;  // leaf: first index into the triangle order
-  int Count = 0;  // leaf: number of triangles
+  int Left = -1; // inner node: children Left and Left + 1; leaf: -1
+  int First = 0; // leaf: first index into the triangle order
+  int Count = 0; // leaf: number of triangles
 };
 
 double Dot3(const double a[3], const double b[3])
@@ -69,7 +69,8 @@ bool TriangleMeetsBox(const double c[3], const double h[3], const double t[3][3]
       return false;
     }
   }
-  auto separates = [&](const double a[3]) {
+  auto separates = [&](const double a[3])
+  {
     const double p0 = Dot3(a, v[0]), p1 = Dot3(a, v[1]), p2 = Dot3(a, v[2]);
     const double r = h[0] * std::fabs(a[0]) + h[1] * std::fabs(a[1]) + h[2] * std::fabs(a[2]);
     return std::min({ p0, p1, p2 }) > r || std::max({ p0, p1, p2 }) < -r;
@@ -238,8 +239,8 @@ struct vtkPenumbraLineReference::Internals
     }
     this->Nodes.reserve(2 * this->Triangles.size() / LeafSize + 2);
     this->Nodes.emplace_back();
-    std::vector<std::pair<int, std::pair<int, int>>> todo = { { 0, { 0,
-      static_cast<int>(this->Triangles.size()) } } };
+    std::vector<std::pair<int, std::pair<int, int>>> todo = { { 0,
+      { 0, static_cast<int>(this->Triangles.size()) } } };
     while (!todo.empty())
     {
       const int index = todo.back().first;
@@ -261,7 +262,8 @@ struct vtkPenumbraLineReference::Internals
         axis = node.Hi[k] - node.Lo[k] > node.Hi[axis] - node.Lo[axis] ? k : axis;
       }
       const int half = count / 2;
-      auto centre = [&](int t) {
+      auto centre = [&](int t)
+      {
         const ExactTriangle& tri = this->Triangles[static_cast<size_t>(t)];
         return tri.V[0][axis] + tri.V[1][axis] + tri.V[2][axis];
       };
@@ -319,9 +321,8 @@ struct vtkPenumbraLineReference::Internals
   // part above its tangent plane less the union of the intervals the triangles block.
   // `blocked` is scratch; `tie` is set when a hit may lie in the tracer's tie band.
   float SampleVisibility(const double p[3], const double normal[3], vtkIdType own,
-    const double a[3], const double ab[3], double epsilon, double endFraction,
-    double tieFactor, std::vector<std::pair<double, double>>& blocked, bool& tie,
-    vtkIdType& candidates) const
+    const double a[3], const double ab[3], double epsilon, double endFraction, double tieFactor,
+    std::vector<std::pair<double, double>>& blocked, bool& tie, vtkIdType& candidates) const
   {
     // Tangent plane: only light points with N.(x(t) - p) > 0 can count.
     double lo = 0.0, hi = 1.0;
@@ -337,24 +338,26 @@ struct vtkPenumbraLineReference::Internals
     const penumbra_rules::RayBand band =
       penumbra_rules::SampleBand(p, this->Diagonal, epsilon, tieFactor);
     blocked.clear();
-    this->Query(query, 1e-9 * band.Scale, [&](const ExactTriangle& tri) {
-      if (tri.Id == own)
+    this->Query(query, 1e-9 * band.Scale,
+      [&](const ExactTriangle& tri)
       {
-        return;
-      }
-      ++candidates;
-      double tlo = lo, thi = hi, planeDistance = 0.0;
-      if (!BlockedInterval(p, a, ab, tri, endFraction, tlo, thi, planeDistance))
-      {
-        return;
-      }
-      if (planeDistance < band.TieLimit)
-      {
-        tie = true; // every hit could be inside the tracer's tie band
-        return;
-      }
-      blocked.emplace_back(tlo, thi);
-    });
+        if (tri.Id == own)
+        {
+          return;
+        }
+        ++candidates;
+        double tlo = lo, thi = hi, planeDistance = 0.0;
+        if (!BlockedInterval(p, a, ab, tri, endFraction, tlo, thi, planeDistance))
+        {
+          return;
+        }
+        if (planeDistance < band.TieLimit)
+        {
+          tie = true; // every hit could be inside the tracer's tie band
+          return;
+        }
+        blocked.emplace_back(tlo, thi);
+      });
     const double covered = CoveredLength(blocked, lo);
     return static_cast<float>(std::min(1.0, std::max(0.0, (hi - lo) - covered)));
   }
@@ -414,8 +417,8 @@ int vtkPenumbraLineReference::EnsureHierarchy()
     return 1;
   }
   vtkDoubleArray* vertices = geometry->GetVertices();
-  if (n > 0 && (!vertices || vertices->GetNumberOfComponents() != 9 ||
-                 vertices->GetNumberOfTuples() != n))
+  if (n > 0 &&
+    (!vertices || vertices->GetNumberOfComponents() != 9 || vertices->GetNumberOfTuples() != n))
   {
     return this->Fail("scene geometry is inconsistent: the vertex array does not match its "
                       "number of triangles");
@@ -519,41 +522,43 @@ int vtkPenumbraLineReference::ComputeVisibility(
   const vtkIdType* triangleIds = count ? tris->GetPointer(0) : nullptr;
   std::atomic<vtkIdType> candidateCount(0), tieCount(0);
 
-  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
-    std::vector<std::pair<double, double>> blocked;
-    vtkIdType localCandidates = 0, localTies = 0;
-    for (vtkIdType s = begin; s < end; ++s)
+  vtkSMPTools::For(0, count,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      ties[s] = 0;
-      double p[3], normal[3];
-      for (int c = 0; c < 3; ++c)
+      std::vector<std::pair<double, double>> blocked;
+      vtkIdType localCandidates = 0, localTies = 0;
+      for (vtkIdType s = begin; s < end; ++s)
       {
-        p[c] = static_cast<double>(positions[3 * s + c]) + shift[c];
-        normal[c] = normals[3 * s + c];
+        ties[s] = 0;
+        double p[3], normal[3];
+        for (int c = 0; c < 3; ++c)
+        {
+          p[c] = static_cast<double>(positions[3 * s + c]) + shift[c];
+          normal[c] = normals[3 * s + c];
+        }
+        if (propIds[s] < 0 || !std::isfinite(p[0] + p[1] + p[2]) ||
+          !std::isfinite(normal[0] + normal[1] + normal[2]))
+        {
+          vis[s] = -1.0f;
+          continue;
+        }
+        if (off)
+        {
+          vis[s] = 1.0f;
+          continue;
+        }
+        bool tie = false;
+        vis[s] = impl.SampleVisibility(p, normal, triangleIds[s], a, ab, epsilon, endFraction,
+          tieFactor, blocked, tie, localCandidates);
+        if (tie)
+        {
+          ties[s] = 1;
+          ++localTies;
+        }
       }
-      if (propIds[s] < 0 || !std::isfinite(p[0] + p[1] + p[2]) ||
-        !std::isfinite(normal[0] + normal[1] + normal[2]))
-      {
-        vis[s] = -1.0f;
-        continue;
-      }
-      if (off)
-      {
-        vis[s] = 1.0f;
-        continue;
-      }
-      bool tie = false;
-      vis[s] = impl.SampleVisibility(p, normal, triangleIds[s], a, ab, epsilon, endFraction,
-        tieFactor, blocked, tie, localCandidates);
-      if (tie)
-      {
-        ties[s] = 1;
-        ++localTies;
-      }
-    }
-    candidateCount += localCandidates;
-    tieCount += localTies;
-  });
+      candidateCount += localCandidates;
+      tieCount += localTies;
+    });
   this->NumberOfCandidates = candidateCount.load();
   this->NumberOfTies = tieCount.load();
   visibility->Modified();

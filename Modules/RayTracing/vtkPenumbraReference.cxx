@@ -8,8 +8,8 @@
 #include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPenumbraVisibilityRules.h"
@@ -156,8 +156,8 @@ struct vtkPenumbraReference::Internals
     ray.TNear = static_cast<float>(band.TNear);
     ray.TieLimit = static_cast<float>(band.TieLimit);
     const vtkIdType count = static_cast<vtkIdType>(this->TriangleToPrimitive.size());
-    ray.Own = tri >= 0 && tri < count ? this->TriangleToPrimitive[static_cast<size_t>(tri)]
-                                      : NoPrimitive;
+    ray.Own =
+      tri >= 0 && tri < count ? this->TriangleToPrimitive[static_cast<size_t>(tri)] : NoPrimitive;
     return ray;
   }
 
@@ -391,9 +391,9 @@ std::string CheckSamples(vtkPenumbraViewSamples* samples, SampleInput& in)
   {
     std::ostringstream msg;
     msg << "view sample arrays do not match the " << samples->GetWidth() << " x "
-        << samples->GetHeight() << " size: positions " << pos->GetNumberOfTuples()
-        << ", normals " << nrm->GetNumberOfTuples() << ", prop indices "
-        << props->GetNumberOfTuples() << ", triangle ids " << tris->GetNumberOfTuples();
+        << samples->GetHeight() << " size: positions " << pos->GetNumberOfTuples() << ", normals "
+        << nrm->GetNumberOfTuples() << ", prop indices " << props->GetNumberOfTuples()
+        << ", triangle ids " << tris->GetNumberOfTuples();
     return msg.str();
   }
   double origin[3];
@@ -448,14 +448,14 @@ int vtkPenumbraReference::ComputeVisibility(vtkPenumbraViewSamples* samples, vtk
     visibility->GetNumberOfTuples() != n || visibility->GetNumberOfComponents() != 1)
   {
     return this->Fail("the sample mask and the visibility array must have one "
-                            "component and one tuple per view sample");
+                      "component and one tuple per view sample");
   }
   return this->ComputeHardVisibility(samples, light, visibility, mask);
 }
 
 //------------------------------------------------------------------------------
-int vtkPenumbraReference::ComputeHardVisibility(vtkPenumbraViewSamples* samples,
-  vtkLight* light, vtkFloatArray* visibility, vtkUnsignedCharArray* mask)
+int vtkPenumbraReference::ComputeHardVisibility(vtkPenumbraViewSamples* samples, vtkLight* light,
+  vtkFloatArray* visibility, vtkUnsignedCharArray* mask)
 {
   const auto start = Clock::now();
   this->Impl->Error.clear();
@@ -501,8 +501,7 @@ int vtkPenumbraReference::ComputeHardVisibility(vtkPenumbraViewSamples* samples,
       }
       if (!(vtkMath::Normalize(rays.Direction) > 0.0))
       {
-        return this->Fail(
-          "directional light has no direction (position equals focal point)");
+        return this->Fail("directional light has no direction (position equals focal point)");
       }
     }
     else
@@ -528,8 +527,8 @@ int vtkPenumbraReference::ComputeHardVisibility(vtkPenumbraViewSamples* samples,
     }
   }
   rays.Off = !penumbra_rules::LightEmits(light);
-  const int ok =
-    this->Run(samples, rays, visibility, nullptr, mask && mask->GetNumberOfTuples() ? mask->GetPointer(0) : nullptr);
+  const int ok = this->Run(samples, rays, visibility, nullptr,
+    mask && mask->GetNumberOfTuples() ? mask->GetPointer(0) : nullptr);
   if (ok)
   {
     this->LastTimeMs = ElapsedMs(start);
@@ -575,8 +574,8 @@ int vtkPenumbraReference::ComputeAreaMasks(
 
 //------------------------------------------------------------------------------
 int vtkPenumbraReference::TraceAreaRays(vtkPenumbraViewSamples* samples,
-  vtkPenumbraAreaLight* light, vtkIdType count, const vtkIdType* sampleIds,
-  const int* lightSamples, unsigned char* visible)
+  vtkPenumbraAreaLight* light, vtkIdType count, const vtkIdType* sampleIds, const int* lightSamples,
+  unsigned char* visible)
 {
   const auto start = Clock::now();
   Internals& impl = *this->Impl;
@@ -584,7 +583,7 @@ int vtkPenumbraReference::TraceAreaRays(vtkPenumbraViewSamples* samples,
   if (!light || count < 0 || (count > 0 && (!sampleIds || !lightSamples || !visible)))
   {
     return this->Fail("TraceAreaRays needs an area light and count >= 0 input and output "
-                            "entries");
+                      "entries");
   }
   const std::string problem = light->GetValidityMessage();
   if (!problem.empty())
@@ -635,40 +634,42 @@ int vtkPenumbraReference::TraceAreaRays(vtkPenumbraViewSamples* samples,
   const double epsilon = this->RelativeEpsilon;
   const double tieFactor = this->TieFactor;
   std::atomic<vtkIdType> rayCount(0);
-  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
-    vtkIdType localRays = 0;
-    for (vtkIdType i = begin; i < end; ++i)
+  vtkSMPTools::For(0, count,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const vtkIdType s = sampleIds[i];
-      double p[3], normal[3];
-      for (int c = 0; c < 3; ++c)
+      vtkIdType localRays = 0;
+      for (vtkIdType i = begin; i < end; ++i)
       {
-        p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
-        normal[c] = in.Normals[3 * s + c];
+        const vtkIdType s = sampleIds[i];
+        double p[3], normal[3];
+        for (int c = 0; c < 3; ++c)
+        {
+          p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
+          normal[c] = in.Normals[3 * s + c];
+        }
+        if (in.Props[s] < 0 || !Finite3(p) || !Finite3(normal))
+        {
+          visible[i] = 0;
+          continue;
+        }
+        if (off)
+        {
+          visible[i] = 1;
+          continue;
+        }
+        const double* q = &points[3 * static_cast<size_t>(lightSamples[i])];
+        const double toLight[3] = { q[0] - p[0], q[1] - p[1], q[2] - p[2] };
+        if (!(vtkMath::Dot(normal, toLight) > 0.0))
+        {
+          visible[i] = 0;
+          continue;
+        }
+        const Internals::SampleRay ray = impl.MakeRay(p, in.Triangles[s], epsilon, tieFactor);
+        bool tie = false;
+        visible[i] = impl.Visible(ray, toLight, true, epsilon, tie, localRays) ? 1 : 0;
       }
-      if (in.Props[s] < 0 || !Finite3(p) || !Finite3(normal))
-      {
-        visible[i] = 0;
-        continue;
-      }
-      if (off)
-      {
-        visible[i] = 1;
-        continue;
-      }
-      const double* q = &points[3 * static_cast<size_t>(lightSamples[i])];
-      const double toLight[3] = { q[0] - p[0], q[1] - p[1], q[2] - p[2] };
-      if (!(vtkMath::Dot(normal, toLight) > 0.0))
-      {
-        visible[i] = 0;
-        continue;
-      }
-      const Internals::SampleRay ray = impl.MakeRay(p, in.Triangles[s], epsilon, tieFactor);
-      bool tie = false;
-      visible[i] = impl.Visible(ray, toLight, true, epsilon, tie, localRays) ? 1 : 0;
-    }
-    rayCount += localRays;
-  });
+      rayCount += localRays;
+    });
   this->NumberOfRays = rayCount.load();
   this->LastTimeMs = ElapsedMs(start);
   return 1;
@@ -756,7 +757,7 @@ int vtkPenumbraReference::EnsureScene()
       vertices->GetNumberOfTuples() != nTriangles || flags->GetNumberOfTuples() != nTriangles))
   {
     return this->Fail("scene geometry is inconsistent: vertex or flag arrays do not "
-                            "match its number of triangles");
+                      "match its number of triangles");
   }
   if (nTriangles > static_cast<vtkIdType>(std::numeric_limits<unsigned int>::max() / 3))
   {
@@ -914,64 +915,66 @@ int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& 
   std::atomic<vtkIdType> rayCount(0);
   std::atomic<vtkIdType> tieCount(0);
 
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    vtkIdType localRays = 0;
-    vtkIdType localTies = 0;
-    for (vtkIdType s = begin; s < end; ++s)
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      ties[s] = 0;
-      if (subset && !subset[s])
+      vtkIdType localRays = 0;
+      vtkIdType localTies = 0;
+      for (vtkIdType s = begin; s < end; ++s)
       {
-        continue; // not ours to decide: the caller's value stays
-      }
-      double p[3], normal[3];
-      for (int c = 0; c < 3; ++c)
-      {
-        p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
-        normal[c] = in.Normals[3 * s + c];
-      }
-      if (in.Props[s] < 0 || !Finite3(p) || !Finite3(normal))
-      {
-        if (vis)
+        ties[s] = 0;
+        if (subset && !subset[s])
         {
-          vis[s] = -1.0f;
+          continue; // not ours to decide: the caller's value stays
         }
-        continue;
-      }
-      vtkTypeUInt32* bitRow = bits ? bits + static_cast<size_t>(s) * words : nullptr;
-      if (local.Off)
-      {
-        if (vis)
+        double p[3], normal[3];
+        for (int c = 0; c < 3; ++c)
         {
-          vis[s] = 1.0f;
+          p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
+          normal[c] = in.Normals[3 * s + c];
         }
-        if (bitRow)
+        if (in.Props[s] < 0 || !Finite3(p) || !Finite3(normal))
         {
-          for (size_t j = 0; j < nLight; ++j)
+          if (vis)
           {
-            bitRow[j / 32] |= 1u << (j % 32);
+            vis[s] = -1.0f;
           }
+          continue;
         }
-        continue;
+        vtkTypeUInt32* bitRow = bits ? bits + static_cast<size_t>(s) * words : nullptr;
+        if (local.Off)
+        {
+          if (vis)
+          {
+            vis[s] = 1.0f;
+          }
+          if (bitRow)
+          {
+            for (size_t j = 0; j < nLight; ++j)
+            {
+              bitRow[j / 32] |= 1u << (j % 32);
+            }
+          }
+          continue;
+        }
+        const Internals::SampleRay ray = impl.MakeRay(p, in.Triangles[s], epsilon, tieFactor);
+        bool tie = false;
+        const float value = local.Kind == LightKind::Area
+          ? impl.TraceAreaSample(ray, local, p, normal, epsilon, bitRow, tie, localRays)
+          : impl.TraceHardSample(ray, local, p, normal, epsilon, tie, localRays);
+        if (vis)
+        {
+          vis[s] = value;
+        }
+        if (tie)
+        {
+          ties[s] = 1;
+          ++localTies;
+        }
       }
-      const Internals::SampleRay ray = impl.MakeRay(p, in.Triangles[s], epsilon, tieFactor);
-      bool tie = false;
-      const float value = local.Kind == LightKind::Area
-        ? impl.TraceAreaSample(ray, local, p, normal, epsilon, bitRow, tie, localRays)
-        : impl.TraceHardSample(ray, local, p, normal, epsilon, tie, localRays);
-      if (vis)
-      {
-        vis[s] = value;
-      }
-      if (tie)
-      {
-        ties[s] = 1;
-        ++localTies;
-      }
-    }
-    rayCount += localRays;
-    tieCount += localTies;
-  });
+      rayCount += localRays;
+      tieCount += localTies;
+    });
 
   this->NumberOfRays = rayCount.load();
   this->NumberOfTies = tieCount.load();

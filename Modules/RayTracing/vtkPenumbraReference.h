@@ -133,8 +133,8 @@ public:
    * tuple per sample. GetNumberOfRays() counts the rays of the masked samples only.
    * Returns 1 on success, 0 on bad input (outputs untouched).
    */
-  int ComputeVisibility(vtkPenumbraViewSamples* samples, vtkLight* light,
-    vtkFloatArray* visibility, vtkUnsignedCharArray* mask);
+  int ComputeVisibility(vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility,
+    vtkUnsignedCharArray* mask);
 
   /**
    * Per-sample light-sample bit masks for an area light: ceil(n / 32) 32-bit words per sample
@@ -153,9 +153,8 @@ public:
    * light samples it could not decide. Ties are not reported. Returns 1 on success, 0 on bad
    * input (an index out of range included; outputs untouched).
    */
-  int TraceAreaRays(vtkPenumbraViewSamples* samples, vtkPenumbraAreaLight* light,
-    vtkIdType count, const vtkIdType* sampleIds, const int* lightSamples,
-    unsigned char* visible);
+  int TraceAreaRays(vtkPenumbraViewSamples* samples, vtkPenumbraAreaLight* light, vtkIdType count,
+    const vtkIdType* sampleIds, const int* lightSamples, unsigned char* visible);
 
   /**
    * Converged soft visibility: the same rule as ComputeVisibility() with the light sampled

@@ -82,8 +82,8 @@ enum class Hit
  * decision keeps `errPos` of margin (a length; grown by 1/|cos| where a shifted ray slides
  * along the plane). `edge` receives the edge of an OnEdge answer.
  */
-VTKPENUMBRARAYTRACING_EXPORT Hit SegmentTest(const double o[3], const double d[3],
-  double tieLimit, double tmax, const ExactTriangle& triangle, double errPos, int& edge);
+VTKPENUMBRARAYTRACING_EXPORT Hit SegmentTest(const double o[3], const double d[3], double tieLimit,
+  double tmax, const ExactTriangle& triangle, double errPos, int& edge);
 }
 
 #endif

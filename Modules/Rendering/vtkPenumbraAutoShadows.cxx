@@ -33,8 +33,8 @@ vtkPenumbraShadowTechnique* vtkPenumbraAutoShadows::SelectTechnique(
   if (auto* area = vtkPenumbraAreaLight::SafeDownCast(light))
   {
     const int k = this->SamplesPerAxis > 0 ? this->SamplesPerAxis
-      : this->Quality == QUALITY_FAST     ? 4
-                                          : 0;
+      : this->Quality == QUALITY_FAST      ? 4
+                                           : 0;
     const int used = k > 0 ? k : area->GetSamplesPerAxis();
     const std::string fast = this->Quality == QUALITY_FAST && this->SamplesPerAxis == 0
       ? "; quality=fast: k = 4, the cheapest measured setting"
@@ -49,7 +49,8 @@ vtkPenumbraShadowTechnique* vtkPenumbraAutoShadows::SelectTechnique(
       impl.Traced->SetSamplesPerAxis(k);
       why = "soft light at k = " + std::to_string(used) +
         ": exact; at k <= 4 the ray tracer was as fast as gears or faster (docs/gears.md: "
-        "city 79 vs 76 ms, area_light 226 vs 1046 ms)" + fast;
+        "city 79 vs 76 ms, area_light 226 vs 1046 ms)" +
+        fast;
       return impl.Traced;
     }
     if (!impl.Gears)
@@ -59,7 +60,8 @@ vtkPenumbraShadowTechnique* vtkPenumbraAutoShadows::SelectTechnique(
     impl.Gears->SetSamplesPerAxis(k);
     why = "soft light at k = " + std::to_string(used) +
       ": exact, the same visibility as raytraced at that k and 2.5-25x faster on the city "
-      "for k >= 8 (docs/gears.md)" + fast;
+      "for k >= 8 (docs/gears.md)" +
+      fast;
     return impl.Gears;
   }
   if (!impl.Traced)
@@ -93,9 +95,8 @@ int vtkPenumbraAutoShadows::ComputeVisibility(vtkRenderer* renderer,
 void vtkPenumbraAutoShadows::ReleaseGraphicsResources(vtkWindow* window)
 {
   Internals& impl = *this->Impl;
-  for (vtkPenumbraShadowTechnique* t :
-    { static_cast<vtkPenumbraShadowTechnique*>(impl.Traced),
-      static_cast<vtkPenumbraShadowTechnique*>(impl.Gears) })
+  for (vtkPenumbraShadowTechnique* t : { static_cast<vtkPenumbraShadowTechnique*>(impl.Traced),
+         static_cast<vtkPenumbraShadowTechnique*>(impl.Gears) })
   {
     if (t)
     {

@@ -24,8 +24,8 @@ struct Footprint
 {
   vtkIdType Id = -1;
   int NumEdges = 0;
-  bool Line = false;               // degenerate projection: Edge[0] is a two-sided line
-  double Edge[MaxPolygon][3] = {}; // a x + b y + c >= 0 inside (texel units)
+  bool Line = false;                    // degenerate projection: Edge[0] is a two-sided line
+  double Edge[MaxPolygon][3] = {};      // a x + b y + c >= 0 inside (texel units)
   int X0 = 0, X1 = -1, Y0 = 0, Y1 = -1; // texel range, inclusive
   bool PlaneOk = false;
   double Plane[3] = { 0, 0, 0 }; // orthographic: depth; perspective: 1 / depth, affine in x, y
@@ -77,8 +77,11 @@ struct TileCull
   bool Empty(int size, double x0, double x1, double y0, double y1) const
   {
     // Clamped before the conversion (huge or NaN coordinates keep the whole map).
-    auto texel = [size](double v) {
-      return std::max(0, std::min(size - 1, static_cast<int>(std::min<double>(size, std::max(-1.0, std::floor(v))))));
+    auto texel = [size](double v)
+    {
+      return std::max(0,
+        std::min(
+          size - 1, static_cast<int>(std::min<double>(size, std::max(-1.0, std::floor(v))))));
     };
     if (!std::isfinite(x0 + x1 + y0 + y1))
     {
@@ -96,7 +99,8 @@ struct TileCull
     }
     const int w = this->Tiles + 1;
     return this->Sum[(ty1 + 1) * w + tx1 + 1] - this->Sum[ty0 * w + tx1 + 1] -
-      this->Sum[(ty1 + 1) * w + tx0] + this->Sum[ty0 * w + tx0] == 0;
+      this->Sum[(ty1 + 1) * w + tx0] + this->Sum[ty0 * w + tx0] ==
+      0;
   }
 };
 
@@ -113,8 +117,8 @@ void FitDepthPlane(const double X[3], const double Y[3], const double Q[3], Foot
     fp.Plane[0] = (eq1 * ey2 - eq2 * ey1) / det;
     fp.Plane[1] = (ex1 * eq2 - ex2 * eq1) / det;
     fp.Plane[2] = Q[0] - fp.Plane[0] * X[0] - fp.Plane[1] * Y[0];
-    fp.PlaneOk = std::isfinite(fp.Plane[0]) && std::isfinite(fp.Plane[1]) &&
-      std::isfinite(fp.Plane[2]);
+    fp.PlaneOk =
+      std::isfinite(fp.Plane[0]) && std::isfinite(fp.Plane[1]) && std::isfinite(fp.Plane[2]);
   }
 }
 
@@ -180,8 +184,8 @@ void SetSeparatingAxes(const double* px, const double* py, int n, double extent,
 // Projects triangle `id` into `view`. Returns 0 when it misses the view (or, with `cull`,
 // every active tile), 1 when `fp` is ready to rasterize, 2 when it reaches the apex region
 // (perspective views).
-int MakeFootprint(const penumbra_light_views::View& view, int size, const double* tri,
-  vtkIdType id, Footprint& fp, const TileCull* cull)
+int MakeFootprint(const penumbra_light_views::View& view, int size, const double* tri, vtkIdType id,
+  Footprint& fp, const TileCull* cull)
 {
   const double slack = 1.0 + 2.0 / size; // one texel beyond the map on each side
   Clip poly[MaxPolygon];
@@ -204,8 +208,7 @@ int MakeFootprint(const penumbra_light_views::View& view, int size, const double
     wMin = std::min(wMin, c.P[3]);
     wMax = std::max(wMax, c.P[3]);
   }
-  if (outside[0] == 3 || outside[1] == 3 || outside[2] == 3 || outside[3] == 3 ||
-    !(wMax > 0.0))
+  if (outside[0] == 3 || outside[1] == 3 || outside[2] == 3 || outside[3] == 3 || !(wMax > 0.0))
   {
     return 0; // wholly outside one side plane, or behind the apex
   }
@@ -255,8 +258,7 @@ int MakeFootprint(const penumbra_light_views::View& view, int size, const double
     xmax = std::max(xmax, px[k]);
     ymin = std::min(ymin, py[k]);
     ymax = std::max(ymax, py[k]);
-    fp.VertexMin =
-      std::min(fp.VertexMin, view.Perspective ? c.P[3] / view.Far : c.P[2]);
+    fp.VertexMin = std::min(fp.VertexMin, view.Perspective ? c.P[3] / view.Far : c.P[2]);
   }
   if (!std::isfinite(xmin + xmax + ymin + ymax + fp.VertexMin))
   {
@@ -308,8 +310,8 @@ bool Overlaps(const Footprint& fp, double x0, double x1, double y0, double y1)
 // triangle's stored depth over the square, never
 // below its smallest vertex depth. The depth quantity is affine over the square, so its
 // extreme is at a corner; a float result is rounded down.
-float ConservativeDepth(const Footprint& fp, bool perspective, double x0, double x1, double y0,
-  double y1)
+float ConservativeDepth(
+  const Footprint& fp, bool perspective, double x0, double x1, double y0, double y1)
 {
   double depth = fp.VertexMin;
   if (fp.PlaneOk)
@@ -381,19 +383,21 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
   const vtkIdType nc = static_cast<vtkIdType>(casters.size());
   std::vector<Footprint> footprints(casters.size());
   std::vector<unsigned char> status(casters.size(), 0);
-  vtkSMPTools::For(0, nc, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
+  vtkSMPTools::For(0, nc,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const vtkIdType id = casters[static_cast<size_t>(i)];
-      status[static_cast<size_t>(i)] = static_cast<unsigned char>(
-        MakeFootprint(view, size, vertices + 9 * id, id, footprints[static_cast<size_t>(i)],
-          active ? &cull : nullptr));
-    }
-  });
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        const vtkIdType id = casters[static_cast<size_t>(i)];
+        status[static_cast<size_t>(i)] = static_cast<unsigned char>(MakeFootprint(view, size,
+          vertices + 9 * id, id, footprints[static_cast<size_t>(i)], active ? &cull : nullptr));
+      }
+    });
 
   // 2. Bin them to tiles (counting sort, in caster order).
   std::vector<vtkIdType> start(static_cast<size_t>(tiles) * tiles + 1, 0);
-  auto forTiles = [&](const Footprint& fp, auto&& f) {
+  auto forTiles = [&](const Footprint& fp, auto&& f)
+  {
     for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
     {
       for (int tx = fp.X0 / TileSize; tx <= fp.X1 / TileSize; ++tx)
@@ -430,53 +434,55 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
   {
     if (status[i] == 1)
     {
-      forTiles(footprints[i], [&](size_t tile) {
-        binned[static_cast<size_t>(fill[tile]++)] = static_cast<std::uint32_t>(i);
-      });
+      forTiles(footprints[i],
+        [&](size_t tile)
+        { binned[static_cast<size_t>(fill[tile]++)] = static_cast<std::uint32_t>(i); });
     }
   }
 
   // 3. Rasterize tile by tile.
   std::atomic<vtkIdType> tests(0), writes(0), work(0);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(tiles) * tiles, [&](vtkIdType begin, vtkIdType end) {
-    vtkIdType localTests = 0, localWrites = 0, localWork = 0;
-    for (vtkIdType tile = begin; tile < end; ++tile)
+  vtkSMPTools::For(0, static_cast<vtkIdType>(tiles) * tiles,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const int tx0 = static_cast<int>(tile % tiles) * TileSize;
-      const int ty0 = static_cast<int>(tile / tiles) * TileSize;
-      const int tx1 = std::min(size - 1, tx0 + TileSize - 1);
-      const int ty1 = std::min(size - 1, ty0 + TileSize - 1);
-      for (vtkIdType b = start[static_cast<size_t>(tile)]; b < start[static_cast<size_t>(tile) + 1];
-           ++b)
+      vtkIdType localTests = 0, localWrites = 0, localWork = 0;
+      for (vtkIdType tile = begin; tile < end; ++tile)
       {
-        const Footprint& fp = footprints[binned[static_cast<size_t>(b)]];
-        for (int y = std::max(ty0, fp.Y0); y <= std::min(ty1, fp.Y1); ++y)
+        const int tx0 = static_cast<int>(tile % tiles) * TileSize;
+        const int ty0 = static_cast<int>(tile / tiles) * TileSize;
+        const int tx1 = std::min(size - 1, tx0 + TileSize - 1);
+        const int ty1 = std::min(size - 1, ty0 + TileSize - 1);
+        for (vtkIdType b = start[static_cast<size_t>(tile)];
+             b < start[static_cast<size_t>(tile) + 1]; ++b)
         {
-          const double y0 = y - Grow, y1 = y + 1 + Grow;
-          for (int x = std::max(tx0, fp.X0); x <= std::min(tx1, fp.X1); ++x)
+          const Footprint& fp = footprints[binned[static_cast<size_t>(b)]];
+          for (int y = std::max(ty0, fp.Y0); y <= std::min(ty1, fp.Y1); ++y)
           {
-            const size_t texel = static_cast<size_t>(y) * size + x;
-            if (active && !active[texel])
+            const double y0 = y - Grow, y1 = y + 1 + Grow;
+            for (int x = std::max(tx0, fp.X0); x <= std::min(tx1, fp.X1); ++x)
             {
-              continue;
+              const size_t texel = static_cast<size_t>(y) * size + x;
+              if (active && !active[texel])
+              {
+                continue;
+              }
+              const double x0 = x - Grow, x1 = x + 1 + Grow;
+              ++localTests;
+              if (!Overlaps(fp, x0, x1, y0, y1))
+              {
+                continue;
+              }
+              ++localWrites;
+              localWork +=
+                visit(texel, fp.Id, ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1));
             }
-            const double x0 = x - Grow, x1 = x + 1 + Grow;
-            ++localTests;
-            if (!Overlaps(fp, x0, x1, y0, y1))
-            {
-              continue;
-            }
-            ++localWrites;
-            localWork +=
-              visit(texel, fp.Id, ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1));
           }
         }
       }
-    }
-    tests += localTests;
-    writes += localWrites;
-    work += localWork;
-  });
+      tests += localTests;
+      writes += localWrites;
+      work += localWork;
+    });
   stats.TexelTests = tests.load();
   stats.TexelWrites = writes.load();
   stats.VisitWork = work.load();
@@ -498,7 +504,8 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
   // Each texel keeps its `layers` smallest conservative depths, sorted; equal depths keep
   // caster order.
   return Rasterize(view, size, vertices, casters, nullptr, nearTriangles,
-    [&](size_t texel, vtkIdType triangle, float d) -> vtkIdType {
+    [&](size_t texel, vtkIdType triangle, float d) -> vtkIdType
+    {
       const std::uint32_t id = static_cast<std::uint32_t>(triangle) + 1u;
       for (int k = 0; k < layers; ++k)
       {

@@ -12,8 +12,8 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
-#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
@@ -27,10 +27,10 @@
 #include "vtkWeakPointer.h"
 #include "vtk_glew.h"
 
+#include "vtkPenumbraConservativeMapCPU.h"
 #include "vtkPenumbraConservativeMapFS.h"
 #include "vtkPenumbraConservativeMapGS.h"
 #include "vtkPenumbraConservativeMapVS.h"
-#include "vtkPenumbraConservativeMapCPU.h"
 #include "vtkPenumbraLightViews.h"
 
 #include <algorithm>
@@ -245,9 +245,9 @@ struct vtkPenumbraConservativeShadows::Internals
   // The cache key of a view's maps: everything they are built from.
   static std::vector<double> MapKey(const FrameContext& f, const View& view)
   {
-    std::vector<double> key = { view.Perspective ? 1.0 : 0.0, view.Far, view.NearW,
-      view.TanHalf, static_cast<double>(f.Size), static_cast<double>(f.Layers),
-      f.Gpu ? 1.0 : 0.0, static_cast<double>(f.Geometry->GetGeometryTime()),
+    std::vector<double> key = { view.Perspective ? 1.0 : 0.0, view.Far, view.NearW, view.TanHalf,
+      static_cast<double>(f.Size), static_cast<double>(f.Layers), f.Gpu ? 1.0 : 0.0,
+      static_cast<double>(f.Geometry->GetGeometryTime()),
       static_cast<double>(f.Geometry->GetFlagsTime()) };
     key.insert(key.end(), &view.Row[0][0], &view.Row[0][0] + 16);
     key.insert(key.end(), f.In->GeometryOrigin, f.In->GeometryOrigin + 3);
@@ -277,8 +277,8 @@ struct vtkPenumbraConservativeShadows::Internals
     if (!f.Gpu)
     {
       const penumbra_conservative::CpuMapStats stats =
-        penumbra_conservative::BuildConservativeMap(view, f.Size, f.Layers,
-          f.In->TriangleVertices, this->Casters.TriangleIds, maps.Depth, maps.Ids, maps.Near);
+        penumbra_conservative::BuildConservativeMap(view, f.Size, f.Layers, f.In->TriangleVertices,
+          this->Casters.TriangleIds, maps.Depth, maps.Ids, maps.Near);
       self.NumberOfTexelWrites += stats.TexelWrites;
     }
     else
@@ -460,87 +460,88 @@ struct vtkPenumbraConservativeShadows::Internals
     const std::vector<signed char>& sampleView = *f.SampleView;
     float* vis = f.Vis;
     unsigned char* state = f.State;
-    vtkSMPTools::For(0, f.In->NumberOfSamples, [&](vtkIdType begin, vtkIdType end) {
-      vtkIdType localLit = 0, localShadowed = 0;
-      for (vtkIdType s = begin; s < end; ++s)
+    vtkSMPTools::For(0, f.In->NumberOfSamples,
+      [&](vtkIdType begin, vtkIdType end)
       {
-        if (state[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
+        vtkIdType localLit = 0, localShadowed = 0;
+        for (vtkIdType s = begin; s < end; ++s)
         {
-          continue;
-        }
-        state[s] = Uncertain;
-        double p[3];
-        for (int c = 0; c < 3; ++c)
-        {
-          p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
-        }
-        double ms, mt, depth;
-        if (!view.Project(p, ms, mt, depth) || !(std::fabs(ms) <= 1.0) ||
-          !(std::fabs(mt) <= 1.0))
-        {
-          continue;
-        }
-        const int ix = std::min(size - 1, std::max(0, static_cast<int>((ms * 0.5 + 0.5) * size)));
-        const int iy = std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
-        const size_t texel = static_cast<size_t>(iy) * size + ix;
-        const double margin = 1e-6 * (1.0 + std::fabs(depth));
-        const vtkIdType own = tris[s];
-
-        // The reference's ray: same direction, same scale-relative epsilons.
-        const penumbra_light_views::ShadowRay ray =
-          penumbra_light_views::MakeShadowRay(f.In->Light, p, f.Diagonal, f.Epsilon, f.TieFactor);
-        const bool rayOk = ray.Ok;
-
-        bool nearClear = true;
-        for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
-        {
-          const vtkIdType blocker = nearTriangles[k];
-          const Hit hit = nearTestable && blocker != own
-            ? penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker)
-            : (blocker == own ? Hit::Miss : Hit::Unknown);
-          if (hit == Hit::Clear)
-          {
-            vis[s] = 0.0f;
-            state[s] = Decided;
-            ++localShadowed;
-          }
-          nearClear = hit == Hit::Miss;
-        }
-        for (int k = 0; k < layers && rayOk && nearClear; ++k)
-        {
-          const std::uint32_t id = maps.Ids[k][texel] & IdMask;
-          if (id == 0 || maps.Depth[k][texel] > depth + margin)
-          {
-            state[s] = Decided;
-            ++localLit;
-            break;
-          }
-          const vtkIdType blocker = static_cast<vtkIdType>(id) - 1;
-          if (blocker == own)
+          if (state[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
           {
             continue;
           }
-          if (blocker >= nTriangles)
+          state[s] = Uncertain;
+          double p[3];
+          for (int c = 0; c < 3; ++c)
           {
-            break;
+            p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
           }
-          const Hit hit = penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker);
-          if (hit == Hit::Clear)
+          double ms, mt, depth;
+          if (!view.Project(p, ms, mt, depth) || !(std::fabs(ms) <= 1.0) || !(std::fabs(mt) <= 1.0))
           {
-            vis[s] = 0.0f;
-            state[s] = Decided;
-            ++localShadowed;
-            break;
+            continue;
           }
-          if (hit == Hit::Unknown)
+          const int ix = std::min(size - 1, std::max(0, static_cast<int>((ms * 0.5 + 0.5) * size)));
+          const int iy = std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
+          const size_t texel = static_cast<size_t>(iy) * size + ix;
+          const double margin = 1e-6 * (1.0 + std::fabs(depth));
+          const vtkIdType own = tris[s];
+
+          // The reference's ray: same direction, same scale-relative epsilons.
+          const penumbra_light_views::ShadowRay ray =
+            penumbra_light_views::MakeShadowRay(f.In->Light, p, f.Diagonal, f.Epsilon, f.TieFactor);
+          const bool rayOk = ray.Ok;
+
+          bool nearClear = true;
+          for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
           {
-            break;
+            const vtkIdType blocker = nearTriangles[k];
+            const Hit hit = nearTestable && blocker != own
+              ? penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker)
+              : (blocker == own ? Hit::Miss : Hit::Unknown);
+            if (hit == Hit::Clear)
+            {
+              vis[s] = 0.0f;
+              state[s] = Decided;
+              ++localShadowed;
+            }
+            nearClear = hit == Hit::Miss;
+          }
+          for (int k = 0; k < layers && rayOk && nearClear; ++k)
+          {
+            const std::uint32_t id = maps.Ids[k][texel] & IdMask;
+            if (id == 0 || maps.Depth[k][texel] > depth + margin)
+            {
+              state[s] = Decided;
+              ++localLit;
+              break;
+            }
+            const vtkIdType blocker = static_cast<vtkIdType>(id) - 1;
+            if (blocker == own)
+            {
+              continue;
+            }
+            if (blocker >= nTriangles)
+            {
+              break;
+            }
+            const Hit hit = penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker);
+            if (hit == Hit::Clear)
+            {
+              vis[s] = 0.0f;
+              state[s] = Decided;
+              ++localShadowed;
+              break;
+            }
+            if (hit == Hit::Unknown)
+            {
+              break;
+            }
           }
         }
-      }
-      viewLit += localLit;
-      viewShadowed += localShadowed;
-    });
+        viewLit += localLit;
+        viewShadowed += localShadowed;
+      });
   }
 };
 
@@ -586,8 +587,7 @@ int vtkPenumbraConservativeShadows::ComputeVisibility(vtkRenderer* renderer,
     this->Reference->SetGeometry(geometry);
     if (!this->Reference->ComputeVisibility(samples, light, visibility, impl.Mask))
     {
-      PENUMBRA_FAIL(
-        "tracing the uncertain samples failed: " << this->Reference->GetErrorMessage());
+      PENUMBRA_FAIL("tracing the uncertain samples failed: " << this->Reference->GetErrorMessage());
     }
     this->TraceTimeMs = ElapsedMs(traceStart);
   }
@@ -658,8 +658,8 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   // reference's light rules): decide what needs no map, and find the box the light cameras
   // must cover.
   const double diagonal = penumbra_rules::SceneDiagonal(geometry);
-  const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(setup, n,
-    pos, nrm, props, shift, anyCaster, vis, state, Pending, Decided);
+  const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(
+    setup, n, pos, nrm, props, shift, anyCaster, vis, state, Pending, Decided);
   std::atomic<vtkIdType> lit(facing.Lit), shadowed(facing.Shadowed);
 
   // ---- Light cameras.
@@ -684,7 +684,7 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
     if (gpu && (!program || !program->GetCompiled()))
     {
       PENUMBRA_FAIL("the conservative shadow map shaders do not compile or link on this "
-                        "OpenGL implementation (a geometry shader is required)");
+                    "OpenGL implementation (a geometry shader is required)");
     }
     if (gpu)
     {

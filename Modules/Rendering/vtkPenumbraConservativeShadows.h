@@ -58,8 +58,7 @@
 class vtkPenumbraReference;
 class vtkUnsignedCharArray;
 
-class VTKPENUMBRARENDERING_EXPORT vtkPenumbraConservativeShadows
-  : public vtkPenumbraShadowTechnique
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraConservativeShadows : public vtkPenumbraShadowTechnique
 {
 public:
   static vtkPenumbraConservativeShadows* New();
@@ -75,9 +74,9 @@ public:
    * Steps 1 and 2 without step 3: fills `visibility` like ComputeVisibility for every sample
    * the map decides, and sets `uncertainMask[s]` (resized to one value per sample) to 1 for
    * the uncertain ones, whose visibility is left at 1, else 0. For techniques that resolve the
-   * uncertain samples another way (the hybrid linked-list shadow maps, vtkPenumbraLinkedListShadows).
-   * The counters describe this classification; NumberOfRays is 0. Returns 1 on success, 0 on
-   * failure (with an error reported).
+   * uncertain samples another way (the hybrid linked-list shadow maps,
+   * vtkPenumbraLinkedListShadows). The counters describe this classification; NumberOfRays is 0.
+   * Returns 1 on success, 0 on failure (with an error reported).
    */
   int Classify(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility,

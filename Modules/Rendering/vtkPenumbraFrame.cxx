@@ -205,8 +205,8 @@ struct vtkPenumbraFrame::VisibilityTarget::State
 {
   penumbra_light_views::QuadPassState Pass;
 
-  State(vtkOpenGLState* gl, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* target, int w,
-    int h, vtkTextureObject* depth)
+  State(vtkOpenGLState* gl, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* target, int w, int h,
+    vtkTextureObject* depth)
     : Pass(gl, fbo, { target }, w, h, depth)
   {
   }
@@ -342,14 +342,13 @@ int vtkPenumbraFrame::GetLightIndex(int k)
 void vtkPenumbraFrame::SetVisibility(int k, vtkFloatArray* visibility)
 {
   Internals& impl = *this->Impl;
-  const vtkIdType expected =
-    static_cast<vtkIdType>(impl.Width) * impl.Height * impl.NumberOfLayers;
+  const vtkIdType expected = static_cast<vtkIdType>(impl.Width) * impl.Height * impl.NumberOfLayers;
   auto* slot = impl.Slot(k);
   if (!slot || !visibility || visibility->GetNumberOfTuples() != expected ||
     visibility->GetNumberOfComponents() != 1)
   {
-    vtkErrorMacro("SetVisibility: light " << k << " needs one value per stacked sample ("
-                                          << expected << ")");
+    vtkErrorMacro(
+      "SetVisibility: light " << k << " needs one value per stacked sample (" << expected << ")");
     return;
   }
   auto& l = *slot;
@@ -467,8 +466,8 @@ vtkTextureObject* vtkPenumbraFrame::GetVisibilityTexture(int layer, int index)
 }
 
 void vtkPenumbraFrame::Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
-  vtkPenumbraViewSamplesPass* opaque, vtkPenumbraViewSamplesPass* translucent,
-  int numberOfLights, bool newSamples)
+  vtkPenumbraViewSamplesPass* opaque, vtkPenumbraViewSamplesPass* translucent, int numberOfLights,
+  bool newSamples)
 {
   Internals& impl = *this->Impl;
   auto* win = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());

@@ -18,9 +18,9 @@
  *
  * Visibility values follow vtkPenumbraShadowTechnique's convention (1 lit, 0 shadowed,
  * fractions for soft shadows, -1 for samples without a surface); the textures start each
- * frame at -1 and the lighting injection reads negative values as 1. GetVisibility() gives any light's values as a CPU array,
- * reading a GPU-written texture back on first request, so tests and the benchmark compare
- * every technique with the exact reference on the same samples.
+ * frame at -1 and the lighting injection reads negative values as 1. GetVisibility() gives any
+ * light's values as a CPU array, reading a GPU-written texture back on first request, so tests and
+ * the benchmark compare every technique with the exact reference on the same samples.
  *
  * Lights are numbered as the pass numbers them (VTK's shader order of the switched-on
  * lights); each has one R32F visibility texture per layer. Only the lights listed by

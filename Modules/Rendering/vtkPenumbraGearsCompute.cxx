@@ -98,7 +98,8 @@ bool MaskCompute::Prepare(
         " storage blocks per compute shader, the GEARS shader needs " + std::to_string(BufferCount);
     }
     while (glGetError() != GL_NO_ERROR)
-    {}
+    {
+    }
   }
   if (!this->Unsupported.empty())
   {
@@ -134,7 +135,8 @@ bool MaskCompute::Compile(int k, int rows, bool keepMasks, Program& program, std
   glCompileShader(shader);
   GLint ok = 0;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  auto log = [](GLuint object, bool isShader) {
+  auto log = [](GLuint object, bool isShader)
+  {
     GLint length = 0;
     isShader ? glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length)
              : glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length);

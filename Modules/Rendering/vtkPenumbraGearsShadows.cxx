@@ -8,8 +8,8 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
-#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraGearsCompute.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -71,9 +71,8 @@ bool SealedEdge(const Caster& a, int ea, const Caster& b, int eb, const double d
   const double* a1 = a.V[(ea + 1) % 3];
   const double* b0 = b.V[eb];
   const double* b1 = b.V[(eb + 1) % 3];
-  auto same = [](const double* p, const double* q) {
-    return p[0] == q[0] && p[1] == q[1] && p[2] == q[2];
-  };
+  auto same = [](const double* p, const double* q)
+  { return p[0] == q[0] && p[1] == q[1] && p[2] == q[2]; };
   if (!((same(a0, b1) && same(a1, b0)) || (same(a0, b0) && same(a1, b1))))
   {
     return false;
@@ -197,9 +196,9 @@ struct ColumnBound
 // What the mask loop needs about the light (rebased frame).
 struct LightSamples
 {
-  int K = 1;     // samples per row
-  int Rows = 1;  // k for a rectangle, 1 for a line
-  int Count = 1; // K * Rows
+  int K = 1;                  // samples per row
+  int Rows = 1;               // k for a rectangle, 1 for a line
+  int Count = 1;              // K * Rows
   std::vector<double> Points; // 3 per sample, index = j K + i
   double Centre[3], U[3], V[3], N[3];
   double Su0 = 0, DSu = 0, Sv0 = 0, DSv = 0; // su_i = Su0 + i DSu, sv_j = Sv0 + j DSv
@@ -308,18 +307,18 @@ struct MaskBuilder
     this->ConeCos = cosCone;
     this->ConeSin = std::sqrt(std::max(0.0, 1.0 - cosCone * cosCone));
     this->ConeValid = this->ConeValid && cosCone > 0.0;
-    const Affine facing =
-      this->L.Along(n, vtkMath::Dot(n, this->L.Centre) - vtkMath::Dot(n, r.P));
+    const Affine facing = this->L.Along(n, vtkMath::Dot(n, this->L.Centre) - vtkMath::Dot(n, r.P));
     const double fuzz = 1e-12 * reach * (1.0 + vtkMath::Norm(n));
-    const double plane = std::fabs(vtkMath::Dot(this->L.N, r.P) - vtkMath::Dot(this->L.N, this->L.Centre));
+    const double plane =
+      std::fabs(vtkMath::Dot(this->L.N, r.P) - vtkMath::Dot(this->L.N, this->L.Centre));
     const bool allTraced = !this->Casters.empty() &&
       static_cast<float>(plane * (1.0 - this->Epsilon) * (1.0 - 1e-6)) > r.TNearF;
     bool any = false;
     double lowest = std::numeric_limits<double>::infinity();
     for (int c = 0; c < 4; ++c)
     {
-      lowest = std::min(lowest,
-        facing.At((c & 1) ? this->L.K - 1 : 0, (c & 2) ? this->L.Rows - 1 : 0));
+      lowest =
+        std::min(lowest, facing.At((c & 1) ? this->L.K - 1 : 0, (c & 2) ? this->L.Rows - 1 : 0));
     }
     if (allTraced && lowest > fuzz)
     {
@@ -484,7 +483,8 @@ struct MaskBuilder
     }
     const double det = vtkMath::Dot(cr[0], a[2]);
     // |det| > 1e-12 |a0| |a1| |a2|, squared to spare three square roots per triangle.
-    const double mag2 = vtkMath::Dot(a[0], a[0]) * vtkMath::Dot(a[1], a[1]) * vtkMath::Dot(a[2], a[2]);
+    const double mag2 =
+      vtkMath::Dot(a[0], a[0]) * vtkMath::Dot(a[1], a[1]) * vtkMath::Dot(a[2], a[2]);
     const bool cone = det * det > 1e-24 * mag2;
     t.NumberOfEdges = 0;
     for (int e = 0; cone && e < 3; ++e)
@@ -537,8 +537,7 @@ struct MaskBuilder
           continue;
         }
         const std::uint32_t other = this->EdgeOwner[slot];
-        if (other != index &&
-          SealedEdge(this->Casters[other], this->EdgeIndex[slot], tri, edge, d))
+        if (other != index && SealedEdge(this->Casters[other], this->EdgeIndex[slot], tri, edge, d))
         {
           this->Blocked[j] |= bit;
           hitAny = true;
@@ -581,7 +580,8 @@ struct MaskBuilder
     // Rows where every condition can hold somewhere (each is affine: its row maximum is at
     // the first or last column); usually a few rows, often none.
     int jLo = 0, jHi = this->L.Rows - 1;
-    auto rows = [&](const Affine& f, double delta) {
+    auto rows = [&](const Affine& f, double delta)
+    {
       const double best = f.Base + std::max(0.0, (this->L.K - 1) * f.Di);
       Narrow(best, f.Dj, delta, this->L.Rows, true, jLo, jHi);
     };
@@ -738,7 +738,7 @@ struct CallState
   const float* Nrm = nullptr;
   const int* Props = nullptr;
   const vtkIdType* Tris = nullptr;
-  double Shift[3] = { 0, 0, 0 }; // samples' origin minus the geometry's
+  double Shift[3] = { 0, 0, 0 };                         // samples' origin minus the geometry's
   double Epsilon = 0.0, TieFactor = 0.0, Diagonal = 1.0; // the reference's
   vtkSmartPointer<vtkPenumbraAreaLight> Used;            // the light, resampled if asked
   LightSamples Light;
@@ -1114,10 +1114,10 @@ bool vtkPenumbraGearsShadows::Internals::ReadSamples(
   vtkFloatArray* nrmArray = samples->GetNormals();
   vtkIntArray* propArray = samples->GetPropIndices();
   vtkIdTypeArray* triArray = samples->GetTriangleIds();
-  if (!posArray || !nrmArray || !propArray || !triArray ||
-    posArray->GetNumberOfComponents() != 3 || nrmArray->GetNumberOfComponents() != 3 ||
-    posArray->GetNumberOfTuples() != n || nrmArray->GetNumberOfTuples() != n ||
-    propArray->GetNumberOfTuples() != n || triArray->GetNumberOfTuples() != n)
+  if (!posArray || !nrmArray || !propArray || !triArray || posArray->GetNumberOfComponents() != 3 ||
+    nrmArray->GetNumberOfComponents() != 3 || posArray->GetNumberOfTuples() != n ||
+    nrmArray->GetNumberOfTuples() != n || propArray->GetNumberOfTuples() != n ||
+    triArray->GetNumberOfTuples() != n)
   {
     return false;
   }
@@ -1134,8 +1134,8 @@ bool vtkPenumbraGearsShadows::Internals::ReadSamples(
 // as the reference takes them), the emitter's axes and extent, and the reference's
 // constants. False if the light's sampling does not fit a mask row.
 bool vtkPenumbraGearsShadows::Internals::SetUpLight(vtkPenumbraGearsShadows* self,
-  vtkPenumbraAreaLight* area, vtkPenumbraSceneGeometry* geometry,
-  vtkPenumbraViewSamples* samples, CallState& call)
+  vtkPenumbraAreaLight* area, vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples,
+  CallState& call)
 {
   double origin[3], samplesOrigin[3];
   geometry->GetOrigin(origin);
@@ -1288,49 +1288,51 @@ void vtkPenumbraGearsShadows::Internals::ClassifySamples(
   std::vector<signed char>& side = this->Scratch.Side;
   side.assign(static_cast<size_t>(n), 0);
   std::atomic<vtkIdType> validCount(0);
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    vtkIdType localValid = 0;
-    std::uint64_t rows[MaxK];
-    for (vtkIdType s = begin; s < end; ++s)
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      SampleRays r;
-      if (!call.LoadSample(s, r))
+      vtkIdType localValid = 0;
+      std::uint64_t rows[MaxK];
+      for (vtkIdType s = begin; s < end; ++s)
       {
-        vis[s] = -1.0f;
-        continue;
-      }
-      ++localValid;
-      if (call.Off)
-      {
-        vis[s] = 1.0f; // the reference's rule: nothing to shadow
-        for (int j = 0; j < ls.Rows; ++j)
+        SampleRays r;
+        if (!call.LoadSample(s, r))
         {
-          rows[j] = Span(0, ls.K - 1);
+          vis[s] = -1.0f;
+          continue;
         }
-        call.WriteMask(s, rows);
-        continue;
+        ++localValid;
+        if (call.Off)
+        {
+          vis[s] = 1.0f; // the reference's rule: nothing to shadow
+          for (int j = 0; j < ls.Rows; ++j)
+          {
+            rows[j] = Span(0, ls.K - 1);
+          }
+          call.WriteMask(s, rows);
+          continue;
+        }
+        // Facing is affine over the light: below the tangent plane at every corner (with a
+        // margin for the per-sample rounding) means below it for every light sample.
+        double best = -std::numeric_limits<double>::infinity();
+        double reach = 0.0;
+        for (int c = 0; c < 4; ++c)
+        {
+          const double* q = ls.Corner(c);
+          const double toLight[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
+          best = std::max(best, vtkMath::Dot(r.Normal, toLight));
+          reach = std::max(reach, vtkMath::Norm(toLight));
+        }
+        if (best < -1e-9 * reach)
+        {
+          vis[s] = 0.0f;
+          continue;
+        }
+        const double z = vtkMath::Dot(ls.N, r.P) - vtkMath::Dot(ls.N, ls.Centre);
+        side[static_cast<size_t>(s)] = z > 0.0 ? 1 : (z < 0.0 ? -1 : 2);
       }
-      // Facing is affine over the light: below the tangent plane at every corner (with a
-      // margin for the per-sample rounding) means below it for every light sample.
-      double best = -std::numeric_limits<double>::infinity();
-      double reach = 0.0;
-      for (int c = 0; c < 4; ++c)
-      {
-        const double* q = ls.Corner(c);
-        const double toLight[3] = { q[0] - r.P[0], q[1] - r.P[1], q[2] - r.P[2] };
-        best = std::max(best, vtkMath::Dot(r.Normal, toLight));
-        reach = std::max(reach, vtkMath::Norm(toLight));
-      }
-      if (best < -1e-9 * reach)
-      {
-        vis[s] = 0.0f;
-        continue;
-      }
-      const double z = vtkMath::Dot(ls.N, r.P) - vtkMath::Dot(ls.N, ls.Centre);
-      side[static_cast<size_t>(s)] = z > 0.0 ? 1 : (z < 0.0 ? -1 : 2);
-    }
-    validCount += localValid;
-  });
+      validCount += localValid;
+    });
   self->NumberOfValidSamples = validCount.load();
 }
 
@@ -1380,8 +1382,7 @@ void vtkPenumbraGearsShadows::Internals::ProcessSide(
 // The light frame of this side, z toward the samples (Wang et al. 2014, §4, A.1; the back
 // side mirrors), and this side's samples in it (Scratch.Ids, Scratch.Frame). False if the
 // side has no samples.
-bool vtkPenumbraGearsShadows::Internals::GatherSide(
-  const CallState& call, SideState& S, int flip)
+bool vtkPenumbraGearsShadows::Internals::GatherSide(const CallState& call, SideState& S, int flip)
 {
   const LightSamples& ls = call.Light;
   S.Flip = flip;
@@ -1456,8 +1457,8 @@ void vtkPenumbraGearsShadows::Internals::PlaceCamera(
     dir[1] = 0.0;
     dir[2] = -1.0;
   }
-  S.Distance = std::max(
-    self->CameraDistanceFactor * call.Light.Diagonal, 1e-3 * std::max(S.ZFar, 1e-300));
+  S.Distance =
+    std::max(self->CameraDistanceFactor * call.Light.Diagonal, 1e-3 * std::max(S.ZFar, 1e-300));
   for (int c = 0; c < 3; ++c)
   {
     S.Cam[c] = dir[c] * S.Distance;
@@ -1493,59 +1494,62 @@ void vtkPenumbraGearsShadows::Internals::CasterFootprints(const CallState& call,
   S.ZNear.assign(static_cast<size_t>(nCasters), 0.0);
   S.Foot.resize(static_cast<size_t>(nCasters));
   const double tolerance = S.Tolerance, zFar = S.ZFar;
-  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType t = begin; t < end; ++t)
+  vtkSMPTools::For(0, nCasters,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const Caster& tri = this->Casters[static_cast<size_t>(t)];
-      Footprint& fp = S.Foot[static_cast<size_t>(t)];
-      double f[3][3];
-      double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
-      for (int i = 0; i < 3; ++i)
+      for (vtkIdType t = begin; t < end; ++t)
       {
-        S.ToFrame(tri.V[i], f[i]);
-        zmin = std::min(zmin, f[i][2]);
-        zmax = std::max(zmax, f[i][2]);
+        const Caster& tri = this->Casters[static_cast<size_t>(t)];
+        Footprint& fp = S.Foot[static_cast<size_t>(t)];
+        double f[3][3];
+        double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+        for (int i = 0; i < 3; ++i)
+        {
+          S.ToFrame(tri.V[i], f[i]);
+          zmin = std::min(zmin, f[i][2]);
+          zmax = std::max(zmax, f[i][2]);
+        }
+        S.ZNear[static_cast<size_t>(t)] = zmin;
+        if (zmax < -tolerance || zmin > zFar + tolerance)
+        {
+          fp.State = 0; // wholly behind the light plane or beyond every sample
+          continue;
+        }
+        if (zmin <= tolerance)
+        {
+          fp.State = 1; // touches the light plane: unbounded extrusion
+          continue;
+        }
+        double box[4] = { std::numeric_limits<double>::infinity(),
+          -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+          -std::numeric_limits<double>::infinity() };
+        double rmax = 1.0;
+        for (int i = 0; i < 3; ++i)
+        {
+          const double r = zFar / f[i][2];
+          rmax = std::max(rmax, r);
+          const double hx = std::fabs(r - 1.0) * ls.HalfU;
+          const double hy = std::fabs(r - 1.0) * ls.HalfV;
+          box[0] = std::min(box[0], r * f[i][0] - hx);
+          box[1] = std::max(box[1], r * f[i][0] + hx);
+          box[2] = std::min(box[2], r * f[i][1] - hy);
+          box[3] = std::max(box[3], r * f[i][1] + hy);
+          double pc[2];
+          S.Project(f[i], pc);
+          box[0] = std::min(box[0], pc[0]);
+          box[1] = std::max(box[1], pc[0]);
+          box[2] = std::min(box[2], pc[1]);
+          box[3] = std::max(box[3], pc[1]);
+        }
+        const double pad =
+          2.0 * tolerance * (rmax + (zFar - S.Cam[2]) / (-S.Cam[2])) + 1e-9 * S.Extent;
+        fp.Box[0] = box[0] - pad;
+        fp.Box[1] = box[1] + pad;
+        fp.Box[2] = box[2] - pad;
+        fp.Box[3] = box[3] + pad;
+        fp.State = std::isfinite(pad) && std::isfinite(box[0] + box[1] + box[2] + box[3]) ? 2 : 1;
       }
-      S.ZNear[static_cast<size_t>(t)] = zmin;
-      if (zmax < -tolerance || zmin > zFar + tolerance)
-      {
-        fp.State = 0; // wholly behind the light plane or beyond every sample
-        continue;
-      }
-      if (zmin <= tolerance)
-      {
-        fp.State = 1; // touches the light plane: unbounded extrusion
-        continue;
-      }
-      double box[4] = { std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-        std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() };
-      double rmax = 1.0;
-      for (int i = 0; i < 3; ++i)
-      {
-        const double r = zFar / f[i][2];
-        rmax = std::max(rmax, r);
-        const double hx = std::fabs(r - 1.0) * ls.HalfU;
-        const double hy = std::fabs(r - 1.0) * ls.HalfV;
-        box[0] = std::min(box[0], r * f[i][0] - hx);
-        box[1] = std::max(box[1], r * f[i][0] + hx);
-        box[2] = std::min(box[2], r * f[i][1] - hy);
-        box[3] = std::max(box[3], r * f[i][1] + hy);
-        double pc[2];
-        S.Project(f[i], pc);
-        box[0] = std::min(box[0], pc[0]);
-        box[1] = std::max(box[1], pc[0]);
-        box[2] = std::min(box[2], pc[1]);
-        box[3] = std::max(box[3], pc[1]);
-      }
-      const double pad =
-        2.0 * tolerance * (rmax + (zFar - S.Cam[2]) / (-S.Cam[2])) + 1e-9 * S.Extent;
-      fp.Box[0] = box[0] - pad;
-      fp.Box[1] = box[1] + pad;
-      fp.Box[2] = box[2] - pad;
-      fp.Box[3] = box[3] + pad;
-      fp.State = std::isfinite(pad) && std::isfinite(box[0] + box[1] + box[2] + box[3]) ? 2 : 1;
-    }
-  });
+    });
 }
 
 //------------------------------------------------------------------------------
@@ -1572,8 +1576,7 @@ void vtkPenumbraGearsShadows::Internals::BuildGrid(
     {
       vtkWarningWithObjectMacro(self,
         "GEARS lists would hold " << S.Total << " entries (limit " << self->MaxListEntries
-                                  << ") at a " << g << "^2 grid; coarsening to " << g / 2
-                                  << "^2");
+                                  << ") at a " << g << "^2 grid; coarsening to " << g / 2 << "^2");
       S.G /= 2;
       continue;
     }
@@ -1612,7 +1615,8 @@ void vtkPenumbraGearsShadows::Internals::BinSamples(SideState& S)
   const double cw = S.Cw = std::max(pb[1] - pb[0], 1e-6 * extent) * (1.0 + 1e-7) / g;
   const double ch = S.Ch = std::max(pb[3] - pb[2], 1e-6 * extent) * (1.0 + 1e-7) / g;
   const size_t cells = static_cast<size_t>(g) * g;
-  auto cellOf = [&](double px, double py, int& ix, int& iy) {
+  auto cellOf = [&](double px, double py, int& ix, int& iy)
+  {
     ix = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((px - x0) / cw))));
     iy = static_cast<int>(std::min<double>(g - 1, std::max(0.0, std::floor((py - y0) / ch))));
   };
@@ -1641,7 +1645,8 @@ void vtkPenumbraGearsShadows::Internals::BinSamples(SideState& S)
       }
       sat[static_cast<size_t>(iy + 1) * (g + 1) + ix + 1] = (busy ? 1 : 0) +
         sat[static_cast<size_t>(iy) * (g + 1) + ix + 1] +
-        sat[static_cast<size_t>(iy + 1) * (g + 1) + ix] - sat[static_cast<size_t>(iy) * (g + 1) + ix];
+        sat[static_cast<size_t>(iy + 1) * (g + 1) + ix] -
+        sat[static_cast<size_t>(iy) * (g + 1) + ix];
     }
   }
   std::vector<std::uint32_t>& sampleStart = sc.SampleStart;
@@ -1673,35 +1678,39 @@ void vtkPenumbraGearsShadows::Internals::CasterRanges(SideState& S)
   range.assign(4 * static_cast<size_t>(nCasters), 0);
   touched.assign(static_cast<size_t>(nCasters), 0);
   const std::int64_t busyCells = static_cast<std::int64_t>(this->Scratch.Occupied.size());
-  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType t = begin; t < end; ++t)
+  vtkSMPTools::For(0, nCasters,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const Footprint& fp = S.Foot[static_cast<size_t>(t)];
-      int* rg = &range[4 * static_cast<size_t>(t)];
-      if (fp.State != 2)
+      for (vtkIdType t = begin; t < end; ++t)
       {
-        touched[static_cast<size_t>(t)] = fp.State == 1 ? -1 : 0;
-        continue;
+        const Footprint& fp = S.Foot[static_cast<size_t>(t)];
+        int* rg = &range[4 * static_cast<size_t>(t)];
+        if (fp.State != 2)
+        {
+          touched[static_cast<size_t>(t)] = fp.State == 1 ? -1 : 0;
+          continue;
+        }
+        const double bx0 = std::floor((fp.Box[0] - x0) / cw),
+                     bx1 = std::floor((fp.Box[1] - x0) / cw);
+        const double by0 = std::floor((fp.Box[2] - y0) / ch),
+                     by1 = std::floor((fp.Box[3] - y0) / ch);
+        if (bx1 < 0 || by1 < 0 || bx0 > g - 1 || by0 > g - 1)
+        {
+          touched[static_cast<size_t>(t)] = 0;
+          continue;
+        }
+        rg[0] = static_cast<int>(std::max(0.0, bx0));
+        rg[1] = static_cast<int>(std::min<double>(g - 1, bx1));
+        rg[2] = static_cast<int>(std::max(0.0, by0));
+        rg[3] = static_cast<int>(std::min<double>(g - 1, by1));
+        const std::int64_t c = sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[1] + 1] -
+          sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[1] + 1] -
+          sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[0]] +
+          sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[0]];
+        // A list entry in more than half the busy cells costs more than one global entry.
+        touched[static_cast<size_t>(t)] = (busyCells > 8 && 2 * c > busyCells) ? -1 : c;
       }
-      const double bx0 = std::floor((fp.Box[0] - x0) / cw), bx1 = std::floor((fp.Box[1] - x0) / cw);
-      const double by0 = std::floor((fp.Box[2] - y0) / ch), by1 = std::floor((fp.Box[3] - y0) / ch);
-      if (bx1 < 0 || by1 < 0 || bx0 > g - 1 || by0 > g - 1)
-      {
-        touched[static_cast<size_t>(t)] = 0;
-        continue;
-      }
-      rg[0] = static_cast<int>(std::max(0.0, bx0));
-      rg[1] = static_cast<int>(std::min<double>(g - 1, bx1));
-      rg[2] = static_cast<int>(std::max(0.0, by0));
-      rg[3] = static_cast<int>(std::min<double>(g - 1, by1));
-      const std::int64_t c = sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[1] + 1] -
-        sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[1] + 1] -
-        sat[static_cast<size_t>(rg[3] + 1) * (g + 1) + rg[0]] +
-        sat[static_cast<size_t>(rg[2]) * (g + 1) + rg[0]];
-      // A list entry in more than half the busy cells costs more than one global entry.
-      touched[static_cast<size_t>(t)] = (busyCells > 8 && 2 * c > busyCells) ? -1 : c;
-    }
-  });
+    });
   std::vector<std::uint32_t>& globalList = this->Scratch.GlobalList;
   std::int64_t total = 0;
   globalList.clear();
@@ -1759,7 +1768,8 @@ void vtkPenumbraGearsShadows::Internals::FillCellLists(SideState& S)
   {
     a.store(0, std::memory_order_relaxed);
   }
-  auto forCells = [&](vtkIdType t, auto&& fn) {
+  auto forCells = [&](vtkIdType t, auto&& fn)
+  {
     const int* rg = &S.Range[4 * static_cast<size_t>(t)];
     for (int iy = rg[2]; iy <= rg[3]; ++iy)
     {
@@ -1773,15 +1783,17 @@ void vtkPenumbraGearsShadows::Internals::FillCellLists(SideState& S)
       }
     }
   };
-  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType t = begin; t < end; ++t)
+  vtkSMPTools::For(0, nCasters,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      if (S.Touched[static_cast<size_t>(t)] > 0)
+      for (vtkIdType t = begin; t < end; ++t)
       {
-        forCells(t, [&](size_t cell) { perCell[cell].fetch_add(1, std::memory_order_relaxed); });
+        if (S.Touched[static_cast<size_t>(t)] > 0)
+        {
+          forCells(t, [&](size_t cell) { perCell[cell].fetch_add(1, std::memory_order_relaxed); });
+        }
       }
-    }
-  });
+    });
   std::vector<std::uint32_t>& cellStart = sc.CellStart;
   std::vector<std::uint32_t>& cellList = sc.CellList;
   cellStart.assign(cells + 1, 0);
@@ -1791,32 +1803,38 @@ void vtkPenumbraGearsShadows::Internals::FillCellLists(SideState& S)
     perCell[c].store(cellStart[c], std::memory_order_relaxed);
   }
   cellList.resize(static_cast<size_t>(cellStart[cells]));
-  vtkSMPTools::For(0, nCasters, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType t = begin; t < end; ++t)
+  vtkSMPTools::For(0, nCasters,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      if (S.Touched[static_cast<size_t>(t)] > 0)
+      for (vtkIdType t = begin; t < end; ++t)
       {
-        forCells(t, [&](size_t cell) {
-          cellList[perCell[cell].fetch_add(1, std::memory_order_relaxed)] =
-            static_cast<std::uint32_t>(t);
-        });
+        if (S.Touched[static_cast<size_t>(t)] > 0)
+        {
+          forCells(t,
+            [&](size_t cell)
+            {
+              cellList[perCell[cell].fetch_add(1, std::memory_order_relaxed)] =
+                static_cast<std::uint32_t>(t);
+            });
+        }
       }
-    }
-  });
+    });
   // Largest triangles first: a sample in umbra fills its mask and stops sooner. The
   // order also makes the lists (and the statistics) independent of thread timing.
   const auto& bounds = this->Bounds;
-  vtkSMPTools::For(0, static_cast<vtkIdType>(sc.Occupied.size()), [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType b = begin; b < end; ++b)
+  vtkSMPTools::For(0, static_cast<vtkIdType>(sc.Occupied.size()),
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const size_t cell = static_cast<size_t>(sc.Occupied[static_cast<size_t>(b)]);
-      std::sort(cellList.begin() + cellStart[cell], cellList.begin() + cellStart[cell + 1],
-        [&](std::uint32_t x, std::uint32_t y) {
-          return bounds[x].Radius > bounds[y].Radius ||
-            (bounds[x].Radius == bounds[y].Radius && x < y);
-        });
-    }
-  });
+      for (vtkIdType b = begin; b < end; ++b)
+      {
+        const size_t cell = static_cast<size_t>(sc.Occupied[static_cast<size_t>(b)]);
+        std::sort(cellList.begin() + cellStart[cell], cellList.begin() + cellStart[cell + 1],
+          [&](std::uint32_t x, std::uint32_t y) {
+            return bounds[x].Radius > bounds[y].Radius ||
+              (bounds[x].Radius == bounds[y].Radius && x < y);
+          });
+      }
+    });
 }
 
 //------------------------------------------------------------------------------
@@ -1945,20 +1963,22 @@ void vtkPenumbraGearsShadows::Internals::MasksOnCPU(
       }
     }
   }
-  vtkSMPTools::For(0, static_cast<vtkIdType>(onCPU.size()), [&](vtkIdType begin, vtkIdType end) {
-    MaskBuilder builder(call.Light, this->Casters, call.Epsilon);
-    builder.ZMin = S.ZNear.data();
-    builder.Bounds = this->Bounds.data();
-    builder.FarSlack = S.Tolerance;
-    std::vector<int> undecided;
-    for (vtkIdType f = begin; f < end; ++f)
+  vtkSMPTools::For(0, static_cast<vtkIdType>(onCPU.size()),
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const std::uint32_t o = onCPU[static_cast<size_t>(f)];
-      this->MaskOneSample(call, builder, undecided, o, sc.SampleCell[sc.SampleOrder[o]]);
-    }
-    call.Necessary += builder.Necessary;
-    call.SegmentTests += builder.Tests;
-  });
+      MaskBuilder builder(call.Light, this->Casters, call.Epsilon);
+      builder.ZMin = S.ZNear.data();
+      builder.Bounds = this->Bounds.data();
+      builder.FarSlack = S.Tolerance;
+      std::vector<int> undecided;
+      for (vtkIdType f = begin; f < end; ++f)
+      {
+        const std::uint32_t o = onCPU[static_cast<size_t>(f)];
+        this->MaskOneSample(call, builder, undecided, o, sc.SampleCell[sc.SampleOrder[o]]);
+      }
+      call.Necessary += builder.Necessary;
+      call.SegmentTests += builder.Tests;
+    });
 }
 
 //------------------------------------------------------------------------------
@@ -2030,8 +2050,8 @@ int vtkPenumbraGearsShadows::Internals::TraceUndecided(vtkPenumbraGearsShadows* 
   {
     if (!self->Reference->ComputeVisibility(samples, call.Used, visibility, this->Uncertain))
     {
-      PENUMBRA_FAIL_FOR(self,
-        "tracing the uncertain samples failed: " << self->Reference->GetErrorMessage());
+      PENUMBRA_FAIL_FOR(
+        self, "tracing the uncertain samples failed: " << self->Reference->GetErrorMessage());
     }
   }
   const vtkIdType nTrace = static_cast<vtkIdType>(call.TraceSamples.size());
@@ -2042,8 +2062,8 @@ int vtkPenumbraGearsShadows::Internals::TraceUndecided(vtkPenumbraGearsShadows* 
     if (!self->Reference->TraceAreaRays(samples, call.Used, nTrace, call.TraceSamples.data(),
           call.TraceLights.data(), lit.data()))
     {
-      PENUMBRA_FAIL_FOR(self,
-        "tracing the undecided light samples failed: " << self->Reference->GetErrorMessage());
+      PENUMBRA_FAIL_FOR(
+        self, "tracing the undecided light samples failed: " << self->Reference->GetErrorMessage());
     }
     vtkIdType previous = -1;
     for (vtkIdType i = 0; i < nTrace; ++i)
@@ -2095,7 +2115,6 @@ void vtkPenumbraGearsShadows::Internals::StoreStatistics(
   self->NumberOfSegmentTests = call.SegmentTests.load();
   self->EffectiveGridResolution = call.GridUsed;
 }
-
 
 //------------------------------------------------------------------------------
 void vtkPenumbraGearsShadows::PrintSelf(ostream& os, vtkIndent indent)

@@ -9,14 +9,14 @@
 #include "vtkLight.h"
 #include "vtkMath.h"
 #include "vtkOpenGLFramebufferObject.h"
-#include "vtkTextureObject.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPenumbraAreaLight.h"
-#include "vtkRenderer.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
-#include "vtkUnsignedCharArray.h"
+#include "vtkRenderer.h"
 #include "vtkSMPTools.h"
+#include "vtkTextureObject.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <atomic>
@@ -279,59 +279,61 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
 {
   std::atomic<vtkIdType> lit(0), shadowed(0), waiting(0);
   const bool directional = light.Type == LightSetup::Kind::Directional;
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    vtkIdType localLit = 0, localShadowed = 0, localPending = 0;
-    for (vtkIdType s = begin; s < end; ++s)
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      pending[s] = decidedValue;
-      double p[3], normal[3];
-      for (int c = 0; c < 3; ++c)
+      vtkIdType localLit = 0, localShadowed = 0, localPending = 0;
+      for (vtkIdType s = begin; s < end; ++s)
       {
-        p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
-        normal[c] = nrm[3 * s + c];
-      }
-      if (props[s] < 0 || !Finite3(p) || !Finite3(normal))
-      {
-        vis[s] = -1.0f;
-        continue;
-      }
-      if (light.Off)
-      {
+        pending[s] = decidedValue;
+        double p[3], normal[3];
+        for (int c = 0; c < 3; ++c)
+        {
+          p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
+          normal[c] = nrm[3 * s + c];
+        }
+        if (props[s] < 0 || !Finite3(p) || !Finite3(normal))
+        {
+          vis[s] = -1.0f;
+          continue;
+        }
+        if (light.Off)
+        {
+          vis[s] = 1.0f;
+          ++localLit;
+          continue;
+        }
+        double toLight[3];
+        for (int c = 0; c < 3; ++c)
+        {
+          toLight[c] = directional ? light.Direction[c] : light.Position[c] - p[c];
+        }
+        bool facing = vtkMath::Dot(normal, toLight) > 0.0;
+        if (facing && light.Type == LightSetup::Kind::Spot)
+        {
+          double fromLight[3] = { -toLight[0], -toLight[1], -toLight[2] };
+          facing = vtkMath::Normalize(fromLight) > 0.0 &&
+            vtkMath::Dot(fromLight, light.Axis) >= light.CosCone;
+        }
+        if (!facing)
+        {
+          vis[s] = 0.0f; // facing away (or outside the cone) is shadowed, as in the reference
+          ++localShadowed;
+          continue;
+        }
         vis[s] = 1.0f;
-        ++localLit;
-        continue;
+        if (!anyCaster)
+        {
+          ++localLit;
+          continue;
+        }
+        pending[s] = pendingValue;
+        ++localPending;
       }
-      double toLight[3];
-      for (int c = 0; c < 3; ++c)
-      {
-        toLight[c] = directional ? light.Direction[c] : light.Position[c] - p[c];
-      }
-      bool facing = vtkMath::Dot(normal, toLight) > 0.0;
-      if (facing && light.Type == LightSetup::Kind::Spot)
-      {
-        double fromLight[3] = { -toLight[0], -toLight[1], -toLight[2] };
-        facing =
-          vtkMath::Normalize(fromLight) > 0.0 && vtkMath::Dot(fromLight, light.Axis) >= light.CosCone;
-      }
-      if (!facing)
-      {
-        vis[s] = 0.0f; // facing away (or outside the cone) is shadowed, as in the reference
-        ++localShadowed;
-        continue;
-      }
-      vis[s] = 1.0f;
-      if (!anyCaster)
-      {
-        ++localLit;
-        continue;
-      }
-      pending[s] = pendingValue;
-      ++localPending;
-    }
-    lit += localLit;
-    shadowed += localShadowed;
-    waiting += localPending;
-  });
+      lit += localLit;
+      shadowed += localShadowed;
+      waiting += localPending;
+    });
   FacingCounts counts;
   counts.Lit = lit.load();
   counts.Shadowed = shadowed.load();
@@ -438,7 +440,8 @@ ShadowRay MakeShadowRay(
 }
 
 //------------------------------------------------------------------------------
-penumbra_rules::Hit TestShadowRay(const ShadowRay& ray, const penumbra_rules::ExactTriangle& triangle)
+penumbra_rules::Hit TestShadowRay(
+  const ShadowRay& ray, const penumbra_rules::ExactTriangle& triangle)
 {
   int edge = 0;
   const penumbra_rules::Hit hit =
@@ -485,8 +488,8 @@ ScopedPassState::~ScopedPassState()
 }
 
 //------------------------------------------------------------------------------
-MapRenderState::MapRenderState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo,
-  int width, int height, bool colorWrites)
+MapRenderState::MapRenderState(
+  vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int width, int height, bool colorWrites)
   : ScopedPassState(state, fbo, width, height)
 {
   state->vtkglEnable(GL_DEPTH_TEST);

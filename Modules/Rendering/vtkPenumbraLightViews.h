@@ -14,7 +14,7 @@
 #ifndef vtkPenumbraLightViews_h
 #define vtkPenumbraLightViews_h
 
-#include "vtkOpenGLState.h" // For the scoped state savers
+#include "vtkOpenGLState.h"             // For the scoped state savers
 #include "vtkPenumbraVisibilityRules.h" // For penumbra_rules::Hit
 #include "vtkType.h"
 #include "vtk_glew.h"
@@ -43,8 +43,8 @@ struct View
 {
   bool Perspective = false;
   double Row[4][4] = {};
-  double Far = 1.0;   // perspective: stored depth = w / Far
-  double NearW = 0.0; // perspective: apex region the conservative geometry stage handles
+  double Far = 1.0;     // perspective: stored depth = w / Far
+  double NearW = 0.0;   // perspective: apex region the conservative geometry stage handles
   double TanHalf = 1.0; // perspective: tangent of the half field of view
 
   double Dot(int r, const double p[3]) const
@@ -170,14 +170,15 @@ struct ShadowRay
   double ErrPos;
   bool Ok;
 };
-ShadowRay MakeShadowRay(const LightSetup& light, const double p[3], double diagonal,
-  double epsilon, double tieFactor);
+ShadowRay MakeShadowRay(
+  const LightSetup& light, const double p[3], double diagonal, double epsilon, double tieFactor);
 
 /**
  * penumbra_rules::SegmentTest of `ray` against `triangle`, with a ray on an edge (OnEdge)
  * left to the tracer (Unknown): only Clear may shadow a sample, only Miss may leave it lit.
  */
-penumbra_rules::Hit TestShadowRay(const ShadowRay& ray, const penumbra_rules::ExactTriangle& triangle);
+penumbra_rules::Hit TestShadowRay(
+  const ShadowRay& ray, const penumbra_rules::ExactTriangle& triangle);
 
 /**
  * The same against triangle `id` (9 rebased coordinates at `tri`); a triangle without area
@@ -261,9 +262,9 @@ struct CasterBuffers
   GLuint Positions = 0;
   GLuint Ids = 0;
   GLuint Indices = 0;
-  GLsizei VertexCount = 0;              // 3 per caster
-  std::vector<float> Vertices;          // CPU copy of Positions
-  std::vector<vtkIdType> TriangleIds;   // the casters, ascending
+  GLsizei VertexCount = 0;            // 3 per caster
+  std::vector<float> Vertices;        // CPU copy of Positions
+  std::vector<vtkIdType> TriangleIds; // the casters, ascending
   double Bounds[6] = { 1, -1, 1, -1, 1, -1 };
 
   /**

@@ -17,9 +17,8 @@ vtkPenumbraRayTracedShadows::~vtkPenumbraRayTracedShadows()
   this->Reference->Delete();
 }
 
-int vtkPenumbraRayTracedShadows::ComputeVisibility(vtkRenderer*,
-  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
-  vtkFloatArray* visibility)
+int vtkPenumbraRayTracedShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeometry* geometry,
+  vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility)
 {
   const double start = vtkTimerLog::GetUniversalTime();
   // SetGeometry rebuilds the acceleration structure only when the geometry changed.

@@ -11,8 +11,8 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
-#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraLightViews.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -33,19 +33,19 @@
 #include "vtkPenumbraShadowMapExtentFS.h"
 #include "vtkPenumbraShadowMapFS.h"
 #include "vtkPenumbraShadowMapFrameFS.h"
-#include "vtkPenumbraShadowMapTileSample.h"
-#include "vtkPenumbraShadowMapTilesFS.h"
 #include "vtkPenumbraShadowMapLookupFS.h"
 #include "vtkPenumbraShadowMapMidpointFS.h"
 #include "vtkPenumbraShadowMapParaboloidFS.h"
 #include "vtkPenumbraShadowMapParaboloidVS.h"
+#include "vtkPenumbraShadowMapTileSample.h"
+#include "vtkPenumbraShadowMapTilesFS.h"
 #include "vtkPenumbraShadowMapVS.h"
 
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -92,7 +92,8 @@ double BilinearLookup(
   const double fy = (mt * 0.5 + 0.5) * height - 0.5;
   const double bx = std::floor(fx), by = std::floor(fy);
   const double wx = fx - bx, wy = fy - by;
-  auto lit = [&](double x, double y) {
+  auto lit = [&](double x, double y)
+  {
     const int ix = std::min(width - 1, std::max(0, static_cast<int>(x)));
     const int iy = std::min(height - 1, std::max(0, static_cast<int>(y)));
     return map[static_cast<size_t>(iy) * width + ix] >= threshold ? 1.0 : 0.0;
@@ -110,14 +111,14 @@ struct LightMaps
   std::vector<double> Key;
   bool Valid = false;
   bool Paraboloid = false;
-  int Width = 0, Height = 0; // texels (non-square only for one-view lights)
+  int Width = 0, Height = 0;     // texels (non-square only for one-view lights)
   double Need[2] = { 0.0, 0.0 }; // RESM: the estimate the size came from
   std::vector<View> Views;
-  std::vector<std::vector<float>> Maps;                      // CPU lookup
-  std::vector<vtkSmartPointer<vtkTextureObject>> Textures;  // GPU lookup (compare mode)
-  double Centre[3] = { 0, 0, 0 }; // paraboloid: the light, rebased
-  double Far = 1.0;               // paraboloid: depth = distance / Far
-  double MapScale = 1.0;          // paraboloid: paraboloid coordinates -> NDC
+  std::vector<std::vector<float>> Maps;                    // CPU lookup
+  std::vector<vtkSmartPointer<vtkTextureObject>> Textures; // GPU lookup (compare mode)
+  double Centre[3] = { 0, 0, 0 };                          // paraboloid: the light, rebased
+  double Far = 1.0;                                        // paraboloid: depth = distance / Far
+  double MapScale = 1.0; // paraboloid: paraboloid coordinates -> NDC
 };
 
 double Norm3(const double* v)
@@ -180,8 +181,8 @@ int SlotOf(const LightSetup& setup, int slotMode, const double p[3])
   return 2 * best + (v[best] < 0.0);
 }
 
-void AddReceiver(const LightSetup& setup, const double axes[3][3], int slotMode,
-  const double p[3], ReceiverExtent& e)
+void AddReceiver(const LightSetup& setup, const double axes[3][3], int slotMode, const double p[3],
+  ReceiverExtent& e)
 {
   ++e.Pending;
   e.Used[static_cast<size_t>(SlotOf(setup, slotMode, p))] = 1;
@@ -280,7 +281,8 @@ void ExtentFromTiles(const LightSetup& setup, const TileOutputs& data, int tiles
       double facing = 0.0;
       for (int c = 0; c < 3; ++c)
       {
-        facing += std::max(nlo[4 * i + c] * setup.Direction[c], nhi[4 * i + c] * setup.Direction[c]);
+        facing +=
+          std::max(nlo[4 * i + c] * setup.Direction[c], nhi[4 * i + c] * setup.Direction[c]);
       }
       if (facing < -1e-5)
       {
@@ -314,7 +316,8 @@ void ExtentFromTiles(const LightSetup& setup, const TileOutputs& data, int tiles
     for (int corner = 0; corner < 8; ++corner)
     {
       const double p[3] = { (corner & 1) ? hi[4 * i] : lo[4 * i],
-        (corner & 2) ? hi[4 * i + 1] : lo[4 * i + 1], (corner & 4) ? hi[4 * i + 2] : lo[4 * i + 2] };
+        (corner & 2) ? hi[4 * i + 1] : lo[4 * i + 1],
+        (corner & 4) ? hi[4 * i + 2] : lo[4 * i + 2] };
       AddReceiver(setup, axes, SlotsOne, p, e);
       const double q[3] = { p[0] - setup.Position[0], p[1] - setup.Position[1],
         p[2] - setup.Position[2] };
@@ -390,18 +393,18 @@ std::vector<float> EstimateSamples(const penumbra_light_views::FrameInputs& in, 
   const int tw = (width + Tile - 1) / Tile;
   std::vector<float> needs(static_cast<size_t>(4 * TileCount(width, height)), 0.0f);
   // Map coordinates of sample s, false when it cannot serve as a neighbour.
-  auto mapAt = [&](vtkIdType s, double p[3], double st[2]) {
+  auto mapAt = [&](vtkIdType s, double p[3], double st[2])
+  {
     SamplePoint(in, s, p);
     double depth;
-    return in.Props[s] >= 0 && std::isfinite(p[0]) && std::isfinite(p[1]) &&
-      std::isfinite(p[2]) && view.Project(p, st[0], st[1], depth);
+    return in.Props[s] >= 0 && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]) &&
+      view.Project(p, st[0], st[1], depth);
   };
   for (vtkIdType s = 0; s < in.NumberOfSamples; ++s)
   {
     double p[3], st[2];
     const int x = static_cast<int>(s % width), y = static_cast<int>(s / width);
-    if ((x % Tile) % step != 0 || (y % Tile) % step != 0 || state[s] != Pending ||
-      !mapAt(s, p, st))
+    if ((x % Tile) % step != 0 || (y % Tile) % step != 0 || state[s] != Pending || !mapAt(s, p, st))
     {
       continue;
     }
@@ -468,7 +471,8 @@ bool NeedQuantile(const std::vector<float>& needs, double coverage, double need[
     static_cast<size_t>(std::ceil(coverage * static_cast<double>(axis[0].size()))) - 1);
   for (int a = 0; a < 2; ++a)
   {
-    std::nth_element(axis[a].begin(), axis[a].begin() + static_cast<std::ptrdiff_t>(k), axis[a].end());
+    std::nth_element(
+      axis[a].begin(), axis[a].begin() + static_cast<std::ptrdiff_t>(k), axis[a].end());
     need[a] = axis[a][k];
   }
   return true;
@@ -565,7 +569,8 @@ void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup, boo
   SetDouble3(program, "classifyDirection", setup.Direction);
   SetDouble3(program, "classifyPosition", setup.Position);
   SetDouble3(program, "classifyAxis", setup.Axis);
-  const GLint cone = glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), "classifyCosCone");
+  const GLint cone =
+    glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), "classifyCosCone");
   if (cone >= 0)
   {
     glUniform1d(cone, setup.CosCone);
@@ -699,8 +704,8 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<double> MapKey(vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer,
     vtkLight* light, vtkPenumbraSceneGeometry* geometry, const double shift[3], double samples,
     double pending);
-  void FitViews(const LightSetup& setup, const ReceiverExtent& e, int slotMode, int size,
-    LightMaps* maps);
+  void FitViews(
+    const LightSetup& setup, const ReceiverExtent& e, int slotMode, int size, LightMaps* maps);
   using Estimator = std::function<bool(const View&, std::vector<float>&, std::string&)>;
   bool PlanMaps(vtkPenumbraShadowMapShadows* self, const LightSetup& setup,
     const ReceiverExtent& extent, const Estimator& estimate, LightMaps* maps, int size[2],
@@ -720,8 +725,8 @@ struct vtkPenumbraShadowMapShadows::Internals
     int slot);
   void ResolveMidpoint(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
     vtkShaderProgram* program, vtkTextureObject* slotTexture, LightMaps* maps, int slot);
-  bool EstimateFrame(vtkPenumbraFrame* frame, const LightSetup& setup, const View& view,
-    int step, std::vector<float>& needs, std::string& error);
+  bool EstimateFrame(vtkPenumbraFrame* frame, const LightSetup& setup, const View& view, int step,
+    std::vector<float>& needs, std::string& error);
   void SetCompareUniforms(vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program,
     const LightSetup& setup, const LightMaps& m);
   void SetSoftUniforms(
@@ -731,8 +736,8 @@ struct vtkPenumbraShadowMapShadows::Internals
     std::string& error);
   void LookupCPU(vtkPenumbraShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
     const LightSetup& setup, const LightMaps& m, const unsigned char* state, float* vis);
-  bool FrameLight(vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame, int k,
-    std::string& error);
+  bool FrameLight(
+    vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame, int k, std::string& error);
   bool ReduceExtent(vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame,
     const LightSetup& setup, ReceiverExtent& extent, std::string& error);
   bool TilePass(vtkPenumbraFrame* frame, vtkOpenGLQuadHelper& quad,
@@ -953,9 +958,10 @@ struct vtkPenumbraShadowMapShadows::Internals
               widest = 3.2; // touches the light: as fine as allowed
             }
           }
-          const int steps = std::max(
-            1, std::min(MaxSubdivisions, static_cast<int>(std::ceil(widest / ParaboloidStepRadians))));
-          auto emit = [&](int i, int j) {
+          const int steps = std::max(1,
+            std::min(MaxSubdivisions, static_cast<int>(std::ceil(widest / ParaboloidStepRadians))));
+          auto emit = [&](int i, int j)
+          {
             for (int c = 0; c < 3; ++c)
             {
               const double x = corner[0][c] + (corner[1][c] - corner[0][c]) * i / steps +
@@ -1068,9 +1074,8 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   float* vis = n ? visibility->GetPointer(0) : nullptr;
   impl.State.resize(static_cast<size_t>(n));
   unsigned char* state = impl.State.data();
-  const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(
-    setup, n, in.Positions, in.Normals, in.Props, in.Shift, anyCaster, vis, state, Pending,
-    Decided);
+  const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(setup, n,
+    in.Positions, in.Normals, in.Props, in.Shift, anyCaster, vis, state, Pending, Decided);
   if (facing.Pending == 0)
   {
     visibility->Modified();
@@ -1109,7 +1114,8 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     std::string error;
     maps->Key.swap(key);
     const int width = samples->GetWidth(), height = samples->GetHeight();
-    auto estimate = [&](const View& view, std::vector<float>& needs, std::string&) {
+    auto estimate = [&](const View& view, std::vector<float>& needs, std::string&)
+    {
       needs = EstimateSamples(in, width, height, state, view, this->AnalysisStep);
       return true;
     };
@@ -1270,8 +1276,7 @@ void vtkPenumbraShadowMapShadows::Internals::FitViews(
   else if (setup.Type == LightSetup::Kind::Spot)
   {
     // The field of view fitted to the receivers in the cone, never wider than the cone.
-    const double coneTan =
-      std::tan(vtkMath::RadiansFromDegrees(std::min(setup.Cone + 1.0, 89.9)));
+    const double coneTan = std::tan(vtkMath::RadiansFromDegrees(std::min(setup.Cone + 1.0, 89.9)));
     const double tanHalf = std::max(1e-6, std::min(coneTan, 1.01 * e.SpotTan + 1e-9));
     maps->Views[0] =
       penumbra_light_views::PerspectiveView(setup.Position, setup.Axis, tanHalf, e.Box);
@@ -1299,8 +1304,8 @@ void vtkPenumbraShadowMapShadows::Internals::FitViews(
 // Fits the light's views to its receivers and chooses the maps' size: Resolution, or for
 // RESM the Coverage quantile of the receivers' estimated need (see SetResolutionMode()).
 bool vtkPenumbraShadowMapShadows::Internals::PlanMaps(vtkPenumbraShadowMapShadows* self,
-  const LightSetup& setup, const ReceiverExtent& extent, const Estimator& estimate,
-  LightMaps* maps, int size[2], std::string& error)
+  const LightSetup& setup, const ReceiverExtent& extent, const Estimator& estimate, LightMaps* maps,
+  int size[2], std::string& error)
 {
   const int slotMode = this->SlotMode(self, setup);
   const int slots = slotMode == SlotsCube ? 6 : (slotMode == SlotsParaboloid ? 2 : 1);
@@ -1342,17 +1347,19 @@ bool vtkPenumbraShadowMapShadows::Internals::EstimateFrame(vtkPenumbraFrame* fra
 {
   if (!this->EstimateQuad)
   {
-    this->EstimateQuad.reset(new vtkOpenGLQuadHelper(frame->GetWindow(), nullptr,
-      ComposeShader(vtkPenumbraShadowMapEstimateFS).c_str(), ""));
+    this->EstimateQuad.reset(new vtkOpenGLQuadHelper(
+      frame->GetWindow(), nullptr, ComposeShader(vtkPenumbraShadowMapEstimateFS).c_str(), ""));
   }
-  auto uniforms = [&](vtkShaderProgram* program) {
+  auto uniforms = [&](vtkShaderProgram* program)
+  {
     program->SetUniformi("step", step);
     float matrix[16];
     view.ToFloatMatrix(matrix);
     program->SetUniformMatrix4x4("lightMatrix", matrix);
     program->SetUniformi("perspective", view.Perspective ? 1 : 0);
     program->SetUniformi("lightKind",
-      setup.Type == LightSetup::Kind::Directional ? 0 : (setup.Type == LightSetup::Kind::Spot ? 2 : 1));
+      setup.Type == LightSetup::Kind::Directional ? 0
+                                                  : (setup.Type == LightSetup::Kind::Spot ? 2 : 1));
     float direction[3], position[3], axis[3];
     for (int c = 0; c < 3; ++c)
     {
@@ -1388,20 +1395,21 @@ vtkShaderProgram* vtkPenumbraShadowMapShadows::Internals::MapProgram(
 {
   const bool hardwareDepth =
     setup.Type == LightSetup::Kind::Directional && self->DepthMode == DEPTH_LINEAR;
-  auto variant = [hardwareDepth](const char* source) {
+  auto variant = [hardwareDepth](const char* source)
+  {
     std::string text = source;
     if (hardwareDepth)
     {
-      vtkShaderProgram::Substitute(text, "//VTK::System::Dec",
-        "//VTK::System::Dec\n#define PENUMBRA_HARDWARE_DEPTH\n", false);
+      vtkShaderProgram::Substitute(
+        text, "//VTK::System::Dec", "//VTK::System::Dec\n#define PENUMBRA_HARDWARE_DEPTH\n", false);
     }
     return text;
   };
   vtkShaderProgram* program = paraboloid
     ? win->GetShaderCache()->ReadyShaderProgram(
         vtkPenumbraShadowMapParaboloidVS, vtkPenumbraShadowMapParaboloidFS, "")
-    : win->GetShaderCache()->ReadyShaderProgram(variant(vtkPenumbraShadowMapVS).c_str(),
-        variant(vtkPenumbraShadowMapFS).c_str(), "");
+    : win->GetShaderCache()->ReadyShaderProgram(
+        variant(vtkPenumbraShadowMapVS).c_str(), variant(vtkPenumbraShadowMapFS).c_str(), "");
   return program && program->GetCompiled() ? program : nullptr;
 }
 
@@ -1417,8 +1425,8 @@ void vtkPenumbraShadowMapShadows::Internals::BindCasters(vtkPenumbraShadowMapSha
   {
     double origin[3];
     geometry->GetOrigin(origin);
-    std::vector<double> paraboloidKey = { setup.Position[0], setup.Position[1],
-      setup.Position[2], static_cast<double>(geometry->GetGeometryTime()),
+    std::vector<double> paraboloidKey = { setup.Position[0], setup.Position[1], setup.Position[2],
+      static_cast<double>(geometry->GetGeometryTime()),
       static_cast<double>(geometry->GetFlagsTime()), origin[0], origin[1], origin[2] };
     if (paraboloidKey != this->ParaboloidKey || !this->ParaboloidArray)
     {
@@ -1563,12 +1571,14 @@ void vtkPenumbraShadowMapShadows::Internals::ResolveMidpoint(vtkPenumbraShadowMa
   }
   std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
   const float* second = this->SecondLayer.data();
-  vtkSMPTools::For(0, static_cast<vtkIdType>(map.size()), [&](vtkIdType b, vtkIdType e) {
-    for (vtkIdType i = b; i < e; ++i)
+  vtkSMPTools::For(0, static_cast<vtkIdType>(map.size()),
+    [&](vtkIdType b, vtkIdType e)
     {
-      map[static_cast<size_t>(i)] = 0.5f * (map[static_cast<size_t>(i)] + second[i]);
-    }
-  });
+      for (vtkIdType i = b; i < e; ++i)
+      {
+        map[static_cast<size_t>(i)] = 0.5f * (map[static_cast<size_t>(i)] + second[i]);
+      }
+    });
 }
 
 //------------------------------------------------------------------------------
@@ -1579,8 +1589,9 @@ vtkTextureObject* vtkPenumbraShadowMapShadows::Internals::SlotTexture(
 {
   const bool gpuLookup = self->Lookup == LOOKUP_GPU;
   auto& kept = maps->Textures[static_cast<size_t>(slot)];
-  if (kept && (!gpuLookup || static_cast<int>(kept->GetWidth()) != maps->Width ||
-                static_cast<int>(kept->GetHeight()) != maps->Height))
+  if (kept &&
+    (!gpuLookup || static_cast<int>(kept->GetWidth()) != maps->Width ||
+      static_cast<int>(kept->GetHeight()) != maps->Height))
   {
     kept->ReleaseGraphicsResources(win);
     kept = nullptr;
@@ -1627,7 +1638,8 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
   this->AllocateMaps(win, maps->Width, maps->Height);
   const bool midpoint = self->DepthMode == DEPTH_MIDPOINT;
   vtkOpenGLState* ostate = win->GetState();
-  penumbra_light_views::MapRenderState renderState(ostate, this->FBO, maps->Width, maps->Height, false);
+  penumbra_light_views::MapRenderState renderState(
+    ostate, this->FBO, maps->Width, maps->Height, false);
   this->BindCasters(self, program, geometry, setup, *maps);
   if (self->Lookup == LOOKUP_GPU && midpoint && !this->MidpointQuad)
   {
@@ -1690,19 +1702,21 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupList(vtkPenumbraShadowMapShad
   std::vector<float>& normals = this->ListNormalData;
   positions.assign(static_cast<size_t>(4) * listWidth * listHeight, 0.0f);
   normals.assign(positions.size(), 0.0f);
-  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
+  vtkSMPTools::For(0, count,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const vtkIdType s = list[static_cast<size_t>(i)];
-      double p[3];
-      SamplePoint(in, s, p);
-      for (int c = 0; c < 3; ++c)
+      for (vtkIdType i = begin; i < end; ++i)
       {
-        positions[static_cast<size_t>(4 * i + c)] = static_cast<float>(p[c]);
-        normals[static_cast<size_t>(4 * i + c)] = nrm[3 * s + c];
+        const vtkIdType s = list[static_cast<size_t>(i)];
+        double p[3];
+        SamplePoint(in, s, p);
+        for (int c = 0; c < 3; ++c)
+        {
+          positions[static_cast<size_t>(4 * i + c)] = static_cast<float>(p[c]);
+          normals[static_cast<size_t>(4 * i + c)] = nrm[3 * s + c];
+        }
       }
-    }
-  });
+    });
   if (!this->LookupFBO)
   {
     this->LookupFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
@@ -1796,108 +1810,109 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
   const double slopeBias = self->SlopeBias * (1.0 + BiasRadius(self));
   const double constantBias = self->Bias;
   // ---- Per-sample lookup on the CPU, double precision (see the class description).
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType s = begin; s < end; ++s)
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      if (state[s] != Pending)
+      for (vtkIdType s = begin; s < end; ++s)
       {
-        continue;
-      }
-      double p[3];
-      SamplePoint(in, s, p);
-      const int slot = SlotOf(setup, slotMode, p);
-      const std::vector<float>& map = m.Maps[static_cast<size_t>(slot)];
-      if (map.empty())
-      {
-        continue; // cannot happen: every pending sample's slot was rendered
-      }
-      double ms = 0.0, mt = 0.0, depth = 0.0, footprint = 0.0, depthPerLength = 1.0;
-      double toLight[3] = { 0, 0, 0 };
-      if (m.Paraboloid)
-      {
-        double q[3] = { p[0] - m.Centre[0], p[1] - m.Centre[1], p[2] - m.Centre[2] };
-        const double distance = Norm3(q);
-        if (!(distance > 0.0))
+        if (state[s] != Pending)
         {
           continue;
         }
-        for (int c = 0; c < 3; ++c)
+        double p[3];
+        SamplePoint(in, s, p);
+        const int slot = SlotOf(setup, slotMode, p);
+        const std::vector<float>& map = m.Maps[static_cast<size_t>(slot)];
+        if (map.empty())
         {
-          q[c] /= distance;
-          toLight[c] = -q[c];
+          continue; // cannot happen: every pending sample's slot was rendered
         }
-        double xy[2];
-        ParaboloidFromDirection(q, xy);
-        ms = xy[0] * m.MapScale;
-        mt = xy[1] * m.MapScale;
-        depth = distance / m.Far;
-        depthPerLength = 1.0 / m.Far;
-        // d(angle)/d(radius) = 2 / (1 + r^2) on the paraboloid.
-        footprint = distance * 2.0 / (1.0 + xy[0] * xy[0] + xy[1] * xy[1]) * 2.0 /
-          (width * m.MapScale);
-      }
-      else
-      {
-        const View& view = m.Views[static_cast<size_t>(slot)];
-        if (!view.Project(p, ms, mt, depth))
+        double ms = 0.0, mt = 0.0, depth = 0.0, footprint = 0.0, depthPerLength = 1.0;
+        double toLight[3] = { 0, 0, 0 };
+        if (m.Paraboloid)
         {
-          continue;
-        }
-        if (view.Perspective)
-        {
-          depthPerLength = 1.0 / view.Far;
-          footprint = 2.0 * view.TanHalf * depth * view.Far / std::min(width, height);
+          double q[3] = { p[0] - m.Centre[0], p[1] - m.Centre[1], p[2] - m.Centre[2] };
+          const double distance = Norm3(q);
+          if (!(distance > 0.0))
+          {
+            continue;
+          }
           for (int c = 0; c < 3; ++c)
           {
-            toLight[c] = setup.Position[c] - p[c];
+            q[c] /= distance;
+            toLight[c] = -q[c];
           }
+          double xy[2];
+          ParaboloidFromDirection(q, xy);
+          ms = xy[0] * m.MapScale;
+          mt = xy[1] * m.MapScale;
+          depth = distance / m.Far;
+          depthPerLength = 1.0 / m.Far;
+          // d(angle)/d(radius) = 2 / (1 + r^2) on the paraboloid.
+          footprint =
+            distance * 2.0 / (1.0 + xy[0] * xy[0] + xy[1] * xy[1]) * 2.0 / (width * m.MapScale);
         }
         else
         {
-          depthPerLength = Norm3(view.Row[2]);
-          footprint = OrthoFootprint(view, m);
-          std::copy(setup.Direction, setup.Direction + 3, toLight);
+          const View& view = m.Views[static_cast<size_t>(slot)];
+          if (!view.Project(p, ms, mt, depth))
+          {
+            continue;
+          }
+          if (view.Perspective)
+          {
+            depthPerLength = 1.0 / view.Far;
+            footprint = 2.0 * view.TanHalf * depth * view.Far / std::min(width, height);
+            for (int c = 0; c < 3; ++c)
+            {
+              toLight[c] = setup.Position[c] - p[c];
+            }
+          }
+          else
+          {
+            depthPerLength = Norm3(view.Row[2]);
+            footprint = OrthoFootprint(view, m);
+            std::copy(setup.Direction, setup.Direction + 3, toLight);
+          }
         }
-      }
-      double normal[3] = { nrm[3 * s], nrm[3 * s + 1], nrm[3 * s + 2] };
-      vtkMath::Normalize(normal);
-      vtkMath::Normalize(toLight);
-      const double cosine = std::max(1e-9, vtkMath::Dot(normal, toLight));
-      const double tangent =
-        std::min(MaxTangent, std::sqrt(std::max(0.0, 1.0 - cosine * cosine)) / cosine);
-      const double threshold =
-        depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
-      if (bilinear)
-      {
-        vis[s] = static_cast<float>(BilinearLookup(map, width, height, ms, mt, threshold));
-        continue;
-      }
-      const int ix =
-        std::min(width - 1, std::max(0, static_cast<int>(std::floor((ms * 0.5 + 0.5) * width))));
-      const int iy =
-        std::min(height - 1, std::max(0, static_cast<int>(std::floor((mt * 0.5 + 0.5) * height))));
-      int litTaps = 0, taps = 0;
-      for (int dy = -radius; dy <= radius; ++dy)
-      {
-        // PCF stays inside the map: it never reads across a cube face or paraboloid rim.
-        const int y = std::min(height - 1, std::max(0, iy + dy));
-        for (int dx = -radius; dx <= radius; ++dx)
+        double normal[3] = { nrm[3 * s], nrm[3 * s + 1], nrm[3 * s + 2] };
+        vtkMath::Normalize(normal);
+        vtkMath::Normalize(toLight);
+        const double cosine = std::max(1e-9, vtkMath::Dot(normal, toLight));
+        const double tangent =
+          std::min(MaxTangent, std::sqrt(std::max(0.0, 1.0 - cosine * cosine)) / cosine);
+        const double threshold =
+          depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
+        if (bilinear)
         {
-          const int x = std::min(width - 1, std::max(0, ix + dx));
-          litTaps += map[static_cast<size_t>(y) * width + x] >= threshold;
-          ++taps;
+          vis[s] = static_cast<float>(BilinearLookup(map, width, height, ms, mt, threshold));
+          continue;
         }
+        const int ix =
+          std::min(width - 1, std::max(0, static_cast<int>(std::floor((ms * 0.5 + 0.5) * width))));
+        const int iy = std::min(
+          height - 1, std::max(0, static_cast<int>(std::floor((mt * 0.5 + 0.5) * height))));
+        int litTaps = 0, taps = 0;
+        for (int dy = -radius; dy <= radius; ++dy)
+        {
+          // PCF stays inside the map: it never reads across a cube face or paraboloid rim.
+          const int y = std::min(height - 1, std::max(0, iy + dy));
+          for (int dx = -radius; dx <= radius; ++dx)
+          {
+            const int x = std::min(width - 1, std::max(0, ix + dx));
+            litTaps += map[static_cast<size_t>(y) * width + x] >= threshold;
+            ++taps;
+          }
+        }
+        vis[s] = static_cast<float>(litTaps) / static_cast<float>(taps);
       }
-      vis[s] = static_cast<float>(litTaps) / static_cast<float>(taps);
-    }
-  });
+    });
 }
 
 //------------------------------------------------------------------------------
 // The uniforms every slot shares (vtkPenumbraShadowMapCompare.glsl).
-void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(
-  vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightSetup& setup,
-  const LightMaps& m)
+void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(vtkPenumbraShadowMapShadows* self,
+  vtkShaderProgram* program, const LightSetup& setup, const LightMaps& m)
 {
   const int radius = TapRadius(self);
   program->SetUniformi("slotMode", this->SlotMode(self, setup));
@@ -1997,9 +2012,8 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
         return false;
       }
       maps->Key.swap(key);
-      auto estimate = [&](const View& view, std::vector<float>& needs, std::string& why) {
-        return this->EstimateFrame(frame, setup, view, self->AnalysisStep, needs, why);
-      };
+      auto estimate = [&](const View& view, std::vector<float>& needs, std::string& why)
+      { return this->EstimateFrame(frame, setup, view, self->AnalysisStep, needs, why); };
       int size[2];
       if (!this->PlanMaps(self, setup, extent, estimate, maps, size, error) ||
         !this->RenderMaps(self, win, geometry, setup, extent, size, maps, error))
@@ -2106,7 +2120,8 @@ bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapSh
         this->TilesQuad.reset(new vtkOpenGLQuadHelper(
           win, nullptr, ComposeShader(vtkPenumbraShadowMapTilesFS).c_str(), ""));
       }
-      if (!this->TilePass(frame, *this->TilesQuad, [](vtkShaderProgram*) {}, this->TileData))
+      if (!this->TilePass(
+            frame, *this->TilesQuad, [](vtkShaderProgram*) {}, this->TileData))
       {
         error = "the tile-summary program does not compile on this OpenGL implementation";
         return false;
@@ -2125,7 +2140,8 @@ bool vtkPenumbraShadowMapShadows::Internals::ReduceExtent(vtkPenumbraShadowMapSh
       win, nullptr, ComposeShader(vtkPenumbraShadowMapExtentFS).c_str(), ""));
   }
   const int slotMode = this->SlotMode(self, setup);
-  auto uniforms = [&](vtkShaderProgram* program) {
+  auto uniforms = [&](vtkShaderProgram* program)
+  {
     program->SetUniformi("slotMode", slotMode);
     const float position[3] = { static_cast<float>(setup.Position[0]),
       static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
@@ -2191,8 +2207,8 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
     }
     for (size_t i = 0; i < std::max<size_t>(1, slots.size()); ++i)
     {
-      vtkTextureObject* map = slots.empty() ? this->NoMap.Get()
-                                            : maps->Textures[static_cast<size_t>(slots[i])].Get();
+      vtkTextureObject* map =
+        slots.empty() ? this->NoMap.Get() : maps->Textures[static_cast<size_t>(slots[i])].Get();
       program->SetUniformi("writeDecided", i == 0 ? 1 : 0);
       if (slots.empty())
       {
@@ -2243,7 +2259,9 @@ void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Coverage: " << this->Coverage << "\n";
   os << indent << "AnalysisStep: " << this->AnalysisStep << "\n";
   os << indent << "Filter: "
-     << (this->Filter == FILTER_PCF ? "pcf" : this->Filter == FILTER_BILINEAR ? "bilinear" : "none")
+     << (this->Filter == FILTER_PCF           ? "pcf"
+            : this->Filter == FILTER_BILINEAR ? "bilinear"
+                                              : "none")
      << "\n";
   os << indent << "PCFKernel: " << this->PCFKernel << "\n";
   os << indent << "Bias: " << this->Bias << "\n";

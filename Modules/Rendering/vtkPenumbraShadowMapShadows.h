@@ -149,8 +149,8 @@ public:
 
   enum FilterModes
   {
-    FILTER_NONE = 0, ///< one nearest texel, 0 or 1 (what a hardware depth compare gives)
-    FILTER_PCF = 1,  ///< percentage-closer filtering over PCFKernel^2 nearest texels (ch. 5)
+    FILTER_NONE = 0,    ///< one nearest texel, 0 or 1 (what a hardware depth compare gives)
+    FILTER_PCF = 1,     ///< percentage-closer filtering over PCFKernel^2 nearest texels (ch. 5)
     FILTER_BILINEAR = 2 ///< Fast PCF: bilinear weights of the 2 x 2 adjacent compared texels
   };
   enum DepthModes

@@ -3,15 +3,17 @@
 #include "vtkCameraPass.h"
 
 #include "vtkActor.h"
+#include "vtkCamera.h"
 #include "vtkCollection.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
-#include "vtkProperty.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkLightsPass.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpaquePass.h"
@@ -19,9 +21,6 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLState.h"
 #include "vtkOverlayPass.h"
-#include "vtkCamera.h"
-#include "vtkMatrix4x4.h"
-#include "vtkMath.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraGearsShadows.h"
@@ -30,6 +29,7 @@
 #include "vtkPenumbraShadowTechnique.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPenumbraViewSamplesPass.h"
+#include "vtkProperty.h"
 #include "vtkRenderPassCollection.h"
 #include "vtkRenderState.h"
 #include "vtkRenderer.h"
@@ -113,7 +113,8 @@ std::string LightKind(vtkLight* light)
 // light from it either, so when that holds for every visible sample nothing needs shadowing.
 // Whether the ray from p towards a directional light (`toLight`, `toPoint` null) or the
 // segment from p to a positional light `toPoint` meets the box (slab test).
-bool RayMeetsBox(const double p[3], const double toLight[3], const double* toPoint, const double box[6])
+bool RayMeetsBox(
+  const double p[3], const double toLight[3], const double* toPoint, const double box[6])
 {
   double t0 = 0.0, t1 = toPoint ? 1.0 : std::numeric_limits<double>::infinity();
   for (int a = 0; a < 3; ++a)
@@ -161,7 +162,8 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
   {
     area->GetCentre(pos);
     const double hw = 0.5 * area->GetWidth();
-    const double hh = area->GetShape() == vtkPenumbraAreaLight::Line ? 0.0 : 0.5 * area->GetHeight();
+    const double hh =
+      area->GetShape() == vtkPenumbraAreaLight::Line ? 0.0 : 0.5 * area->GetHeight();
     for (double a : { -hw, hw })
     {
       for (double b : { -hh, hh })
@@ -175,7 +177,8 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
   {
     points.push_back({ pos[0], pos[1], pos[2] });
   }
-  const bool spot = !area && light->GetPositional() && light->GetConeAngle() < 90.0 && axisLength > 0;
+  const bool spot =
+    !area && light->GetPositional() && light->GetConeAngle() < 90.0 && axisLength > 0;
   const double cosCone = std::cos(vtkMath::RadiansFromDegrees(light->GetConeAngle()));
   // A directional light shines along the axis from the position toward the focal point.
   const double toLight[3] = { -axis[0], -axis[1], -axis[2] };
@@ -206,7 +209,8 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
       return "no caster lies between it and any visible surface";
     }
   }
-  auto mayBeShadowed = [&](const double p[3]) {
+  auto mayBeShadowed = [&](const double p[3])
+  {
     anyLit = true;
     return hard && casterBox &&
       RayMeetsBox(p, toLight, points.empty() ? nullptr : points[0].data(), casterBox);
@@ -223,8 +227,7 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
     const float* nrm = normals + 3 * i;
     if (points.empty())
     {
-      if (nrm[0] * toLight[0] + nrm[1] * toLight[1] + nrm[2] * toLight[2] > 0.0 &&
-        mayBeShadowed(p))
+      if (nrm[0] * toLight[0] + nrm[1] * toLight[1] + nrm[2] * toLight[2] > 0.0 && mayBeShadowed(p))
       {
         return "";
       }
@@ -291,7 +294,7 @@ struct vtkPenumbraShadowPass::Internals
   bool HasFrame = false; // Frame holds a frame rendered with shadows
 
   std::vector<vtkSmartPointer<vtkLight>> Lights; // switched-on, shader order
-  int LightsOff = 0;                              // switched-off lights of the renderer
+  int LightsOff = 0;                             // switched-off lights of the renderer
 
   // The technique for lights the pass's technique cannot shadow (SetFallbackTechnique()).
   vtkSmartPointer<vtkPenumbraShadowTechnique> Fallback;
@@ -335,8 +338,8 @@ struct vtkPenumbraShadowPass::Internals
   {
     const double* c = light->GetDiffuseColor();
     const double* s = light->GetSpecularColor();
-    return light->GetIntensity() > 0.0 && (c[0] > 0 || c[1] > 0 || c[2] > 0 || s[0] > 0 ||
-                                             s[1] > 0 || s[2] > 0);
+    return light->GetIntensity() > 0.0 &&
+      (c[0] > 0 || c[1] > 0 || c[2] > 0 || s[0] > 0 || s[1] > 0 || s[2] > 0);
   }
 
   void CollectLights(vtkRenderer* ren);
@@ -382,7 +385,8 @@ struct vtkPenumbraShadowPass::Internals
       double scale = 0.0;
       for (int a = 0; a < 3; ++a)
       {
-        scale = std::max({ scale, std::abs(lo[a] + origin[a]), std::abs(hi[a] + origin[a]), hi[a] - lo[a] });
+        scale = std::max(
+          { scale, std::abs(lo[a] + origin[a]), std::abs(hi[a] + origin[a]), hi[a] - lo[a] });
       }
       const double pad = 1e-6 * scale;
       for (int a = 0; a < 3 && this->HasCasters; ++a)
@@ -555,14 +559,15 @@ vtkPenumbraShadowTechnique* vtkPenumbraShadowPass::Internals::Choose(
       // and Efficient Algorithm for Rendering Shadows", Computer Graphics Forum 33(6), 2014).
       this->Fallback = vtkSmartPointer<vtkPenumbraGearsShadows>::New();
     }
-    const std::string refused = chosen ? chosen->GetTechniqueName() : this->Technique->GetTechniqueName();
+    const std::string refused =
+      chosen ? chosen->GetTechniqueName() : this->Technique->GetTechniqueName();
     chosen = this->Fallback;
     report.Why = refused + " cannot shadow it (hard shadows only); shadowed by " +
       chosen->GetTechniqueName() + " instead (soft shadows)";
     if (this->Warned.insert({ light, chosen }).second)
     {
-      vtkWarningWithObjectMacro(pass, "Light " << i << " (" << LightKind(light) << "): "
-                                               << report.Why);
+      vtkWarningWithObjectMacro(
+        pass, "Light " << i << " (" << LightKind(light) << "): " << report.Why);
     }
   }
   report.Technique = chosen;
@@ -658,9 +663,11 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
   this->NumberOfSkipped += skipped;
   if (skipped > 0 && skipped != this->LastSkipped)
   {
-    vtkErrorWithObjectMacro(pass, << skipped << " lights rendered without shadows: this OpenGL "
-      "implementation gives a shader " << units << " texture units, so at most " << budget
-      << " lights can be shadowed");
+    vtkErrorWithObjectMacro(pass, << skipped
+                                  << " lights rendered without shadows: this OpenGL "
+                                     "implementation gives a shader "
+                                  << units << " texture units, so at most " << budget
+                                  << " lights can be shadowed");
   }
   this->LastSkipped = skipped;
   for (auto& group : groups)
@@ -680,8 +687,8 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
     }
     else
     {
-      vtkErrorWithObjectMacro(pass, "Light " << frame->GetLightIndex(k)
-                                             << " rendered without shadows: the technique failed");
+      vtkErrorWithObjectMacro(pass,
+        "Light " << frame->GetLightIndex(k) << " rendered without shadows: the technique failed");
     }
   }
   frame->Finish();
@@ -782,12 +789,12 @@ std::string vtkPenumbraShadowPass::GetExplanation()
     }
     else
     {
-      out << "skipped, no shadow work - " << (r.Skipped.empty() ? "the technique failed" : r.Skipped)
-          << "\n";
+      out << "skipped, no shadow work - "
+          << (r.Skipped.empty() ? "the technique failed" : r.Skipped) << "\n";
     }
   }
-  out << "skipped lights: " << this->GetNumberOfSkippedLights() << "; lights off: " << impl.LightsOff
-      << " (no shadow work)\n";
+  out << "skipped lights: " << this->GetNumberOfSkippedLights()
+      << "; lights off: " << impl.LightsOff << " (no shadow work)\n";
   return out.str();
 }
 
@@ -939,8 +946,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     // The view samples are the same as long as the view is: a light that moves, a technique
     // that changes, reuse them (no G-buffer, no read-back).
     const bool sameView = impl.HasFrame && viewKey == impl.LastViewKey;
-    impl.LastReused =
-      this->ReuseUnchangedFrames && sameView && lightsKey == impl.LastLightsKey;
+    impl.LastReused = this->ReuseUnchangedFrames && sameView && lightsKey == impl.LastLightsKey;
     if (!impl.LastReused)
     {
       t = Now();
@@ -1000,8 +1006,8 @@ vtkMTimeType vtkPenumbraShadowPass::GetShaderStageMTime()
   return this->Impl->ShaderTime.GetMTime();
 }
 
-bool vtkPenumbraShadowPass::PreReplaceShaderValues(std::string&, std::string&,
-  std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
+bool vtkPenumbraShadowPass::PreReplaceShaderValues(
+  std::string&, std::string&, std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
 {
   // Translucent props read the translucent layer's visibility: the opaque samples hold the
   // surface behind them.
@@ -1035,7 +1041,8 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
   for (size_t i = 0; i < impl.Injected.size(); ++i)
   {
     const std::string color = "lightColor" + std::to_string(i);
-    if (!impl.Injected[i] || fragmentShader.find("uniform vec3 " + color + ";") == std::string::npos)
+    if (!impl.Injected[i] ||
+      fragmentShader.find("uniform vec3 " + color + ";") == std::string::npos)
     {
       continue; // light i is unshadowed, or this shader does not light with it
     }
@@ -1106,14 +1113,13 @@ void vtkPenumbraShadowPass::ReleaseGraphicsResources(vtkWindow* w)
 void vtkPenumbraShadowPass::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Technique: " << (this->Impl->Technique ? this->Impl->Technique->GetClassName() : "(none)")
+  os << indent
+     << "Technique: " << (this->Impl->Technique ? this->Impl->Technique->GetClassName() : "(none)")
      << "\n";
   os << indent << "Lights: " << this->Impl->Lights.size() << "\n";
-}//------------------------------------------------------------------------------
+} //------------------------------------------------------------------------------
 vtkPenumbraShadowPass* vtkPenumbraShadowPass::GetInstalled(vtkRenderer* renderer)
 {
   auto* camera = renderer ? vtkCameraPass::SafeDownCast(renderer->GetPass()) : nullptr;
   return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
 }
-
-

@@ -33,9 +33,8 @@ const char* vtkPenumbraShadowTechnique::GetTechniqueName()
   // The registry's names (vtkPenumbraTechniques), so messages use the names users type.
   static const char* const names[][2] = { { "vtkPenumbraRayTracedShadows", "raytraced" },
     { "vtkPenumbraConservativeShadows", "conservative" },
-    { "vtkPenumbraShadowMapShadows", "shadowmap" },
-    { "vtkPenumbraShadowVolumeShadows", "volumes" }, { "vtkPenumbraGearsShadows", "gears" },
-    { "vtkPenumbraAutoShadows", "auto" } };
+    { "vtkPenumbraShadowMapShadows", "shadowmap" }, { "vtkPenumbraShadowVolumeShadows", "volumes" },
+    { "vtkPenumbraGearsShadows", "gears" }, { "vtkPenumbraAutoShadows", "auto" } };
   for (const auto& n : names)
   {
     if (std::strcmp(this->GetClassName(), n[0]) == 0)
@@ -83,8 +82,7 @@ int vtkPenumbraShadowTechnique::ComputeVisibilities(vtkRenderer* renderer,
   vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLightCollection* lights,
   vtkCollection* visibilities)
 {
-  if (!lights || !visibilities ||
-    lights->GetNumberOfItems() != visibilities->GetNumberOfItems())
+  if (!lights || !visibilities || lights->GetNumberOfItems() != visibilities->GetNumberOfItems())
   {
     vtkErrorMacro("ComputeVisibilities needs one visibility array per light");
     return 0;

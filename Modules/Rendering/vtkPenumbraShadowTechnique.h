@@ -22,7 +22,7 @@
 
 #include "vtkObject.h"
 #include "vtkPenumbraRenderingModule.h" // For export macro
-#include "vtkSmartPointer.h"                // For FrameResults
+#include "vtkSmartPointer.h"            // For FrameResults
 
 #include <string> // For SelectTechnique
 #include <vector> // For FrameResults

@@ -196,8 +196,8 @@ struct Connectivity
   }
 
   // Components of `mesh` by flood fill over shared edges.
-  void BuildComponents(const OMesh& mesh, const std::vector<std::array<int, 3>>& tris,
-    const std::vector<int>& faceTri)
+  void BuildComponents(
+    const OMesh& mesh, const std::vector<std::array<int, 3>>& tris, const std::vector<int>& faceTri)
   {
     const int nf = static_cast<int>(mesh.n_faces());
     std::vector<int> component(static_cast<size_t>(nf), -1);
@@ -359,9 +359,7 @@ struct VolumeLight
   // Direction of extrusion at v (away from the light), not normalized.
   Vec3 Away(const Vec3& v) const
   {
-    return this->Directional
-      ? -this->Direction
-      : (v - this->Position);
+    return this->Directional ? -this->Direction : (v - this->Position);
   }
 };
 
@@ -387,7 +385,8 @@ double PositionalFarW(const Connectivity& mesh, const VolumeLight& light, const 
     farthest = std::max(farthest, std::sqrt(glm::dot(d, d)));
   }
   double nearest = VTK_DOUBLE_MAX;
-  auto visit = [&](const std::array<int, 3>& t) {
+  auto visit = [&](const std::array<int, 3>& t)
+  {
     const Vec3& a = mesh.Points[static_cast<size_t>(t[0])];
     const Vec3& b = mesh.Points[static_cast<size_t>(t[1])];
     const Vec3& c = mesh.Points[static_cast<size_t>(t[2])];
@@ -406,8 +405,8 @@ double PositionalFarW(const Connectivity& mesh, const VolumeLight& light, const 
       radius = std::max(radius, std::sqrt(glm::dot(d, d)));
     }
     const Vec3 toLight = (L - centre);
-    const double bound =
-      std::max(std::fabs(f) / std::sqrt(glm::dot(n, n)), std::sqrt(glm::dot(toLight, toLight)) - radius);
+    const double bound = std::max(
+      std::fabs(f) / std::sqrt(glm::dot(n, n)), std::sqrt(glm::dot(toLight, toLight)) - radius);
     nearest = std::min(nearest, bound);
   };
   std::for_each(mesh.Loose.begin(), mesh.Loose.end(), visit);
@@ -423,7 +422,8 @@ double PositionalFarW(const Connectivity& mesh, const VolumeLight& light, const 
 // the light-facing oriented triangle (a, b, c) misses `box`.
 bool VolumeMissesBox(const VolumeLight& light, const Vec3 v[3], const double box[6])
 {
-  auto minOver = [&](const Vec3& n, const Vec3& p) {
+  auto minOver = [&](const Vec3& n, const Vec3& p)
+  {
     double m = 0.0;
     for (int a = 0; a < 3; ++a)
     {
@@ -470,11 +470,9 @@ bool VolumeMissesBox(const VolumeLight& light, const Vec3 v[3], const double box
 // oriented triangle: used to prove the camera is outside its volume (z-pass is then exact).
 bool SegmentMayTouch(const VolumeLight& light, const Vec3& eye, const Vec3 v[3], double tol)
 {
-  const Vec3 far = light.Directional
-    ? Vec3{ eye[0] + light.Extrusion * light.Direction[0],
-        eye[1] + light.Extrusion * light.Direction[1],
-        eye[2] + light.Extrusion * light.Direction[2] }
-    : light.Position;
+  const Vec3 far = light.Directional ? Vec3{ eye[0] + light.Extrusion * light.Direction[0],
+    eye[1] + light.Extrusion * light.Direction[1], eye[2] + light.Extrusion * light.Direction[2] }
+                                     : light.Position;
   Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
   const double len = std::sqrt(glm::dot(n, n));
   if (!(len > 0.0))
@@ -517,7 +515,7 @@ struct VolumeBuilder
   const double* Box = nullptr; // culling box of the pending samples, null: no culling
   double FarW = 0.0;           // positional lights: w of the extruded copies
   std::vector<float> Caps, Sides;
-  std::vector<float> GPUVolumes;  // GPU components, as the geometry stage draws them
+  std::vector<float> GPUVolumes;   // GPU components, as the geometry stage draws them
   std::vector<float> GPUUncertain; // segments: prism edges of faces it may classify otherwise
   vtkIdType Culled = 0;
   vtkIdType SilhouetteEdges = 0;
@@ -541,14 +539,17 @@ struct VolumeBuilder
     const VolumeLight& vl = this->Light;
     if (vl.Directional)
     {
-      Put(out, { v[0] - vl.Extrusion * vl.Direction[0], v[1] - vl.Extrusion * vl.Direction[1],
-        v[2] - vl.Extrusion * vl.Direction[2] }, 1.0);
+      Put(out,
+        { v[0] - vl.Extrusion * vl.Direction[0], v[1] - vl.Extrusion * vl.Direction[1],
+          v[2] - vl.Extrusion * vl.Direction[2] },
+        1.0);
     }
     else
     {
       const double w = this->FarW;
-      Put(out, { v[0] - vl.Position[0] + w * vl.Position[0],
-        v[1] - vl.Position[1] + w * vl.Position[1], v[2] - vl.Position[2] + w * vl.Position[2] },
+      Put(out,
+        { v[0] - vl.Position[0] + w * vl.Position[0], v[1] - vl.Position[1] + w * vl.Position[1],
+          v[2] - vl.Position[2] + w * vl.Position[2] },
         w);
     }
   }
@@ -562,8 +563,8 @@ struct VolumeBuilder
     this->PutFar(out, v);
     Put(out, v, 1.0);
   }
-  void CapAndDark(std::vector<float>& caps, std::vector<float>& sides, const Vec3& a,
-    const Vec3& b, const Vec3& c) const
+  void CapAndDark(std::vector<float>& caps, std::vector<float>& sides, const Vec3& a, const Vec3& b,
+    const Vec3& c) const
   {
     Put(caps, a, 1.0);
     Put(caps, b, 1.0);
@@ -733,8 +734,8 @@ struct SampleLayout
 
   // Pixel of every sample that sees a surface, from `projection` (world -> clip, rebased:
   // the geometry's frame) on a width x height view.
-  void Place(const penumbra_light_views::FrameInputs& in, const double projection[4][4],
-    int width, int height)
+  void Place(const penumbra_light_views::FrameInputs& in, const double projection[4][4], int width,
+    int height)
   {
     const vtkIdType n = in.NumberOfSamples;
     const vtkIdType perLayer = static_cast<vtkIdType>(width) * height;
@@ -756,7 +757,8 @@ struct SampleLayout
         clip[r] = projection[r][3];
         for (int c = 0; c < 3; ++c)
         {
-          clip[r] += projection[r][c] * (static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c]);
+          clip[r] +=
+            projection[r][c] * (static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c]);
         }
       }
       const double fx = 0.5 * (clip[0] / clip[3] + 1.0) * width;
@@ -948,15 +950,15 @@ struct VolumeOutline
     this->EdgeStart.push_back(static_cast<int>(entries.size()));
     for (size_t i = 0; i + 7 < forced.size(); i += 8)
     {
-      this->Forced.push_back({ this->Weld(forced.data() + i, index),
-        this->Weld(forced.data() + i + 4, index) });
+      this->Forced.push_back(
+        { this->Weld(forced.data() + i, index), this->Weld(forced.data() + i + 4, index) });
     }
   }
 
   // Marks in `pixels` (width x height, one view) every pixel whose centre lies within Reach
   // of an outline edge projected with `projection` (rebased world -> clip, VTK's camera).
-  void Mark(const double projection[4][4], int width, int height,
-    std::vector<unsigned char>& pixels)
+  void Mark(
+    const double projection[4][4], int width, int height, std::vector<unsigned char>& pixels)
   {
     pixels.assign(static_cast<size_t>(width) * static_cast<size_t>(height), 0);
     this->Projected.resize(this->Points.size());
@@ -988,7 +990,8 @@ struct VolumeOutline
       bool onEdge = false;
       for (int i = this->EdgeStart[e]; i < this->EdgeStart[e + 1]; ++i)
       {
-        const int side = this->FaceSide[static_cast<size_t>(this->Incidences[static_cast<size_t>(i)] / 2)];
+        const int side =
+          this->FaceSide[static_cast<size_t>(this->Incidences[static_cast<size_t>(i)] / 2)];
         const int forward = this->Incidences[static_cast<size_t>(i)] % 2 ? 1 : -1;
         onEdge = onEdge || side == 0;
         (side > 0 ? front : back) += forward;
@@ -1075,7 +1078,8 @@ struct VolumeOutline
       const double xa = end[0][0] + ta * (end[1][0] - end[0][0]);
       const double xb = end[0][0] + tb * (end[1][0] - end[0][0]);
       const int first = std::max(0, static_cast<int>(std::ceil(std::min(xa, xb) - r - 0.5)));
-      const int last = std::min(width - 1, static_cast<int>(std::floor(std::max(xa, xb) + r - 0.5)));
+      const int last =
+        std::min(width - 1, static_cast<int>(std::floor(std::max(xa, xb) + r - 0.5)));
       for (int x = first; x <= last; ++x)
       {
         pixels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)] = 1;
@@ -1120,8 +1124,8 @@ vtkIdType MarkTraced(const SampleLayout& layout, const penumbra_light_views::Fra
         {
           continue;
         }
-        const vtkIdType t =
-          layout.SampleAt[static_cast<size_t>(layerStart + static_cast<vtkIdType>(ny) * layout.Width + nx)];
+        const vtkIdType t = layout.SampleAt[static_cast<size_t>(
+          layerStart + static_cast<vtkIdType>(ny) * layout.Width + nx)];
         // A background neighbour: an outline. A facing-away one: the light's terminator,
         // where the sample's own caster has a silhouette edge and its side quads start.
         edge = t < 0 || state[static_cast<size_t>(t)] != Pending || vis[t] != vis[s];
@@ -1204,7 +1208,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   // Per-frame camera data shared by every light (see ComputeGroup).
   std::vector<double> DepthKey;
   double Rows[4][4] = {};
-  double Projection[4][4] = {}; // world -> clip as VTK draws it, rebased (x, y, w rows)
+  double Projection[4][4] = {};             // world -> clip as VTK draws it, rebased (x, y, w rows)
   std::vector<unsigned char> OutlinePixels; // one light's outline (VolumeOutline::Mark)
   bool DepthUploaded = false;
   SampleLayout Layout; // where each sample is counted, and the depths
@@ -1345,15 +1349,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     glBindTexture(GL_TEXTURE_2D, this->DepthStencil);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexImage2D(GL_TEXTURE_2D,
-                 0,
-                 GL_DEPTH32F_STENCIL8,
-                 w,
-                 h,
-                 0,
-                 GL_DEPTH_STENCIL,
-                 GL_FLOAT_32_UNSIGNED_INT_24_8_REV,
-                 nullptr);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH32F_STENCIL8, w, h, 0, GL_DEPTH_STENCIL,
+      GL_FLOAT_32_UNSIGNED_INT_24_8_REV, nullptr);
     glBindTexture(GL_TEXTURE_2D, this->MaskTexture);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -1467,10 +1464,10 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       double origin[3];
       geometry->GetOrigin(origin);
       if (!this->HaveMesh || this->Geometry != geometry ||
-          this->GeometryTime != geometry->GetGeometryTime() ||
-          this->FlagsTime != geometry->GetFlagsTime() ||
-          !std::equal(origin, origin + 3, this->Origin) ||
-          this->BuiltWithSilhouettes != self.Silhouettes)
+        this->GeometryTime != geometry->GetGeometryTime() ||
+        this->FlagsTime != geometry->GetFlagsTime() ||
+        !std::equal(origin, origin + 3, this->Origin) ||
+        this->BuiltWithSilhouettes != self.Silhouettes)
       {
         this->Mesh.Build(geometry, self.Silhouettes);
         this->HaveMesh = true;
@@ -1489,10 +1486,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     self.NumberOfCasterTriangles = mesh.Casters;
     self.NumberOfComplexFaces = mesh.Complex;
     self.NumberOfBoundaryEdges = mesh.BoundaryEdges;
-    self.NumberOfClosedComponents = static_cast<vtkIdType>(
-      std::count_if(mesh.Components.begin(),
-                    mesh.Components.end(),
-                    [](const Connectivity::Component& c) { return c.Closed; }));
+    self.NumberOfClosedComponents = static_cast<vtkIdType>(std::count_if(mesh.Components.begin(),
+      mesh.Components.end(), [](const Connectivity::Component& c) { return c.Closed; }));
     self.NumberOfOpenComponents =
       static_cast<vtkIdType>(mesh.Components.size()) - self.NumberOfClosedComponents;
     self.NumberOfPerTriangleVolumes = static_cast<vtkIdType>(mesh.Loose.size());
@@ -1537,17 +1532,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     job.Vis = vis;
     job.State.assign(static_cast<size_t>(n), Decided);
     const penumbra_light_views::FacingCounts facing =
-      penumbra_light_views::ClassifyFacing(setup,
-                                           n,
-                                           in.Positions,
-                                           in.Normals,
-                                           in.Props,
-                                           in.Shift,
-                                           this->Mesh.Casters > 0,
-                                           vis,
-                                           job.State.data(),
-                                           Pending,
-                                           Decided);
+      penumbra_light_views::ClassifyFacing(setup, n, in.Positions, in.Normals, in.Props, in.Shift,
+        this->Mesh.Casters > 0, vis, job.State.data(), Pending, Decided);
     self.NumberOfCountedSamples += facing.Pending;
     if (facing.Pending == 0)
     {
@@ -1611,34 +1597,23 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     const VolumeLight& vl, const double box[6])
   {
     const auto volumeStart = Clock::now();
-    std::vector<double> key = { vl.Directional ? 1.0 : 0.0,
-                                vl.Direction[0],
-                                vl.Direction[1],
-                                vl.Direction[2],
-                                vl.Position[0],
-                                vl.Position[1],
-                                vl.Position[2],
-                                vl.Extrusion,
-                                self.Cull ? 1.0 : 0.0,
-                                self.GPUSilhouettes ? 1.0 : 0.0,
-                                self.Resolve ? 1.0 : 0.0 };
+    std::vector<double> key = { vl.Directional ? 1.0 : 0.0, vl.Direction[0], vl.Direction[1],
+      vl.Direction[2], vl.Position[0], vl.Position[1], vl.Position[2], vl.Extrusion,
+      self.Cull ? 1.0 : 0.0, self.GPUSilhouettes ? 1.0 : 0.0, self.Resolve ? 1.0 : 0.0 };
     if (self.Cull)
     {
       key.insert(key.end(), box, box + 6);
     }
-    auto found = std::find_if(this->Volumes.begin(),
-                              this->Volumes.end(),
-                              [&](const std::unique_ptr<VolumeSet>& v) { return v->Key == key; });
+    auto found = std::find_if(this->Volumes.begin(), this->Volumes.end(),
+      [&](const std::unique_ptr<VolumeSet>& v) { return v->Key == key; });
     if (found == this->Volumes.end())
     {
       if (this->Volumes.size() >= MaxVolumeSets)
       {
         // The least recently used set; the sets of this group are the newest, so stay.
-        auto oldest =
-          std::min_element(this->Volumes.begin(),
-                           this->Volumes.end(),
-                           [](const std::unique_ptr<VolumeSet>& a,
-                              const std::unique_ptr<VolumeSet>& b) { return a->Stamp < b->Stamp; });
+        auto oldest = std::min_element(this->Volumes.begin(), this->Volumes.end(),
+          [](const std::unique_ptr<VolumeSet>& a, const std::unique_ptr<VolumeSet>& b)
+          { return a->Stamp < b->Stamp; });
         this->Evict(static_cast<size_t>(oldest - this->Volumes.begin()));
       }
       this->Volumes.push_back(std::unique_ptr<VolumeSet>(new VolumeSet));
@@ -1674,22 +1649,15 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     const int viewHeight = std::max(1, static_cast<int>(std::lround(width / aspect)));
     auto address = [](const void* p)
     { return static_cast<double>(reinterpret_cast<std::uintptr_t>(p)); };
-    const std::vector<double> depthKey = {
-      address(samples),
+    const std::vector<double> depthKey = { address(samples),
       static_cast<double>(samples->GetMTime()),
       static_cast<double>(samples->GetPositions()->GetMTime()),
       static_cast<double>(samples->GetPropIndices()->GetMTime()),
       static_cast<double>(samples->GetTriangleIds()->GetMTime()),
-      static_cast<double>(camera->GetMTime()),
-      address(geometry),
-      static_cast<double>(geometry->GetGeometryTime()),
-      this->Origin[0],
-      this->Origin[1],
-      this->Origin[2],
-      static_cast<double>(width),
-      static_cast<double>(viewHeight),
-      static_cast<double>(g.N)
-    };
+      static_cast<double>(camera->GetMTime()), address(geometry),
+      static_cast<double>(geometry->GetGeometryTime()), this->Origin[0], this->Origin[1],
+      this->Origin[2], static_cast<double>(width), static_cast<double>(viewHeight),
+      static_cast<double>(g.N) };
     if (depthKey != this->DepthKey)
     {
       this->DepthKey = depthKey;
@@ -1709,8 +1677,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   // inverse into `unproject`, rebased; Rows the same with a reversed float depth fitted to the
   // samples.
   void CameraRows(vtkCamera* camera, double aspect, bool parallel,
-    const penumbra_light_views::FrameInputs& in, double unproject[4][4],
-    double projection[4][4])
+    const penumbra_light_views::FrameInputs& in, double unproject[4][4], double projection[4][4])
   {
     double(&rows)[4][4] = this->Rows;
     const double* shift = in.Shift;
@@ -1801,9 +1768,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       {
         double eyeWorld[3];
         g.Camera->GetPosition(eyeWorld);
-        const Vec3 eye = { eyeWorld[0] - this->Origin[0],
-                           eyeWorld[1] - this->Origin[1],
-                           eyeWorld[2] - this->Origin[2] };
+        const Vec3 eye = { eyeWorld[0] - this->Origin[0], eyeWorld[1] - this->Origin[1],
+          eyeWorld[2] - this->Origin[2] };
         const double tol = 1e-5 * g.Scale;
         bool outside = true;
         const std::vector<float>& V = vs.Vertices;
@@ -1821,8 +1787,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
         for (size_t i = 0; i + 5 < vs.AdjacencyIndices.size() && outside; i += 6)
         {
           const Vec3 v[3] = { this->Mesh.Points[vs.AdjacencyIndices[i]],
-                              this->Mesh.Points[vs.AdjacencyIndices[i + 2]],
-                              this->Mesh.Points[vs.AdjacencyIndices[i + 4]] };
+            this->Mesh.Points[vs.AdjacencyIndices[i + 2]],
+            this->Mesh.Points[vs.AdjacencyIndices[i + 4]] };
           outside = !SegmentMayTouch(vl, eye, v, tol);
         }
         zpass = outside;
@@ -1857,12 +1823,11 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     {
       return "the shadow volume shaders do not compile or link";
     }
-    if (std::any_of(g.Jobs.begin(),
-                    g.Jobs.end(),
-                    [](const Job& j) { return j.Volumes && j.Volumes->AdjacencyCount > 0; }))
+    if (std::any_of(g.Jobs.begin(), g.Jobs.end(),
+          [](const Job& j) { return j.Volumes && j.Volumes->AdjacencyCount > 0; }))
     {
-      g.GSProgram = ReadyProgram(win, vtkPenumbraShadowVolumeAdjacencyVS,
-        vtkPenumbraShadowVolumeFS, vtkPenumbraShadowVolumeAdjacencyGS);
+      g.GSProgram = ReadyProgram(win, vtkPenumbraShadowVolumeAdjacencyVS, vtkPenumbraShadowVolumeFS,
+        vtkPenumbraShadowVolumeAdjacencyGS);
       if (!g.GSProgram)
       {
         return "GPU silhouettes need a geometry shader with triangles_adjacency input, "
@@ -1995,16 +1960,13 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     points.reserve(3 * this->Mesh.Points.size());
     for (const Vec3& p : this->Mesh.Points)
     {
-      points.insert(
-        points.end(),
+      points.insert(points.end(),
         { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]) });
     }
     glBindVertexArray(this->PointArray);
     glBindBuffer(GL_ARRAY_BUFFER, this->PointBuffer);
-    glBufferData(GL_ARRAY_BUFFER,
-                 static_cast<GLsizeiptr>(points.size() * sizeof(float)),
-                 points.empty() ? nullptr : points.data(),
-                 GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(points.size() * sizeof(float)),
+      points.empty() ? nullptr : points.data(), GL_STATIC_DRAW);
     if (pointLoc >= 0)
     {
       glEnableVertexAttribArray(static_cast<GLuint>(pointLoc));
@@ -2027,15 +1989,9 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       // This layer's depth and a zero stencil in one upload.
       glBindTexture(GL_TEXTURE_2D, this->DepthStencil);
       glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-      glTexSubImage2D(GL_TEXTURE_2D,
-                      0,
-                      0,
-                      0,
-                      layout.Width,
-                      layout.Height,
-                      GL_DEPTH_STENCIL,
-                      GL_FLOAT_32_UNSIGNED_INT_24_8_REV,
-                      layout.DepthStencil.data() + 2 * perLayer * static_cast<size_t>(layer));
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, layout.Width, layout.Height, GL_DEPTH_STENCIL,
+        GL_FLOAT_32_UNSIGNED_INT_24_8_REV,
+        layout.DepthStencil.data() + 2 * perLayer * static_cast<size_t>(layer));
       glBindTexture(GL_TEXTURE_2D, 0);
       this->DepthUploaded = layout.Layers == 1; // one layer: kept for the next call
       stencilClear = true;
@@ -2062,14 +2018,10 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       this->CountLight(self, g, ostate, job, matrix, loc);
     }
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0,
-                 0,
-                 layout.Width,
-                 layout.Height,
-                 channels == 1 ? GL_RED : GL_RGBA,
-                 GL_UNSIGNED_BYTE,
-                 this->MaskPixels.data() +
-                   static_cast<size_t>(channels) * perLayer * static_cast<size_t>(layer));
+    glReadPixels(0, 0, layout.Width, layout.Height, channels == 1 ? GL_RED : GL_RGBA,
+      GL_UNSIGNED_BYTE,
+      this->MaskPixels.data() +
+        static_cast<size_t>(channels) * perLayer * static_cast<size_t>(layer));
   }
 
   // One light on a cleared stencil: its volumes counted (z-pass or Carmack's reverse), then
@@ -2164,8 +2116,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   }
 
   // Every volume of one light once; light caps pushed back by `capScale` (1: not at all).
-  void DrawVolumes(const Group& g, const VolumeSet& vs, const VolumeLight& vl,
-    float matrix[16], float capScale)
+  void DrawVolumes(
+    const Group& g, const VolumeSet& vs, const VolumeLight& vl, float matrix[16], float capScale)
   {
     g.Window->GetShaderCache()->ReadyShaderProgram(g.Program);
     g.Program->SetUniformMatrix4x4("worldToClip", matrix);
@@ -2182,12 +2134,11 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     }
     if (g.GSProgram && vs.AdjacencyCount > 0)
     {
-      const float lightUniform[4] = {
-        static_cast<float>(vl.Directional ? vl.Direction[0] : vl.Position[0]),
+      const float lightUniform[4] = { static_cast<float>(
+                                        vl.Directional ? vl.Direction[0] : vl.Position[0]),
         static_cast<float>(vl.Directional ? vl.Direction[1] : vl.Position[1]),
         static_cast<float>(vl.Directional ? vl.Direction[2] : vl.Position[2]),
-        vl.Directional ? 0.0f : 1.0f
-      };
+        vl.Directional ? 0.0f : 1.0f };
       g.Window->GetShaderCache()->ReadyShaderProgram(g.GSProgram);
       g.GSProgram->SetUniformMatrix4x4("worldToClip", matrix);
       g.GSProgram->SetUniformf("capScale", capScale);
@@ -2260,8 +2211,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       job.Volumes->Outline.Mark(this->Projection, layout.Width, layout.Height, this->OutlinePixels);
     }
     const vtkIdType traced = MarkTraced(layout, *g.In, job.VL, job.State, job.Vis,
-      self.Resolve ? this->OutlinePixels.data() : nullptr,
-      n ? this->Mask->GetPointer(0) : nullptr);
+      self.Resolve ? this->OutlinePixels.data() : nullptr, n ? this->Mask->GetPointer(0) : nullptr);
     if (traced > 0)
     {
       self.Reference->SetGeometry(g.Geometry);
@@ -2315,10 +2265,8 @@ void vtkPenumbraShadowVolumeShadows::ResetStatistics()
 
 //------------------------------------------------------------------------------
 int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
-                                                      vtkPenumbraSceneGeometry* geometry,
-                                                      vtkPenumbraViewSamples* samples,
-                                                      vtkLight* light,
-                                                      vtkFloatArray* visibility)
+  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* light,
+  vtkFloatArray* visibility)
 {
   const auto start = Clock::now();
   this->ResetStatistics();
@@ -2329,10 +2277,8 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibility(vtkRenderer* renderer,
 
 //------------------------------------------------------------------------------
 int vtkPenumbraShadowVolumeShadows::ComputeVisibilities(vtkRenderer* renderer,
-                                                        vtkPenumbraSceneGeometry* geometry,
-                                                        vtkPenumbraViewSamples* samples,
-                                                        vtkLightCollection* lights,
-                                                        vtkCollection* visibilities)
+  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLightCollection* lights,
+  vtkCollection* visibilities)
 {
   const auto start = Clock::now();
   this->ResetStatistics();
@@ -2374,15 +2320,13 @@ int vtkPenumbraShadowVolumeShadows::ComputeVisibilities(vtkRenderer* renderer,
 
 //------------------------------------------------------------------------------
 int vtkPenumbraShadowVolumeShadows::ComputeGroup(vtkRenderer* renderer,
-                                                 vtkPenumbraSceneGeometry* geometry,
-                                                 vtkPenumbraViewSamples* samples,
-                                                 vtkLight* const* lights,
-                                                 vtkFloatArray* const* visibilities,
-                                                 int count)
+  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, vtkLight* const* lights,
+  vtkFloatArray* const* visibilities, int count)
 {
   Internals& impl = *this->Impl;
   // A failure reports the error and leaves every output empty.
-  auto fail = [&](const std::string& text) {
+  auto fail = [&](const std::string& text)
+  {
     vtkErrorMacro(<< "shadow volumes: " << text);
     for (int failed = 0; failed < count; ++failed)
     {

@@ -97,8 +97,7 @@
 
 class vtkPenumbraReference;
 
-class VTKPENUMBRARENDERING_EXPORT vtkPenumbraShadowVolumeShadows
-  : public vtkPenumbraShadowTechnique
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraShadowVolumeShadows : public vtkPenumbraShadowTechnique
 {
 public:
   static vtkPenumbraShadowVolumeShadows* New();

@@ -2,16 +2,16 @@
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
-#include "vtkInformation.h"
-#include "vtkOpenGLActor.h"
-#include "vtkOpenGLCamera.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
 #include "vtkIntArray.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpaquePass.h"
+#include "vtkOpenGLActor.h"
+#include "vtkOpenGLCamera.h"
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLPolyDataMapper.h"
 #include "vtkOpenGLRenderWindow.h"
@@ -138,8 +138,8 @@ void ClosestPointOnTriangle(
 // Rebuilds one sample from its triangle (three rebased double vertices) and the camera ray
 // through the pixel centre (origin o, direction d, rebased). Returns false when the triangle
 // has no normal or the ray runs parallel to its plane: the intersection is then undefined.
-bool RebuildSample(const double* v, const double o[3], const double d[3], float pos[3],
-  float nrm[3])
+bool RebuildSample(
+  const double* v, const double o[3], const double d[3], float pos[3], float nrm[3])
 {
   const double e1[3] = { v[3] - v[0], v[4] - v[1], v[5] - v[2] };
   const double e2[3] = { v[6] - v[0], v[7] - v[1], v[8] - v[2] };
@@ -174,8 +174,7 @@ struct vtkPenumbraViewSamplesPass::Internals
   vtkSmartPointer<vtkPenumbraSceneGeometry> Geometry;
   vtkSmartPointer<vtkPenumbraViewSamples> Samples = vtkSmartPointer<vtkPenumbraViewSamples>::New();
   vtkSmartPointer<vtkOpaquePass> Opaque = vtkSmartPointer<vtkOpaquePass>::New();
-  vtkSmartPointer<vtkTranslucentPass> TranslucentPass =
-    vtkSmartPointer<vtkTranslucentPass>::New();
+  vtkSmartPointer<vtkTranslucentPass> TranslucentPass = vtkSmartPointer<vtkTranslucentPass>::New();
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   vtkSmartPointer<vtkTextureObject> Textures[3];
   vtkSmartPointer<vtkTextureObject> Depth;
@@ -544,22 +543,24 @@ bool vtkPenumbraViewSamplesPass::Internals::UnpackGBuffer(
   vtkIdType* tris = target->GetTriangleIds()->GetPointer(first);
   vtkPenumbraSceneGeometry* geometry = this->Geometry;
   const std::vector<float>* buffers = this->ReadBuffers;
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const float* p = &buffers[0][static_cast<size_t>(4 * i)];
-      const float* q = &buffers[1][static_cast<size_t>(4 * i)];
-      const float* t = &buffers[2][static_cast<size_t>(4 * i)];
-      const int prop = SamplePropIndex(t);
-      props[i] = prop;
-      for (int c = 0; c < 3; ++c)
+      for (vtkIdType i = begin; i < end; ++i)
       {
-        pos[3 * i + c] = p[c];
-        nrm[3 * i + c] = q[c];
+        const float* p = &buffers[0][static_cast<size_t>(4 * i)];
+        const float* q = &buffers[1][static_cast<size_t>(4 * i)];
+        const float* t = &buffers[2][static_cast<size_t>(4 * i)];
+        const int prop = SamplePropIndex(t);
+        props[i] = prop;
+        for (int c = 0; c < 3; ++c)
+        {
+          pos[3 * i + c] = p[c];
+          nrm[3 * i + c] = q[c];
+        }
+        tris[i] = prop >= 0 ? geometry->MapPrimitiveId(prop, SamplePrimitiveId(t)) : -1;
       }
-      tris[i] = prop >= 0 ? geometry->MapPrimitiveId(prop, SamplePrimitiveId(t)) : -1;
-    }
-  });
+    });
   return true;
 }
 
@@ -580,29 +581,30 @@ void vtkPenumbraViewSamplesPass::Internals::RebuildFromTriangles(
   const double* vertices = geometry->GetVertices()->GetPointer(0);
   const std::vector<float>& ids = this->ReadBuffers[2];
   unsigned char* fallback = this->Fallback.data();
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType i = begin; i < end; ++i)
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const float* t = &ids[static_cast<size_t>(4 * i)];
-      const int prop = SamplePropIndex(t);
-      const vtkIdType tri =
-        prop >= 0 ? geometry->MapPrimitiveId(prop, SamplePrimitiveId(t)) : -1;
-      props[i] = prop;
-      tris[i] = tri;
-      std::fill(pos + 3 * i, pos + 3 * i + 3, 0.0f);
-      std::fill(nrm + 3 * i, nrm + 3 * i + 3, 0.0f);
-      if (prop < 0)
+      for (vtkIdType i = begin; i < end; ++i)
       {
-        continue;
+        const float* t = &ids[static_cast<size_t>(4 * i)];
+        const int prop = SamplePropIndex(t);
+        const vtkIdType tri = prop >= 0 ? geometry->MapPrimitiveId(prop, SamplePrimitiveId(t)) : -1;
+        props[i] = prop;
+        tris[i] = tri;
+        std::fill(pos + 3 * i, pos + 3 * i + 3, 0.0f);
+        std::fill(nrm + 3 * i, nrm + 3 * i + 3, 0.0f);
+        if (prop < 0)
+        {
+          continue;
+        }
+        double o[3], d[3];
+        this->PixelRay(static_cast<int>(i % w), static_cast<int>(i / w), o, d);
+        if (tri < 0 || !RebuildSample(vertices + 9 * tri, o, d, pos + 3 * i, nrm + 3 * i))
+        {
+          fallback[i] = 1;
+        }
       }
-      double o[3], d[3];
-      this->PixelRay(static_cast<int>(i % w), static_cast<int>(i / w), o, d);
-      if (tri < 0 || !RebuildSample(vertices + 9 * tri, o, d, pos + 3 * i, nrm + 3 * i))
-      {
-        fallback[i] = 1;
-      }
-    }
-  });
+    });
 }
 
 // The flagged samples keep the G-buffer's float32 position and normal: the rows holding
@@ -661,22 +663,22 @@ void vtkPenumbraViewSamplesPass::Internals::ReadFallbacks(
   }
 }
 
-bool vtkPenumbraViewSamplesPass::PreReplaceShaderValues(std::string&, std::string&,
-  std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp*)
+bool vtkPenumbraViewSamplesPass::PreReplaceShaderValues(
+  std::string&, std::string&, std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp*)
 {
   if (vtkOpenGLPolyDataMapper::SafeDownCast(mapper))
   {
     // Our code goes after VTK's lighting, where vertexVC and the outputs exist.
-    vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Dec",
-      "//VTK::Light::Dec\n//PENUMBRA::Samples::Dec\n", false);
+    vtkShaderProgram::Substitute(
+      fragmentShader, "//VTK::Light::Dec", "//VTK::Light::Dec\n//PENUMBRA::Samples::Dec\n", false);
     vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Impl",
       "//VTK::Light::Impl\n//PENUMBRA::Samples::Impl\n", false);
   }
   return true;
 }
 
-bool vtkPenumbraViewSamplesPass::PostReplaceShaderValues(std::string&, std::string&,
-  std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp*)
+bool vtkPenumbraViewSamplesPass::PostReplaceShaderValues(
+  std::string&, std::string&, std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp*)
 {
   if (!vtkOpenGLPolyDataMapper::SafeDownCast(mapper))
   {
@@ -762,6 +764,6 @@ void vtkPenumbraViewSamplesPass::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Translucent: " << this->Translucent << "\n";
-  os << indent << "ReadBackMode: "
-     << (this->ReadBackMode == READ_BACK_IDS ? "IDS" : "POSITIONS") << "\n";
+  os << indent << "ReadBackMode: " << (this->ReadBackMode == READ_BACK_IDS ? "IDS" : "POSITIONS")
+     << "\n";
 }

@@ -21,11 +21,13 @@ vtkPenumbraGoniometricLight::vtkPenumbraGoniometricLight()
 int vtkPenumbraGoniometricLight::SetTable(const std::vector<double>& theta,
   const std::vector<double>& phi, const std::vector<double>& intensities)
 {
-  auto fail = [this](const std::string& why) {
+  auto fail = [this](const std::string& why)
+  {
     this->ErrorMessage = why;
     return 0;
   };
-  auto increasing = [](const std::vector<double>& v, double last) {
+  auto increasing = [](const std::vector<double>& v, double last)
+  {
     for (size_t i = 0; i < v.size(); ++i)
     {
       if (!std::isfinite(v[i]) || (i > 0 && !(v[i] > v[i - 1])) || v[i] > last)
@@ -92,7 +94,8 @@ int vtkPenumbraGoniometricLight::ReadFile(const char* fileName)
   int version = 0;
   size_t n = 0, m = 0;
   std::vector<double> theta, phi, values;
-  auto fail = [&](const std::string& why) {
+  auto fail = [&](const std::string& why)
+  {
     this->ErrorMessage = std::string(fileName) + ": " + why;
     return 0;
   };
@@ -101,7 +104,8 @@ int vtkPenumbraGoniometricLight::ReadFile(const char* fileName)
     return fail("not a 'penumbra-goniometric 1' file");
   }
   // "NAME count v_0 ... v_{count-1}"
-  auto readAngles = [&content](const char* name, std::vector<double>& out) {
+  auto readAngles = [&content](const char* name, std::vector<double>& out)
+  {
     std::string word;
     size_t count = 0;
     if (!(content >> word >> count) || word != name || count == 0 || count > 100000)

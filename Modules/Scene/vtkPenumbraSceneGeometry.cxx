@@ -174,9 +174,8 @@ bool UsesExactCellMap(vtkMapper* mapper, vtkActor* actor, vtkPolyData* poly)
     mapper->GetScalarMode() != VTK_SCALAR_MODE_USE_POINT_FIELD_DATA)
   {
     int cellFlag = 0;
-    vtkAbstractArray* scalars = vtkAbstractMapper::GetAbstractScalars(poly,
-      mapper->GetScalarMode(), mapper->GetArrayAccessMode(), mapper->GetArrayId(),
-      mapper->GetArrayName(), cellFlag);
+    vtkAbstractArray* scalars = vtkAbstractMapper::GetAbstractScalars(poly, mapper->GetScalarMode(),
+      mapper->GetArrayAccessMode(), mapper->GetArrayId(), mapper->GetArrayName(), cellFlag);
     cellScalars = scalars && scalars->GetNumberOfTuples() > 0 && cellFlag != 0;
   }
   vtkDataArray* pointNormals = actor->GetProperty()->GetInterpolation() != VTK_FLAT
@@ -270,7 +269,8 @@ vtkIdType vtkPenumbraSceneGeometry::Internals::AppendPolyData(
   }
   std::set<vtkIdType> badUsed;
 
-  auto emit = [&](vtkIdType a, vtkIdType b, vtkIdType c, vtkIdType cellId) {
+  auto emit = [&](vtkIdType a, vtkIdType b, vtkIdType c, vtkIdType cellId)
+  {
     for (vtkIdType id : { a, b, c })
     {
       if (bad[id])
@@ -412,8 +412,8 @@ bool vtkPenumbraSceneGeometry::Internals::Extract(
 
   if (badPoints > 0)
   {
-    message = label + ": " + std::to_string(badPoints) +
-      (badPoints == 1 ? " point" : " points") + " with NaN/inf coordinates";
+    message = label + ": " + std::to_string(badPoints) + (badPoints == 1 ? " point" : " points") +
+      " with NaN/inf coordinates";
     e.World.clear();
     e.CellIds.clear();
     return false;
@@ -510,7 +510,8 @@ void vtkPenumbraSceneGeometry::Internals::Publish(double origin[3], bool geometr
     {
       for (int c = 0; c < 3; ++c)
       {
-        this->Bounds[2 * c] = first ? e.Bounds[2 * c] : std::min(this->Bounds[2 * c], e.Bounds[2 * c]);
+        this->Bounds[2 * c] =
+          first ? e.Bounds[2 * c] : std::min(this->Bounds[2 * c], e.Bounds[2 * c]);
         this->Bounds[2 * c + 1] =
           first ? e.Bounds[2 * c + 1] : std::max(this->Bounds[2 * c + 1], e.Bounds[2 * c + 1]);
       }
@@ -712,8 +713,7 @@ int vtkPenumbraSceneGeometry::Update(vtkProp** props, int count)
       {
         PropEntry& old = found->second;
         reuse = old.Mapper == mapper && old.Data == data && old.DataMTime == data->GetMTime() &&
-          old.MapperMTime == mapper->GetMTime() &&
-          std::equal(matrix, matrix + 16, old.Matrix);
+          old.MapperMTime == mapper->GetMTime() && std::equal(matrix, matrix + 16, old.Matrix);
         entry = std::move(old);
         previous.erase(found);
       }
@@ -741,8 +741,8 @@ int vtkPenumbraSceneGeometry::Update(vtkProp** props, int count)
         entry.GeometryChanged = false;
       }
 
-      entry.Flags = static_cast<unsigned char>(
-        (casts ? CASTS_SHADOWS : 0) | (receives ? RECEIVES_SHADOWS : 0));
+      entry.Flags =
+        static_cast<unsigned char>((casts ? CASTS_SHADOWS : 0) | (receives ? RECEIVES_SHADOWS : 0));
       entry.Surface = actor->GetProperty()->GetRepresentation() == VTK_SURFACE;
       // Only a prop with both skipped fan triangles and strips depends on the cell map.
       entry.ExactCellMap = entry.Mappable && entry.Drawn && entry.StripTriangles > 0 &&

@@ -182,8 +182,8 @@ void vtkPenumbraViewSamples::SetSample(vtkIdType sample, const double world[3],
     sample >= impl.PropIndices->GetNumberOfTuples() ||
     sample >= impl.TriangleIds->GetNumberOfTuples())
   {
-    vtkErrorMacro("SetSample: sample " << sample << " out of range [0, "
-                                       << this->GetNumberOfSamples() << ")");
+    vtkErrorMacro(
+      "SetSample: sample " << sample << " out of range [0, " << this->GetNumberOfSamples() << ")");
     return;
   }
   double rel[3], n[3] = { normal[0], normal[1], normal[2] }, toCamera[3];
@@ -221,7 +221,7 @@ void vtkPenumbraViewSamples::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Size: " << this->Impl->Width << " x " << this->Impl->Height << "\n";
   os << indent << "Origin: (" << this->Origin[0] << ", " << this->Origin[1] << ", "
      << this->Origin[2] << ")\n";
-  os << indent << "CameraPosition: (" << this->CameraPosition[0] << ", "
-     << this->CameraPosition[1] << ", " << this->CameraPosition[2] << ")\n";
+  os << indent << "CameraPosition: (" << this->CameraPosition[0] << ", " << this->CameraPosition[1]
+     << ", " << this->CameraPosition[2] << ")\n";
   os << indent << "NumberOfValidSamples: " << this->GetNumberOfValidSamples() << "\n";
 }

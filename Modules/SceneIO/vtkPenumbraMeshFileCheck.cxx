@@ -183,7 +183,8 @@ PlyProperty ParseProperty(const std::vector<std::string>& w, const PlyElement& e
   p.Name = w.back();
   if (!PlyType(type, p.Size, p.Signed, p.Float))
   {
-    Fail("PLY property \"" + element.Name + "." + p.Name + "\" has the unknown type \"" + type + "\"");
+    Fail(
+      "PLY property \"" + element.Name + "." + p.Name + "\" has the unknown type \"" + type + "\"");
   }
   if (list)
   {
@@ -226,20 +227,22 @@ PlyHeader ReadPlyHeader(std::istream& in)
     }
     if (w[0] == "format")
     {
-      if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
+      if (w.size() != 3 ||
+        (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
       {
         Fail("PLY header: unknown format line \"" + line + "\"");
       }
-      header.Format = w[1] == "ascii" ? PlyFormat::Ascii
+      header.Format = w[1] == "ascii"    ? PlyFormat::Ascii
         : w[1] == "binary_little_endian" ? PlyFormat::BinaryLittleEndian
-                                        : PlyFormat::BinaryBigEndian;
+                                         : PlyFormat::BinaryBigEndian;
       haveFormat = true;
     }
     else if (w[0] == "element")
     {
       if (w.size() != 3)
       {
-        Fail("PLY header: malformed element line \"" + line + "\" (expected \"element NAME COUNT\")");
+        Fail(
+          "PLY header: malformed element line \"" + line + "\" (expected \"element NAME COUNT\")");
       }
       PlyElement e;
       e.Name = w[1];
@@ -262,7 +265,8 @@ PlyHeader ReadPlyHeader(std::istream& in)
     }
     else
     {
-      Fail("PLY header line " + std::to_string(number) + " starts with the unknown keyword \"" + w[0] + "\"");
+      Fail("PLY header line " + std::to_string(number) + " starts with the unknown keyword \"" +
+        w[0] + "\"");
     }
   }
   if (!haveFormat)
@@ -471,7 +475,8 @@ void CheckBinaryElement(BinaryBody& body, PlyWalk& walk, const PlyElement& e)
     for (const auto& p : e.Properties)
     {
       double v = 0;
-      const auto truncated = [&] {
+      const auto truncated = [&]
+      {
         Fail("binary PLY ends inside " + walk.Where() + " (the header promises " +
           std::to_string(e.Count) + " records)");
       };
@@ -540,12 +545,13 @@ private:
   long long Line = 0;
 };
 
-double AsciiValue(const PlyWalk& walk, const std::vector<std::string>& words, size_t& next,
-  const PlyProperty& p)
+double AsciiValue(
+  const PlyWalk& walk, const std::vector<std::string>& words, size_t& next, const PlyProperty& p)
 {
   if (next >= words.size())
   {
-    Fail("ASCII PLY " + walk.Where() + " has too few values on its line (\"" + p.Name + "\" is missing)");
+    Fail("ASCII PLY " + walk.Where() + " has too few values on its line (\"" + p.Name +
+      "\" is missing)");
   }
   const std::string& word = words[next++];
   char* end = nullptr;
@@ -630,7 +636,7 @@ void CheckPly(const std::string& path)
 struct ObjReference
 {
   long long Line;
-  int List; // 0 v, 1 vt, 2 vn
+  int List;        // 0 v, 1 vt, 2 vn
   long long Index; // absolute, 1-based, after resolving a negative (relative) index
 };
 
@@ -643,8 +649,8 @@ long long ObjIndex(const std::string& text, long long line, long long defined, i
   const long long i = std::strtoll(text.c_str(), &end, 10);
   if (text.empty() || *end != '\0' || errno == ERANGE)
   {
-    Fail("OBJ line " + std::to_string(line) + ": \"" + text + "\" is not a " +
-      ObjListNames[list] + " index");
+    Fail("OBJ line " + std::to_string(line) + ": \"" + text + "\" is not a " + ObjListNames[list] +
+      " index");
   }
   if (i == 0)
   {
@@ -717,7 +723,8 @@ void CheckObj(const std::string& path)
       for (int list = 0; list < 3 && start <= w[k].size(); ++list)
       {
         const size_t slash = w[k].find('/', start);
-        const std::string part = w[k].substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+        const std::string part =
+          w[k].substr(start, slash == std::string::npos ? std::string::npos : slash - start);
         if (!part.empty() || list == 0)
         {
           refs.push_back({ number, list, ObjIndex(part, number, defined[list], list) });
@@ -760,11 +767,13 @@ public:
   bool Word(std::string& w)
   {
     w.clear();
-    while (this->Pos < this->Data.size() && std::isspace(static_cast<unsigned char>(this->Data[this->Pos])))
+    while (this->Pos < this->Data.size() &&
+      std::isspace(static_cast<unsigned char>(this->Data[this->Pos])))
     {
       ++this->Pos;
     }
-    while (this->Pos < this->Data.size() && !std::isspace(static_cast<unsigned char>(this->Data[this->Pos])))
+    while (this->Pos < this->Data.size() &&
+      !std::isspace(static_cast<unsigned char>(this->Data[this->Pos])))
     {
       w.push_back(this->Data[this->Pos++]);
     }
@@ -774,7 +783,8 @@ public:
   std::string Line()
   {
     const size_t end = this->Data.find('\n', this->Pos);
-    std::string line = this->Data.substr(this->Pos, end == std::string::npos ? std::string::npos : end - this->Pos);
+    std::string line =
+      this->Data.substr(this->Pos, end == std::string::npos ? std::string::npos : end - this->Pos);
     this->Pos = end == std::string::npos ? this->Data.size() : end + 1;
     if (!line.empty() && line.back() == '\r')
     {
@@ -805,7 +815,8 @@ public:
       // vtkDataReader reads integers with operator>>: "-0.0" or "1e3" stops it mid-word.
       char* end = nullptr;
       errno = 0;
-      v = isFloat ? std::strtod(w.c_str(), &end) : static_cast<double>(std::strtoll(w.c_str(), &end, 10));
+      v = isFloat ? std::strtod(w.c_str(), &end)
+                  : static_cast<double>(std::strtoll(w.c_str(), &end, 10));
       return *end == '\0' && errno != ERANGE;
     }
     if (this->Pos + static_cast<size_t>(size) > this->Data.size())
@@ -842,10 +853,16 @@ int LegacyTypeSize(const std::string& type, bool& isFloat, bool& isSigned)
   const std::string t = vtksys::SystemTools::LowerCase(type);
   isFloat = (t == "float" || t == "double");
   isSigned = !(t.rfind("unsigned", 0) == 0 || t == "vtktypeuint64" || t == "vtktypeuint32");
-  if (t == "char" || t == "unsigned_char" || t == "signed_char") return 1;
-  if (t == "short" || t == "unsigned_short") return 2;
-  if (t == "int" || t == "unsigned_int" || t == "float" || t == "vtkidtype" || t == "vtktypeint32" || t == "vtktypeuint32") return 4;
-  if (t == "long" || t == "unsigned_long" || t == "double" || t == "vtktypeint64" || t == "vtktypeuint64") return 8;
+  if (t == "char" || t == "unsigned_char" || t == "signed_char")
+    return 1;
+  if (t == "short" || t == "unsigned_short")
+    return 2;
+  if (t == "int" || t == "unsigned_int" || t == "float" || t == "vtkidtype" ||
+    t == "vtktypeint32" || t == "vtktypeuint32")
+    return 4;
+  if (t == "long" || t == "unsigned_long" || t == "double" || t == "vtktypeint64" ||
+    t == "vtktypeuint64")
+    return 8;
   return 0;
 }
 
@@ -888,26 +905,27 @@ long long LegacyPoints(LegacyCursor& in)
     double v;
     if (!in.Value(size, isSigned, isFloat, v))
     {
-      Fail("legacy VTK POINTS: coordinate " + std::to_string(i + 1) + " of " + std::to_string(3 * n) +
-        " is missing or not a number");
+      Fail("legacy VTK POINTS: coordinate " + std::to_string(i + 1) + " of " +
+        std::to_string(3 * n) + " is missing or not a number");
     }
   }
   return n;
 }
 
 // Classic layout: `KEYWORD cells size` then, per cell, its point count and point ids.
-void LegacyCellsClassic(LegacyCursor& in, const std::string& keyword, long long cells,
-  long long size, long long points)
+void LegacyCellsClassic(
+  LegacyCursor& in, const std::string& keyword, long long cells, long long size, long long points)
 {
   in.StartData();
   long long used = 0;
-  auto next = [&](const char* what, long long cell) {
+  auto next = [&](const char* what, long long cell)
+  {
     double v = 0;
     if (used >= size || !in.Value(4, true, false, v) || v != std::floor(v))
     {
       Fail("legacy VTK " + keyword + ": cell " + std::to_string(cell + 1) + " of " +
-        std::to_string(cells) + ": " + what + " is missing, not an integer, or beyond the declared size " +
-        std::to_string(size));
+        std::to_string(cells) + ": " + what +
+        " is missing, not an integer, or beyond the declared size " + std::to_string(size));
     }
     ++used;
     return static_cast<long long>(v);
@@ -932,16 +950,17 @@ void LegacyCellsClassic(LegacyCursor& in, const std::string& keyword, long long 
   }
   if (used != size)
   {
-    Fail("legacy VTK " + keyword + ": " + std::to_string(cells) + " cells use " + std::to_string(used) +
-      " values, the header declares " + std::to_string(size));
+    Fail("legacy VTK " + keyword + ": " + std::to_string(cells) + " cells use " +
+      std::to_string(used) + " values, the header declares " + std::to_string(size));
   }
 }
 
 // Version 5 layout: `KEYWORD offsets connectivity`, then OFFSETS and CONNECTIVITY arrays.
-void LegacyCellsOffsets(LegacyCursor& in, const std::string& keyword, long long offsets,
-  long long size, long long points)
+void LegacyCellsOffsets(
+  LegacyCursor& in, const std::string& keyword, long long offsets, long long size, long long points)
 {
-  auto array = [&](const char* name, long long n, long long lo, long long hi, bool increasing) {
+  auto array = [&](const char* name, long long n, long long lo, long long hi, bool increasing)
+  {
     std::string word, type;
     in.Word(word);
     in.Word(type);
@@ -949,7 +968,8 @@ void LegacyCellsOffsets(LegacyCursor& in, const std::string& keyword, long long 
     const int bytes = LegacyTypeSize(type, isFloat, isSigned);
     if (word != name || bytes == 0 || isFloat)
     {
-      Fail("legacy VTK " + keyword + ": expected \"" + name + " <integer type>\", found \"" + word + " " + type + "\"");
+      Fail("legacy VTK " + keyword + ": expected \"" + name + " <integer type>\", found \"" + word +
+        " " + type + "\"");
     }
     in.StartData();
     double last = -1;
@@ -960,20 +980,23 @@ void LegacyCellsOffsets(LegacyCursor& in, const std::string& keyword, long long 
         (increasing && v < last))
       {
         Fail("legacy VTK " + keyword + ": " + name + " value " + std::to_string(i + 1) + " of " +
-          std::to_string(n) + " is missing or outside [" + std::to_string(lo) + ", " + std::to_string(hi) + ")");
+          std::to_string(n) + " is missing or outside [" + std::to_string(lo) + ", " +
+          std::to_string(hi) + ")");
       }
       last = v;
     }
     if (increasing && n > 0 && (last != static_cast<double>(size)))
     {
-      Fail("legacy VTK " + keyword + ": the last offset must equal the connectivity size " + std::to_string(size));
+      Fail("legacy VTK " + keyword + ": the last offset must equal the connectivity size " +
+        std::to_string(size));
     }
   };
   array("OFFSETS", offsets, 0, size + 1, true);
   array("CONNECTIVITY", size, 0, points, false);
 }
 
-long long LegacyBoundedCount(LegacyCursor& in, const std::string& keyword, long long lo, long long hi)
+long long LegacyBoundedCount(
+  LegacyCursor& in, const std::string& keyword, long long lo, long long hi)
 {
   std::string w;
   in.Word(w);
@@ -1031,10 +1054,10 @@ void LegacyAttributes(LegacyCursor& in, long long points, long long cells, size_
   const long long budget = LegacyBytesBudget(in, fileSize);
   long long tuples = points; // of the current POINT_DATA or CELL_DATA section
   std::string word;
-  auto count = [&](const std::string& keyword, long long lo, long long hi) {
-    return LegacyBoundedCount(in, keyword, lo, hi);
-  };
-  auto fits = [&](const std::string& keyword, long long values) {
+  auto count = [&](const std::string& keyword, long long lo, long long hi)
+  { return LegacyBoundedCount(in, keyword, lo, hi); };
+  auto fits = [&](const std::string& keyword, long long values)
+  {
     if (values > budget)
     {
       Fail("legacy VTK " + keyword + " declares " + std::to_string(values) +
@@ -1223,39 +1246,76 @@ int CellTypePoints(int type, int& minimum)
   minimum = 0;
   switch (type)
   {
-    case VTK_EMPTY_CELL: return 0;
-    case VTK_VERTEX: return 1;
-    case VTK_POLY_VERTEX: minimum = 1; return 0;
-    case VTK_LINE: return 2;
-    case VTK_POLY_LINE: minimum = 2; return 0;
-    case VTK_TRIANGLE: return 3;
-    case VTK_TRIANGLE_STRIP: minimum = 3; return 0;
-    case VTK_POLYGON: minimum = 3; return 0;
-    case VTK_PIXEL: return 4;
-    case VTK_QUAD: return 4;
-    case VTK_TETRA: return 4;
-    case VTK_VOXEL: return 8;
-    case VTK_HEXAHEDRON: return 8;
-    case VTK_WEDGE: return 6;
-    case VTK_PYRAMID: return 5;
-    case VTK_PENTAGONAL_PRISM: return 10;
-    case VTK_HEXAGONAL_PRISM: return 12;
-    case VTK_QUADRATIC_EDGE: return 3;
-    case VTK_QUADRATIC_TRIANGLE: return 6;
-    case VTK_QUADRATIC_QUAD: return 8;
-    case VTK_QUADRATIC_TETRA: return 10;
-    case VTK_QUADRATIC_HEXAHEDRON: return 20;
-    case VTK_QUADRATIC_WEDGE: return 15;
-    case VTK_QUADRATIC_PYRAMID: return 13;
-    case VTK_BIQUADRATIC_QUAD: return 9;
-    case VTK_TRIQUADRATIC_HEXAHEDRON: return 27;
-    case VTK_QUADRATIC_LINEAR_QUAD: return 6;
-    case VTK_QUADRATIC_LINEAR_WEDGE: return 12;
-    case VTK_BIQUADRATIC_QUADRATIC_WEDGE: return 18;
-    case VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: return 24;
-    case VTK_BIQUADRATIC_TRIANGLE: return 7;
-    case VTK_CUBIC_LINE: return 4;
-    default: return -1;
+    case VTK_EMPTY_CELL:
+      return 0;
+    case VTK_VERTEX:
+      return 1;
+    case VTK_POLY_VERTEX:
+      minimum = 1;
+      return 0;
+    case VTK_LINE:
+      return 2;
+    case VTK_POLY_LINE:
+      minimum = 2;
+      return 0;
+    case VTK_TRIANGLE:
+      return 3;
+    case VTK_TRIANGLE_STRIP:
+      minimum = 3;
+      return 0;
+    case VTK_POLYGON:
+      minimum = 3;
+      return 0;
+    case VTK_PIXEL:
+      return 4;
+    case VTK_QUAD:
+      return 4;
+    case VTK_TETRA:
+      return 4;
+    case VTK_VOXEL:
+      return 8;
+    case VTK_HEXAHEDRON:
+      return 8;
+    case VTK_WEDGE:
+      return 6;
+    case VTK_PYRAMID:
+      return 5;
+    case VTK_PENTAGONAL_PRISM:
+      return 10;
+    case VTK_HEXAGONAL_PRISM:
+      return 12;
+    case VTK_QUADRATIC_EDGE:
+      return 3;
+    case VTK_QUADRATIC_TRIANGLE:
+      return 6;
+    case VTK_QUADRATIC_QUAD:
+      return 8;
+    case VTK_QUADRATIC_TETRA:
+      return 10;
+    case VTK_QUADRATIC_HEXAHEDRON:
+      return 20;
+    case VTK_QUADRATIC_WEDGE:
+      return 15;
+    case VTK_QUADRATIC_PYRAMID:
+      return 13;
+    case VTK_BIQUADRATIC_QUAD:
+      return 9;
+    case VTK_TRIQUADRATIC_HEXAHEDRON:
+      return 27;
+    case VTK_QUADRATIC_LINEAR_QUAD:
+      return 6;
+    case VTK_QUADRATIC_LINEAR_WEDGE:
+      return 12;
+    case VTK_BIQUADRATIC_QUADRATIC_WEDGE:
+      return 18;
+    case VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON:
+      return 24;
+    case VTK_BIQUADRATIC_TRIANGLE:
+      return 7;
+    case VTK_CUBIC_LINE:
+      return 4;
+    default:
+      return -1;
   }
 }
 
@@ -1267,8 +1327,8 @@ std::string CheckCellTypes(vtkUnstructuredGrid* grid)
   vtkUnsignedCharArray* types = grid->GetCellTypesArray();
   if (cells > 0 && (!types || types->GetNumberOfValues() != cells))
   {
-    return std::to_string(cells) + " cells but " + std::to_string(types ? types->GetNumberOfValues() : 0) +
-      " cell types";
+    return std::to_string(cells) + " cells but " +
+      std::to_string(types ? types->GetNumberOfValues() : 0) + " cell types";
   }
   for (vtkIdType c = 0; c < cells; ++c)
   {
@@ -1283,8 +1343,8 @@ std::string CheckCellTypes(vtkUnstructuredGrid* grid)
     if ((needed > 0 && n != needed) || (needed == 0 && n < minimum))
     {
       return "cell " + std::to_string(c) + " of type " + std::to_string(type) + " has " +
-        std::to_string(n) + " points, the type needs " + std::to_string(needed > 0 ? needed : minimum) +
-        (needed > 0 ? "" : " or more");
+        std::to_string(n) + " points, the type needs " +
+        std::to_string(needed > 0 ? needed : minimum) + (needed > 0 ? "" : " or more");
     }
   }
   return std::string();

@@ -1,8 +1,8 @@
 #include "vtkPenumbraSceneReader.h"
 
 #include "vtkPenumbraAreaLight.h"
-#include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraCityBlockSource.h"
+#include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraIsosurfaceSource.h"
 #include "vtkPenumbraMeshFileCheck.h"
 #include "vtkPenumbraRoomSource.h"
@@ -50,12 +50,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <functional>
 #include <vector>
 
 #ifndef PENUMBRA_DEFAULT_DATA_DIR
@@ -79,18 +79,20 @@ struct ErrorCatcher
   ErrorCatcher()
   {
     this->Command->SetClientData(this);
-    this->Command->SetCallback([](vtkObject*, unsigned long, void* self, void* data) {
-      auto* catcher = static_cast<ErrorCatcher*>(self);
-      if (catcher->Message.empty() && data)
+    this->Command->SetCallback(
+      [](vtkObject*, unsigned long, void* self, void* data)
       {
-        catcher->Message = static_cast<const char*>(data);
-        while (!catcher->Message.empty() &&
-          (catcher->Message.back() == '\n' || catcher->Message.back() == ' '))
+        auto* catcher = static_cast<ErrorCatcher*>(self);
+        if (catcher->Message.empty() && data)
         {
-          catcher->Message.pop_back();
+          catcher->Message = static_cast<const char*>(data);
+          while (!catcher->Message.empty() &&
+            (catcher->Message.back() == '\n' || catcher->Message.back() == ' '))
+          {
+            catcher->Message.pop_back();
+          }
         }
-      }
-    });
+      });
   }
   void Watch(vtkObject* obj)
   {
@@ -134,7 +136,8 @@ public:
     return field.empty() ? key : field + "." + key;
   }
 
-  void Keys(const json& obj, const std::string& field, const std::vector<std::string>& allowed) const
+  void Keys(
+    const json& obj, const std::string& field, const std::vector<std::string>& allowed) const
   {
     if (!obj.is_object())
     {
@@ -210,8 +213,9 @@ public:
     const long long i = v.get<long long>();
     if (i < lo || i > hi)
     {
-      this->Fail(f, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) +
-          ", got " + std::to_string(i));
+      this->Fail(f,
+        "must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got " +
+          std::to_string(i));
     }
     return static_cast<int>(i);
   }
@@ -309,7 +313,7 @@ bool NonZero(const std::vector<double>& v)
 // +x, the usual mapping of geographic axes onto a y-up mesh (e.g. glTF).
 void FromZUp(const double up[3], double v[3])
 {
-  const double c = up[2]; // cos of the angle between +z and up
+  const double c = up[2];                  // cos of the angle between +z and up
   double axis[3] = { -up[1], up[0], 0.0 }; // z x up
   const double s = vtkMath::Normalize(axis);
   if (s < 1e-12)
@@ -409,8 +413,8 @@ struct vtkPenumbraSceneReader::Internals
     const std::string& field, const std::string& type, const KeyCheck& keys);
   vtkSmartPointer<vtkLight> GoniometricLight(const Ctx& ctx, const json& obj,
     const std::string& field, const std::string& type, const KeyCheck& keys);
-  vtkSmartPointer<vtkLight> AreaLight(const Ctx& ctx, const json& obj,
-    const std::string& field, const std::string& type, const KeyCheck& keys);
+  vtkSmartPointer<vtkLight> AreaLight(const Ctx& ctx, const json& obj, const std::string& field,
+    const std::string& type, const KeyCheck& keys);
   void ReadUp(const Ctx& ctx, const json& root);
   void BuildCamera(const Ctx& ctx, const json& cam);
   void Build(const Ctx& ctx, const json& root, const char* dataDir);
@@ -441,7 +445,8 @@ vtkSmartPointer<vtkPolyData> vtkPenumbraSceneReader::Internals::RunAlgorithm(
   vtkDataObject* out = alg->GetOutputDataObject(0);
   // Readers pass cell point ids on as the file gives them; one past the points crashes the
   // filters and the renderer later, far from the file that caused it.
-  const std::string badCells = vtkPenumbraMeshFileCheck::CheckConnectivity(vtkDataSet::SafeDownCast(out));
+  const std::string badCells =
+    vtkPenumbraMeshFileCheck::CheckConnectivity(vtkDataSet::SafeDownCast(out));
   if (!badCells.empty())
   {
     ctx.Fail(field, what + " failed: " + badCells);
@@ -463,8 +468,8 @@ vtkSmartPointer<vtkPolyData> vtkPenumbraSceneReader::Internals::RunAlgorithm(
   const vtkIdType bad = CountNonFinite(copy);
   if (bad > 0)
   {
-    ctx.Fail(field, what + " has " + std::to_string(bad) +
-        " point(s) with NaN or infinite coordinates");
+    ctx.Fail(
+      field, what + " has " + std::to_string(bad) + " point(s) with NaN or infinite coordinates");
   }
   return copy;
 }
@@ -545,7 +550,8 @@ vtkSmartPointer<vtkPolyData> vtkPenumbraSceneReader::Internals::LoadFile(
       path + " has no geometry" +
         (requested >= 0 ? " at LOD " + std::to_string(requested) : std::string(" at any LOD")));
   }
-  ctx.Fail(f, "unsupported file type " + Quote(ext) + " (expected .vtp .vtk .vtu .ply .obj .stl .gml)");
+  ctx.Fail(
+    f, "unsupported file type " + Quote(ext) + " (expected .vtp .vtk .vtu .ply .obj .stl .gml)");
 }
 
 vtkSmartPointer<vtkPolyData> vtkPenumbraSceneReader::Internals::Generate(
@@ -577,7 +583,8 @@ vtkSmartPointer<vtkPolyData> vtkPenumbraSceneReader::Internals::Generate(
     auto b = ctx.Vector(gen, field, "bounds", 6, {}, true);
     if (!(b[1] >= b[0] && b[3] >= b[2] && b[5] >= b[4]))
     {
-      ctx.Fail(Ctx::Sub(field, "bounds"), "expected [xmin, xmax, ymin, ymax, zmin, zmax] with min <= max");
+      ctx.Fail(
+        Ctx::Sub(field, "bounds"), "expected [xmin, xmax, ymin, ymax, zmin, zmax] with min <= max");
     }
     vtkNew<vtkCubeSource> s;
     s->SetBounds(b.data());
@@ -617,7 +624,8 @@ vtkSmartPointer<vtkPolyData> vtkPenumbraSceneReader::Internals::Generate(
     s->SetOrigin(off.data());
     s->SetGenerateGround(ctx.Bool(gen, field, "ground", s->GetGenerateGround() != 0));
     s->SetGroundMargin(ctx.Number(gen, field, "ground_margin", s->GetGroundMargin()));
-    s->SetGableRoofFraction(ctx.Number(gen, field, "gable_roof_fraction", s->GetGableRoofFraction()));
+    s->SetGableRoofFraction(
+      ctx.Number(gen, field, "gable_roof_fraction", s->GetGableRoofFraction()));
     s->SetGableRoofPitch(ctx.Number(gen, field, "gable_roof_pitch", s->GetGableRoofPitch()));
     return this->RunAlgorithm(ctx, field, s, what);
   }
@@ -746,7 +754,8 @@ void vtkPenumbraSceneReader::Internals::BuildObject(
       auto r = ctx.Vector(t, tf, "rotate", 4, {});
       if (!NonZero({ r[1], r[2], r[3] }))
       {
-        ctx.Fail(Ctx::Sub(tf, "rotate"), "expected [angle_degrees, axis_x, axis_y, axis_z] with a non-zero axis");
+        ctx.Fail(Ctx::Sub(tf, "rotate"),
+          "expected [angle_degrees, axis_x, axis_y, axis_z] with a non-zero axis");
       }
       xf->RotateWXYZ(r[0], r[1], r[2], r[3]);
     }
@@ -774,7 +783,8 @@ void vtkPenumbraSceneReader::Internals::BuildObject(
     const std::string mf = Ctx::Sub(field, "material");
     const json& m = obj.at("material");
     const std::string model = ctx.String(m, mf, "model", "phong");
-    auto unit = [&](const char* key, double def) {
+    auto unit = [&](const char* key, double def)
+    {
       const double v = ctx.Number(m, mf, key, def);
       if (v < 0.0 || v > 1.0)
       {
@@ -801,7 +811,8 @@ void vtkPenumbraSceneReader::Internals::BuildObject(
     }
     else
     {
-      ctx.Fail(Ctx::Sub(mf, "model"), "unknown material model " + Quote(model) + " (expected phong or pbr)");
+      ctx.Fail(Ctx::Sub(mf, "model"),
+        "unknown material model " + Quote(model) + " (expected phong or pbr)");
     }
   }
   else
@@ -839,7 +850,8 @@ void vtkPenumbraSceneReader::Internals::ReadUp(const Ctx& ctx, const json& root)
     const auto it = std::find(axes.begin(), axes.end(), name);
     if (it == axes.end())
     {
-      ctx.Fail("up", "expected \"x\", \"y\", \"z\", \"-x\", \"-y\", \"-z\" or a vector [x, y, z], got " +
+      ctx.Fail("up",
+        "expected \"x\", \"y\", \"z\", \"-x\", \"-y\", \"-z\" or a vector [x, y, z], got " +
           Quote(name));
     }
     const int axis = static_cast<int>(it - axes.begin());
@@ -1024,7 +1036,8 @@ vtkSmartPointer<vtkLight> vtkPenumbraSceneReader::Internals::AreaLight(const Ctx
     vtkMath::Cross(n, a, up); // V = N x U gives U = V x N = the axis
     if (vtkMath::Norm(up) < 1e-12 * vtkMath::Norm(n) * std::max(vtkMath::Norm(a), 1e-300))
     {
-      ctx.Fail(Ctx::Sub(field, "axis"), "must be non-zero and not parallel to the emission direction");
+      ctx.Fail(
+        Ctx::Sub(field, "axis"), "must be non-zero and not parallel to the emission direction");
     }
     area->SetUp(up);
   }
@@ -1048,7 +1061,8 @@ void vtkPenumbraSceneReader::Internals::BuildLight(const Ctx& ctx, const json& o
   }
   const std::string type = ctx.String(obj, field, "type", "", true);
   const std::vector<std::string> common = { "type", "color", "intensity", "on" };
-  const KeyCheck keys = [&](std::vector<std::string> extra) {
+  const KeyCheck keys = [&](std::vector<std::string> extra)
+  {
     extra.insert(extra.end(), common.begin(), common.end());
     ctx.Keys(obj, field, extra);
   };
@@ -1189,7 +1203,8 @@ void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, 
   if (root.contains("lights") && root.at("lights").is_array() &&
     root.at("lights").size() > static_cast<size_t>(vtkPenumbraSceneReader::MaximumNumberOfLights))
   {
-    ctx.Fail("lights", std::to_string(root.at("lights").size()) + " lights, at most " +
+    ctx.Fail("lights",
+      std::to_string(root.at("lights").size()) + " lights, at most " +
         std::to_string(vtkPenumbraSceneReader::MaximumNumberOfLights) +
         " are allowed: VTK's lighting shader declares uniforms for every light (OpenGL 4.5 "
         "guarantees 256 fragment uniform vectors) and each shadowed light needs a texture "
@@ -1228,7 +1243,8 @@ void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, 
   {
     if (!names.insert(this->ObjectNames[i]).second)
     {
-      ctx.Fail("objects[" + std::to_string(i) + "].name", "duplicate name " + Quote(this->ObjectNames[i]));
+      ctx.Fail(
+        "objects[" + std::to_string(i) + "].name", "duplicate name " + Quote(this->ObjectNames[i]));
     }
   }
 
@@ -1320,7 +1336,8 @@ int vtkPenumbraSceneReader::ReadFromString(
       // Syntax errors carry line and column; number overflow (1e999) is reported here too.
       std::string what = e.what();
       const size_t tag = what.find("] ");
-      throw SceneError(impl.Label + ": invalid JSON: " + (tag == std::string::npos ? what : what.substr(tag + 2)));
+      throw SceneError(
+        impl.Label + ": invalid JSON: " + (tag == std::string::npos ? what : what.substr(tag + 2)));
     }
     if (!root.is_object())
     {

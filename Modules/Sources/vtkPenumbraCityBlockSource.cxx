@@ -24,8 +24,8 @@ constexpr int MaxGroundDivisions = 1024;
 
 // Gable-roofed building: walls up to the eaves, two sloped roof faces meeting at a ridge
 // along the longer side, and triangular gable ends.
-void AddGableBuilding(penumbra_sources::MeshBuilder& mesh, const Vec3& lo, const Vec3& hi,
-  double eave, int partId)
+void AddGableBuilding(
+  penumbra_sources::MeshBuilder& mesh, const Vec3& lo, const Vec3& hi, double eave, int partId)
 {
   const double x0 = lo[0], y0 = lo[1], x1 = hi[0], y1 = hi[1], top = hi[2];
   const bool ridgeAlongX = (x1 - x0) >= (y1 - y0);
@@ -101,14 +101,14 @@ bool vtkPenumbraCityBlockSource::CheckParameters()
   using penumbra_sources::IsFinite;
   if (this->Rows < 1 || this->Columns < 1)
   {
-    vtkErrorMacro("Rows and Columns must be >= 1, got Rows=" << this->Rows
-                                                             << " Columns=" << this->Columns);
+    vtkErrorMacro(
+      "Rows and Columns must be >= 1, got Rows=" << this->Rows << " Columns=" << this->Columns);
     return false;
   }
   if (static_cast<double>(this->Rows) * this->Columns > MaxLots)
   {
-    vtkErrorMacro("Rows*Columns must be <= " << MaxLots << ", got " << this->Rows << "*"
-                                             << this->Columns);
+    vtkErrorMacro(
+      "Rows*Columns must be <= " << MaxLots << ", got " << this->Rows << "*" << this->Columns);
     return false;
   }
   if (!IsFinite(this->Spacing) || this->Spacing <= 0.0)
@@ -173,12 +173,12 @@ int vtkPenumbraCityBlockSource::RequestData(vtkInformation* vtkNotUsed(request),
   if (this->GenerateGround)
   {
     const double m = this->GroundMargin;
-    const int nu = std::clamp(static_cast<int>(std::ceil((width + 2 * m) / s)), 1,
-      MaxGroundDivisions);
-    const int nv = std::clamp(static_cast<int>(std::ceil((depth + 2 * m) / s)), 1,
-      MaxGroundDivisions);
-    mesh.AddGrid({ -m, -m, 0.0 }, { width + 2 * m, 0.0, 0.0 }, { 0.0, depth + 2 * m, 0.0 }, nu,
-      nv, { 0, 0, 1 }, 0);
+    const int nu =
+      std::clamp(static_cast<int>(std::ceil((width + 2 * m) / s)), 1, MaxGroundDivisions);
+    const int nv =
+      std::clamp(static_cast<int>(std::ceil((depth + 2 * m) / s)), 1, MaxGroundDivisions);
+    mesh.AddGrid({ -m, -m, 0.0 }, { width + 2 * m, 0.0, 0.0 }, { 0.0, depth + 2 * m, 0.0 }, nu, nv,
+      { 0, 0, 1 }, 0);
   }
 
   std::mt19937 rng(static_cast<std::uint32_t>(this->Seed));

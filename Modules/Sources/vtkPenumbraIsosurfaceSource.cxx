@@ -35,11 +35,11 @@ struct Blob
 // from its centre) and clear of the [-1, 1]^3 border, so every component is closed. D1 and D2
 // overlap on purpose and merge into one two-lobed body.
 const Blob Blobs[] = {
-  { { 0.0, 0.0, 0.35 }, 0.22 },     // A: over the torus hole
-  { { 0.55, 0.5, 0.5 }, 0.15 },     // B
-  { { -0.5, -0.45, 0.45 }, 0.17 },  // C
-  { { 0.0, -0.1, -0.6 }, 0.14 },    // D1
-  { { 0.25, 0.1, -0.65 }, 0.14 },   // D2
+  { { 0.0, 0.0, 0.35 }, 0.22 },    // A: over the torus hole
+  { { 0.55, 0.5, 0.5 }, 0.15 },    // B
+  { { -0.5, -0.45, 0.45 }, 0.17 }, // C
+  { { 0.0, -0.1, -0.6 }, 0.14 },   // D1
+  { { 0.25, 0.1, -0.65 }, 0.14 },  // D2
 };
 constexpr double TorusRadius = 0.55;
 constexpr double TorusHeight = -0.15;

@@ -107,7 +107,7 @@ int vtkPenumbraRoomSource::RequestData(vtkInformation* vtkNotUsed(request),
   const Vec3 alongX = { 2 * hx, 0, 0 };
   const Vec3 alongY = { 0, 2 * hy, 0 };
   const Vec3 alongZ = { 0, 0, h };
-  mesh.AddGrid({ -hx, -hy, 0 }, alongX, alongY, nx, ny, { 0, 0, 1 }, 0); // floor
+  mesh.AddGrid({ -hx, -hy, 0 }, alongX, alongY, nx, ny, { 0, 0, 1 }, 0);  // floor
   mesh.AddGrid({ -hx, -hy, h }, alongX, alongY, nx, ny, { 0, 0, -1 }, 0); // ceiling
   mesh.AddGrid({ -hx, -hy, 0 }, alongY, alongZ, ny, nz, { 1, 0, 0 }, 0);  // -x wall
   mesh.AddGrid({ hx, -hy, 0 }, alongY, alongZ, ny, nz, { -1, 0, 0 }, 0);  // +x wall
@@ -133,8 +133,8 @@ int vtkPenumbraRoomSource::RequestData(vtkInformation* vtkNotUsed(request),
       for (const double y :
         { slab.Lo[1] + TableLegInset, slab.Hi[1] - TableLegInset - TableLegSize })
       {
-        mesh.AddBox(scaled({ x, y, 0.0 }), scaled({ x + TableLegSize, y + TableLegSize, slab.Lo[2] }),
-          slab.PartId);
+        mesh.AddBox(scaled({ x, y, 0.0 }),
+          scaled({ x + TableLegSize, y + TableLegSize, slab.Lo[2] }), slab.PartId);
       }
     }
 

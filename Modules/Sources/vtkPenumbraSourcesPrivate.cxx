@@ -111,9 +111,8 @@ void MeshBuilder::AddPolygon(const Vec3* corners, int count, const Vec3& facing,
     return;
   }
   // For a convex quad the diagonal cross product is a robust (area-weighted) normal.
-  const Vec3 geometric = count == 3
-    ? glm::cross(corners[1] - corners[0], corners[2] - corners[0])
-    : glm::cross(corners[2] - corners[0], corners[3] - corners[1]);
+  const Vec3 geometric = count == 3 ? glm::cross(corners[1] - corners[0], corners[2] - corners[0])
+                                    : glm::cross(corners[2] - corners[0], corners[3] - corners[1]);
   const bool flip = glm::dot(geometric, facing) < 0.0;
   const Vec3 n = Normalized(flip ? -geometric : geometric);
 
@@ -129,8 +128,8 @@ void MeshBuilder::AddPolygon(const Vec3* corners, int count, const Vec3& facing,
   }
 }
 
-void MeshBuilder::AddGrid(const Vec3& origin, const Vec3& u, const Vec3& v, int nu, int nv,
-  const Vec3& facing, int partId)
+void MeshBuilder::AddGrid(
+  const Vec3& origin, const Vec3& u, const Vec3& v, int nu, int nv, const Vec3& facing, int partId)
 {
   Vec3 n = glm::cross(u, v);
   const bool flip = glm::dot(n, facing) < 0.0;
@@ -200,8 +199,8 @@ void MeshBuilder::AddBox(const Vec3& lo, const Vec3& hi, int partId)
   this->AddPolygon(east, 4, { 1, 0, 0 }, partId);
 }
 
-void MeshBuilder::AddCylinderWall(double cx, double cy, double r, double z0, double z1,
-  int segments, bool towardAxis, int partId)
+void MeshBuilder::AddCylinderWall(
+  double cx, double cy, double r, double z0, double z1, int segments, bool towardAxis, int partId)
 {
   const double sign = towardAxis ? -1.0 : 1.0;
   const vtkIdType first = this->Points->GetNumberOfPoints();

@@ -62,8 +62,8 @@ public:
    * Planar parallelogram origin + s*u + t*v, s,t in [0,1], split into nu x nv quads (two
    * triangles each) sharing points; normal is +-(u x v), chosen to agree with `facing`.
    */
-  void AddGrid(const Vec3& origin, const Vec3& u, const Vec3& v, int nu, int nv,
-    const Vec3& facing, int partId);
+  void AddGrid(const Vec3& origin, const Vec3& u, const Vec3& v, int nu, int nv, const Vec3& facing,
+    int partId);
 
   /**
    * Closed axis-aligned box [lo, hi]: six faces with outward normals.

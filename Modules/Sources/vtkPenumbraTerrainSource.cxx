@@ -107,8 +107,8 @@ int vtkPenumbraTerrainSource::RequestData(vtkInformation* vtkNotUsed(request),
   if (dims[0] < 2 || dims[1] < 2 || !elevation ||
     elevation->GetNumberOfTuples() < static_cast<vtkIdType>(dims[0]) * dims[1])
   {
-    vtkErrorMacro("\"" << fileName << "\" holds no usable elevation grid (dimensions "
-                       << dims[0] << " x " << dims[1] << ")");
+    vtkErrorMacro("\"" << fileName << "\" holds no usable elevation grid (dimensions " << dims[0]
+                       << " x " << dims[1] << ")");
     return 0;
   }
   double origin[3], spacing[3];
@@ -168,8 +168,8 @@ int vtkPenumbraTerrainSource::RequestData(vtkInformation* vtkNotUsed(request),
   // winding to keep triangle normals up.
   const bool flip = spacing[0] * spacing[1] < 0.0;
   vtkNew<vtkCellArray> polys;
-  polys->AllocateExact(2 * static_cast<vtkIdType>(nx - 1) * (ny - 1),
-    6 * static_cast<vtkIdType>(nx - 1) * (ny - 1));
+  polys->AllocateExact(
+    2 * static_cast<vtkIdType>(nx - 1) * (ny - 1), 6 * static_cast<vtkIdType>(nx - 1) * (ny - 1));
   for (int b = 0; b + 1 < ny; ++b)
   {
     for (int a = 0; a + 1 < nx; ++a)

@@ -10,8 +10,8 @@
 #include "vtkNew.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
-#include "vtkPolyDataAlgorithm.h"
 #include "vtkPlaneSource.h"
+#include "vtkPolyDataAlgorithm.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
@@ -49,8 +49,8 @@ inline vtkSmartPointer<vtkActor> AddRectangle(
 
 // Global index of a triangle of prop `propIndex` containing (x, y) in the xy projection
 // (world coordinates), or -1. Inclusive edges: a point on a shared edge takes the first.
-inline vtkIdType FindTriangleXY(vtkPenumbraSceneGeometry* geometry, int propIndex, double x,
-  double y)
+inline vtkIdType FindTriangleXY(
+  vtkPenumbraSceneGeometry* geometry, int propIndex, double x, double y)
 {
   double origin[3];
   geometry->GetOrigin(origin);
@@ -92,9 +92,8 @@ inline vtkIdType FindTriangleXY(vtkPenumbraSceneGeometry* geometry, int propInde
 
 // res x res samples at the pixel centres of the square [lo, hi]^2 on the plane z = 0 of the
 // (offset) frame, seen orthographically from above: normal +z, prop `propIndex`.
-inline void FillGroundSamples(vtkPenumbraViewSamples* samples,
-  vtkPenumbraSceneGeometry* geometry, int propIndex, const double offset[3], int res, double lo,
-  double hi)
+inline void FillGroundSamples(vtkPenumbraViewSamples* samples, vtkPenumbraSceneGeometry* geometry,
+  int propIndex, const double offset[3], int res, double lo, double hi)
 {
   samples->SetSize(res, res);
   samples->SetOrigin(geometry->GetOrigin());

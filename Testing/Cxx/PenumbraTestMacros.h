@@ -6,25 +6,25 @@
 #include <cstdlib>
 #include <iostream>
 
-#define CHECK(cond)                                                                              \
-  do                                                                                             \
-  {                                                                                              \
-    if (!(cond))                                                                                 \
-    {                                                                                            \
-      std::cerr << __FILE__ << ":" << __LINE__ << ": check failed: " #cond << std::endl;       \
-      return EXIT_FAILURE;                                                                       \
-    }                                                                                            \
+#define CHECK(cond)                                                                                \
+  do                                                                                               \
+  {                                                                                                \
+    if (!(cond))                                                                                   \
+    {                                                                                              \
+      std::cerr << __FILE__ << ":" << __LINE__ << ": check failed: " #cond << std::endl;           \
+      return EXIT_FAILURE;                                                                         \
+    }                                                                                              \
   } while (false)
 
 // Runs a sub-test returning EXIT_SUCCESS/EXIT_FAILURE and stops at the first failure.
-#define RUN(subtest)                                                                             \
-  do                                                                                             \
-  {                                                                                              \
-    if ((subtest) != EXIT_SUCCESS)                                                               \
-    {                                                                                            \
-      std::cerr << "sub-test failed: " #subtest << std::endl;                                  \
-      return EXIT_FAILURE;                                                                       \
-    }                                                                                            \
+#define RUN(subtest)                                                                               \
+  do                                                                                               \
+  {                                                                                                \
+    if ((subtest) != EXIT_SUCCESS)                                                                 \
+    {                                                                                              \
+      std::cerr << "sub-test failed: " #subtest << std::endl;                                      \
+      return EXIT_FAILURE;                                                                         \
+    }                                                                                              \
   } while (false)
 
 #endif

@@ -6,9 +6,11 @@
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
+#include "vtkCommand.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPenumbraHeadlessFactory.h"
+#include "vtkPointData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
@@ -16,11 +18,9 @@
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
+#include "vtkTestErrorObserver.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkWindowToImageFilter.h"
-#include "vtkPointData.h"
-#include "vtkCommand.h"
-#include "vtkTestErrorObserver.h"
 
 #include <cstdlib>
 #include <iostream>
@@ -89,7 +89,8 @@ int CheckHeadlessWindow()
   CHECK(vtkPenumbraHeadlessFactory::IsInstalled());
 
   // The factory override: plain VTK code gets the headless window.
-  vtkSmartPointer<vtkRenderWindow> win = vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
+  vtkSmartPointer<vtkRenderWindow> win =
+    vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
   CHECK(Window::SafeDownCast(win) != nullptr);
 
   // Interactors need no X server either: a window with one initialises and renders.

@@ -26,7 +26,8 @@
 int TestHeadlessShadowPass(int, char*[])
 {
   const int size = 128;
-  vtkSmartPointer<vtkRenderWindow> win = vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
+  vtkSmartPointer<vtkRenderWindow> win =
+    vtkSmartPointer<vtkRenderWindow>::Take(vtkRenderWindow::New());
   if (!vtkPenumbraHeadlessRenderWindow::SafeDownCast(win))
   {
     std::cerr << "vtkRenderWindow::New() did not give the headless window" << std::endl;
@@ -44,8 +45,8 @@ int TestHeadlessShadowPass(int, char*[])
 
   vtkNew<vtkRenderer> ren;
   ren->SetBackground(0, 0, 0);
-  for (vtkPolyDataAlgorithm* src : { static_cast<vtkPolyDataAlgorithm*>(plane),
-         static_cast<vtkPolyDataAlgorithm*>(occluder) })
+  for (vtkPolyDataAlgorithm* src :
+    { static_cast<vtkPolyDataAlgorithm*>(plane), static_cast<vtkPolyDataAlgorithm*>(occluder) })
   {
     vtkNew<vtkPolyDataMapper> mapper;
     mapper->SetInputConnection(src->GetOutputPort());
@@ -87,7 +88,8 @@ int TestHeadlessShadowPass(int, char*[])
 
   vtkNew<vtkUnsignedCharArray> px;
   win->GetPixelData(0, 0, size - 1, size - 1, 0, px);
-  auto lum = [&](double x, double y) {
+  auto lum = [&](double x, double y)
+  {
     const int col = static_cast<int>((x + 2.0) / 4.0 * size);
     const int row = static_cast<int>((y + 2.0) / 4.0 * size);
     const unsigned char* p = px->GetPointer(3 * (row * size + col));

@@ -33,8 +33,8 @@ constexpr double Margin = 1e-3; // no pixel centre may be closer than this to a 
 // Is c strictly inside [x0, x1] x [y0, y1], and far enough from its edges?
 bool InsideBox(const double c[2], double x0, double x1, double y0, double y1, bool& onEdge)
 {
-  const double d = std::min(
-    std::min(std::fabs(c[0] - x0), std::fabs(c[0] - x1)), std::min(std::fabs(c[1] - y0), std::fabs(c[1] - y1)));
+  const double d = std::min(std::min(std::fabs(c[0] - x0), std::fabs(c[0] - x1)),
+    std::min(std::fabs(c[1] - y0), std::fabs(c[1] - y1)));
   onEdge = onEdge || d < Margin;
   return c[0] > x0 && c[0] < x1 && c[1] > y0 && c[1] < y1;
 }
@@ -91,7 +91,8 @@ bool InPointFootprint(const double c[2], const double l[3], double bx, bool& onE
 
 // Counts zeros and checks each sample against `expectShadow`; returns the mismatches.
 template <typename Predicate>
-vtkIdType Mismatches(vtkFloatArray* vis, Predicate expectShadow, vtkIdType& shadowed, vtkIdType& expected)
+vtkIdType Mismatches(
+  vtkFloatArray* vis, Predicate expectShadow, vtkIdType& shadowed, vtkIdType& expected)
 {
   vtkIdType bad = 0;
   shadowed = 0;
@@ -134,7 +135,8 @@ int AnalyticCounts(const double offset[3], vtkIdType counts[3])
   bool onEdge = false;
   vtkIdType shadowed = 0, expected = 0;
   const vtkIdType bad = Mismatches(
-    vis, [&](const double c[2]) { return InPointFootprint(c, l, 0.0, onEdge); }, shadowed, expected);
+    vis, [&](const double c[2]) { return InPointFootprint(c, l, 0.0, onEdge); }, shadowed,
+    expected);
   CHECK(!onEdge);
   std::cout << "point light: shadowed " << shadowed << ", analytic " << expected << ", rays "
             << reference->GetNumberOfRays() << ", ties " << reference->GetNumberOfTies() << "\n";
@@ -171,8 +173,8 @@ int AnalyticCounts(const double offset[3], vtkIdType counts[3])
     }
   }
   CHECK(!onEdge);
-  std::cout << "spot light: in cone " << inCone << ", lit " << spotLit << ", mismatches "
-            << spotBad << ", rays " << reference->GetNumberOfRays() << "\n";
+  std::cout << "spot light: in cone " << inCone << ", lit " << spotLit << ", mismatches " << spotBad
+            << ", rays " << reference->GetNumberOfRays() << "\n";
   CHECK(spotLit > 100 && inCone < Res * Res);
   CHECK(spotBad == 0);
   CHECK(reference->GetNumberOfRays() == inCone); // no rays outside the cone
@@ -187,7 +189,8 @@ int AnalyticCounts(const double offset[3], vtkIdType counts[3])
   sun->SetFocalPoint(offset[0], offset[1], offset[2]);
   CHECK(reference->ComputeVisibility(scene.Samples, sun, vis));
   onEdge = false;
-  auto sunShadow = [&](const double c[2]) {
+  auto sunShadow = [&](const double c[2])
+  {
     // Ray from c toward the light crosses the box iff the slab intervals overlap.
     const double d[3] = { 0.3, -0.2, 1.0 };
     double t0 = 0.75 / d[2], t1 = 1.25 / d[2];
@@ -334,8 +337,9 @@ int Caching()
   CHECK(reference->GetNumberOfBuilds() == 2);
   bool onEdge = false;
   vtkIdType shadowed = 0, expected = 0;
-  CHECK(Mismatches(vis, [&](const double c[2]) { return InPointFootprint(c, l, 0.5, onEdge); },
-          shadowed, expected) == 0);
+  CHECK(Mismatches(
+          vis, [&](const double c[2]) { return InPointFootprint(c, l, 0.5, onEdge); }, shadowed,
+          expected) == 0);
   CHECK(!onEdge && expected > 200);
 
   // The box stops casting: rebuilt without it, nothing is shadowed.
@@ -344,7 +348,8 @@ int Caching()
   CHECK(reference->ComputeVisibility(scene.Samples, point, vis));
   CHECK(reference->GetNumberOfBuilds() == 3);
   CHECK(reference->GetNumberOfCasterTriangles() == 2);
-  CHECK(Mismatches(vis, [](const double*) { return false; }, shadowed, expected) == 0);
+  CHECK(Mismatches(
+          vis, [](const double*) { return false; }, shadowed, expected) == 0);
   return EXIT_SUCCESS;
 }
 
@@ -356,13 +361,12 @@ int Ties()
   // ~4.6e-4); blocker squares at z = 0.5.
   vtkNew<vtkRenderer> renderer;
   auto groundActor = AddRectangle(renderer, -1, 1, -1, 1, 0);
-  auto square = [&](double x0, double y0, double z) {
-    AddRectangle(renderer, x0, x0 + 0.2, y0, y0 + 0.2, z);
-  };
-  square(0.2, 0.2, 5e-5);   // over sample A: tie, nothing else -> lit + tie
-  square(-0.4, -0.4, 0.5);  // over sample B: real blocker -> shadowed, no tie
-  square(0.5, -0.7, 5e-5);  // over sample C: tie band ...
-  square(0.5, -0.7, 0.5);   // ... and a real blocker -> shadowed, no tie
+  auto square = [&](double x0, double y0, double z)
+  { AddRectangle(renderer, x0, x0 + 0.2, y0, y0 + 0.2, z); };
+  square(0.2, 0.2, 5e-5);  // over sample A: tie, nothing else -> lit + tie
+  square(-0.4, -0.4, 0.5); // over sample B: real blocker -> shadowed, no tie
+  square(0.5, -0.7, 5e-5); // over sample C: tie band ...
+  square(0.5, -0.7, 0.5);  // ... and a real blocker -> shadowed, no tie
   vtkNew<vtkPenumbraSceneGeometry> geometry;
   CHECK(geometry->Update(renderer));
   vtkNew<vtkPenumbraViewSamples> samples;
@@ -370,7 +374,8 @@ int Ties()
   samples->SetOrigin(geometry->GetOrigin());
   samples->SetCameraPosition(0, 0, 10);
   const int groundIndex = geometry->GetPropIndex(groundActor);
-  const double at[4][3] = { { 0.3, 0.3, 0 }, { -0.3, -0.3, 0 }, { 0.6, -0.6, 0 }, { -0.6, 0.6, 0 } };
+  const double at[4][3] = { { 0.3, 0.3, 0 }, { -0.3, -0.3, 0 }, { 0.6, -0.6, 0 },
+    { -0.6, 0.6, 0 } };
   const double up[3] = { 0, 0, 1 };
   for (int i = 0; i < 4; ++i)
   {

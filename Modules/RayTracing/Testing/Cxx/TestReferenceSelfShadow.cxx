@@ -65,8 +65,8 @@ void SphereSamples(vtkPenumbraSceneGeometry* geometry, int prop, int points,
       const vtkIdType s = t * points + b;
       for (int c = 0; c < 3; ++c)
       {
-        const double p = Barycentric[b][0] * v[c] + Barycentric[b][1] * v[3 + c] +
-          Barycentric[b][2] * v[6 + c];
+        const double p =
+          Barycentric[b][0] * v[c] + Barycentric[b][1] * v[3 + c] + Barycentric[b][2] * v[6 + c];
         samples->GetPositions()->SetComponent(s, c, static_cast<float>(p));
         samples->GetNormals()->SetComponent(s, c, static_cast<float>(n[c]));
       }

@@ -239,8 +239,8 @@ int LightSizeLimits()
   }
   CHECK(partial > 0);
   std::cout << "huge light: " << partial << " partial samples; " << reference->GetNumberOfRays()
-            << " rays (4096 per sample) in " << reference->GetLastTimeMs() << " ms = "
-            << reference->GetNumberOfRays() / (1e3 * reference->GetLastTimeMs())
+            << " rays (4096 per sample) in " << reference->GetLastTimeMs()
+            << " ms = " << reference->GetNumberOfRays() / (1e3 * reference->GetLastTimeMs())
             << " Mrays/s; scene build " << reference->GetLastBuildTimeMs() << " ms\n";
   CHECK(reference->GetNumberOfRays() == res * res * 4096);
   CHECK(reference->GetNumberOfBuilds() == 1);

@@ -67,7 +67,8 @@ int CompareWithReference(const std::string& label, vtkRenderer* renderer, int re
   CHECK(technique->GetResolution() == resolution);
   CHECK(technique->GetLayers() == layers);
   CHECK(technique->GetMapBuilder() ==
-    (Map == "gpu" ? vtkPenumbraConservativeShadows::MAP_GPU : vtkPenumbraConservativeShadows::MAP_CPU));
+    (Map == "gpu" ? vtkPenumbraConservativeShadows::MAP_GPU
+                  : vtkPenumbraConservativeShadows::MAP_CPU));
   CHECK(pass->GetNumberOfLights() >= 1);
   vtkPenumbraViewSamples* samples = pass->GetViewSamples();
   CHECK(samples->GetNumberOfValidSamples() > 0);
@@ -134,7 +135,8 @@ int CompareWithReference(const std::string& label, vtkRenderer* renderer, int re
     if (mismatches)
     {
       std::printf("  false lit %lld, false shadow %lld\n",
-        static_cast<long long>(metrics->GetFalseLit()), static_cast<long long>(metrics->GetFalseShadow()));
+        static_cast<long long>(metrics->GetFalseLit()),
+        static_cast<long long>(metrics->GetFalseShadow()));
     }
     CHECK(mismatches == 0);
     CHECK(directMismatches == 0);
@@ -168,8 +170,9 @@ int CheckPlane()
     for (int layers = 2; layers <= 4; ++layers)
     {
       auto renderer = PlaneScene(type, 0.02, 0.5);
-      RUN(CompareWithReference(std::string("plane+occluder ") + Name(type) + " L" +
-          std::to_string(layers), renderer, 256, nullptr, layers));
+      RUN(CompareWithReference(
+        std::string("plane+occluder ") + Name(type) + " L" + std::to_string(layers), renderer, 256,
+        nullptr, layers));
     }
   }
   return EXIT_SUCCESS;
@@ -247,7 +250,8 @@ int CheckMapReuse()
   vtkActor* occluder = vtkActor::SafeDownCast(renderer->GetActors()->GetItemAsObject(1));
   CHECK(light != nullptr && occluder != nullptr);
 
-  auto frame = [&](const char* what, bool rebuilt) {
+  auto frame = [&](const char* what, bool rebuilt)
+  {
     window->Render();
     vtkNew<vtkPenumbraReference> reference;
     reference->SetGeometry(pass->GetGeometry());

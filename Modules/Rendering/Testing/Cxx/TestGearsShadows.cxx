@@ -424,8 +424,8 @@ int CheckHugeLight()
   }
   std::printf("huge light: darkest ground sample %.3f, largest step between neighbours %.3f\n",
     lowest, largestStep);
-  CHECK(lowest > 0.5f);        // a 0.6 m ball under a 1 km light: no umbra
-  CHECK(largestStep < 0.05f);  // smooth: no ground pixel jumps by 5 % of the light
+  CHECK(lowest > 0.5f);       // a 0.6 m ball under a 1 km light: no umbra
+  CHECK(largestStep < 0.05f); // smooth: no ground pixel jumps by 5 % of the light
   return EXIT_SUCCESS;
 }
 

@@ -91,7 +91,8 @@ bool HasSoftValues(vtkFloatArray* v)
 // What `technique` gives each light of the mixed scene, rendered twice; `warnings` counts the
 // pass's warnings over both frames.
 int RenderWith(const char* technique, const char* options,
-  std::vector<vtkSmartPointer<vtkFloatArray>>& vis, std::vector<std::string>& names, Counter& warnings)
+  std::vector<vtkSmartPointer<vtkFloatArray>>& vis, std::vector<std::string>& names,
+  Counter& warnings)
 {
   vtkNew<vtkPenumbraSceneReader> reader;
   vtkSmartPointer<vtkRenderer> ren = ReadScene("mixed_lights.json", reader);
@@ -230,8 +231,8 @@ int TestSkippedLights()
   vtkSmartPointer<vtkRenderer> ren = ReadScene("mixed_lights.json", reader);
   CHECK(ren);
   const double high[3] = { 0, 0, 200 }, sky[3] = { 0, 0, 400 }, origin[3] = { 0, 0, 0 };
-  AddLight(ren, high, sky, true, 20.0, 1.0, true);     // 3: spot at the sky
-  AddLight(ren, high, origin, true, 180.0, 0.0, true); // 4: black
+  AddLight(ren, high, sky, true, 20.0, 1.0, true);      // 3: spot at the sky
+  AddLight(ren, high, origin, true, 180.0, 0.0, true);  // 4: black
   AddLight(ren, high, origin, true, 180.0, 1.0, false); // off
   vtkNew<vtkPenumbraTechniques> techniques;
   CHECK(techniques->Apply(ren, "auto", ""));
@@ -323,9 +324,9 @@ int TestUnreachableCaster()
   window->Render();
   CHECK(pass->GetNumberOfSkippedLights() == 1);
   CHECK(!pass->GetLightTechnique(0) && !pass->GetVisibility(0));
-  CHECK(pass->GetExplanation().find("light 0 (directional light): skipped, no shadow work - no "
-                                    "caster lies between it and any visible surface") !=
-    std::string::npos);
+  CHECK(pass->GetExplanation().find(
+          "light 0 (directional light): skipped, no shadow work - no "
+          "caster lies between it and any visible surface") != std::string::npos);
   vtkLight* sun = vtkLight::SafeDownCast(ren->GetLights()->GetItemAsObject(0));
   sun->SetPosition(1.0, 0.0, 0.2); // towards the light, seen from the focal point
   sun->SetFocalPoint(0.0, 0.0, 0.0);

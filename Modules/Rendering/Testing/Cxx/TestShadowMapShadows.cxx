@@ -358,8 +358,8 @@ int CheckResolutionSeries()
   {
     auto renderer = PlaneAndBox();
     Comparison c;
-    RUN(RenderAndCompare(renderer, "{\"resolution\": " + std::to_string(resolutions[i]) + "}",
-      320, 240, c, "plane+box directional"));
+    RUN(RenderAndCompare(renderer, "{\"resolution\": " + std::to_string(resolutions[i]) + "}", 320,
+      240, c, "plane+box directional"));
     CHECK(c.Valid > 50000);
     rates[i] = c.MismatchRate;
   }
@@ -411,8 +411,8 @@ int CheckGrazingLight()
     const double elevation = vtkMath::RadiansFromDegrees(0.2);
     sun->SetPosition(-std::cos(elevation), 0.3 * std::cos(elevation), std::sin(elevation));
     Comparison c;
-    RUN(RenderAndCompare(renderer, "{\"resolution\": " + std::to_string(resolutions[i]) + "}",
-      320, 240, c, "plane+box grazing sun"));
+    RUN(RenderAndCompare(renderer, "{\"resolution\": " + std::to_string(resolutions[i]) + "}", 320,
+      240, c, "plane+box grazing sun"));
     CHECK(c.Valid > 50000);
     rates[i] = c.MismatchRate;
   }
@@ -531,8 +531,8 @@ int CheckPointLightInRoom()
     for (int face = 0; face < 6; ++face)
     {
       // Inward normals: the face with normal +x is the -x wall.
-      std::printf("  %-10s %-8s seen %6lld, shadowed %6lld (reference %6lld)\n", point,
-        names[face], static_cast<long long>(seen[face]), static_cast<long long>(shadowed[face]),
+      std::printf("  %-10s %-8s seen %6lld, shadowed %6lld (reference %6lld)\n", point, names[face],
+        static_cast<long long>(seen[face]), static_cast<long long>(shadowed[face]),
         static_cast<long long>(refShadowed[face]));
       CHECK(seen[face] >= 500);
       CHECK(refShadowed[face] >= 50);
@@ -695,7 +695,8 @@ int CheckParaboloidRoundTrip()
     vtkPenumbraShadowMapShadows::DirectionFromParaboloid(xy, hemisphere, back);
     worst = std::max(worst, std::sqrt(vtkMath::Distance2BetweenPoints(d.data(), back)));
   }
-  std::printf("paraboloid round trip: %zu directions, worst error %.3g\n", directions.size(), worst);
+  std::printf(
+    "paraboloid round trip: %zu directions, worst error %.3g\n", directions.size(), worst);
   CHECK(worst < 1e-5);
   return EXIT_SUCCESS;
 }
@@ -777,7 +778,8 @@ int CheckRESMClosedForm()
     vtkPenumbraShadowMapShadows* technique = TechniqueOf(renderer);
     CHECK(technique != nullptr);
     // Nothing casts onto the plane: the maps are fitted and sized all the same.
-    auto sizeAt = [&](double scale, int size[2], double need[2]) {
+    auto sizeAt = [&](double scale, int size[2], double need[2])
+    {
       renderer->GetActiveCamera()->SetParallelScale(scale);
       window->Render();
       technique->GetLastMapSize(size);
@@ -828,8 +830,8 @@ int CheckRESMSeries()
   CHECK(rates[0] >= rates[1] && rates[1] >= rates[2] && rates[0] > rates[2]);
   auto renderer = PlaneAndBox();
   Comparison square;
-  RUN(RenderAndCompare(renderer, "{\"resolution\": " + std::to_string(largest[2]) + "}", 320,
-    240, square, "plane+box directional"));
+  RUN(RenderAndCompare(renderer, "{\"resolution\": " + std::to_string(largest[2]) + "}", 320, 240,
+    square, "plane+box directional"));
   CHECK(rates[2] <= 1.5 * square.MismatchRate + 1e-4);
   return EXIT_SUCCESS;
 }

@@ -6,6 +6,7 @@
 #include "vtkActor.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
+#include "vtkCameraPass.h"
 #include "vtkCommand.h"
 #include "vtkCubeSource.h"
 #include "vtkFloatArray.h"
@@ -25,13 +26,12 @@
 #include "vtkPlaneSource.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
+#include "vtkRenderPassCollection.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkSequencePass.h"
 #include "vtkSmartPointer.h"
 #include "vtkSphereSource.h"
-#include "vtkCameraPass.h"
-#include "vtkRenderPassCollection.h"
-#include "vtkSequencePass.h"
 #include "vtkUnsignedCharArray.h"
 
 #include "PenumbraTestMacros.h"
@@ -93,10 +93,7 @@ struct Scene
     this->Window->AddRenderer(this->Renderer);
   }
 
-  vtkPenumbraShadowPass* Pass()
-  {
-    return vtkPenumbraShadowPass::GetInstalled(this->Renderer);
-  }
+  vtkPenumbraShadowPass* Pass() { return vtkPenumbraShadowPass::GetInstalled(this->Renderer); }
 
   double Luminance(double x, double y)
   {
@@ -166,7 +163,8 @@ int CheckFootprint(int width, int height)
   CHECK(samples->GetTriangleIds()->GetValue(center) >= 0);
 
   // Exact footprint: 1 x 1 world units = (1/pixel)^2 samples, every one shadowed, no other.
-  const vtkIdType expected = static_cast<vtkIdType>(std::lround(1.0 / pixel) * std::lround(1.0 / pixel));
+  const vtkIdType expected =
+    static_cast<vtkIdType>(std::lround(1.0 / pixel) * std::lround(1.0 / pixel));
   const vtkIdType shadowed = ShadowedPlaneSamples(pass);
   std::cout << width << "x" << height << ": shadowed plane samples " << shadowed << " expected "
             << expected << std::endl;
@@ -364,7 +362,8 @@ int CheckFrameReuse()
   vtkNew<vtkFloatArray> first;
   // Renders; true when the pass reused (or not) as expected and the visibility equals
   // (or differs from) the first frame's as expected.
-  auto render = [&](const char* what, bool reused, bool sameAsFirst) {
+  auto render = [&](const char* what, bool reused, bool sameAsFirst)
+  {
     scene.Window->Render();
     vtkFloatArray* vis = pass->GetVisibility(0);
     bool same = vis && first->GetNumberOfTuples() == vis->GetNumberOfTuples();
@@ -465,8 +464,8 @@ int CheckSamplesStayOnGPU()
     differ += answers[0]->GetValue(i) != answers[1]->GetValue(i);
     background += answers[0]->GetValue(i) < 0.0f;
   }
-  std::cout << "shadowmap vs raytraced: " << differ << " samples differ, background "
-            << background << std::endl;
+  std::cout << "shadowmap vs raytraced: " << differ << " samples differ, background " << background
+            << std::endl;
   CHECK(differ <= 16); // texel rounding along the footprint's edges
   return EXIT_SUCCESS;
 }
@@ -494,9 +493,8 @@ int CheckManyLights()
   std::string error; // the pass reports the lights it leaves unshadowed
   vtkNew<vtkCallbackCommand> onError;
   onError->SetClientData(&error);
-  onError->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
-    *static_cast<std::string*>(client) = static_cast<const char*>(call);
-  });
+  onError->SetCallback([](vtkObject*, unsigned long, void* client, void* call)
+    { *static_cast<std::string*>(client) = static_cast<const char*>(call); });
   pass->AddObserver(vtkCommand::ErrorEvent, onError);
   scene.Window->Render();
   std::cout << "many lights: error \"" << error << "\"" << std::endl;

@@ -13,9 +13,9 @@
 #include "vtkCubeSource.h"
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
-#include "vtkNew.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
+#include "vtkNew.h"
 #include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraReference.h"
@@ -277,8 +277,8 @@ vtkSmartPointer<vtkPolyData> NonManifold()
   return out;
 }
 
-vtkSmartPointer<vtkRenderer> Scene(const std::vector<vtkSmartPointer<vtkPolyData>>& casters,
-  LightType type, const double from[3])
+vtkSmartPointer<vtkRenderer> Scene(
+  const std::vector<vtkSmartPointer<vtkPolyData>>& casters, LightType type, const double from[3])
 {
   auto renderer = vtkSmartPointer<vtkRenderer>::New();
   AddPolyData(renderer, Ground());
@@ -311,11 +311,12 @@ int CheckMeshes()
   };
   auto sphere = Sphere(-1.0, 0.5, 1.0, 0.6);
   std::vector<Case> cases;
-  cases.push_back({ "closed box + sphere", { Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), sphere }, true,
-    false, false });
+  cases.push_back(
+    { "closed box + sphere", { Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), sphere }, true, false, false });
   cases.push_back({ "open sphere + open plane",
     { Edited(sphere, 7, false),
-      [] {
+      []
+      {
         vtkNew<vtkPlaneSource> p;
         p->SetOrigin(0.2, -0.6, 1.3);
         p->SetPoint1(1.0, -0.6, 1.5);
@@ -326,8 +327,8 @@ int CheckMeshes()
     false, false, true });
   cases.push_back({ "non-manifold book", { NonManifold() }, false, true, true });
   cases.push_back({ "sphere with flipped faces", { Edited(sphere, 5, true) }, false, true, true });
-  cases.push_back({ "inside-out sphere + box", { Edited(sphere, 1, true),
-    Box(0.0, 0.6, -0.8, -0.2, 0.0, 0.9) }, true, false, false });
+  cases.push_back({ "inside-out sphere + box",
+    { Edited(sphere, 1, true), Box(0.0, 0.6, -0.8, -0.2, 0.0, 0.9) }, true, false, false });
   for (const Case& c : cases)
   {
     for (LightType type : HardTypes)
@@ -337,8 +338,8 @@ int CheckMeshes()
       {
         auto renderer = Scene(c.Casters, type, From);
         Result result;
-        RUN(CompareExact(std::string(c.Name) + " " + Name(type) + " " + options, renderer,
-          options, &result));
+        RUN(CompareExact(
+          std::string(c.Name) + " " + Name(type) + " " + options, renderer, options, &result));
         CHECK(result.RefShadowed > 0);
         if (std::string(options) == "{}")
         {
@@ -369,7 +370,8 @@ int CheckCameraInsideVolume()
   for (LightType type : { LightType::Point, LightType::Directional })
   {
     const double from[3] = { 0.0, 0.0, 4.0 };
-    auto make = [&]() {
+    auto make = [&]()
+    {
       auto renderer = Scene({ Box(-1.5, 1.5, -1.5, 1.5, 2.4, 2.6) }, type, from);
       vtkCamera* cam = renderer->GetActiveCamera();
       cam->SetPosition(0.2, -0.3, 1.5); // under the box: in its shadow volume
@@ -381,8 +383,8 @@ int CheckCameraInsideVolume()
     };
     Result result;
     auto renderer = make();
-    RUN(CompareExact(std::string("camera in volume ") + Name(type) + " auto", renderer, "{}",
-      &result));
+    RUN(CompareExact(
+      std::string("camera in volume ") + Name(type) + " auto", renderer, "{}", &result));
     CHECK(!result.ZPass);
     CHECK(result.RefShadowed > 0);
     renderer = make();
@@ -421,8 +423,8 @@ int CheckScenes()
       std::string("default.json gpu ") + Name(type), renderer, "{\"silhouettes\": \"gpu\"}"));
   }
   // Real meshes and both lights of the isosurface scene.
-  for (const char* scene : { "isosurface.json", "bunny.json", "fzk_haus.json",
-         "room_point_light.json", "carotid.json" })
+  for (const char* scene :
+    { "isosurface.json", "bunny.json", "fzk_haus.json", "room_point_light.json", "carotid.json" })
   {
     vtkNew<vtkPenumbraSceneReader> reader;
     vtkSmartPointer<vtkRenderer> renderer = ReadScene(scene, reader);
@@ -430,8 +432,8 @@ int CheckScenes()
     // At 128 x 96 the volumes' outline from the camera (traced since the speck fix) covers
     // about 45% of the bunny's samples, and the carotid's thin vessels are almost all next
     // to an edge or on the outline (82%).
-    RUN(CompareExact(scene, renderer, "{}", nullptr,
-      std::string(scene) == "carotid.json" ? 0.85 : 0.5));
+    RUN(CompareExact(
+      scene, renderer, "{}", nullptr, std::string(scene) == "carotid.json" ? 0.85 : 0.5));
   }
   const char* scenes[] = { "thin_occluders.json", "grazing_light.json", "coplanar_contact.json",
     "bad_triangles.json", "georef_1e7.json", "point_light_in_room.json",
@@ -500,12 +502,12 @@ int CheckPureStencil()
   vtkIdType mismatches = 0, valid = 0;
   for (LightType type : HardTypes)
   {
-    auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6),
-                            NonManifold() },
-      type, From);
+    auto renderer =
+      Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6), NonManifold() },
+        type, From);
     Result result;
-    RUN(Compare(std::string("pure stencil ") + Name(type), renderer, "{\"resolve\": false}",
-      result));
+    RUN(
+      Compare(std::string("pure stencil ") + Name(type), renderer, "{\"resolve\": false}", result));
     CHECK(result.Resolved == 0);
     mismatches += result.Mismatches / 2; // counted for the pass and the direct call
     valid += result.Valid;
@@ -533,8 +535,8 @@ int CheckPureStencil()
 // exact across the changes.
 int CheckCaching()
 {
-  auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6) },
-    LightType::Point, From);
+  auto renderer = Scene(
+    { Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6) }, LightType::Point, From);
   vtkNew<vtkLight> second;
   second->SetLightTypeToSceneLight();
   second->SetPositional(false);
@@ -598,7 +600,8 @@ int CheckGoniometric()
   vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
   // Piecewise linear factors of the example table (angles in degrees).
   auto f = [](double theta) { return theta >= 60.0 ? 0.0 : 1.0 - theta / 60.0; };
-  auto a = [](double phi) {
+  auto a = [](double phi)
+  {
     const double m = std::fmod(phi, 180.0);
     return m <= 90.0 ? 1.0 - 0.5 * m / 90.0 : 0.5 + 0.5 * (m - 90.0) / 90.0;
   };
@@ -639,8 +642,7 @@ int CheckGoniometric()
       samples->GetWorldPosition(s, w);
       const double d[3] = { w[0] - position[0], w[1] - position[1], w[2] - position[2] };
       // Axis -z, U = +y, V = A x U = +x.
-      const double theta =
-        vtkMath::DegreesFromRadians(std::atan2(std::hypot(d[0], d[1]), -d[2]));
+      const double theta = vtkMath::DegreesFromRadians(std::atan2(std::hypot(d[0], d[1]), -d[2]));
       double phi = vtkMath::DegreesFromRadians(std::atan2(d[0], d[1]));
       phi = phi < 0.0 ? phi + 360.0 : phi;
       const double expected = f(theta) * a(phi);
@@ -675,8 +677,8 @@ int CheckGoniometric()
 // one light per mask gives the same visibility bit for bit; every light is exact.
 int CheckMultiLightMasks()
 {
-  auto renderer = Scene({ Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6) },
-    LightType::Point, From);
+  auto renderer = Scene(
+    { Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6) }, LightType::Point, From);
   const double target[3] = { 0, 0, 0 };
   const double from[][3] = { { -2.0, -1.0, 3.0 }, { 2.5, 1.5, 2.5 }, { -1.5, 2.0, 3.5 },
     { 0.5, -2.5, 3.0 }, { 1.0, 1.0, 4.0 } };
@@ -744,8 +746,8 @@ int CheckMultiLightMasks()
 
 // Mismatches against the reference over both sample layers of `renderer` drawn with
 // `technique` (the translucent layer must exist), and the reference's shadowed samples.
-int CompareLayers(vtkRenderer* renderer, const std::string& technique, vtkIdType& mismatches,
-  vtkIdType& shadowed)
+int CompareLayers(
+  vtkRenderer* renderer, const std::string& technique, vtkIdType& mismatches, vtkIdType& shadowed)
 {
   vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 256, 192);
   vtkNew<vtkPenumbraTechniques> techniques;
@@ -848,8 +850,8 @@ int CheckSpecks()
   SetLight(renderer, LightType::Directional, l, target);
 
   // Ground point on pixel (i, j)'s centre ray.
-  vtkMatrix4x4* m = cam->GetCompositeProjectionTransformMatrix(
-    static_cast<double>(width) / height, -1, 1);
+  vtkMatrix4x4* m =
+    cam->GetCompositeProjectionTransformMatrix(static_cast<double>(width) / height, -1, 1);
   vtkNew<vtkMatrix4x4> inverse;
   vtkMatrix4x4::Invert(m, inverse);
   auto ground = [&](double i, double j, double g[3])
@@ -896,8 +898,8 @@ int CheckSpecks()
   for (const char* options : { "{}", "{\"silhouettes\": \"gpu\"}" })
   {
     Result result;
-    RUN(CompareExact(std::string("specks ") + options, renderer, options, &result, 0.4, width,
-      height));
+    RUN(CompareExact(
+      std::string("specks ") + options, renderer, options, &result, 0.4, width, height));
     // Some chosen centres fall off the ground or behind a plate.
     CHECK(result.RefShadowed >= specks / 2);
   }
@@ -920,11 +922,12 @@ int CheckSweep()
     int Width, Height;
     double MaxResolved;
   };
-  for (const Case& c : { Case{ "bunny_sun_a", 256, 192, 0.4 }, Case{ "bunny_lowsun_b", 256, 192, 0.4 },
-         Case{ "carotid_spot_a", 256, 192, 0.9 }, Case{ "st_helens_lowsun_a", 256, 192, 0.7 },
-         Case{ "city_point_b", 256, 192, 0.4 }, Case{ "city_lamp1_a", 256, 192, 0.4 },
-         Case{ "iso_dense_point_b", 256, 192, 0.4 }, Case{ "carotid_lowsun_b", 320, 240, 0.8 },
-         Case{ "st_helens_lowsun_b", 320, 240, 0.8 }, Case{ "st_helens_point_a", 200, 150, 0.8 } })
+  for (const Case& c :
+    { Case{ "bunny_sun_a", 256, 192, 0.4 }, Case{ "bunny_lowsun_b", 256, 192, 0.4 },
+      Case{ "carotid_spot_a", 256, 192, 0.9 }, Case{ "st_helens_lowsun_a", 256, 192, 0.7 },
+      Case{ "city_point_b", 256, 192, 0.4 }, Case{ "city_lamp1_a", 256, 192, 0.4 },
+      Case{ "iso_dense_point_b", 256, 192, 0.4 }, Case{ "carotid_lowsun_b", 320, 240, 0.8 },
+      Case{ "st_helens_lowsun_b", 320, 240, 0.8 }, Case{ "st_helens_point_a", 200, 150, 0.8 } })
   {
     const char* file = c.File;
     vtkNew<vtkPenumbraSceneReader> reader;
@@ -934,8 +937,8 @@ int CheckSweep()
     for (const char* options : { "{}", "{\"silhouettes\": \"gpu\"}" })
     {
       Result result;
-      RUN(CompareExact(std::string(file) + " " + options, renderer, options, &result,
-        c.MaxResolved, c.Width, c.Height));
+      RUN(CompareExact(std::string(file) + " " + options, renderer, options, &result, c.MaxResolved,
+        c.Width, c.Height));
       CHECK(result.RefShadowed > 0);
     }
   }

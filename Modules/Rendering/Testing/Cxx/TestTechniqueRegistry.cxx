@@ -62,7 +62,8 @@ int DefaultsMatchTheClasses()
   CHECK(svDefault->GetSilhouettes() == sv->GetSilhouettes() &&
     svDefault->GetGPUSilhouettes() == sv->GetGPUSilhouettes() &&
     svDefault->GetMethod() == sv->GetMethod() && svDefault->GetCull() == sv->GetCull() &&
-    svDefault->GetCapOffset() == sv->GetCapOffset() && svDefault->GetResolve() == sv->GetResolve() &&
+    svDefault->GetCapOffset() == sv->GetCapOffset() &&
+    svDefault->GetResolve() == sv->GetResolve() &&
     svDefault->GetMeasureFill() == sv->GetMeasureFill() &&
     svDefault->GetLightsPerMask() == sv->GetLightsPerMask());
 
@@ -96,7 +97,8 @@ int TestTechniqueRegistry(int, char*[])
   }
   CHECK(names.count("none") && names.count("vtk-shadowmap"));
   CHECK(vtkPenumbraTechniques::GetTechniqueName(-1) == nullptr);
-  CHECK(!vtkPenumbraTechniques::HasTechnique("nope") && !vtkPenumbraTechniques::HasTechnique(nullptr));
+  CHECK(
+    !vtkPenumbraTechniques::HasTechnique("nope") && !vtkPenumbraTechniques::HasTechnique(nullptr));
 
   vtkNew<vtkPenumbraTechniques> t;
   vtkNew<vtkRenderer> ren;

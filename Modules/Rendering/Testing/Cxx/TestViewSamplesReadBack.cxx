@@ -5,6 +5,7 @@
 // camera. The scene sits at georeferenced coordinates so the rebasing is exercised.
 #include "vtkActor.h"
 #include "vtkCamera.h"
+#include "vtkCameraPass.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
@@ -21,7 +22,6 @@
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSphereSource.h"
-#include "vtkCameraPass.h"
 
 #include "PenumbraTestMacros.h"
 

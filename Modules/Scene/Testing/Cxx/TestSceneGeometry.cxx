@@ -139,8 +139,8 @@ int TestTransform()
 int TestTriangulation()
 {
   auto poly = MakePolyData({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, // quad 0-3
-    3, 0, 0, 4, 0, 0, 5, 1, 0, 4, 2, 0, 3, 1, 0,                  // pentagon 4-8
-    0, 5, 0, 0, 6, 0, 1, 5, 0, 1, 6, 0, 2, 5, 0, 2, 6, 0 });      // strip 9-14
+    3, 0, 0, 4, 0, 0, 5, 1, 0, 4, 2, 0, 3, 1, 0,                 // pentagon 4-8
+    0, 5, 0, 0, 6, 0, 1, 5, 0, 1, 6, 0, 2, 5, 0, 2, 6, 0 });     // strip 9-14
   AddCell(poly->GetVerts(), { 0 });
   AddCell(poly->GetLines(), { 0, 1 });
   AddCell(poly->GetPolys(), { 0, 1, 2, 3 });
@@ -237,7 +237,7 @@ int TestCompositeAndDataSet()
   double w[3];
   WorldVertex(g, 1, 0, w);
   CHECK(Near(w, 0, 0, 1, 1e-12));
-  CHECK(g->MapPrimitiveId(0, 0) == -1); // composite: mapping not supported
+  CHECK(g->MapPrimitiveId(0, 0) == -1);    // composite: mapping not supported
   CHECK(g->GetPropTriangleCount(1) == 12); // 6 quad faces
   double bounds[6];
   g->GetBounds(bounds);
@@ -494,13 +494,13 @@ int TestPrimitiveMapping()
   auto mixed = MakePolyData({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 1, 1, 0, // 2 and 3 coincide
     2, 0, 0, 3, 0, 0, 3, 1, 0, 2, 2, 0, 1.5, 1, 0,                // 4-8
     0, 5, 0, 0, 6, 0, 1, 5, 0, 1, 6, 0, 2, 5, 0 });               // 9-13
-  AddCell(mixed->GetVerts(), { 0 });          // 1 point primitive
-  AddCell(mixed->GetVerts(), { 4, 5, 6 });    // 3 point primitives
-  AddCell(mixed->GetLines(), { 0, 1 });       // 1 segment
-  AddCell(mixed->GetLines(), { 4, 5, 6, 7 }); // 3 segments
-  AddCell(mixed->GetPolys(), { 9, 10, 11 });       // local triangle 0, cell 4
-  AddCell(mixed->GetPolys(), { 0, 1, 2, 3 });      // local 1, 2 (2 not drawn), cell 5
-  AddCell(mixed->GetPolys(), { 4, 5, 6, 7, 8 });   // local 3, 4, 5, cell 6
+  AddCell(mixed->GetVerts(), { 0 });                              // 1 point primitive
+  AddCell(mixed->GetVerts(), { 4, 5, 6 });                        // 3 point primitives
+  AddCell(mixed->GetLines(), { 0, 1 });                           // 1 segment
+  AddCell(mixed->GetLines(), { 4, 5, 6, 7 });                     // 3 segments
+  AddCell(mixed->GetPolys(), { 9, 10, 11 });                      // local triangle 0, cell 4
+  AddCell(mixed->GetPolys(), { 0, 1, 2, 3 });         // local 1, 2 (2 not drawn), cell 5
+  AddCell(mixed->GetPolys(), { 4, 5, 6, 7, 8 });      // local 3, 4, 5, cell 6
   AddCell(mixed->GetStrips(), { 9, 10, 11, 12, 13 }); // local 6, 7, 8, cell 7
   vtkNew<vtkPolyDataMapper> mapper;
   mapper->SetInputData(mixed);
@@ -522,16 +522,16 @@ int TestPrimitiveMapping()
   // Offsets: 4 vertex points, 4 line segments -> triangles start at 8. Polygons draw 5 of
   // their 6 fan triangles; without a cell map the strips start at 8 + (12 - 2 * 3) = 14.
   const vtkIdType expected[18] = { -1, -1, -1, -1, -1, -1, -1, -1, // points, lines
-    2 + 0, 2 + 1, 2 + 3, 2 + 4, 2 + 5,                              // drawn fan triangles
-    -1,                                                             // never produced
-    2 + 6, 2 + 7, 2 + 8,                                            // strip triangles
+    2 + 0, 2 + 1, 2 + 3, 2 + 4, 2 + 5,                             // drawn fan triangles
+    -1,                                                            // never produced
+    2 + 6, 2 + 7, 2 + 8,                                           // strip triangles
     -1 };
   for (vtkIdType id = 0; id < 18; ++id)
   {
     if (g->MapPrimitiveId(1, id) != expected[id])
     {
-      std::cerr << "MapPrimitiveId(1, " << id << ") = " << g->MapPrimitiveId(1, id)
-                << ", expected " << expected[id] << "\n";
+      std::cerr << "MapPrimitiveId(1, " << id << ") = " << g->MapPrimitiveId(1, id) << ", expected "
+                << expected[id] << "\n";
       return EXIT_FAILURE;
     }
   }

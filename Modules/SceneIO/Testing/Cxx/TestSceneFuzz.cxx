@@ -29,9 +29,9 @@
 #include <cctype>
 #include <chrono>
 #include <csignal>
-#include <cstdlib>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
@@ -57,8 +57,10 @@ std::string BinaryPly(bool bigEndian)
   std::string s = std::string("ply\nformat ") +
     (bigEndian ? "binary_big_endian" : "binary_little_endian") +
     " 1.0\ncomment fuzz start\nelement vertex 4\nproperty float x\nproperty float y\nproperty "
-    "float z\nproperty uchar red\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n";
-  auto put = [&](const void* p, size_t n) {
+    "float z\nproperty uchar red\nelement face 4\nproperty list uchar int "
+    "vertex_indices\nend_header\n";
+  auto put = [&](const void* p, size_t n)
+  {
     const auto* b = static_cast<const unsigned char*>(p);
     for (size_t i = 0; i < n; ++i)
     {
@@ -86,27 +88,31 @@ std::string BinaryPly(bool bigEndian)
   return s;
 }
 
-const char* const AsciiPly = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
-                             "property float y\nproperty float z\nproperty float nx\nelement face 4\n"
-                             "property list uchar int vertex_indices\nend_header\n"
-                             "0 0 0 1\n1 0 0 1\n0 1 0 1\n0 0 1 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+const char* const AsciiPly =
+  "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+  "property float y\nproperty float z\nproperty float nx\nelement face 4\n"
+  "property list uchar int vertex_indices\nend_header\n"
+  "0 0 0 1\n1 0 0 1\n0 1 0 1\n0 0 1 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
 
 const char* const Obj = "# cube corner\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n"
                         "vt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\nvn 0 0 -1\n"
                         "f 1/1/2 3/3/2 2/2/2\nf 1//2 4//2 3//2\nf -1 -4 -5\nf 1 2 5\nl 1 2\n";
 
-const char* const LegacyPolyData = "# vtk DataFile Version 3.0\nfuzz start\nASCII\nDATASET POLYDATA\n"
-                                   "POINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\n"
-                                   "POLYGONS 4 16\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"
-                                   "POINT_DATA 4\nSCALARS s float 1\nLOOKUP_TABLE default\n0 1 2 3\n";
+const char* const LegacyPolyData =
+  "# vtk DataFile Version 3.0\nfuzz start\nASCII\nDATASET POLYDATA\n"
+  "POINTS 4 float\n0 0 0 1 0 0 0 1 0 0 0 1\n"
+  "POLYGONS 4 16\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"
+  "POINT_DATA 4\nSCALARS s float 1\nLOOKUP_TABLE default\n0 1 2 3\n";
 
-const char* const LegacyGrid = "# vtk DataFile Version 3.0\nfuzz start\nASCII\nDATASET UNSTRUCTURED_GRID\n"
-                               "POINTS 5 double\n0 0 0 1 0 0 0 1 0 0 0 1 1 1 1\n"
-                               "CELLS 2 10\n4 0 1 2 3\n4 1 2 3 4\nCELL_TYPES 2\n10\n10\n";
+const char* const LegacyGrid =
+  "# vtk DataFile Version 3.0\nfuzz start\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+  "POINTS 5 double\n0 0 0 1 0 0 0 1 0 0 0 1 1 1 1\n"
+  "CELLS 2 10\n4 0 1 2 3\n4 1 2 3 4\nCELL_TYPES 2\n10\n10\n";
 
-const char* const AsciiStl = "solid fuzz\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
-                             "vertex 0 1 0\nendloop\nendfacet\nfacet normal 1 0 0\nouter loop\n"
-                             "vertex 0 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid fuzz\n";
+const char* const AsciiStl =
+  "solid fuzz\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+  "vertex 0 1 0\nendloop\nendfacet\nfacet normal 1 0 0\nouter loop\n"
+  "vertex 0 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\nendsolid fuzz\n";
 
 std::string BinaryStl()
 {
@@ -233,10 +239,13 @@ std::vector<std::pair<size_t, size_t>> NumberTokens(const std::string& s)
   while (i < s.size())
   {
     if (std::isdigit(static_cast<unsigned char>(s[i])) ||
-      ((s[i] == '-' || s[i] == '.') && i + 1 < s.size() && std::isdigit(static_cast<unsigned char>(s[i + 1]))))
+      ((s[i] == '-' || s[i] == '.') && i + 1 < s.size() &&
+        std::isdigit(static_cast<unsigned char>(s[i + 1]))))
     {
       size_t j = i + 1;
-      while (j < s.size() && (std::isalnum(static_cast<unsigned char>(s[j])) || s[j] == '.' || s[j] == '-' || s[j] == '+'))
+      while (j < s.size() &&
+        (std::isalnum(static_cast<unsigned char>(s[j])) || s[j] == '.' || s[j] == '-' ||
+          s[j] == '+'))
       {
         ++j;
       }
@@ -312,7 +321,10 @@ std::string MutateText(std::string s, Rng& rng, bool binary, std::string& how)
     default: // a number (a count, an index, a coordinate) replaced by a hostile one
     {
       // Binary files: only the header's numbers are text.
-      const size_t end = binary ? std::min(s.size(), s.find("end_header") == std::string::npos ? size_t(80) : s.find("end_header")) : s.size();
+      const size_t end = binary
+        ? std::min(
+            s.size(), s.find("end_header") == std::string::npos ? size_t(80) : s.find("end_header"))
+        : s.size();
       auto tokens = NumberTokens(s.substr(0, end));
       if (tokens.empty())
       {
@@ -320,14 +332,16 @@ std::string MutateText(std::string s, Rng& rng, bool binary, std::string& how)
         break;
       }
       const auto t = tokens[Pick(rng, tokens.size())];
-      std::string value = HostileNumbers[Pick(rng, sizeof(HostileNumbers) / sizeof(*HostileNumbers))];
+      std::string value =
+        HostileNumbers[Pick(rng, sizeof(HostileNumbers) / sizeof(*HostileNumbers))];
       if (Pick(rng, 3) == 0)
       {
         // A count made a little or a lot larger than the data.
         const long long old = std::atoll(s.substr(t.first, t.second).c_str());
         value = std::to_string(Pick(rng, 2) == 0 ? old + 1 : old * 1000 + 7);
       }
-      note << "number \"" << s.substr(t.first, t.second) << "\" at " << t.first << " -> \"" << value << "\"";
+      note << "number \"" << s.substr(t.first, t.second) << "\" at " << t.first << " -> \"" << value
+           << "\"";
       s.replace(t.first, t.second, value);
       break;
     }
@@ -340,22 +354,38 @@ json HostileValue(Rng& rng)
 {
   switch (Pick(rng, 16))
   {
-    case 0: return json(nullptr);
-    case 1: return json(true);
-    case 2: return json("text");
-    case 3: return json::array();
-    case 4: return json::object();
-    case 5: return json(-1);
-    case 6: return json(0);
-    case 7: return json(1e308);
-    case 8: return json(-1e308);
-    case 9: return json(2147483648LL);
-    case 10: return json(99999999999LL);
-    case 11: return json(1e-320);
-    case 12: return json::array({ 1, 2 });
-    case 13: return json::array({ 1, 2, 3, 4 });
-    case 14: return json::array({ "a", "b", "c" });
-    default: return json(0.5);
+    case 0:
+      return json(nullptr);
+    case 1:
+      return json(true);
+    case 2:
+      return json("text");
+    case 3:
+      return json::array();
+    case 4:
+      return json::object();
+    case 5:
+      return json(-1);
+    case 6:
+      return json(0);
+    case 7:
+      return json(1e308);
+    case 8:
+      return json(-1e308);
+    case 9:
+      return json(2147483648LL);
+    case 10:
+      return json(99999999999LL);
+    case 11:
+      return json(1e-320);
+    case 12:
+      return json::array({ 1, 2 });
+    case 13:
+      return json::array({ 1, 2, 3, 4 });
+    case 14:
+      return json::array({ "a", "b", "c" });
+    default:
+      return json(0.5);
   }
 }
 
@@ -381,7 +411,8 @@ void MutateJson(json& root, Rng& rng, std::string& how)
   {
     case 0:
     case 1:
-      how += (how.empty() ? "" : "; ") + std::string("value ") + node->dump().substr(0, 40) + " -> ";
+      how +=
+        (how.empty() ? "" : "; ") + std::string("value ") + node->dump().substr(0, 40) + " -> ";
       *node = HostileValue(rng);
       how += node->dump();
       break;
@@ -477,7 +508,8 @@ enum Outcome
   else
   {
     const std::string msg = reader->GetErrorMessage();
-    code = (msg.rfind(scene + ": ", 0) == 0 && msg.size() > scene.size() + 4) ? ClearError : UnclearError;
+    code = (msg.rfind(scene + ": ", 0) == 0 && msg.size() > scene.size() + 4) ? ClearError
+                                                                              : UnclearError;
   }
   _exit(code);
 }
@@ -495,7 +527,8 @@ Outcome RunCase(const std::string& scene, double timeoutSeconds)
   int status = 0;
   while (waitpid(pid, &status, WNOHANG) == 0)
   {
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > timeoutSeconds)
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+      timeoutSeconds)
     {
       kill(pid, SIGKILL);
       waitpid(pid, &status, 0);
@@ -508,7 +541,10 @@ Outcome RunCase(const std::string& scene, double timeoutSeconds)
     return Crash;
   }
   const int code = WEXITSTATUS(status);
-  return code == Valid ? Valid : code == ClearError ? ClearError : code == UnclearError ? UnclearError : Crash;
+  return code == Valid     ? Valid
+    : code == ClearError   ? ClearError
+    : code == UnclearError ? UnclearError
+                           : Crash;
 }
 
 void WriteFile(const std::string& path, const std::string& text)
@@ -552,8 +588,8 @@ Options ParseOptions(int argc, char* argv[])
 
 // Writes case `index` (its scene and mesh) into `dir`; returns the scene path and says how it
 // was made.
-std::string MakeCase(long long index, const std::string& dir, const std::vector<MeshStart>& meshes,
-  std::string& how)
+std::string MakeCase(
+  long long index, const std::string& dir, const std::vector<MeshStart>& meshes, std::string& how)
 {
   Rng rng(0x9e3779b97f4a7c15ull ^ static_cast<std::uint64_t>(index) * 0xbf58476d1ce4e5b9ull);
   const MeshStart& start = meshes[Pick(rng, meshes.size())];

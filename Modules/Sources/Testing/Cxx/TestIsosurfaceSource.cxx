@@ -29,7 +29,8 @@ int CountRegions(vtkPolyData* pd)
   return regions->GetNumberOfExtractedRegions();
 }
 
-// A temporary file name unlikely to clash with parallel test runs, removed when the object goes away.
+// A temporary file name unlikely to clash with parallel test runs, removed when the object goes
+// away.
 struct TempFile
 {
   explicit TempFile(const std::string& suffix)
@@ -123,7 +124,8 @@ int TestVTIFile()
       for (int i = 0; i < n; ++i)
       {
         const double x = -1.0 + 0.1 * i, y = -1.0 + 0.1 * j, z = -1.0 + 0.1 * k;
-        distance->SetValue(i + n * (j + n * k), static_cast<float>(std::sqrt(x * x + y * y + z * z)));
+        distance->SetValue(
+          i + n * (j + n * k), static_cast<float>(std::sqrt(x * x + y * y + z * z)));
       }
     }
   }
@@ -162,16 +164,16 @@ int TestCarotid(const std::string& dataDir)
   iso->Update();
   vtkPolyData* out = iso->GetOutput();
   const vtkIdType tris = out->GetNumberOfPolys();
-  std::cout << "carotid at 90: " << tris << " triangles, " << out->GetNumberOfPoints()
-            << " points" << std::endl;
+  std::cout << "carotid at 90: " << tris << " triangles, " << out->GetNumberOfPoints() << " points"
+            << std::endl;
   CHECK(TrianglesOnly(out));
   // SOURCES.md: vtkContourFilter at 90 gives 56,195 triangles.
   CHECK(tris > 0.95 * 56195 && tris < 1.05 * 56195);
   CHECK(out->GetPointData()->GetNormals() != nullptr);
   double b[6];
   out->GetBounds(b);
-  CHECK(b[0] >= 100.0 && b[1] <= 175.0 && b[2] >= 80.0 && b[3] <= 128.0 && b[4] >= 1.0 &&
-    b[5] <= 45.0);
+  CHECK(
+    b[0] >= 100.0 && b[1] <= 175.0 && b[2] >= 80.0 && b[3] <= 128.0 && b[4] >= 1.0 && b[5] <= 45.0);
   CHECK(CountDegenerate(out) == 0);
   // Gradient normals disagree with the facets in a few noisy places (~2% here); the
   // orientation convention itself must hold for the bulk of the surface.
