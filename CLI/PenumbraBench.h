@@ -37,13 +37,14 @@ struct TechniqueSpec
 struct Options
 {
   std::vector<std::string> SceneNames = { "default", "isosurface", "city_area_light" };
-  std::vector<std::string> TechniqueTexts = { "none", "vtk-shadowmap:resolution=1024",
+  std::vector<std::string> TechniqueTexts = { "none", "auto", "vtk-shadowmap:resolution=1024",
     "vtk-shadowmap:resolution=2048", "vtk-shadowmap:resolution=4096", "raytraced",
-    "conservative:resolution=1024", "conservative:resolution=2048", "shadowmap:resolution=1024",
-    "shadowmap:resolution=4096", "shadowmap:resolution=2048;filter=pcf", "volumes",
-    "volumes:silhouettes=gpu", "volumes:measure_fill=true", "raytraced:samples=4",
-    "gears:samples=4", "raytraced:samples=8", "gears:samples=8", "raytraced:samples=16",
-    "gears:samples=16" };
+    "conservative:resolution=1024", "conservative:resolution=2048", "llsm", "llsm-hybrid",
+    "shadowmap:resolution=1024", "shadowmap:resolution=4096",
+    "shadowmap:resolution=2048;filter=pcf", "shadowmap:resolution=2048;filter=bilinear", "resm",
+    "volumes", "volumes:silhouettes=gpu", "volumes:measure_fill=true", "pcss",
+    "raytraced:samples=4", "gears:samples=4", "raytraced:samples=8", "gears:samples=8",
+    "raytraced:samples=16", "gears:samples=16" };
   // The parsed TechniqueTexts, with `none` first if it was not asked for (every point is
   // compared with the unshadowed frame).
   std::vector<TechniqueSpec> Techniques;
