@@ -91,6 +91,11 @@ public:
    */
   vtkSetMacro(Hybrid, bool);
   vtkGetMacro(Hybrid, bool);
+
+  /**
+   * The registry's name: "llsm-hybrid" or "llsm".
+   */
+  const char* GetTechniqueName() override { return this->Hybrid ? "llsm-hybrid" : "llsm"; }
   vtkBooleanMacro(Hybrid, bool);
   ///@}
 

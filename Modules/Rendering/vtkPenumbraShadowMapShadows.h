@@ -96,6 +96,16 @@ public:
    */
   bool HandlesAreaLights() override { return this->AreaLightMode == AREA_PCSS; }
 
+  /**
+   * The registry's name of this configuration: "pcss", "resm" or "shadowmap".
+   */
+  const char* GetTechniqueName() override
+  {
+    return this->AreaLightMode == AREA_PCSS
+      ? "pcss"
+      : (this->ResolutionMode == RESOLUTION_ESTIMATED ? "resm" : "shadowmap");
+  }
+
   enum AreaLightModes
   {
     AREA_NONE = 0, ///< area and linear lights are rejected (hard-shadow technique)
