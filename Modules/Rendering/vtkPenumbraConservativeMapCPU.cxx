@@ -426,39 +426,78 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
     }
   }
 
-  // 3. Rasterize tile by tile.
+  // 3. Rasterize tile by tile. With `active`, each tile first lists its active texels per row,
+  // and a footprint's row visits the shorter of its texel span and that row's list: the
+  // work follows the texels that hold something (sparse lists), not the footprints' area.
   std::atomic<vtkIdType> tests(0), writes(0), work(0);
   vtkSMPTools::For(0, static_cast<vtkIdType>(tiles) * tiles, [&](vtkIdType begin, vtkIdType end) {
     vtkIdType localTests = 0, localWrites = 0, localWork = 0;
+    std::vector<int> columns;             // the tile's active texels' x, row by row
+    int rowStart[TileSize + 1] = { 0 };   // per tile row: its first entry in `columns`
     for (vtkIdType tile = begin; tile < end; ++tile)
     {
       const int tx0 = static_cast<int>(tile % tiles) * TileSize;
       const int ty0 = static_cast<int>(tile / tiles) * TileSize;
       const int tx1 = std::min(size - 1, tx0 + TileSize - 1);
       const int ty1 = std::min(size - 1, ty0 + TileSize - 1);
+      if (start[static_cast<size_t>(tile)] == start[static_cast<size_t>(tile) + 1])
+      {
+        continue;
+      }
+      if (active)
+      {
+        columns.clear();
+        for (int y = ty0; y <= ty1; ++y)
+        {
+          rowStart[y - ty0] = static_cast<int>(columns.size());
+          for (int x = tx0; x <= tx1; ++x)
+          {
+            if (active[static_cast<size_t>(y) * size + x])
+            {
+              columns.push_back(x);
+            }
+          }
+        }
+        rowStart[ty1 - ty0 + 1] = static_cast<int>(columns.size());
+      }
+      auto texelPair = [&](const Footprint& fp, int x, int y) {
+        const size_t texel = static_cast<size_t>(y) * size + x;
+        if (active && !active[texel])
+        {
+          return;
+        }
+        const double x0 = x - Grow, x1 = x + 1 + Grow;
+        const double y0 = y - Grow, y1 = y + 1 + Grow;
+        ++localTests;
+        if (!Overlaps(fp, x0, x1, y0, y1))
+        {
+          return;
+        }
+        ++localWrites;
+        localWork += visit(texel, fp.Id, ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1));
+      };
       for (vtkIdType b = start[static_cast<size_t>(tile)]; b < start[static_cast<size_t>(tile) + 1];
            ++b)
       {
         const Footprint& fp = footprints[binned[static_cast<size_t>(b)]];
+        const int xa = std::max(tx0, fp.X0), xb = std::min(tx1, fp.X1);
         for (int y = std::max(ty0, fp.Y0); y <= std::min(ty1, fp.Y1); ++y)
         {
-          const double y0 = y - Grow, y1 = y + 1 + Grow;
-          for (int x = std::max(tx0, fp.X0); x <= std::min(tx1, fp.X1); ++x)
+          if (active && rowStart[y - ty0 + 1] - rowStart[y - ty0] < xb - xa + 1)
           {
-            const size_t texel = static_cast<size_t>(y) * size + x;
-            if (active && !active[texel])
+            // Ascending x, as the span below.
+            for (int k = rowStart[y - ty0]; k < rowStart[y - ty0 + 1]; ++k)
             {
-              continue;
+              if (columns[static_cast<size_t>(k)] >= xa && columns[static_cast<size_t>(k)] <= xb)
+              {
+                texelPair(fp, columns[static_cast<size_t>(k)], y);
+              }
             }
-            const double x0 = x - Grow, x1 = x + 1 + Grow;
-            ++localTests;
-            if (!Overlaps(fp, x0, x1, y0, y1))
-            {
-              continue;
-            }
-            ++localWrites;
-            localWork +=
-              visit(texel, fp.Id, ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1));
+            continue;
+          }
+          for (int x = xa; x <= xb; ++x)
+          {
+            texelPair(fp, x, y);
           }
         }
       }
