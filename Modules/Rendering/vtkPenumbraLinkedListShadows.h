@@ -94,6 +94,21 @@ public:
   vtkBooleanMacro(Hybrid, bool);
   ///@}
 
+  ///@{
+  /**
+   * Caster culling per view and pass (default on): before the rasterization, each caster's
+   * light-space box and lowest depth (first per cluster of 32 casters, then per triangle) are
+   * checked against a coarse grid of the listed samples (cells of Resolution / 256 texels,
+   * each with the largest depth of its samples, as a max pyramid). A caster that covers no
+   * cell holding a listed sample, or lies behind the farthest listed sample of every such
+   * cell it covers, could decide no sample, so it is skipped; the answer does not change.
+   * Off: every caster is rasterized (for comparisons).
+   */
+  vtkSetMacro(CullCasters, bool);
+  vtkGetMacro(CullCasters, bool);
+  vtkBooleanMacro(CullCasters, bool);
+  ///@}
+
   /**
    * The hybrid's classifier (its Resolution and Layers are the classification's settings).
    */
@@ -119,6 +134,15 @@ public:
   vtkGetMacro(NumberOfTracedSamples, vtkIdType);
   vtkGetMacro(NumberOfPasses, int);
   vtkGetMacro(NumberOfViews, int);
+  ///@}
+
+  ///@{
+  /**
+   * Caster culling of the last call, summed over views and passes: casters skipped before the
+   * rasterization, and casters handed to it (every caster per view and pass without culling).
+   */
+  vtkGetMacro(NumberOfCulledCasters, vtkIdType);
+  vtkGetMacro(NumberOfRasterizedCasters, vtkIdType);
   ///@}
 
   /**
@@ -150,6 +174,9 @@ protected:
   int Resolution = 1024;
   vtkIdType ListCapacity = 0;
   bool Hybrid = false;
+  bool CullCasters = true;
+  vtkIdType NumberOfCulledCasters = 0;
+  vtkIdType NumberOfRasterizedCasters = 0;
   vtkIdType NumberOfValidSamples = 0;
   vtkIdType NumberOfListedSamples = 0;
   vtkIdType MaxListLength = 0;
