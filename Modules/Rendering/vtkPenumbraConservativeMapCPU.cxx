@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace penumbra_conservative
@@ -65,6 +66,29 @@ int ClipAgainst(Clip* poly, int n, double a, double b, double s)
   }
   std::copy(out, out + m, poly);
   return m;
+}
+
+// Whether any of the `n` bytes from `p` is set, eight at a time (active masks are sparse).
+bool AnySet(const unsigned char* p, int n)
+{
+  int i = 0;
+  for (; i + 8 <= n; i += 8)
+  {
+    std::uint64_t word;
+    std::memcpy(&word, p + i, sizeof(word));
+    if (word != 0)
+    {
+      return true;
+    }
+  }
+  for (; i < n; ++i)
+  {
+    if (p[i])
+    {
+      return true;
+    }
+  }
+  return false;
 }
 
 // Which tiles hold an active texel, as a summed-area table over (tiles + 1)^2 entries.
@@ -342,13 +366,23 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
   const int tiles = (size + TileSize - 1) / TileSize;
   // Tiles without an active texel get no triangles binned.
   std::vector<unsigned char> tileActive(static_cast<size_t>(tiles) * tiles, active ? 0 : 1);
-  for (int y = 0; active && y < size; ++y)
+  if (active)
   {
-    for (int x = 0; x < size; ++x)
-    {
-      tileActive[static_cast<size_t>(y / TileSize) * tiles + x / TileSize] |=
-        active[static_cast<size_t>(y) * size + x];
-    }
+    vtkSMPTools::For(0, tiles, [&](vtkIdType begin, vtkIdType end) {
+      for (int ty = static_cast<int>(begin); ty < static_cast<int>(end); ++ty)
+      {
+        for (int y = ty * TileSize; y < std::min(size, (ty + 1) * TileSize); ++y)
+        {
+          for (int tx = 0; tx < tiles; ++tx)
+          {
+            unsigned char& tile = tileActive[static_cast<size_t>(ty) * tiles + tx];
+            tile = tile ||
+              AnySet(active + static_cast<size_t>(y) * size + tx * TileSize,
+                std::min(TileSize, size - tx * TileSize));
+          }
+        }
+      }
+    });
   }
 
   TileCull cull;
@@ -450,12 +484,19 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
         for (int y = ty0; y <= ty1; ++y)
         {
           rowStart[y - ty0] = static_cast<int>(columns.size());
-          for (int x = tx0; x <= tx1; ++x)
+          const unsigned char* row = active + static_cast<size_t>(y) * size;
+          for (int x = tx0; x <= tx1;)
           {
-            if (active[static_cast<size_t>(y) * size + x])
+            if (x + 8 <= tx1 + 1 && !AnySet(row + x, 8))
+            {
+              x += 8;
+              continue;
+            }
+            if (row[x])
             {
               columns.push_back(x);
             }
+            ++x;
           }
         }
         rowStart[ty1 - ty0 + 1] = static_cast<int>(columns.size());
