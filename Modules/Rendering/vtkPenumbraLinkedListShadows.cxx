@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -268,6 +269,72 @@ private:
   }
 };
 
+// The exact triangles of the casters (the reference's double-precision form), made once per
+// caster list when a first texel needs one and kept while the casters do not change: a
+// caster meets many listed texels, views, passes and frames. Lists of more than
+// MaxCachedCasters casters (200 bytes each) make them per texel instead.
+constexpr size_t MaxCachedCasters = size_t(1) << 20;
+
+struct ExactCache
+{
+  std::vector<std::int32_t> SlotOf; // per triangle id: its slot, -1 when not a caster
+  std::vector<penumbra_rules::ExactTriangle> Exact;
+  std::unique_ptr<std::atomic<unsigned char>[]> Made; // per slot: 0 not yet, 1 being made, 2 made, 3 no area
+
+  void Reset(const std::vector<vtkIdType>& casters)
+  {
+    this->SlotOf.clear();
+    this->Exact.clear();
+    this->Made.reset();
+    if (casters.empty() || casters.size() > MaxCachedCasters)
+    {
+      return;
+    }
+    this->SlotOf.assign(static_cast<size_t>(casters.back()) + 1, -1);
+    for (size_t i = 0; i < casters.size(); ++i)
+    {
+      this->SlotOf[static_cast<size_t>(casters[i])] = static_cast<std::int32_t>(i);
+    }
+    this->Exact.resize(casters.size());
+    this->Made.reset(new std::atomic<unsigned char>[casters.size()]);
+    for (size_t i = 0; i < casters.size(); ++i)
+    {
+      this->Made[i].store(0, std::memory_order_relaxed);
+    }
+  }
+
+  // Caster `id`'s exact triangle, null when it has no area; `scratch` holds it when another
+  // thread is making the cached one (or nothing is cached).
+  const penumbra_rules::ExactTriangle* Get(
+    vtkIdType id, const double* vertices, penumbra_rules::ExactTriangle& scratch)
+  {
+    const std::int32_t slot = static_cast<size_t>(id) < this->SlotOf.size()
+      ? this->SlotOf[static_cast<size_t>(id)]
+      : -1;
+    if (slot >= 0)
+    {
+      std::atomic<unsigned char>& made = this->Made[static_cast<size_t>(slot)];
+      unsigned char state = made.load(std::memory_order_acquire);
+      if (state == 0 && made.compare_exchange_strong(state, 1, std::memory_order_acq_rel))
+      {
+        penumbra_rules::ExactTriangle& t = this->Exact[static_cast<size_t>(slot)];
+        const bool area = penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, t);
+        made.store(area ? 2 : 3, std::memory_order_release);
+        return area ? &t : nullptr;
+      }
+      if (state == 2)
+      {
+        return &this->Exact[static_cast<size_t>(slot)];
+      }
+      if (state == 3)
+      {
+        return nullptr;
+      }
+    }
+    return penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, scratch) ? &scratch : nullptr;
+  }
+};
+
 // Caster triangles grouped for culling: sorted along a Morton curve of their centroids and
 // cut into runs of ClusterSize, each with its bounding box, so most of a view's culling is
 // decided per cluster. Rebuilt when the caster list changes.
@@ -282,12 +349,13 @@ struct CasterClusters
   std::vector<vtkIdType> Order; // caster ids, Morton order
   std::vector<double> Boxes;    // 6 per cluster: x0, x1, y0, y1, z0, z1
 
-  void Update(const std::vector<vtkIdType>& casters, const double* vertices, vtkMTimeType time)
+  // Regroups the casters when they changed; true then.
+  bool Update(const std::vector<vtkIdType>& casters, const double* vertices, vtkMTimeType time)
   {
     if (this->Source == casters.data() && this->SourceSize == casters.size() &&
       this->Vertices == vertices && this->Time == time)
     {
-      return;
+      return false;
     }
     this->Source = casters.data();
     this->SourceSize = casters.size();
@@ -347,6 +415,7 @@ struct CasterClusters
         }
       }
     }
+    return true;
   }
 
   // The casters of this view and pass that may decide a listed sample, in cluster order
@@ -528,7 +597,8 @@ struct Lists
 // all shadowed drops out. Returns the number of exact tests; the apex region's triangles go
 // to `nearTriangles`.
 vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
-  const std::vector<vtkIdType>& casters, Lists& lists, std::vector<vtkIdType>& nearTriangles)
+  const std::vector<vtkIdType>& casters, Lists& lists, ExactCache& exact,
+  std::vector<vtkIdType>& nearTriangles)
 {
   const std::vector<vtkIdType>& nodes = lists.Nodes;
   const std::vector<vtkIdType>& nodeTexel = lists.NodeTexel;
@@ -540,8 +610,9 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
   const penumbra_conservative::CpuMapStats stats = penumbra_conservative::RasterizeConservative(
     view, size, vertices, casters, active.data(), nearTriangles,
     [&](size_t texel, vtkIdType id, float triangleDepth) -> vtkIdType {
-      penumbra_rules::ExactTriangle triangle;
-      int made = -1; // -1 not yet, 0 without area, 1 made
+      penumbra_rules::ExactTriangle scratch;
+      const penumbra_rules::ExactTriangle* triangle = nullptr;
+      bool made = false;
       vtkIdType tests = 0;
       bool open = false;
       const vtkIdType row = static_cast<vtkIdType>(texel);
@@ -556,11 +627,12 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
         }
         if (own[s] != id && !Behind(triangleDepth, ctx.Depth[s]))
         {
-          if (made < 0)
+          if (!made)
           {
-            made = penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, triangle) ? 1 : 0;
+            triangle = exact.Get(id, vertices, scratch);
+            made = true;
           }
-          ctx.Test(s, made ? &triangle : nullptr);
+          ctx.Test(s, triangle);
           ++tests;
         }
         open = open || state[s] != Shadowed;
@@ -625,6 +697,7 @@ struct vtkPenumbraLinkedListShadows::Internals
   std::vector<vtkIdType> Near;      // the apex region's triangles
   SampleCells Cells;                // the pass's listed samples, coarse
   CasterClusters Clusters;          // the casters, grouped for culling
+  ExactCache Exact;                 // the casters' exact triangles
   std::vector<unsigned char> Keep;  // per caster (cluster order): not culled
   std::vector<vtkIdType> Kept;      // the pass's casters after culling
 };
@@ -709,10 +782,11 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
     impl.Depth.data() };
   const int size = this->Resolution;
   vtkIdType rows = 0;
-  if (this->CullCasters && !views.empty())
-  {
+  if (!views.empty() &&
     impl.Clusters.Update(impl.Casters.TriangleIds, in.TriangleVertices,
-      std::max(geometry->GetGeometryTime(), geometry->GetFlagsTime()));
+      std::max(geometry->GetGeometryTime(), geometry->GetFlagsTime())))
+  {
+    impl.Exact.Reset(impl.Casters.TriangleIds);
   }
   for (size_t vi = 0; vi < views.size(); ++vi)
   {
@@ -745,7 +819,7 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
       this->NumberOfRasterizedCasters += static_cast<vtkIdType>(casters->size());
       impl.Near.clear();
       this->NumberOfTests +=
-        RasterizeLists(views[vi], size, ctx, *casters, impl.Grid, impl.Near);
+        RasterizeLists(views[vi], size, ctx, *casters, impl.Grid, impl.Exact, impl.Near);
       this->NumberOfTests += TestNearTriangles(ctx, impl.Listed.data() + first, count, impl.Near);
       impl.Grid.Clear();
       this->RasterTimeMs += ElapsedMs(rasterStart);
