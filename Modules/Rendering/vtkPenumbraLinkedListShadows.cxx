@@ -467,19 +467,25 @@ struct CasterClusters
 
 // Projects the view's pending samples into its grid: `texel` and `depth` per listable sample
 // (appended to `listed`, ascending); a sample outside the grid or behind the apex, or on a
-// positional light, is left to the tracer (Pending).
+// positional light, is left to the tracer (Pending). Only the view's pending samples are
+// projected (the hybrid's few), after one pass over the per-sample bytes.
 void ProjectSamples(const View& view, int size, signed char viewIndex,
   const std::vector<signed char>& sampleView, const TestContext& ctx, vtkIdType n,
   std::vector<vtkIdType>& texel, std::vector<double>& depth, std::vector<vtkIdType>& listed)
 {
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType s = begin; s < end; ++s)
+  std::vector<vtkIdType> candidates;
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    if (ctx.State[s] == Pending && sampleView[static_cast<size_t>(s)] == viewIndex)
     {
+      candidates.push_back(s);
+    }
+  }
+  vtkSMPTools::For(0, static_cast<vtkIdType>(candidates.size()), [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      const vtkIdType s = candidates[static_cast<size_t>(i)];
       texel[static_cast<size_t>(s)] = -1;
-      if (ctx.State[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
-      {
-        continue;
-      }
       double p[3], ms, mt, d;
       ctx.Position(s, p);
       if (!view.Project(p, ms, mt, d) || !(std::fabs(ms) <= 1.0) || !(std::fabs(mt) <= 1.0) ||
@@ -494,7 +500,7 @@ void ProjectSamples(const View& view, int size, signed char viewIndex,
       depth[static_cast<size_t>(s)] = d;
     }
   });
-  for (vtkIdType s = 0; s < n; ++s)
+  for (vtkIdType s : candidates)
   {
     if (texel[static_cast<size_t>(s)] >= 0)
     {
