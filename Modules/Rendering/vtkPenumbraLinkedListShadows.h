@@ -24,10 +24,14 @@
  *    counter) is a counting sort into compressed rows (counts, prefix sum, fill), one node
  *    per sample. A node pool smaller than the samples (SetListCapacity) never drops one: the
  *    samples are listed in several passes of at most that many nodes each.
- * 4. Irregular rasterization: the conservative separating-axis rasterizer in double precision
+ * 4. Caster culling (SetCullCasters): casters whose light-space box covers no coarse cell
+ *    holding a listed sample, or that lie behind the farthest listed sample of every such
+ *    cell, are skipped; they could decide no sample.
+ *    Irregular rasterization: the conservative separating-axis rasterizer in double precision
  *    that builds the conservative technique's maps (vtkPenumbraConservativeMapCPU.h, a texel
  *    grown by a quarter for the tracer's float rounding), in parallel over tiles with
- *    vtkSMPTools, visits only texels with open samples. Per sample: its own triangle never
+ *    vtkSMPTools, visits only texels with open samples (a row walks its listed texels when
+ *    they are fewer than the triangle's span). Per sample: its own triangle never
  *    blocks; a triangle whose conservative depth over the texel lies beyond the sample cannot;
  *    otherwise the reference's exact double-precision decision (penumbra_rules::SegmentTest)
  *    shadows it (clear hit), passes over the triangle (clear miss) or marks it unknown.
