@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace penumbra_conservative
@@ -65,6 +66,29 @@ int ClipAgainst(Clip* poly, int n, double a, double b, double s)
   }
   std::copy(out, out + m, poly);
   return m;
+}
+
+// Whether any of the `n` bytes from `p` is set, eight at a time (active masks are sparse).
+bool AnySet(const unsigned char* p, int n)
+{
+  int i = 0;
+  for (; i + 8 <= n; i += 8)
+  {
+    std::uint64_t word;
+    std::memcpy(&word, p + i, sizeof(word));
+    if (word != 0)
+    {
+      return true;
+    }
+  }
+  for (; i < n; ++i)
+  {
+    if (p[i])
+    {
+      return true;
+    }
+  }
+  return false;
 }
 
 // Which tiles hold an active texel, as a summed-area table over (tiles + 1)^2 entries.
@@ -354,13 +378,25 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
   const int tiles = (size + TileSize - 1) / TileSize;
   // Tiles without an active texel get no triangles binned.
   std::vector<unsigned char> tileActive(static_cast<size_t>(tiles) * tiles, active ? 0 : 1);
-  for (int y = 0; active && y < size; ++y)
+  if (active)
   {
-    for (int x = 0; x < size; ++x)
-    {
-      tileActive[static_cast<size_t>(y / TileSize) * tiles + x / TileSize] |=
-        active[static_cast<size_t>(y) * size + x];
-    }
+    vtkSMPTools::For(0, tiles,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (int ty = static_cast<int>(begin); ty < static_cast<int>(end); ++ty)
+        {
+          for (int y = ty * TileSize; y < std::min(size, (ty + 1) * TileSize); ++y)
+          {
+            for (int tx = 0; tx < tiles; ++tx)
+            {
+              unsigned char& tile = tileActive[static_cast<size_t>(ty) * tiles + tx];
+              tile = tile ||
+                AnySet(active + static_cast<size_t>(y) * size + tx * TileSize,
+                  std::min(TileSize, size - tx * TileSize));
+            }
+          }
+        }
+      });
   }
 
   TileCull cull;
@@ -440,41 +476,88 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
     }
   }
 
-  // 3. Rasterize tile by tile.
+  // 3. Rasterize tile by tile. With `active`, each tile first lists its active texels per row,
+  // and a footprint's row visits the shorter of its texel span and that row's list: the
+  // work follows the texels that hold something (sparse lists), not the footprints' area.
   std::atomic<vtkIdType> tests(0), writes(0), work(0);
   vtkSMPTools::For(0, static_cast<vtkIdType>(tiles) * tiles,
     [&](vtkIdType begin, vtkIdType end)
     {
       vtkIdType localTests = 0, localWrites = 0, localWork = 0;
+      std::vector<int> columns;           // the tile's active texels' x, row by row
+      int rowStart[TileSize + 1] = { 0 }; // per tile row: its first entry in `columns`
       for (vtkIdType tile = begin; tile < end; ++tile)
       {
         const int tx0 = static_cast<int>(tile % tiles) * TileSize;
         const int ty0 = static_cast<int>(tile / tiles) * TileSize;
         const int tx1 = std::min(size - 1, tx0 + TileSize - 1);
         const int ty1 = std::min(size - 1, ty0 + TileSize - 1);
+        if (start[static_cast<size_t>(tile)] == start[static_cast<size_t>(tile) + 1])
+        {
+          continue;
+        }
+        if (active)
+        {
+          columns.clear();
+          for (int y = ty0; y <= ty1; ++y)
+          {
+            rowStart[y - ty0] = static_cast<int>(columns.size());
+            const unsigned char* row = active + static_cast<size_t>(y) * size;
+            for (int x = tx0; x <= tx1;)
+            {
+              if (x + 8 <= tx1 + 1 && !AnySet(row + x, 8))
+              {
+                x += 8;
+                continue;
+              }
+              if (row[x])
+              {
+                columns.push_back(x);
+              }
+              ++x;
+            }
+          }
+          rowStart[ty1 - ty0 + 1] = static_cast<int>(columns.size());
+        }
+        auto texelPair = [&](const Footprint& fp, int x, int y)
+        {
+          const size_t texel = static_cast<size_t>(y) * size + x;
+          if (active && !active[texel])
+          {
+            return;
+          }
+          const double x0 = x - Grow, x1 = x + 1 + Grow;
+          const double y0 = y - Grow, y1 = y + 1 + Grow;
+          ++localTests;
+          if (!Overlaps(fp, x0, x1, y0, y1))
+          {
+            return;
+          }
+          ++localWrites;
+          localWork += visit(texel, fp.Id, ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1));
+        };
         for (vtkIdType b = start[static_cast<size_t>(tile)];
              b < start[static_cast<size_t>(tile) + 1]; ++b)
         {
           const Footprint& fp = footprints[binned[static_cast<size_t>(b)]];
+          const int xa = std::max(tx0, fp.X0), xb = std::min(tx1, fp.X1);
           for (int y = std::max(ty0, fp.Y0); y <= std::min(ty1, fp.Y1); ++y)
           {
-            const double y0 = y - Grow, y1 = y + 1 + Grow;
-            for (int x = std::max(tx0, fp.X0); x <= std::min(tx1, fp.X1); ++x)
+            if (active && rowStart[y - ty0 + 1] - rowStart[y - ty0] < xb - xa + 1)
             {
-              const size_t texel = static_cast<size_t>(y) * size + x;
-              if (active && !active[texel])
+              // Ascending x, as the span below.
+              for (int k = rowStart[y - ty0]; k < rowStart[y - ty0 + 1]; ++k)
               {
-                continue;
+                if (columns[static_cast<size_t>(k)] >= xa && columns[static_cast<size_t>(k)] <= xb)
+                {
+                  texelPair(fp, columns[static_cast<size_t>(k)], y);
+                }
               }
-              const double x0 = x - Grow, x1 = x + 1 + Grow;
-              ++localTests;
-              if (!Overlaps(fp, x0, x1, y0, y1))
-              {
-                continue;
-              }
-              ++localWrites;
-              localWork +=
-                visit(texel, fp.Id, ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1));
+              continue;
+            }
+            for (int x = xa; x <= xb; ++x)
+            {
+              texelPair(fp, x, y);
             }
           }
         }

@@ -19,6 +19,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -93,36 +96,416 @@ inline bool Behind(float triangleDepth, double sampleDepth)
   return triangleDepth > sampleDepth + 1e-6 * (1.0 + std::fabs(sampleDepth));
 }
 
+// The float the rasterizer's conservative depth can take at most below `depth` (a lower bound
+// of the triangle's stored depth computed from its vertices): `magnitude` bounds the terms the
+// depth was summed from, so the double rounding is covered; then rounded down to float like
+// the rasterizer's depth.
+inline float LowerDepth(double depth, double magnitude)
+{
+  const double d = depth - 1e-9 * (1.0 + std::fabs(depth)) - 1e-12 * magnitude;
+  float f = static_cast<float>(d);
+  if (static_cast<double>(f) > d)
+  {
+    f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  }
+  return f;
+}
+
+// Texels a footprint's box may reach beyond the box of its projected vertices: the
+// rasterizer's quarter-texel growth plus a texel for rounding (as its own tile cull).
+constexpr double BoxMargin = 1.25;
+
+// The texel box and lowest stored depth of `count` points in `view` (grid of `size` texels):
+// every point of their convex hull projects into the box, no stored depth over it lies below
+// `lower`. False when the points cannot be bounded so (a perspective view's apex region or
+// behind its apex): such casters are never culled.
+bool BoundPoints(
+  const View& view, int size, const double* points, int count, double box[4], float& lower)
+{
+  double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin;
+  double ymin = xmin, ymax = -xmin, dmin = xmin, magnitude = 0.0;
+  const int depthRow = view.Perspective ? 3 : 2;
+  const double depthScale = view.Perspective ? 1.0 / view.Far : 1.0;
+  for (int k = 0; k < count; ++k)
+  {
+    const double* p = points + 3 * k;
+    double x = view.Dot(0, p), y = view.Dot(1, p);
+    const double d = view.Dot(depthRow, p) * depthScale;
+    if (view.Perspective)
+    {
+      const double w = view.Dot(3, p);
+      if (!(w >= view.NearW) || !(w > 0.0))
+      {
+        return false;
+      }
+      x /= w;
+      y /= w;
+    }
+    x = (x * 0.5 + 0.5) * size;
+    y = (y * 0.5 + 0.5) * size;
+    xmin = std::min(xmin, x);
+    xmax = std::max(xmax, x);
+    ymin = std::min(ymin, y);
+    ymax = std::max(ymax, y);
+    dmin = std::min(dmin, d);
+    const double* r = view.Row[depthRow];
+    magnitude = std::max(magnitude,
+      (std::fabs(r[0] * p[0]) + std::fabs(r[1] * p[1]) + std::fabs(r[2] * p[2]) + std::fabs(r[3])) *
+        depthScale);
+  }
+  if (!std::isfinite(xmin + xmax + ymin + ymax + dmin + magnitude))
+  {
+    return false;
+  }
+  box[0] = xmin - BoxMargin;
+  box[1] = xmax + BoxMargin;
+  box[2] = ymin - BoxMargin;
+  box[3] = ymax + BoxMargin;
+  lower = LowerDepth(dmin, magnitude);
+  return true;
+}
+
+// The coarse occupancy of one pass's listed samples: per cell of Cell x Cell texels the
+// largest stored depth of its samples (-inf when it holds none), as a max pyramid so a box
+// query visits few cells. A caster whose box covers no occupied cell, or that lies behind the
+// farthest sample of every occupied cell it covers, can decide no listed sample: each of them
+// would skip it (Behind), or it touches no texel with a list.
+struct SampleCells
+{
+  int Size = 0;
+  int Cell = 1;
+  std::vector<int> Dim;                 // cells per side, per level
+  std::vector<std::vector<double>> Max; // per level, Dim^2 cells
+
+  void Build(int size, const vtkIdType* samples, vtkIdType count,
+    const std::vector<vtkIdType>& texel, const double* depth)
+  {
+    this->Size = size;
+    this->Cell = std::max(1, size / 256);
+    const int dim = (size + this->Cell - 1) / this->Cell;
+    const double empty = -std::numeric_limits<double>::infinity();
+    this->Dim.assign(1, dim);
+    this->Max.resize(1);
+    this->Max[0].assign(static_cast<size_t>(dim) * dim, empty);
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      const vtkIdType s = samples[i];
+      const vtkIdType t = texel[static_cast<size_t>(s)];
+      const size_t cell =
+        static_cast<size_t>((t / size) / this->Cell) * dim + (t % size) / this->Cell;
+      this->Max[0][cell] = std::max(this->Max[0][cell], depth[s]);
+    }
+    while (this->Dim.back() > 1)
+    {
+      const int below = this->Dim.back();
+      const int up = (below + 1) / 2;
+      std::vector<double> level(static_cast<size_t>(up) * up, empty);
+      const std::vector<double>& fine = this->Max.back();
+      for (int y = 0; y < below; ++y)
+      {
+        for (int x = 0; x < below; ++x)
+        {
+          double& m = level[static_cast<size_t>(y / 2) * up + x / 2];
+          m = std::max(m, fine[static_cast<size_t>(y) * below + x]);
+        }
+      }
+      this->Dim.push_back(up);
+      this->Max.push_back(std::move(level));
+    }
+  }
+
+  // True when a caster inside texel box `box` with no stored depth below `lower` can meet no
+  // listed sample.
+  bool Culled(const double box[4], float lower) const
+  {
+    if (box[1] < 0.0 || box[3] < 0.0 || box[0] >= this->Size || box[2] >= this->Size)
+    {
+      return true;
+    }
+    auto cell = [this](double v)
+    { return std::max(0, std::min(this->Size - 1, static_cast<int>(std::floor(v)))) / this->Cell; };
+    const int range[4] = { cell(std::max(box[0], 0.0)), cell(std::min<double>(box[1], this->Size)),
+      cell(std::max(box[2], 0.0)), cell(std::min<double>(box[3], this->Size)) };
+    int top = 0;
+    while (top + 1 < static_cast<int>(this->Dim.size()) &&
+      ((range[1] >> top) - (range[0] >> top) > 1 || (range[3] >> top) - (range[2] >> top) > 1))
+    {
+      ++top;
+    }
+    return !this->Live(top, range, lower);
+  }
+
+private:
+  // Any cell of `level` within the range (level-0 cells) that holds a sample not wholly in
+  // front of `lower`?
+  bool Live(int level, const int range[4], float lower, int px = -1, int py = -1) const
+  {
+    const int dim = this->Dim[static_cast<size_t>(level)];
+    int x0 = range[0] >> level, x1 = range[1] >> level;
+    int y0 = range[2] >> level, y1 = range[3] >> level;
+    if (px >= 0)
+    {
+      x0 = std::max(x0, 2 * px);
+      x1 = std::min(x1, 2 * px + 1);
+      y0 = std::max(y0, 2 * py);
+      y1 = std::min(y1, 2 * py + 1);
+    }
+    for (int y = y0; y <= y1 && y < dim; ++y)
+    {
+      for (int x = x0; x <= x1 && x < dim; ++x)
+      {
+        const double m = this->Max[static_cast<size_t>(level)][static_cast<size_t>(y) * dim + x];
+        if (m == -std::numeric_limits<double>::infinity() || Behind(lower, m))
+        {
+          continue;
+        }
+        if (level == 0 || this->Live(level - 1, range, lower, x, y))
+        {
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+};
+
+// The exact triangles of the casters (the reference's double-precision form), made once per
+// caster list when a first texel needs one and kept while the casters do not change: a
+// caster meets many listed texels, views, passes and frames. Lists of more than
+// MaxCachedCasters casters (200 bytes each) make them per texel instead.
+constexpr size_t MaxCachedCasters = size_t(1) << 20;
+
+struct ExactCache
+{
+  std::vector<std::int32_t> SlotOf; // per triangle id: its slot, -1 when not a caster
+  std::vector<penumbra_rules::ExactTriangle> Exact;
+  std::unique_ptr<std::atomic<unsigned char>[]>
+    Made; // per slot: 0 not yet, 1 being made, 2 made, 3 no area
+
+  void Reset(const std::vector<vtkIdType>& casters)
+  {
+    this->SlotOf.clear();
+    this->Exact.clear();
+    this->Made.reset();
+    if (casters.empty() || casters.size() > MaxCachedCasters)
+    {
+      return;
+    }
+    this->SlotOf.assign(static_cast<size_t>(casters.back()) + 1, -1);
+    for (size_t i = 0; i < casters.size(); ++i)
+    {
+      this->SlotOf[static_cast<size_t>(casters[i])] = static_cast<std::int32_t>(i);
+    }
+    this->Exact.resize(casters.size());
+    this->Made.reset(new std::atomic<unsigned char>[casters.size()]);
+    for (size_t i = 0; i < casters.size(); ++i)
+    {
+      this->Made[i].store(0, std::memory_order_relaxed);
+    }
+  }
+
+  // Caster `id`'s exact triangle, null when it has no area; `scratch` holds it when another
+  // thread is making the cached one (or nothing is cached).
+  const penumbra_rules::ExactTriangle* Get(
+    vtkIdType id, const double* vertices, penumbra_rules::ExactTriangle& scratch)
+  {
+    const std::int32_t slot =
+      static_cast<size_t>(id) < this->SlotOf.size() ? this->SlotOf[static_cast<size_t>(id)] : -1;
+    if (slot >= 0)
+    {
+      std::atomic<unsigned char>& made = this->Made[static_cast<size_t>(slot)];
+      unsigned char state = made.load(std::memory_order_acquire);
+      if (state == 0 && made.compare_exchange_strong(state, 1, std::memory_order_acq_rel))
+      {
+        penumbra_rules::ExactTriangle& t = this->Exact[static_cast<size_t>(slot)];
+        const bool area = penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, t);
+        made.store(area ? 2 : 3, std::memory_order_release);
+        return area ? &t : nullptr;
+      }
+      if (state == 2)
+      {
+        return &this->Exact[static_cast<size_t>(slot)];
+      }
+      if (state == 3)
+      {
+        return nullptr;
+      }
+    }
+    return penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, scratch) ? &scratch : nullptr;
+  }
+};
+
+// Caster triangles grouped for culling: sorted along a Morton curve of their centroids and
+// cut into runs of ClusterSize, each with its bounding box, so most of a view's culling is
+// decided per cluster. Rebuilt when the caster list changes.
+constexpr vtkIdType ClusterSize = 32;
+
+struct CasterClusters
+{
+  const vtkIdType* Source = nullptr; // the caster list it was built from
+  size_t SourceSize = 0;
+  const double* Vertices = nullptr;
+  vtkMTimeType Time = 0;
+  std::vector<vtkIdType> Order; // caster ids, Morton order
+  std::vector<double> Boxes;    // 6 per cluster: x0, x1, y0, y1, z0, z1
+
+  // Regroups the casters when they changed; true then.
+  bool Update(const std::vector<vtkIdType>& casters, const double* vertices, vtkMTimeType time)
+  {
+    if (this->Source == casters.data() && this->SourceSize == casters.size() &&
+      this->Vertices == vertices && this->Time == time)
+    {
+      return false;
+    }
+    this->Source = casters.data();
+    this->SourceSize = casters.size();
+    this->Vertices = vertices;
+    this->Time = time;
+    const size_t n = casters.size();
+    double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+      std::numeric_limits<double>::max() };
+    double hi[3] = { -lo[0], -lo[1], -lo[2] };
+    std::vector<double> centre(3 * n);
+    for (size_t i = 0; i < n; ++i)
+    {
+      const double* p = vertices + 9 * casters[i];
+      for (int c = 0; c < 3; ++c)
+      {
+        centre[3 * i + c] = (p[c] + p[3 + c] + p[6 + c]) / 3.0;
+        lo[c] = std::min(lo[c], centre[3 * i + c]);
+        hi[c] = std::max(hi[c], centre[3 * i + c]);
+      }
+    }
+    std::vector<std::pair<std::uint32_t, vtkIdType>> keyed(n);
+    for (size_t i = 0; i < n; ++i)
+    {
+      std::uint32_t code = 0;
+      std::uint32_t q[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        const double extent = hi[c] - lo[c];
+        const double u = extent > 0.0 ? (centre[3 * i + c] - lo[c]) / extent : 0.0;
+        q[c] = static_cast<std::uint32_t>(std::min(1023.0, std::max(0.0, u * 1024.0)));
+      }
+      for (int b = 9; b >= 0; --b)
+      {
+        code =
+          (code << 3) | (((q[0] >> b) & 1u) << 2) | (((q[1] >> b) & 1u) << 1) | ((q[2] >> b) & 1u);
+      }
+      keyed[i] = { code, casters[i] };
+    }
+    std::sort(keyed.begin(), keyed.end());
+    this->Order.resize(n);
+    const size_t run = static_cast<size_t>(ClusterSize);
+    const size_t clusters = (n + run - 1) / run;
+    this->Boxes.assign(6 * clusters, 0.0);
+    for (size_t c = 0; c < clusters; ++c)
+    {
+      double* box = this->Boxes.data() + 6 * c;
+      box[0] = box[2] = box[4] = std::numeric_limits<double>::max();
+      box[1] = box[3] = box[5] = -std::numeric_limits<double>::max();
+      for (size_t i = c * run; i < std::min(n, (c + 1) * run); ++i)
+      {
+        this->Order[i] = keyed[i].second;
+        const double* p = vertices + 9 * keyed[i].second;
+        for (int k = 0; k < 9; ++k)
+        {
+          box[2 * (k % 3)] = std::min(box[2 * (k % 3)], p[k]);
+          box[2 * (k % 3) + 1] = std::max(box[2 * (k % 3) + 1], p[k]);
+        }
+      }
+    }
+    return true;
+  }
+
+  // The casters of this view and pass that may decide a listed sample, in cluster order
+  // (the lists' answers do not depend on the order); returns how many were culled.
+  vtkIdType Cull(const View& view, int size, const SampleCells& cells, const double* vertices,
+    std::vector<unsigned char>& keep, std::vector<vtkIdType>& kept) const
+  {
+    const vtkIdType n = static_cast<vtkIdType>(this->Order.size());
+    const vtkIdType clusters = (n + ClusterSize - 1) / ClusterSize;
+    keep.assign(static_cast<size_t>(n), 1);
+    vtkSMPTools::For(0, clusters,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType c = begin; c < end; ++c)
+        {
+          const double* b = this->Boxes.data() + 6 * c;
+          double corners[24];
+          for (int k = 0; k < 8; ++k)
+          {
+            corners[3 * k + 0] = b[(k & 1) ? 1 : 0];
+            corners[3 * k + 1] = b[(k & 2) ? 3 : 2];
+            corners[3 * k + 2] = b[(k & 4) ? 5 : 4];
+          }
+          double box[4];
+          float lower;
+          const vtkIdType first = c * ClusterSize, last = std::min(n, first + ClusterSize);
+          if (BoundPoints(view, size, corners, 8, box, lower) && cells.Culled(box, lower))
+          {
+            std::fill(keep.begin() + first, keep.begin() + last, 0);
+            continue;
+          }
+          for (vtkIdType i = first; i < last; ++i)
+          {
+            keep[static_cast<size_t>(i)] =
+              !(BoundPoints(
+                  view, size, vertices + 9 * this->Order[static_cast<size_t>(i)], 3, box, lower) &&
+                cells.Culled(box, lower));
+          }
+        }
+      });
+    kept.clear();
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      if (keep[static_cast<size_t>(i)])
+      {
+        kept.push_back(this->Order[static_cast<size_t>(i)]);
+      }
+    }
+    return n - static_cast<vtkIdType>(kept.size());
+  }
+};
+
 // Projects the view's pending samples into its grid: `texel` and `depth` per listable sample
 // (appended to `listed`, ascending); a sample outside the grid or behind the apex, or on a
-// positional light, is left to the tracer (Pending).
+// positional light, is left to the tracer (Pending). Only the view's pending samples are
+// projected (the hybrid's few), after one pass over the per-sample bytes.
 void ProjectSamples(const View& view, int size, signed char viewIndex,
   const std::vector<signed char>& sampleView, const TestContext& ctx, vtkIdType n,
   std::vector<vtkIdType>& texel, std::vector<double>& depth, std::vector<vtkIdType>& listed)
 {
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
-    for (vtkIdType s = begin; s < end; ++s)
-    {
-      texel[static_cast<size_t>(s)] = -1;
-      if (ctx.State[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
-      {
-        continue;
-      }
-      double p[3], ms, mt, d;
-      ctx.Position(s, p);
-      if (!view.Project(p, ms, mt, d) || !(std::fabs(ms) <= 1.0) || !(std::fabs(mt) <= 1.0) ||
-        !penumbra_light_views::MakeShadowRay(ctx.In->Light, p, 1.0, 0.0, 1.0).Ok)
-      {
-        continue;
-      }
-      // The texel rule of the conservative classification: the same map point.
-      const int ix = std::min(size - 1, std::max(0, static_cast<int>((ms * 0.5 + 0.5) * size)));
-      const int iy = std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
-      texel[static_cast<size_t>(s)] = static_cast<vtkIdType>(iy) * size + ix;
-      depth[static_cast<size_t>(s)] = d;
-    }
-  });
+  std::vector<vtkIdType> candidates;
   for (vtkIdType s = 0; s < n; ++s)
+  {
+    if (ctx.State[s] == Pending && sampleView[static_cast<size_t>(s)] == viewIndex)
+    {
+      candidates.push_back(s);
+    }
+  }
+  vtkSMPTools::For(0, static_cast<vtkIdType>(candidates.size()),
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        const vtkIdType s = candidates[static_cast<size_t>(i)];
+        texel[static_cast<size_t>(s)] = -1;
+        double p[3], ms, mt, d;
+        ctx.Position(s, p);
+        if (!view.Project(p, ms, mt, d) || !(std::fabs(ms) <= 1.0) || !(std::fabs(mt) <= 1.0) ||
+          !penumbra_light_views::MakeShadowRay(ctx.In->Light, p, 1.0, 0.0, 1.0).Ok)
+        {
+          continue;
+        }
+        // The texel rule of the conservative classification: the same map point.
+        const int ix = std::min(size - 1, std::max(0, static_cast<int>((ms * 0.5 + 0.5) * size)));
+        const int iy = std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
+        texel[static_cast<size_t>(s)] = static_cast<vtkIdType>(iy) * size + ix;
+        depth[static_cast<size_t>(s)] = d;
+      }
+    });
+  for (vtkIdType s : candidates)
   {
     if (texel[static_cast<size_t>(s)] >= 0)
     {
@@ -137,11 +520,11 @@ void ProjectSamples(const View& view, int size, signed char viewIndex,
 // only where a list was, so a pass with few samples costs no full-grid clear.
 struct Lists
 {
-  std::vector<vtkIdType> Head;        // per texel: first node, -1 when empty
-  std::vector<unsigned char> Active;  // per texel: holds an undecided sample
-  std::vector<vtkIdType> Nodes;       // sample ids
-  std::vector<vtkIdType> NodeTexel;   // per node: its texel
-  std::vector<vtkIdType> Counts;      // dense passes: the counting sort's rows
+  std::vector<vtkIdType> Head;       // per texel: first node, -1 when empty
+  std::vector<unsigned char> Active; // per texel: holds an undecided sample
+  std::vector<vtkIdType> Nodes;      // sample ids
+  std::vector<vtkIdType> NodeTexel;  // per node: its texel
+  std::vector<vtkIdType> Counts;     // dense passes: the counting sort's rows
 
   // Lists the `count` samples from `first` (texel per sample in `texel`), marks them open
   // and their texels active; returns the longest list, and the non-empty texels in `rows`.
@@ -225,7 +608,8 @@ struct Lists
 // all shadowed drops out. Returns the number of exact tests; the apex region's triangles go
 // to `nearTriangles`.
 vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
-  const std::vector<vtkIdType>& casters, Lists& lists, std::vector<vtkIdType>& nearTriangles)
+  const std::vector<vtkIdType>& casters, Lists& lists, ExactCache& exact,
+  std::vector<vtkIdType>& nearTriangles)
 {
   const std::vector<vtkIdType>& nodes = lists.Nodes;
   const std::vector<vtkIdType>& nodeTexel = lists.NodeTexel;
@@ -236,15 +620,16 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
   unsigned char* state = ctx.State;
   const penumbra_conservative::CpuMapStats stats = penumbra_conservative::RasterizeConservative(
     view, size, vertices, casters, active.data(), nearTriangles,
-    [&](size_t texel, vtkIdType id, float triangleDepth) -> vtkIdType {
-      penumbra_rules::ExactTriangle triangle;
-      int made = -1; // -1 not yet, 0 without area, 1 made
+    [&](size_t texel, vtkIdType id, float triangleDepth) -> vtkIdType
+    {
+      penumbra_rules::ExactTriangle scratch;
+      const penumbra_rules::ExactTriangle* triangle = nullptr;
+      bool made = false;
       vtkIdType tests = 0;
       bool open = false;
       const vtkIdType row = static_cast<vtkIdType>(texel);
-      for (vtkIdType j = lists.Head[texel]; j >= 0 && j < count &&
-           nodeTexel[static_cast<size_t>(j)] == row;
-           ++j)
+      for (vtkIdType j = lists.Head[texel];
+           j >= 0 && j < count && nodeTexel[static_cast<size_t>(j)] == row; ++j)
       {
         const vtkIdType s = nodes[static_cast<size_t>(j)];
         if (state[s] == Shadowed)
@@ -253,11 +638,12 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
         }
         if (own[s] != id && !Behind(triangleDepth, ctx.Depth[s]))
         {
-          if (made < 0)
+          if (!made)
           {
-            made = penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, triangle) ? 1 : 0;
+            triangle = exact.Get(id, vertices, scratch);
+            made = true;
           }
-          ctx.Test(s, made ? &triangle : nullptr);
+          ctx.Test(s, triangle);
           ++tests;
         }
         open = open || state[s] != Shadowed;
@@ -283,30 +669,33 @@ vtkIdType TestNearTriangles(const TestContext& ctx, const vtkIdType* listed, vtk
   for (size_t k = 0; testable && k < nearTriangles.size(); ++k)
   {
     const vtkIdType id = nearTriangles[k];
-    made[k] = penumbra_rules::MakeExactTriangle(ctx.In->TriangleVertices + 9 * id, id, triangles[k]);
+    made[k] =
+      penumbra_rules::MakeExactTriangle(ctx.In->TriangleVertices + 9 * id, id, triangles[k]);
   }
   std::atomic<vtkIdType> tests(0);
-  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) {
-    vtkIdType local = 0;
-    for (vtkIdType i = begin; i < end; ++i)
+  vtkSMPTools::For(0, count,
+    [&](vtkIdType begin, vtkIdType end)
     {
-      const vtkIdType s = listed[i];
-      for (size_t k = 0; k < nearTriangles.size() && ctx.State[s] != Shadowed; ++k)
+      vtkIdType local = 0;
+      for (vtkIdType i = begin; i < end; ++i)
       {
-        if (!testable)
+        const vtkIdType s = listed[i];
+        for (size_t k = 0; k < nearTriangles.size() && ctx.State[s] != Shadowed; ++k)
         {
-          ctx.State[s] = Unknown;
-          break;
-        }
-        if (nearTriangles[k] != ctx.In->Triangles[s])
-        {
-          ctx.Test(s, made[k] ? &triangles[k] : nullptr);
-          ++local;
+          if (!testable)
+          {
+            ctx.State[s] = Unknown;
+            break;
+          }
+          if (nearTriangles[k] != ctx.In->Triangles[s])
+          {
+            ctx.Test(s, made[k] ? &triangles[k] : nullptr);
+            ++local;
+          }
         }
       }
-    }
-    tests += local;
-  });
+      tests += local;
+    });
   return tests.load();
 }
 }
@@ -315,11 +704,16 @@ struct vtkPenumbraLinkedListShadows::Internals
 {
   penumbra_light_views::CasterBuffers Casters; // CPU lists only, never uploaded
   vtkNew<vtkUnsignedCharArray> State;
-  std::vector<double> Depth;        // per sample
-  std::vector<vtkIdType> Texel;     // per sample, its texel in its view
-  std::vector<vtkIdType> Listed;    // the view's listable samples, ascending
+  std::vector<double> Depth;     // per sample
+  std::vector<vtkIdType> Texel;  // per sample, its texel in its view
+  std::vector<vtkIdType> Listed; // the view's listable samples, ascending
   Lists Grid;
-  std::vector<vtkIdType> Near;      // the apex region's triangles
+  std::vector<vtkIdType> Near;     // the apex region's triangles
+  SampleCells Cells;               // the pass's listed samples, coarse
+  CasterClusters Clusters;         // the casters, grouped for culling
+  ExactCache Exact;                // the casters' exact triangles
+  std::vector<unsigned char> Keep; // per caster (cluster order): not culled
+  std::vector<vtkIdType> Kept;     // the pass's casters after culling
 };
 
 //------------------------------------------------------------------------------
@@ -348,6 +742,7 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfTests = this->NumberOfTracedSamples = 0;
   this->MeanListLength = 0.0;
   this->NumberOfPasses = this->NumberOfViews = 0;
+  this->NumberOfCulledCasters = this->NumberOfRasterizedCasters = 0;
   this->ClassifyTimeMs = this->ListTimeMs = this->RasterTimeMs = this->TraceTimeMs = 0.0;
 
   penumbra_light_views::FrameInputs in;
@@ -379,8 +774,8 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   unsigned char* state = n ? mask->GetPointer(0) : nullptr;
   if (!this->Hybrid)
   {
-    penumbra_light_views::ClassifyFacing(in.Light, n, in.Positions, in.Normals, in.Props,
-      in.Shift, anyCaster, vis, state, Pending, Settled);
+    penumbra_light_views::ClassifyFacing(in.Light, n, in.Positions, in.Normals, in.Props, in.Shift,
+      anyCaster, vis, state, Pending, Settled);
   }
   for (vtkIdType s = 0; s < n; ++s)
   {
@@ -401,6 +796,12 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
     impl.Depth.data() };
   const int size = this->Resolution;
   vtkIdType rows = 0;
+  if (!views.empty() &&
+    impl.Clusters.Update(impl.Casters.TriangleIds, in.TriangleVertices,
+      std::max(geometry->GetGeometryTime(), geometry->GetFlagsTime())))
+  {
+    impl.Exact.Reset(impl.Casters.TriangleIds);
+  }
   for (size_t vi = 0; vi < views.size(); ++vi)
   {
     auto listStart = Clock::now();
@@ -409,7 +810,8 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
       impl.Depth, impl.Listed);
     this->ListTimeMs += ElapsedMs(listStart);
     const vtkIdType listed = static_cast<vtkIdType>(impl.Listed.size());
-    const vtkIdType capacity = this->ListCapacity > 0 ? this->ListCapacity : std::max<vtkIdType>(listed, 1);
+    const vtkIdType capacity =
+      this->ListCapacity > 0 ? this->ListCapacity : std::max<vtkIdType>(listed, 1);
     for (vtkIdType first = 0; first < listed; first += capacity)
     {
       const vtkIdType count = std::min(capacity, listed - first);
@@ -420,9 +822,19 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
       rows += passRows;
       this->ListTimeMs += ElapsedMs(listStart);
       const auto rasterStart = Clock::now();
+      const std::vector<vtkIdType>* casters = &impl.Casters.TriangleIds;
+      if (this->CullCasters)
+      {
+        // Only casters that can reach a listed sample are rasterized (see SampleCells).
+        impl.Cells.Build(size, impl.Listed.data() + first, count, impl.Texel, impl.Depth.data());
+        this->NumberOfCulledCasters += impl.Clusters.Cull(
+          views[vi], size, impl.Cells, in.TriangleVertices, impl.Keep, impl.Kept);
+        casters = &impl.Kept;
+      }
+      this->NumberOfRasterizedCasters += static_cast<vtkIdType>(casters->size());
       impl.Near.clear();
       this->NumberOfTests +=
-        RasterizeLists(views[vi], size, ctx, impl.Casters.TriangleIds, impl.Grid, impl.Near);
+        RasterizeLists(views[vi], size, ctx, *casters, impl.Grid, impl.Exact, impl.Near);
       this->NumberOfTests += TestNearTriangles(ctx, impl.Listed.data() + first, count, impl.Near);
       impl.Grid.Clear();
       this->RasterTimeMs += ElapsedMs(rasterStart);
@@ -494,6 +906,9 @@ void vtkPenumbraLinkedListShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfTracedSamples: " << this->NumberOfTracedSamples << "\n";
   os << indent << "NumberOfPasses: " << this->NumberOfPasses << "\n";
   os << indent << "NumberOfViews: " << this->NumberOfViews << "\n";
+  os << indent << "CullCasters: " << (this->CullCasters ? "on" : "off") << "\n";
+  os << indent << "NumberOfCulledCasters: " << this->NumberOfCulledCasters << "\n";
+  os << indent << "NumberOfRasterizedCasters: " << this->NumberOfRasterizedCasters << "\n";
   os << indent << "ClassifyTimeMs: " << this->ClassifyTimeMs << "\n";
   os << indent << "ListTimeMs: " << this->ListTimeMs << "\n";
   os << indent << "RasterTimeMs: " << this->RasterTimeMs << "\n";

@@ -24,10 +24,14 @@
  *    counter) is a counting sort into compressed rows (counts, prefix sum, fill), one node
  *    per sample. A node pool smaller than the samples (SetListCapacity) never drops one: the
  *    samples are listed in several passes of at most that many nodes each.
- * 4. Irregular rasterization: the conservative separating-axis rasterizer in double precision
+ * 4. Caster culling (SetCullCasters): casters whose light-space box covers no coarse cell
+ *    holding a listed sample, or that lie behind the farthest listed sample of every such
+ *    cell, are skipped; they could decide no sample.
+ *    Irregular rasterization: the conservative separating-axis rasterizer in double precision
  *    that builds the conservative technique's maps (vtkPenumbraConservativeMapCPU.h, a texel
  *    grown by a quarter for the tracer's float rounding), in parallel over tiles with
- *    vtkSMPTools, visits only texels with open samples. Per sample: its own triangle never
+ *    vtkSMPTools, visits only texels with open samples (a row walks its listed texels when
+ *    they are fewer than the triangle's span). Per sample: its own triangle never
  *    blocks; a triangle whose conservative depth over the texel lies beyond the sample cannot;
  *    otherwise the reference's exact double-precision decision (penumbra_rules::SegmentTest)
  *    shadows it (clear hit), passes over the triangle (clear miss) or marks it unknown.
@@ -99,6 +103,21 @@ public:
   vtkBooleanMacro(Hybrid, bool);
   ///@}
 
+  ///@{
+  /**
+   * Caster culling per view and pass (default on): before the rasterization, each caster's
+   * light-space box and lowest depth (first per cluster of 32 casters, then per triangle) are
+   * checked against a coarse grid of the listed samples (cells of Resolution / 256 texels,
+   * each with the largest depth of its samples, as a max pyramid). A caster that covers no
+   * cell holding a listed sample, or lies behind the farthest listed sample of every such
+   * cell it covers, could decide no sample, so it is skipped; the answer does not change.
+   * Off: every caster is rasterized (for comparisons).
+   */
+  vtkSetMacro(CullCasters, bool);
+  vtkGetMacro(CullCasters, bool);
+  vtkBooleanMacro(CullCasters, bool);
+  ///@}
+
   /**
    * The hybrid's classifier (its Resolution and Layers are the classification's settings).
    */
@@ -124,6 +143,15 @@ public:
   vtkGetMacro(NumberOfTracedSamples, vtkIdType);
   vtkGetMacro(NumberOfPasses, int);
   vtkGetMacro(NumberOfViews, int);
+  ///@}
+
+  ///@{
+  /**
+   * Caster culling of the last call, summed over views and passes: casters skipped before the
+   * rasterization, and casters handed to it (every caster per view and pass without culling).
+   */
+  vtkGetMacro(NumberOfCulledCasters, vtkIdType);
+  vtkGetMacro(NumberOfRasterizedCasters, vtkIdType);
   ///@}
 
   /**
@@ -155,6 +183,9 @@ protected:
   int Resolution = 1024;
   vtkIdType ListCapacity = 0;
   bool Hybrid = false;
+  bool CullCasters = true;
+  vtkIdType NumberOfCulledCasters = 0;
+  vtkIdType NumberOfRasterizedCasters = 0;
   vtkIdType NumberOfValidSamples = 0;
   vtkIdType NumberOfListedSamples = 0;
   vtkIdType MaxListLength = 0;

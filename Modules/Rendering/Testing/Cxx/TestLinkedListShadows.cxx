@@ -5,7 +5,8 @@
 // thin occluder, a wire thinner than a list texel, the default city scene and the hard-light
 // torture scenes; still exact with a one-texel grid and with a node pool far smaller than the
 // samples; the degenerate frames (no geometry, no casters, every sample facing away) give the
-// reference's answer; the statistics add up.
+// reference's answer; the statistics add up; caster culling changes no answer (recomputed
+// with it off) and culls casters on the default scene for every light type.
 #include "vtkActor.h"
 #include "vtkActorCollection.h"
 #include "vtkFloatArray.h"
@@ -46,7 +47,8 @@ struct Shadows
 // compares each light's visibility, from the pass and recomputed directly (the statistics
 // belong to that call), with the reference's. Fails on any mismatch outside ties.
 int Compare(const std::string& label, vtkRenderer* renderer, const std::string& name,
-  const std::string& options, Shadows* shadows = nullptr, int minPasses = 1)
+  const std::string& options, Shadows* shadows = nullptr, int minPasses = 1,
+  vtkIdType* culls = nullptr)
 {
   vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
   vtkNew<vtkPenumbraTechniques> techniques;
@@ -65,7 +67,8 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
   for (int i = 0; i < pass->GetNumberOfLights(); ++i)
   {
     vtkNew<vtkFloatArray> direct, ref;
-    CHECK(llsm->ComputeVisibility(renderer, pass->GetGeometry(), samples, pass->GetLight(i), direct));
+    CHECK(
+      llsm->ComputeVisibility(renderer, pass->GetGeometry(), samples, pass->GetLight(i), direct));
     CHECK(reference->ComputeVisibility(samples, pass->GetLight(i), ref));
     vtkUnsignedCharArray* ties = reference->GetTies();
     vtkIdType mismatches[2] = { 0, 0 };
@@ -83,9 +86,33 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
       shadows->Technique += direct->GetValue(s) == 0.0f && !ties->GetValue(s);
     }
     const vtkIdType valid = llsm->GetNumberOfValidSamples();
+    const vtkIdType culled = llsm->GetNumberOfCulledCasters();
+    const vtkIdType rasterized = llsm->GetNumberOfRasterizedCasters();
+    if (culls)
+    {
+      *culls += culled;
+    }
+    // Caster culling only skips work: without it the answer is the same, every caster of
+    // every view and pass is rasterized, and the culled ones were among them.
+    CHECK(llsm->GetCullCasters());
+    llsm->CullCastersOff();
+    vtkNew<vtkFloatArray> unculled;
+    CHECK(
+      llsm->ComputeVisibility(renderer, pass->GetGeometry(), samples, pass->GetLight(i), unculled));
+    llsm->CullCastersOn();
+    CHECK(llsm->GetNumberOfCulledCasters() == 0);
+    CHECK(llsm->GetNumberOfRasterizedCasters() == culled + rasterized);
+    CHECK(unculled->GetNumberOfTuples() == direct->GetNumberOfTuples());
+    for (vtkIdType s = 0; s < direct->GetNumberOfTuples(); ++s)
+    {
+      CHECK(unculled->GetValue(s) == direct->GetValue(s));
+    }
+    CHECK(
+      llsm->ComputeVisibility(renderer, pass->GetGeometry(), samples, pass->GetLight(i), direct));
     std::printf("%-40s light %d: valid %lld, listed %lld (%.1f%%, sent %.1f%%), lists max %lld "
                 "mean %.2f, tests %lld, traced %lld, passes %d, views %d, ties %lld, "
-                "mismatches %lld (direct %lld); classify %.1f, lists %.1f, raster %.1f, "
+                "mismatches %lld (direct %lld), casters culled %lld rasterized %lld; classify "
+                "%.1f, lists %.1f, raster %.1f, "
                 "trace %.1f ms\n",
       (name + " " + label).c_str(), i, static_cast<long long>(valid),
       static_cast<long long>(llsm->GetNumberOfListedSamples()), 100.0 * llsm->GetListedFraction(),
@@ -94,8 +121,8 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
       static_cast<long long>(llsm->GetNumberOfTracedSamples()), llsm->GetNumberOfPasses(),
       llsm->GetNumberOfViews(), static_cast<long long>(reference->GetNumberOfTies()),
       static_cast<long long>(mismatches[0]), static_cast<long long>(mismatches[1]),
-      llsm->GetClassifyTimeMs(), llsm->GetListTimeMs(), llsm->GetRasterTimeMs(),
-      llsm->GetTraceTimeMs());
+      static_cast<long long>(culled), static_cast<long long>(rasterized), llsm->GetClassifyTimeMs(),
+      llsm->GetListTimeMs(), llsm->GetRasterTimeMs(), llsm->GetTraceTimeMs());
     CHECK(mismatches[0] == 0 && mismatches[1] == 0);
     CHECK(valid == samples->GetNumberOfValidSamples());
     CHECK(llsm->GetNumberOfListedSamples() <= valid);
@@ -106,8 +133,8 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
     if (llsm->GetHybrid())
     {
       // The hybrid lists exactly the classifier's uncertain samples.
-      CHECK(llsm->GetNumberOfListedSamples() <=
-        llsm->GetClassifier()->GetNumberOfUncertainSamples());
+      CHECK(
+        llsm->GetNumberOfListedSamples() <= llsm->GetClassifier()->GetNumberOfUncertainSamples());
       CHECK(llsm->GetUncertainFraction() == llsm->GetListedFraction());
     }
   }
@@ -118,11 +145,11 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
 
 // Both techniques with the same options.
 int CompareBoth(const std::string& label, vtkRenderer* renderer, const std::string& options,
-  Shadows* shadows = nullptr, int minPasses = 1)
+  Shadows* shadows = nullptr, int minPasses = 1, vtkIdType* culls = nullptr)
 {
   for (const char* name : { "llsm", "llsm-hybrid" })
   {
-    RUN(Compare(label, renderer, name, options, shadows, minPasses));
+    RUN(Compare(label, renderer, name, options, shadows, minPasses, culls));
   }
   return EXIT_SUCCESS;
 }
@@ -162,8 +189,8 @@ int CheckDegenerateLists()
   for (LightType type : HardLights)
   {
     const std::string light = Name(type);
-    RUN(CompareBoth("plane+box one texel " + light, PlaneScene(type, 0.02, 0.5),
-      "{\"resolution\": 1}"));
+    RUN(CompareBoth(
+      "plane+box one texel " + light, PlaneScene(type, 0.02, 0.5), "{\"resolution\": 1}"));
     RUN(Compare("plane+box capacity 97 " + light, PlaneScene(type, 0.02, 0.5), "llsm",
       "{\"resolution\": 64, \"capacity\": 97}", nullptr, 10));
   }
@@ -177,7 +204,11 @@ int CheckDefaultScene()
     vtkNew<vtkPenumbraSceneReader> reader;
     vtkSmartPointer<vtkRenderer> renderer = DefaultSceneWith(type, reader, 35.0);
     CHECK(renderer != nullptr);
-    RUN(CompareBoth(std::string("default.json ") + Name(type), renderer, "{}"));
+    // The city's casters mostly cover no listed sample or lie behind them: culling must skip
+    // some for every light type (and the answers above stay exact).
+    vtkIdType culls = 0;
+    RUN(CompareBoth(std::string("default.json ") + Name(type), renderer, "{}", nullptr, 1, &culls));
+    CHECK(culls > 0);
   }
   return EXIT_SUCCESS;
 }
