@@ -365,73 +365,80 @@ float ConservativeDepth(
   return f;
 }
 
-// The conservative rasterization both users share: footprints, tile bins and the texel loop.
-// `visit(texel, triangle, depth)` is called for every overlapping texel/triangle pair, tile by
-// tile in parallel (a texel's pairs in caster order, from one thread); it returns the work it
-// did (summed into VisitWork). Texels with active[texel] == 0 are skipped (null: all active).
-template <class Visit>
-CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const double* vertices,
-  const std::vector<vtkIdType>& casters, const unsigned char* active,
-  std::vector<vtkIdType>& nearTriangles, Visit&& visit)
+// Which tiles hold an active texel (all of them without `active`).
+std::vector<unsigned char> ActiveTiles(const unsigned char* active, int size, int tiles)
 {
-  CpuMapStats stats;
-  const int tiles = (size + TileSize - 1) / TileSize;
-  // Tiles without an active texel get no triangles binned.
   std::vector<unsigned char> tileActive(static_cast<size_t>(tiles) * tiles, active ? 0 : 1);
-  if (active)
+  if (!active)
   {
-    vtkSMPTools::For(0, tiles,
-      [&](vtkIdType begin, vtkIdType end)
+    return tileActive;
+  }
+  vtkSMPTools::For(0, tiles,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (int ty = static_cast<int>(begin); ty < static_cast<int>(end); ++ty)
       {
-        for (int ty = static_cast<int>(begin); ty < static_cast<int>(end); ++ty)
+        for (int y = ty * TileSize; y < std::min(size, (ty + 1) * TileSize); ++y)
         {
-          for (int y = ty * TileSize; y < std::min(size, (ty + 1) * TileSize); ++y)
+          for (int tx = 0; tx < tiles; ++tx)
           {
-            for (int tx = 0; tx < tiles; ++tx)
-            {
-              unsigned char& tile = tileActive[static_cast<size_t>(ty) * tiles + tx];
-              tile = tile ||
-                AnySet(active + static_cast<size_t>(y) * size + tx * TileSize,
-                  std::min(TileSize, size - tx * TileSize));
-            }
+            unsigned char& tile = tileActive[static_cast<size_t>(ty) * tiles + tx];
+            tile = tile ||
+              AnySet(active + static_cast<size_t>(y) * size + tx * TileSize,
+                std::min(TileSize, size - tx * TileSize));
           }
         }
-      });
-  }
-
-  TileCull cull;
-  if (active)
-  {
-    cull.Tiles = tiles;
-    cull.Sum.assign(static_cast<size_t>(tiles + 1) * (tiles + 1), 0);
-    for (int ty = 0; ty < tiles; ++ty)
-    {
-      for (int tx = 0; tx < tiles; ++tx)
-      {
-        const size_t w = static_cast<size_t>(tiles) + 1;
-        cull.Sum[(ty + 1) * w + tx + 1] = tileActive[static_cast<size_t>(ty) * tiles + tx] +
-          cull.Sum[ty * w + tx + 1] + cull.Sum[(ty + 1) * w + tx] - cull.Sum[ty * w + tx];
       }
+    });
+  return tileActive;
+}
+
+// The summed-area table of the active tiles, so a footprint can be culled in O(1).
+TileCull MakeTileCull(const std::vector<unsigned char>& tileActive, int tiles)
+{
+  TileCull cull;
+  cull.Tiles = tiles;
+  cull.Sum.assign(static_cast<size_t>(tiles + 1) * (tiles + 1), 0);
+  const size_t w = static_cast<size_t>(tiles) + 1;
+  for (int ty = 0; ty < tiles; ++ty)
+  {
+    for (int tx = 0; tx < tiles; ++tx)
+    {
+      cull.Sum[(ty + 1) * w + tx + 1] = tileActive[static_cast<size_t>(ty) * tiles + tx] +
+        cull.Sum[ty * w + tx + 1] + cull.Sum[(ty + 1) * w + tx] - cull.Sum[ty * w + tx];
     }
   }
+  return cull;
+}
 
-  // 1. Footprints, in parallel (the caster order is kept, so the result is deterministic).
-  const vtkIdType nc = static_cast<vtkIdType>(casters.size());
-  std::vector<Footprint> footprints(casters.size());
+// The casters' footprints (in parallel, caster order kept, so the result is deterministic)
+// binned to the active tiles they touch by a counting sort: tile t's footprints are
+// binned[start[t] .. start[t + 1]). Triangles near a perspective apex go to nearTriangles.
+struct Bins
+{
+  std::vector<Footprint> Footprints;
+  std::vector<vtkIdType> Start;
+  std::vector<std::uint32_t> Binned;
+};
+Bins BinFootprints(const penumbra_light_views::View& view, int size, const double* vertices,
+  const std::vector<vtkIdType>& casters, const std::vector<unsigned char>& tileActive,
+  const TileCull* cull, std::vector<vtkIdType>& nearTriangles, CpuMapStats& stats)
+{
+  const int tiles = (size + TileSize - 1) / TileSize;
+  Bins bins;
+  bins.Footprints.resize(casters.size());
   std::vector<unsigned char> status(casters.size(), 0);
-  vtkSMPTools::For(0, nc,
+  vtkSMPTools::For(0, static_cast<vtkIdType>(casters.size()),
     [&](vtkIdType begin, vtkIdType end)
     {
       for (vtkIdType i = begin; i < end; ++i)
       {
         const vtkIdType id = casters[static_cast<size_t>(i)];
-        status[static_cast<size_t>(i)] = static_cast<unsigned char>(MakeFootprint(view, size,
-          vertices + 9 * id, id, footprints[static_cast<size_t>(i)], active ? &cull : nullptr));
+        status[static_cast<size_t>(i)] = static_cast<unsigned char>(MakeFootprint(
+          view, size, vertices + 9 * id, id, bins.Footprints[static_cast<size_t>(i)], cull));
       }
     });
-
-  // 2. Bin them to tiles (counting sort, in caster order).
-  std::vector<vtkIdType> start(static_cast<size_t>(tiles) * tiles + 1, 0);
+  bins.Start.assign(static_cast<size_t>(tiles) * tiles + 1, 0);
   auto forTiles = [&](const Footprint& fp, auto&& f)
   {
     for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
@@ -446,7 +453,7 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
       }
     }
   };
-  for (size_t i = 0; i < footprints.size(); ++i)
+  for (size_t i = 0; i < bins.Footprints.size(); ++i)
   {
     if (status[i] == 2)
     {
@@ -458,27 +465,73 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
       continue;
     }
     ++stats.Triangles;
-    forTiles(footprints[i], [&](size_t tile) { ++start[tile + 1]; });
+    forTiles(bins.Footprints[i], [&](size_t tile) { ++bins.Start[tile + 1]; });
   }
-  for (size_t t = 1; t < start.size(); ++t)
+  for (size_t t = 1; t < bins.Start.size(); ++t)
   {
-    start[t] += start[t - 1];
+    bins.Start[t] += bins.Start[t - 1];
   }
-  std::vector<vtkIdType> fill(start.begin(), start.end() - 1);
-  std::vector<std::uint32_t> binned(static_cast<size_t>(start.back()));
-  for (size_t i = 0; i < footprints.size(); ++i)
+  std::vector<vtkIdType> fill(bins.Start.begin(), bins.Start.end() - 1);
+  bins.Binned.resize(static_cast<size_t>(bins.Start.back()));
+  for (size_t i = 0; i < bins.Footprints.size(); ++i)
   {
     if (status[i] == 1)
     {
-      forTiles(footprints[i],
+      forTiles(bins.Footprints[i],
         [&](size_t tile)
-        { binned[static_cast<size_t>(fill[tile]++)] = static_cast<std::uint32_t>(i); });
+        { bins.Binned[static_cast<size_t>(fill[tile]++)] = static_cast<std::uint32_t>(i); });
     }
   }
+  return bins;
+}
 
-  // 3. Rasterize tile by tile. With `active`, each tile first lists its active texels per row,
-  // and a footprint's row visits the shorter of its texel span and that row's list: the
-  // work follows the texels that hold something (sparse lists), not the footprints' area.
+// A tile's active texels, row by row: row y's x are columns[rowStart[y - ty0] ..
+// rowStart[y - ty0 + 1]), ascending (empty rows of eight skipped eight bytes at a time).
+void ActiveColumns(const unsigned char* active, int size, int tx0, int ty0, int tx1, int ty1,
+  std::vector<int>& columns, int* rowStart)
+{
+  columns.clear();
+  for (int y = ty0; y <= ty1; ++y)
+  {
+    rowStart[y - ty0] = static_cast<int>(columns.size());
+    const unsigned char* row = active + static_cast<size_t>(y) * size;
+    for (int x = tx0; x <= tx1;)
+    {
+      if (x + 8 <= tx1 + 1 && !AnySet(row + x, 8))
+      {
+        x += 8;
+        continue;
+      }
+      if (row[x])
+      {
+        columns.push_back(x);
+      }
+      ++x;
+    }
+  }
+  rowStart[ty1 - ty0 + 1] = static_cast<int>(columns.size());
+}
+
+// The conservative rasterization both users share: footprints, tile bins and the texel loop.
+// `visit(texel, triangle, depth)` is called for every overlapping texel/triangle pair, tile by
+// tile in parallel (a texel's pairs in caster order, from one thread); it returns the work it
+// did (summed into VisitWork). Texels with active[texel] == 0 are skipped (null: all active).
+// With `active`, each tile first lists its active texels per row, and a footprint's row visits
+// the shorter of its texel span and that row's list: the work follows the texels that hold
+// something (sparse lists), not the footprints' area.
+template <class Visit>
+CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const double* vertices,
+  const std::vector<vtkIdType>& casters, const unsigned char* active,
+  std::vector<vtkIdType>& nearTriangles, Visit&& visit)
+{
+  CpuMapStats stats;
+  const int tiles = (size + TileSize - 1) / TileSize;
+  // Tiles without an active texel get no triangles binned.
+  const std::vector<unsigned char> tileActive = ActiveTiles(active, size, tiles);
+  const TileCull cull = active ? MakeTileCull(tileActive, tiles) : TileCull();
+  const Bins bins = BinFootprints(
+    view, size, vertices, casters, tileActive, active ? &cull : nullptr, nearTriangles, stats);
+  const std::vector<vtkIdType>& start = bins.Start;
   std::atomic<vtkIdType> tests(0), writes(0), work(0);
   vtkSMPTools::For(0, static_cast<vtkIdType>(tiles) * tiles,
     [&](vtkIdType begin, vtkIdType end)
@@ -486,6 +539,23 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
       vtkIdType localTests = 0, localWrites = 0, localWork = 0;
       std::vector<int> columns;           // the tile's active texels' x, row by row
       int rowStart[TileSize + 1] = { 0 }; // per tile row: its first entry in `columns`
+      auto texelPair = [&](const Footprint& fp, int x, int y)
+      {
+        const size_t texel = static_cast<size_t>(y) * size + x;
+        if (active && !active[texel])
+        {
+          return;
+        }
+        const double x0 = x - Grow, x1 = x + 1 + Grow;
+        const double y0 = y - Grow, y1 = y + 1 + Grow;
+        ++localTests;
+        if (!Overlaps(fp, x0, x1, y0, y1))
+        {
+          return;
+        }
+        ++localWrites;
+        localWork += visit(texel, fp.Id, ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1));
+      };
       for (vtkIdType tile = begin; tile < end; ++tile)
       {
         const int tx0 = static_cast<int>(tile % tiles) * TileSize;
@@ -498,48 +568,12 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
         }
         if (active)
         {
-          columns.clear();
-          for (int y = ty0; y <= ty1; ++y)
-          {
-            rowStart[y - ty0] = static_cast<int>(columns.size());
-            const unsigned char* row = active + static_cast<size_t>(y) * size;
-            for (int x = tx0; x <= tx1;)
-            {
-              if (x + 8 <= tx1 + 1 && !AnySet(row + x, 8))
-              {
-                x += 8;
-                continue;
-              }
-              if (row[x])
-              {
-                columns.push_back(x);
-              }
-              ++x;
-            }
-          }
-          rowStart[ty1 - ty0 + 1] = static_cast<int>(columns.size());
+          ActiveColumns(active, size, tx0, ty0, tx1, ty1, columns, rowStart);
         }
-        auto texelPair = [&](const Footprint& fp, int x, int y)
-        {
-          const size_t texel = static_cast<size_t>(y) * size + x;
-          if (active && !active[texel])
-          {
-            return;
-          }
-          const double x0 = x - Grow, x1 = x + 1 + Grow;
-          const double y0 = y - Grow, y1 = y + 1 + Grow;
-          ++localTests;
-          if (!Overlaps(fp, x0, x1, y0, y1))
-          {
-            return;
-          }
-          ++localWrites;
-          localWork += visit(texel, fp.Id, ConservativeDepth(fp, view.Perspective, x0, x1, y0, y1));
-        };
         for (vtkIdType b = start[static_cast<size_t>(tile)];
              b < start[static_cast<size_t>(tile) + 1]; ++b)
         {
-          const Footprint& fp = footprints[binned[static_cast<size_t>(b)]];
+          const Footprint& fp = bins.Footprints[bins.Binned[static_cast<size_t>(b)]];
           const int xa = std::max(tx0, fp.X0), xb = std::min(tx1, fp.X1);
           for (int y = std::max(ty0, fp.Y0); y <= std::min(ty1, fp.Y1); ++y)
           {
@@ -548,9 +582,10 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
               // Ascending x, as the span below.
               for (int k = rowStart[y - ty0]; k < rowStart[y - ty0 + 1]; ++k)
               {
-                if (columns[static_cast<size_t>(k)] >= xa && columns[static_cast<size_t>(k)] <= xb)
+                const int x = columns[static_cast<size_t>(k)];
+                if (x >= xa && x <= xb)
                 {
-                  texelPair(fp, columns[static_cast<size_t>(k)], y);
+                  texelPair(fp, x, y);
                 }
               }
               continue;
