@@ -72,6 +72,7 @@
 #include "vtkPenumbraShadowVolumeShadows.h"
 #include "vtkPenumbraTechniques.h"
 #include "vtkPenumbraViewSamples.h"
+#include "vtkPenumbraVisibilityRules.h"
 #include "vtkPlot.h"
 #include "vtkPlotPoints.h"
 #include "vtkPointData.h"
@@ -188,7 +189,7 @@ std::vector<std::pair<vtkLight*, int>> MeasuredLights(vtkRenderer* ren)
     {
       continue;
     }
-    if (l->GetIntensity() > 0.0)
+    if (penumbra_rules::LightEmits(l))
     {
       measured.emplace_back(l, shaderIndex);
     }

@@ -11,7 +11,13 @@ namespace penumbra_rules
 {
 bool LightEmits(vtkLight* light)
 {
-  return light && light->GetSwitch() && light->GetIntensity() != 0.0;
+  if (!light || !light->GetSwitch() || !(light->GetIntensity() > 0.0))
+  {
+    return false;
+  }
+  const double* c = light->GetDiffuseColor();
+  const double* s = light->GetSpecularColor();
+  return c[0] > 0 || c[1] > 0 || c[2] > 0 || s[0] > 0 || s[1] > 0 || s[2] > 0;
 }
 
 double SceneDiagonal(vtkPenumbraSceneGeometry* geometry)

@@ -22,8 +22,10 @@ class vtkPenumbraSceneGeometry;
 namespace penumbra_rules
 {
 /**
- * A light that is switched off or has zero intensity casts nothing: no ray work, every valid
- * sample is lit (the shading multiplies a zero light anyway).
+ * A light that is switched off, has no positive intensity or is black (diffuse and specular
+ * colour zero) casts nothing: no shadow work, every valid sample is lit (the shading
+ * multiplies a zero light anyway). The one rule for the tracer, the techniques, the pass
+ * and the bench.
  */
 VTKPENUMBRARAYTRACING_EXPORT bool LightEmits(vtkLight* light);
 

@@ -29,6 +29,7 @@
 #include "vtkPenumbraShadowTechnique.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPenumbraViewSamplesPass.h"
+#include "vtkPenumbraVisibilityRules.h"
 #include "vtkProperty.h"
 #include "vtkRenderPassCollection.h"
 #include "vtkRenderState.h"
@@ -334,13 +335,7 @@ struct vtkPenumbraShadowPass::Internals
     }
   }
 
-  static bool CastsLight(vtkLight* light)
-  {
-    const double* c = light->GetDiffuseColor();
-    const double* s = light->GetSpecularColor();
-    return light->GetIntensity() > 0.0 &&
-      (c[0] > 0 || c[1] > 0 || c[2] > 0 || s[0] > 0 || s[1] > 0 || s[2] > 0);
-  }
+  static bool CastsLight(vtkLight* light) { return penumbra_rules::LightEmits(light); }
 
   void CollectLights(vtkRenderer* ren);
   std::vector<double> ViewKey(const vtkRenderState* s, vtkPenumbraShadowPass* pass);
