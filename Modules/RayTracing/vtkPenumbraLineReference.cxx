@@ -366,8 +366,8 @@ struct vtkPenumbraLineReference::Internals
 //------------------------------------------------------------------------------
 vtkPenumbraLineReference::vtkPenumbraLineReference()
   : Geometry(nullptr)
-  , RelativeEpsilon(1e-5)
-  , TieFactor(16.0)
+  , RelativeEpsilon(penumbra_rules::DefaultRelativeEpsilon)
+  , TieFactor(penumbra_rules::DefaultTieFactor)
   , NumberOfTies(0)
   , NumberOfCandidates(0)
   , LastTimeMs(0.0)

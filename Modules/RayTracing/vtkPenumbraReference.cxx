@@ -312,8 +312,8 @@ struct vtkPenumbraReference::Internals
 //------------------------------------------------------------------------------
 vtkPenumbraReference::vtkPenumbraReference()
   : Geometry(nullptr)
-  , RelativeEpsilon(1e-5)
-  , TieFactor(16.0)
+  , RelativeEpsilon(penumbra_rules::DefaultRelativeEpsilon)
+  , TieFactor(penumbra_rules::DefaultTieFactor)
   , NumberOfTies(0)
   , NumberOfRays(0)
   , LastTimeMs(0.0)

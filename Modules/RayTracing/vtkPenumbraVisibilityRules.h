@@ -22,6 +22,14 @@ class vtkPenumbraSceneGeometry;
 namespace penumbra_rules
 {
 /**
+ * The tracer's default ray band (vtkPenumbraReference and vtkPenumbraLineReference): hits
+ * closer than RelativeEpsilon * max(|p|, scene diagonal) are self-intersections, hits within
+ * TieFactor times that distance are ties.
+ */
+constexpr double DefaultRelativeEpsilon = 1e-5;
+constexpr double DefaultTieFactor = 16.0;
+
+/**
  * A light that is switched off, has no positive intensity or is black (diffuse and specular
  * colour zero) casts nothing: no shadow work, every valid sample is lit (the shading
  * multiplies a zero light anyway). The one rule for the tracer, the techniques, the pass
