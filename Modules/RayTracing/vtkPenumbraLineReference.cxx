@@ -42,11 +42,6 @@ struct Node
   int Count = 0; // leaf: number of triangles
 };
 
-double Dot3(const double a[3], const double b[3])
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 // Separating-axis overlap of a triangle and an axis-aligned box (centre c, half sizes h):
 // Akenine-Moller, "Fast 3D Triangle-Box Overlap Testing", JGT 2001. Degenerate axes pass,
 // so the test is conservative (the interval clip decides exactly afterwards).
@@ -71,7 +66,7 @@ bool TriangleMeetsBox(const double c[3], const double h[3], const double t[3][3]
   }
   auto separates = [&](const double a[3])
   {
-    const double p0 = Dot3(a, v[0]), p1 = Dot3(a, v[1]), p2 = Dot3(a, v[2]);
+    const double p0 = vtkMath::Dot(a, v[0]), p1 = vtkMath::Dot(a, v[1]), p2 = vtkMath::Dot(a, v[2]);
     const double r = h[0] * std::fabs(a[0]) + h[1] * std::fabs(a[1]) + h[2] * std::fabs(a[2]);
     return std::min({ p0, p1, p2 }) > r || std::max({ p0, p1, p2 }) < -r;
   };
@@ -126,7 +121,7 @@ bool BlockedInterval(const double p[3], const double a[3], const double ab[3],
   const ExactTriangle& tri, double endFraction, double& lo, double& hi, double& planeDistance)
 {
   const double pv[3] = { p[0] - tri.V[0][0], p[1] - tri.V[0][1], p[2] - tri.V[0][2] };
-  const double dp = Dot3(tri.N, pv);
+  const double dp = vtkMath::Dot(tri.N, pv);
   planeDistance = std::fabs(dp);
   if (dp == 0.0)
   {
@@ -137,7 +132,7 @@ bool BlockedInterval(const double p[3], const double a[3], const double ab[3],
   // Beyond the plane: s N.(x(t) - V0) < -c, with c chosen so that the crossing is before
   // the ray's shortened end: d_p / (d_p - d_x) < 1 - eps  <=>  d_x < -eps / (1 - eps) d_p.
   const double c = endFraction * planeDistance;
-  if (!Clip(-c - s * Dot3(tri.N, av), -s * Dot3(tri.N, ab), lo, hi))
+  if (!Clip(-c - s * vtkMath::Dot(tri.N, av), -s * vtkMath::Dot(tri.N, ab), lo, hi))
   {
     return false;
   }
@@ -152,13 +147,13 @@ bool BlockedInterval(const double p[3], const double a[3], const double ab[3],
     const double r2[3] = { v2[0] - p[0], v2[1] - p[1], v2[2] - p[2] };
     double n[3];
     vtkMath::Cross(r0, r1, n);
-    if (Dot3(n, r2) < 0.0)
+    if (vtkMath::Dot(n, r2) < 0.0)
     {
       n[0] = -n[0];
       n[1] = -n[1];
       n[2] = -n[2];
     }
-    if (!Clip(Dot3(n, ap), Dot3(n, ab), lo, hi))
+    if (!Clip(vtkMath::Dot(n, ap), vtkMath::Dot(n, ab), lo, hi))
     {
       return false;
     }
@@ -327,7 +322,7 @@ struct vtkPenumbraLineReference::Internals
     // Tangent plane: only light points with N.(x(t) - p) > 0 can count.
     double lo = 0.0, hi = 1.0;
     const double ap[3] = { a[0] - p[0], a[1] - p[1], a[2] - p[2] };
-    const double f0 = Dot3(normal, ap), f1 = Dot3(normal, ab);
+    const double f0 = vtkMath::Dot(normal, ap), f1 = vtkMath::Dot(normal, ab);
     if (!Clip(f0, f1, lo, hi) || (f1 == 0.0 && f0 == 0.0))
     {
       return 0.0f;

@@ -75,11 +75,6 @@ inline vtkIdType SamplePrimitiveId(const float* t)
   return static_cast<vtkIdType>(t[0]) + (static_cast<vtkIdType>(t[1]) << 16);
 }
 
-inline double Dot(const double a[3], const double b[3])
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 // The point of triangle (a, b, c) closest to p, a point of its plane (Ericson, "Real-Time
 // Collision Detection", 2005, section 5.1.5), for intersections that the rasterizer's
 // snapped vertices put a hair outside the exact triangle.
@@ -95,8 +90,9 @@ void ClosestPointOnTriangle(
     bp[k] = p[k] - b[k];
     cp[k] = p[k] - c[k];
   }
-  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap), d3 = Dot(ab, bp), d4 = Dot(ac, bp);
-  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
+  const double d1 = vtkMath::Dot(ab, ap), d2 = vtkMath::Dot(ac, ap), d3 = vtkMath::Dot(ab, bp),
+               d4 = vtkMath::Dot(ac, bp);
+  const double d5 = vtkMath::Dot(ab, cp), d6 = vtkMath::Dot(ac, cp);
   const double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
   double u = 0.0, v = 0.0; // out = a + u ab + v ac
   if (d1 <= 0.0 && d2 <= 0.0)
@@ -145,16 +141,16 @@ bool RebuildSample(
   const double e2[3] = { v[6] - v[0], v[7] - v[1], v[8] - v[2] };
   double n[3] = { e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
     e1[0] * e2[1] - e1[1] * e2[0] };
-  const double len = std::sqrt(Dot(n, n));
-  const double denom = Dot(n, d);
+  const double len = std::sqrt(vtkMath::Dot(n, n));
+  const double denom = vtkMath::Dot(n, d);
   // 1e-12: the geometry's own zero-area rule, here on the angle between ray and plane.
   if (!(len > 0.0) || !std::isfinite(len) ||
-    !(std::fabs(denom) > 1e-12 * len * std::sqrt(Dot(d, d))))
+    !(std::fabs(denom) > 1e-12 * len * std::sqrt(vtkMath::Dot(d, d))))
   {
     return false;
   }
   const double toV0[3] = { v[0] - o[0], v[1] - o[1], v[2] - o[2] };
-  const double t = Dot(n, toV0) / denom;
+  const double t = vtkMath::Dot(n, toV0) / denom;
   const double hit[3] = { o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2] };
   double onTriangle[3];
   ClosestPointOnTriangle(v, v + 3, v + 6, hit, onTriangle);

@@ -21,12 +21,17 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 #include <iostream>
+
 #include <string>
 
 namespace sources_test
 {
-using Vec3 = std::array<double, 3>;
+using Vec3 = glm::dvec3;
+using glm::cross;
+using glm::dot;
 
 // Updates `source`, expecting it to fail with an error mentioning `expected` and to leave
 // an empty output. Errors are caught on the algorithm and on its executive (which adds
@@ -63,26 +68,11 @@ inline bool ExpectFailure(vtkPolyDataAlgorithm* source, const std::string& expec
   return ok;
 }
 
-inline Vec3 Sub(const Vec3& a, const Vec3& b)
-{
-  return { a[0] - b[0], a[1] - b[1], a[2] - b[2] };
-}
-
-inline Vec3 Cross(const Vec3& a, const Vec3& b)
-{
-  return { a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0] };
-}
-
-inline double Dot(const Vec3& a, const Vec3& b)
-{
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 inline Vec3 Point(vtkPolyData* pd, vtkIdType id)
 {
-  Vec3 p;
-  pd->GetPoint(id, p.data());
-  return p;
+  double p[3];
+  pd->GetPoint(id, p);
+  return Vec3(p[0], p[1], p[2]);
 }
 
 // True when every polygon is a triangle and there are no other cells.
@@ -117,14 +107,13 @@ inline std::array<Vec3, 3> Triangle(vtkPolyData* pd, vtkIdType c)
 inline Vec3 WindingNormal(vtkPolyData* pd, vtkIdType c)
 {
   const auto t = Triangle(pd, c);
-  return Cross(Sub(t[1], t[0]), Sub(t[2], t[0]));
+  return cross(t[1] - t[0], t[2] - t[0]);
 }
 
 inline Vec3 Centroid(vtkPolyData* pd, vtkIdType c)
 {
   const auto t = Triangle(pd, c);
-  return { (t[0][0] + t[1][0] + t[2][0]) / 3, (t[0][1] + t[1][1] + t[2][1]) / 3,
-    (t[0][2] + t[1][2] + t[2][2]) / 3 };
+  return (t[0] + t[1] + t[2]) / 3.0;
 }
 
 // Number of triangles whose point normals disagree with their winding.
@@ -141,9 +130,9 @@ inline vtkIdType CountWindingMismatches(vtkPolyData* pd)
     for (vtkIdType k = 0; k < 3; ++k)
     {
       const double* nk = normals->GetTuple3(ids->GetId(k));
-      n = { n[0] + nk[0], n[1] + nk[1], n[2] + nk[2] };
+      n += Vec3(nk[0], nk[1], nk[2]);
     }
-    bad += Dot(w, n) > 0.0 ? 0 : 1;
+    bad += dot(w, n) > 0.0 ? 0 : 1;
   }
   return bad;
 }
@@ -155,7 +144,7 @@ inline vtkIdType CountDegenerate(vtkPolyData* pd)
   for (vtkIdType c = 0; c < pd->GetNumberOfPolys(); ++c)
   {
     const Vec3 w = WindingNormal(pd, c);
-    degenerate += Dot(w, w) == 0.0 ? 1 : 0;
+    degenerate += dot(w, w) == 0.0 ? 1 : 0;
   }
   return degenerate;
 }
@@ -184,7 +173,7 @@ inline double SignedVolume(vtkPolyData* pd)
   for (vtkIdType c = 0; c < pd->GetNumberOfPolys(); ++c)
   {
     const auto t = Triangle(pd, c);
-    v += Dot(t[0], Cross(t[1], t[2])) / 6.0;
+    v += dot(t[0], cross(t[1], t[2])) / 6.0;
   }
   return v;
 }

@@ -135,7 +135,7 @@ int TestBuildingsAreClosedAndOutward()
     {
       const double* b = stats.at(partIds->GetValue(c)).Bounds;
       const Vec3 centre = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
-      CHECK(Dot(WindingNormal(out, c), Sub(Centroid(out, c), centre)) > 0.0);
+      CHECK(dot(WindingNormal(out, c), (Centroid(out, c) - centre)) > 0.0);
     }
     CHECK(SignedVolume(out) > 0.0);
   }

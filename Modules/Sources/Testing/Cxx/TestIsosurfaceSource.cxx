@@ -148,7 +148,7 @@ int TestVTIFile()
   for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
   {
     const Vec3 p = Point(out, i);
-    CHECK(std::abs(std::sqrt(Dot(p, p)) - 0.7) < 0.01);
+    CHECK(std::abs(std::sqrt(dot(p, p)) - 0.7) < 0.01);
   }
   // Scalars grow outward here, so "out of the higher values" is toward the centre.
   CHECK(SignedVolume(out) < 0.0);

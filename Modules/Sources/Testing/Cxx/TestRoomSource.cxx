@@ -77,7 +77,7 @@ int CheckRoom(const double size[3])
     const Vec3 normal = WindingNormal(out, c);
     const Vec3 p = Centroid(out, c);
     // Inward: toward the room centre.
-    CHECK(Dot(normal, Sub(centre, p)) > 0.0);
+    CHECK(dot(normal, (centre - p)) > 0.0);
 
     // Is the segment from the light to (just short of) this shell cell blocked? The shell
     // is convex, so anything hit is furniture.
