@@ -5,6 +5,8 @@
 #   ./penumbra.sh test                            set up, build, run the whole test suite
 #   ./penumbra.sh setup                           only install the Debian packages
 #   ./penumbra.sh build                           only configure and build
+#   ./penumbra.sh sanitize                        build the C++ tests with AddressSanitizer and
+#                                                 UndefinedBehaviorSanitizer, run them (CI)
 #
 # Idempotent: packages already installed are not fetched again, an existing build is reused.
 set -euo pipefail
@@ -66,8 +68,26 @@ case "$cmd" in
     cd "$build"
     env -u DISPLAY ctest --output-on-failure --timeout 900
     ;;
+  sanitize)
+    # Penumbra's own C++ code with ASan + UBSan (PENUMBRA_SANITIZE), in its own build folder;
+    # the C++ tests and the CLI they drive, not the Python wrapping (the Python tests run in
+    # Debian's unsanitized interpreter). Leaks are not checked: Mesa and VTK keep
+    # process-lifetime allocations (docs/hardening.md).
+    setup
+    sanitized="${PENUMBRA_SANITIZE_DIR:-$here/build-sanitize}"
+    cmake -S "$here" -B "$sanitized" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O1 \
+      -DPENUMBRA_SANITIZE=ON >/dev/null
+    targets=()
+    for module in Analysis Headless RayTracing Rendering Scene SceneIO Sources; do
+      targets+=(--target "vtkPenumbra${module}CxxTests")
+    done
+    cmake --build "$sanitized" --parallel "$(nproc)" "${targets[@]}" --target penumbra-render
+    cd "$sanitized"
+    ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
+      env -u DISPLAY ctest -LE Python --output-on-failure --timeout 900
+    ;;
   *)
-    echo "usage: $0 {render [SCENE.json [OUT.png]]|test|setup|build}" >&2
+    echo "usage: $0 {render [SCENE.json [OUT.png]]|test|sanitize|setup|build}" >&2
     exit 2
     ;;
 esac
