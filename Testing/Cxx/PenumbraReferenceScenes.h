@@ -19,6 +19,8 @@
 #include <cmath>
 #include <string>
 
+#include <algorithm>
+
 namespace penumbra_test
 {
 
@@ -35,17 +37,41 @@ inline vtkSmartPointer<vtkActor> AddActor(
   return actor;
 }
 
-// Adds the rectangle [x0, x1] x [y0, y1] at height z (normal +z) as an actor at the origin.
-inline vtkSmartPointer<vtkActor> AddRectangle(
-  vtkRenderer* renderer, double x0, double x1, double y0, double y1, double z)
+// Adds the rectangle [x0, x1] x [y0, y1] at height z (normal +z) as an actor at `position`
+// (default the origin).
+inline vtkSmartPointer<vtkActor> AddRectangle(vtkRenderer* renderer, double x0, double x1,
+  double y0, double y1, double z, const double* position = nullptr)
 {
   vtkNew<vtkPlaneSource> plane;
   plane->SetOrigin(x0, y0, z);
   plane->SetPoint1(x1, y0, z);
   plane->SetPoint2(x0, y1, z);
   const double zero[3] = { 0, 0, 0 };
-  return AddActor(renderer, plane, zero);
+  return AddActor(renderer, plane, position ? position : zero);
 }
+
+// The straight-edge penumbra both soft references are checked against. Ground z = 0;
+// occluder half-plane x < 0 at height h = 1; a light of extent W = 2 along x at height
+// H = 5, parallel to the ground. A ground point at x sees light point xl past the edge iff
+// xl > -x (H - h) / h = -4 x, so the unoccluded fraction is clamp(0.5 + 2 x, 0, 1): a linear
+// ramp of width W h / (H - h) = 0.5 (Brabec 2003, ch. 10, Eq. 10.1).
+namespace straight_edge
+{
+constexpr double H = 5.0;
+constexpr double h = 1.0;
+constexpr double W = 2.0;
+constexpr int LineSamples = 101; // x = -0.5 .. 0.5, step 0.01
+
+inline double Ramp(double x)
+{
+  return std::min(1.0, std::max(0.0, 0.5 + x * (H - h) / (h * W)));
+}
+
+inline double SampleX(int i)
+{
+  return -0.5 + 0.01 * i;
+}
+} // namespace straight_edge
 
 // Global index of a triangle of prop `propIndex` containing (x, y) in the xy projection
 // (world coordinates), or -1. Inclusive edges: a point on a shared edge takes the first.

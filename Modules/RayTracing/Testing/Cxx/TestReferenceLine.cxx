@@ -21,41 +21,14 @@ using namespace penumbra_test;
 
 namespace
 {
-// Ground z = 0; occluder half-plane x < 0 at height h = 1; a line light of length W = 2
-// along x at height H = 5. A ground point at x sees light point xl past the edge iff
-// xl > -x (H - h) / h = -4 x, so the unoccluded fraction is clamp(0.5 + 2 x, 0, 1): a
-// linear ramp of width W h / (H - h) = 0.5 (Brabec 2003, ch. 10, Eq. 10.1 with the light
-// parallel to the receiver).
-constexpr double H = 5.0;
-constexpr double h = 1.0;
-constexpr double W = 2.0;
-constexpr int LineSamples = 101; // x = -0.5 .. 0.5, step 0.01
-
-double Ramp(double x)
-{
-  return std::min(1.0, std::max(0.0, 0.5 + x * (H - h) / (h * W)));
-}
-
-double SampleX(int i)
-{
-  return -0.5 + 0.01 * i;
-}
-
-vtkSmartPointer<vtkActor> Rectangle(
-  vtkRenderer* renderer, double x0, double x1, double y0, double y1, double z, const double o[3])
-{
-  vtkNew<vtkPlaneSource> plane;
-  plane->SetOrigin(x0, y0, z);
-  plane->SetPoint1(x1, y0, z);
-  plane->SetPoint2(x0, y1, z);
-  return AddActor(renderer, plane, o);
-}
+// The straight edge of PenumbraReferenceScenes.h (closed-form ramp).
+using namespace penumbra_test::straight_edge;
 
 int EdgeRamp(const double offset[3], double tolerance)
 {
   vtkNew<vtkRenderer> renderer;
-  auto ground = Rectangle(renderer, -10, 10, -10, 10, 0, offset);
-  Rectangle(renderer, -20, 0, -20, 20, h, offset);
+  auto ground = AddRectangle(renderer, -10, 10, -10, 10, 0, offset);
+  AddRectangle(renderer, -20, 0, -20, 20, h, offset);
   vtkNew<vtkPenumbraSceneGeometry> geometry;
   CHECK(geometry->Update(renderer));
 
@@ -129,8 +102,8 @@ int Rules()
 {
   const double zero[3] = { 0, 0, 0 };
   vtkNew<vtkRenderer> renderer;
-  auto ground = Rectangle(renderer, -10, 10, -10, 10, 0, zero);
-  Rectangle(renderer, -20, 0, -20, 20, h, zero);
+  auto ground = AddRectangle(renderer, -10, 10, -10, 10, 0, zero);
+  AddRectangle(renderer, -20, 0, -20, 20, h, zero);
   vtkNew<vtkPenumbraSceneGeometry> geometry;
   CHECK(geometry->Update(renderer));
   vtkNew<vtkPenumbraViewSamples> samples;

@@ -25,24 +25,8 @@ using namespace penumbra_test;
 
 namespace
 {
-// Ground z = 0; occluder half-plane x < 0 at height h = 1; light of width w = 2 (along x)
-// and height 1 (along y) centred at (0, 0, H = 5), facing down. A ground point at x sees
-// light point xl past the edge iff xl > -x (H - h) / h = -4 x, so the unoccluded fraction is
-// clamp(0.5 + 2 x, 0, 1): a linear ramp over [-0.25, 0.25], width w h / (H - h) = 0.5.
-constexpr double H = 5.0;
-constexpr double h = 1.0;
-constexpr double W = 2.0;
-constexpr int LineSamples = 101; // x = -0.5 .. 0.5, step 0.01
-
-double Ramp(double x)
-{
-  return std::min(1.0, std::max(0.0, 0.5 + x * (H - h) / (h * W)));
-}
-
-double SampleX(int i)
-{
-  return -0.5 + 0.01 * i;
-}
+// The straight edge of PenumbraReferenceScenes.h (closed-form ramp).
+using namespace penumbra_test::straight_edge;
 
 int EdgePenumbra()
 {
