@@ -47,6 +47,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -520,6 +521,80 @@ std::string ComposeShader(const char* source)
   return fs;
 }
 
+// The settings a lookup program is compiled for. The uniforms that only choose a branch
+// (the slot layout, the projection, the filter, the facing rules' light kind) become
+// constants, so that the compiler drops the branches a light does not take: llvmpipe runs
+// every branch of an `if` under a lane mask, texture taps included, so a program that
+// carries PCSS's and the bilinear filter's taps pays for them on every pixel.
+struct LookupVariant
+{
+  int SlotMode = 0;
+  int Perspective = 0;
+  int Radius = 0;
+  int Bilinear = 0;
+  int Pcss = 0;
+  int LightKind = 0;
+  int LightOff = 0;
+  int AnyCaster = 0;
+
+  std::vector<std::pair<const char*, int>> Constants() const
+  {
+    return { { "slotMode", this->SlotMode }, { "perspective", this->Perspective },
+      { "radius", this->Radius }, { "bilinear", this->Bilinear }, { "pcss", this->Pcss },
+      { "lightKind", this->LightKind }, { "lightOff", this->LightOff },
+      { "anyCaster", this->AnyCaster } };
+  }
+
+  std::string Key() const
+  {
+    std::string key;
+    for (const auto& c : this->Constants())
+    {
+      key += std::to_string(c.second) + ",";
+    }
+    return key;
+  }
+
+  // The composed source with each of these uniforms declared as a constant instead (the
+  // ones a program does not declare are left out).
+  std::string Specialize(std::string source) const
+  {
+    for (const auto& c : this->Constants())
+    {
+      vtkShaderProgram::Substitute(source, std::string("uniform int ") + c.first + ";",
+        std::string("const int ") + c.first + " = " + std::to_string(c.second) + ";", false);
+    }
+    return source;
+  }
+};
+
+// Lookup programs by variant, compiled on first use and kept with the technique.
+class VariantPrograms
+{
+public:
+  vtkOpenGLQuadHelper* Get(
+    vtkOpenGLRenderWindow* win, const char* vs, const std::string& fs, const LookupVariant& variant)
+  {
+    std::unique_ptr<vtkOpenGLQuadHelper>& quad = this->Quads[variant.Key()];
+    if (!quad)
+    {
+      quad.reset(new vtkOpenGLQuadHelper(win, vs, variant.Specialize(fs).c_str(), ""));
+    }
+    return quad.get();
+  }
+  void ReleaseGraphicsResources(vtkWindow* win)
+  {
+    for (auto& quad : this->Quads)
+    {
+      quad.second->ReleaseGraphicsResources(win);
+    }
+  }
+  void Reset() { this->Quads.clear(); }
+
+private:
+  std::map<std::string, std::unique_ptr<vtkOpenGLQuadHelper>> Quads;
+};
+
 // An orthographic view's texel in world units, its larger side (the maps may be non-square):
 // the footprint of the slope-scaled bias.
 double OrthoFootprint(const View& view, const LightMaps& m)
@@ -540,7 +615,6 @@ void SetSlotUniforms(vtkShaderProgram* program, const LightMaps& m, int slot)
   float matrix[16];
   view.ToFloatMatrix(matrix);
   program->SetUniformMatrix4x4("lightMatrix", matrix);
-  program->SetUniformi("perspective", view.Perspective ? 1 : 0);
   program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
   program->SetUniformf("tanHalf", static_cast<float>(view.TanHalf));
   program->SetUniformf("footprintScale", static_cast<float>(OrthoFootprint(view, m)));
@@ -558,14 +632,8 @@ void SetDouble3(vtkShaderProgram* program, const char* name, const double v[3])
 
 // The facing rules' uniforms (vtkPenumbraShadowMapClassify.glsl), from the light exactly as
 // the reference reduces it.
-void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup, bool anyCaster)
+void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup)
 {
-  const int kind = setup.Type == LightSetup::Kind::Directional
-    ? 0
-    : (setup.Type == LightSetup::Kind::Spot ? 2 : 1);
-  program->SetUniformi("lightKind", kind);
-  program->SetUniformi("lightOff", setup.Off ? 1 : 0);
-  program->SetUniformi("anyCaster", anyCaster ? 1 : 0);
   SetDouble3(program, "classifyDirection", setup.Direction);
   SetDouble3(program, "classifyPosition", setup.Position);
   SetDouble3(program, "classifyAxis", setup.Axis);
@@ -678,11 +746,13 @@ struct vtkPenumbraShadowMapShadows::Internals
   // GPU lookup: the compacted pending samples, their visibility, and the programs.
   vtkSmartPointer<vtkOpenGLFramebufferObject> LookupFBO;
   vtkSmartPointer<vtkTextureObject> ListPositions, ListNormals, ListVisibility;
-  std::unique_ptr<vtkOpenGLQuadHelper> LookupQuad, MidpointQuad;
+  VariantPrograms LookupPrograms;
+  std::unique_ptr<vtkOpenGLQuadHelper> MidpointQuad;
 
   // GPU-resident frames: the receiver-extent reduction (tile results and their read-back)
   // and the G-buffer lookup with its stand-in map.
-  std::unique_ptr<vtkOpenGLQuadHelper> ExtentQuad, FrameQuad;
+  std::unique_ptr<vtkOpenGLQuadHelper> ExtentQuad;
+  VariantPrograms FramePrograms;
   vtkSmartPointer<vtkOpenGLFramebufferObject> ExtentFBO;
   vtkSmartPointer<vtkTextureObject> ExtentTextures[4];
   std::vector<TileOutputs> ExtentData; // per layer: the point-light reduction's outputs
@@ -701,6 +771,9 @@ struct vtkPenumbraShadowMapShadows::Internals
   bool UpdateCasters(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
     vtkPenumbraSceneGeometry* geometry);
   int SlotMode(vtkPenumbraShadowMapShadows* self, const LightSetup& setup);
+  static bool UsesPcss(vtkPenumbraShadowMapShadows* self, const LightMaps& m);
+  LookupVariant Variant(vtkPenumbraShadowMapShadows* self, const LightSetup& setup, bool anyCaster,
+    const LightMaps* maps);
   std::vector<double> MapKey(vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer,
     vtkLight* light, vtkPenumbraSceneGeometry* geometry, const double shift[3], double samples,
     double pending);
@@ -823,8 +896,10 @@ struct vtkPenumbraShadowMapShadows::Internals
       {
         this->ExtentFBO->ReleaseGraphicsResources(this->Window);
       }
-      for (auto* quad : { this->LookupQuad.get(), this->MidpointQuad.get(), this->ExtentQuad.get(),
-             this->FrameQuad.get(), this->TilesQuad.get(), this->EstimateQuad.get() })
+      this->LookupPrograms.ReleaseGraphicsResources(this->Window);
+      this->FramePrograms.ReleaseGraphicsResources(this->Window);
+      for (auto* quad : { this->MidpointQuad.get(), this->ExtentQuad.get(), this->TilesQuad.get(),
+             this->EstimateQuad.get() })
       {
         if (quad)
         {
@@ -839,10 +914,10 @@ struct vtkPenumbraShadowMapShadows::Internals
     this->RawDepthSampler = 0;
     this->LookupFBO = nullptr;
     this->ListPositions = this->ListNormals = this->ListVisibility = nullptr;
-    this->LookupQuad.reset();
+    this->LookupPrograms.Reset();
     this->MidpointQuad.reset();
     this->ExtentQuad.reset();
-    this->FrameQuad.reset();
+    this->FramePrograms.Reset();
     this->TilesQuad.reset();
     this->EstimateQuad.reset();
     this->TileKey.clear();
@@ -1199,6 +1274,38 @@ int vtkPenumbraShadowMapShadows::Internals::SlotMode(
     return SlotsOne;
   }
   return self->PointMode == POINT_CUBE ? SlotsCube : SlotsParaboloid;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPenumbraShadowMapShadows::Internals::UsesPcss(
+  vtkPenumbraShadowMapShadows* self, const LightMaps& m)
+{
+  return vtkPenumbraAreaLight::SafeDownCast(m.Light.Get()) && self->AreaLightMode == AREA_PCSS;
+}
+
+//------------------------------------------------------------------------------
+// The lookup program a light needs (see LookupVariant); maps is null when no sample is
+// pending (no map is read).
+LookupVariant vtkPenumbraShadowMapShadows::Internals::Variant(
+  vtkPenumbraShadowMapShadows* self, const LightSetup& setup, bool anyCaster, const LightMaps* maps)
+{
+  LookupVariant v;
+  v.LightKind = setup.Type == LightSetup::Kind::Directional
+    ? 0
+    : (setup.Type == LightSetup::Kind::Spot ? 2 : 1);
+  v.LightOff = setup.Off ? 1 : 0;
+  v.AnyCaster = anyCaster ? 1 : 0;
+  if (!maps)
+  {
+    return v;
+  }
+  v.SlotMode = this->SlotMode(self, setup);
+  // Every view of a light has the same projection (one view, or perspective cube faces).
+  v.Perspective = !maps->Paraboloid && !maps->Views.empty() && maps->Views[0].Perspective ? 1 : 0;
+  v.Bilinear = self->Filter == FILTER_BILINEAR ? 1 : 0;
+  v.Radius = v.Bilinear ? 0 : TapRadius(self);
+  v.Pcss = UsesPcss(self, *maps) ? 1 : 0;
+  return v;
 }
 
 //------------------------------------------------------------------------------
@@ -1724,8 +1831,6 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupList(vtkPenumbraShadowMapShad
     this->ListPositions = Internals::FloatTexture(win);
     this->ListNormals = Internals::FloatTexture(win);
     this->ListVisibility = Internals::FloatTexture(win);
-    this->LookupQuad.reset(new vtkOpenGLQuadHelper(
-      win, nullptr, ComposeShader(vtkPenumbraShadowMapLookupFS).c_str(), ""));
   }
   for (vtkTextureObject* tex : { this->ListPositions.Get(), this->ListNormals.Get() })
   {
@@ -1740,7 +1845,8 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupList(vtkPenumbraShadowMapShad
   this->ListVisibility->SetDataType(GL_FLOAT);
   this->ListVisibility->Allocate2D(listWidth, listHeight, 1, VTK_FLOAT);
 
-  vtkOpenGLQuadHelper& quad = *this->LookupQuad;
+  vtkOpenGLQuadHelper& quad = *this->LookupPrograms.Get(win, nullptr,
+    ComposeShader(vtkPenumbraShadowMapLookupFS), this->Variant(self, setup, true, &m));
   win->GetShaderCache()->ReadyShaderProgram(quad.Program);
   vtkShaderProgram* program = quad.Program;
   if (!program || !program->GetCompiled())
@@ -1914,9 +2020,6 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
 void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(vtkPenumbraShadowMapShadows* self,
   vtkShaderProgram* program, const LightSetup& setup, const LightMaps& m)
 {
-  const int radius = TapRadius(self);
-  program->SetUniformi("slotMode", this->SlotMode(self, setup));
-  program->SetUniformi("bilinear", self->Filter == FILTER_BILINEAR ? 1 : 0);
   const float centre[3] = { static_cast<float>(setup.Position[0]),
     static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
   const float toLight[3] = { static_cast<float>(setup.Direction[0]),
@@ -1929,7 +2032,6 @@ void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(vtkPenumbraShado
   program->SetUniformf("constantBias", static_cast<float>(self->Bias));
   program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias * (1.0 + BiasRadius(self))));
   program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
-  program->SetUniformi("radius", radius);
   this->SetSoftUniforms(self, program, m);
 }
 
@@ -1941,9 +2043,7 @@ void vtkPenumbraShadowMapShadows::Internals::SetSoftUniforms(
 {
   auto* area = vtkPenumbraAreaLight::SafeDownCast(m.Light.Get());
   double u[3] = { 0, 0, 0 }, v[3] = { 0, 0, 0 }, n[3];
-  const bool soft = area && self->AreaLightMode == AREA_PCSS && area->GetAxes(u, v, n);
-  program->SetUniformi("pcss", soft ? 1 : 0);
-  if (!soft)
+  if (!UsesPcss(self, m) || !area->GetAxes(u, v, n))
   {
     return;
   }
@@ -2168,15 +2268,15 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
   std::string& error)
 {
   vtkOpenGLRenderWindow* win = frame->GetWindow();
-  if (!this->FrameQuad)
+  vtkOpenGLQuadHelper* quad = this->FramePrograms.Get(win, vtkPenumbraFrame::GetSurfaceQuadVS(),
+    ComposeShader(vtkPenumbraShadowMapFrameFS), this->Variant(self, setup, anyCaster, maps));
+  if (!this->NoMap)
   {
-    this->FrameQuad.reset(new vtkOpenGLQuadHelper(win, vtkPenumbraFrame::GetSurfaceQuadVS(),
-      ComposeShader(vtkPenumbraShadowMapFrameFS).c_str(), ""));
     // A sampler2DShadow must never share a unit with the G-buffer's sampler2Ds, even when
     // no map is read: a 1 x 1 stand-in is bound when there is none.
     this->NoMap = Internals::CompareTexture(win, 1, 1);
   }
-  vtkShaderProgram* program = this->FrameQuad->Program;
+  vtkShaderProgram* program = quad->Program;
   if (!program || !program->GetCompiled())
   {
     error = "the shadow map lookup program does not compile on this OpenGL implementation "
@@ -2200,7 +2300,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
     gbuffer->GetNormalTexture()->Activate();
     program->SetUniformi("samplePositions", gbuffer->GetPositionTexture()->GetTextureUnit());
     program->SetUniformi("sampleNormals", gbuffer->GetNormalTexture()->GetTextureUnit());
-    SetClassifyUniforms(program, setup, anyCaster);
+    SetClassifyUniforms(program, setup);
     if (maps)
     {
       this->SetCompareUniforms(self, program, setup, *maps);
@@ -2223,7 +2323,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
       {
         RawDepthBinding raw(win, this->RawDepthSampler, map);
         program->SetUniformi("depthMap", raw.GetUnit());
-        this->FrameQuad->Render();
+        quad->Render();
       }
       map->Deactivate();
     }

@@ -2,7 +2,9 @@
 // falls into (one view, a cube face, a paraboloid hemisphere), its projection, linear depth
 // and slope-scaled bias, and the hardware depth compare (sampler2DShadow, LEQUAL, nearest
 // texels; PCF averages the compared taps, Fast PCF weights the 2 x 2 adjacent ones). The same projection, slot choice and bias as the
-// CPU lookup of vtkPenumbraShadowMapShadows, in float.
+// CPU lookup of vtkPenumbraShadowMapShadows, in float. The lookup programs compile slotMode,
+// perspective, radius, bilinear and pcss as constants (LookupVariant in
+// vtkPenumbraShadowMapShadows.cxx): the branches a light does not take cost nothing.
 uniform int slotMode;      // 0 one view, 1 cube faces, 2 paraboloid hemispheres
 uniform int slot;          // the slot this draw looks up
 uniform mat4 lightMatrix;  // perspective/orthographic views (rows of View)
