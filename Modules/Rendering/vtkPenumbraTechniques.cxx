@@ -332,10 +332,27 @@ const OptionSpec SamplesOption = { "samples", OptionType::Integer, 0, 0, 32, { 0
 
 const OptionTable RayTracedOptions = { SamplesOption };
 
+const OptionTable AdaptiveSoftOptions = { SamplesOption,
+  { "block", OptionType::Integer, 4, 2, 16, {}, "pixels",
+    "lattice spacing: the exact rays are traced every `block` pixels and at each block's "
+    "centre, blocks whose corners predict their centre are interpolated" },
+  { "tolerance", OptionType::Number, 0.05, 0.0, 1.0, {}, "visibility",
+    "largest difference between a block centre's traced visibility and its bilinear "
+    "prediction for which the block is interpolated" } };
+
 void InstallRayTraced(vtkRenderer* ren, const Options& opts)
 {
   vtkNew<vtkPenumbraRayTracedShadows> technique;
   technique->SetSamplesPerAxis(opts.Integer("samples"));
+  InstallShadowPass(ren, technique);
+}
+
+void InstallAdaptiveSoft(vtkRenderer* ren, const Options& opts)
+{
+  vtkNew<vtkPenumbraRayTracedShadows> technique;
+  technique->SetSamplesPerAxis(opts.Integer("samples"));
+  technique->SetAdaptiveBlock(opts.Integer("block"));
+  technique->SetAdaptiveTolerance(opts.Number("tolerance"));
   InstallShadowPass(ren, technique);
 }
 
@@ -645,6 +662,11 @@ const std::vector<Technique>& Registry()
       "exact shadows from every light type, ray traced on the CPU (Embree) for every view sample "
       "and light sample",
       RayTracedOptions, InstallRayTraced },
+    { "adaptive-soft",
+      "approximate soft shadows for area and linear lights: the exact rays of raytraced at a "
+      "lattice of view samples, blocks whose corners predict their centre interpolated, the "
+      "others traced whole (the adaptive sampling of Brabec 2003, ch. 11.3); hard lights exact",
+      AdaptiveSoftOptions, InstallAdaptiveSoft },
     { "conservative",
       "exact hard shadows from point, spot and directional lights: a conservative shadow map "
       "classifies the samples as lit, shadowed or uncertain, CPU rays resolve the uncertain ones "
