@@ -17,7 +17,7 @@
 namespace
 {
 // The lattice of one image axis: every `block`-th pixel and the last one, so that every
-// pixel lies in a block between two lattice pixels.
+// pixel lies between two lattice pixels.
 std::vector<int> Lattice(int size, int block)
 {
   std::vector<int> at;
@@ -32,175 +32,136 @@ std::vector<int> Lattice(int size, int block)
   return at;
 }
 
-// The blocks of an image: the cells between adjacent lattice pixels, with each pixel's block
-// on both axes (a pixel on a block edge belongs to the block after it, the last lattice
-// pixel to the block before it).
-struct Blocks
+// A block of the image between lattice pixels (corners included). Its samples are the closed
+// rectangle; it owns the half-open one [X0, X1) x [Y0, Y1), closed on the image's last column
+// and row, so that the blocks of a refinement own every sample once.
+struct Block
 {
-  std::vector<int> X, Y; // lattice pixels per axis
-  std::vector<int> BlockOfX, BlockOfY;
-  int Width = 0;
-
-  Blocks(int width, int height, int block)
-    : X(Lattice(width, block))
-    , Y(Lattice(height, block))
-    , Width(width)
-  {
-    BlockOfX = Owners(X, width);
-    BlockOfY = Owners(Y, height);
-  }
-  int CountX() const { return static_cast<int>(this->X.size()) - 1; }
-  int CountY() const { return static_cast<int>(this->Y.size()) - 1; }
-  vtkIdType Sample(int x, int y) const { return static_cast<vtkIdType>(y) * this->Width + x; }
-
-  static std::vector<int> Owners(const std::vector<int>& at, int size)
-  {
-    std::vector<int> owner(static_cast<size_t>(size), 0);
-    for (size_t b = 0; b + 1 < at.size(); ++b)
-    {
-      for (int i = at[b]; i <= at[b + 1]; ++i)
-      {
-        owner[static_cast<size_t>(i)] = static_cast<int>(b);
-      }
-    }
-    return owner;
-  }
+  int X0, Y0, X1, Y1;
+  int CentreX() const { return (this->X0 + this->X1) / 2; }
+  int CentreY() const { return (this->Y0 + this->Y1) / 2; }
 };
 
-// 1. The samples traced first: every lattice pixel and every block's centre.
-void SeedLattice(const Blocks& blocks, unsigned char* trace)
+struct Image
 {
-  for (int y : blocks.Y)
+  int Width, Height;
+  vtkIdType Sample(int x, int y) const { return static_cast<vtkIdType>(y) * this->Width + x; }
+  int OwnedX1(const Block& b) const { return b.X1 == this->Width - 1 ? b.X1 : b.X1 - 1; }
+  int OwnedY1(const Block& b) const { return b.Y1 == this->Height - 1 ? b.Y1 : b.Y1 - 1; }
+};
+
+std::vector<Block> TopBlocks(const Image& image, int block)
+{
+  const std::vector<int> xs = Lattice(image.Width, block), ys = Lattice(image.Height, block);
+  std::vector<Block> blocks;
+  for (size_t j = 0; j + 1 < ys.size(); ++j)
   {
-    for (int x : blocks.X)
+    for (size_t i = 0; i + 1 < xs.size(); ++i)
     {
-      trace[blocks.Sample(x, y)] = 1;
+      blocks.push_back({ xs[i], ys[j], xs[i + 1], ys[j + 1] });
     }
   }
-  for (int by = 0; by < blocks.CountY(); ++by)
+  return blocks;
+}
+
+// Marks the blocks' corners and centres that are not traced yet.
+void Seed(const Image& image, const std::vector<Block>& blocks, const unsigned char* done,
+  unsigned char* trace)
+{
+  for (const Block& b : blocks)
   {
-    for (int bx = 0; bx < blocks.CountX(); ++bx)
+    for (const vtkIdType s :
+      { image.Sample(b.X0, b.Y0), image.Sample(b.X1, b.Y0), image.Sample(b.X0, b.Y1),
+        image.Sample(b.X1, b.Y1), image.Sample(b.CentreX(), b.CentreY()) })
     {
-      trace[blocks.Sample(
-        (blocks.X[bx] + blocks.X[bx + 1]) / 2, (blocks.Y[by] + blocks.Y[by + 1]) / 2)] = 1;
+      trace[s] = done[s] ? 0 : 1;
     }
   }
 }
 
-// The bilinear value at (x, y) from the corners of block (bx, by).
-float Bilinear(const Blocks& blocks, const float* vis, int bx, int by, int x, int y)
+// The bilinear value at (x, y) from the block's corners.
+float Bilinear(const Image& image, const Block& b, const float* vis, int x, int y)
 {
-  const int x0 = blocks.X[bx], x1 = blocks.X[bx + 1];
-  const int y0 = blocks.Y[by], y1 = blocks.Y[by + 1];
-  const float u = x1 > x0 ? static_cast<float>(x - x0) / static_cast<float>(x1 - x0) : 0.0f;
-  const float v = y1 > y0 ? static_cast<float>(y - y0) / static_cast<float>(y1 - y0) : 0.0f;
-  return (1 - v) * ((1 - u) * vis[blocks.Sample(x0, y0)] + u * vis[blocks.Sample(x1, y0)]) +
-    v * ((1 - u) * vis[blocks.Sample(x0, y1)] + u * vis[blocks.Sample(x1, y1)]);
+  const float u =
+    b.X1 > b.X0 ? static_cast<float>(x - b.X0) / static_cast<float>(b.X1 - b.X0) : 0.0f;
+  const float v =
+    b.Y1 > b.Y0 ? static_cast<float>(y - b.Y0) / static_cast<float>(b.Y1 - b.Y0) : 0.0f;
+  return (1 - v) * ((1 - u) * vis[image.Sample(b.X0, b.Y0)] + u * vis[image.Sample(b.X1, b.Y0)]) +
+    v * ((1 - u) * vis[image.Sample(b.X0, b.Y1)] + u * vis[image.Sample(b.X1, b.Y1)]);
 }
 
-// 2. Per block: refine (1) unless every sample of the block, edges included, lies on the
-// centre's prop (a surface, not the background) and the corners predict the centre within
-// the tolerance.
-std::vector<unsigned char> DecideBlocks(
-  const Blocks& blocks, const float* vis, const int* props, float tolerance)
+// Per block: 1 (refine) unless every sample of the block, edges included, lies on the
+// centre's prop (a surface, not the background) and the corners predict the traced centre
+// within the tolerance.
+std::vector<unsigned char> Decide(const Image& image, const std::vector<Block>& blocks,
+  const float* vis, const int* props, float tolerance)
 {
-  std::vector<unsigned char> refine(static_cast<size_t>(blocks.CountX()) * blocks.CountY(), 0);
-  vtkSMPTools::For(0, blocks.CountY(),
+  std::vector<unsigned char> refine(blocks.size(), 0);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(blocks.size()),
     [&](vtkIdType first, vtkIdType last)
     {
-      for (int by = static_cast<int>(first); by < static_cast<int>(last); ++by)
+      for (vtkIdType i = first; i < last; ++i)
       {
-        const int y0 = blocks.Y[by], y1 = blocks.Y[by + 1];
-        for (int bx = 0; bx < blocks.CountX(); ++bx)
+        const Block& b = blocks[static_cast<size_t>(i)];
+        const vtkIdType centre = image.Sample(b.CentreX(), b.CentreY());
+        const int prop = props[centre];
+        bool same = prop >= 0;
+        for (int y = b.Y0; same && y <= b.Y1; ++y)
         {
-          const int x0 = blocks.X[bx], x1 = blocks.X[bx + 1];
-          const int cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
-          const int prop = props[blocks.Sample(cx, cy)];
-          bool same = prop >= 0;
-          for (int y = y0; same && y <= y1; ++y)
+          for (int x = b.X0; same && x <= b.X1; ++x)
           {
-            for (int x = x0; same && x <= x1; ++x)
-            {
-              same = props[blocks.Sample(x, y)] == prop;
-            }
+            same = props[image.Sample(x, y)] == prop;
           }
-          refine[static_cast<size_t>(by) * blocks.CountX() + bx] = !same ||
-            std::fabs(vis[blocks.Sample(cx, cy)] - Bilinear(blocks, vis, bx, by, cx, cy)) >
-              tolerance;
         }
+        refine[static_cast<size_t>(i)] = !same ||
+          std::fabs(vis[centre] - Bilinear(image, b, vis, b.CentreX(), b.CentreY())) > tolerance;
       }
     });
   return refine;
 }
 
-// Whether any block that holds pixel (x, y) is refined: its own block, and the block before
-// it on an axis where the pixel lies on its own block's first lattice line (the edge the two
-// blocks share).
-bool InRefinedBlock(const Blocks& blocks, const std::vector<unsigned char>& refine, int x, int y)
+// The four (or two) halves of a block, along the axes at least 4 pixels long; none when
+// neither is (the block is then traced whole).
+std::vector<Block> Split(const Block& b)
 {
-  const int bx = blocks.BlockOfX[static_cast<size_t>(x)];
-  const int by = blocks.BlockOfY[static_cast<size_t>(y)];
-  const int fromX = bx > 0 && x == blocks.X[static_cast<size_t>(bx)] ? bx - 1 : bx;
-  const int fromY = by > 0 && y == blocks.Y[static_cast<size_t>(by)] ? by - 1 : by;
-  for (int oy = fromY; oy <= by; ++oy)
+  const bool splitX = b.X1 - b.X0 >= 4, splitY = b.Y1 - b.Y0 >= 4;
+  const int xs[3] = { b.X0, splitX ? b.CentreX() : b.X1, b.X1 };
+  const int ys[3] = { b.Y0, splitY ? b.CentreY() : b.Y1, b.Y1 };
+  std::vector<Block> halves;
+  if (!splitX && !splitY)
   {
-    for (int ox = fromX; ox <= bx; ++ox)
+    return halves;
+  }
+  for (int j = 0; j < (splitY ? 2 : 1); ++j)
+  {
+    for (int i = 0; i < (splitX ? 2 : 1); ++i)
     {
-      if (refine[static_cast<size_t>(oy) * blocks.CountX() + ox])
-      {
-        return true;
-      }
+      halves.push_back({ xs[i], ys[j], xs[i + 1], ys[j + 1] });
     }
   }
-  return false;
+  return halves;
 }
 
-// 3. The samples to trace now (mask 1): those of refined blocks not traced yet. Returns how
-// many samples with a surface are traced in all.
-vtkIdType MarkRefined(const Blocks& blocks, int height, const std::vector<unsigned char>& refine,
-  const int* props, unsigned char* trace)
+// Every sample a block owns that is not traced, from the block's corners.
+void Interpolate(
+  const Image& image, const std::vector<Block>& leaves, const unsigned char* done, float* vis)
 {
-  vtkIdType traced = 0;
-  for (int y = 0; y < height; ++y)
-  {
-    for (int x = 0; x < blocks.Width; ++x)
-    {
-      const vtkIdType s = blocks.Sample(x, y);
-      const bool first = trace[s] != 0;
-      trace[s] = !first && InRefinedBlock(blocks, refine, x, y) ? 1 : 0;
-      traced += props[s] >= 0 && (first || trace[s]) ? 1 : 0;
-    }
-  }
-  return traced;
-}
-
-// 4. Every sample neither traced in step 1 nor in a refined block, from its block's corners.
-// `trace` still marks step 3's samples; step 1's are the lattice and the block centres.
-void Interpolate(const Blocks& blocks, int height, const std::vector<unsigned char>& refine,
-  const unsigned char* trace, float* vis)
-{
-  vtkSMPTools::For(0, height,
+  vtkSMPTools::For(0, static_cast<vtkIdType>(leaves.size()),
     [&](vtkIdType first, vtkIdType last)
     {
-      for (int y = static_cast<int>(first); y < static_cast<int>(last); ++y)
+      for (vtkIdType i = first; i < last; ++i)
       {
-        const int by = blocks.BlockOfY[static_cast<size_t>(y)];
-        const bool latticeY =
-          y == blocks.Y[static_cast<size_t>(by)] || y == blocks.Y[static_cast<size_t>(by) + 1];
-        for (int x = 0; x < blocks.Width; ++x)
+        const Block& b = leaves[static_cast<size_t>(i)];
+        for (int y = b.Y0; y <= image.OwnedY1(b); ++y)
         {
-          const int bx = blocks.BlockOfX[static_cast<size_t>(x)];
-          const bool latticeX =
-            x == blocks.X[static_cast<size_t>(bx)] || x == blocks.X[static_cast<size_t>(bx) + 1];
-          const bool centre =
-            x == (blocks.X[static_cast<size_t>(bx)] + blocks.X[static_cast<size_t>(bx) + 1]) / 2 &&
-            y == (blocks.Y[static_cast<size_t>(by)] + blocks.Y[static_cast<size_t>(by) + 1]) / 2;
-          if (trace[blocks.Sample(x, y)] || (latticeX && latticeY) || centre ||
-            refine[static_cast<size_t>(by) * blocks.CountX() + bx])
+          for (int x = b.X0; x <= image.OwnedX1(b); ++x)
           {
-            continue;
+            const vtkIdType s = image.Sample(x, y);
+            if (!done[s])
+            {
+              vis[s] = Bilinear(image, b, vis, x, y);
+            }
           }
-          vis[blocks.Sample(x, y)] = Bilinear(blocks, vis, bx, by, x, y);
         }
       }
     });
@@ -257,43 +218,81 @@ void vtkPenumbraRayTracedShadows::SetAdaptiveBlock(int block)
   }
 }
 
-// Brabec 2003, ch. 11.3 (see the class description): 1. the exact visibility at the lattice
-// and the block centres; 2. per block, interpolate or refine; 3. the exact visibility at
-// every other sample of a refined block; 4. the rest bilinearly from its block's corners.
+// Brabec 2003, ch. 11.3 (see the class description), as a quadtree: the exact visibility at
+// the corners and centres of the top blocks; a block the corners cannot predict is split in
+// four and its children's corners and centres are traced, down to blocks of 2 pixels, which
+// are traced whole; every other sample is interpolated from the block that owns it.
 int vtkPenumbraRayTracedShadows::ComputeAdaptive(
   vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility)
 {
-  const int width = samples->GetWidth(), height = samples->GetHeight();
+  const Image image = { samples->GetWidth(), samples->GetHeight() };
   const vtkIdType n = samples->GetNumberOfSamples();
-  if (width < 2 || height < 2 || n != static_cast<vtkIdType>(width) * height)
+  if (image.Width < 2 || image.Height < 2 ||
+    n != static_cast<vtkIdType>(image.Width) * image.Height)
   {
     return this->Reference->ComputeVisibility(samples, light, visibility);
   }
-  const Blocks blocks(width, height, this->AdaptiveBlock);
+  visibility->SetNumberOfComponents(1);
+  visibility->SetNumberOfTuples(n);
   vtkNew<vtkUnsignedCharArray> mask;
   mask->SetNumberOfTuples(n);
   unsigned char* trace = mask->GetPointer(0);
   std::fill(trace, trace + n, 0);
-  SeedLattice(blocks, trace);
-  visibility->SetNumberOfComponents(1);
-  visibility->SetNumberOfTuples(n);
-  if (!this->Reference->ComputeVisibility(samples, light, visibility, mask)) // 1.
-  {
-    return 0;
-  }
+  std::vector<unsigned char> done(static_cast<size_t>(n), 0);
   const int* props = samples->GetPropIndices()->GetPointer(0);
-  const std::vector<unsigned char> refine = DecideBlocks(blocks, visibility->GetPointer(0), props,
-    static_cast<float>(this->AdaptiveTolerance)); // 2.
-  const vtkIdType traced = MarkRefined(blocks, height, refine, props, trace);
-  if (!this->Reference->ComputeVisibility(samples, light, visibility, mask)) // 3.
+  const float tolerance = static_cast<float>(this->AdaptiveTolerance);
+  // Traces the marked samples and moves the marks into `done`.
+  auto traceMarked = [&]()
+  {
+    const bool ok = this->Reference->ComputeVisibility(samples, light, visibility, mask) != 0;
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      done[static_cast<size_t>(s)] |= trace[s];
+      trace[s] = 0;
+    }
+    return ok;
+  };
+  std::vector<Block> level = TopBlocks(image, this->AdaptiveBlock), leaves;
+  Seed(image, level, done.data(), trace);
+  while (!level.empty())
+  {
+    if (!traceMarked())
+    {
+      return 0;
+    }
+    const std::vector<unsigned char> refine =
+      Decide(image, level, visibility->GetPointer(0), props, tolerance);
+    std::vector<Block> next;
+    for (size_t i = 0; i < level.size(); ++i)
+    {
+      const std::vector<Block> halves = refine[i] ? Split(level[i]) : std::vector<Block>();
+      if (!refine[i])
+      {
+        leaves.push_back(level[i]);
+      }
+      else if (halves.empty())
+      {
+        for (int y = level[i].Y0; y <= level[i].Y1; ++y) // too small to split: traced whole
+        {
+          std::fill(
+            trace + image.Sample(level[i].X0, y), trace + image.Sample(level[i].X1, y) + 1, 1);
+        }
+      }
+      next.insert(next.end(), halves.begin(), halves.end());
+    }
+    Seed(image, next, done.data(), trace);
+    level.swap(next);
+  }
+  if (!traceMarked())
   {
     return 0;
   }
-  Interpolate(blocks, height, refine, trace, visibility->GetPointer(0)); // 4.
-  vtkIdType valid = 0;
+  Interpolate(image, leaves, done.data(), visibility->GetPointer(0));
+  vtkIdType valid = 0, traced = 0;
   for (vtkIdType s = 0; s < n; ++s)
   {
     valid += props[s] >= 0;
+    traced += props[s] >= 0 && done[static_cast<size_t>(s)];
   }
   this->TracedFraction = valid > 0 ? static_cast<double>(traced) / valid : 0.0;
   visibility->Modified();

@@ -10,10 +10,11 @@
  * cell-centre positions, so soft-shadow techniques can be timed against it at equal k.
  *
  * AdaptiveBlock > 1 turns it into an approximate soft-shadow technique (`adaptive-soft`):
- * for area and linear lights the exact rays are traced only at a lattice of view samples
- * every AdaptiveBlock pixels and at each block's centre; a block whose corners and centre lie
- * on one prop, and whose centre the corners predict bilinearly within AdaptiveTolerance, is
- * interpolated, and every other block is traced whole. This is the adaptive sampling of
+ * for area and linear lights the exact rays are traced only at the corners and centres of
+ * blocks AdaptiveBlock pixels wide; a block whose samples lie on one prop, and whose centre
+ * the corners predict bilinearly within AdaptiveTolerance, is interpolated, and every other
+ * block is split in four and its children treated the same way, down to 2-pixel blocks,
+ * which are traced whole. This is the adaptive sampling of
  * Brabec 2003, ch. 11.3 (corners of a block computed, the inside interpolated when they
  * agree, refined where they do not), with the exact ray-traced visibility in place of the
  * chapter's depth-map search and a traced centre as the agreement test. Soft shadows vary

@@ -333,9 +333,10 @@ const OptionSpec SamplesOption = { "samples", OptionType::Integer, 0, 0, 32, { 0
 const OptionTable RayTracedOptions = { SamplesOption };
 
 const OptionTable AdaptiveSoftOptions = { SamplesOption,
-  { "block", OptionType::Integer, 4, 2, 16, {}, "pixels",
-    "lattice spacing: the exact rays are traced every `block` pixels and at each block's "
-    "centre, blocks whose corners predict their centre are interpolated" },
+  { "block", OptionType::Integer, 8, 2, 16, {}, "pixels",
+    "top block size: the exact rays are traced at the corners and centre of blocks this "
+    "wide; a block whose corners predict its centre is interpolated, any other is split in "
+    "four, down to 2 pixels" },
   { "tolerance", OptionType::Number, 0.05, 0.0, 1.0, {}, "visibility",
     "largest difference between a block centre's traced visibility and its bilinear "
     "prediction for which the block is interpolated" } };
@@ -665,7 +666,8 @@ const std::vector<Technique>& Registry()
     { "adaptive-soft",
       "approximate soft shadows for area and linear lights: the exact rays of raytraced at a "
       "lattice of view samples, blocks whose corners predict their centre interpolated, the "
-      "others traced whole (the adaptive sampling of Brabec 2003, ch. 11.3); hard lights exact",
+      "others split down to 2 pixels (the adaptive sampling of Brabec 2003, ch. 11.3); hard "
+      "lights exact",
       AdaptiveSoftOptions, InstallAdaptiveSoft },
     { "conservative",
       "exact hard shadows from point, spot and directional lights: a conservative shadow map "
