@@ -424,9 +424,11 @@ struct vtkPenumbraConservativeShadows::Internals
     }
   }
 
-  // Classifies the pending samples of view `viewIndex` with its maps: lit, shadowed or uncertain.
+  // Classifies the pending samples of view `viewIndex` with its maps: lit, shadowed or
+  // uncertain. `exact` holds the casters' exact triangles (kept between frames).
   static void ClassifyView(const FrameContext& f, const View& view, signed char viewIndex,
-    const ViewMaps& maps, std::atomic<vtkIdType>& viewLit, std::atomic<vtkIdType>& viewShadowed)
+    const ViewMaps& maps, penumbra_light_views::ExactTriangles& exact,
+    std::atomic<vtkIdType>& viewLit, std::atomic<vtkIdType>& viewShadowed)
   {
     // The classification of Hertel et al. 2009, §4.2, with its rules made exact:
     //  1. facing away from the light / outside the spot cone -> shadowed (Classify's pass A);
@@ -460,10 +462,18 @@ struct vtkPenumbraConservativeShadows::Internals
     const std::vector<signed char>& sampleView = *f.SampleView;
     float* vis = f.Vis;
     unsigned char* state = f.State;
+    // The exact test of rule 3c (and of the apex region's triangles) against one blocker.
+    auto TestBlocker = [&exact](const penumbra_light_views::ShadowRay& ray, vtkIdType blocker,
+                         const double* vertices, penumbra_rules::ExactTriangle& scratch)
+    {
+      const penumbra_rules::ExactTriangle* triangle = exact.Get(blocker, vertices, scratch);
+      return triangle ? penumbra_light_views::TestShadowRay(ray, *triangle) : Hit::Unknown;
+    };
     vtkSMPTools::For(0, f.In->NumberOfSamples,
       [&](vtkIdType begin, vtkIdType end)
       {
         vtkIdType localLit = 0, localShadowed = 0;
+        penumbra_rules::ExactTriangle scratch;
         for (vtkIdType s = begin; s < end; ++s)
         {
           if (state[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
@@ -497,7 +507,7 @@ struct vtkPenumbraConservativeShadows::Internals
           {
             const vtkIdType blocker = nearTriangles[k];
             const Hit hit = nearTestable && blocker != own
-              ? penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker)
+              ? TestBlocker(ray, blocker, tv, scratch)
               : (blocker == own ? Hit::Miss : Hit::Unknown);
             if (hit == Hit::Clear)
             {
@@ -525,7 +535,7 @@ struct vtkPenumbraConservativeShadows::Internals
             {
               break;
             }
-            const Hit hit = penumbra_light_views::TestShadowRay(ray, tv + 9 * blocker, blocker);
+            const Hit hit = TestBlocker(ray, blocker, tv, scratch);
             if (hit == Hit::Clear)
             {
               vis[s] = 0.0f;
@@ -717,7 +727,7 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
 
       const auto classifyStart = Clock::now();
       Internals::ClassifyView(
-        frame, view, static_cast<signed char>(vi), maps, viewLit, viewShadowed);
+        frame, view, static_cast<signed char>(vi), maps, impl.Casters.Exact, viewLit, viewShadowed);
       classifyMs += ElapsedMs(classifyStart);
     }
     lit += viewLit.load();

@@ -543,6 +543,58 @@ QuadPassState::QuadPassState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* 
 }
 
 //------------------------------------------------------------------------------
+void ExactTriangles::Reset(const std::vector<vtkIdType>& casters)
+{
+  this->SlotOf.clear();
+  this->Exact.clear();
+  this->Made.reset();
+  if (casters.empty() || casters.size() > MaxCached)
+  {
+    return;
+  }
+  this->SlotOf.assign(static_cast<size_t>(casters.back()) + 1, -1);
+  for (size_t i = 0; i < casters.size(); ++i)
+  {
+    this->SlotOf[static_cast<size_t>(casters[i])] = static_cast<std::int32_t>(i);
+  }
+  this->Exact.resize(casters.size());
+  this->Made.reset(new std::atomic<unsigned char>[casters.size()]);
+  for (size_t i = 0; i < casters.size(); ++i)
+  {
+    this->Made[i].store(0, std::memory_order_relaxed);
+  }
+}
+
+//------------------------------------------------------------------------------
+const penumbra_rules::ExactTriangle* ExactTriangles::Get(
+  vtkIdType id, const double* vertices, penumbra_rules::ExactTriangle& scratch)
+{
+  const std::int32_t slot =
+    static_cast<size_t>(id) < this->SlotOf.size() ? this->SlotOf[static_cast<size_t>(id)] : -1;
+  if (slot >= 0)
+  {
+    std::atomic<unsigned char>& made = this->Made[static_cast<size_t>(slot)];
+    unsigned char state = made.load(std::memory_order_acquire);
+    if (state == 0 && made.compare_exchange_strong(state, 1, std::memory_order_acq_rel))
+    {
+      penumbra_rules::ExactTriangle& t = this->Exact[static_cast<size_t>(slot)];
+      const bool area = penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, t);
+      made.store(area ? 2 : 3, std::memory_order_release);
+      return area ? &t : nullptr;
+    }
+    if (state == 2)
+    {
+      return &this->Exact[static_cast<size_t>(slot)];
+    }
+    if (state == 3)
+    {
+      return nullptr;
+    }
+  }
+  return penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, scratch) ? &scratch : nullptr;
+}
+
+//------------------------------------------------------------------------------
 bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
 {
   double origin[3];
@@ -580,6 +632,7 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
     this->VertexCount = static_cast<GLsizei>(xyz.size() / 3);
     this->Vertices.swap(xyz);
     this->TriangleIds.swap(casters);
+    this->Exact.Reset(this->TriangleIds);
     this->Current = true;
     this->OnGPU = false;
     this->Geometry = geometry;

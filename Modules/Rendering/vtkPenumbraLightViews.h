@@ -19,7 +19,9 @@
 #include "vtkType.h"
 #include "vtk_glew.h"
 
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -256,6 +258,36 @@ public:
  * triangle ids, one uint per vertex). Rebuilt only when the geometry, its flags or its
  * origin change; uploaded only when asked and not yet on the GPU.
  */
+/**
+ * The exact triangles of the casters (the reference's double-precision form,
+ * penumbra_rules::MakeExactTriangle), each made the first time a test needs it and kept while
+ * the caster list does not change: a caster meets many samples, views and frames. Safe to
+ * use from several threads. Lists of more than MaxCached casters (200 bytes each) make them
+ * per test instead.
+ */
+class ExactTriangles
+{
+public:
+  static constexpr size_t MaxCached = size_t(1) << 20;
+
+  /** Forgets the triangles made so far; `casters` (ascending ids) is the new list. */
+  void Reset(const std::vector<vtkIdType>& casters);
+
+  /**
+   * Caster `id`'s exact triangle from the geometry's `vertices` (9 per triangle), null when
+   * it has no area; `scratch` holds it when another thread is making the cached one (or
+   * nothing is cached).
+   */
+  const penumbra_rules::ExactTriangle* Get(
+    vtkIdType id, const double* vertices, penumbra_rules::ExactTriangle& scratch);
+
+private:
+  std::vector<std::int32_t> SlotOf; // per triangle id: its slot, -1 when not a caster
+  std::vector<penumbra_rules::ExactTriangle> Exact;
+  // per slot: 0 not yet, 1 being made, 2 made, 3 no area
+  std::unique_ptr<std::atomic<unsigned char>[]> Made;
+};
+
 struct CasterBuffers
 {
   GLuint VertexArray = 0;
@@ -266,6 +298,7 @@ struct CasterBuffers
   std::vector<float> Vertices;        // CPU copy of Positions
   std::vector<vtkIdType> TriangleIds; // the casters, ascending
   double Bounds[6] = { 1, -1, 1, -1, 1, -1 };
+  ExactTriangles Exact; // the casters' exact triangles, reset with the list
 
   /**
    * Brings the caster list up to date and, with `upload` (context current), the GL buffers;

@@ -269,72 +269,6 @@ private:
   }
 };
 
-// The exact triangles of the casters (the reference's double-precision form), made once per
-// caster list when a first texel needs one and kept while the casters do not change: a
-// caster meets many listed texels, views, passes and frames. Lists of more than
-// MaxCachedCasters casters (200 bytes each) make them per texel instead.
-constexpr size_t MaxCachedCasters = size_t(1) << 20;
-
-struct ExactCache
-{
-  std::vector<std::int32_t> SlotOf; // per triangle id: its slot, -1 when not a caster
-  std::vector<penumbra_rules::ExactTriangle> Exact;
-  std::unique_ptr<std::atomic<unsigned char>[]>
-    Made; // per slot: 0 not yet, 1 being made, 2 made, 3 no area
-
-  void Reset(const std::vector<vtkIdType>& casters)
-  {
-    this->SlotOf.clear();
-    this->Exact.clear();
-    this->Made.reset();
-    if (casters.empty() || casters.size() > MaxCachedCasters)
-    {
-      return;
-    }
-    this->SlotOf.assign(static_cast<size_t>(casters.back()) + 1, -1);
-    for (size_t i = 0; i < casters.size(); ++i)
-    {
-      this->SlotOf[static_cast<size_t>(casters[i])] = static_cast<std::int32_t>(i);
-    }
-    this->Exact.resize(casters.size());
-    this->Made.reset(new std::atomic<unsigned char>[casters.size()]);
-    for (size_t i = 0; i < casters.size(); ++i)
-    {
-      this->Made[i].store(0, std::memory_order_relaxed);
-    }
-  }
-
-  // Caster `id`'s exact triangle, null when it has no area; `scratch` holds it when another
-  // thread is making the cached one (or nothing is cached).
-  const penumbra_rules::ExactTriangle* Get(
-    vtkIdType id, const double* vertices, penumbra_rules::ExactTriangle& scratch)
-  {
-    const std::int32_t slot =
-      static_cast<size_t>(id) < this->SlotOf.size() ? this->SlotOf[static_cast<size_t>(id)] : -1;
-    if (slot >= 0)
-    {
-      std::atomic<unsigned char>& made = this->Made[static_cast<size_t>(slot)];
-      unsigned char state = made.load(std::memory_order_acquire);
-      if (state == 0 && made.compare_exchange_strong(state, 1, std::memory_order_acq_rel))
-      {
-        penumbra_rules::ExactTriangle& t = this->Exact[static_cast<size_t>(slot)];
-        const bool area = penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, t);
-        made.store(area ? 2 : 3, std::memory_order_release);
-        return area ? &t : nullptr;
-      }
-      if (state == 2)
-      {
-        return &this->Exact[static_cast<size_t>(slot)];
-      }
-      if (state == 3)
-      {
-        return nullptr;
-      }
-    }
-    return penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, scratch) ? &scratch : nullptr;
-  }
-};
-
 // Caster triangles grouped for culling: sorted along a Morton curve of their centroids and
 // cut into runs of ClusterSize, each with its bounding box, so most of a view's culling is
 // decided per cluster. Rebuilt when the caster list changes.
@@ -608,7 +542,7 @@ struct Lists
 // all shadowed drops out. Returns the number of exact tests; the apex region's triangles go
 // to `nearTriangles`.
 vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
-  const std::vector<vtkIdType>& casters, Lists& lists, ExactCache& exact,
+  const std::vector<vtkIdType>& casters, Lists& lists, penumbra_light_views::ExactTriangles& exact,
   std::vector<vtkIdType>& nearTriangles)
 {
   const std::vector<vtkIdType>& nodes = lists.Nodes;
@@ -711,7 +645,6 @@ struct vtkPenumbraLinkedListShadows::Internals
   std::vector<vtkIdType> Near;     // the apex region's triangles
   SampleCells Cells;               // the pass's listed samples, coarse
   CasterClusters Clusters;         // the casters, grouped for culling
-  ExactCache Exact;                // the casters' exact triangles
   std::vector<unsigned char> Keep; // per caster (cluster order): not culled
   std::vector<vtkIdType> Kept;     // the pass's casters after culling
 };
@@ -796,11 +729,10 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
     impl.Depth.data() };
   const int size = this->Resolution;
   vtkIdType rows = 0;
-  if (!views.empty() &&
-    impl.Clusters.Update(impl.Casters.TriangleIds, in.TriangleVertices,
-      std::max(geometry->GetGeometryTime(), geometry->GetFlagsTime())))
+  if (!views.empty())
   {
-    impl.Exact.Reset(impl.Casters.TriangleIds);
+    impl.Clusters.Update(impl.Casters.TriangleIds, in.TriangleVertices,
+      std::max(geometry->GetGeometryTime(), geometry->GetFlagsTime()));
   }
   for (size_t vi = 0; vi < views.size(); ++vi)
   {
@@ -834,7 +766,7 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
       this->NumberOfRasterizedCasters += static_cast<vtkIdType>(casters->size());
       impl.Near.clear();
       this->NumberOfTests +=
-        RasterizeLists(views[vi], size, ctx, *casters, impl.Grid, impl.Exact, impl.Near);
+        RasterizeLists(views[vi], size, ctx, *casters, impl.Grid, impl.Casters.Exact, impl.Near);
       this->NumberOfTests += TestNearTriangles(ctx, impl.Listed.data() + first, count, impl.Near);
       impl.Grid.Clear();
       this->RasterTimeMs += ElapsedMs(rasterStart);
