@@ -10,6 +10,7 @@
 #include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraLinkedListShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
+#include "vtkPenumbraResolutionMatchedShadows.h"
 #include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowVolumeShadows.h"
@@ -476,6 +477,39 @@ void InstallRESM(vtkRenderer* ren, const Options& opts)
   InstallShadowPass(ren, technique);
 }
 
+// RMSM (Lefohn et al. 2007): the virtual map's size, the physical atlas, the cache and the
+// bias.
+const OptionTable RMSMOptions = {
+  { "max_resolution", OptionType::Integer, 32768, 2048, 32768, { 2048, 4096, 8192, 16384, 32768 },
+    "texels", "effective resolution of the finest level, texels per side of the virtual map" },
+  { "atlas_size", OptionType::Integer, 4096, 512, 8192, { 512, 1024, 2048, 4096, 8192 }, "texels",
+    "side of the physical page atlas ((atlas_size / 32)^2 pages of 32 x 32 texels; 4 bytes a "
+    "texel: 64 MiB at 4096)" },
+  { "lod_bias", OptionType::Integer, 1, 0, 2, {}, "levels",
+    "request levels this much finer than the one whose texel matches a sample's footprint "
+    "(0: the paper's Eq. 1 rounded up; each level quadruples the pages)" },
+  { "cached", OptionType::Boolean, true, 0, 0, {}, "",
+    "keep the pages while the light, the casters and the settings are unchanged (only new "
+    "requests are rendered); false rebuilds every frame" },
+  { "bias", OptionType::Number, 1e-4, 0.0, 0.1, {}, "fraction of the depth range",
+    "constant depth bias as a fraction of the virtual map's depth range" },
+  { "slope_bias", OptionType::Number, 1.0, 0.0, 16.0, {}, "texel footprints",
+    "slope-scaled bias in texel footprints of the level a sample is compared at (the slope's "
+    "tangent is capped at 1000)" },
+};
+
+void InstallRMSM(vtkRenderer* ren, const Options& opts)
+{
+  vtkNew<vtkPenumbraResolutionMatchedShadows> technique;
+  technique->SetMaxResolution(opts.Integer("max_resolution"));
+  technique->SetAtlasSize(opts.Integer("atlas_size"));
+  technique->SetLODBias(opts.Integer("lod_bias"));
+  technique->SetCached(opts.Boolean("cached"));
+  technique->SetBias(opts.Number("bias"));
+  technique->SetSlopeBias(opts.Number("slope_bias"));
+  InstallShadowPass(ren, technique);
+}
+
 // PCSS: shadowmap's map options (no filter: the soft lookup is the filter) and the soft
 // lookup's taps and reach (Fernando 2005).
 OptionTable PCSSTable()
@@ -627,6 +661,8 @@ void InstallAuto(vtkRenderer* ren, const Options& opts)
 //   mapping work of his doctoral thesis (Comenius University Bratislava);
 // - Ferko 2014: Ferko, linked-list shadow maps (LLSM), the irregular z-buffer of Johnson et al.
 //   2005 built with per-texel linked lists, in the same thesis;
+// - Lefohn et al. 2007: Lefohn, Sengupta, Owens, "Resolution-Matched Shadow Maps", ACM TOG
+//   26(4), 2007;
 // - Wang et al. 2014: Wang, Wang, Shi, Popescu, "GEARS: A General and Efficient Algorithm for
 //   Rendering Shadows", Computer Graphics Forum 33(6), 2014.
 const std::vector<Technique>& Registry()
@@ -673,6 +709,12 @@ const std::vector<Technique>& Registry()
       "shadowmap, per light and axis the size at which a texel covers at most a pixel, up to "
       "max_resolution; directional and spot lights (point lights: shadowmap's fixed size)",
       RESMOptions, InstallRESM },
+    { "rmsm",
+      "resolution-matched shadow maps (Lefohn et al. 2007): per view sample the level of a "
+      "virtual map up to max_resolution^2 whose texel matches the sample's footprint, only the "
+      "requested 32 x 32 pages rendered (by superpage) into a page atlas, kept while the light "
+      "and casters stay put; directional and spot lights (up to 60 degrees)",
+      RMSMOptions, InstallRMSM },
     { "volumes",
       "exact hard shadows with stencil shadow volumes (Brabec 2003, ch. 3, 8, 9): OpenMesh "
       "silhouettes for closed meshes, per-triangle volumes otherwise, z-fail with caps and "
