@@ -155,35 +155,45 @@ std::string FrameShader(bool request)
 }
 }
 
+// One light's pages: its virtual map, what the pages depend on, which are resident (its page
+// table), and its last requests. The atlas and its free list are shared by the lights.
+struct LightPages
+{
+  vtkWeakPointer<vtkLight> Light;
+  View Map;
+  std::vector<double> Key;
+  std::vector<int> SlotOf;              // per page key: atlas slot, -1 when not resident
+  std::vector<int32_t> Table;           // per page key: the entry the lookup reads
+  std::vector<unsigned char> Requested; // per page key, the last requests
+  std::vector<long long> RequestedKeys;
+  std::vector<float> Keys; // read-back requests (key + 1 per pixel, 0: none)
+  bool TableDirty = true;
+  vtkMTimeType RequestSamplesTime = 0; // the view samples the last requests came from
+  double CoarserShare = 0.0;
+  GLuint PageTable = 0;                             // R32I, one mip per level
+  vtkSmartPointer<vtkTextureObject> PageTableAlias; // binds PageTable through VTK's units
+  // Per layer the request pass's output (RG32F: key + 1 and level per pixel), which the
+  // lookup reads the levels from.
+  std::vector<vtkSmartPointer<vtkTextureObject>> RequestTargets;
+};
+
 struct vtkPenumbraResolutionMatchedShadows::Internals
 {
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
   penumbra_light_views::CasterBuffers Casters;
 
-  // The virtual map: its levels, its view, what its pages depend on, and the resident pages.
+  // The levels of every light's virtual map, the lights' pages and the light at hand.
   Pyramid Levels;
-  View Map;
-  std::vector<double> Key;
-  std::vector<int> SlotOf;              // per page key: atlas slot, -1 when not resident
-  std::vector<int> FreeSlots;           // popped from the back: slot 0 first
-  std::vector<int32_t> Table;           // per page key: the entry the lookup reads
-  std::vector<unsigned char> Requested; // per page key, this frame
-  std::vector<long long> RequestedKeys;
-  std::vector<float> Keys; // read-back requests (key + 1 per pixel, 0: none)
-  bool TableDirty = true;
-  vtkMTimeType RequestSamplesTime = 0; // the view samples the last requests came from
+  std::vector<LightPages> Lights;
+  LightPages* Cur = nullptr;
 
   // GL objects.
   vtkSmartPointer<vtkTextureObject> Atlas;   // DEPTH32F, AtlasSize^2
+  std::vector<int> FreeSlots;                // the atlas's, popped from the back: slot 0 first
   vtkSmartPointer<vtkTextureObject> Scratch; // DEPTH32F, one superpage
   vtkSmartPointer<vtkOpenGLFramebufferObject> MapFBO;
-  GLuint PageTable = 0; // R32I, one mip per level
-  int PageTableSide = 0;
+  int PageTableSide = 0; // the page tables' size and levels
   int PageTableMips = 0;
-  vtkSmartPointer<vtkTextureObject> PageTableAlias; // binds PageTable through VTK's units
-  // Per layer the request pass's output (RG32F: key + 1 and level per pixel), which the
-  // lookup reads the levels from.
-  std::vector<vtkSmartPointer<vtkTextureObject>> RequestTargets;
   vtkSmartPointer<vtkOpenGLFramebufferObject> RequestFBO;
   std::unique_ptr<vtkOpenGLQuadHelper> RequestQuad;
   std::unique_ptr<vtkOpenGLQuadHelper> LookupQuad;
@@ -195,7 +205,11 @@ struct vtkPenumbraResolutionMatchedShadows::Internals
     vtkPenumbraResolutionMatchedShadows* self, vtkOpenGLRenderWindow* win, std::string& error);
   bool FitMap(vtkPenumbraResolutionMatchedShadows* self, vtkLight* light,
     vtkPenumbraSceneGeometry* geometry, const LightSetup& setup);
-  void Flush();
+  void SelectLight(vtkLight* light);
+  bool EnsurePageTable(vtkOpenGLRenderWindow* win);
+  void Flush(LightPages& pages);
+  void GiveBack(LightPages& pages);
+  void ReleaseLight(LightPages& pages);
   void SetMapUniforms(vtkPenumbraResolutionMatchedShadows* self, vtkShaderProgram* program,
     vtkPenumbraViewSamplesPass* gbuffer, const LightSetup& setup, bool anyCaster);
   bool Request(vtkPenumbraResolutionMatchedShadows* self, vtkPenumbraFrame* frame,
@@ -321,6 +335,8 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::FrameLight(
   {
     return false;
   }
+  this->SelectLight(light);
+  this->EnsurePageTable(win);
   this->Casters.Update(geometry);
   const bool anyCaster = !setup.Off && this->Casters.VertexCount > 0;
   if (anyCaster)
@@ -328,9 +344,9 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::FrameLight(
     // Cached pages for the same view samples that all fitted: the requests are the last ones
     // and all resident, nothing to do before the lookup.
     const bool flushed = this->FitMap(self, light, geometry, setup);
-    const bool same =
-      !flushed && frame->GetSamplesTime() == this->RequestSamplesTime && self->CoarserShare == 0.0;
-    this->RequestSamplesTime = frame->GetSamplesTime();
+    const bool same = !flushed && frame->GetSamplesTime() == this->Cur->RequestSamplesTime &&
+      this->Cur->CoarserShare == 0.0;
+    this->Cur->RequestSamplesTime = frame->GetSamplesTime();
     if (!same && !this->Request(self, frame, setup, error))
     {
       return false;
@@ -371,7 +387,17 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::EnsureResources(
     }
     this->Atlas = NearestTexture(win);
     this->Atlas->AllocateDepth(self->AtlasSize, self->AtlasSize, vtkTextureObject::Float32);
-    this->Key.clear(); // every page is gone
+    const int capacity = self->GetAtlasCapacity();
+    this->FreeSlots.resize(static_cast<size_t>(capacity));
+    for (int i = 0; i < capacity; ++i)
+    {
+      this->FreeSlots[static_cast<size_t>(i)] = capacity - 1 - i;
+    }
+    for (LightPages& pages : this->Lights)
+    {
+      pages.Key.clear(); // every page is gone
+      pages.SlotOf.clear();
+    }
   }
   if (!this->Scratch)
   {
@@ -399,28 +425,87 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::EnsureResources(
   this->Levels.Finest = FloorLog2(self->MaxResolution);
   const int side = this->Levels.Side(this->Levels.Finest);
   const int mips = this->Levels.Finest - this->Levels.Base + 1;
-  if (this->PageTable && (this->PageTableSide != side || this->PageTableMips != mips))
+  if (this->PageTableSide != side || this->PageTableMips != mips)
   {
-    glDeleteTextures(1, &this->PageTable);
-    this->PageTable = 0;
-  }
-  if (!this->PageTable)
-  {
-    glCreateTextures(GL_TEXTURE_2D, 1, &this->PageTable);
-    glTextureStorage2D(this->PageTable, mips, GL_R32I, side, side);
-    // Integer textures are complete only with nearest filtering.
-    glTextureParameteri(this->PageTable, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
-    glTextureParameteri(this->PageTable, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    for (LightPages& pages : this->Lights)
+    {
+      this->ReleaseLight(pages); // new levels: new tables, no page kept
+    }
     this->PageTableSide = side;
     this->PageTableMips = mips;
-    // An alias (not owning the handle) that only binds it through VTK's texture units.
-    this->PageTableAlias = vtkSmartPointer<vtkTextureObject>::New();
-    this->PageTableAlias->SetContext(win);
-    this->PageTableAlias->SetAutoParameters(0);
-    this->PageTableAlias->AssignToExistingTexture(this->PageTable, GL_TEXTURE_2D);
-    this->Key.clear(); // the table must be filled again
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+// Cur = the pages of `light`; the pages of deleted lights are given back first.
+void vtkPenumbraResolutionMatchedShadows::Internals::SelectLight(vtkLight* light)
+{
+  for (LightPages& pages : this->Lights)
+  {
+    if (!pages.Light)
+    {
+      this->ReleaseLight(pages);
+    }
+  }
+  this->Cur = &penumbra_light_views::LightCacheEntry(this->Lights, light);
+}
+
+//------------------------------------------------------------------------------
+// The light's page table: an R32I texture of PageTableSide^2 with PageTableMips levels.
+bool vtkPenumbraResolutionMatchedShadows::Internals::EnsurePageTable(vtkOpenGLRenderWindow* win)
+{
+  LightPages& pages = *this->Cur;
+  if (pages.PageTable)
+  {
+    return false;
+  }
+  glCreateTextures(GL_TEXTURE_2D, 1, &pages.PageTable);
+  glTextureStorage2D(
+    pages.PageTable, this->PageTableMips, GL_R32I, this->PageTableSide, this->PageTableSide);
+  // Integer textures are complete only with nearest filtering.
+  glTextureParameteri(pages.PageTable, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+  glTextureParameteri(pages.PageTable, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  // An alias (not owning the handle) that only binds it through VTK's texture units.
+  pages.PageTableAlias = vtkSmartPointer<vtkTextureObject>::New();
+  pages.PageTableAlias->SetContext(win);
+  pages.PageTableAlias->SetAutoParameters(0);
+  pages.PageTableAlias->AssignToExistingTexture(pages.PageTable, GL_TEXTURE_2D);
+  pages.Key.clear(); // the table must be filled again
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// Gives a light's atlas slots back to the free list: none of its pages is resident.
+void vtkPenumbraResolutionMatchedShadows::Internals::GiveBack(LightPages& pages)
+{
+  for (int slot : pages.SlotOf)
+  {
+    if (slot >= 0)
+    {
+      this->FreeSlots.push_back(slot);
+    }
+  }
+  pages.SlotOf.clear();
+}
+
+//------------------------------------------------------------------------------
+// Gives a light's slots back to the atlas and frees its GL objects (context current).
+void vtkPenumbraResolutionMatchedShadows::Internals::ReleaseLight(LightPages& pages)
+{
+  this->GiveBack(pages);
+  if (pages.PageTable)
+  {
+    glDeleteTextures(1, &pages.PageTable);
+  }
+  pages.PageTable = 0;
+  pages.PageTableAlias = nullptr;
+  for (auto& tex : pages.RequestTargets)
+  {
+    tex->ReleaseGraphicsResources(this->Window);
+  }
+  pages.RequestTargets.clear();
+  pages.Key.clear();
 }
 
 //------------------------------------------------------------------------------
@@ -442,43 +527,49 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::FitMap(
   if (setup.Type == LightSetup::Kind::Directional)
   {
     const double travel[3] = { -setup.Direction[0], -setup.Direction[1], -setup.Direction[2] };
-    this->Map = penumbra_light_views::OrthographicView(travel, box);
+    this->Cur->Map = penumbra_light_views::OrthographicView(travel, box);
   }
   else
   {
-    this->Map = penumbra_light_views::PerspectiveView(
+    this->Cur->Map = penumbra_light_views::PerspectiveView(
       setup.Position, setup.Axis, std::tan(vtkMath::RadiansFromDegrees(setup.Cone + 1.0)), box);
   }
-  std::vector<double> key(&this->Map.Row[0][0], &this->Map.Row[0][0] + 16);
-  key.push_back(this->Map.Far);
+  std::vector<double> key(&this->Cur->Map.Row[0][0], &this->Cur->Map.Row[0][0] + 16);
+  key.push_back(this->Cur->Map.Far);
   key.push_back(static_cast<double>(reinterpret_cast<std::uintptr_t>(light)));
   key.push_back(static_cast<double>(geometry->GetGeometryTime()));
   key.push_back(static_cast<double>(geometry->GetFlagsTime()));
   key.push_back(static_cast<double>(self->GetMTime()));
   key.push_back(this->Levels.Base);
   key.push_back(this->Levels.Finest);
-  if (!self->Cached || key != this->Key)
+  if (!self->Cached || key != this->Cur->Key)
   {
-    this->Key.swap(key);
-    this->Flush();
+    this->Cur->Key.swap(key);
+    this->Flush(*this->Cur);
     return true;
   }
   return false;
 }
 
 //------------------------------------------------------------------------------
-// Drops every page and makes the whole base level resident (requested, rendered this frame).
-void vtkPenumbraResolutionMatchedShadows::Internals::Flush()
+// Gives every page of `pages` back to the atlas; the whole base level is then made resident
+// again (Allocate()). When the atlas cannot hold that base level, the other lights' pages
+// are dropped too (they rebuild when their turn comes).
+void vtkPenumbraResolutionMatchedShadows::Internals::Flush(LightPages& pages)
 {
-  const int capacity = static_cast<int>(this->Atlas->GetWidth() >> PageBits);
-  this->SlotOf.assign(static_cast<size_t>(this->Levels.Size()), -1);
-  this->FreeSlots.resize(static_cast<size_t>(capacity) * capacity);
-  for (size_t i = 0; i < this->FreeSlots.size(); ++i)
+  this->GiveBack(pages);
+  pages.SlotOf.assign(static_cast<size_t>(this->Levels.Size()), -1);
+  const size_t base = static_cast<size_t>(this->Levels.Offset(this->Levels.Base + 1));
+  for (LightPages& other : this->Lights)
   {
-    this->FreeSlots[i] = static_cast<int>(this->FreeSlots.size() - 1 - i);
+    if (this->FreeSlots.size() < base && &other != &pages)
+    {
+      this->GiveBack(other);
+      other.Key.clear();
+    }
   }
-  this->Table.assign(this->SlotOf.size(), 0);
-  this->TableDirty = true;
+  pages.Table.assign(pages.SlotOf.size(), 0);
+  pages.TableDirty = true;
 }
 
 //------------------------------------------------------------------------------
@@ -495,10 +586,10 @@ void vtkPenumbraResolutionMatchedShadows::Internals::SetMapUniforms(
   program->SetUniformi("anyCaster", anyCaster ? 1 : 0);
   penumbra_light_views::SetClassifyUniforms(program, setup);
   float matrix[16];
-  this->Map.ToFloatMatrix(matrix);
+  this->Cur->Map.ToFloatMatrix(matrix);
   program->SetUniformMatrix4x4("lightMatrix", matrix);
-  program->SetUniformi("perspective", this->Map.Perspective ? 1 : 0);
-  program->SetUniformf("invFar", static_cast<float>(1.0 / this->Map.Far));
+  program->SetUniformi("perspective", this->Cur->Map.Perspective ? 1 : 0);
+  program->SetUniformf("invFar", static_cast<float>(1.0 / this->Cur->Map.Far));
   program->SetUniformi("baseLevel", this->Levels.Base);
   program->SetUniformi("finestLevel", this->Levels.Finest);
   program->SetUniformi("lodBias", self->LODBias);
@@ -516,8 +607,8 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
   const auto start = Clock::now();
   vtkOpenGLRenderWindow* win = frame->GetWindow();
   const int w = frame->GetWidth(), h = frame->GetHeight();
-  this->RequestTargets.resize(static_cast<size_t>(frame->GetNumberOfLayers()));
-  for (auto& target : this->RequestTargets)
+  this->Cur->RequestTargets.resize(static_cast<size_t>(frame->GetNumberOfLayers()));
+  for (auto& target : this->Cur->RequestTargets)
   {
     if (!target)
     {
@@ -531,15 +622,15 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
       target->Allocate2D(w, h, 2, VTK_FLOAT);
     }
   }
-  this->Requested.assign(this->SlotOf.size(), 0);
-  this->RequestedKeys.clear();
-  this->Keys.resize(static_cast<size_t>(w) * h * frame->GetNumberOfLayers());
+  this->Cur->Requested.assign(this->Cur->SlotOf.size(), 0);
+  this->Cur->RequestedKeys.clear();
+  this->Cur->Keys.resize(static_cast<size_t>(w) * h * frame->GetNumberOfLayers());
   vtkShaderProgram* program = this->RequestQuad->Program;
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
     vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
     penumbra_light_views::QuadPassState pass(
-      win->GetState(), this->RequestFBO, { this->RequestTargets[layer].Get() }, w, h);
+      win->GetState(), this->RequestFBO, { this->Cur->RequestTargets[layer].Get() }, w, h);
     win->GetShaderCache()->ReadyShaderProgram(program);
     gbuffer->GetPositionTexture()->Activate();
     gbuffer->GetNormalTexture()->Activate();
@@ -550,37 +641,37 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
     this->RequestFBO->ActivateReadBuffer(0);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glReadPixels(
-      0, 0, w, h, GL_RED, GL_FLOAT, this->Keys.data() + static_cast<size_t>(w) * h * layer);
+      0, 0, w, h, GL_RED, GL_FLOAT, this->Cur->Keys.data() + static_cast<size_t>(w) * h * layer);
   }
-  const long long size = static_cast<long long>(this->Requested.size());
-  for (float value : this->Keys)
+  const long long size = static_cast<long long>(this->Cur->Requested.size());
+  for (float value : this->Cur->Keys)
   {
     const long long key = static_cast<long long>(value) - 1;
     if (key < 0 || key >= size)
     {
       continue;
     }
-    if (!this->Requested[static_cast<size_t>(key)])
+    if (!this->Cur->Requested[static_cast<size_t>(key)])
     {
-      this->Requested[static_cast<size_t>(key)] = 1;
-      this->RequestedKeys.push_back(key);
+      this->Cur->Requested[static_cast<size_t>(key)] = 1;
+      this->Cur->RequestedKeys.push_back(key);
     }
   }
-  if (this->Keys.size() > 0 &&
-    std::any_of(this->Keys.begin(), this->Keys.end(),
+  if (this->Cur->Keys.size() > 0 &&
+    std::any_of(this->Cur->Keys.begin(), this->Cur->Keys.end(),
       [size](float v) { return v > static_cast<float>(size); }))
   {
     error = "a page request lies outside the page table";
     return false;
   }
-  std::sort(this->RequestedKeys.begin(), this->RequestedKeys.end());
-  self->NumberOfRequestedPages = static_cast<int>(this->RequestedKeys.size());
+  std::sort(this->Cur->RequestedKeys.begin(), this->Cur->RequestedKeys.end());
+  self->NumberOfRequestedPages = static_cast<int>(this->Cur->RequestedKeys.size());
   self->RequestedLevels[0] = self->RequestedLevels[1] = 0;
-  if (!this->RequestedKeys.empty())
+  if (!this->Cur->RequestedKeys.empty())
   {
     int px, py;
-    this->Levels.Decode(this->RequestedKeys.front(), self->RequestedLevels[0], px, py);
-    this->Levels.Decode(this->RequestedKeys.back(), self->RequestedLevels[1], px, py);
+    this->Levels.Decode(this->Cur->RequestedKeys.front(), self->RequestedLevels[0], px, py);
+    this->Levels.Decode(this->Cur->RequestedKeys.back(), self->RequestedLevels[1], px, py);
   }
   self->RequestTimeMs = ElapsedMs(start);
   return true;
@@ -598,14 +689,14 @@ std::vector<NewPage> vtkPenumbraResolutionMatchedShadows::Internals::Allocate(
   const int base = this->Levels.Base;
   for (long long key = 0; key < this->Levels.Offset(base + 1); ++key)
   {
-    if (this->SlotOf[static_cast<size_t>(key)] < 0)
+    if (this->Cur->SlotOf[static_cast<size_t>(key)] < 0)
     {
       wanted.push_back(key);
     }
   }
-  for (long long key : this->RequestedKeys)
+  for (long long key : this->Cur->RequestedKeys)
   {
-    if (key >= this->Levels.Offset(base + 1) && this->SlotOf[static_cast<size_t>(key)] < 0)
+    if (key >= this->Levels.Offset(base + 1) && this->Cur->SlotOf[static_cast<size_t>(key)] < 0)
     {
       wanted.push_back(key);
     }
@@ -619,12 +710,12 @@ std::vector<NewPage> vtkPenumbraResolutionMatchedShadows::Internals::Allocate(
       evicted = true;
       for (long long r = this->Levels.Offset(base + 1); r < this->Levels.Size(); ++r)
       {
-        int& slot = this->SlotOf[static_cast<size_t>(r)];
-        if (slot >= 0 && !this->Requested[static_cast<size_t>(r)])
+        int& slot = this->Cur->SlotOf[static_cast<size_t>(r)];
+        if (slot >= 0 && !this->Cur->Requested[static_cast<size_t>(r)])
         {
           this->FreeSlots.push_back(slot);
           slot = -1;
-          this->TableDirty = true;
+          this->Cur->TableDirty = true;
         }
       }
     }
@@ -636,23 +727,24 @@ std::vector<NewPage> vtkPenumbraResolutionMatchedShadows::Internals::Allocate(
     this->Levels.Decode(key, page.K, page.X, page.Y);
     page.Slot = this->FreeSlots.back();
     this->FreeSlots.pop_back();
-    this->SlotOf[static_cast<size_t>(key)] = page.Slot;
+    this->Cur->SlotOf[static_cast<size_t>(key)] = page.Slot;
     pages.push_back(page);
-    this->TableDirty = true;
+    this->Cur->TableDirty = true;
   }
   const int capacity = self->GetAtlasCapacity();
   self->NumberOfResidentPages = capacity - static_cast<int>(this->FreeSlots.size());
   size_t requesting = 0, coarser = 0;
-  for (float value : this->Keys)
+  for (float value : this->Cur->Keys)
   {
     const long long key = static_cast<long long>(value) - 1;
     if (key >= 0)
     {
       ++requesting;
-      coarser += this->SlotOf[static_cast<size_t>(key)] < 0 ? 1 : 0;
+      coarser += this->Cur->SlotOf[static_cast<size_t>(key)] < 0 ? 1 : 0;
     }
   }
-  self->CoarserShare = requesting ? static_cast<double>(coarser) / requesting : 0.0;
+  this->Cur->CoarserShare = requesting ? static_cast<double>(coarser) / requesting : 0.0;
+  self->CoarserShare = this->Cur->CoarserShare;
   return pages;
 }
 
@@ -661,7 +753,7 @@ std::vector<NewPage> vtkPenumbraResolutionMatchedShadows::Internals::Allocate(
 // its parent's entry (the finest resident coarser page), uploaded when anything changed.
 void vtkPenumbraResolutionMatchedShadows::Internals::UploadTable()
 {
-  if (!this->TableDirty)
+  if (!this->Cur->TableDirty)
   {
     return;
   }
@@ -674,11 +766,11 @@ void vtkPenumbraResolutionMatchedShadows::Internals::UploadTable()
       for (int x = 0; x < side; ++x)
       {
         const size_t key = static_cast<size_t>(p.Key(k, x, y));
-        const int slot = this->SlotOf[key];
+        const int slot = this->Cur->SlotOf[key];
         // The base level is always resident (it takes at most a quarter of the atlas).
-        this->Table[key] = slot >= 0 || k == p.Base
+        this->Cur->Table[key] = slot >= 0 || k == p.Base
           ? ((k - p.Base) << 24) | std::max(slot, 0)
-          : this->Table[static_cast<size_t>(p.Key(k - 1, x >> 1, y >> 1))];
+          : this->Cur->Table[static_cast<size_t>(p.Key(k - 1, x >> 1, y >> 1))];
       }
     }
   }
@@ -686,10 +778,10 @@ void vtkPenumbraResolutionMatchedShadows::Internals::UploadTable()
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   for (int k = p.Base; k <= p.Finest; ++k)
   {
-    glTextureSubImage2D(this->PageTable, p.Finest - k, 0, 0, p.Side(k), p.Side(k), GL_RED_INTEGER,
-      GL_INT, this->Table.data() + p.Offset(k));
+    glTextureSubImage2D(this->Cur->PageTable, p.Finest - k, 0, 0, p.Side(k), p.Side(k),
+      GL_RED_INTEGER, GL_INT, this->Cur->Table.data() + p.Offset(k));
   }
-  this->TableDirty = false;
+  this->Cur->TableDirty = false;
 }
 
 //------------------------------------------------------------------------------
@@ -705,7 +797,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
   }
   vtkOpenGLRenderWindow* win = this->Window;
   std::string vs = vtkPenumbraShadowMapVS, fs = vtkPenumbraShadowMapFS;
-  if (!this->Map.Perspective)
+  if (!this->Cur->Map.Perspective)
   {
     // Orthographic depth is linear already: the rasterizer writes it (early depth test).
     for (std::string* source : { &vs, &fs })
@@ -730,8 +822,8 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
   ostate->vtkglReadBuffer(GL_NONE);
   ostate->vtkglEnable(GL_SCISSOR_TEST);
   this->Casters.Bind(program);
-  program->SetUniformi("perspective", this->Map.Perspective ? 1 : 0);
-  program->SetUniformf("invFar", static_cast<float>(1.0 / this->Map.Far));
+  program->SetUniformi("perspective", this->Cur->Map.Perspective ? 1 : 0);
+  program->SetUniformf("invFar", static_cast<float>(1.0 / this->Cur->Map.Far));
   program->SetUniformi("peel", 0);
   program->SetUniformf("peelGap", 0.0f);
   const GLuint scratch = this->Scratch->GetHandle(), atlas = this->Atlas->GetHandle();
@@ -749,7 +841,8 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
       ++last;
     }
     const int w = (x1 - x0 + 1) << PageBits, h = (y1 - y0 + 1) << PageBits;
-    const View crop = CroppedView(this->Map, pages[first].K, x0 << PageBits, y0 << PageBits, w, h);
+    const View crop =
+      CroppedView(this->Cur->Map, pages[first].K, x0 << PageBits, y0 << PageBits, w, h);
     float matrix[16];
     crop.ToFloatMatrix(matrix);
     program->SetUniformMatrix4x4("lightMatrix", matrix);
@@ -787,8 +880,8 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
   {
     // The programs read the textures only for pending samples, which there are none of; the
     // map still needs a view.
-    this->Map = View();
-    this->Map.Row[3][3] = 1.0;
+    this->Cur->Map = View();
+    this->Cur->Map.Row[3][3] = 1.0;
   }
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
@@ -798,20 +891,21 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
     gbuffer->GetPositionTexture()->Activate();
     gbuffer->GetNormalTexture()->Activate();
     vtkTextureObject* requests = anyCaster
-      ? this->RequestTargets[static_cast<size_t>(layer)].Get()
+      ? this->Cur->RequestTargets[static_cast<size_t>(layer)].Get()
       : gbuffer->GetPositionTexture(); // not read: no sample is pending
     requests->Activate();
     this->Atlas->Activate();
-    this->PageTableAlias->Activate();
+    this->Cur->PageTableAlias->Activate();
     this->SetMapUniforms(self, program, gbuffer, setup, anyCaster);
     program->SetUniformi("requests", requests->GetTextureUnit());
     program->SetUniformi("atlas", this->Atlas->GetTextureUnit());
-    program->SetUniformi("pageTable", this->PageTableAlias->GetTextureUnit());
+    program->SetUniformi("pageTable", this->Cur->PageTableAlias->GetTextureUnit());
     program->SetUniformi("slotsPerRow", static_cast<int>(this->Atlas->GetWidth()) >> PageBits);
-    program->SetUniformf("tanHalf", static_cast<float>(this->Map.TanHalf));
+    program->SetUniformf("tanHalf", static_cast<float>(this->Cur->Map.TanHalf));
     program->SetUniformf("footprintScale",
-      static_cast<float>(std::max(2.0 / Norm3(this->Map.Row[0]), 2.0 / Norm3(this->Map.Row[1]))));
-    program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(this->Map.Row[2])));
+      static_cast<float>(
+        std::max(2.0 / Norm3(this->Cur->Map.Row[0]), 2.0 / Norm3(this->Cur->Map.Row[1]))));
+    program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(this->Cur->Map.Row[2])));
     const float position[3] = { static_cast<float>(setup.Position[0]),
       static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
     const float toLight[3] = { static_cast<float>(setup.Direction[0]),
@@ -822,7 +916,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
     program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias));
     program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
     this->LookupQuad->Render();
-    this->PageTableAlias->Deactivate();
+    this->Cur->PageTableAlias->Deactivate();
     this->Atlas->Deactivate();
     if (anyCaster)
     {
@@ -851,11 +945,14 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Release(vtkWindow* window)
       tex->ReleaseGraphicsResources(this->Window);
     }
   }
-  for (auto& tex : this->RequestTargets)
+  for (LightPages& pages : this->Lights)
   {
-    tex->ReleaseGraphicsResources(this->Window);
+    this->ReleaseLight(pages);
   }
-  this->RequestTargets.clear();
+  this->Lights.clear();
+  this->Cur = nullptr;
+  this->FreeSlots.clear();
+  this->PageTableSide = this->PageTableMips = 0;
   for (auto* fbo : { this->MapFBO.Get(), this->RequestFBO.Get() })
   {
     if (fbo)
@@ -870,17 +967,10 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Release(vtkWindow* window)
       quad->ReleaseGraphicsResources(this->Window);
     }
   }
-  if (this->PageTable)
-  {
-    glDeleteTextures(1, &this->PageTable);
-  }
-  this->PageTable = 0;
-  this->PageTableAlias = nullptr;
   this->Atlas = this->Scratch = nullptr;
   this->MapFBO = this->RequestFBO = nullptr;
   this->RequestQuad.reset();
   this->LookupQuad.reset();
-  this->Key.clear();
   this->Window = nullptr;
 }
 

@@ -38,8 +38,8 @@
  * - Cached mode (§3.3.4, default on): the pages stay resident while the light, the casters
  *   and the settings are unchanged (the virtual map does not follow the camera), so a still
  *   or camera-only frame renders only newly requested pages; any change flushes them all.
- *   The atlas and page table are shared by the lights, so with several lights each light
- *   rebuilds its pages every frame.
+ *   Each light has its own virtual map, page table and requests; the lights share the atlas
+ *   (a light whose base level does not fit drops the other lights' pages).
  *
  * Point lights (positional, cone above 60 degrees) and area lights: CanShadow() is false
  * (the pass shadows them with its fallback), ComputeFrame() reports an error.

@@ -261,6 +261,34 @@ int CheckCache()
   return EXIT_SUCCESS;
 }
 
+// Two lights keep their own pages in the one atlas: a second unchanged frame renders none.
+int CheckTwoLightsCached()
+{
+  auto renderer = PlaneScene(LightType::Directional, 0.5, 0.05, 0.3);
+  vtkNew<vtkLight> second;
+  second->SetLightTypeToSceneLight();
+  second->SetPositional(true);
+  second->SetConeAngle(30.0);
+  second->SetPosition(-1.0, 0.5, 4.0);
+  second->SetFocalPoint(0, 0, 0);
+  renderer->AddLight(second);
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 256, 192);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, "rmsm", "{}"));
+  ShadowPass(renderer)->ReuseUnchangedFramesOff();
+  vtkPenumbraResolutionMatchedShadows* rmsm = TechniqueOf(renderer);
+  CHECK(rmsm != nullptr);
+  window->Render();
+  const long long first = rmsm->GetTotalRenderedPages();
+  window->Render();
+  std::printf(
+    "two lights: %lld pages rendered, then %lld\n", first, rmsm->GetTotalRenderedPages() - first);
+  CHECK(first > 0 && rmsm->GetTotalRenderedPages() == first);
+  window->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
 // Point lights are left to the pass's fallback; the CPU entry point refuses with an error.
 int CheckRefusals()
 {
@@ -288,5 +316,6 @@ int TestResolutionMatchedShadows(int, char*[])
   RUN(CheckDefaultScene());
   RUN(CheckAtlasFull());
   RUN(CheckCache());
+  RUN(CheckTwoLightsCached());
   return EXIT_SUCCESS;
 }
