@@ -41,8 +41,11 @@ using penumbra_light_views::View;
 
 namespace
 {
-constexpr int PageBits = 5;      // 32 x 32 texel pages
-constexpr int SuperpageBits = 5; // 32 x 32 pages: 1024^2 texels (Lefohn et al. 2007, §3.3.3)
+constexpr int PageBits = 5; // 32 x 32 texel pages
+// 8 x 8 pages (256^2 texels) a superpage. Lefohn et al. 2007 (§3.3.3) use 1024^2 to save
+// geometry passes; on llvmpipe a pass costs little and rasterizing the unrequested texels of
+// a sparse 1024^2 bounding rectangle a lot (docs/benchmarks.md, "Resolution-matched").
+constexpr int SuperpageBits = 3;
 constexpr int SuperpageSide = 1 << (PageBits + SuperpageBits);
 constexpr int BaseLevelCap = 10;      // the always-resident level: at most 1024^2 texels
 constexpr double MaxSpotCone = 60.0;  // one perspective view (shadowmap's single-view rule)

@@ -27,10 +27,11 @@
  *   it: its own when resident, else its parent's (the paper's "highest resolution page that
  *   is less than or equal to that page table's resolution", propagated on the CPU and
  *   uploaded only when it changed).
- * - Rendering (§3.3.3): the new pages are binned into superpages (32 x 32 pages of one
- *   level, 1024^2 texels); each superpage is one geometry pass of the casters with a
- *   projection cropped to the bounding rectangle of its new pages (depth untouched, so
- *   depths agree across levels), then each page is copied into its atlas slot
+ * - Rendering (§3.3.3): the new pages are binned into superpages (8 x 8 pages of one
+ *   level, 256^2 texels, not the paper's 1024^2: on llvmpipe a pass is cheap and the
+ *   unrequested texels of a sparse large rectangle are not); each superpage is one geometry pass of
+ * the casters with a projection cropped to the bounding rectangle of its new pages (depth
+ * untouched, so depths agree across levels), then each page is copied into its atlas slot
  *   (glCopyImageSubData).
  * - Lookup (§3.3.1): the same level per sample, the page table entry, one nearest atlas
  *   texel compared with a slope-scaled bias of that level's texel (the paper's 2 x 2 PCF at
@@ -43,9 +44,11 @@
  *
  * Point lights (positional, cone above 60 degrees) and area lights: CanShadow() is false
  * (the pass shadows them with its fallback), ComputeFrame() reports an error.
- * Memory: the atlas keeps AtlasSize^2 x 4 bytes (64 MiB at 4096^2), the page table
- * 4/3 x (MaxResolution / 32)^2 x 4 bytes (5.3 MiB at 32768^2), the request target and the
- * superpage scratch 4 bytes per pixel / texel (1024^2).
+ * Memory: the atlas keeps AtlasSize^2 x 4 bytes (64 MiB at 4096^2, shared by the lights);
+ * per light the page table 4/3 x (MaxResolution / 32)^2 x 4 bytes (5.3 MiB at 32768^2), the
+ * request targets 8 bytes per pixel and layer, and on the CPU the page table twice more
+ * (slots and entries) and the read-back requests (4 bytes per pixel); the superpage scratch
+ * 256^2 x 4 bytes.
  */
 
 #ifndef vtkPenumbraResolutionMatchedShadows_h
