@@ -596,6 +596,7 @@ void vtkPenumbraResolutionMatchedShadows::Internals::SetMapUniforms(
   program->SetUniformi("baseLevel", this->Levels.Base);
   program->SetUniformi("finestLevel", this->Levels.Finest);
   program->SetUniformi("lodBias", self->LODBias);
+  program->SetUniformi("analysisStep", self->AnalysisStep);
 }
 
 //------------------------------------------------------------------------------
@@ -609,7 +610,8 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
 {
   const auto start = Clock::now();
   vtkOpenGLRenderWindow* win = frame->GetWindow();
-  const int w = frame->GetWidth(), h = frame->GetHeight();
+  const int step = self->AnalysisStep;
+  const int w = (frame->GetWidth() + step - 1) / step, h = (frame->GetHeight() + step - 1) / step;
   this->Cur->RequestTargets.resize(static_cast<size_t>(frame->GetNumberOfLayers()));
   for (auto& target : this->Cur->RequestTargets)
   {

@@ -116,6 +116,17 @@ public:
 
   ///@{
   /**
+   * The request pass analyses one sample per AnalysisStep x AnalysisStep block of pixels
+   * (Lefohn et al. 2007, §3.3.5, reduced analysis resolution); the other samples of the
+   * block are looked up at its level, and a page none of them requested is served by the
+   * finest resident coarser page. Default 1 (every sample), clamped to [1, 4].
+   */
+  vtkSetClampMacro(AnalysisStep, int, 1, 4);
+  vtkGetMacro(AnalysisStep, int);
+  ///@}
+
+  ///@{
+  /**
    * Cached mode: keep the pages while the light, the casters and the settings are
    * unchanged. Default on.
    */
@@ -186,6 +197,7 @@ protected:
   int MaxResolution = 32768;
   int AtlasSize = 4096;
   int LODBias = 1;
+  int AnalysisStep = 1;
   bool Cached = true;
   double Bias = 1e-4;
   double SlopeBias = 1.0;

@@ -488,6 +488,9 @@ const OptionTable RMSMOptions = {
   { "lod_bias", OptionType::Integer, 1, 0, 2, {}, "levels",
     "request levels this much finer than the one whose texel matches a sample's footprint "
     "(0: the paper's Eq. 1 rounded up; each level quadruples the pages)" },
+  { "analysis_step", OptionType::Integer, 1, 1, 4, {}, "samples",
+    "the request pass analyses one sample per n x n block (n^2 times less work; pages no "
+    "analysed sample asked for are served by coarser ones)" },
   { "cached", OptionType::Boolean, true, 0, 0, {}, "",
     "keep the pages while the light, the casters and the settings are unchanged (only new "
     "requests are rendered); false rebuilds every frame" },
@@ -504,6 +507,7 @@ void InstallRMSM(vtkRenderer* ren, const Options& opts)
   technique->SetMaxResolution(opts.Integer("max_resolution"));
   technique->SetAtlasSize(opts.Integer("atlas_size"));
   technique->SetLODBias(opts.Integer("lod_bias"));
+  technique->SetAnalysisStep(opts.Integer("analysis_step"));
   technique->SetCached(opts.Boolean("cached"));
   technique->SetBias(opts.Number("bias"));
   technique->SetSlopeBias(opts.Number("slope_bias"));

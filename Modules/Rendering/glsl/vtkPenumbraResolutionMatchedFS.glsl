@@ -4,7 +4,8 @@
 // ACM TOG 26(4), 2007) on the G-buffer, one program per role:
 // - RMSM_REQUEST (§3.3.2, Algorithm 2 steps 1-3): each pending sample's shadow level of
 //   detail from Eq. 1 and the page of the virtual map it needs, written as key + 1 (0: no
-//   request) and the level into an RG32F target; keys stay below 2^24, so they are exact
+//   request) and the level into an RG32F target (one analysed sample per analysisStep^2
+//   block); keys stay below 2^24, so they are exact
 //   in float.
 // - otherwise the lookup (§3.3.1): the level the sample requested (read from that target:
 //   computing it again costs more than the rest of the lookup on llvmpipe), the page table's
@@ -22,6 +23,7 @@ uniform float invFar;      // perspective: depth = w / Far
 uniform int baseLevel;     // coarsest level in the page table, always fully resident
 uniform int finestLevel;   // log2 of the maximum effective resolution
 uniform int lodBias;       // levels finer than the matched one
+uniform int analysisStep;  // the request pass analyses one sample per step x step block
 
 const int pageBits = 5; // 32 x 32 texel pages (§4: "a page size of 32^2 texels")
 
@@ -89,7 +91,9 @@ ivec2 rmsmTexel(vec2 st, int k)
 #ifdef RMSM_REQUEST
 void main()
 {
-  ivec2 cell = ivec2(gl_FragCoord.xy);
+  // One analysed sample per analysisStep^2 block (§3.3.5, "reduce the resolution of the
+  // analysis"); its derivatives still come from its adjacent pixels.
+  ivec2 cell = ivec2(gl_FragCoord.xy) * analysisStep;
   vec3 p;
   vec3 n;
   float key = 0.0;
@@ -128,7 +132,9 @@ uniform float maxTangent;
 float rmsmCompare(ivec2 cell, vec3 p, vec3 normal)
 {
   vec3 m = rmsmProject(p);
-  int k = int(texelFetch(requests, cell, 0).g);
+  // The level its block's analysed sample requested (0 when that one requested nothing);
+  // pages nobody requested are served by the finest resident coarser page.
+  int k = clamp(int(texelFetch(requests, cell / analysisStep, 0).g), baseLevel, finestLevel);
   ivec2 texel = rmsmTexel(m.xy, k);
   int entry = texelFetch(pageTable, texel >> pageBits, finestLevel - k).r;
   int resident = baseLevel + (entry >> 24);
