@@ -597,6 +597,7 @@ void vtkPenumbraResolutionMatchedShadows::Internals::SetMapUniforms(
   program->SetUniformi("finestLevel", this->Levels.Finest);
   program->SetUniformi("lodBias", self->LODBias);
   program->SetUniformi("analysisStep", self->AnalysisStep);
+  program->SetUniformi("footprintWidth", self->Footprint == FOOTPRINT_WIDTH ? 1 : 0);
 }
 
 //------------------------------------------------------------------------------

@@ -13,12 +13,13 @@
  *   fallback of every sample) to log2(MaxResolution).
  * - Requests (§3.3.2, Eq. 1): a full-screen pass over the G-buffer computes per pending
  *   sample (facing the light, inside the cone) the level whose texel matches the sample's
- *   footprint in the map, |dX x dY| of the map coordinates' change to the neighbouring
- *   pixels on the same prop (one-sided, the smaller side), rounded up; it writes the key of
- *   the page it needs. The keys are read back (4 bytes per pixel; on llvmpipe GPU memory is
- *   host memory, so the paper's GPU scan/sort/compaction buys nothing here) and
- *   de-duplicated with one byte per page of the pyramid, in key order (coarse levels first,
- *   which makes allocation deterministic).
+ *   footprint in the map, from dX and dY, the map coordinates' change to the neighbouring
+ *   pixels on the same prop (one-sided, the smaller side): by default its smallest width,
+ *   or the paper's square root of its area (SetFootprint()), rounded up and LODBias levels
+ *   finer; it writes the key of the page it needs and the level. The keys are read back (4 bytes
+ * per pixel; on llvmpipe GPU memory is host memory, so the paper's GPU scan/sort/compaction buys
+ * nothing here) and de-duplicated with one byte per page of the pyramid, in key order (coarse
+ * levels first, which makes allocation deterministic).
  * - Allocation (§3.3.3): a free list of atlas slots; when it runs out, pages no sample
  *   requested this frame are evicted, and when that is not enough the finest requests are
  *   not made resident: those samples fall back to the finest resident coarser page (never
@@ -102,6 +103,25 @@ public:
    */
   void SetAtlasSize(int size);
   vtkGetMacro(AtlasSize, int);
+  ///@}
+
+  enum FootprintRules
+  {
+    FOOTPRINT_AREA = 0, ///< Eq. 1: texel side sqrt(|dX x dY|), the footprint's area
+    FOOTPRINT_WIDTH = 1 ///< texel side |dX x dY| / max(|dX|, |dY|), its smallest width
+  };
+
+  ///@{
+  /**
+   * How a sample's footprint in the map sets its level. FOOTPRINT_AREA is the paper's Eq. 1
+   * (§3.3.2), the texel as large as the square root of the footprint's area: along the short
+   * axis of an anisotropic footprint (receivers seen at a slant) the texel is then coarser
+   * than the pixel. FOOTPRINT_WIDTH (default) takes the footprint's smallest width, the same
+   * for a square footprint and finer for a slanted one (more pages). Measured in
+   * docs/benchmarks.md.
+   */
+  vtkSetClampMacro(Footprint, int, FOOTPRINT_AREA, FOOTPRINT_WIDTH);
+  vtkGetMacro(Footprint, int);
   ///@}
 
   ///@{
@@ -196,6 +216,7 @@ protected:
 
   int MaxResolution = 32768;
   int AtlasSize = 4096;
+  int Footprint = FOOTPRINT_WIDTH;
   int LODBias = 1;
   int AnalysisStep = 1;
   bool Cached = true;

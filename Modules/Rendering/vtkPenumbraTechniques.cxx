@@ -485,9 +485,13 @@ const OptionTable RMSMOptions = {
   { "atlas_size", OptionType::Integer, 4096, 512, 8192, { 512, 1024, 2048, 4096, 8192 }, "texels",
     "side of the physical page atlas ((atlas_size / 32)^2 pages of 32 x 32 texels; 4 bytes a "
     "texel: 64 MiB at 4096)" },
+  { "footprint", OptionType::Choice, "width", 0, 0, { "width", "area" }, "",
+    "how a sample's footprint in the map sets its level: \"width\", texels as small as the "
+    "footprint's smallest width; \"area\", the paper's Eq. 1, texels as large as the square "
+    "root of its area (coarser across slanted receivers)" },
   { "lod_bias", OptionType::Integer, 1, 0, 2, {}, "levels",
     "request levels this much finer than the one whose texel matches a sample's footprint "
-    "(0: the paper's Eq. 1 rounded up; each level quadruples the pages)" },
+    "(0: matched, rounded up; each level quadruples the pages)" },
   { "analysis_step", OptionType::Integer, 1, 1, 4, {}, "samples",
     "the request pass analyses one sample per n x n block (n^2 times less work; pages no "
     "analysed sample asked for are served by coarser ones)" },
@@ -506,6 +510,9 @@ void InstallRMSM(vtkRenderer* ren, const Options& opts)
   vtkNew<vtkPenumbraResolutionMatchedShadows> technique;
   technique->SetMaxResolution(opts.Integer("max_resolution"));
   technique->SetAtlasSize(opts.Integer("atlas_size"));
+  technique->SetFootprint(opts.Choice("footprint") == 1
+      ? vtkPenumbraResolutionMatchedShadows::FOOTPRINT_AREA
+      : vtkPenumbraResolutionMatchedShadows::FOOTPRINT_WIDTH);
   technique->SetLODBias(opts.Integer("lod_bias"));
   technique->SetAnalysisStep(opts.Integer("analysis_step"));
   technique->SetCached(opts.Boolean("cached"));

@@ -23,6 +23,7 @@ uniform float invFar;      // perspective: depth = w / Far
 uniform int baseLevel;     // coarsest level in the page table, always fully resident
 uniform int finestLevel;   // log2 of the maximum effective resolution
 uniform int lodBias;       // levels finer than the matched one
+uniform int footprintWidth; // 1: texels as small as the footprint's smallest width
 uniform int analysisStep;  // the request pass analyses one sample per step x step block
 
 const int pageBits = 5; // 32 x 32 texel pages (§4: "a page size of 32^2 texels")
@@ -63,9 +64,12 @@ bool rmsmStep(ivec2 cell, ivec2 axis, float prop, vec2 st, out vec2 delta)
 }
 
 // Eq. 1: A = |dX x dY|, the area of the parallelogram the pixel covers in [0, 1]^2 map
-// units (NDC steps halved), and the level k = -log2(sqrt(A)) whose texels are that size,
-// rounded up (a texel never larger than the pixel's footprint), made lodBias levels finer
-// and clamped to [baseLevel, finestLevel]. With one axis only (a one-pixel strip) the footprint is taken
+// units (NDC steps halved), and the level k = -log2(sqrt(A)) whose texels are that size
+// (footprintWidth 0); or, with footprintWidth 1, texels as small as the parallelogram's
+// smallest width A / max(|dX|, |dY|), so that an anisotropic footprint is not under-sampled
+// across its short axis (the paper's own caveat: dX and dY are not the filter ellipse's
+// axes). Rounded up (a texel never larger than that), made lodBias levels finer and clamped
+// to [baseLevel, finestLevel]. With one axis only (a one-pixel strip) the footprint is taken
 // as square; with none, or A = 0 (seen edge-on), the finest level.
 int rmsmLevel(ivec2 cell, vec2 st)
 {
@@ -77,7 +81,9 @@ int rmsmLevel(ivec2 cell, vec2 st)
   a = hasA ? a : vec2(-b.y, b.x);
   b = hasB ? b : vec2(-a.y, a.x);
   float area = 0.25 * abs(a.x * b.y - a.y * b.x);
-  float k = -0.5 * log2(max(area, exp2(-2.0 * float(finestLevel + 1))));
+  float size = footprintWidth != 0 ? area / max(0.5 * max(length(a), length(b)), 1e-30)
+                                   : sqrt(area);
+  float k = -log2(max(size, exp2(-float(finestLevel + 1))));
   return clamp(int(ceil(k)) + lodBias, baseLevel, finestLevel);
 }
 
