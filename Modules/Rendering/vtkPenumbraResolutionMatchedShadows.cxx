@@ -885,9 +885,17 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
   if (!anyCaster)
   {
     // The programs read the textures only for pending samples, which there are none of; the
-    // map still needs a view.
+    // uniforms still need a view (the identity).
     this->Cur->Map = View();
-    this->Cur->Map.Row[3][3] = 1.0;
+    for (int r = 0; r < 4; ++r)
+    {
+      this->Cur->Map.Row[r][r] = 1.0;
+    }
+  }
+  else if (this->Cur->RequestTargets.size() < static_cast<size_t>(frame->GetNumberOfLayers()))
+  {
+    error = "the lookup has no requests for some layer of the frame";
+    return false;
   }
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
@@ -931,7 +939,6 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
     gbuffer->GetPositionTexture()->Deactivate();
     gbuffer->GetNormalTexture()->Deactivate();
   }
-  (void)error;
   return true;
 }
 
