@@ -175,8 +175,9 @@ struct LightPages
   double CoarserShare = 0.0;
   GLuint PageTable = 0;                             // R32I, one mip per level
   vtkSmartPointer<vtkTextureObject> PageTableAlias; // binds PageTable through VTK's units
-  // Per layer the request pass's output (RG32F: key + 1 and level per pixel), which the
-  // lookup reads the levels from.
+  // Per layer the request pass's outputs: the keys + 1 (RGBA32F: the analysed sample's page,
+  // with 2 x 2 analysis blocks the block's four pages) and the levels (R32F), which the
+  // lookup reads.
   std::vector<vtkSmartPointer<vtkTextureObject>> RequestTargets;
 };
 
@@ -613,30 +614,39 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
   vtkOpenGLRenderWindow* win = frame->GetWindow();
   const int step = self->AnalysisStep;
   const int w = (frame->GetWidth() + step - 1) / step, h = (frame->GetHeight() + step - 1) / step;
-  this->Cur->RequestTargets.resize(static_cast<size_t>(frame->GetNumberOfLayers()));
-  for (auto& target : this->Cur->RequestTargets)
+  // Per layer the keys (RGBA: the block's samples) and the levels.
+  const size_t layers = static_cast<size_t>(frame->GetNumberOfLayers());
+  this->Cur->RequestTargets.resize(2 * layers);
+  for (size_t t = 0; t < this->Cur->RequestTargets.size(); ++t)
   {
+    auto& target = this->Cur->RequestTargets[t];
+    const bool keys = t % 2 == 0;
     if (!target)
     {
       target = NearestTexture(win);
-      target->SetInternalFormat(GL_RG32F);
-      target->SetFormat(GL_RG);
+      target->SetInternalFormat(keys ? GL_RGBA32F : GL_R32F);
+      target->SetFormat(keys ? GL_RGBA : GL_RED);
       target->SetDataType(GL_FLOAT);
     }
     if (static_cast<int>(target->GetWidth()) != w || static_cast<int>(target->GetHeight()) != h)
     {
-      target->Allocate2D(w, h, 2, VTK_FLOAT);
+      target->Allocate2D(w, h, keys ? 4 : 1, VTK_FLOAT);
     }
   }
   this->Cur->Requested.assign(this->Cur->SlotOf.size(), 0);
   this->Cur->RequestedKeys.clear();
-  this->Cur->Keys.resize(static_cast<size_t>(w) * h * frame->GetNumberOfLayers());
+  // One key per pixel, or the four of each 2 x 2 block.
+  const int channels = step == 2 ? 4 : 1;
+  const size_t perLayer = static_cast<size_t>(w) * h * channels;
+  this->Cur->Keys.resize(perLayer * layers);
   vtkShaderProgram* program = this->RequestQuad->Program;
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
     vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
-    penumbra_light_views::QuadPassState pass(
-      win->GetState(), this->RequestFBO, { this->Cur->RequestTargets[layer].Get() }, w, h);
+    penumbra_light_views::QuadPassState pass(win->GetState(), this->RequestFBO,
+      { this->Cur->RequestTargets[2 * layer].Get(),
+        this->Cur->RequestTargets[2 * layer + 1].Get() },
+      w, h);
     win->GetShaderCache()->ReadyShaderProgram(program);
     gbuffer->GetPositionTexture()->Activate();
     gbuffer->GetNormalTexture()->Activate();
@@ -646,8 +656,8 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
     gbuffer->GetNormalTexture()->Deactivate();
     this->RequestFBO->ActivateReadBuffer(0);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(
-      0, 0, w, h, GL_RED, GL_FLOAT, this->Cur->Keys.data() + static_cast<size_t>(w) * h * layer);
+    glReadPixels(0, 0, w, h, channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT,
+      this->Cur->Keys.data() + perLayer * static_cast<size_t>(layer));
   }
   const long long size = static_cast<long long>(this->Cur->Requested.size());
   for (float value : this->Cur->Keys)
@@ -892,7 +902,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
       this->Cur->Map.Row[r][r] = 1.0;
     }
   }
-  else if (this->Cur->RequestTargets.size() < static_cast<size_t>(frame->GetNumberOfLayers()))
+  else if (this->Cur->RequestTargets.size() < 2 * static_cast<size_t>(frame->GetNumberOfLayers()))
   {
     error = "the lookup has no requests for some layer of the frame";
     return false;
@@ -905,7 +915,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
     gbuffer->GetPositionTexture()->Activate();
     gbuffer->GetNormalTexture()->Activate();
     vtkTextureObject* requests = anyCaster
-      ? this->Cur->RequestTargets[static_cast<size_t>(layer)].Get()
+      ? this->Cur->RequestTargets[2 * static_cast<size_t>(layer) + 1].Get()
       : gbuffer->GetPositionTexture(); // not read: no sample is pending
     requests->Activate();
     this->Atlas->Activate();

@@ -136,12 +136,12 @@ public:
 
   ///@{
   /**
-   * The request pass analyses one sample per AnalysisStep x AnalysisStep block of pixels
-   * (Lefohn et al. 2007, §3.3.5, reduced analysis resolution); the other samples of the
-   * block are looked up at its level, and a page none of them requested is served by the
-   * finest resident coarser page. Default 1 (every sample), clamped to [1, 4].
+   * The request pass computes the level (Eq. 1) of one sample per AnalysisStep x
+   * AnalysisStep block of pixels (Lefohn et al. 2007, §3.3.5, reduced analysis resolution);
+   * the block's other samples request their own pages at that level and are looked up at
+   * it. Default 1 (every sample), clamped to [1, 2].
    */
-  vtkSetClampMacro(AnalysisStep, int, 1, 4);
+  vtkSetClampMacro(AnalysisStep, int, 1, 2);
   vtkGetMacro(AnalysisStep, int);
   ///@}
 

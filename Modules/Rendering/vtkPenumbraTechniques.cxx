@@ -492,9 +492,9 @@ const OptionTable RMSMOptions = {
   { "lod_bias", OptionType::Integer, 1, 0, 2, {}, "levels",
     "request levels this much finer than the one whose texel matches a sample's footprint "
     "(0: matched, rounded up; each level quadruples the pages)" },
-  { "analysis_step", OptionType::Integer, 1, 1, 4, {}, "samples",
-    "the request pass analyses one sample per n x n block (n^2 times less work; pages no "
-    "analysed sample asked for are served by coarser ones)" },
+  { "analysis_step", OptionType::Integer, 1, 1, 2, {}, "samples",
+    "the request pass computes the level of one sample per n x n block (2: four times fewer "
+    "level computations; the block's samples request their own pages at that level)" },
   { "cached", OptionType::Boolean, true, 0, 0, {}, "",
     "keep the pages while the light, the casters and the settings are unchanged (only new "
     "requests are rendered); false rebuilds every frame" },

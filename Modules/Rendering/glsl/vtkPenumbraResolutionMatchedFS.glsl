@@ -4,8 +4,8 @@
 // ACM TOG 26(4), 2007) on the G-buffer, one program per role:
 // - RMSM_REQUEST (§3.3.2, Algorithm 2 steps 1-3): each pending sample's shadow level of
 //   detail from Eq. 1 and the page of the virtual map it needs, written as key + 1 (0: no
-//   request) and the level into an RG32F target (one analysed sample per analysisStep^2
-//   block); keys stay below 2^24, so they are exact
+//   request) into an RGBA32F target (with 2 x 2 analysis blocks the block's four samples'
+//   pages) and the level into an R32F one; keys stay below 2^24, so they are exact
 //   in float.
 // - otherwise the lookup (§3.3.1): the level the sample requested (read from that target:
 //   computing it again costs more than the rest of the lookup on llvmpipe), the page table's
@@ -24,7 +24,7 @@ uniform int baseLevel;     // coarsest level in the page table, always fully res
 uniform int finestLevel;   // log2 of the maximum effective resolution
 uniform int lodBias;       // levels finer than the matched one
 uniform int footprintWidth; // 1: texels as small as the footprint's smallest width
-uniform int analysisStep;  // the request pass analyses one sample per step x step block
+uniform int analysisStep;  // the request pass analyses one sample per step x step block (1, 2)
 
 const int pageBits = 5; // 32 x 32 texel pages (§4: "a page size of 32^2 texels")
 
@@ -95,34 +95,54 @@ ivec2 rmsmTexel(vec2 st, int k)
 }
 
 #ifdef RMSM_REQUEST
+// key + 1 of the page of level k holding NDC point st: the pages of the levels before k
+// (4^(j - 5) per level j, from baseLevel on), then row by row.
+float rmsmKey(vec2 st, int k)
+{
+  ivec2 page = rmsmTexel(st, k) >> pageBits;
+  int offset = ((1 << (2 * (k - pageBits))) - (1 << (2 * (baseLevel - pageBits)))) / 3;
+  return float(offset + (page.y << (k - pageBits)) + page.x + 1);
+}
+
 void main()
 {
   // One analysed sample per analysisStep^2 block (§3.3.5, "reduce the resolution of the
-  // analysis"); its derivatives still come from its adjacent pixels.
+  // analysis"); its derivatives still come from its adjacent pixels. With 2 x 2 blocks the
+  // other three samples request their own pages at the analysed sample's level, so every
+  // sample's page is requested, only the level is shared.
   ivec2 cell = ivec2(gl_FragCoord.xy) * analysisStep;
   vec3 p;
   vec3 n;
-  float key = 0.0;
+  vec4 keys = vec4(0.0);
   float level = 0.0;
   if (penumbraClassify(cell, p, n) == 2)
   {
     vec3 m = rmsmProject(p);
     int k = rmsmLevel(cell, m.xy);
-    ivec2 page = rmsmTexel(m.xy, k) >> pageBits;
-    // Pages of the levels before k: 4^(j - 5) per level j, from baseLevel on.
-    int offset = ((1 << (2 * (k - pageBits))) - (1 << (2 * (baseLevel - pageBits)))) / 3;
-    key = float(offset + (page.y << (k - pageBits)) + page.x + 1);
     level = float(k);
+    keys.x = rmsmKey(m.xy, k);
+    if (analysisStep == 2)
+    {
+      ivec2 last = textureSize(samplePositions, 0) - 1;
+      for (int i = 1; i < 4; ++i)
+      {
+        vec4 q = texelFetch(samplePositions, min(cell + ivec2(i & 1, i >> 1), last), 0);
+        vec3 o = rmsmProject(q.xyz);
+        bool valid = q.w >= 0.5 && (perspective == 0 || o.z > 0.0) && !any(isnan(o.xy));
+        keys[i] = valid ? rmsmKey(o.xy, k) : 0.0;
+      }
+    }
   }
   // Never true; keeps the quad's texture-coordinate attribute active in the program.
   if (texCoord.x < -1.0)
   {
-    key = 0.0;
+    level = 0.0;
   }
-  gl_FragData[0] = vec4(key, level, 0.0, 0.0);
+  gl_FragData[0] = keys;
+  gl_FragData[1] = vec4(level);
 }
 #else
-uniform sampler2D requests;   // the request pass's output for these samples: g = level
+uniform sampler2D requests;   // the request pass's levels for these samples' blocks
 uniform isampler2D pageTable; // mip m = level finestLevel - m: (level - base) << 24 | slot
 uniform sampler2D atlas;      // the resident pages' depths, 32 x 32 texels each
 uniform int slotsPerRow;
@@ -140,7 +160,7 @@ float rmsmCompare(ivec2 cell, vec3 p, vec3 normal)
   vec3 m = rmsmProject(p);
   // The level its block's analysed sample requested (0 when that one requested nothing);
   // pages nobody requested are served by the finest resident coarser page.
-  int k = clamp(int(texelFetch(requests, cell / analysisStep, 0).g), baseLevel, finestLevel);
+  int k = clamp(int(texelFetch(requests, cell / analysisStep, 0).r), baseLevel, finestLevel);
   ivec2 texel = rmsmTexel(m.xy, k);
   int entry = texelFetch(pageTable, texel >> pageBits, finestLevel - k).r;
   int resident = baseLevel + (entry >> 24);
