@@ -145,13 +145,14 @@ vtkSmartPointer<vtkTextureObject> NearestTexture(vtkOpenGLRenderWindow* win)
   return tex;
 }
 
-// The request or lookup program's source: the facing rules in (they need double precision).
-std::string FrameShader(bool request)
+// A request or lookup program's source: the facing rules in (they need double precision).
+// `role`: "RMSM_REQUEST", "RMSM_BILINEAR" (the 2 x 2 lookup) or "" (the nearest lookup).
+std::string FrameShader(const std::string& role)
 {
   std::string fs = vtkPenumbraResolutionMatchedFS;
   vtkShaderProgram::Substitute(fs, "//VTK::System::Dec",
     std::string("//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n") +
-      (request ? "#define RMSM_REQUEST\n" : ""),
+      (role.empty() ? "" : "#define " + role + "\n"),
     false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Classify", vtkPenumbraShadowMapClassify, false);
   return fs;
@@ -200,7 +201,7 @@ struct vtkPenumbraResolutionMatchedShadows::Internals
   int PageTableMips = 0;
   vtkSmartPointer<vtkOpenGLFramebufferObject> RequestFBO;
   std::unique_ptr<vtkOpenGLQuadHelper> RequestQuad;
-  std::unique_ptr<vtkOpenGLQuadHelper> LookupQuad;
+  std::unique_ptr<vtkOpenGLQuadHelper> LookupQuads[2]; // nearest, 2 x 2 (FILTER_BILINEAR)
 
   // Phases (see the definitions).
   bool FrameLight(
@@ -412,11 +413,15 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::EnsureResources(
     this->RequestFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
     this->RequestFBO->SetContext(win);
     this->RequestQuad.reset(new vtkOpenGLQuadHelper(
-      win, vtkPenumbraFrame::GetSurfaceQuadVS(), FrameShader(true).c_str(), ""));
-    this->LookupQuad.reset(new vtkOpenGLQuadHelper(
-      win, vtkPenumbraFrame::GetSurfaceQuadVS(), FrameShader(false).c_str(), ""));
+      win, vtkPenumbraFrame::GetSurfaceQuadVS(), FrameShader("RMSM_REQUEST").c_str(), ""));
   }
-  for (auto* quad : { this->RequestQuad.get(), this->LookupQuad.get() })
+  auto& lookup = this->LookupQuads[self->Filter == FILTER_BILINEAR ? 1 : 0];
+  if (!lookup)
+  {
+    lookup.reset(new vtkOpenGLQuadHelper(win, vtkPenumbraFrame::GetSurfaceQuadVS(),
+      FrameShader(self->Filter == FILTER_BILINEAR ? "RMSM_BILINEAR" : "").c_str(), ""));
+  }
+  for (auto* quad : { this->RequestQuad.get(), lookup.get() })
   {
     if (!quad->Program || !quad->Program->GetCompiled())
     {
@@ -891,7 +896,8 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
   const LightSetup& setup, bool anyCaster, std::string& error)
 {
   vtkOpenGLRenderWindow* win = frame->GetWindow();
-  vtkShaderProgram* program = this->LookupQuad->Program;
+  vtkOpenGLQuadHelper* quad = this->LookupQuads[self->Filter == FILTER_BILINEAR ? 1 : 0].get();
+  vtkShaderProgram* program = quad->Program;
   if (!anyCaster)
   {
     // The programs read the textures only for pending samples, which there are none of; the
@@ -939,7 +945,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
     program->SetUniformf("constantBias", static_cast<float>(self->Bias));
     program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias));
     program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
-    this->LookupQuad->Render();
+    quad->Render();
     this->Cur->PageTableAlias->Deactivate();
     this->Atlas->Deactivate();
     if (anyCaster)
@@ -983,7 +989,8 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Release(vtkWindow* window)
       fbo->ReleaseGraphicsResources(this->Window);
     }
   }
-  for (auto* quad : { this->RequestQuad.get(), this->LookupQuad.get() })
+  for (auto* quad :
+    { this->RequestQuad.get(), this->LookupQuads[0].get(), this->LookupQuads[1].get() })
   {
     if (quad)
     {
@@ -993,7 +1000,8 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Release(vtkWindow* window)
   this->Atlas = this->Scratch = nullptr;
   this->MapFBO = this->RequestFBO = nullptr;
   this->RequestQuad.reset();
-  this->LookupQuad.reset();
+  this->LookupQuads[0].reset();
+  this->LookupQuads[1].reset();
   this->Window = nullptr;
 }
 

@@ -34,9 +34,10 @@
  * the casters with a projection cropped to the bounding rectangle of its new pages (depth
  * untouched, so depths agree across levels), then each page is copied into its atlas slot
  *   (glCopyImageSubData).
- * - Lookup (§3.3.1): the same level per sample, the page table entry, one nearest atlas
- *   texel compared with a slope-scaled bias of that level's texel (the paper's 2 x 2 PCF at
- *   two adjacent levels is not implemented).
+ * - Lookup (§3.3.1): the level the sample requested, the page table entry, one nearest
+ *   atlas texel (or 2 x 2 bilinear PCF at that level, SetFilter()) compared with a
+ *   slope-scaled bias of that level's texel (the paper blends 2 x 2 PCF at two adjacent
+ *   levels; not implemented).
  * - Cached mode (§3.3.4, default on): the pages stay resident while the light, the casters
  *   and the settings are unchanged (the virtual map does not follow the camera), so a still
  *   or camera-only frame renders only newly requested pages; any change flushes them all.
@@ -103,6 +104,23 @@ public:
    */
   void SetAtlasSize(int size);
   vtkGetMacro(AtlasSize, int);
+  ///@}
+
+  enum FilterModes
+  {
+    FILTER_NONE = 0,    ///< the nearest texel of the requested level, 0 or 1
+    FILTER_BILINEAR = 1 ///< 2 x 2 PCF at the requested level, bilinear weights
+  };
+
+  ///@{
+  /**
+   * FILTER_NONE (default) or FILTER_BILINEAR: the four texels around the sample's position
+   * at its level, each resolved through the page table, compared and weighted bilinearly (a
+   * one-texel ramp at shadow edges; the slope bias then reaches one texel, twice SlopeBias).
+   * The paper blends two such lookups at adjacent levels; this one uses one level.
+   */
+  vtkSetClampMacro(Filter, int, FILTER_NONE, FILTER_BILINEAR);
+  vtkGetMacro(Filter, int);
   ///@}
 
   enum FootprintRules
@@ -216,6 +234,7 @@ protected:
 
   int MaxResolution = 32768;
   int AtlasSize = 4096;
+  int Filter = FILTER_NONE;
   int Footprint = FOOTPRINT_WIDTH;
   int LODBias = 1;
   int AnalysisStep = 1;

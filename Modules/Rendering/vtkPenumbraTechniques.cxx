@@ -485,6 +485,10 @@ const OptionTable RMSMOptions = {
   { "atlas_size", OptionType::Integer, 4096, 512, 8192, { 512, 1024, 2048, 4096, 8192 }, "texels",
     "side of the physical page atlas ((atlas_size / 32)^2 pages of 32 x 32 texels; 4 bytes a "
     "texel: 64 MiB at 4096)" },
+  { "filter", OptionType::Choice, "none", 0, 0, { "none", "bilinear" }, "",
+    "\"none\": the nearest texel of the requested level, 0/1; \"bilinear\": 2 x 2 PCF at "
+    "that level, the taps resolved through the page table and weighted bilinearly (the "
+    "paper blends two levels; this uses one)" },
   { "footprint", OptionType::Choice, "width", 0, 0, { "width", "area" }, "",
     "how a sample's footprint in the map sets its level: \"width\", texels as small as the "
     "footprint's smallest width; \"area\", the paper's Eq. 1, texels as large as the square "
@@ -510,6 +514,9 @@ void InstallRMSM(vtkRenderer* ren, const Options& opts)
   vtkNew<vtkPenumbraResolutionMatchedShadows> technique;
   technique->SetMaxResolution(opts.Integer("max_resolution"));
   technique->SetAtlasSize(opts.Integer("atlas_size"));
+  technique->SetFilter(opts.Choice("filter") == 1
+      ? vtkPenumbraResolutionMatchedShadows::FILTER_BILINEAR
+      : vtkPenumbraResolutionMatchedShadows::FILTER_NONE);
   technique->SetFootprint(opts.Choice("footprint") == 1
       ? vtkPenumbraResolutionMatchedShadows::FOOTPRINT_AREA
       : vtkPenumbraResolutionMatchedShadows::FOOTPRINT_WIDTH);

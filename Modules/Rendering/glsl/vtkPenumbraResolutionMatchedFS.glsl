@@ -152,8 +152,24 @@ uniform float depthPerLengthOrtho; // orthographic: |row 2|
 uniform vec3 lightPosition;   // rebased
 uniform vec3 toLightDirection; // directional: unit vector towards the light
 uniform float constantBias;
-uniform float slopeBias;      // in texel footprints of the level compared against
+uniform float slopeBias;      // in texel footprints of the level compared against (twice
+                              // that with the 2 x 2 filter, whose taps reach one texel)
 uniform float maxTangent;
+
+// One texel of level k compared with depth z: the page table's entry for its page names
+// the resident page serving it (that level or the finest resident coarser one), whose texel
+// is read from the atlas; the slope term (the bias per texel footprint at level 0) is scaled
+// to the resident level's texel.
+float rmsmTap(ivec2 texel, int k, float z, float slopeTerm)
+{
+  int entry = texelFetch(pageTable, texel >> pageBits, finestLevel - k).r;
+  int resident = baseLevel + (entry >> 24);
+  int slot = entry & 0xFFFFFF;
+  ivec2 t = texel >> (k - resident);
+  ivec2 origin = ivec2(slot % slotsPerRow, slot / slotsPerRow) << pageBits;
+  float stored = texelFetch(atlas, origin + (t & ((1 << pageBits) - 1)), 0).r;
+  return stored >= z - constantBias - slopeTerm * exp2(-float(resident)) ? 1.0 : 0.0;
+}
 
 float rmsmCompare(ivec2 cell, vec3 p, vec3 normal)
 {
@@ -161,23 +177,30 @@ float rmsmCompare(ivec2 cell, vec3 p, vec3 normal)
   // The level its block's analysed sample requested (0 when that one requested nothing);
   // pages nobody requested are served by the finest resident coarser page.
   int k = clamp(int(texelFetch(requests, cell / analysisStep, 0).r), baseLevel, finestLevel);
-  ivec2 texel = rmsmTexel(m.xy, k);
-  int entry = texelFetch(pageTable, texel >> pageBits, finestLevel - k).r;
-  int resident = baseLevel + (entry >> 24);
-  int slot = entry & 0xFFFFFF;
-  ivec2 t = texel >> (k - resident);
-  ivec2 origin = ivec2(slot % slotsPerRow, slot / slotsPerRow) << pageBits;
-  float stored = texelFetch(atlas, origin + (t & ((1 << pageBits) - 1)), 0).r;
-  // The slope-scaled bias of the texel actually compared against.
-  float texels = exp2(float(resident));
   vec3 toLight = perspective != 0 ? normalize(lightPosition - p) : toLightDirection;
-  float footprint =
-    perspective != 0 ? 2.0 * tanHalf * (m.z / invFar) / texels : footprintScale / texels;
+  float footprint = perspective != 0 ? 2.0 * tanHalf * (m.z / invFar) : footprintScale;
   float depthPerLength = perspective != 0 ? invFar : depthPerLengthOrtho;
   float cosine = max(1e-9, dot(normal, toLight));
   float tangent = min(maxTangent, sqrt(max(0.0, 1.0 - cosine * cosine)) / cosine);
-  float threshold = m.z - constantBias - slopeBias * footprint * tangent * depthPerLength;
-  return stored >= threshold ? 1.0 : 0.0;
+  float slopeTerm = slopeBias * footprint * tangent * depthPerLength;
+#ifdef RMSM_BILINEAR
+  // 2 x 2 PCF at level k (the paper blends two such lookups at adjacent levels): the four
+  // texels around the continuous position, each resolved through the page table (so taps
+  // across a page border read their own page), weighted bilinearly.
+  int side = 1 << k;
+  vec2 u = (m.xy * 0.5 + 0.5) * float(side) - 0.5;
+  vec2 b = floor(u);
+  vec2 w = u - b;
+  float l[4];
+  for (int i = 0; i < 4; ++i)
+  {
+    ivec2 texel = clamp(ivec2(b) + ivec2(i & 1, i >> 1), ivec2(0), ivec2(side - 1));
+    l[i] = rmsmTap(texel, k, m.z, 2.0 * slopeTerm);
+  }
+  return mix(mix(l[0], l[1], w.x), mix(l[2], l[3], w.x), w.y);
+#else
+  return rmsmTap(rmsmTexel(m.xy, k), k, m.z, slopeTerm);
+#endif
 }
 
 void main()

@@ -3,8 +3,8 @@
 // samples: the level a plane requests under a parallel camera is the closed form of Eq. 1;
 // the mismatch on the plane-and-box scene and the default city is at most shadowmap's at
 // 2048^2 and falls as the maximum resolution rises; a tiny atlas still shadows every sample
-// (coarser pages, never none); the cached mode renders no page on an unchanged frame and
-// some after the light moves; point lights are refused.
+// (coarser pages, never none); the 2 x 2 filter ramps at edges; the cached mode renders no page on
+// an unchanged frame and some after the light moves; point lights are refused.
 #include "vtkCamera.h"
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
@@ -226,6 +226,38 @@ int CheckAtlasFull()
   return EXIT_SUCCESS;
 }
 
+// The 2 x 2 filter on the plane-and-box scene: visibility ramps at the shadow's edges (values
+// strictly between 0 and 1, none outside; 6 samples at 256 x 192 on 2026-11-25, the texels
+// being finer than the pixels there), the mismatch within the nearest lookup's plus 1e-3.
+int CheckBilinear()
+{
+  double rates[2];
+  int fractional = 0;
+  const char* options[2] = { "{}", "{\"filter\": \"bilinear\"}" };
+  for (int i = 0; i < 2; ++i)
+  {
+    auto renderer = PlaneScene(LightType::Directional, 0.5, 0.5);
+    auto inspect = [&]
+    {
+      vtkFloatArray* vis = ShadowPass(renderer)->GetVisibility(0);
+      CHECK(vis != nullptr);
+      for (vtkIdType s = 0; s < vis->GetNumberOfValues(); ++s)
+      {
+        const float v = vis->GetValue(s);
+        CHECK(v == -1.0f || (v >= 0.0f && v <= 1.0f));
+        fractional += (i == 1 && v > 0.0f && v < 1.0f) ? 1 : 0;
+      }
+      return EXIT_SUCCESS;
+    };
+    RUN(RenderRate(
+      renderer, "rmsm", options[i], 256, 192, rates[i], "plane+box directional", inspect));
+  }
+  std::printf("bilinear: %d samples between 0 and 1\n", fractional);
+  CHECK(fractional > 0);
+  CHECK(rates[1] <= rates[0] + 1e-3);
+  return EXIT_SUCCESS;
+}
+
 // Cached mode: an unchanged frame (the pass's reuse off, so the technique runs) renders no
 // page, a moved camera only pages not yet resident, a moved light rebuilds; uncached mode
 // renders every frame.
@@ -318,6 +350,7 @@ int TestResolutionMatchedShadows(int, char*[])
   RUN(CheckPlaneAndBox());
   RUN(CheckDefaultScene());
   RUN(CheckAtlasFull());
+  RUN(CheckBilinear());
   RUN(CheckCache());
   RUN(CheckTwoLightsCached());
   return EXIT_SUCCESS;
