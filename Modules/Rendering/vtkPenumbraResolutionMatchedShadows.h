@@ -48,9 +48,9 @@
  * (the pass shadows them with its fallback), ComputeFrame() reports an error.
  * Memory: the atlas keeps AtlasSize^2 x 4 bytes (64 MiB at 4096^2, shared by the lights);
  * per light the page table 4/3 x (MaxResolution / 32)^2 x 4 bytes (5.3 MiB at 32768^2), the
- * request targets 8 bytes per pixel and layer, and on the CPU the page table twice more
- * (slots and entries) and the read-back requests (4 bytes per pixel); the superpage scratch
- * 256^2 x 4 bytes.
+ * request targets 20 bytes per analysed pixel and layer (keys RGBA32F, levels R32F), and
+ * on the CPU the page table twice more (slots and entries) and the read-back requests (4 or
+ * 16 bytes per analysed pixel); the superpage scratch 256^2 x 4 bytes.
  */
 
 #ifndef vtkPenumbraResolutionMatchedShadows_h
