@@ -15,6 +15,7 @@
 #include "vtkPenumbraViewSamples.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
+#include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -667,6 +668,46 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
   glBindBuffer(GL_ARRAY_BUFFER, 0);
   this->OnGPU = true;
   return true;
+}
+
+//------------------------------------------------------------------------------
+void CasterBuffers::Bind(vtkShaderProgram* program)
+{
+  glBindVertexArray(this->VertexArray);
+  const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
+  if (posLoc >= 0)
+  {
+    glBindBuffer(GL_ARRAY_BUFFER, this->Positions);
+    glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
+    glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+  }
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+void SetDouble3(vtkShaderProgram* program, const char* name, const double v[3])
+{
+  const GLint location = glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), name);
+  if (location >= 0)
+  {
+    glUniform3d(location, v[0], v[1], v[2]);
+  }
+}
+}
+
+void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup)
+{
+  SetDouble3(program, "classifyDirection", setup.Direction);
+  SetDouble3(program, "classifyPosition", setup.Position);
+  SetDouble3(program, "classifyAxis", setup.Axis);
+  const GLint cone =
+    glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), "classifyCosCone");
+  if (cone >= 0)
+  {
+    glUniform1d(cone, setup.CosCone);
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -33,6 +33,7 @@ class vtkOpenGLFramebufferObject;
 class vtkTextureObject;
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
+class vtkShaderProgram;
 
 namespace penumbra_light_views
 {
@@ -306,6 +307,12 @@ struct CasterBuffers
    */
   bool Update(vtkPenumbraSceneGeometry* geometry, bool upload = true);
 
+  /**
+   * Binds the caster vertex array with the positions as `program`'s `vertexRebased`
+   * attribute (context current, buffers uploaded).
+   */
+  void Bind(vtkShaderProgram* program);
+
   /** Frees the GL objects (context current) and forgets what was uploaded. */
   void Release();
 
@@ -321,6 +328,12 @@ private:
   vtkIdType Triangles = -1;
   double Origin[3] = { 0, 0, 0 };
 };
+
+/**
+ * The uniforms of the per-sample facing rules (vtkPenumbraShadowMapClassify.glsl) from the
+ * light exactly as the reference reduces it: directions, position and cone in double.
+ */
+void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup);
 
 /**
  * The entry of `light` in a per-light cache whose entries (T) hold a vtkWeakPointer<vtkLight>

@@ -620,30 +620,6 @@ void SetSlotUniforms(vtkShaderProgram* program, const LightMaps& m, int slot)
   program->SetUniformf("footprintScale", static_cast<float>(OrthoFootprint(view, m)));
   program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(view.Row[2])));
 }
-
-void SetDouble3(vtkShaderProgram* program, const char* name, const double v[3])
-{
-  const GLint location = glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), name);
-  if (location >= 0)
-  {
-    glUniform3d(location, v[0], v[1], v[2]);
-  }
-}
-
-// The facing rules' uniforms (vtkPenumbraShadowMapClassify.glsl), from the light exactly as
-// the reference reduces it.
-void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup)
-{
-  SetDouble3(program, "classifyDirection", setup.Direction);
-  SetDouble3(program, "classifyPosition", setup.Position);
-  SetDouble3(program, "classifyAxis", setup.Axis);
-  const GLint cone =
-    glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), "classifyCosCone");
-  if (cone >= 0)
-  {
-    glUniform1d(cone, setup.CosCone);
-  }
-}
 }
 
 namespace
@@ -1231,21 +1207,9 @@ int vtkPenumbraShadowMapShadows::ComputeFrame(vtkPenumbraFrame* frame)
   {
     return this->Superclass::ComputeFrame(frame); // the maps are compared on the CPU
   }
-  int done = 0;
-  for (int k = 0; k < frame->GetNumberOfShadowedLights(); ++k)
-  {
-    std::string error;
-    if (this->Impl->FrameLight(this, frame, k, error))
-    {
-      frame->MarkOnGPU(k);
-      ++done;
-    }
-    else
-    {
-      vtkErrorMacro("shadow maps: " << error);
-    }
-  }
-  return done;
+  return this->ComputeFrameLights(frame, "shadow maps",
+    [this, frame](int k, std::string& error)
+    { return this->Impl->FrameLight(this, frame, k, error); });
 }
 
 //------------------------------------------------------------------------------
@@ -1549,15 +1513,7 @@ void vtkPenumbraShadowMapShadows::Internals::BindCasters(vtkPenumbraShadowMapSha
   }
   else
   {
-    glBindVertexArray(this->Casters.VertexArray);
-    const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
-    if (posLoc >= 0)
-    {
-      glBindBuffer(GL_ARRAY_BUFFER, this->Casters.Positions);
-      glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
-      glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-      glBindBuffer(GL_ARRAY_BUFFER, 0);
-    }
+    this->Casters.Bind(program);
   }
   program->SetUniformf("peelGap", static_cast<float>(std::max(self->Bias, 1e-6)));
 }
@@ -2300,7 +2256,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
     gbuffer->GetNormalTexture()->Activate();
     program->SetUniformi("samplePositions", gbuffer->GetPositionTexture()->GetTextureUnit());
     program->SetUniformi("sampleNormals", gbuffer->GetNormalTexture()->GetTextureUnit());
-    SetClassifyUniforms(program, setup);
+    penumbra_light_views::SetClassifyUniforms(program, setup);
     if (maps)
     {
       this->SetCompareUniforms(self, program, setup, *maps);

@@ -28,6 +28,26 @@ vtkPenumbraShadowTechnique* vtkPenumbraShadowTechnique::SelectTechnique(
   return this;
 }
 
+int vtkPenumbraShadowTechnique::ComputeFrameLights(
+  vtkPenumbraFrame* frame, const char* what, const std::function<bool(int, std::string&)>& light)
+{
+  int done = 0;
+  for (int k = 0; frame && k < frame->GetNumberOfShadowedLights(); ++k)
+  {
+    std::string error;
+    if (light(k, error))
+    {
+      frame->MarkOnGPU(k);
+      ++done;
+    }
+    else
+    {
+      vtkErrorMacro(<< what << ": " << error);
+    }
+  }
+  return done;
+}
+
 const char* vtkPenumbraShadowTechnique::GetTechniqueName()
 {
   // The registry's names (vtkPenumbraTechniques), so messages use the names users type.

@@ -24,8 +24,9 @@
 #include "vtkPenumbraRenderingModule.h" // For export macro
 #include "vtkSmartPointer.h"            // For FrameResults
 
-#include <string> // For SelectTechnique
-#include <vector> // For FrameResults
+#include <functional> // For ComputeFrameLights
+#include <string>     // For SelectTechnique
+#include <vector>     // For FrameResults
 
 class vtkCollection;
 class vtkFloatArray;
@@ -129,6 +130,16 @@ public:
 
 protected:
   vtkPenumbraShadowTechnique() = default;
+
+  /**
+   * ComputeFrame() of a technique that answers light by light on the GPU: calls
+   * `light(k, error)` for every shadowed light k of `frame`, marks the lights that succeed
+   * as answered on the GPU (vtkPenumbraFrame::MarkOnGPU()) and reports the others' errors
+   * prefixed with `what`. Returns the number of lights answered.
+   */
+  int ComputeFrameLights(
+    vtkPenumbraFrame* frame, const char* what, const std::function<bool(int, std::string&)>& light);
+
   ~vtkPenumbraShadowTechnique() override = default;
 
   double LastTimeMs = 0.0;

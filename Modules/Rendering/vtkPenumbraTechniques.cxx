@@ -10,6 +10,7 @@
 #include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraLinkedListShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
+#include "vtkPenumbraResolutionMatchedShadows.h"
 #include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowVolumeShadows.h"
@@ -494,6 +495,57 @@ void InstallRESM(vtkRenderer* ren, const Options& opts)
   InstallShadowPass(ren, technique);
 }
 
+// RMSM (Lefohn et al. 2007): the virtual map's size, the physical atlas, the cache and the
+// bias.
+const OptionTable RMSMOptions = {
+  { "max_resolution", OptionType::Integer, 32768, 2048, 32768, { 2048, 4096, 8192, 16384, 32768 },
+    "texels", "effective resolution of the finest level, texels per side of the virtual map" },
+  { "atlas_size", OptionType::Integer, 4096, 512, 8192, { 512, 1024, 2048, 4096, 8192 }, "texels",
+    "side of the physical page atlas ((atlas_size / 32)^2 pages of 32 x 32 texels; 4 bytes a "
+    "texel: 64 MiB at 4096)" },
+  { "filter", OptionType::Choice, "none", 0, 0, { "none", "bilinear" }, "",
+    "\"none\": the nearest texel of the requested level, 0/1; \"bilinear\": 2 x 2 PCF at "
+    "that level, the taps resolved through the page table and weighted bilinearly (the "
+    "paper blends two levels; this uses one)" },
+  { "footprint", OptionType::Choice, "width", 0, 0, { "width", "area" }, "",
+    "how a sample's footprint in the map sets its level: \"width\", texels as small as the "
+    "footprint's smallest width; \"area\", the paper's Eq. 1, texels as large as the square "
+    "root of its area (coarser across slanted receivers)" },
+  { "lod_bias", OptionType::Integer, 1, 0, 2, {}, "levels",
+    "request levels this much finer than the one whose texel matches a sample's footprint "
+    "(0: matched, rounded up; each level quadruples the pages)" },
+  { "analysis_step", OptionType::Integer, 1, 1, 2, {}, "samples",
+    "the request pass computes the level of one sample per n x n block (2: four times fewer "
+    "level computations; the block's samples request their own pages at that level)" },
+  { "cached", OptionType::Boolean, true, 0, 0, {}, "",
+    "keep the pages while the light, the casters and the settings are unchanged (only new "
+    "requests are rendered); false rebuilds every frame" },
+  { "bias", OptionType::Number, 1e-4, 0.0, 0.1, {}, "fraction of the depth range",
+    "constant depth bias as a fraction of the virtual map's depth range" },
+  { "slope_bias", OptionType::Number, 1.0, 0.0, 16.0, {}, "texel footprints",
+    "slope-scaled bias in texel footprints of the level a sample is compared at (the slope's "
+    "tangent is capped at 1000)" },
+};
+
+void InstallRMSM(vtkRenderer* ren, const Options& opts)
+{
+  vtkNew<vtkPenumbraResolutionMatchedShadows> technique;
+  technique->SetMaxResolution(opts.Integer("max_resolution"));
+  technique->SetAtlasSize(opts.Integer("atlas_size"));
+  technique->SetFilter(opts.Choice("filter") == 1
+      ? vtkPenumbraResolutionMatchedShadows::FILTER_BILINEAR
+      : vtkPenumbraResolutionMatchedShadows::FILTER_NONE);
+  technique->SetFootprint(opts.Choice("footprint") == 1
+      ? vtkPenumbraResolutionMatchedShadows::FOOTPRINT_AREA
+      : vtkPenumbraResolutionMatchedShadows::FOOTPRINT_WIDTH);
+  technique->SetLODBias(opts.Integer("lod_bias"));
+  technique->SetAnalysisStep(opts.Integer("analysis_step"));
+  technique->SetCached(opts.Boolean("cached"));
+  technique->SetBias(opts.Number("bias"));
+  technique->SetSlopeBias(opts.Number("slope_bias"));
+  InstallShadowPass(ren, technique);
+}
+
 // PCSS: shadowmap's map options (no filter: the soft lookup is the filter) and the soft
 // lookup's taps and reach (Fernando 2005).
 OptionTable PCSSTable()
@@ -645,6 +697,8 @@ void InstallAuto(vtkRenderer* ren, const Options& opts)
 //   mapping work of his doctoral thesis (Comenius University Bratislava);
 // - Ferko 2014: Ferko, linked-list shadow maps (LLSM), the irregular z-buffer of Johnson et al.
 //   2005 built with per-texel linked lists, in the same thesis;
+// - Lefohn et al. 2007: Lefohn, Sengupta, Owens, "Resolution-Matched Shadow Maps", ACM TOG
+//   26(4), 2007;
 // - Wang et al. 2014: Wang, Wang, Shi, Popescu, "GEARS: A General and Efficient Algorithm for
 //   Rendering Shadows", Computer Graphics Forum 33(6), 2014.
 const std::vector<Technique>& Registry()
@@ -697,6 +751,12 @@ const std::vector<Technique>& Registry()
       "shadowmap, per light and axis the size at which a texel covers at most a pixel, up to "
       "max_resolution; directional and spot lights (point lights: shadowmap's fixed size)",
       RESMOptions, InstallRESM },
+    { "rmsm",
+      "resolution-matched shadow maps (Lefohn et al. 2007): per view sample the level of a "
+      "virtual map up to max_resolution^2 whose texel matches the sample's footprint, only the "
+      "requested 32 x 32 pages rendered (by superpage) into a page atlas, kept while the light "
+      "and casters stay put; directional and spot lights (up to 60 degrees)",
+      RMSMOptions, InstallRMSM },
     { "volumes",
       "exact hard shadows with stencil shadow volumes (Brabec 2003, ch. 3, 8, 9): OpenMesh "
       "silhouettes for closed meshes, per-triangle volumes otherwise, z-fail with caps and "

@@ -1,0 +1,220 @@
+//VTK::System::Dec
+//VTK::Output::Dec
+// Resolution-matched shadow maps (Lefohn, Sengupta, Owens, "Resolution-Matched Shadow Maps",
+// ACM TOG 26(4), 2007) on the G-buffer, one program per role:
+// - RMSM_REQUEST (§3.3.2, Algorithm 2 steps 1-3): each pending sample's shadow level of
+//   detail from Eq. 1 and the page of the virtual map it needs, written as key + 1 (0: no
+//   request) into an RGBA32F target (with 2 x 2 analysis blocks the block's four samples'
+//   pages) and the level into an R32F one; keys stay below 2^24, so they are exact
+//   in float.
+// - otherwise the lookup (§3.3.1): the level the sample requested (read from that target:
+//   computing it again costs more than the rest of the lookup on llvmpipe), the page table's
+//   entry for the sample's
+//   page (the resident page at that level or the finest resident coarser one), and a depth
+//   compare against the atlas texel with a slope-scaled bias at the resident level's texel,
+//   written into the light's visibility channel (the facing rules decide the other samples).
+in vec2 texCoord;
+
+//PENUMBRA::Classify
+
+uniform mat4 lightMatrix;  // the virtual map's view (rows of View): NDC s, t and depth
+uniform int perspective;
+uniform float invFar;      // perspective: depth = w / Far
+uniform int baseLevel;     // coarsest level in the page table, always fully resident
+uniform int finestLevel;   // log2 of the maximum effective resolution
+uniform int lodBias;       // levels finer than the matched one
+uniform int footprintWidth; // 1: texels as small as the footprint's smallest width
+uniform int analysisStep;  // the request pass analyses one sample per step x step block (1, 2)
+
+const int pageBits = 5; // 32 x 32 texel pages (§4: "a page size of 32^2 texels")
+
+// NDC s, t and the stored-depth value of a rebased point.
+vec3 rmsmProject(vec3 p)
+{
+  vec4 clip = lightMatrix * vec4(p, 1.0);
+  return perspective != 0 ? vec3(clip.xy / clip.w, clip.w * invFar) : clip.xyz;
+}
+
+// The map-coordinate change of one pixel step along `axis` (the screen-space derivative of
+// §3.3.2), as a one-sided difference to the neighbour on the same prop with the smaller
+// change, so that a silhouette on one side does not inflate it. False without such a
+// neighbour.
+bool rmsmStep(ivec2 cell, ivec2 axis, float prop, vec2 st, out vec2 delta)
+{
+  ivec2 size = textureSize(samplePositions, 0);
+  bool found = false;
+  delta = vec2(0.0);
+  for (int side = -1; side <= 1; side += 2)
+  {
+    ivec2 c = cell + side * axis;
+    if (any(lessThan(c, ivec2(0))) || any(greaterThanEqual(c, size)))
+    {
+      continue;
+    }
+    vec4 q = texelFetch(samplePositions, c, 0);
+    if (q.w < 0.5 || texelFetch(sampleNormals, c, 0).w != prop)
+    {
+      continue;
+    }
+    vec2 d = float(side) * (rmsmProject(q.xyz).xy - st);
+    delta = (!found || dot(d, d) < dot(delta, delta)) ? d : delta;
+    found = true;
+  }
+  return found;
+}
+
+// Eq. 1: A = |dX x dY|, the area of the parallelogram the pixel covers in [0, 1]^2 map
+// units (NDC steps halved), and the level k = -log2(sqrt(A)) whose texels are that size
+// (footprintWidth 0); or, with footprintWidth 1, texels as small as the parallelogram's
+// smallest width A / max(|dX|, |dY|), so that an anisotropic footprint is not under-sampled
+// across its short axis (the paper's own caveat: dX and dY are not the filter ellipse's
+// axes). Rounded up (a texel never larger than that), made lodBias levels finer and clamped
+// to [baseLevel, finestLevel]. With one axis only (a one-pixel strip) the footprint is taken
+// as square; with none, or A = 0 (seen edge-on), the finest level.
+int rmsmLevel(ivec2 cell, vec2 st)
+{
+  float prop = texelFetch(sampleNormals, cell, 0).w;
+  vec2 a;
+  vec2 b;
+  bool hasA = rmsmStep(cell, ivec2(1, 0), prop, st, a);
+  bool hasB = rmsmStep(cell, ivec2(0, 1), prop, st, b);
+  a = hasA ? a : vec2(-b.y, b.x);
+  b = hasB ? b : vec2(-a.y, a.x);
+  float area = 0.25 * abs(a.x * b.y - a.y * b.x);
+  float size = footprintWidth != 0 ? area / max(0.5 * max(length(a), length(b)), 1e-30)
+                                   : sqrt(area);
+  float k = -log2(max(size, exp2(-float(finestLevel + 1))));
+  return clamp(int(ceil(k)) + lodBias, baseLevel, finestLevel);
+}
+
+// The texel of level k (2^k per side) holding NDC point st.
+ivec2 rmsmTexel(vec2 st, int k)
+{
+  int side = 1 << k;
+  return clamp(ivec2(floor((st * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
+}
+
+#ifdef RMSM_REQUEST
+// key + 1 of the page of level k holding NDC point st: the pages of the levels before k
+// (4^(j - 5) per level j, from baseLevel on), then row by row.
+float rmsmKey(vec2 st, int k)
+{
+  ivec2 page = rmsmTexel(st, k) >> pageBits;
+  int offset = ((1 << (2 * (k - pageBits))) - (1 << (2 * (baseLevel - pageBits)))) / 3;
+  return float(offset + (page.y << (k - pageBits)) + page.x + 1);
+}
+
+void main()
+{
+  // One analysed sample per analysisStep^2 block (§3.3.5, "reduce the resolution of the
+  // analysis"); its derivatives still come from its adjacent pixels. With 2 x 2 blocks the
+  // other three samples request their own pages at the analysed sample's level, so every
+  // sample's page is requested, only the level is shared.
+  ivec2 cell = ivec2(gl_FragCoord.xy) * analysisStep;
+  vec3 p;
+  vec3 n;
+  vec4 keys = vec4(0.0);
+  float level = 0.0;
+  if (penumbraClassify(cell, p, n) == 2)
+  {
+    vec3 m = rmsmProject(p);
+    int k = rmsmLevel(cell, m.xy);
+    level = float(k);
+    keys.x = rmsmKey(m.xy, k);
+    if (analysisStep == 2)
+    {
+      ivec2 last = textureSize(samplePositions, 0) - 1;
+      for (int i = 1; i < 4; ++i)
+      {
+        vec4 q = texelFetch(samplePositions, min(cell + ivec2(i & 1, i >> 1), last), 0);
+        vec3 o = rmsmProject(q.xyz);
+        bool valid = q.w >= 0.5 && (perspective == 0 || o.z > 0.0) && !any(isnan(o.xy));
+        keys[i] = valid ? rmsmKey(o.xy, k) : 0.0;
+      }
+    }
+  }
+  // Never true; keeps the quad's texture-coordinate attribute active in the program.
+  if (texCoord.x < -1.0)
+  {
+    level = 0.0;
+  }
+  gl_FragData[0] = keys;
+  gl_FragData[1] = vec4(level);
+}
+#else
+uniform sampler2D requests;   // the request pass's levels for these samples' blocks
+uniform isampler2D pageTable; // mip m = level finestLevel - m: (level - base) << 24 | slot
+uniform sampler2D atlas;      // the resident pages' depths, 32 x 32 texels each
+uniform int slotsPerRow;
+uniform float tanHalf;        // perspective: tangent of the half field of view
+uniform float footprintScale; // orthographic: world size of a texel at level 0
+uniform float depthPerLengthOrtho; // orthographic: |row 2|
+uniform vec3 lightPosition;   // rebased
+uniform vec3 toLightDirection; // directional: unit vector towards the light
+uniform float constantBias;
+uniform float slopeBias;      // in texel footprints of the level compared against (twice
+                              // that with the 2 x 2 filter, whose taps reach one texel)
+uniform float maxTangent;
+
+// One texel of level k compared with depth z: the page table's entry for its page names
+// the resident page serving it (that level or the finest resident coarser one), whose texel
+// is read from the atlas; the slope term (the bias per texel footprint at level 0) is scaled
+// to the resident level's texel.
+float rmsmTap(ivec2 texel, int k, float z, float slopeTerm)
+{
+  int entry = texelFetch(pageTable, texel >> pageBits, finestLevel - k).r;
+  int resident = baseLevel + (entry >> 24);
+  int slot = entry & 0xFFFFFF;
+  ivec2 t = texel >> (k - resident);
+  ivec2 origin = ivec2(slot % slotsPerRow, slot / slotsPerRow) << pageBits;
+  float stored = texelFetch(atlas, origin + (t & ((1 << pageBits) - 1)), 0).r;
+  return stored >= z - constantBias - slopeTerm * exp2(-float(resident)) ? 1.0 : 0.0;
+}
+
+float rmsmCompare(ivec2 cell, vec3 p, vec3 normal)
+{
+  vec3 m = rmsmProject(p);
+  // The level its block's analysed sample requested (0 when that one requested nothing);
+  // pages nobody requested are served by the finest resident coarser page.
+  int k = clamp(int(texelFetch(requests, cell / analysisStep, 0).r), baseLevel, finestLevel);
+  vec3 toLight = perspective != 0 ? normalize(lightPosition - p) : toLightDirection;
+  float footprint = perspective != 0 ? 2.0 * tanHalf * (m.z / invFar) : footprintScale;
+  float depthPerLength = perspective != 0 ? invFar : depthPerLengthOrtho;
+  float cosine = max(1e-9, dot(normal, toLight));
+  float tangent = min(maxTangent, sqrt(max(0.0, 1.0 - cosine * cosine)) / cosine);
+  float slopeTerm = slopeBias * footprint * tangent * depthPerLength;
+#ifdef RMSM_BILINEAR
+  // 2 x 2 PCF at level k (the paper blends two such lookups at adjacent levels): the four
+  // texels around the continuous position, each resolved through the page table (so taps
+  // across a page border read their own page), weighted bilinearly.
+  int side = 1 << k;
+  vec2 u = (m.xy * 0.5 + 0.5) * float(side) - 0.5;
+  vec2 b = floor(u);
+  vec2 w = u - b;
+  float l[4];
+  for (int i = 0; i < 4; ++i)
+  {
+    ivec2 texel = clamp(ivec2(b) + ivec2(i & 1, i >> 1), ivec2(0), ivec2(side - 1));
+    l[i] = rmsmTap(texel, k, m.z, 2.0 * slopeTerm);
+  }
+  return mix(mix(l[0], l[1], w.x), mix(l[2], l[3], w.x), w.y);
+#else
+  return rmsmTap(rmsmTexel(m.xy, k), k, m.z, slopeTerm);
+#endif
+}
+
+void main()
+{
+  ivec2 cell = ivec2(gl_FragCoord.xy);
+  vec3 p;
+  vec3 n;
+  int state = penumbraClassify(cell, p, n);
+  float v = state == 2 ? rmsmCompare(cell, p, normalize(n))
+                       : (state == 0 ? 0.0 : (state < 0 ? -1.0 : 1.0));
+  if (texCoord.x < -1.0)
+  {
+    v = 0.0;
+  }
+  gl_FragData[0] = vec4(v);
+}
+#endif
