@@ -1768,18 +1768,34 @@ void vtkPenumbraGearsShadows::Internals::FillCellLists(SideState& S)
   {
     a.store(0, std::memory_order_relaxed);
   }
+  // Per row, the columns of the cells that get a list (busy, not dense), so a caster's
+  // range costs its list entries, not its area: under a large light the footprints span
+  // thousands of cells, most of them empty or dense.
+  std::vector<std::uint32_t> rowStart(static_cast<size_t>(g) + 1, 0);
+  std::vector<int> columns;
+  for (const std::int32_t c : sc.Occupied) // row-major order
+  {
+    if (!sc.Traced[static_cast<size_t>(c)])
+    {
+      columns.push_back(c % g);
+      ++rowStart[static_cast<size_t>(c / g) + 1];
+    }
+  }
+  for (int iy = 0; iy < g; ++iy)
+  {
+    rowStart[static_cast<size_t>(iy) + 1] += rowStart[static_cast<size_t>(iy)];
+  }
   auto forCells = [&](vtkIdType t, auto&& fn)
   {
     const int* rg = &S.Range[4 * static_cast<size_t>(t)];
     for (int iy = rg[2]; iy <= rg[3]; ++iy)
     {
-      for (int ix = rg[0]; ix <= rg[1]; ++ix)
+      const auto rowEnd = columns.begin() + rowStart[static_cast<size_t>(iy) + 1];
+      for (auto it =
+             std::lower_bound(columns.begin() + rowStart[static_cast<size_t>(iy)], rowEnd, rg[0]);
+           it != rowEnd && *it <= rg[1]; ++it)
       {
-        const size_t cell = static_cast<size_t>(iy) * g + ix;
-        if (S.Count[cell] > 0 && !sc.Traced[cell])
-        {
-          fn(cell);
-        }
+        fn(static_cast<size_t>(iy) * g + *it);
       }
     }
   };
