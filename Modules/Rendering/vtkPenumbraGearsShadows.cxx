@@ -1013,6 +1013,11 @@ struct vtkPenumbraGearsShadows::Internals
     std::vector<double> Frame, Proj;
     std::vector<std::int32_t> SampleCell, Occupied;
     std::vector<unsigned char> Traced; // per cell: a dense cell (tree walk or ray tracer)
+    // Per caster, kept for the next side (SideState's arrays of the same names).
+    std::vector<double> ZNear;
+    std::vector<Footprint> Foot;
+    std::vector<int> Range;
+    std::vector<std::int64_t> Touched;
     std::vector<double> TriangleBoxes; // per caster: its box in the side's light frame, grown
     std::vector<double> TreeBoxes;     // by the float32 tolerance; the same per tree node
     std::vector<std::uint32_t> CellStart, CellList, GlobalList, SampleOrder, SampleStart, OnCPU,
@@ -1031,14 +1036,17 @@ struct vtkPenumbraGearsShadows::Internals
   std::string PathMessage;
   std::set<std::string> Reported; // compute-path problems already warned about
 
-  void UpdateCasters(vtkPenumbraSceneGeometry* geometry)
+  // With `withTree` the casters' tree is built too (and the casters stored in its order):
+  // only the DENSE_TREE walk needs it, and on a 1 M-triangle mesh it costs a frame's grid.
+  void UpdateCasters(vtkPenumbraSceneGeometry* geometry, bool withTree)
   {
     double origin[3];
     geometry->GetOrigin(origin);
     const vtkIdType n = geometry->GetNumberOfTriangles();
     if (n == this->Triangles && geometry->GetGeometryTime() == this->GeometryTime &&
       geometry->GetFlagsTime() == this->FlagsTime && origin[0] == this->Origin[0] &&
-      origin[1] == this->Origin[1] && origin[2] == this->Origin[2])
+      origin[1] == this->Origin[1] && origin[2] == this->Origin[2] &&
+      (!withTree || !this->Tree.Nodes.empty() || this->Casters.empty()))
     {
       return;
     }
@@ -1067,7 +1075,11 @@ struct vtkPenumbraGearsShadows::Internals
         this->Bounds.push_back(b);
       }
     }
-    this->SortCastersByTree();
+    this->Tree = penumbra_gears::Tree();
+    if (withTree)
+    {
+      this->SortCastersByTree();
+    }
     this->CasterData.clear();
     this->CasterData.reserve(this->Casters.size() * penumbra_gears::CasterStride);
     for (size_t t = 0; t < this->Casters.size(); ++t)
@@ -1232,7 +1244,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   {
     PENUMBRA_FAIL("view sample arrays are missing or do not match the sample count");
   }
-  impl.UpdateCasters(geometry);
+  impl.UpdateCasters(geometry, this->DenseCells == DENSE_TREE);
   if (!impl.SetUpLight(this, area, geometry, samples, call))
   {
     PENUMBRA_FAIL("unsupported light sampling: " << call.Light.K << " samples per axis");
@@ -1505,6 +1517,13 @@ void vtkPenumbraGearsShadows::Internals::ProcessSide(
   {
     return;
   }
+  // The per-caster arrays of the last side (tens of MB on a 1 M-triangle mesh) are reused:
+  // fresh ones cost page faults every frame.
+  ScratchArrays& keep = this->Scratch;
+  S.ZNear.swap(keep.ZNear);
+  S.Foot.swap(keep.Foot);
+  S.Range.swap(keep.Range);
+  S.Touched.swap(keep.Touched);
   this->PlaceCamera(self, call, S);
   this->CasterFootprints(call, S);
   this->BuildGrid(self, call, S);
@@ -1538,6 +1557,10 @@ void vtkPenumbraGearsShadows::Internals::ProcessSide(
   }
   this->MasksOnCPU(call, S, allOnCPU);
   call.MaskMs += ElapsedMs(maskStart);
+  S.ZNear.swap(keep.ZNear);
+  S.Foot.swap(keep.Foot);
+  S.Range.swap(keep.Range);
+  S.Touched.swap(keep.Touched);
 }
 
 //------------------------------------------------------------------------------
@@ -1940,24 +1963,42 @@ void vtkPenumbraGearsShadows::Internals::FillCellLists(SideState& S)
   }
   // Per row, the columns of the cells that get a list (busy, not dense), so a caster's
   // range costs its list entries, not its area: under a large light the footprints span
-  // thousands of cells, most of them empty or dense.
+  // thousands of cells, most of them empty or dense. A summed-area table of those cells
+  // skips the casters (most of a dense mesh) whose range holds none.
   std::vector<std::uint32_t> rowStart(static_cast<size_t>(g) + 1, 0);
   std::vector<int> columns;
+  std::vector<std::uint32_t> listed(static_cast<size_t>(g + 1) * (g + 1), 0);
   for (const std::int32_t c : sc.Occupied) // row-major order
   {
     if (!sc.Traced[static_cast<size_t>(c)])
     {
       columns.push_back(c % g);
       ++rowStart[static_cast<size_t>(c / g) + 1];
+      listed[static_cast<size_t>(c / g + 1) * (g + 1) + c % g + 1] = 1;
     }
   }
   for (int iy = 0; iy < g; ++iy)
   {
     rowStart[static_cast<size_t>(iy) + 1] += rowStart[static_cast<size_t>(iy)];
   }
+  for (int iy = 1; iy <= g; ++iy)
+  {
+    for (int ix = 1; ix <= g; ++ix)
+    {
+      const size_t at = static_cast<size_t>(iy) * (g + 1) + ix;
+      listed[at] += listed[at - 1] + listed[at - (g + 1)] - listed[at - (g + 1) - 1];
+    }
+  }
   auto forCells = [&](vtkIdType t, auto&& fn)
   {
     const int* rg = &S.Range[4 * static_cast<size_t>(t)];
+    const size_t w = static_cast<size_t>(g) + 1;
+    if (listed[(rg[3] + 1) * w + rg[1] + 1] - listed[rg[2] * w + rg[1] + 1] -
+        listed[(rg[3] + 1) * w + rg[0]] + listed[rg[2] * w + rg[0]] ==
+      0)
+    {
+      return;
+    }
     for (int iy = rg[2]; iy <= rg[3]; ++iy)
     {
       const auto rowEnd = columns.begin() + rowStart[static_cast<size_t>(iy) + 1];
