@@ -11,6 +11,7 @@
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraGearsCompute.h"
+#include "vtkPenumbraGearsTree.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
@@ -257,7 +258,7 @@ struct MaskBuilder
   double Axis[3] = { 0, 0, 1 };
   double ConeCos = -1.0, ConeSin = 0.0;
   bool ConeValid = false;
-  vtkIdType Necessary = 0, Tests = 0;
+  vtkIdType Necessary = 0, Tests = 0, TreeVisits = 0;
 
   MaskBuilder(const LightSamples& l, const std::vector<Caster>& casters, double epsilon)
     : L(l)
@@ -663,8 +664,132 @@ struct MaskBuilder
     }
   }
 
-  // Returns false when some light sample stays undecided (the sample goes to the reference);
-  // otherwise Facing becomes the lit mask.
+  // Whether a node of the casters' tree (its box in the side's light frame `pf` is in, grown
+  // by the float32 ray's tolerance) can hold a point of a segment from the sample to a light
+  // sample that is still open. A triangle no such segment comes near cannot change the mask
+  // (the premise of Culled(): Embree's ray stays within that tolerance of the segment), and
+  // blocked bits are final, so skipping the node changes nothing. Below the sample's depth
+  // the box projects from the sample onto the light plane (x' = p + (x - p) pz / (pz - z)),
+  // and the open bits under that projection decide; a box reaching the sample's depth only
+  // gets the pyramid test (the segments at the box's depths).
+  bool Reaches(const double* box, const double pf[3]) const
+  {
+    const double pz = pf[2];
+    const double zLo = std::max(box[4], 0.0), zHi = std::min(box[5], pz);
+    if (zLo > zHi)
+    {
+      return false;
+    }
+    const double s0[2] = { this->L.Su0, this->L.Sv0 }, ds[2] = { this->L.DSu, this->L.DSv };
+    const int count[2] = { this->L.K, this->L.Rows };
+    if (!(box[5] < pz) || !(pz > 0.0))
+    {
+      // Segment points at depth z are p + t (l - p), t = 1 - z / pz, l over the light samples.
+      const double tA = pz > 0.0 ? 1.0 - zHi / pz : 0.0, tB = pz > 0.0 ? 1.0 - zLo / pz : 1.0;
+      for (int a = 0; a < 2; ++a)
+      {
+        const double lMin = s0[a] - pf[a], lMax = s0[a] + (count[a] - 1) * ds[a] - pf[a];
+        const double fuzz = 1e-9 *
+          (std::fabs(pf[a]) + std::fabs(box[2 * a]) + std::fabs(box[2 * a + 1]) + this->L.Diagonal);
+        const double from = pf[a] + std::min(tA * lMin, tB * lMin) - fuzz;
+        const double to = pf[a] + std::max(tA * lMax, tB * lMax) + fuzz;
+        if (box[2 * a + 1] < from || box[2 * a] > to)
+        {
+          return false;
+        }
+      }
+      return true;
+    }
+    const double sLo = pz / (pz - zLo), sHi = pz / (pz - box[5]);
+    int lo[2], hi[2];
+    for (int a = 0; a < 2; ++a)
+    {
+      const double dLo = box[2 * a] - pf[a], dHi = box[2 * a + 1] - pf[a];
+      double from = pf[a] + dLo * (dLo < 0.0 ? sHi : sLo);
+      double to = pf[a] + dHi * (dHi > 0.0 ? sHi : sLo);
+      const double fuzz =
+        1e-9 * (std::fabs(pf[a]) + std::fabs(from) + std::fabs(to) + this->L.Diagonal);
+      from -= fuzz;
+      to += fuzz;
+      if (ds[a] > 0.0)
+      {
+        const double f = std::ceil((from - s0[a]) / ds[a]), t = std::floor((to - s0[a]) / ds[a]);
+        lo[a] = f < 0.0 ? 0 : (f > count[a] ? count[a] : static_cast<int>(f));
+        hi[a] = t > count[a] - 1 ? count[a] - 1 : (t < -1.0 ? -1 : static_cast<int>(t));
+      }
+      else
+      {
+        lo[a] = 0; // a line light: its one row at sv = Sv0
+        hi[a] = from <= s0[a] && s0[a] <= to ? count[a] - 1 : -1;
+      }
+      if (lo[a] > hi[a])
+      {
+        return false;
+      }
+    }
+    const std::uint64_t columns = Span(lo[0], hi[0]);
+    for (int j = lo[1]; j <= hi[1]; ++j)
+    {
+      if (this->Candidate[j] & ~this->Blocked[j] & columns)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Dense cells (vtkPenumbraGearsTree.h): the casters' tree, nearer node first, instead of
+  // the cell and global lists; nodes that reach no open light sample are skipped whole.
+  // Returns the triangles visited.
+  vtkIdType VisitTree(const penumbra_gears::Tree& tree, const double* boxes,
+    const double* triangleBoxes, const double pf[3])
+  {
+    if (tree.Nodes.empty())
+    {
+      return 0;
+    }
+    auto distance2 = [&](std::uint32_t n)
+    {
+      const double* b = boxes + 6 * static_cast<size_t>(n);
+      double d2 = 0.0;
+      for (int a = 0; a < 3; ++a)
+      {
+        const double d = 0.5 * (b[2 * a] + b[2 * a + 1]) - pf[a];
+        d2 += d * d;
+      }
+      return d2;
+    };
+    std::uint32_t stack[128]; // a median-split tree over 2^32 triangles is 31 levels deep
+    int top = 0;
+    stack[top++] = 0;
+    vtkIdType visited = 0;
+    while (top > 0 && this->Open)
+    {
+      const std::uint32_t n = stack[--top];
+      if (!this->Reaches(boxes + 6 * static_cast<size_t>(n), pf))
+      {
+        continue;
+      }
+      const penumbra_gears::TreeNode& node = tree.Nodes[n];
+      if (node.Count > 0)
+      {
+        for (std::uint32_t t = node.First; t < node.First + node.Count && this->Open; ++t)
+        {
+          if (this->Reaches(triangleBoxes + 6 * static_cast<size_t>(t), pf))
+          {
+            this->Visit(t); // the casters are stored in leaf order
+            ++visited;
+          }
+        }
+        continue;
+      }
+      const bool firstNearer = distance2(node.First) <= distance2(node.First + 1);
+      stack[top++] = firstNearer ? node.First + 1 : node.First;
+      stack[top++] = firstNearer ? node.First : node.First + 1;
+    }
+    return visited;
+  }
+
   // Facing becomes the mask of the light samples known to be lit; the undecided ones (some
   // triangle may block them within the float32 tolerance and none provably does) are
   // appended to `undecided` as light-sample indices for the reference to trace.
@@ -750,7 +875,8 @@ struct CallState
   int Words = 0;                  // mask words per sample
 
   bool UseGpu = false;     // step 4 on the compute path
-  double TraceLimit = 0.0; // list length above which a cell is ray traced; 0: never
+  double TraceLimit = 0.0; // list length above which a cell is dense; 0: never
+  bool DenseTree = false;  // dense cells walk the casters' tree (else: ray traced whole)
 
   // Undecided (view sample, light sample) pairs, appended by the mask loop in sample order
   // within each thread's chunk.
@@ -760,8 +886,8 @@ struct CallState
 
   // Statistics, summed over both sides of the light plane.
   int GridUsed = 0;
-  vtkIdType Flagged = 0, TracedCellSamples = 0, Occupied = 0, Cells = 0, MaxPerCell = 0,
-            ListTotal = 0, GlobalTotal = 0;
+  vtkIdType Flagged = 0, TracedCellSamples = 0, TreeSamples = 0, Occupied = 0, Cells = 0,
+            MaxPerCell = 0, ListTotal = 0, GlobalTotal = 0;
   std::atomic<vtkIdType> Assignments{ 0 }, Necessary{ 0 }, SegmentTests{ 0 };
   double GridMs = 0.0, MaskMs = 0.0, TraceMs = 0.0;
   vtkIdType UncertainSamples = 0, TracedRays = 0, SamplesWithTracedRays = 0;
@@ -886,7 +1012,14 @@ struct vtkPenumbraGearsShadows::Internals
     std::vector<vtkIdType> Ids;
     std::vector<double> Frame, Proj;
     std::vector<std::int32_t> SampleCell, Occupied;
-    std::vector<unsigned char> Traced; // per cell: its samples go to the ray tracer whole
+    std::vector<unsigned char> Traced; // per cell: a dense cell (tree walk or ray tracer)
+    // Per caster, kept for the next side (SideState's arrays of the same names).
+    std::vector<double> ZNear;
+    std::vector<Footprint> Foot;
+    std::vector<int> Range;
+    std::vector<std::int64_t> Touched;
+    std::vector<double> TriangleBoxes; // per caster: its box in the side's light frame, grown
+    std::vector<double> TreeBoxes;     // by the float32 tolerance; the same per tree node
     std::vector<std::uint32_t> CellStart, CellList, GlobalList, SampleOrder, SampleStart, OnCPU,
       Work, Results, Rows; // Work, Results, Rows: the compute path's
   } Scratch;
@@ -899,17 +1032,21 @@ struct vtkPenumbraGearsShadows::Internals
   std::vector<double> CasterData;
   std::uint64_t CasterVersion = 0;
   penumbra_gears::MaskCompute Compute;
+  penumbra_gears::Tree Tree; // over the casters, for the dense cells
   std::string PathMessage;
   std::set<std::string> Reported; // compute-path problems already warned about
 
-  void UpdateCasters(vtkPenumbraSceneGeometry* geometry)
+  // With `withTree` the casters' tree is built too (and the casters stored in its order):
+  // only the DENSE_TREE walk needs it, and on a 1 M-triangle mesh it costs a frame's grid.
+  void UpdateCasters(vtkPenumbraSceneGeometry* geometry, bool withTree)
   {
     double origin[3];
     geometry->GetOrigin(origin);
     const vtkIdType n = geometry->GetNumberOfTriangles();
     if (n == this->Triangles && geometry->GetGeometryTime() == this->GeometryTime &&
       geometry->GetFlagsTime() == this->FlagsTime && origin[0] == this->Origin[0] &&
-      origin[1] == this->Origin[1] && origin[2] == this->Origin[2])
+      origin[1] == this->Origin[1] && origin[2] == this->Origin[2] &&
+      (!withTree || !this->Tree.Nodes.empty() || this->Casters.empty()))
     {
       return;
     }
@@ -938,6 +1075,11 @@ struct vtkPenumbraGearsShadows::Internals
         this->Bounds.push_back(b);
       }
     }
+    this->Tree = penumbra_gears::Tree();
+    if (withTree)
+    {
+      this->SortCastersByTree();
+    }
     this->CasterData.clear();
     this->CasterData.reserve(this->Casters.size() * penumbra_gears::CasterStride);
     for (size_t t = 0; t < this->Casters.size(); ++t)
@@ -961,6 +1103,30 @@ struct vtkPenumbraGearsShadows::Internals
     this->FlagsTime = geometry->GetFlagsTime();
     std::copy(origin, origin + 3, this->Origin);
   }
+  // The casters' tree (vtkPenumbraGearsTree.h), and the casters stored in its leaf order, so
+  // that a leaf's triangles are Casters[First, First + Count) and a walk reads memory in
+  // order (the caster index is internal: Caster::Id names the triangle).
+  void SortCastersByTree()
+  {
+    const size_t n = this->Casters.size();
+    std::vector<double> vertices(9 * n);
+    for (size_t t = 0; t < n; ++t)
+    {
+      std::copy(&this->Casters[t].V[0][0], &this->Casters[t].V[0][0] + 9, &vertices[9 * t]);
+    }
+    this->Tree.Build(vertices.data(), 9, n);
+    std::vector<Caster> casters(n);
+    std::vector<Sphere> bounds(n);
+    for (size_t t = 0; t < n; ++t)
+    {
+      casters[t] = this->Casters[this->Tree.Order[t]];
+      bounds[t] = this->Bounds[this->Tree.Order[t]];
+      this->Tree.Order[t] = static_cast<std::uint32_t>(t);
+    }
+    this->Casters.swap(casters);
+    this->Bounds.swap(bounds);
+  }
+
   // The phases of ComputeVisibility, in the order it runs them (defined below it).
   bool ReadSamples(vtkPenumbraViewSamples* samples, CallState& call);
   bool SetUpLight(vtkPenumbraGearsShadows* self, vtkPenumbraAreaLight* area,
@@ -1078,7 +1244,7 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   {
     PENUMBRA_FAIL("view sample arrays are missing or do not match the sample count");
   }
-  impl.UpdateCasters(geometry);
+  impl.UpdateCasters(geometry, this->DenseCells == DENSE_TREE);
   if (!impl.SetUpLight(this, area, geometry, samples, call))
   {
     PENUMBRA_FAIL("unsupported light sampling: " << call.Light.K << " samples per axis");
@@ -1255,7 +1421,8 @@ void vtkPenumbraGearsShadows::Internals::ChoosePath(
     std::string why;
     auto* window =
       renderer ? vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow()) : nullptr;
-    if (this->Casters.back().Id > std::numeric_limits<std::int32_t>::max())
+    if (std::any_of(this->Casters.begin(), this->Casters.end(),
+          [](const Caster& c) { return c.Id > std::numeric_limits<std::int32_t>::max(); }))
     {
       why = "triangle ids beyond 2^31 do not fit the shader's 32-bit ids";
     }
@@ -1274,6 +1441,7 @@ void vtkPenumbraGearsShadows::Internals::ChoosePath(
   call.UseGpu = useGpu;
   call.TraceLimit =
     !useGpu && self->TraceThreshold > 0.0 ? self->TraceThreshold * call.Light.Count : 0.0;
+  call.DenseTree = self->DenseCells == DENSE_TREE;
 }
 
 //------------------------------------------------------------------------------
@@ -1349,6 +1517,13 @@ void vtkPenumbraGearsShadows::Internals::ProcessSide(
   {
     return;
   }
+  // The per-caster arrays of the last side (tens of MB on a 1 M-triangle mesh) are reused:
+  // fresh ones cost page faults every frame.
+  ScratchArrays& keep = this->Scratch;
+  S.ZNear.swap(keep.ZNear);
+  S.Foot.swap(keep.Foot);
+  S.Range.swap(keep.Range);
+  S.Touched.swap(keep.Touched);
   this->PlaceCamera(self, call, S);
   this->CasterFootprints(call, S);
   this->BuildGrid(self, call, S);
@@ -1368,6 +1543,12 @@ void vtkPenumbraGearsShadows::Internals::ProcessSide(
   // ---- Step 4: masks. Every sample considers its cell list and the global list.
   const auto maskStart = Clock::now();
   this->RouteTracedCells(call);
+  if (call.DenseTree &&
+    std::any_of(sc.Occupied.begin(), sc.Occupied.end(),
+      [&](std::int32_t c) { return sc.Traced[static_cast<size_t>(c)] != 0; }))
+  {
+    this->Tree.Refit(this->Scratch.TriangleBoxes.data(), this->Scratch.TreeBoxes);
+  }
   this->Scratch.OnCPU.clear();
   bool allOnCPU = !call.UseGpu;
   if (call.UseGpu && !this->MasksOnComputePath(self, call, S))
@@ -1376,6 +1557,10 @@ void vtkPenumbraGearsShadows::Internals::ProcessSide(
   }
   this->MasksOnCPU(call, S, allOnCPU);
   call.MaskMs += ElapsedMs(maskStart);
+  S.ZNear.swap(keep.ZNear);
+  S.Foot.swap(keep.Foot);
+  S.Range.swap(keep.Range);
+  S.Touched.swap(keep.Touched);
 }
 
 //------------------------------------------------------------------------------
@@ -1493,6 +1678,8 @@ void vtkPenumbraGearsShadows::Internals::CasterFootprints(const CallState& call,
   const vtkIdType nCasters = static_cast<vtkIdType>(this->Casters.size());
   S.ZNear.assign(static_cast<size_t>(nCasters), 0.0);
   S.Foot.resize(static_cast<size_t>(nCasters));
+  std::vector<double>& triBoxes = this->Scratch.TriangleBoxes;
+  triBoxes.resize(6 * static_cast<size_t>(nCasters));
   const double tolerance = S.Tolerance, zFar = S.ZFar;
   vtkSMPTools::For(0, nCasters,
     [&](vtkIdType begin, vtkIdType end)
@@ -1510,6 +1697,12 @@ void vtkPenumbraGearsShadows::Internals::CasterFootprints(const CallState& call,
           zmax = std::max(zmax, f[i][2]);
         }
         S.ZNear[static_cast<size_t>(t)] = zmin;
+        double* tb = &triBoxes[6 * static_cast<size_t>(t)];
+        for (int a = 0; a < 3; ++a)
+        {
+          tb[2 * a] = std::min({ f[0][a], f[1][a], f[2][a] }) - tolerance;
+          tb[2 * a + 1] = std::max({ f[0][a], f[1][a], f[2][a] }) + tolerance;
+        }
         if (zmax < -tolerance || zmin > zFar + tolerance)
         {
           fp.State = 0; // wholly behind the light plane or beyond every sample
@@ -1768,18 +1961,52 @@ void vtkPenumbraGearsShadows::Internals::FillCellLists(SideState& S)
   {
     a.store(0, std::memory_order_relaxed);
   }
+  // Per row, the columns of the cells that get a list (busy, not dense), so a caster's
+  // range costs its list entries, not its area: under a large light the footprints span
+  // thousands of cells, most of them empty or dense. A summed-area table of those cells
+  // skips the casters (most of a dense mesh) whose range holds none.
+  std::vector<std::uint32_t> rowStart(static_cast<size_t>(g) + 1, 0);
+  std::vector<int> columns;
+  std::vector<std::uint32_t> listed(static_cast<size_t>(g + 1) * (g + 1), 0);
+  for (const std::int32_t c : sc.Occupied) // row-major order
+  {
+    if (!sc.Traced[static_cast<size_t>(c)])
+    {
+      columns.push_back(c % g);
+      ++rowStart[static_cast<size_t>(c / g) + 1];
+      listed[static_cast<size_t>(c / g + 1) * (g + 1) + c % g + 1] = 1;
+    }
+  }
+  for (int iy = 0; iy < g; ++iy)
+  {
+    rowStart[static_cast<size_t>(iy) + 1] += rowStart[static_cast<size_t>(iy)];
+  }
+  for (int iy = 1; iy <= g; ++iy)
+  {
+    for (int ix = 1; ix <= g; ++ix)
+    {
+      const size_t at = static_cast<size_t>(iy) * (g + 1) + ix;
+      listed[at] += listed[at - 1] + listed[at - (g + 1)] - listed[at - (g + 1) - 1];
+    }
+  }
   auto forCells = [&](vtkIdType t, auto&& fn)
   {
     const int* rg = &S.Range[4 * static_cast<size_t>(t)];
+    const size_t w = static_cast<size_t>(g) + 1;
+    if (listed[(rg[3] + 1) * w + rg[1] + 1] - listed[rg[2] * w + rg[1] + 1] -
+        listed[(rg[3] + 1) * w + rg[0]] + listed[rg[2] * w + rg[0]] ==
+      0)
+    {
+      return;
+    }
     for (int iy = rg[2]; iy <= rg[3]; ++iy)
     {
-      for (int ix = rg[0]; ix <= rg[1]; ++ix)
+      const auto rowEnd = columns.begin() + rowStart[static_cast<size_t>(iy) + 1];
+      for (auto it =
+             std::lower_bound(columns.begin() + rowStart[static_cast<size_t>(iy)], rowEnd, rg[0]);
+           it != rowEnd && *it <= rg[1]; ++it)
       {
-        const size_t cell = static_cast<size_t>(iy) * g + ix;
-        if (S.Count[cell] > 0 && !sc.Traced[cell])
-        {
-          fn(cell);
-        }
+        fn(static_cast<size_t>(iy) * g + *it);
       }
     }
   };
@@ -1845,6 +2072,11 @@ void vtkPenumbraGearsShadows::Internals::RouteTracedCells(CallState& call)
   const ScratchArrays& sc = this->Scratch;
   for (const std::int32_t cell : sc.Occupied)
   {
+    if (sc.Traced[static_cast<size_t>(cell)] && call.DenseTree)
+    {
+      call.TreeSamples += sc.SampleStart[cell + 1] - sc.SampleStart[cell];
+      continue; // the tree walk counts its own assignments
+    }
     if (sc.Traced[static_cast<size_t>(cell)])
     {
       for (std::uint32_t o = sc.SampleStart[cell]; o < sc.SampleStart[cell + 1]; ++o)
@@ -1957,7 +2189,7 @@ void vtkPenumbraGearsShadows::Internals::MasksOnCPU(
   {
     for (std::uint32_t o = 0; o < static_cast<std::uint32_t>(S.M); ++o)
     {
-      if (!sc.Traced[static_cast<size_t>(sc.SampleCell[sc.SampleOrder[o]])])
+      if (call.DenseTree || !sc.Traced[static_cast<size_t>(sc.SampleCell[sc.SampleOrder[o]])])
       {
         onCPU.push_back(o);
       }
@@ -1978,6 +2210,7 @@ void vtkPenumbraGearsShadows::Internals::MasksOnCPU(
       }
       call.Necessary += builder.Necessary;
       call.SegmentTests += builder.Tests;
+      call.Assignments += builder.TreeVisits;
     });
 }
 
@@ -2000,11 +2233,17 @@ void vtkPenumbraGearsShadows::Internals::MaskOneSample(CallState& call, MaskBuil
     call.WriteMask(s, builder.Facing);
     return;
   }
+  if (sc.Traced[static_cast<size_t>(cell)])
+  {
+    // A dense cell: the tree holds every caster, the global ones included.
+    builder.TreeVisits += builder.VisitTree(this->Tree, sc.TreeBoxes.data(),
+      sc.TriangleBoxes.data(), &sc.Frame[3 * static_cast<size_t>(sc.SampleOrder[o])]);
+  }
   for (std::uint32_t e = 0; e < listSize && builder.Open; ++e)
   {
     builder.Visit(list[e]);
   }
-  for (size_t e = 0; e < sc.GlobalList.size() && builder.Open; ++e)
+  for (size_t e = 0; e < sc.GlobalList.size() && builder.Open && !sc.Traced[cell]; ++e)
   {
     builder.Visit(sc.GlobalList[e]);
   }
@@ -2098,6 +2337,7 @@ void vtkPenumbraGearsShadows::Internals::StoreStatistics(
 {
   self->TraceTimeMs = call.TraceMs;
   self->NumberOfTracedCellSamples = call.TracedCellSamples;
+  self->NumberOfTreeSamples = call.TreeSamples;
   self->NumberOfTracedRays = call.TracedRays;
   self->NumberOfSamplesWithTracedRays = call.SamplesWithTracedRays;
   self->GridTimeMs = call.GridMs;

@@ -48,10 +48,12 @@
  *    lists are sorted largest triangle first, so umbra samples fill their masks early.
  *    Cells whose list is longer than TraceThreshold x k^2 (counted from the casters' cell
  *    ranges before any list is built) skip all of this: their samples are ray traced whole
- *    by the reference. A mask costs O(k) per listed triangle and a ray O(log N), so on dense
- *    meshes under large lights, where a cell meets thousands of triangles each smaller than
- *    the light-sample spacing, the rays are cheaper (the GEARS paper's Table 3: cost grows
- *    with the light). The answer is the reference's either way.
+ *    by the reference (DenseCells = DENSE_TRACE, the default), or masked from a walk of a
+ *    bounding volume hierarchy over the casters that skips whatever cannot reach a light
+ *    sample still open (DENSE_TREE). A mask costs O(k) per listed triangle and a ray
+ *    O(log N), so on dense meshes under large lights, where a cell meets thousands of
+ *    triangles each smaller than the light-sample spacing, the rays are cheaper (the GEARS
+ *    paper's Table 3: cost grows with the light). The answer is the reference's either way.
  *
  * Paths (SetPath()): step 4 runs on the CPU (vtkSMPTools) or as a GL 4.3 compute shader
  * (vtkPenumbraGearsCompute.h: the cell lists in shader storage buffers, one invocation per
@@ -152,6 +154,27 @@ public:
   ///@}
 
   /**
+   * What happens to the view samples of a cell above TraceThreshold (a dense cell).
+   * - DENSE_TRACE (default): the samples are ray traced whole by the reference.
+   * - DENSE_TREE: masks as in every other cell, but from a walk of a bounding volume
+   *   hierarchy over all casters (built once per caster set) instead of the cell list: a
+   *   node is skipped when it lies outside the sample's pyramid to the light, beyond the
+   *   sample's depth, or projects only onto light samples that are blocked already
+   *   (vtkPenumbraGearsTree.h). Measured slower than DENSE_TRACE on the dense bench
+   *   scenes (docs/gears.md), hence not the default.
+   * The answer is the reference's either way; only speed depends on it.
+   */
+  enum DenseModes
+  {
+    DENSE_TRACE = 0,
+    DENSE_TREE = 1
+  };
+  vtkSetClampMacro(DenseCells, int, DENSE_TRACE, DENSE_TREE);
+  vtkGetMacro(DenseCells, int);
+  void SetDenseCellsToTree() { this->SetDenseCells(DENSE_TREE); }
+  void SetDenseCellsToTrace() { this->SetDenseCells(DENSE_TRACE); }
+
+  /**
    * Where step 4 (the masks) runs.
    * - PATH_AUTO (default): the path measured faster on the target platform, currently
    *   PATH_CPU (see README: on Mesa llvmpipe the compute shader runs on the same CPU cores
@@ -238,7 +261,9 @@ public:
    *   this is a lower bound of the paper's count);
    * - the grid resolution actually used after any overflow coarsening;
    * - samples handed to the reference whole: on the light plane (uncertain), and those of
-   *   cells above TraceThreshold (traced cells); single light-sample rays it traced, and the
+   *   cells above TraceThreshold with DENSE_TRACE (traced cells); samples of cells above
+   *   TraceThreshold masked from the tree walk (DENSE_TREE; their assignments are the
+   *   triangles the walk visited); single light-sample rays the reference traced, and the
    *   samples those belong to;
    * - segment tests run in double precision.
    */
@@ -252,6 +277,7 @@ public:
   vtkGetMacro(EffectiveGridResolution, int);
   vtkGetMacro(NumberOfUncertainSamples, vtkIdType);
   vtkGetMacro(NumberOfTracedCellSamples, vtkIdType);
+  vtkGetMacro(NumberOfTreeSamples, vtkIdType);
   vtkGetMacro(NumberOfTracedRays, vtkIdType);
   vtkGetMacro(NumberOfSamplesWithTracedRays, vtkIdType);
   vtkGetMacro(NumberOfSegmentTests, vtkIdType);
@@ -292,6 +318,7 @@ protected:
   double CameraDistanceFactor = 1.0;
   vtkIdType MaxListEntries = vtkIdType(1) << 27;
   double TraceThreshold = 0.5;
+  int DenseCells = DENSE_TRACE;
   bool KeepMasks = false;
   int Path = PATH_AUTO;
   int LastPath = PATH_AUTO;
@@ -308,6 +335,7 @@ protected:
   vtkIdType NumberOfValidSamples = 0;
   vtkIdType NumberOfUncertainSamples = 0;
   vtkIdType NumberOfTracedCellSamples = 0;
+  vtkIdType NumberOfTreeSamples = 0;
   vtkIdType NumberOfSegmentTests = 0;
   vtkIdType NumberOfTracedRays = 0;
   vtkIdType NumberOfSamplesWithTracedRays = 0;

@@ -648,6 +648,11 @@ const OptionTable GearsOptions = {
     "a cell whose blocker list is longer than this times k^2 has its samples ray traced whole "
     "instead of masked; 0 masks every cell, as the compute path always does; only speed "
     "depends on it" },
+  { "dense", OptionType::Choice, "trace", 0, 0, { "trace", "tree" }, "",
+    "the samples of a cell above trace_threshold: \"trace\" ray traces them whole, \"tree\" "
+    "masks them from a walk of a bounding volume hierarchy over the casters that skips nodes "
+    "whose light samples are blocked already (measured slower on llvmpipe's 2 cores); only "
+    "speed depends on it" },
   { "path", OptionType::Choice, "auto", 0, 0, { "auto", "cpu", "gpu" }, "",
     "where the per-sample masks are built: \"auto\" (the path measured faster, the CPU on Mesa "
     "llvmpipe), \"cpu\" (vtkSMPTools) or \"gpu\" (a GL 4.3 compute shader, k <= 32); the same "
@@ -665,6 +670,8 @@ void InstallGears(vtkRenderer* ren, const Options& opts)
   technique->SetGridResolution(opts.Integer("grid"));
   technique->SetCameraDistanceFactor(opts.Number("camera_distance"));
   technique->SetTraceThreshold(opts.Number("trace_threshold"));
+  technique->SetDenseCells(opts.Choice("dense") == 1 ? vtkPenumbraGearsShadows::DENSE_TREE
+                                                     : vtkPenumbraGearsShadows::DENSE_TRACE);
   InstallShadowPass(ren, technique);
 }
 

@@ -13,8 +13,9 @@
 //   65535 loop iterations per invocation group: without the shader's loop probe, 9 of its
 //   samples lose blockers), and falls back to the CPU path with a message
 //   where it cannot run (no OpenGL window, more than 32 light samples per row);
-// - a dense mesh under a large light gives the reference's visibility whether its long-list
-//   cells are ray traced whole (TraceThreshold) or masked;
+// - a dense mesh under a large light gives the reference's visibility and masks whether its
+//   long-list cells are masked from the casters' tree (DenseCells), ray traced whole, or
+//   masked from their lists (TraceThreshold 0);
 // - bad input is refused without a crash.
 #include "vtkActor.h"
 #include "vtkCameraPass.h"
@@ -558,8 +559,10 @@ int CheckBadInput()
 
 // A dense mesh (a 38 k-triangle isosurface) under a large area light, where a grid cell
 // meets hundreds of tiny triangles: GEARS must give the ray tracer's visibility with its
-// default TraceThreshold (the long-list cells traced whole, the others masked; both kinds
-// must occur, or the test proves nothing) and with every cell masked.
+// default TraceThreshold, the long-list cells masked from the casters' tree (the default,
+// which skips nodes over blocked light samples) or traced whole, the others masked from
+// their lists (both kinds of cell must occur, or the test proves nothing), and with every
+// cell masked from its list.
 int CheckDenseMesh()
 {
   vtkNew<vtkPenumbraSceneReader> reader;
@@ -576,29 +579,65 @@ int CheckDenseMesh()
   reference->SetGeometry(geometry);
   vtkNew<vtkFloatArray> ref;
   CHECK(reference->ComputeVisibility(samples, light, ref));
+  vtkNew<vtkUnsignedCharArray> ties;
+  ties->DeepCopy(reference->GetTies());
+  vtkNew<vtkTypeUInt32Array> refMasks;
+  CHECK(reference->ComputeAreaMasks(samples, light, refMasks));
   const vtkIdType valid = samples->GetNumberOfValidSamples();
-  for (const double threshold : { 0.5, 0.0 })
+  const struct
   {
+    double Threshold;
+    int Dense;
+  } runs[] = { { 0.5, vtkPenumbraGearsShadows::DENSE_TREE },
+    { 0.5, vtkPenumbraGearsShadows::DENSE_TRACE }, { 0.0, vtkPenumbraGearsShadows::DENSE_TREE } };
+  for (const auto& run : runs)
+  {
+    const double threshold = run.Threshold;
     vtkNew<vtkPenumbraGearsShadows> gears;
     gears->SetTraceThreshold(threshold);
+    gears->SetDenseCells(run.Dense);
+    gears->KeepMasksOn();
     vtkNew<vtkFloatArray> vis;
     CHECK(gears->ComputeVisibility(nullptr, geometry, samples, light, vis));
-    vtkIdType differ = 0, penumbra = 0;
+    vtkIdType differ = 0, penumbra = 0, maskDiffer = 0, masksCompared = 0;
+    vtkTypeUInt32Array* masks = gears->GetMasks();
+    CHECK(masks->GetNumberOfComponents() == refMasks->GetNumberOfComponents());
     for (vtkIdType s = 0; s < samples->GetNumberOfSamples(); ++s)
     {
       differ += vis->GetValue(s) != ref->GetValue(s);
       penumbra += ref->GetValue(s) > 0.0f && ref->GetValue(s) < 1.0f;
+      if (!samples->IsValid(s) || ties->GetValue(s) || gears->GetUncertainSamples()->GetValue(s))
+      {
+        continue;
+      }
+      ++masksCompared;
+      for (int w = 0; w < masks->GetNumberOfComponents(); ++w)
+      {
+        if (masks->GetTypedComponent(s, w) != refMasks->GetTypedComponent(s, w))
+        {
+          ++maskDiffer;
+          break;
+        }
+      }
     }
     const vtkIdType traced = gears->GetNumberOfTracedCellSamples();
-    std::printf("dense mesh, trace threshold %.3f: %lld triangles, valid %lld, penumbra %lld, "
-                "traced cells' samples %lld, tri/cell max %lld, visibility differs in %lld\n",
-      threshold, static_cast<long long>(geometry->GetNumberOfTriangles()),
-      static_cast<long long>(valid), static_cast<long long>(penumbra),
-      static_cast<long long>(traced), static_cast<long long>(gears->GetMaxTrianglesPerCell()),
-      static_cast<long long>(differ));
+    const vtkIdType walked = gears->GetNumberOfTreeSamples();
+    std::printf("dense mesh, trace threshold %.3f, dense cells %s: %lld triangles, valid %lld, "
+                "penumbra %lld, traced cells' samples %lld, tree samples %lld, tri/cell max "
+                "%lld, visibility differs in %lld, masks in %lld of %lld\n",
+      threshold, run.Dense == vtkPenumbraGearsShadows::DENSE_TREE ? "tree" : "trace",
+      static_cast<long long>(geometry->GetNumberOfTriangles()), static_cast<long long>(valid),
+      static_cast<long long>(penumbra), static_cast<long long>(traced),
+      static_cast<long long>(walked), static_cast<long long>(gears->GetMaxTrianglesPerCell()),
+      static_cast<long long>(differ), static_cast<long long>(maskDiffer),
+      static_cast<long long>(masksCompared));
     CHECK(differ == 0);
+    CHECK(maskDiffer == 0);
+    CHECK(masksCompared > valid / 2);
     CHECK(penumbra > valid / 20);
-    CHECK(threshold > 0.0 ? traced > 0 && traced < valid / 2 : traced == 0);
+    const vtkIdType dense = run.Dense == vtkPenumbraGearsShadows::DENSE_TREE ? walked : traced;
+    CHECK(threshold > 0.0 ? dense > 0 && dense < valid / 2 : traced == 0 && walked == 0);
+    CHECK(traced + walked == dense);
   }
   return EXIT_SUCCESS;
 }

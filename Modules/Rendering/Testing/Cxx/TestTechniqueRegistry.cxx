@@ -74,6 +74,7 @@ int DefaultsMatchTheClasses()
     gearsDefault->GetGridResolution() == gears->GetGridResolution() &&
     gearsDefault->GetCameraDistanceFactor() == gears->GetCameraDistanceFactor() &&
     gearsDefault->GetTraceThreshold() == gears->GetTraceThreshold() &&
+    gearsDefault->GetDenseCells() == gears->GetDenseCells() &&
     gearsDefault->GetPath() == gears->GetPath());
 
   vtkNew<vtkPenumbraRayTracedShadows> rt;
