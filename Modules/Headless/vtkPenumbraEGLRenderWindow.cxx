@@ -2,6 +2,7 @@
 
 #include "vtkObjectFactory.h"
 #include "vtkPenumbraOSMesaRenderWindow.h"
+#include "vtk_glew.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -325,6 +326,29 @@ void* vtkPenumbraEGLRenderWindow::GetGenericContext()
 void* vtkPenumbraEGLRenderWindow::GetGenericDisplayId()
 {
   return this->Impl->Display;
+}
+
+int vtkPenumbraEGLRenderWindow::GetColorBufferSizes(int* rgba)
+{
+  if (!rgba)
+  {
+    return 0;
+  }
+  if (this->Initialized && this->HasContext())
+  {
+    this->MakeCurrent();
+    GLint bound = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+    if (bound != 0)
+    {
+      return this->Superclass::GetColorBufferSizes(rgba);
+    }
+  }
+  for (int i = 0; i < 4; ++i)
+  {
+    rgba[i] = 8;
+  }
+  return 32;
 }
 
 void vtkPenumbraEGLRenderWindow::PrintSelf(ostream& os, vtkIndent indent)
