@@ -49,4 +49,6 @@ view.CameraFocalPoint = [0.0, 0.0, -4.0]
 view.CameraViewUp = [0.0, 0.0, 1.0]
 Render(view)
 SaveScreenshot(out, view, ImageResolution=[800, 600])
-print("paraview-demo: wrote %s with technique %s" % (out, view.ShadowTechnique))
+view.UpdatePropertyInformation()
+print("paraview-demo: wrote %s with technique %s" %
+      (out, view.GetProperty("InstalledShadowTechnique").GetData()))
