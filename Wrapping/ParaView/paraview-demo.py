@@ -40,8 +40,8 @@ iso_display.Ambient = 0.25
 ground = Plane(Origin=[-22.0, -22.0, -11.0], Point1=[22.0, -22.0, -11.0],
                Point2=[-22.0, 22.0, -11.0])
 ground_display = Show(ground, view)
-ground_display.DiffuseColor = [0.9, 0.9, 0.88]
-ground_display.AmbientColor = [0.9, 0.9, 0.88]
+ground_display.DiffuseColor = [0.72, 0.72, 0.7]
+ground_display.AmbientColor = [0.72, 0.72, 0.7]
 ground_display.Ambient = 0.25
 
 view.CameraPosition = [38.0, -52.0, 34.0]
