@@ -172,11 +172,13 @@ case "$cmd" in
     setup
     paraview_setup
     paraview_build_plugin
+    # A hang must fail, not block CI; SIGKILL because ParaView's logger catches SIGTERM.
+    limit=(timeout -s KILL 900)
     mkdir -p "$paraview_build/Testing/ParaView"
     PENUMBRA_TEST_OUTPUT="$paraview_build/Testing/ParaView" paraview_run env -u DISPLAY \
-      pvpython "$here/Wrapping/ParaView/Testing/test_paraview_plugin.py"
+      "${limit[@]}" pvpython "$here/Wrapping/ParaView/Testing/test_paraview_plugin.py"
     out="$(realpath -m "${2:-$here/paraview-demo.png}")"
-    paraview_run env -u DISPLAY pvbatch --disable-xdisplay-test \
+    paraview_run env -u DISPLAY "${limit[@]}" pvbatch --disable-xdisplay-test \
       "$here/Wrapping/ParaView/paraview-demo.py" "$out"
     ;;
   paraview-run)

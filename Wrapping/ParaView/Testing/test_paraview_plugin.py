@@ -163,5 +163,11 @@ check(view.GetProperty("InstalledShadowTechnique").GetData() == "shadowmap",
 
 if failures:
     print("%d check(s) failed" % len(failures))
-    sys.exit(1)
-print("all checks passed")
+else:
+    print("all checks passed")
+# Not sys.exit(): in pvpython it runs the static destructors before ParaView destroys its
+# views, and a shadow pass released after Embree's statics are gone hangs the process. The
+# views are not needed any more, so the test leaves without tearing anything down.
+sys.stdout.flush()
+sys.stderr.flush()
+os._exit(1 if failures else 0)
