@@ -80,7 +80,9 @@ paraview_setup() {
   if [ "$(cat "$paraview_root/VERSION" 2>/dev/null)" != "$version" ]; then
     rm -rf "$paraview_root"
     mkdir -p "$paraview_root"
-    (cd "$paraview_root" && apt-get download "python3-paraview=$version")
+    # apt-get update only if the package lists are missing or stale.
+    (cd "$paraview_root" && { apt-get download "python3-paraview=$version" ||
+      { apt-get update && apt-get download "python3-paraview=$version"; }; })
     dpkg -x "$paraview_root"/python3-paraview_*.deb "$paraview_root/root"
     echo "$version" >"$paraview_root/VERSION"
   fi
