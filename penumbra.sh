@@ -7,6 +7,12 @@
 #   ./penumbra.sh build                           only configure and build
 #   ./penumbra.sh sanitize                        build with AddressSanitizer and
 #                                                 UndefinedBehaviorSanitizer, run the whole suite (CI)
+#   ./penumbra.sh paraview [OUT.png]              set up ParaView 5.11, build Penumbra and its
+#                                                 ParaView plugin against ParaView's VTK, test the
+#                                                 plugin, render paraview-demo.png with pvbatch
+#   ./penumbra.sh paraview-run COMMAND...         run COMMAND (pvpython, pvbatch, paraview) where
+#                                                 ParaView's Python modules are visible, with the
+#                                                 plugin on PV_PLUGIN_PATH
 #
 # Idempotent: packages already installed are not fetched again, an existing build is reused.
 set -euo pipefail
@@ -23,9 +29,10 @@ packages=(
   libegl-dev libegl1-mesa-dev libgl1-mesa-dri libosmesa6-dev libglvnd-dev libglew-dev
 )
 
-setup() {
+# Installs those of the given Debian packages that are missing, without their recommends.
+install_packages() {
   local missing=()
-  for p in "${packages[@]}"; do
+  for p in "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   if [ ${#missing[@]} -eq 0 ]; then
@@ -38,6 +45,83 @@ setup() {
   fi
   "${sudo[@]}" apt-get update
   DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
+}
+
+setup() {
+  install_packages "${packages[@]}"
+}
+
+# ---- ParaView (issue 21). Debian 12's paraview-dev is unusable without python3-paraview (its
+# CMake files name the Python modules, pvpython and the wrapping hierarchy files it ships), and
+# python3-paraview conflicts with python3-vtk9, which libvtk9-dev and the default build need:
+# both own /usr/lib/python3/dist-packages/vtkmodules. So python3-paraview is never installed:
+# it is unpacked (dpkg -x, the version of the installed paraview) under the ParaView build
+# folder and shown only inside a private mount namespace (unshare --mount), where read-only
+# overlays put its files over /usr. That keeps one Debian root for both setups, changes
+# nothing outside the namespace (the default build still finds VTK 9.1), needs no second root
+# (a chroot or container would duplicate ~1 GB and need its own apt) and is undone by exiting.
+# It needs root, as apt does; CI runs as root.
+paraview_packages=(
+  paraview paraview-dev
+  qtbase5-dev qttools5-dev libqt5svg5-dev libqt5opengl5-dev   # paraview-dev's CMake needs Qt5's
+  openmpi-bin                                                 # ParaView is built with MPI
+)
+paraview_dir="${PENUMBRA_PARAVIEW_DIR:-$here/build-paraview}"
+paraview_build="$paraview_dir/build"
+paraview_root="$paraview_dir/python3-paraview"
+paraview_vtk_dir=/usr/lib/x86_64-linux-gnu/cmake/paraview-5.11/vtk
+
+paraview_setup() {
+  # Without recommends (install_packages): paraview recommends python3-paraview, whose
+  # conflict would remove libvtk9-dev and python3-vtk9.
+  install_packages "${paraview_packages[@]}"
+  local version
+  version="$(dpkg-query -W -f='${Version}' paraview)"
+  if [ "$(cat "$paraview_root/VERSION" 2>/dev/null)" != "$version" ]; then
+    rm -rf "$paraview_root"
+    mkdir -p "$paraview_root"
+    # apt-get update only if the package lists are missing or stale.
+    (cd "$paraview_root" && { apt-get download "python3-paraview=$version" ||
+      { apt-get update && apt-get download "python3-paraview=$version"; }; })
+    dpkg -x "$paraview_root"/python3-paraview_*.deb "$paraview_root/root"
+    echo "$version" >"$paraview_root/VERSION"
+  fi
+}
+
+# Inside the namespace (internal: run by paraview_run through unshare).
+paraview_mounts() {
+  local r="$paraview_root/root"
+  local py=/usr/lib/python3/dist-packages
+  mount -t overlay penumbra-pv-python -o "lowerdir=$r$py:$py" "$py"
+  # An overlay would merge the two vtkmodules folders; ParaView's must replace Debian's.
+  mount --bind "$r$py/vtkmodules" "$py/vtkmodules"
+  mount -t overlay penumbra-pv-bin -o "lowerdir=$r/usr/bin:/usr/bin" /usr/bin
+  local vtk=/usr/lib/x86_64-linux-gnu/vtk
+  mount -t overlay penumbra-pv-vtk -o "lowerdir=$r$vtk:$vtk" "$vtk"
+}
+
+paraview_run() {
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "penumbra: the ParaView setup mounts inside a private mount namespace: run as root" >&2
+    exit 1
+  fi
+  if [ ! -d "$paraview_root/root" ]; then
+    echo "penumbra: ParaView is not set up; run ./penumbra.sh paraview first" >&2
+    exit 1
+  fi
+  local cache="$paraview_build/CMakeCache.txt" plugins="" pythonpath=""
+  if [ -f "$cache" ]; then
+    plugins="$(sed -n 's/^PENUMBRA_PARAVIEW_PLUGIN_DIR:INTERNAL=//p' "$cache")"
+    pythonpath="$(sed -n 's/^PENUMBRA_PYTHONPATH:INTERNAL=//p' "$cache")"
+  fi
+  PV_PLUGIN_PATH="$plugins" PYTHONPATH="$pythonpath${PYTHONPATH:+:$PYTHONPATH}" \
+    unshare --mount --propagation private "$here/penumbra.sh" _paraview-namespace "$@"
+}
+
+paraview_build_plugin() {
+  paraview_run cmake -S "$here" -B "$paraview_build" -DCMAKE_BUILD_TYPE=Release \
+    -DVTK_DIR="$paraview_vtk_dir" -DPENUMBRA_PARAVIEW_PLUGIN=ON -DBUILD_TESTING=OFF >/dev/null
+  paraview_run cmake --build "$paraview_build" --parallel "$(nproc)"
 }
 
 build() {
@@ -83,8 +167,33 @@ case "$cmd" in
       ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
       env -u DISPLAY ctest --output-on-failure --timeout 900
     ;;
+  paraview)
+    # Penumbra built against ParaView's bundled VTK 9.2 in its own folder, with the plugin; the
+    # plugin's test (pvpython) and the demo (pvbatch), both with no X server: the plugin
+    # registers Penumbra's EGL window when DISPLAY is unset.
+    setup
+    paraview_setup
+    paraview_build_plugin
+    # A hang must fail, not block CI; SIGKILL because ParaView's logger catches SIGTERM.
+    limit=(timeout -s KILL 900)
+    mkdir -p "$paraview_build/Testing/ParaView"
+    PENUMBRA_TEST_OUTPUT="$paraview_build/Testing/ParaView" paraview_run env -u DISPLAY \
+      "${limit[@]}" pvpython "$here/Wrapping/ParaView/Testing/test_paraview_plugin.py"
+    out="$(realpath -m "${2:-$here/paraview-demo.png}")"
+    paraview_run env -u DISPLAY "${limit[@]}" pvbatch --disable-xdisplay-test \
+      "$here/Wrapping/ParaView/paraview-demo.py" "$out"
+    ;;
+  paraview-run)
+    shift
+    paraview_run "$@"
+    ;;
+  _paraview-namespace)
+    shift
+    paraview_mounts
+    exec "$@"
+    ;;
   *)
-    echo "usage: $0 {render [SCENE.json [OUT.png]]|test|sanitize|setup|build}" >&2
+    echo "usage: $0 {render [SCENE.json [OUT.png]]|test|sanitize|setup|build|paraview [OUT.png]|paraview-run COMMAND...}" >&2
     exit 2
     ;;
 esac

@@ -2,6 +2,7 @@
 
 #include "vtkObjectFactory.h"
 #include "vtkPenumbraOSMesaRenderWindow.h"
+#include "vtk_glew.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -37,8 +38,21 @@ bool HasExtension(const char* list, const char* name)
 
 // eglInitialize may be called repeatedly on one display, but eglTerminate ends it for every
 // window sharing it; count users so the last window alone terminates.
-std::mutex DisplayMutex;
-std::map<EGLDisplay, int> DisplayUsers;
+// Allocated on first use and never destroyed: a window may be destroyed after this file's
+// static objects, e.g. ParaView's process window, which pvpython destroys in its exit-time
+// cleanup after a script's sys.exit() has already run the static destructors (locking a
+// destroyed mutex and erasing from a destroyed map corrupted the heap).
+struct DisplayRegistry
+{
+  std::mutex Mutex;
+  std::map<EGLDisplay, int> Users;
+};
+
+DisplayRegistry& Displays()
+{
+  static DisplayRegistry* registry = new DisplayRegistry;
+  return *registry;
+}
 
 struct OpenedDisplay
 {
@@ -148,8 +162,8 @@ OpenedDisplay OpenDisplay(int deviceIndex)
     return out;
   }
   {
-    std::lock_guard<std::mutex> lock(DisplayMutex);
-    ++DisplayUsers[candidate];
+    std::lock_guard<std::mutex> lock(Displays().Mutex);
+    ++Displays().Users[candidate];
   }
   out.Description += std::string(", EGL ") + std::to_string(major) + "." + std::to_string(minor) +
     " (" + eglQueryString(candidate, EGL_VENDOR) + ")";
@@ -159,11 +173,12 @@ OpenedDisplay OpenDisplay(int deviceIndex)
 
 void CloseDisplay(EGLDisplay display)
 {
-  std::lock_guard<std::mutex> lock(DisplayMutex);
-  auto it = DisplayUsers.find(display);
-  if (it != DisplayUsers.end() && --it->second == 0)
+  DisplayRegistry& displays = Displays();
+  std::lock_guard<std::mutex> lock(displays.Mutex);
+  auto it = displays.Users.find(display);
+  if (it != displays.Users.end() && --it->second == 0)
   {
-    DisplayUsers.erase(it);
+    displays.Users.erase(it);
     eglTerminate(display);
   }
 }
@@ -325,6 +340,29 @@ void* vtkPenumbraEGLRenderWindow::GetGenericContext()
 void* vtkPenumbraEGLRenderWindow::GetGenericDisplayId()
 {
   return this->Impl->Display;
+}
+
+int vtkPenumbraEGLRenderWindow::GetColorBufferSizes(int* rgba)
+{
+  if (!rgba)
+  {
+    return 0;
+  }
+  if (this->Initialized && this->HasContext())
+  {
+    this->MakeCurrent();
+    GLint bound = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+    if (bound != 0)
+    {
+      return this->Superclass::GetColorBufferSizes(rgba);
+    }
+  }
+  for (int i = 0; i < 4; ++i)
+  {
+    rgba[i] = 8;
+  }
+  return 32;
 }
 
 void vtkPenumbraEGLRenderWindow::PrintSelf(ostream& os, vtkIndent indent)

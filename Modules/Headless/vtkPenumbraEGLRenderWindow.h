@@ -49,6 +49,15 @@ public:
   void* GetGenericContext() override;
   void* GetGenericDisplayId() override;
 
+  /**
+   * The colour bits of the bound draw framebuffer. A surfaceless context has no default
+   * framebuffer, yet VTK 9.2 (ParaView 5.11's) queries its attachments during initialisation
+   * and logs an error for each; VTK 9.1 stayed silent. While the default framebuffer is bound
+   * this reports RGBA 8/8/8/8, the format of VTK's offscreen framebuffers that every frame of
+   * this window is drawn into; otherwise VTK's own query answers.
+   */
+  int GetColorBufferSizes(int* rgba) override;
+
 protected:
   vtkPenumbraEGLRenderWindow();
   ~vtkPenumbraEGLRenderWindow() override;

@@ -1330,7 +1330,9 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   }
 
   // The counting framebuffer: DEPTH32F_STENCIL8 and the RGBA8 mask. False when incomplete.
-  bool Allocate(int w, int h)
+  // Bound through vtkOpenGLState: the caller's PopFramebufferBindings() restores from its
+  // cache, so a binding made behind its back would leave the wrong framebuffer bound.
+  bool Allocate(int w, int h, vtkOpenGLState* ostate)
   {
     if (this->Framebuffer && this->Width == w && this->Height == h)
     {
@@ -1357,13 +1359,13 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
     this->DepthUploaded = false;
     glBindTexture(GL_TEXTURE_2D, 0);
-    glBindFramebuffer(GL_FRAMEBUFFER, this->Framebuffer);
+    ostate->vtkglBindFramebuffer(GL_FRAMEBUFFER, this->Framebuffer);
     glFramebufferTexture2D(
       GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_TEXTURE_2D, this->DepthStencil, 0);
     glFramebufferTexture2D(
       GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, this->MaskTexture, 0);
-    glDrawBuffer(GL_COLOR_ATTACHMENT0);
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    ostate->vtkglDrawBuffer(GL_COLOR_ATTACHMENT0);
+    ostate->vtkglReadBuffer(GL_COLOR_ATTACHMENT0);
     const bool complete = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
     this->Width = w;
     this->Height = h;
@@ -1890,7 +1892,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       const SampleLayout& layout = this->Layout;
       const int channels = g.Counted == 1 ? 1 : 4;
       this->MaskPixels.resize(static_cast<size_t>(channels) * layout.SampleAt.size());
-      complete = this->Allocate(layout.Width, layout.Height);
+      complete = this->Allocate(layout.Width, layout.Height, ostate);
       if (complete)
       {
         this->CountLayers(self, g, ostate);

@@ -798,6 +798,11 @@ const Technique* Find(const char* name)
 
 vtkStandardNewMacro(vtkPenumbraTechniques);
 
+const char* vtkPenumbraTechniques::GetDefaultTechnique()
+{
+  return "auto";
+}
+
 int vtkPenumbraTechniques::GetNumberOfTechniques()
 {
   return static_cast<int>(Registry().size());

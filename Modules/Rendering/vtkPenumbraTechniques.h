@@ -53,6 +53,12 @@ public:
   static bool HasTechnique(const char* name);
   ///@}
 
+  /**
+   * The technique an application should start with when its user names none: `auto`, the
+   * default of scene files, the CLI, the examples and the Python helper.
+   */
+  static const char* GetDefaultTechnique();
+
   ///@{
   /**
    * Technique `technique`'s option table, row `index` in [0, GetNumberOfOptions()):

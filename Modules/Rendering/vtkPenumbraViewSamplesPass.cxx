@@ -175,6 +175,25 @@ struct vtkPenumbraViewSamplesPass::Internals
   vtkSmartPointer<vtkTextureObject> Textures[3];
   vtkSmartPointer<vtkTextureObject> Depth;
   std::map<vtkProp*, int> PropIndex;
+  // The same indices by the props' property keys: see FindPropIndex().
+  std::map<vtkInformation*, int> KeysIndex;
+
+  // The scene-geometry index of the prop a mapper draws for, or -1. Some actors draw through
+  // another actor: ParaView's vtkPVLODActor renders its mapper through an internal "Device"
+  // vtkActor that is in no renderer, so the mapper hands that device to the pass hooks. The
+  // device shares the outer actor's property keys (where the shadow flags live too), so a
+  // prop not found by pointer is matched by its keys.
+  int FindPropIndex(vtkProp* prop) const
+  {
+    auto it = this->PropIndex.find(prop);
+    if (it != this->PropIndex.end())
+    {
+      return it->second;
+    }
+    vtkInformation* keys = prop ? prop->GetPropertyKeys() : nullptr;
+    auto byKeys = keys ? this->KeysIndex.find(keys) : this->KeysIndex.end();
+    return byKeys != this->KeysIndex.end() ? byKeys->second : -1;
+  }
   // Read-back buffers, kept between frames: allocating the 48 bytes per pixel afresh each
   // frame (44 MB at 1280 x 720) cost 40-80 ms of page faults per frame on the test machine.
   std::vector<float> ReadBuffers[3];
@@ -342,9 +361,15 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
   this->UpdateLights(ren);
 
   impl.PropIndex.clear();
+  impl.KeysIndex.clear();
   for (int i = 0; i < impl.Geometry->GetNumberOfProps(); ++i)
   {
-    impl.PropIndex[impl.Geometry->GetProp(i)] = i;
+    vtkProp* p = impl.Geometry->GetProp(i);
+    impl.PropIndex[p] = i;
+    if (p->GetPropertyKeys())
+    {
+      impl.KeysIndex[p->GetPropertyKeys()] = i;
+    }
   }
 
   // View coordinates -> world -> minus origin, composed in double and sent once as float.
@@ -718,15 +743,15 @@ bool vtkPenumbraViewSamplesPass::SetShaderParameters(
   }
   if (program->IsUniformUsed("penumbraVCToRebased"))
   {
-    auto it = impl.PropIndex.find(prop);
+    const int index = impl.FindPropIndex(prop);
     program->SetUniformMatrix("penumbraVCToRebased", impl.VCToRebasedTransposed);
     program->SetUniform3f("penumbraCameraRebased", impl.CameraRebased);
     program->SetUniform3f("penumbraViewDirection", impl.ViewDirection);
     program->SetUniformi("penumbraParallel", impl.Parallel);
     // Props that do not receive shadows give no sample: they are lit unshadowed and get no
     // shadow work (they still occlude the samples behind them).
-    const bool sampled = it != impl.PropIndex.end() && vtkPenumbraShadowKeys::ReceivesShadows(prop);
-    program->SetUniformf("penumbraPropIndex", sampled ? static_cast<float>(it->second) : -1.0f);
+    const bool sampled = index >= 0 && vtkPenumbraShadowKeys::ReceivesShadows(prop);
+    program->SetUniformf("penumbraPropIndex", sampled ? static_cast<float>(index) : -1.0f);
   }
   return true;
 }

@@ -1,0 +1,110 @@
+/**
+ * @class   vtkPVPenumbraShadowView
+ * @brief   ParaView render view that draws with a Penumbra shadow technique.
+ *
+ * A vtkPVRenderView whose render pass is the shadow pass of one technique of Penumbra's
+ * registry (vtkPenumbraTechniques), chosen by name with options as JSON text, exactly as in
+ * scene files and `penumbra-render --technique`. ParaView composes its own passes around the
+ * one given to vtkPVSynchronizedRenderer::SetRenderPass (FXAA, image processing, the camera
+ * pass, and IceT's compositing pass under MPI), so the view hands over the technique's pass
+ * without Penumbra's camera pass.
+ *
+ * The technique is installed lazily, at the next render: ParaView pushes ShadowTechnique and
+ * ShadowOptions one at a time, and a new technique with the previous technique's options
+ * would be refused. A refused technique or option is reported (vtkErrorMacro, with the
+ * registry's message naming the option) and the view keeps drawing with its last valid one.
+ *
+ * Level of detail: vtkPVLODActor draws a decimated mesh during interaction when the data
+ * exceeds the LOD threshold. This view never does (the threshold stays infinite, whatever
+ * the settings say): shadows are computed for the geometry that is drawn, and a decimated
+ * mesh would shadow itself wrongly. Interaction on large data is therefore slower than in
+ * ParaView's plain render view.
+ *
+ * Loading the plugin registers Penumbra's headless (EGL) render window when no X display is
+ * set (vtkPenumbraHeadlessFactory), so pvpython and pvbatch render without an X server.
+ */
+
+#ifndef vtkPVPenumbraShadowView_h
+#define vtkPVPenumbraShadowView_h
+
+#include "vtkPVRenderView.h"
+#include "vtkPenumbraParaViewViewModule.h" // For export macro
+
+#include <memory> // For std::unique_ptr
+#include <string> // For std::string
+
+class vtkStringArray;
+
+class VTKPENUMBRAPARAVIEWVIEW_EXPORT vtkPVPenumbraShadowView : public vtkPVRenderView
+{
+public:
+  static vtkPVPenumbraShadowView* New();
+  vtkTypeMacro(vtkPVPenumbraShadowView, vtkPVRenderView);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The technique's name in Penumbra's registry; empty (ParaView's initial value: its
+   * string-list domain is filled from the server only after the view exists) or unset means
+   * vtkPenumbraTechniques::GetDefaultTechnique(), `auto`. Takes effect at the next render.
+   */
+  void SetShadowTechnique(const char* name);
+  const char* GetShadowTechnique() { return this->Technique.c_str(); }
+  ///@}
+
+  ///@{
+  /**
+   * The technique's options as a JSON object ("" or nullptr: the registry's defaults).
+   * Takes effect at the next render.
+   */
+  void SetShadowOptions(const char* options);
+  const char* GetShadowOptions() { return this->Options.c_str(); }
+  ///@}
+
+  /**
+   * The registered technique names, the registry's default first (a StringListDomain offers
+   * its first string as the property's default).
+   */
+  vtkStringArray* GetShadowTechniqueNames();
+
+  /**
+   * Every technique with its options, defaults and ranges (vtkPenumbraTechniques::
+   * GetTechniqueList(), as `penumbra-render --list-techniques` prints it).
+   */
+  const char* GetShadowTechniqueHelp();
+
+  /**
+   * The name of the technique the view draws with now (empty before the first render).
+   */
+  const char* GetInstalledTechnique() { return this->InstalledTechnique.c_str(); }
+
+  /**
+   * Ignored: the view never renders a decimated LOD mesh (see the class description).
+   */
+  void SetLODRenderingThreshold(double) override;
+
+protected:
+  vtkPVPenumbraShadowView();
+  ~vtkPVPenumbraShadowView() override;
+
+  void Render(bool interactive, bool skip_rendering) override;
+
+private:
+  vtkPVPenumbraShadowView(const vtkPVPenumbraShadowView&) = delete;
+  void operator=(const vtkPVPenumbraShadowView&) = delete;
+
+  // Installs the requested technique if it changed since the last render.
+  void UpdateShadowPass();
+
+  std::string Technique;
+  std::string Options;
+  std::string InstalledTechnique;
+  bool Tried = false;
+  std::string TriedTechnique;
+  std::string TriedOptions;
+  std::string Help;
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
