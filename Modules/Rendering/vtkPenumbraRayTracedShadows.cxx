@@ -227,6 +227,8 @@ int vtkPenumbraRayTracedShadows::ComputeAdaptive(
 {
   const Image image = { samples->GetWidth(), samples->GetHeight() };
   const vtkIdType n = samples->GetNumberOfSamples();
+  // Samples that are not one image of Width x Height (or too small to have blocks) are
+  // traced whole: exact, only without the saving.
   if (image.Width < 2 || image.Height < 2 ||
     n != static_cast<vtkIdType>(image.Width) * image.Height)
   {

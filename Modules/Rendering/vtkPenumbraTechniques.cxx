@@ -342,19 +342,16 @@ const OptionTable AdaptiveSoftOptions = { SamplesOption,
     "largest difference between a block centre's traced visibility and its bilinear "
     "prediction for which the block is interpolated" } };
 
-void InstallRayTraced(vtkRenderer* ren, const Options& opts)
+// raytraced; adaptive-soft is the same tracer with its adaptive block set.
+void InstallRayTraced(vtkRenderer* ren, const Options& opts, bool adaptive)
 {
   vtkNew<vtkPenumbraRayTracedShadows> technique;
   technique->SetSamplesPerAxis(opts.Integer("samples"));
-  InstallShadowPass(ren, technique);
-}
-
-void InstallAdaptiveSoft(vtkRenderer* ren, const Options& opts)
-{
-  vtkNew<vtkPenumbraRayTracedShadows> technique;
-  technique->SetSamplesPerAxis(opts.Integer("samples"));
-  technique->SetAdaptiveBlock(opts.Integer("block"));
-  technique->SetAdaptiveTolerance(opts.Number("tolerance"));
+  if (adaptive)
+  {
+    technique->SetAdaptiveBlock(opts.Integer("block"));
+    technique->SetAdaptiveTolerance(opts.Number("tolerance"));
+  }
   InstallShadowPass(ren, technique);
 }
 
@@ -442,19 +439,26 @@ const OptionTable ShadowMapOptions = {
 };
 
 // Everything shadowmap and resm share but how big the maps are.
-void ReadShadowMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* technique)
+// The map options every shadow-map technique has (shadowmap, resm, pcss).
+void ReadMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* technique)
 {
   technique->SetResolution(opts.Integer("resolution"));
-  const int filters[] = { vtkPenumbraShadowMapShadows::FILTER_NONE,
-    vtkPenumbraShadowMapShadows::FILTER_PCF, vtkPenumbraShadowMapShadows::FILTER_BILINEAR };
-  technique->SetFilter(filters[opts.Choice("filter")]);
-  technique->SetPCFKernel(opts.Integer("pcf_kernel"));
   technique->SetBias(opts.Number("bias"));
   technique->SetSlopeBias(opts.Number("slope_bias"));
   technique->SetDepthMode(opts.Choice("depth") == 1 ? vtkPenumbraShadowMapShadows::DEPTH_MIDPOINT
                                                     : vtkPenumbraShadowMapShadows::DEPTH_LINEAR);
   technique->SetPointMode(opts.Choice("point") == 1 ? vtkPenumbraShadowMapShadows::POINT_PARABOLOID
                                                     : vtkPenumbraShadowMapShadows::POINT_CUBE);
+}
+
+// shadowmap's and resm's: the map options, the filter and where the lookup runs.
+void ReadShadowMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* technique)
+{
+  ReadMapOptions(opts, technique);
+  const int filters[] = { vtkPenumbraShadowMapShadows::FILTER_NONE,
+    vtkPenumbraShadowMapShadows::FILTER_PCF, vtkPenumbraShadowMapShadows::FILTER_BILINEAR };
+  technique->SetFilter(filters[opts.Choice("filter")]);
+  technique->SetPCFKernel(opts.Integer("pcf_kernel"));
   technique->SetLookup(opts.Choice("lookup") == 1 ? vtkPenumbraShadowMapShadows::LOOKUP_CPU
                                                   : vtkPenumbraShadowMapShadows::LOOKUP_GPU);
 }
@@ -578,13 +582,7 @@ const OptionTable PCSSOptions = PCSSTable();
 void InstallPCSS(vtkRenderer* ren, const Options& opts)
 {
   vtkNew<vtkPenumbraShadowMapShadows> technique;
-  technique->SetResolution(opts.Integer("resolution"));
-  technique->SetBias(opts.Number("bias"));
-  technique->SetSlopeBias(opts.Number("slope_bias"));
-  technique->SetDepthMode(opts.Choice("depth") == 1 ? vtkPenumbraShadowMapShadows::DEPTH_MIDPOINT
-                                                    : vtkPenumbraShadowMapShadows::DEPTH_LINEAR);
-  technique->SetPointMode(opts.Choice("point") == 1 ? vtkPenumbraShadowMapShadows::POINT_PARABOLOID
-                                                    : vtkPenumbraShadowMapShadows::POINT_CUBE);
+  ReadMapOptions(opts, technique);
   technique->SetAreaLightMode(vtkPenumbraShadowMapShadows::AREA_PCSS);
   technique->SetSearchTaps(opts.Integer("search_taps"));
   technique->SetFilterTaps(opts.Integer("filter_taps"));
@@ -723,13 +721,15 @@ const std::vector<Technique>& Registry()
     { "raytraced",
       "exact shadows from every light type, ray traced on the CPU (Embree) for every view sample "
       "and light sample",
-      RayTracedOptions, InstallRayTraced },
+      RayTracedOptions,
+      [](vtkRenderer* ren, const Options& opts) { InstallRayTraced(ren, opts, false); } },
     { "adaptive-soft",
       "approximate soft shadows for area and linear lights: the exact rays of raytraced at a "
       "lattice of view samples, blocks whose corners predict their centre interpolated, the "
       "others split down to 2 pixels (the adaptive sampling of Brabec 2003, ch. 11.3); hard "
       "lights exact",
-      AdaptiveSoftOptions, InstallAdaptiveSoft },
+      AdaptiveSoftOptions,
+      [](vtkRenderer* ren, const Options& opts) { InstallRayTraced(ren, opts, true); } },
     { "conservative",
       "exact hard shadows from point, spot and directional lights: a conservative shadow map "
       "classifies the samples as lit, shadowed or uncertain, CPU rays resolve the uncertain ones "

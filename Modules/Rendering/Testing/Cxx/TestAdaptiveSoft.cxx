@@ -6,7 +6,8 @@
 //   of traced samples is well below 1 (the technique skips work);
 // - a tolerance of 1 interpolates more blocks (fewer samples traced, more samples differ),
 //   a tolerance of 0 fewer (fewer samples differ) than the default;
-// - hard lights are traced at every sample: the same answer as raytraced.
+// - hard lights are traced at every sample: the same answer as raytraced;
+// - out-of-range options are refused.
 #include "vtkFloatArray.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
@@ -125,6 +126,16 @@ int Compare(const char* scene, const std::string& options, int block, double bou
 
 int TestAdaptiveSoft(int, char*[])
 {
+  {
+    // Out-of-range settings are refused by name, the edges of the ranges accepted.
+    vtkNew<vtkPenumbraTechniques> techniques;
+    vtkNew<vtkRenderer> renderer;
+    CHECK(techniques->Apply(renderer, "adaptive-soft", "{\"block\": 1}") == 0);
+    CHECK(techniques->Apply(renderer, "adaptive-soft", "{\"block\": 17}") == 0);
+    CHECK(techniques->Apply(renderer, "adaptive-soft", "{\"tolerance\": -0.1}") == 0);
+    CHECK(techniques->Apply(renderer, "adaptive-soft", "{\"tolerance\": 2}") == 0);
+    CHECK(techniques->Apply(renderer, "adaptive-soft", "{\"block\": 2, \"tolerance\": 1}") == 1);
+  }
   // Measured on 2026-11-25 (llvmpipe): area_light 0.0030 / 0.0021 per light, traced 0.28;
   // linear_light (block 4) 0.0008, traced 0.34. Bound: twice the largest plus 2e-3.
   Run area, linear, loose, strict;
