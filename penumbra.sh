@@ -124,6 +124,27 @@ paraview_build_plugin() {
   paraview_run cmake --build "$paraview_build" --parallel "$(nproc)"
 }
 
+# Shadows across MPI ranks: every technique with 1 rank, then with 4 (the data split over
+# them; images and visibility must equal the 1-rank run's), then 20 more 4-rank runs of one
+# technique, each of which must finish. 4 ranks oversubscribe a 2-core machine, which
+# OpenMPI refuses without --oversubscribe; CI runs as root, which it refuses without the
+# two OMPI_ALLOW variables. A hung run is stopped (mpirun forwards the TERM to its ranks).
+paraview_mpi_tests() {
+  local dir="$paraview_build/Testing/ParaView/mpi" test="$here/Wrapping/ParaView/Testing/test_paraview_mpi.py"
+  local mpi=(env -u DISPLAY OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+    timeout -k 10 300 mpirun --oversubscribe)
+  local pvbatch=(pvbatch --mpi --symmetric --disable-xdisplay-test "$test" "$dir")
+  rm -rf "$dir" && mkdir -p "$dir"
+  paraview_run "${mpi[@]}" -np 1 "${pvbatch[@]}"
+  paraview_run "${mpi[@]}" -np 4 "${pvbatch[@]}"
+  local run
+  for run in $(seq 1 20); do
+    paraview_run "${mpi[@]}" -np 4 "${pvbatch[@]}" raytraced >"$dir/repeat.log" 2>&1 ||
+      { cat "$dir/repeat.log"; echo "penumbra: 4-rank run $run of 20 failed" >&2; return 1; }
+  done
+  echo "paraview MPI: 20 further 4-rank runs passed"
+}
+
 build() {
   cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
   cmake --build "$build" --parallel "$(nproc)"
@@ -179,6 +200,7 @@ case "$cmd" in
     mkdir -p "$paraview_build/Testing/ParaView"
     PENUMBRA_TEST_OUTPUT="$paraview_build/Testing/ParaView" paraview_run env -u DISPLAY \
       "${limit[@]}" pvpython "$here/Wrapping/ParaView/Testing/test_paraview_plugin.py"
+    paraview_mpi_tests
     out="$(realpath -m "${2:-$here/paraview-demo.png}")"
     paraview_run env -u DISPLAY "${limit[@]}" pvbatch --disable-xdisplay-test \
       "$here/Wrapping/ParaView/paraview-demo.py" "$out"

@@ -8,6 +8,8 @@
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationObjectBaseKey.h"
 #include "vtkIntArray.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
@@ -691,6 +693,7 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
 }
 
 vtkStandardNewMacro(vtkPenumbraShadowPass);
+vtkInformationKeyMacro(vtkPenumbraShadowPass, INSTALLED, ObjectBase);
 
 vtkPenumbraShadowPass::vtkPenumbraShadowPass()
   : Impl(new Internals)
@@ -1115,6 +1118,27 @@ void vtkPenumbraShadowPass::PrintSelf(ostream& os, vtkIndent indent)
 } //------------------------------------------------------------------------------
 vtkPenumbraShadowPass* vtkPenumbraShadowPass::GetInstalled(vtkRenderer* renderer)
 {
+  vtkInformation* info = renderer ? renderer->GetInformation() : nullptr;
+  if (info && info->Has(INSTALLED()))
+  {
+    return vtkPenumbraShadowPass::SafeDownCast(info->Get(INSTALLED()));
+  }
   auto* camera = renderer ? vtkCameraPass::SafeDownCast(renderer->GetPass()) : nullptr;
   return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+}
+
+void vtkPenumbraShadowPass::SetInstalled(vtkRenderer* renderer, vtkPenumbraShadowPass* pass)
+{
+  if (!renderer)
+  {
+    return;
+  }
+  if (pass)
+  {
+    renderer->GetInformation()->Set(INSTALLED(), pass);
+  }
+  else
+  {
+    renderer->GetInformation()->Remove(INSTALLED());
+  }
 }

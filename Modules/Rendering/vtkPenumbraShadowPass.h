@@ -50,6 +50,7 @@ class vtkPenumbraSceneGeometry;
 class vtkPenumbraShadowTechnique;
 class vtkPenumbraViewSamples;
 class vtkPenumbraViewSamplesPass;
+class vtkInformationObjectBaseKey;
 class vtkRenderer;
 class vtkWindow;
 
@@ -59,10 +60,20 @@ public:
   static vtkPenumbraShadowPass* New();
 
   /**
-   * The shadow pass `renderer` draws with when it is installed the way vtkPenumbraTechniques
-   * installs it (the renderer's vtkCameraPass delegating to it); nullptr otherwise.
+   * The shadow pass `renderer` draws with: the one recorded with SetInstalled(), else the
+   * one vtkPenumbraTechniques installs (the renderer's vtkCameraPass delegating to it);
+   * nullptr otherwise.
    */
   static vtkPenumbraShadowPass* GetInstalled(vtkRenderer* renderer);
+
+  /**
+   * Records `pass` (nullptr: none) as the shadow pass `renderer` draws with, for
+   * applications that wrap it in passes of their own, which GetInstalled() cannot look
+   * through (ParaView puts it under IceT's compositing pass). Kept in the renderer's
+   * information (INSTALLED()).
+   */
+  static void SetInstalled(vtkRenderer* renderer, vtkPenumbraShadowPass* pass);
+  static vtkInformationObjectBaseKey* INSTALLED();
   vtkTypeMacro(vtkPenumbraShadowPass, vtkOpenGLRenderPass);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 

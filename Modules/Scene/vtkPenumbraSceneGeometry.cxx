@@ -213,6 +213,7 @@ struct vtkPenumbraSceneGeometry::Internals
   std::vector<unsigned char> PublishedPropFlags;
 
   vtkNew<vtkDataSetSurfaceFilter> Surface;
+  vtkSmartPointer<vtkPropCollection> ShadowOnly;
 
   Internals() { vtkMath::UninitializeBounds(this->Bounds); }
 
@@ -623,6 +624,15 @@ int vtkPenumbraSceneGeometry::Update(vtkRenderer* renderer)
       props.push_back(prop);
     }
   }
+  if (vtkPropCollection* extra = this->Impl->ShadowOnly)
+  {
+    vtkCollectionSimpleIterator it;
+    extra->InitTraversal(it);
+    while (vtkProp* prop = extra->GetNextProp(it))
+    {
+      props.push_back(prop);
+    }
+  }
   return this->Update(props.empty() ? nullptr : props.data(), static_cast<int>(props.size()));
 }
 
@@ -772,6 +782,43 @@ int vtkPenumbraSceneGeometry::Update(vtkProp** props, int count)
   }
   impl.Publish(this->Origin, geometryChanged);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraSceneGeometry::SetShadowOnlyProps(vtkPropCollection* props)
+{
+  if (props != this->Impl->ShadowOnly)
+  {
+    this->Impl->ShadowOnly = props;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkPropCollection* vtkPenumbraSceneGeometry::GetShadowOnlyProps()
+{
+  return this->Impl->ShadowOnly;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraSceneGeometry::GetCasterWorldTriangles(vtkDoubleArray* world)
+{
+  vtkIdType count = 0;
+  for (const PropEntry* e : this->Impl->Props)
+  {
+    count += (e->Flags & CASTS_SHADOWS) ? static_cast<vtkIdType>(e->CellIds.size()) : 0;
+  }
+  world->SetNumberOfComponents(9);
+  world->SetNumberOfTuples(count);
+  double* out = world->GetPointer(0);
+  for (const PropEntry* e : this->Impl->Props)
+  {
+    if (e->Flags & CASTS_SHADOWS)
+    {
+      out = std::copy(e->World.begin(), e->World.end(), out);
+    }
+  }
+  world->Modified();
 }
 
 //------------------------------------------------------------------------------

@@ -56,6 +56,7 @@ class vtkIdTypeArray;
 class vtkInformationStringKey;
 class vtkIntArray;
 class vtkProp;
+class vtkPropCollection;
 class vtkRenderer;
 class vtkUnsignedCharArray;
 
@@ -80,6 +81,18 @@ public:
    * 1 on success, 0 on error (see GetErrorMessage()); on error the geometry is emptied.
    */
   int Update(vtkRenderer* renderer);
+
+  ///@{
+  /**
+   * Props that cast shadows without being drawn by the renderer, e.g. the casters of other
+   * MPI ranks in a distributed render (the ParaView plugin's view gathers them). They are not
+   * in the renderer, so nothing draws them and they give no view samples; Update(renderer)
+   * extracts them after the renderer's view props, like any other prop (shadow keys,
+   * visibility and caching apply). Default: none.
+   */
+  void SetShadowOnlyProps(vtkPropCollection* props);
+  vtkPropCollection* GetShadowOnlyProps();
+  ///@}
 
 #ifndef __VTK_WRAP__
   /**
@@ -197,6 +210,13 @@ public:
    * How many props the last Update() (re)extracted from their data: 0 when nothing changed.
    */
   int GetNumberOfPropsExtractedLastUpdate();
+
+  /**
+   * The triangles flagged CASTS_SHADOWS, in absolute world coordinates exactly as extracted
+   * (double, before rebasing: no Origin round trip), 9 components per triangle, in the order
+   * of the global list. `world` is resized to fit.
+   */
+  void GetCasterWorldTriangles(vtkDoubleArray* world);
 
   /**
    * Number of zero-area triangles (kept in the list, in their place): those whose largest

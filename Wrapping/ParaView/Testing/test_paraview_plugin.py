@@ -19,14 +19,10 @@ import sys
 
 import paraview.simple as pvs
 
-if len(sys.argv) > 1:
-    plugin = sys.argv[1]
-else:
-    plugin_dir = os.environ.get("PV_PLUGIN_PATH", "").split(os.pathsep)[0]
-    plugin = os.path.join(plugin_dir, "PenumbraShadows.so")
-if not os.path.isfile(plugin):
-    sys.exit("no plugin at %r: pass PenumbraShadows.so's path or set PV_PLUGIN_PATH" % plugin)
-pvs.LoadPlugin(plugin, remote=False, ns=globals())
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import shadow_view  # noqa: E402
+
+shadow_view.load_plugin(globals(), sys.argv[1] if len(sys.argv) > 1 else None)
 
 import penumbra  # noqa: E402  (after ParaView: the same VTK, already loaded)
 from penumbra.vtkPenumbraRendering import vtkPenumbraShadowPass, vtkPenumbraTechniques  # noqa: E402
@@ -44,24 +40,14 @@ def check(ok, what):
 
 
 def make_view():
-    view = pvs.CreateView("PenumbraShadowView")
-    view.ViewSize = SIZE
-    view.OrientationAxesVisibility = 0
-    view.UseLight = 0
-    sun = pvs.AddLight(view=view)
-    sun.Coords = "Scene"
-    sun.Type = "Directional"
-    sun.Position = [-3.0, -2.0, 10.0]
-    sun.FocalPoint = [0.0, 0.0, 0.0]
+    view = shadow_view.sun_view(SIZE, [-3.0, -2.0, 10.0])
     ground = pvs.Plane(Origin=[-4, -4, 0], Point1=[4, -4, 0], Point2=[-4, 4, 0],
                        XResolution=8, YResolution=8)
     box = pvs.Box(XLength=2.0, YLength=2.0, ZLength=1.0, Center=[0.0, 0.0, 2.0])
     for source in (ground, box):
         display = pvs.Show(source, view)
         display.ColorArrayName = ["POINTS", ""]
-    view.CameraPosition = [0.0, -9.0, 9.0]
-    view.CameraFocalPoint = [0.0, 0.0, 0.5]
-    view.CameraViewUp = [0.0, 0.0, 1.0]
+    shadow_view.look_at(view, [0.0, -9.0, 9.0], [0.0, 0.0, 0.5])
     return view
 
 

@@ -121,6 +121,18 @@ int TestTechniqueRegistry(int, char*[])
   CHECK(ren->GetPass() == nullptr);
   CHECK(!t->Apply(nullptr, "none", ""));
 
+  // A pass wrapped by the application (ParaView: under IceT's compositing pass) is found
+  // once recorded; without the record the camera pass's delegate is.
+  CHECK(t->Apply(ren, "raytraced", ""));
+  vtkPenumbraShadowPass* own = vtkPenumbraShadowPass::GetInstalled(ren);
+  CHECK(own != nullptr);
+  vtkNew<vtkPenumbraShadowPass> wrapped;
+  vtkPenumbraShadowPass::SetInstalled(ren, wrapped);
+  CHECK(vtkPenumbraShadowPass::GetInstalled(ren) == wrapped.GetPointer());
+  vtkPenumbraShadowPass::SetInstalled(ren, nullptr);
+  CHECK(vtkPenumbraShadowPass::GetInstalled(ren) == own);
+  vtkPenumbraShadowPass::SetInstalled(nullptr, wrapped); // ignored
+
   // Every table row is documented, and its default passes its own validation.
   for (int i = 0; i < vtkPenumbraTechniques::GetNumberOfTechniques(); ++i)
   {

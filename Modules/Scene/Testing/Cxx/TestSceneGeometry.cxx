@@ -22,6 +22,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
+#include "vtkPropCollection.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
@@ -430,6 +431,58 @@ int TestGeoreferenced()
   return EXIT_SUCCESS;
 }
 
+// Shadow-only props (another rank's casters) are extracted after the renderer's props, with
+// their keys; the casters' world triangles are exactly what was extracted, the receivers-only
+// prop left out, whatever the rebasing origin.
+int TestShadowOnlyAndCasterTriangles()
+{
+  const double x0 = 3.45e6 + 0.1, y0 = 5.43e6 + 0.3;
+  auto local = MakePolyData({ x0, y0, 0.1, x0 + 20.001, y0, 0, x0, y0 + 30.002, 12.003 });
+  AddCell(local->GetPolys(), { 0, 1, 2 });
+  auto remote = MakePolyData({ x0 + 1e-3, y0, 5.7, x0 + 3, y0 + 0.01, 5, x0, y0 + 3.3, 6 });
+  AddCell(remote->GetPolys(), { 0, 1, 2 });
+  auto ground = MakePolyData({ x0 - 50, y0 - 50, -1, x0 + 50, y0 - 50, -1, x0, y0 + 50, -1 });
+  AddCell(ground->GetPolys(), { 0, 1, 2 });
+  auto localActor = MakeActor(local);
+  auto remoteActor = MakeActor(remote);
+  auto groundActor = MakeActor(ground);
+  vtkPenumbraShadowKeys::SetCastsShadows(groundActor, false);
+  vtkPenumbraShadowKeys::SetReceivesShadows(remoteActor, false);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(groundActor);
+  renderer->AddActor(localActor);
+  vtkNew<vtkPropCollection> shadowOnly;
+  shadowOnly->AddItem(remoteActor);
+
+  vtkNew<vtkPenumbraSceneGeometry> g;
+  g->SetShadowOnlyProps(shadowOnly);
+  CHECK(g->GetShadowOnlyProps() == shadowOnly.GetPointer());
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfProps() == 3 && g->GetProp(2) == remoteActor.GetPointer());
+  CHECK(g->GetFlags()->GetValue(2) == vtkPenumbraSceneGeometry::CASTS_SHADOWS);
+  CHECK(renderer->GetViewProps()->GetNumberOfItems() == 2);
+
+  vtkNew<vtkDoubleArray> world;
+  g->GetCasterWorldTriangles(world);
+  CHECK(world->GetNumberOfComponents() == 9 && world->GetNumberOfTuples() == 2);
+  for (int t = 0; t < 2; ++t)
+  {
+    vtkPoints* pts = (t == 0 ? local : remote)->GetPoints();
+    for (int k = 0; k < 9; ++k)
+    {
+      // Bit for bit: a round trip through the rebasing origin would round these.
+      CHECK(world->GetComponent(t, k) == pts->GetPoint(k / 3)[k % 3]);
+    }
+  }
+  // Without the shadow-only props the remote triangle is gone.
+  g->SetShadowOnlyProps(nullptr);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfProps() == 2);
+  g->GetCasterWorldTriangles(world);
+  CHECK(world->GetNumberOfTuples() == 1);
+  return EXIT_SUCCESS;
+}
+
 // NaN points fail with the prop named; the geometry is emptied. Empty scenes are fine.
 int TestBadInputAndEmpty()
 {
@@ -570,5 +623,6 @@ int TestSceneGeometry(int, char*[])
   RUN(TestGeoreferenced());
   RUN(TestBadInputAndEmpty());
   RUN(TestPrimitiveMapping());
+  RUN(TestShadowOnlyAndCasterTriangles());
   return EXIT_SUCCESS;
 }

@@ -20,6 +20,19 @@
  * mesh would shadow itself wrongly. Interaction on large data is therefore slower than in
  * ParaView's plain render view.
  *
+ * Distributed rendering (pvbatch or pvserver on several MPI ranks, IceT compositing): each
+ * rank draws only its own piece of the data, but a shadow on it may be cast by another rank's
+ * piece. Before every distributed render the view therefore gathers the casters' triangles
+ * of every rank (vtkMultiProcessController::AllGatherV over the global controller, in world
+ * coordinates, double precision, bit for bit as each rank extracted them) and hands the
+ * other ranks' ones to the shadow pass as shadow-only props
+ * (vtkPenumbraSceneGeometry::SetShadowOnlyProps): they cast, they are not drawn. Receivers
+ * stay local and IceT composites as it does without shadows. The gather runs again only
+ * when some rank's casters changed (one integer all-reduce per frame otherwise), and a
+ * triangle found on several ranks (data replicated or boundary cells duplicated) is kept
+ * once. Every rank then holds all casters: memory grows with the whole scene, not the piece
+ * (docs/paraview.md has the measurements and how this scales).
+ *
  * Loading the plugin registers Penumbra's headless (EGL) render window when no X display is
  * set (vtkPenumbraHeadlessFactory), so pvpython and pvbatch render without an X server.
  */
@@ -83,11 +96,25 @@ public:
    */
   void SetLODRenderingThreshold(double) override;
 
+  ///@{
+  /**
+   * The last caster gather on this rank (distributed rendering only): wall time of the
+   * gather and rebuild in ms, caster triangles received from other ranks (duplicates of
+   * triangles already held removed), and bytes received. Zero before a gather; unchanged by
+   * frames that did not need one. GetNumberOfCasterGathers() counts the gathers done.
+   */
+  double GetLastCasterGatherMs();
+  vtkIdType GetNumberOfRemoteCasterTriangles();
+  vtkIdType GetCasterBytesReceived();
+  int GetNumberOfCasterGathers();
+  ///@}
+
 protected:
   vtkPVPenumbraShadowView();
   ~vtkPVPenumbraShadowView() override;
 
   void Render(bool interactive, bool skip_rendering) override;
+  void AboutToRenderOnLocalProcess(bool interactive) override;
 
 private:
   vtkPVPenumbraShadowView(const vtkPVPenumbraShadowView&) = delete;
@@ -95,6 +122,10 @@ private:
 
   // Installs the requested technique if it changed since the last render.
   void UpdateShadowPass();
+
+  // Distributed rendering: gives the pass every other rank's casters (see the class
+  // description). Collective: every rendering rank calls it for every render.
+  void GatherCasters();
 
   std::string Technique;
   std::string Options;

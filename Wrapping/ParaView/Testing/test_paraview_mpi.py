@@ -1,0 +1,204 @@
+"""The PenumbraShadows plugin under MPI: shadows cast across ranks.
+
+    mpirun -np N pvbatch --mpi --symmetric --disable-xdisplay-test test_paraview_mpi.py \
+        OUTDIR [TECHNIQUE,...]
+
+Scene: a ground plane, a box and a sphere appended into one data set and spread over the
+ranks by RedistributeDataSet (each cell on one rank), one oblique directional scene light,
+192 x 192 pixels, so the box and the sphere shadow ground that another rank draws.
+
+Checks on every rank (symmetric mode: each rank runs this script and reads its own view):
+- the pass's geometry holds every caster triangle of every rank, each once;
+- exact techniques: 0 of the rank's view samples disagree with the exact reference over that
+  geometry (ties excluded), and on some rank the other ranks' casters change the answer
+  (without them the test would prove nothing);
+- an unchanged frame gathers nothing; a caster that moves is gathered again.
+On rank 0: the composited image is written to OUTDIR/mpi-TECHNIQUE-npN.png, and when
+OUTDIR/mpi-TECHNIQUE-np1.png exists (a run with -np 1 first) the two images agree pixel
+for pixel within 2 levels (exact techniques; a shadow map on at most 0.5 % of the pixels).
+
+Exit status: 0 when every check passed on every rank (./penumbra.sh paraview runs it).
+"""
+import os
+import sys
+
+import paraview.simple as pvs
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import shadow_view  # noqa: E402
+
+shadow_view.load_plugin(globals())
+
+import penumbra  # noqa: E402,F401  (after ParaView: the same VTK, already loaded)
+from penumbra.vtkPenumbraRendering import vtkPenumbraShadowPass  # noqa: E402
+from penumbra.vtkPenumbraRayTracing import vtkPenumbraReference  # noqa: E402
+from penumbra.vtkPenumbraScene import vtkPenumbraSceneGeometry  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkFloatArray, vtkIntArray  # noqa: E402
+from vtkmodules.vtkParallelCore import vtkCommunicator, vtkMultiProcessController  # noqa: E402
+
+SIZE = [192, 192]
+EXACT = ("raytraced", "conservative", "volumes", "llsm")
+out_dir = sys.argv[1] if len(sys.argv) > 1 else "."
+techniques = (sys.argv[2] if len(sys.argv) > 2 else "raytraced,conservative,volumes,llsm,shadowmap")
+techniques = techniques.split(",")
+controller = vtkMultiProcessController.GetGlobalController()
+rank = controller.GetLocalProcessId()
+ranks = controller.GetNumberOfProcesses()
+failures = []
+
+
+def all_sum(value, op=vtkCommunicator.SUM_OP):
+    """One integer reduced over all ranks (every rank gets the result)."""
+    send, receive = vtkIntArray(), vtkIntArray()
+    send.InsertNextValue(int(value))
+    controller.AllReduce(send, receive, op)
+    return receive.GetValue(0)
+
+
+def check(ok, what, everywhere=True):
+    """A check that holds on every rank (everywhere) or is decided the same on all."""
+    failed_ranks = all_sum(0 if ok else 1) if everywhere else (0 if ok else 1)
+    if rank == 0:
+        print(("ok    " if failed_ranks == 0 else "FAIL  ") + what +
+              ("" if failed_ranks == 0 or not everywhere else " (%d ranks)" % failed_ranks))
+    if failed_ranks:
+        failures.append(what)
+
+
+def make_view():
+    view = shadow_view.sun_view(SIZE, [-6.0, -2.0, 6.0])
+    # ParaView applies FXAA after IceT's compositing but not to a single process's render
+    # pass: off, so that the -np 1 and -np N images can be compared pixel for pixel.
+    view.UseFXAA = 0
+    ground = pvs.Plane(Origin=[-5, -5, 0], Point1=[5, -5, 0], Point2=[-5, 5, 0],
+                       XResolution=24, YResolution=24)
+    box = pvs.Box(XLength=1.5, YLength=1.5, ZLength=1.0, Center=[1.5, 1.0, 1.2])
+    sphere = pvs.Sphere(Center=[-1.0, -1.5, 1.6], Radius=0.9, ThetaResolution=24,
+                        PhiResolution=16)
+    shadow_view.show_split(view, (ground, box, sphere))
+    return view, sphere
+
+
+def rank_view_check(view, technique):
+    """This rank's samples against the exact reference on every rank's casters."""
+    renderer = view.GetClientSideObject().GetRenderer()
+    shadow_pass = vtkPenumbraShadowPass.GetInstalled(renderer)
+    check(shadow_pass is not None, "%s: a Penumbra pass draws the view" % technique)
+    if shadow_pass is None:
+        return
+    local = vtkPenumbraSceneGeometry()
+    local.Update(renderer)
+    geometry = shadow_pass.GetGeometry()
+    total = all_sum(local.GetNumberOfTriangles())
+    check(geometry.GetNumberOfTriangles() == total,
+          "%s: every rank's pass holds all %d triangles of all ranks" % (technique, total))
+    check(ranks == 1 or local.GetNumberOfTriangles() < total,
+          "%s: the data is split over the ranks" % technique)
+    if technique not in EXACT:
+        return
+    samples = shadow_pass.GetViewSamples()
+    light = shadow_pass.GetLight(0)
+    visibility = shadow_pass.GetVisibility(0)
+    reference = vtkPenumbraReference()
+    reference.SetGeometry(geometry)
+    exact = vtkFloatArray()
+    reference.ComputeVisibility(samples, light, exact)
+    ties = reference.GetTies()
+    alone = vtkPenumbraReference()
+    alone.SetGeometry(local)
+    local_only = vtkFloatArray()
+    alone.ComputeVisibility(samples, light, local_only)
+    mismatches = needed = 0
+    for i in range(exact.GetNumberOfTuples()):
+        e = exact.GetValue(i)
+        if e < 0.0 or ties.GetValue(i):
+            continue
+        mismatches += (visibility.GetValue(i) < 0.5) != (e < 0.5)
+        needed += (local_only.GetValue(i) < 0.5) != (e < 0.5)
+    mismatches = all_sum(mismatches)
+    check(mismatches == 0,
+          "%s: %d view samples over all ranks disagree with the exact reference" %
+          (technique, mismatches), everywhere=False)
+    needed = all_sum(needed)
+    check(ranks == 1 or needed > 0,
+          "%s: %d samples are shadowed only by other ranks' casters" % (technique, needed),
+          everywhere=False)
+
+
+def compare_images(path, reference_path):
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    images = []
+    for p in (path, reference_path):
+        reader = vtkPNGReader()
+        reader.SetFileName(p)
+        reader.Update()
+        images.append(reader.GetOutput().GetPointData().GetScalars())
+    a, b = images
+    if a.GetNumberOfTuples() != b.GetNumberOfTuples():
+        return -1
+    differing = 0
+    for i in range(a.GetNumberOfTuples()):
+        ta, tb = a.GetTuple(i), b.GetTuple(i)
+        differing += max(abs(ta[c] - tb[c]) for c in range(3)) > 2
+    return differing
+
+
+def image_check(view, technique):
+    path = os.path.join(out_dir, "mpi-%s-np%d.png" % (technique, ranks))
+    pvs.SaveScreenshot(path, view, ImageResolution=SIZE)
+    reference_path = os.path.join(out_dir, "mpi-%s-np1.png" % technique)
+    differing = 0
+    if rank == 0 and ranks > 1 and os.path.isfile(reference_path):
+        differing = compare_images(path, reference_path)
+        print("      %s: %d pixels differ from the -np 1 image" % (technique, differing))
+    # A shadow map is fitted to the receivers each rank sees: its texels, and so its errors
+    # along shadow edges, differ from one process's; exact techniques may not differ at all.
+    limit = 0 if technique in EXACT else SIZE[0] * SIZE[1] // 200
+    check(all_sum(differing) <= limit,
+          "%s: the image equals the -np 1 image (at most %d pixels differ)" % (technique, limit),
+          everywhere=False)
+
+
+def gather_stats(view):
+    view.UpdatePropertyInformation()
+    return (view.GetProperty("CasterGathers").GetData(),
+            view.GetProperty("CasterGatherMs").GetData(),
+            view.GetProperty("RemoteCasterTriangles").GetData(),
+            view.GetProperty("CasterBytesReceived").GetData())
+
+
+view, sphere = make_view()
+for technique in techniques:
+    view.ShadowTechnique = technique
+    pvs.Render(view)
+    view.UpdatePropertyInformation()
+    check(view.GetProperty("InstalledShadowTechnique").GetData() == technique,
+          "%s: installed" % technique)
+    rank_view_check(view, technique)
+    image_check(view, technique)
+
+# The checks below on the first technique, which is installed again first.
+view.ShadowTechnique = techniques[0]
+pvs.Render(view)
+gathers = None
+if ranks > 1:
+    gathers, ms, remote, received = gather_stats(view)
+    if rank == 0:
+        print("      rank 0: %d gathers, last %.2f ms, %d triangles (%d bytes) from other ranks"
+              % (gathers, ms, remote, received))
+    pvs.Render(view)
+    check(gather_stats(view)[0] == gathers, "an unchanged frame gathers no casters",
+          everywhere=False)
+sphere.Center = [-1.0, -1.0, 1.6]
+pvs.Render(view)
+if gathers is not None:
+    check(gather_stats(view)[0] == gathers + 1, "a moved caster is gathered again",
+          everywhere=False)
+rank_view_check(view, techniques[0])
+
+failed = all_sum(len(failures), vtkCommunicator.MAX_OP)
+if rank == 0:
+    print("%d check(s) failed" % len(failures) if failed else "all checks passed")
+sys.stdout.flush()
+if failed:
+    raise SystemExit(1)
