@@ -23,7 +23,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <mutex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -104,10 +107,92 @@ struct vtkPenumbraReference::LightRays
   std::vector<double> Points;        // area: 3 per light sample
 };
 
-struct vtkPenumbraReference::Internals
+namespace penumbra_embree
+{
+// One reference's Embree objects.
+struct Objects
 {
   RTCDevice Device = nullptr;
   RTCScene Scene = nullptr;
+
+  Objects();
+  ~Objects();
+  Objects(const Objects&) = delete;
+  Objects& operator=(const Objects&) = delete;
+  void Release();
+};
+
+// Embree's objects must be released while libembree's own state (its mutexes, its task
+// scheduler) still exists. At exit it may not: ParaView keeps its views in a static of
+// libvtkRemotingCore, destroyed after every library loaded later (libembree among them) and
+// after the task scheduler's exit handlers; an Embree release then aborts
+// ("pthread_mutex_lock failed") or hangs. So every live reference is registered here, and an
+// exit handler registered right after the first device is created (after whatever state that
+// creation set up, so it runs before that state is torn down) releases all their objects; a
+// reference destroyed later has nothing left to release.
+struct Registry
+{
+  std::mutex Mutex;
+  std::set<Objects*> Live;
+  bool Shutdown = false;
+
+  static Registry& Get()
+  {
+    static Registry registry;
+    return registry;
+  }
+
+  // Call after a device was created.
+  static void ReleaseAtExit()
+  {
+    static std::once_flag once;
+    std::call_once(once, [] { std::atexit(&Registry::ReleaseAll); });
+  }
+
+  static void ReleaseAll()
+  {
+    Registry& registry = Get();
+    std::lock_guard<std::mutex> lock(registry.Mutex);
+    registry.Shutdown = true;
+    for (Objects* live : registry.Live)
+    {
+      live->Release();
+    }
+  }
+};
+
+Objects::Objects()
+{
+  Registry& registry = Registry::Get();
+  std::lock_guard<std::mutex> lock(registry.Mutex);
+  registry.Live.insert(this);
+}
+
+Objects::~Objects()
+{
+  Registry& registry = Registry::Get();
+  std::lock_guard<std::mutex> lock(registry.Mutex);
+  registry.Live.erase(this);
+  this->Release();
+}
+
+void Objects::Release()
+{
+  if (this->Scene)
+  {
+    rtcReleaseScene(this->Scene);
+    this->Scene = nullptr;
+  }
+  if (this->Device)
+  {
+    rtcReleaseDevice(this->Device);
+    this->Device = nullptr;
+  }
+}
+}
+
+struct vtkPenumbraReference::Internals : penumbra_embree::Objects
+{
   std::string DeviceError;
   std::string Error;
 
@@ -123,18 +208,6 @@ struct vtkPenumbraReference::Internals
   double Diagonal = 1.0;
 
   vtkNew<vtkUnsignedCharArray> Ties;
-
-  ~Internals()
-  {
-    if (this->Scene)
-    {
-      rtcReleaseScene(this->Scene);
-    }
-    if (this->Device)
-    {
-      rtcReleaseDevice(this->Device);
-    }
-  }
 
   // One view sample's shadow rays: origin, scale-relative epsilons and own primitive.
   struct SampleRay
@@ -741,7 +814,7 @@ int vtkPenumbraReference::EnsureScene()
   double origin[3];
   geometry->GetOrigin(origin);
   const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
-  if (impl.Built && impl.BuiltGeometryTime == geometry->GetGeometryTime() &&
+  if (impl.Built && impl.Scene && impl.BuiltGeometryTime == geometry->GetGeometryTime() &&
     impl.BuiltFlagsTime == geometry->GetFlagsTime() && impl.BuiltTriangles == nTriangles &&
     origin[0] == impl.BuiltOrigin[0] && origin[1] == impl.BuiltOrigin[1] &&
     origin[2] == impl.BuiltOrigin[2])
@@ -766,11 +839,16 @@ int vtkPenumbraReference::EnsureScene()
 
   if (!impl.Device)
   {
+    if (penumbra_embree::Registry::Get().Shutdown)
+    {
+      return this->Fail("the process is exiting: Embree has been released");
+    }
     impl.Device = rtcNewDevice(nullptr);
     if (!impl.Device)
     {
       return this->Fail("cannot create an Embree device");
     }
+    penumbra_embree::Registry::ReleaseAtExit();
     rtcSetDeviceErrorFunction(impl.Device, EmbreeError, &impl.DeviceError);
   }
   if (impl.Scene)
