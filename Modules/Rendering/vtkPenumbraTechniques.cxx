@@ -878,6 +878,32 @@ std::string vtkPenumbraTechniques::GetOptionRange(const char* technique, int ind
   return spec ? RangeText(*spec) : std::string();
 }
 
+bool vtkPenumbraTechniques::GetOptionBounds(const char* technique, int index, double bounds[2])
+{
+  const OptionSpec* spec = FindOption(technique, index);
+  if (!spec || !spec->Values.empty() ||
+    (spec->Type != OptionType::Integer && spec->Type != OptionType::Number))
+  {
+    return false;
+  }
+  bounds[0] = spec->Min;
+  bounds[1] = spec->Max;
+  return true;
+}
+
+std::vector<std::string> vtkPenumbraTechniques::GetOptionChoices(const char* technique, int index)
+{
+  std::vector<std::string> choices;
+  if (const OptionSpec* spec = FindOption(technique, index))
+  {
+    for (const json& value : spec->Values)
+    {
+      choices.push_back(value.dump());
+    }
+  }
+  return choices;
+}
+
 const char* vtkPenumbraTechniques::GetOptionUnit(const char* technique, int index)
 {
   const OptionSpec* spec = FindOption(technique, index);

@@ -33,6 +33,7 @@
 #include "vtkPenumbraRenderingModule.h" // For export macro
 
 #include <string> // For std::string
+#include <vector> // For std::vector
 
 class vtkRenderer;
 
@@ -76,6 +77,20 @@ public:
   ///@}
 
   /**
+   * The inclusive range of an integer or number option, for tools that build their own
+   * widgets (the ParaView plugin); false for booleans, choices and integers limited to a list.
+   */
+  static bool GetOptionBounds(const char* technique, int index, double bounds[2]);
+
+#ifndef __VTK_WRAP__
+  /**
+   * The values a choice option, or an integer option limited to a list, allows, each as JSON
+   * text ("\"cpu\"", "8"); empty for other options.
+   */
+  static std::vector<std::string> GetOptionChoices(const char* technique, int index);
+#endif
+
+  /**
    * Every technique with its description and options, as `penumbra-render --list-techniques`
    * prints it.
    */
@@ -97,7 +112,10 @@ public:
   /**
    * Why the last Apply() failed; empty after a success.
    */
-  const char* GetErrorMessage() { return this->ErrorMessage.c_str(); }
+  const char* GetErrorMessage()
+  {
+    return this->ErrorMessage.c_str();
+  }
 
 protected:
   vtkPenumbraTechniques() = default;

@@ -146,6 +146,37 @@ pvs.Render(view)
 view.UpdatePropertyInformation()
 check(view.GetProperty("InstalledShadowTechnique").GetData() == "shadowmap",
       "shadowmap with {\"resolution\": 512} installed")
+check(installed_pass(view).GetTechnique().GetResolution() == 512,
+      "ShadowOptions' resolution reaches the technique")
+
+# Every option of every technique is a typed property generated from the option tables, with
+# the table's default; the JSON text overrides the properties it names.
+for t in range(vtkPenumbraTechniques.GetNumberOfTechniques()):
+    technique = vtkPenumbraTechniques.GetTechniqueName(t)
+    for o in range(vtkPenumbraTechniques.GetNumberOfOptions(technique)):
+        option = vtkPenumbraTechniques.GetOptionName(technique, o)
+        prop = view.GetProperty("%s/%s" % (technique, option))
+        default = vtkPenumbraTechniques.GetOptionDefault(technique, o)
+        check(prop is not None and str(prop.GetData()).lower() in
+              (default.strip('"').lower(), {"true": "1", "false": "0"}.get(default, "-")),
+              "property %s/%s has the table's default %s" % (technique, option, default))
+view.ShadowOptions = ""
+view.ShadowmapResolution = 256
+view.ShadowmapFilter = "pcf"
+pvs.Render(view)
+technique = installed_pass(view).GetTechnique()
+check(technique.GetResolution() == 256 and technique.GetFilter() == technique.FILTER_PCF,
+      "the ShadowmapResolution and ShadowmapFilter properties reach the technique")
+view.ShadowOptions = '{"resolution": 1024}'
+pvs.Render(view)
+technique = installed_pass(view).GetTechnique()
+check(technique.GetResolution() == 1024 and technique.GetFilter() == technique.FILTER_PCF,
+      "ShadowOptions overrides the resolution property, the filter property stays")
+view.ShadowOptions = ""
+view.ShadowmapResolution = 3  # outside the table's range: refused, the last technique stays
+pvs.Render(view)
+check(installed_pass(view).GetTechnique().GetResolution() == 1024,
+      "an out-of-range option property is refused and the view keeps its technique")
 
 if failures:
     print("%d check(s) failed" % len(failures))

@@ -133,6 +133,28 @@ int TestTechniqueRegistry(int, char*[])
   CHECK(vtkPenumbraShadowPass::GetInstalled(ren) == own);
   vtkPenumbraShadowPass::SetInstalled(nullptr, wrapped); // ignored
 
+  // Structured ranges and choices (the ParaView plugin's widgets) agree with the tables.
+  for (int o = 0; o < vtkPenumbraTechniques::GetNumberOfOptions("shadowmap"); ++o)
+  {
+    const std::string option = vtkPenumbraTechniques::GetOptionName("shadowmap", o);
+    double bounds[2] = { 0, 0 };
+    const bool ranged = vtkPenumbraTechniques::GetOptionBounds("shadowmap", o, bounds);
+    const auto choices = vtkPenumbraTechniques::GetOptionChoices("shadowmap", o);
+    if (option == "resolution")
+    {
+      CHECK(ranged && bounds[0] == 64 && bounds[1] == 8192 && choices.empty());
+    }
+    if (option == "filter")
+    {
+      CHECK(!ranged && choices.size() == 3 && choices[1] == "\"pcf\"");
+    }
+  }
+  const auto samples = vtkPenumbraTechniques::GetOptionChoices("auto", 1);
+  CHECK(samples.size() == 5 && samples[2] == "8");
+  double unused[2];
+  CHECK(!vtkPenumbraTechniques::GetOptionBounds("auto", 1, unused));
+  CHECK(!vtkPenumbraTechniques::GetOptionBounds("nope", 0, unused));
+
   // Every table row is documented, and its default passes its own validation.
   for (int i = 0; i < vtkPenumbraTechniques::GetNumberOfTechniques(); ++i)
   {

@@ -24,6 +24,8 @@
 #include "vtkSmartPointer.h"
 #include "vtkStringArray.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -31,6 +33,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <vector>
 
 // Defined by the Penumbra::Headless module: registers the EGL window (and a generic
@@ -71,6 +74,8 @@ struct vtkPVPenumbraShadowView::Internals
 {
   vtkSmartPointer<vtkRenderPass> Pass;
   vtkNew<vtkStringArray> Names;
+  // Per technique, the values its option properties set: {"resolution": 2048, ...}.
+  std::map<std::string, nlohmann::json> OptionValues;
 
   // Caster gathering across ranks (GatherCasters).
   vtkNew<vtkPenumbraSceneGeometry> Local; // this rank's props only
@@ -237,6 +242,74 @@ void vtkPVPenumbraShadowView::SetShadowOptions(const char* options)
   }
 }
 
+bool vtkPVPenumbraShadowView::SetOptionValue(const char* key, const std::string& json)
+{
+  const std::string text = key ? key : "";
+  const size_t slash = text.find('/');
+  const std::string technique = text.substr(0, slash), option = text.substr(slash + 1);
+  bool known = false;
+  for (int i = 0; slash != std::string::npos &&
+       i < vtkPenumbraTechniques::GetNumberOfOptions(technique.c_str());
+       ++i)
+  {
+    known = known || option == vtkPenumbraTechniques::GetOptionName(technique.c_str(), i);
+  }
+  if (!known)
+  {
+    vtkErrorMacro("Penumbra shadows: no technique option \""
+      << text << "\" (expected \"<technique>/<option>\")");
+    return false;
+  }
+  nlohmann::json& values = this->Impl->OptionValues[technique];
+  const nlohmann::json value = nlohmann::json::parse(json);
+  if (!values.is_object() || !values.contains(option) || values[option] != value)
+  {
+    values[option] = value;
+    this->Modified();
+  }
+  return true;
+}
+
+void vtkPVPenumbraShadowView::SetShadowOptionInteger(const char* key, int value)
+{
+  this->SetOptionValue(key, std::to_string(value));
+}
+
+void vtkPVPenumbraShadowView::SetShadowOptionNumber(const char* key, double value)
+{
+  this->SetOptionValue(key, nlohmann::json(value).dump());
+}
+
+void vtkPVPenumbraShadowView::SetShadowOptionBoolean(const char* key, int value)
+{
+  this->SetOptionValue(key, value ? "true" : "false");
+}
+
+void vtkPVPenumbraShadowView::SetShadowOptionChoice(const char* key, const char* value)
+{
+  this->SetOptionValue(key, nlohmann::json(value ? value : "").dump());
+}
+
+std::string vtkPVPenumbraShadowView::ComposeOptions(const std::string& technique)
+{
+  auto found = this->Impl->OptionValues.find(technique);
+  nlohmann::json options =
+    found != this->Impl->OptionValues.end() ? found->second : nlohmann::json::object();
+  if (!this->Options.empty())
+  {
+    const nlohmann::json text = nlohmann::json::parse(this->Options, nullptr, false);
+    if (!text.is_object())
+    {
+      return this->Options; // the registry reports what is wrong with it
+    }
+    for (const auto& item : text.items())
+    {
+      options[item.key()] = item.value();
+    }
+  }
+  return options.empty() ? std::string() : options.dump();
+}
+
 vtkStringArray* vtkPVPenumbraShadowView::GetShadowTechniqueNames()
 {
   vtkStringArray* names = this->Impl->Names;
@@ -266,27 +339,27 @@ void vtkPVPenumbraShadowView::SetLODRenderingThreshold(double)
 
 void vtkPVPenumbraShadowView::UpdateShadowPass()
 {
+  const std::string name =
+    this->Technique.empty() ? vtkPenumbraTechniques::GetDefaultTechnique() : this->Technique;
+  const std::string options = this->ComposeOptions(name);
   // Tried once per change: a refused request is reported once, not at every render.
-  if (this->Tried && this->Technique == this->TriedTechnique && this->Options == this->TriedOptions)
+  if (this->Tried && name == this->TriedTechnique && options == this->TriedOptions)
   {
     return;
   }
   this->Tried = true;
-  this->TriedTechnique = this->Technique;
-  this->TriedOptions = this->Options;
+  this->TriedTechnique = name;
+  this->TriedOptions = options;
   // The registry builds camera pass -> technique pass on a renderer; ParaView brings its own
   // camera pass, so only the delegate is handed over ("none" installs no pass at all, and
   // ParaView then uses its default pass).
-  const std::string name =
-    this->Technique.empty() ? vtkPenumbraTechniques::GetDefaultTechnique() : this->Technique;
   vtkNew<vtkRenderer> scratch;
   vtkNew<vtkPenumbraTechniques> techniques;
-  if (!techniques->Apply(scratch, name.c_str(), this->Options.c_str()))
+  if (!techniques->Apply(scratch, name.c_str(), options.c_str()))
   {
     vtkErrorMacro("Penumbra shadows: technique \""
-      << name << "\" with options \"" << this->Options
-      << "\" refused: " << techniques->GetErrorMessage() << "; still drawing with \""
-      << this->InstalledTechnique << "\"");
+      << name << "\" with options \"" << options << "\" refused: " << techniques->GetErrorMessage()
+      << "; still drawing with \"" << this->InstalledTechnique << "\"");
     return;
   }
   vtkCameraPass* camera = vtkCameraPass::SafeDownCast(scratch->GetPass());

@@ -74,6 +74,20 @@ public:
   const char* GetShadowOptions() { return this->Options.c_str(); }
   ///@}
 
+  ///@{
+  /**
+   * One option of one technique, `key` being "<technique>/<option>" (e.g.
+   * "shadowmap/resolution"): the generated per-option properties of the proxy call these
+   * (one per option type; booleans as 0/1). The technique's options are these values, with
+   * the ones ShadowOptions names replaced by its; the registry validates them when the
+   * technique is installed (at the next render). Unknown keys are refused with an error.
+   */
+  void SetShadowOptionInteger(const char* key, int value);
+  void SetShadowOptionNumber(const char* key, double value);
+  void SetShadowOptionBoolean(const char* key, int value);
+  void SetShadowOptionChoice(const char* key, const char* value);
+  ///@}
+
   /**
    * The registered technique names, the registry's default first (a StringListDomain offers
    * its first string as the property's default).
@@ -122,6 +136,11 @@ private:
 
   // Installs the requested technique if it changed since the last render.
   void UpdateShadowPass();
+
+  // The option values the per-option properties set (GetOptions() of the key's technique),
+  // and the JSON text the technique is installed with.
+  bool SetOptionValue(const char* key, const std::string& json);
+  std::string ComposeOptions(const std::string& technique);
 
   // Distributed rendering: gives the pass every other rank's casters (see the class
   // description). Collective: every rendering rank calls it for every render.
