@@ -70,20 +70,17 @@ def mean_luminance(view, name):
     return total / scalars.GetNumberOfTuples()
 
 
-def compare_with_reference(shadow_pass, technique, max_mismatch_fraction):
-    samples = shadow_pass.GetViewSamples()
-    check(shadow_pass.GetNumberOfLights() == 1,
-          "%s: the pass sees the one scene light (%d)" % (technique,
-                                                          shadow_pass.GetNumberOfLights()))
-    visibility = shadow_pass.GetVisibility(0)
-    check(visibility is not None, "%s: light 0 has a visibility read-back" % technique)
-    if visibility is None:
-        return
+def count_against_reference(shadow_pass, light, what):
+    """(valid, shadowed, mismatching) view samples of light `light`: the pass's visibility
+    against the exact reference's, ties excluded. A light the pass left out (it reaches no
+    sample: no read-back) counts as shadowing every sample."""
+    visibility = shadow_pass.GetVisibility(light)
     reference = vtkPenumbraReference()
     reference.SetGeometry(shadow_pass.GetGeometry())
     exact = vtkFloatArray()
-    check(reference.ComputeVisibility(samples, shadow_pass.GetLight(0), exact) == 1,
-          "%s: the exact tracer ran (%s)" % (technique, reference.GetErrorMessage()))
+    check(reference.ComputeVisibility(shadow_pass.GetViewSamples(), shadow_pass.GetLight(light),
+                                      exact) == 1,
+          "%s: the exact tracer ran (%s)" % (what, reference.GetErrorMessage()))
     ties = reference.GetTies()
     valid = shadowed = mismatches = 0
     for i in range(exact.GetNumberOfTuples()):
@@ -92,8 +89,19 @@ def compare_with_reference(shadow_pass, technique, max_mismatch_fraction):
             continue
         valid += 1
         shadowed += e < 0.5
-        if ties.GetValue(i) == 0 and (visibility.GetValue(i) < 0.5) != (e < 0.5):
+        lit = visibility is not None and visibility.GetValue(i) >= 0.5
+        if ties.GetValue(i) == 0 and lit != (e >= 0.5):
             mismatches += 1
+    return valid, shadowed, mismatches
+
+
+def compare_with_reference(shadow_pass, technique, max_mismatch_fraction):
+    check(shadow_pass.GetNumberOfLights() == 1,
+          "%s: the pass sees the one scene light (%d)" % (technique,
+                                                          shadow_pass.GetNumberOfLights()))
+    check(shadow_pass.GetVisibility(0) is not None,
+          "%s: light 0 has a visibility read-back" % technique)
+    valid, shadowed, mismatches = count_against_reference(shadow_pass, 0, technique)
     check(valid > 0.5 * SIZE[0] * SIZE[1] / 4,
           "%s: valid view samples through ParaView's device actors (%d)" % (technique, valid))
     check(shadowed > 0.01 * valid,
@@ -138,6 +146,23 @@ for technique, max_fraction in (("raytraced", 0.0), ("conservative", 0.0), ("vol
     check(shadowed_image < unshadowed - 1.0,
           "%s: the image is darker than without shadows (%.1f vs %.1f)" %
           (technique, shadowed_image, unshadowed))
+
+# ParaView's light kit (key, fill, two back lights, headlight) beside the scene sun: every
+# light of the view is shadowed, each exactly.
+view.UseLight = 1
+view.ShadowTechnique = "raytraced"
+pvs.Render(view)
+kit_pass = installed_pass(view)
+check(kit_pass.GetNumberOfLights() == 6,
+      "light kit: the pass sees the sun and the kit's 5 lights (%d)" % kit_pass.GetNumberOfLights())
+kit_shadowed = 0
+for light in range(kit_pass.GetNumberOfLights()):
+    valid, shadowed, mismatches = count_against_reference(kit_pass, light, "light kit")
+    check(mismatches == 0, "light kit: light %d, %d samples disagree with the exact reference"
+          % (light, mismatches))
+    kit_shadowed += light > 0 and 0 < shadowed < valid
+check(kit_shadowed > 0, "light kit: the kit's lights cast shadows (%d of 5)" % kit_shadowed)
+view.UseLight = 0
 
 # Options reach the technique through the registry's checker.
 view.ShadowTechnique = "shadowmap"
