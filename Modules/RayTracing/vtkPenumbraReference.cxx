@@ -136,10 +136,12 @@ struct Registry
   std::set<Objects*> Live;
   bool Shutdown = false;
 
+  // Never destroyed: references can be destroyed by other libraries' statics, after this
+  // library's would be gone.
   static Registry& Get()
   {
-    static Registry registry;
-    return registry;
+    static Registry* registry = new Registry;
+    return *registry;
   }
 
   // Call after a device was created.
