@@ -1,5 +1,6 @@
 #include "vtkPenumbraResolutionMatchedShadows.h"
 
+#include "vtkIntArray.h"
 #include "vtkLight.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
@@ -28,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -145,8 +147,34 @@ vtkSmartPointer<vtkTextureObject> NearestTexture(vtkOpenGLRenderWindow* win)
   return tex;
 }
 
+// `targets` made 2 per layer and w x h: per layer the keys + 1 (`keyFormat`: GL_RGBA32F, four
+// keys per pixel, or GL_R32F) and the levels (R32F).
+void EnsureKeyTargets(vtkOpenGLRenderWindow* win,
+  std::vector<vtkSmartPointer<vtkTextureObject>>& targets, size_t layers, int w, int h,
+  int keyFormat)
+{
+  targets.resize(2 * layers);
+  for (size_t t = 0; t < targets.size(); ++t)
+  {
+    auto& target = targets[t];
+    const bool rgba = t % 2 == 0 && keyFormat == GL_RGBA32F;
+    if (!target)
+    {
+      target = NearestTexture(win);
+      target->SetInternalFormat(rgba ? GL_RGBA32F : GL_R32F);
+      target->SetFormat(rgba ? GL_RGBA : GL_RED);
+      target->SetDataType(GL_FLOAT);
+    }
+    if (static_cast<int>(target->GetWidth()) != w || static_cast<int>(target->GetHeight()) != h)
+    {
+      target->Allocate2D(w, h, rgba ? 4 : 1, VTK_FLOAT);
+    }
+  }
+}
+
 // A request or lookup program's source: the facing rules in (they need double precision).
-// `role`: "RMSM_REQUEST", "RMSM_BILINEAR" (the 2 x 2 lookup) or "" (the nearest lookup).
+// `role`: "RMSM_REQUEST", "RMSM_REFINE", "RMSM_BILINEAR" (the 2 x 2 lookup) or "" (the
+// nearest lookup).
 std::string FrameShader(const std::string& role)
 {
   std::string fs = vtkPenumbraResolutionMatchedFS;
@@ -173,6 +201,8 @@ struct LightPages
   std::vector<float> Keys; // read-back requests (key + 1 per pixel, 0: none)
   bool TableDirty = true;
   vtkMTimeType RequestSamplesTime = 0; // the view samples the last requests came from
+  int RequestFrameSize[2] = { 0, 0 };  // the frame's pixels the last requests came from
+  int RequestStep = 1;                 // and its analysis step
   double CoarserShare = 0.0;
   GLuint PageTable = 0;                             // R32I, one mip per level
   vtkSmartPointer<vtkTextureObject> PageTableAlias; // binds PageTable through VTK's units
@@ -180,6 +210,18 @@ struct LightPages
   // with 2 x 2 analysis blocks the block's four pages) and the levels (R32F), which the
   // lookup reads.
   std::vector<vtkSmartPointer<vtkTextureObject>> RequestTargets;
+  // Per layer the refine pass's outputs, full size: the refined pages' keys + 1 (R32F) and
+  // every sample's final level (R32F), which the lookup reads when Refined.
+  std::vector<vtkSmartPointer<vtkTextureObject>> RefineTargets;
+  std::vector<float> RefineKeys; // read-back refined requests
+  bool Refined = false;          // the last requests were refined at shadow edges
+
+  // The levels the lookup reads for `layer`, and pixels per side sharing one.
+  vtkTextureObject* LevelTarget(size_t layer, int analysisStep, int& step) const
+  {
+    step = this->Refined ? 1 : analysisStep;
+    return (this->Refined ? this->RefineTargets : this->RequestTargets)[2 * layer + 1];
+  }
 };
 
 struct vtkPenumbraResolutionMatchedShadows::Internals
@@ -201,6 +243,7 @@ struct vtkPenumbraResolutionMatchedShadows::Internals
   int PageTableMips = 0;
   vtkSmartPointer<vtkOpenGLFramebufferObject> RequestFBO;
   std::unique_ptr<vtkOpenGLQuadHelper> RequestQuad;
+  std::unique_ptr<vtkOpenGLQuadHelper> RefineQuad;
   std::unique_ptr<vtkOpenGLQuadHelper> LookupQuads[2]; // nearest, 2 x 2 (FILTER_BILINEAR)
 
   // Phases (see the definitions).
@@ -217,8 +260,18 @@ struct vtkPenumbraResolutionMatchedShadows::Internals
   void ReleaseLight(LightPages& pages);
   void SetMapUniforms(vtkPenumbraResolutionMatchedShadows* self, vtkShaderProgram* program,
     vtkPenumbraViewSamplesPass* gbuffer, const LightSetup& setup, bool anyCaster);
+  void SetLookupUniforms(vtkPenumbraResolutionMatchedShadows* self, vtkShaderProgram* program,
+    vtkTextureObject* levels, int levelStep, const LightSetup& setup);
+  bool KeyPass(vtkPenumbraFrame* frame, vtkOpenGLQuadHelper* quad,
+    std::vector<vtkSmartPointer<vtkTextureObject>>& targets, int w, int h, int channels,
+    std::vector<float>& keys, const std::function<void(int, vtkShaderProgram*)>& bind,
+    const std::function<void(int)>& unbind);
+  bool MarkRequests(const std::vector<float>& keys, std::string& error);
   bool Request(vtkPenumbraResolutionMatchedShadows* self, vtkPenumbraFrame* frame,
     const LightSetup& setup, std::string& error);
+  bool Refine(vtkPenumbraResolutionMatchedShadows* self, vtkPenumbraFrame* frame,
+    const LightSetup& setup, std::string& error);
+  bool MakeResident(vtkPenumbraResolutionMatchedShadows* self, std::string& error);
   std::vector<NewPage> Allocate(vtkPenumbraResolutionMatchedShadows* self);
   void UploadTable();
   bool RenderPages(
@@ -307,7 +360,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::FrameLight(
 {
   const auto start = Clock::now();
   self->RequestTimeMs = self->PageTimeMs = self->LookupTimeMs = 0.0;
-  self->NumberOfRenderedPages = self->NumberOfSuperpages = 0;
+  self->NumberOfRenderedPages = self->NumberOfSuperpages = self->NumberOfRefinedPages = 0;
   vtkLight* light = frame->GetShadowedLight(k);
   vtkPenumbraSceneGeometry* geometry = frame->GetGeometry();
   vtkOpenGLRenderWindow* win = frame->GetWindow();
@@ -356,14 +409,18 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::FrameLight(
     {
       return false;
     }
-    const auto pageStart = Clock::now();
-    std::vector<NewPage> pages = this->Allocate(self);
-    this->UploadTable();
-    if (!this->RenderPages(self, pages, error))
+    if (!this->MakeResident(self, error))
     {
       return false;
     }
-    self->PageTimeMs = ElapsedMs(pageStart);
+    // The shadow edges the requested pages show take their finer pages (same as above:
+    // nothing new for the same samples and pages).
+    this->Cur->Refined = self->RefineLevels > 0;
+    if (!same && this->Cur->Refined &&
+      !(this->Refine(self, frame, setup, error) && this->MakeResident(self, error)))
+    {
+      return false;
+    }
   }
   const auto lookupStart = Clock::now();
   const bool ok = this->Lookup(self, frame, k, setup, anyCaster, error);
@@ -414,6 +471,8 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::EnsureResources(
     this->RequestFBO->SetContext(win);
     this->RequestQuad.reset(new vtkOpenGLQuadHelper(
       win, vtkPenumbraFrame::GetSurfaceQuadVS(), FrameShader("RMSM_REQUEST").c_str(), ""));
+    this->RefineQuad.reset(new vtkOpenGLQuadHelper(
+      win, vtkPenumbraFrame::GetSurfaceQuadVS(), FrameShader("RMSM_REFINE").c_str(), ""));
   }
   auto& lookup = this->LookupQuads[self->Filter == FILTER_BILINEAR ? 1 : 0];
   if (!lookup)
@@ -421,7 +480,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::EnsureResources(
     lookup.reset(new vtkOpenGLQuadHelper(win, vtkPenumbraFrame::GetSurfaceQuadVS(),
       FrameShader(self->Filter == FILTER_BILINEAR ? "RMSM_BILINEAR" : "").c_str(), ""));
   }
-  for (auto* quad : { this->RequestQuad.get(), lookup.get() })
+  for (auto* quad : { this->RequestQuad.get(), this->RefineQuad.get(), lookup.get() })
   {
     if (!quad->Program || !quad->Program->GetCompiled())
     {
@@ -509,11 +568,14 @@ void vtkPenumbraResolutionMatchedShadows::Internals::ReleaseLight(LightPages& pa
   }
   pages.PageTable = 0;
   pages.PageTableAlias = nullptr;
-  for (auto& tex : pages.RequestTargets)
+  for (auto* targets : { &pages.RequestTargets, &pages.RefineTargets })
   {
-    tex->ReleaseGraphicsResources(this->Window);
+    for (auto& tex : *targets)
+    {
+      tex->ReleaseGraphicsResources(this->Window);
+    }
+    targets->clear();
   }
-  pages.RequestTargets.clear();
   pages.Key.clear();
 }
 
@@ -607,67 +669,53 @@ void vtkPenumbraResolutionMatchedShadows::Internals::SetMapUniforms(
 }
 
 //------------------------------------------------------------------------------
-// Lefohn et al. 2007, §3.3.2 (Algorithm 2, steps 1-8): every layer's pending samples write
-// the key of the page they need; the keys are read back and de-duplicated with one byte per
-// page (the paper's connected components, compaction and sort serve a GPU that cannot
-// afford the read-back of every request; on llvmpipe it costs a copy in host memory).
-bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
-  vtkPenumbraResolutionMatchedShadows* self, vtkPenumbraFrame* frame, const LightSetup& setup,
-  std::string& error)
+// One full-screen pass per layer of the frame into that layer's two `targets` (keys + 1 and
+// levels, w x h), each layer's keys read back into `keys` (`channels` per pixel, layer after
+// layer). `bind` binds the layer's inputs and sets the program's uniforms, `unbind` releases
+// them.
+bool vtkPenumbraResolutionMatchedShadows::Internals::KeyPass(vtkPenumbraFrame* frame,
+  vtkOpenGLQuadHelper* quad, std::vector<vtkSmartPointer<vtkTextureObject>>& targets, int w, int h,
+  int channels, std::vector<float>& keys, const std::function<void(int, vtkShaderProgram*)>& bind,
+  const std::function<void(int)>& unbind)
 {
-  const auto start = Clock::now();
   vtkOpenGLRenderWindow* win = frame->GetWindow();
-  const int step = self->AnalysisStep;
-  const int w = (frame->GetWidth() + step - 1) / step, h = (frame->GetHeight() + step - 1) / step;
-  // Per layer the keys (RGBA: the block's samples) and the levels.
-  const size_t layers = static_cast<size_t>(frame->GetNumberOfLayers());
-  this->Cur->RequestTargets.resize(2 * layers);
-  for (size_t t = 0; t < this->Cur->RequestTargets.size(); ++t)
-  {
-    auto& target = this->Cur->RequestTargets[t];
-    const bool keys = t % 2 == 0;
-    if (!target)
-    {
-      target = NearestTexture(win);
-      target->SetInternalFormat(keys ? GL_RGBA32F : GL_R32F);
-      target->SetFormat(keys ? GL_RGBA : GL_RED);
-      target->SetDataType(GL_FLOAT);
-    }
-    if (static_cast<int>(target->GetWidth()) != w || static_cast<int>(target->GetHeight()) != h)
-    {
-      target->Allocate2D(w, h, keys ? 4 : 1, VTK_FLOAT);
-    }
-  }
-  this->Cur->Requested.assign(this->Cur->SlotOf.size(), 0);
-  this->Cur->RequestedKeys.clear();
-  // One key per pixel, or the four of each 2 x 2 block.
-  const int channels = step == 2 ? 4 : 1;
   const size_t perLayer = static_cast<size_t>(w) * h * channels;
-  this->Cur->Keys.resize(perLayer * layers);
-  vtkShaderProgram* program = this->RequestQuad->Program;
+  keys.resize(perLayer * static_cast<size_t>(frame->GetNumberOfLayers()));
+  vtkShaderProgram* program = quad->Program;
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
     vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
     penumbra_light_views::QuadPassState pass(win->GetState(), this->RequestFBO,
-      { this->Cur->RequestTargets[2 * layer].Get(),
-        this->Cur->RequestTargets[2 * layer + 1].Get() },
-      w, h);
+      { targets[2 * layer].Get(), targets[2 * layer + 1].Get() }, w, h);
     win->GetShaderCache()->ReadyShaderProgram(program);
     gbuffer->GetPositionTexture()->Activate();
     gbuffer->GetNormalTexture()->Activate();
-    this->SetMapUniforms(self, program, gbuffer, setup, true);
-    this->RequestQuad->Render();
+    bind(layer, program);
+    quad->Render();
+    unbind(layer);
     gbuffer->GetPositionTexture()->Deactivate();
     gbuffer->GetNormalTexture()->Deactivate();
     this->RequestFBO->ActivateReadBuffer(0);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glReadPixels(0, 0, w, h, channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT,
-      this->Cur->Keys.data() + perLayer * static_cast<size_t>(layer));
+      keys.data() + perLayer * static_cast<size_t>(layer));
   }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// The read-back `keys` (key + 1 per pixel, 0: none) marked in one byte per page of the
+// pyramid and appended to the requested keys (Lefohn et al. 2007's connected components,
+// compaction and sort, §3.2, on the CPU); false when a key lies outside the table.
+bool vtkPenumbraResolutionMatchedShadows::Internals::MarkRequests(
+  const std::vector<float>& keys, std::string& error)
+{
   const long long size = static_cast<long long>(this->Cur->Requested.size());
-  for (float value : this->Cur->Keys)
+  bool outside = false;
+  for (float value : keys)
   {
     const long long key = static_cast<long long>(value) - 1;
+    outside = outside || key >= size;
     if (key < 0 || key >= size)
     {
       continue;
@@ -678,11 +726,43 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
       this->Cur->RequestedKeys.push_back(key);
     }
   }
-  if (this->Cur->Keys.size() > 0 &&
-    std::any_of(this->Cur->Keys.begin(), this->Cur->Keys.end(),
-      [size](float v) { return v > static_cast<float>(size); }))
+  if (outside)
   {
     error = "a page request lies outside the page table";
+  }
+  return !outside;
+}
+
+//------------------------------------------------------------------------------
+// Lefohn et al. 2007, §3.3.2 (Algorithm 2, steps 1-8): every layer's pending samples write
+// the key of the page they need; the keys are read back and de-duplicated with one byte per
+// page (the paper's connected components, compaction and sort serve a GPU that cannot
+// afford the read-back of every request; on llvmpipe it costs a copy in host memory).
+bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
+  vtkPenumbraResolutionMatchedShadows* self, vtkPenumbraFrame* frame, const LightSetup& setup,
+  std::string& error)
+{
+  const auto start = Clock::now();
+  const int step = self->AnalysisStep;
+  const int w = (frame->GetWidth() + step - 1) / step, h = (frame->GetHeight() + step - 1) / step;
+  this->Cur->RequestFrameSize[0] = frame->GetWidth();
+  this->Cur->RequestFrameSize[1] = frame->GetHeight();
+  this->Cur->RequestStep = step;
+  const size_t layers = static_cast<size_t>(frame->GetNumberOfLayers());
+  // Per layer the keys (RGBA: the block's samples) and the levels.
+  EnsureKeyTargets(frame->GetWindow(), this->Cur->RequestTargets, layers, w, h, GL_RGBA32F);
+  this->Cur->Requested.assign(this->Cur->SlotOf.size(), 0);
+  this->Cur->RequestedKeys.clear();
+  this->Cur->RefineKeys.clear();
+  // One key per pixel, or the four of each 2 x 2 block.
+  this->KeyPass(
+    frame, this->RequestQuad.get(), this->Cur->RequestTargets, w, h, step == 2 ? 4 : 1,
+    this->Cur->Keys,
+    [&](int layer, vtkShaderProgram* program)
+    { this->SetMapUniforms(self, program, frame->GetLayer(layer), setup, true); },
+    [](int) {});
+  if (!this->MarkRequests(this->Cur->Keys, error))
+  {
     return false;
   }
   std::sort(this->Cur->RequestedKeys.begin(), this->Cur->RequestedKeys.end());
@@ -696,6 +776,61 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
   }
   self->RequestTimeMs = ElapsedMs(start);
   return true;
+}
+
+//------------------------------------------------------------------------------
+// Shadow-edge refinement (the refine program, RMSM_REFINE in the shader): with the requested
+// pages resident, the samples whose 2 x 2 taps straddle a shadow edge request the page
+// RefineLevels levels finer; every sample's final level goes to RefineTargets for the
+// lookup. The new keys join the requested ones (so allocation never evicts them).
+bool vtkPenumbraResolutionMatchedShadows::Internals::Refine(
+  vtkPenumbraResolutionMatchedShadows* self, vtkPenumbraFrame* frame, const LightSetup& setup,
+  std::string& error)
+{
+  const auto start = Clock::now();
+  const int w = frame->GetWidth(), h = frame->GetHeight();
+  EnsureKeyTargets(frame->GetWindow(), this->Cur->RefineTargets,
+    static_cast<size_t>(frame->GetNumberOfLayers()), w, h, GL_R32F);
+  const size_t before = this->Cur->RequestedKeys.size();
+  this->KeyPass(
+    frame, this->RefineQuad.get(), this->Cur->RefineTargets, w, h, 1, this->Cur->RefineKeys,
+    [&](int layer, vtkShaderProgram* program)
+    {
+      vtkTextureObject* levels = this->Cur->RequestTargets[2 * static_cast<size_t>(layer) + 1];
+      levels->Activate();
+      this->SetMapUniforms(self, program, frame->GetLayer(layer), setup, true);
+      this->SetLookupUniforms(self, program, levels, self->AnalysisStep, setup);
+      program->SetUniformi("refineLevels", self->RefineLevels);
+    },
+    [&](int layer)
+    {
+      this->Cur->PageTableAlias->Deactivate();
+      this->Atlas->Deactivate();
+      this->Cur->RequestTargets[2 * static_cast<size_t>(layer) + 1]->Deactivate();
+    });
+  if (!this->MarkRequests(this->Cur->RefineKeys, error))
+  {
+    return false;
+  }
+  std::sort(this->Cur->RequestedKeys.begin() + static_cast<std::ptrdiff_t>(before),
+    this->Cur->RequestedKeys.end());
+  self->NumberOfRefinedPages = static_cast<int>(this->Cur->RequestedKeys.size() - before);
+  self->RequestTimeMs += ElapsedMs(start);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// The requested pages made resident: allocated, the page table uploaded, the new pages
+// rendered.
+bool vtkPenumbraResolutionMatchedShadows::Internals::MakeResident(
+  vtkPenumbraResolutionMatchedShadows* self, std::string& error)
+{
+  const auto start = Clock::now();
+  std::vector<NewPage> pages = this->Allocate(self);
+  this->UploadTable();
+  const bool ok = this->RenderPages(self, pages, error);
+  self->PageTimeMs += ElapsedMs(start);
+  return ok;
 }
 
 //------------------------------------------------------------------------------
@@ -755,13 +890,16 @@ std::vector<NewPage> vtkPenumbraResolutionMatchedShadows::Internals::Allocate(
   const int capacity = self->GetAtlasCapacity();
   self->NumberOfResidentPages = capacity - static_cast<int>(this->FreeSlots.size());
   size_t requesting = 0, coarser = 0;
-  for (float value : this->Cur->Keys)
+  for (const auto* keys : { &this->Cur->Keys, &this->Cur->RefineKeys })
   {
-    const long long key = static_cast<long long>(value) - 1;
-    if (key >= 0)
+    for (float value : *keys)
     {
-      ++requesting;
-      coarser += this->Cur->SlotOf[static_cast<size_t>(key)] < 0 ? 1 : 0;
+      const long long key = static_cast<long long>(value) - 1;
+      if (key >= 0)
+      {
+        ++requesting;
+        coarser += this->Cur->SlotOf[static_cast<size_t>(key)] < 0 ? 1 : 0;
+      }
     }
   }
   this->Cur->CoarserShare = requesting ? static_cast<double>(coarser) / requesting : 0.0;
@@ -883,7 +1021,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
     ++self->NumberOfSuperpages;
     first = last;
   }
-  self->NumberOfRenderedPages = static_cast<int>(pages.size());
+  self->NumberOfRenderedPages += static_cast<int>(pages.size());
   self->TotalRenderedPages += static_cast<long long>(pages.size());
   return true;
 }
@@ -920,40 +1058,81 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
     win->GetShaderCache()->ReadyShaderProgram(program);
     gbuffer->GetPositionTexture()->Activate();
     gbuffer->GetNormalTexture()->Activate();
-    vtkTextureObject* requests = anyCaster
-      ? this->Cur->RequestTargets[2 * static_cast<size_t>(layer) + 1].Get()
+    int step = 1;
+    vtkTextureObject* levels = anyCaster
+      ? this->Cur->LevelTarget(static_cast<size_t>(layer), self->AnalysisStep, step)
       : gbuffer->GetPositionTexture(); // not read: no sample is pending
-    requests->Activate();
-    this->Atlas->Activate();
-    this->Cur->PageTableAlias->Activate();
+    levels->Activate();
     this->SetMapUniforms(self, program, gbuffer, setup, anyCaster);
-    program->SetUniformi("requests", requests->GetTextureUnit());
-    program->SetUniformi("atlas", this->Atlas->GetTextureUnit());
-    program->SetUniformi("pageTable", this->Cur->PageTableAlias->GetTextureUnit());
-    program->SetUniformi("slotsPerRow", static_cast<int>(this->Atlas->GetWidth()) >> PageBits);
-    program->SetUniformf("tanHalf", static_cast<float>(this->Cur->Map.TanHalf));
-    program->SetUniformf("footprintScale",
-      static_cast<float>(
-        std::max(2.0 / Norm3(this->Cur->Map.Row[0]), 2.0 / Norm3(this->Cur->Map.Row[1]))));
-    program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(this->Cur->Map.Row[2])));
-    const float position[3] = { static_cast<float>(setup.Position[0]),
-      static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
-    const float toLight[3] = { static_cast<float>(setup.Direction[0]),
-      static_cast<float>(setup.Direction[1]), static_cast<float>(setup.Direction[2]) };
-    program->SetUniform3f("lightPosition", position);
-    program->SetUniform3f("toLightDirection", toLight);
-    program->SetUniformf("constantBias", static_cast<float>(self->Bias));
-    program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias));
-    program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
+    this->SetLookupUniforms(self, program, levels, step, setup);
     quad->Render();
     this->Cur->PageTableAlias->Deactivate();
     this->Atlas->Deactivate();
     if (anyCaster)
     {
-      requests->Deactivate();
+      levels->Deactivate();
     }
     gbuffer->GetPositionTexture()->Deactivate();
     gbuffer->GetNormalTexture()->Deactivate();
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// The uniforms of the programs that read the pages (refine and lookup): the sample levels
+// (`levels`, bound, one per levelStep x levelStep pixels), the atlas and page table (bound
+// here), and the bias.
+void vtkPenumbraResolutionMatchedShadows::Internals::SetLookupUniforms(
+  vtkPenumbraResolutionMatchedShadows* self, vtkShaderProgram* program, vtkTextureObject* levels,
+  int levelStep, const LightSetup& setup)
+{
+  this->Atlas->Activate();
+  this->Cur->PageTableAlias->Activate();
+  program->SetUniformi("requests", levels->GetTextureUnit());
+  program->SetUniformi("levelStep", levelStep);
+  program->SetUniformi("atlas", this->Atlas->GetTextureUnit());
+  program->SetUniformi("pageTable", this->Cur->PageTableAlias->GetTextureUnit());
+  program->SetUniformi("slotsPerRow", static_cast<int>(this->Atlas->GetWidth()) >> PageBits);
+  program->SetUniformf("tanHalf", static_cast<float>(this->Cur->Map.TanHalf));
+  program->SetUniformf("footprintScale",
+    static_cast<float>(
+      std::max(2.0 / Norm3(this->Cur->Map.Row[0]), 2.0 / Norm3(this->Cur->Map.Row[1]))));
+  program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(this->Cur->Map.Row[2])));
+  penumbra_light_views::SetLightUniforms(program, setup);
+  program->SetUniformf("constantBias", static_cast<float>(self->Bias));
+  program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias));
+  program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
+}
+
+//------------------------------------------------------------------------------
+bool vtkPenumbraResolutionMatchedShadows::GetSampleLevels(vtkLight* light, vtkIntArray* levels)
+{
+  levels->SetNumberOfComponents(1);
+  levels->SetNumberOfTuples(0);
+  Internals& impl = *this->Impl;
+  auto pages = std::find_if(impl.Lights.begin(), impl.Lights.end(),
+    [light](const LightPages& p) { return light && p.Light == light; });
+  if (!impl.Window || pages == impl.Lights.end() || pages->RequestTargets.size() < 2)
+  {
+    return false;
+  }
+  int step = 1;
+  vtkTextureObject* target = pages->LevelTarget(0, pages->RequestStep, step);
+  const int w = static_cast<int>(target->GetWidth()), h = static_cast<int>(target->GetHeight());
+  std::vector<float> analysed(static_cast<size_t>(w) * h);
+  impl.Window->MakeCurrent();
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(target->GetHandle(), 0, GL_RED, GL_FLOAT,
+    static_cast<GLsizei>(analysed.size() * sizeof(float)), analysed.data());
+  const int width = pages->RequestFrameSize[0], height = pages->RequestFrameSize[1];
+  levels->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
+  for (int y = 0; y < height; ++y)
+  {
+    for (int x = 0; x < width; ++x)
+    {
+      levels->SetValue(static_cast<vtkIdType>(y) * width + x,
+        static_cast<int>(analysed[static_cast<size_t>(y / step) * w + x / step]));
+    }
   }
   return true;
 }
@@ -989,8 +1168,8 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Release(vtkWindow* window)
       fbo->ReleaseGraphicsResources(this->Window);
     }
   }
-  for (auto* quad :
-    { this->RequestQuad.get(), this->LookupQuads[0].get(), this->LookupQuads[1].get() })
+  for (auto* quad : { this->RequestQuad.get(), this->RefineQuad.get(), this->LookupQuads[0].get(),
+         this->LookupQuads[1].get() })
   {
     if (quad)
     {
@@ -1000,6 +1179,7 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Release(vtkWindow* window)
   this->Atlas = this->Scratch = nullptr;
   this->MapFBO = this->RequestFBO = nullptr;
   this->RequestQuad.reset();
+  this->RefineQuad.reset();
   this->LookupQuads[0].reset();
   this->LookupQuads[1].reset();
   this->Window = nullptr;
@@ -1014,6 +1194,7 @@ void vtkPenumbraResolutionMatchedShadows::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "Cached: " << this->Cached << "\n";
   os << indent << "Bias: " << this->Bias << "\n";
   os << indent << "SlopeBias: " << this->SlopeBias << "\n";
+  os << indent << "RefineLevels: " << this->RefineLevels << "\n";
   os << indent << "NumberOfRequestedPages: " << this->NumberOfRequestedPages << "\n";
   os << indent << "NumberOfRenderedPages: " << this->NumberOfRenderedPages << "\n";
   os << indent << "NumberOfSuperpages: " << this->NumberOfSuperpages << "\n";

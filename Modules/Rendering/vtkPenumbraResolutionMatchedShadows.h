@@ -61,6 +61,8 @@
 
 #include <memory> // For std::unique_ptr
 
+class vtkIntArray;
+
 class VTKPENUMBRARENDERING_EXPORT vtkPenumbraResolutionMatchedShadows
   : public vtkPenumbraShadowTechnique
 {
@@ -154,6 +156,18 @@ public:
 
   ///@{
   /**
+   * Levels finer at shadow edges: once the requested pages are resident, each sample whose
+   * 2 x 2 texels at its level disagree (a shadow boundary passes within a texel of it, the
+   * only place where a point-sampled map can answer wrongly) requests the page RefineLevels
+   * levels finer and is looked up there (the edge test of the adaptive shadow maps Lefohn et
+   * al. 2007 improve on, applied once). 0 turns it off. Default 2, clamped to [0, 4].
+   */
+  vtkSetClampMacro(RefineLevels, int, 0, 4);
+  vtkGetMacro(RefineLevels, int);
+  ///@}
+
+  ///@{
+  /**
    * The request pass computes the level (Eq. 1) of one sample per AnalysisStep x
    * AnalysisStep block of pixels (Lefohn et al. 2007, §3.3.5, reduced analysis resolution);
    * the block's other samples request their own pages at that level and are looked up at
@@ -210,10 +224,20 @@ public:
   vtkGetMacro(NumberOfRequestedPages, int);
   vtkGetVector2Macro(RequestedLevels, int);
   vtkGetMacro(NumberOfRenderedPages, int);
+  vtkGetMacro(NumberOfRefinedPages, int);
   vtkGetMacro(NumberOfSuperpages, int);
   vtkGetMacro(NumberOfResidentPages, int);
   vtkGetMacro(CoarserShare, double);
   ///@}
+
+  /**
+   * Diagnostics: the level (log2 of texels per side) each pixel of the frame's first layer
+   * requested for `light` in its last request pass and was looked up at, 0 where it
+   * requested nothing (not facing the light, outside the cone, background), row by row from
+   * the bottom (with AnalysisStep 2, per pixel its block's level). Returns false (and leaves
+   * `levels` empty) when the light has no requests.
+   */
+  bool GetSampleLevels(vtkLight* light, vtkIntArray* levels);
 
   /** Pages rendered since construction. */
   vtkGetMacro(TotalRenderedPages, long long);
@@ -238,12 +262,14 @@ protected:
   int Footprint = FOOTPRINT_WIDTH;
   int LODBias = 1;
   int AnalysisStep = 1;
+  int RefineLevels = 2;
   bool Cached = true;
   double Bias = 1e-4;
   double SlopeBias = 1.0;
   int NumberOfRequestedPages = 0;
   int RequestedLevels[2] = { 0, 0 };
   int NumberOfRenderedPages = 0;
+  int NumberOfRefinedPages = 0;
   int NumberOfSuperpages = 0;
   int NumberOfResidentPages = 0;
   double CoarserShare = 0.0;

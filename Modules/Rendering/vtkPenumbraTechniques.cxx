@@ -518,6 +518,9 @@ const OptionTable RMSMOptions = {
   { "lod_bias", OptionType::Integer, 1, 0, 2, {}, "levels",
     "request levels this much finer than the one whose texel matches a sample's footprint "
     "(0: matched, rounded up; each level quadruples the pages)" },
+  { "refine", OptionType::Integer, 2, 0, 4, {}, "levels",
+    "levels finer at shadow edges: the samples whose 2 x 2 texels at their level disagree "
+    "request the page this much finer once the requested pages are resident (0: off)" },
   { "analysis_step", OptionType::Integer, 1, 1, 2, {}, "samples",
     "the request pass computes the level of one sample per n x n block (2: four times fewer "
     "level computations; the block's samples request their own pages at that level)" },
@@ -543,6 +546,7 @@ void InstallRMSM(vtkRenderer* ren, const Options& opts)
       ? vtkPenumbraResolutionMatchedShadows::FOOTPRINT_AREA
       : vtkPenumbraResolutionMatchedShadows::FOOTPRINT_WIDTH);
   technique->SetLODBias(opts.Integer("lod_bias"));
+  technique->SetRefineLevels(opts.Integer("refine"));
   technique->SetAnalysisStep(opts.Integer("analysis_step"));
   technique->SetCached(opts.Boolean("cached"));
   technique->SetBias(opts.Number("bias"));

@@ -7,6 +7,10 @@
 //   request) into an RGBA32F target (with 2 x 2 analysis blocks the block's four samples'
 //   pages) and the level into an R32F one; keys stay below 2^24, so they are exact
 //   in float.
+// - RMSM_REFINE (the shadow-edge refinement, see rmsmEdge()): each pending sample whose
+//   2 x 2 taps at its requested level disagree lies at a shadow boundary, where alone the
+//   texel size decides the answer; it requests the page refineLevels levels finer and is
+//   looked up there. Writes key + 1 (0: no request) and the final level of every sample.
 // - otherwise the lookup (§3.3.1): the level the sample requested (read from that target:
 //   computing it again costs more than the rest of the lookup on llvmpipe), the page table's
 //   entry for the sample's
@@ -94,7 +98,6 @@ ivec2 rmsmTexel(vec2 st, int k)
   return clamp(ivec2(floor((st * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
 }
 
-#ifdef RMSM_REQUEST
 // key + 1 of the page of level k holding NDC point st: the pages of the levels before k
 // (4^(j - 5) per level j, from baseLevel on), then row by row.
 float rmsmKey(vec2 st, int k)
@@ -103,6 +106,8 @@ float rmsmKey(vec2 st, int k)
   int offset = ((1 << (2 * (k - pageBits))) - (1 << (2 * (baseLevel - pageBits)))) / 3;
   return float(offset + (page.y << (k - pageBits)) + page.x + 1);
 }
+
+#ifdef RMSM_REQUEST
 
 void main()
 {
@@ -142,7 +147,9 @@ void main()
   gl_FragData[1] = vec4(level);
 }
 #else
-uniform sampler2D requests;   // the request pass's levels for these samples' blocks
+uniform sampler2D requests;   // the levels for these samples (or their blocks)
+uniform int levelStep;        // pixels per side of a block sharing one level (1 or 2)
+uniform int refineLevels;     // RMSM_REFINE: levels finer at shadow edges
 uniform isampler2D pageTable; // mip m = level finestLevel - m: (level - base) << 24 | slot
 uniform sampler2D atlas;      // the resident pages' depths, 32 x 32 texels each
 uniform int slotsPerRow;
@@ -171,33 +178,90 @@ float rmsmTap(ivec2 texel, int k, float z, float slopeTerm)
   return stored >= z - constantBias - slopeTerm * exp2(-float(resident)) ? 1.0 : 0.0;
 }
 
-float rmsmCompare(ivec2 cell, vec3 p, vec3 normal)
+// The slope term of the bias, per texel footprint at level 0 (rmsmTap scales it to the
+// resident level's texel).
+float rmsmSlopeTerm(vec3 p, vec3 m, vec3 normal)
 {
-  vec3 m = rmsmProject(p);
-  // The level its block's analysed sample requested (0 when that one requested nothing);
-  // pages nobody requested are served by the finest resident coarser page.
-  int k = clamp(int(texelFetch(requests, cell / analysisStep, 0).r), baseLevel, finestLevel);
   vec3 toLight = perspective != 0 ? normalize(lightPosition - p) : toLightDirection;
   float footprint = perspective != 0 ? 2.0 * tanHalf * (m.z / invFar) : footprintScale;
   float depthPerLength = perspective != 0 ? invFar : depthPerLengthOrtho;
   float cosine = max(1e-9, dot(normal, toLight));
   float tangent = min(maxTangent, sqrt(max(0.0, 1.0 - cosine * cosine)) / cosine);
-  float slopeTerm = slopeBias * footprint * tangent * depthPerLength;
-#ifdef RMSM_BILINEAR
-  // 2 x 2 PCF at level k (the paper blends two such lookups at adjacent levels): the four
-  // texels around the continuous position, each resolved through the page table (so taps
-  // across a page border read their own page), weighted bilinearly.
+  return slopeBias * footprint * tangent * depthPerLength;
+}
+
+// The four compared texels of level k around NDC point m.xy (each resolved through the page
+// table, so taps across a page border read their own page) and the bilinear weights.
+vec4 rmsmTaps(vec3 m, int k, float slopeTerm, out vec2 w)
+{
   int side = 1 << k;
   vec2 u = (m.xy * 0.5 + 0.5) * float(side) - 0.5;
   vec2 b = floor(u);
-  vec2 w = u - b;
-  float l[4];
+  w = u - b;
+  vec4 l;
   for (int i = 0; i < 4; ++i)
   {
     ivec2 texel = clamp(ivec2(b) + ivec2(i & 1, i >> 1), ivec2(0), ivec2(side - 1));
-    l[i] = rmsmTap(texel, k, m.z, 2.0 * slopeTerm);
+    l[i] = rmsmTap(texel, k, m.z, slopeTerm);
   }
-  return mix(mix(l[0], l[1], w.x), mix(l[2], l[3], w.x), w.y);
+  return l;
+}
+
+// The level a sample is looked up at: its own (or its block's) from the request or refine
+// pass, clamped to the table (0: it requested nothing, the base level serves it).
+int rmsmLevelOf(ivec2 cell)
+{
+  return clamp(int(texelFetch(requests, cell / levelStep, 0).r), baseLevel, finestLevel);
+}
+
+#ifdef RMSM_REFINE
+// Shadow-edge refinement. A point-sampled map answers wrongly only where an occluder's edge
+// passes between the sample and the centre of its texel, and then the four texels around the
+// sample straddle that edge: their compares disagree. Those samples (a thin band along the
+// shadow boundaries) take the page refineLevels levels finer, which shrinks the band's width
+// by 2^refineLevels; elsewhere the matched level is already exact. This is the edge test of
+// the iterative adaptive shadow maps Lefohn et al. 2007 start from (§2, Algorithm 1 step 6),
+// applied once on top of the resolution-matched requests. The taps' slope term is doubled,
+// as for the 2 x 2 filter (they reach one texel away), so that a slanted receiver alone does
+// not look like an edge.
+void main()
+{
+  ivec2 cell = ivec2(gl_FragCoord.xy);
+  vec3 p;
+  vec3 n;
+  float key = 0.0;
+  int k = rmsmLevelOf(cell);
+  if (penumbraClassify(cell, p, n) == 2 && k < finestLevel)
+  {
+    vec3 m = rmsmProject(p);
+    vec2 w;
+    vec4 l = rmsmTaps(m, k, 2.0 * rmsmSlopeTerm(p, m, normalize(n)), w);
+    float lit = l.x + l.y + l.z + l.w;
+    if (lit > 0.0 && lit < 4.0)
+    {
+      k = min(k + refineLevels, finestLevel);
+      key = rmsmKey(m.xy, k);
+    }
+  }
+  if (texCoord.x < -1.0)
+  {
+    key = 0.0;
+  }
+  gl_FragData[0] = vec4(key);
+  gl_FragData[1] = vec4(float(k));
+}
+#else
+float rmsmCompare(ivec2 cell, vec3 p, vec3 normal)
+{
+  vec3 m = rmsmProject(p);
+  // Pages nobody requested are served by the finest resident coarser page.
+  int k = rmsmLevelOf(cell);
+  float slopeTerm = rmsmSlopeTerm(p, m, normal);
+#ifdef RMSM_BILINEAR
+  // 2 x 2 PCF at level k (the paper blends two such lookups at adjacent levels).
+  vec2 w;
+  vec4 l = rmsmTaps(m, k, 2.0 * slopeTerm, w);
+  return mix(mix(l.x, l.y, w.x), mix(l.z, l.w, w.x), w.y);
 #else
   return rmsmTap(rmsmTexel(m.xy, k), k, m.z, slopeTerm);
 #endif
@@ -217,4 +281,5 @@ void main()
   }
   gl_FragData[0] = vec4(v);
 }
+#endif
 #endif
