@@ -49,6 +49,12 @@ constexpr int PageBits = 5; // 32 x 32 texel pages
 // a sparse 1024^2 bounding rectangle a lot (docs/benchmarks.md, "Resolution-matched").
 constexpr int SuperpageBits = 3;
 constexpr int SuperpageSide = 1 << (PageBits + SuperpageBits);
+// The scratch holds 2^ScratchCellBits x 2^ScratchCellBits superpages side by side: a batch of
+// superpages is rendered before any of their pages is copied into the atlas. On llvmpipe a
+// copy out of a texture that pending draws write waits for them to be rasterized; one wait a
+// superpage cost more than the superpage's raster (docs/benchmarks.md).
+constexpr int ScratchCellBits = 2;
+constexpr int ScratchSide = SuperpageSide << ScratchCellBits;
 constexpr int BaseLevelCap = 10;      // the always-resident level: at most 1024^2 texels
 constexpr double MaxSpotCone = 60.0;  // one perspective view (shadowmap's single-view rule)
 constexpr double MaxTangent = 1000.0; // the slope bias's cap, as shadowmap's
@@ -108,6 +114,14 @@ struct NewPage
     return this->K == o.K && (this->X >> SuperpageBits) == (o.X >> SuperpageBits) &&
       (this->Y >> SuperpageBits) == (o.Y >> SuperpageBits);
   }
+};
+
+// A superpage rendered into a cell of the scratch: its pages [First, Last) of the sorted new
+// pages, their bounding rectangle's first page (X0, Y0) and the cell's origin in texels.
+struct SuperpageCell
+{
+  size_t First, Last;
+  int X0, Y0, CellX, CellY;
 };
 
 // `view` with its s and t rows cropped so that the texels [x0, x0 + w) x [y0, y0 + h) of level
@@ -179,7 +193,8 @@ std::string FrameShader(const std::string& role)
 {
   std::string fs = vtkPenumbraResolutionMatchedFS;
   vtkShaderProgram::Substitute(fs, "//VTK::System::Dec",
-    std::string("//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n") +
+    std::string("//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n"
+                "#extension GL_ARB_texture_gather : require\n") +
       (role.empty() ? "" : "#define " + role + "\n"),
     false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Classify", vtkPenumbraShadowMapClassify, false);
@@ -273,6 +288,7 @@ struct vtkPenumbraResolutionMatchedShadows::Internals
     const LightSetup& setup, std::string& error);
   bool MakeResident(vtkPenumbraResolutionMatchedShadows* self, std::string& error);
   std::vector<NewPage> Allocate(vtkPenumbraResolutionMatchedShadows* self);
+  void CopyPages(const std::vector<NewPage>& pages, const std::vector<SuperpageCell>& cells);
   void UploadTable();
   bool RenderPages(
     vtkPenumbraResolutionMatchedShadows* self, std::vector<NewPage>& pages, std::string& error);
@@ -464,7 +480,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::EnsureResources(
   if (!this->Scratch)
   {
     this->Scratch = NearestTexture(win);
-    this->Scratch->AllocateDepth(SuperpageSide, SuperpageSide, vtkTextureObject::Float32);
+    this->Scratch->AllocateDepth(ScratchSide, ScratchSide, vtkTextureObject::Float32);
     this->MapFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
     this->MapFBO->SetContext(win);
     this->RequestFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
@@ -485,7 +501,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::EnsureResources(
     if (!quad->Program || !quad->Program->GetCompiled())
     {
       error = "the request or lookup program does not compile on this OpenGL implementation "
-              "(GL_ARB_gpu_shader_fp64 and integer textures are required)";
+              "(GL_ARB_gpu_shader_fp64, GL_ARB_texture_gather and integer textures are required)";
       return false;
     }
   }
@@ -974,7 +990,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
   std::sort(pages.begin(), pages.end());
   vtkOpenGLState* ostate = win->GetState();
   penumbra_light_views::MapRenderState renderState(
-    ostate, this->MapFBO, SuperpageSide, SuperpageSide, false);
+    ostate, this->MapFBO, ScratchSide, ScratchSide, false);
   vtkOpenGLState::ScopedglScissor scissor(ostate);
   this->MapFBO->AddDepthAttachment(this->Scratch);
   ostate->vtkglDrawBuffer(GL_NONE);
@@ -985,45 +1001,73 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
   program->SetUniformf("invFar", static_cast<float>(1.0 / this->Cur->Map.Far));
   program->SetUniformi("peel", 0);
   program->SetUniformf("peelGap", 0.0f);
-  const GLuint scratch = this->Scratch->GetHandle(), atlas = this->Atlas->GetHandle();
-  const int slotsPerRow = static_cast<int>(this->Atlas->GetWidth()) >> PageBits;
+  std::vector<SuperpageCell> cells;
   for (size_t first = 0; first < pages.size();)
   {
-    size_t last = first;
-    int x0 = pages[first].X, x1 = x0, y0 = pages[first].Y, y1 = y0;
-    while (last < pages.size() && pages[last].SameSuperpage(pages[first]))
+    SuperpageCell cell{ first, first, pages[first].X, pages[first].Y, 0, 0 };
+    int x1 = cell.X0, y1 = cell.Y0;
+    while (cell.Last < pages.size() && pages[cell.Last].SameSuperpage(pages[first]))
     {
-      x0 = std::min(x0, pages[last].X);
-      x1 = std::max(x1, pages[last].X);
-      y0 = std::min(y0, pages[last].Y);
-      y1 = std::max(y1, pages[last].Y);
-      ++last;
+      cell.X0 = std::min(cell.X0, pages[cell.Last].X);
+      x1 = std::max(x1, pages[cell.Last].X);
+      cell.Y0 = std::min(cell.Y0, pages[cell.Last].Y);
+      y1 = std::max(y1, pages[cell.Last].Y);
+      ++cell.Last;
     }
-    const int w = (x1 - x0 + 1) << PageBits, h = (y1 - y0 + 1) << PageBits;
+    const int index = static_cast<int>(cells.size());
+    if (index == 0)
+    {
+      // The whole scratch at once, unscissored: Mesa clears a scissored rectangle by drawing
+      // a quad, about what a superpage's own draw costs.
+      ostate->vtkglDisable(GL_SCISSOR_TEST);
+      const GLfloat one = 1.0f;
+      glClearBufferfv(GL_DEPTH, 0, &one);
+      ostate->vtkglEnable(GL_SCISSOR_TEST);
+    }
+    cell.CellX = (index & ((1 << ScratchCellBits) - 1)) * SuperpageSide;
+    cell.CellY = (index >> ScratchCellBits) * SuperpageSide;
+    const int w = (x1 - cell.X0 + 1) << PageBits, h = (y1 - cell.Y0 + 1) << PageBits;
     const View crop =
-      CroppedView(this->Cur->Map, pages[first].K, x0 << PageBits, y0 << PageBits, w, h);
+      CroppedView(this->Cur->Map, pages[first].K, cell.X0 << PageBits, cell.Y0 << PageBits, w, h);
     float matrix[16];
     crop.ToFloatMatrix(matrix);
     program->SetUniformMatrix4x4("lightMatrix", matrix);
-    ostate->vtkglViewport(0, 0, w, h);
-    ostate->vtkglScissor(0, 0, w, h);
-    const GLfloat one = 1.0f;
-    glClearBufferfv(GL_DEPTH, 0, &one);
+    ostate->vtkglViewport(cell.CellX, cell.CellY, w, h);
+    ostate->vtkglScissor(cell.CellX, cell.CellY, w, h);
     glDrawArrays(GL_TRIANGLES, 0, this->Casters.VertexCount);
-    for (size_t i = first; i < last; ++i)
-    {
-      const NewPage& page = pages[i];
-      glCopyImageSubData(scratch, GL_TEXTURE_2D, 0, (page.X - x0) << PageBits,
-        (page.Y - y0) << PageBits, 0, atlas, GL_TEXTURE_2D, 0,
-        (page.Slot % slotsPerRow) << PageBits, (page.Slot / slotsPerRow) << PageBits, 0,
-        self->PageSize, self->PageSize, 1);
-    }
+    cells.push_back(cell);
     ++self->NumberOfSuperpages;
-    first = last;
+    first = cell.Last;
+    if (cells.size() == (size_t(1) << (2 * ScratchCellBits)) || first == pages.size())
+    {
+      this->CopyPages(pages, cells);
+      cells.clear();
+    }
   }
   self->NumberOfRenderedPages += static_cast<int>(pages.size());
   self->TotalRenderedPages += static_cast<long long>(pages.size());
   return true;
+}
+
+//------------------------------------------------------------------------------
+// §3.3.3 (step 12): the pages of a batch of rendered superpages copied from their scratch
+// cells into their atlas slots (the first copy waits for the batch's draws).
+void vtkPenumbraResolutionMatchedShadows::Internals::CopyPages(
+  const std::vector<NewPage>& pages, const std::vector<SuperpageCell>& cells)
+{
+  const GLuint scratch = this->Scratch->GetHandle(), atlas = this->Atlas->GetHandle();
+  const int slotsPerRow = static_cast<int>(this->Atlas->GetWidth()) >> PageBits;
+  for (const SuperpageCell& cell : cells)
+  {
+    for (size_t i = cell.First; i < cell.Last; ++i)
+    {
+      const NewPage& page = pages[i];
+      glCopyImageSubData(scratch, GL_TEXTURE_2D, 0, cell.CellX + ((page.X - cell.X0) << PageBits),
+        cell.CellY + ((page.Y - cell.Y0) << PageBits), 0, atlas, GL_TEXTURE_2D, 0,
+        (page.Slot % slotsPerRow) << PageBits, (page.Slot / slotsPerRow) << PageBits, 0, PageSize,
+        PageSize, 1);
+    }
+  }
 }
 
 //------------------------------------------------------------------------------

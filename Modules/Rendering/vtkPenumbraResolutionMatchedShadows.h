@@ -32,8 +32,8 @@
  *   level, 256^2 texels, not the paper's 1024^2: on llvmpipe a pass is cheap and the
  *   unrequested texels of a sparse large rectangle are not); each superpage is one geometry pass of
  * the casters with a projection cropped to the bounding rectangle of its new pages (depth
- * untouched, so depths agree across levels), then each page is copied into its atlas slot
- *   (glCopyImageSubData).
+ * untouched, so depths agree across levels), into one of the 16 cells of a scratch; once a
+ * batch of 16 is drawn, each page is copied into its atlas slot (glCopyImageSubData).
  * - Lookup (§3.3.1): the level the sample requested, the page table entry, one nearest
  *   atlas texel (or 2 x 2 bilinear PCF at that level, SetFilter()) compared with a
  *   slope-scaled bias of that level's texel (the paper blends 2 x 2 PCF at two adjacent
@@ -48,9 +48,10 @@
  * (the pass shadows them with its fallback), ComputeFrame() reports an error.
  * Memory: the atlas keeps AtlasSize^2 x 4 bytes (64 MiB at 4096^2, shared by the lights);
  * per light the page table 4/3 x (MaxResolution / 32)^2 x 4 bytes (5.3 MiB at 32768^2), the
- * request targets 20 bytes per analysed pixel and layer (keys RGBA32F, levels R32F), and
- * on the CPU the page table twice more (slots and entries) and the read-back requests (4 or
- * 16 bytes per analysed pixel); the superpage scratch 256^2 x 4 bytes.
+ * request targets 20 bytes per analysed pixel and layer (keys RGBA32F, levels R32F), the
+ * refine targets 8 bytes per pixel and layer, and on the CPU the page table twice more
+ * (slots and entries) and the read-back requests (4 or 16 bytes per analysed pixel, 4 per
+ * pixel); the superpage scratch 1024^2 x 4 bytes (4 MiB).
  */
 
 #ifndef vtkPenumbraResolutionMatchedShadows_h

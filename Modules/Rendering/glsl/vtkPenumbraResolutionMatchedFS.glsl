@@ -31,6 +31,7 @@ uniform int footprintWidth; // 1: texels as small as the footprint's smallest wi
 uniform int analysisStep;  // the request pass analyses one sample per step x step block (1, 2)
 
 const int pageBits = 5; // 32 x 32 texel pages (§4: "a page size of 32^2 texels")
+const float creaseCosine = 0.99; // normals more than ~8 degrees apart: another surface
 
 // NDC s, t and the stored-depth value of a rebased point.
 vec3 rmsmProject(vec3 p)
@@ -113,29 +114,51 @@ void main()
 {
   // One analysed sample per analysisStep^2 block (§3.3.5, "reduce the resolution of the
   // analysis"); its derivatives still come from its adjacent pixels. With 2 x 2 blocks the
-  // other three samples request their own pages at the analysed sample's level, so every
-  // sample's page is requested, only the level is shared.
-  ivec2 cell = ivec2(gl_FragCoord.xy) * analysisStep;
+  // other three samples request their own pages at the block's level, so every sample's page
+  // is requested, only the level is shared. A block sample on another prop or on a surface
+  // turned away from the analysed one (a crease, a contact, a silhouette) has a footprint of
+  // its own, often much smaller (a wall next to the ground under a grazing light): its level
+  // is computed too and the block takes the finest.
+  // The analysed sample is the block's first pending one (the others may face the light
+  // when it does not).
+  ivec2 origin = ivec2(gl_FragCoord.xy) * analysisStep;
+  ivec2 last = textureSize(samplePositions, 0) - 1;
+  int samples = analysisStep * analysisStep;
   vec3 p;
   vec3 n;
+  ivec2 cell = origin;
+  int state = penumbraClassify(cell, p, n);
+  for (int i = 1; i < samples && state != 2; ++i)
+  {
+    cell = min(origin + ivec2(i & 1, i >> 1), last);
+    state = penumbraClassify(cell, p, n);
+  }
   vec4 keys = vec4(0.0);
   float level = 0.0;
-  if (penumbraClassify(cell, p, n) == 2)
+  if (state == 2)
   {
-    vec3 m = rmsmProject(p);
-    int k = rmsmLevel(cell, m.xy);
-    level = float(k);
-    keys.x = rmsmKey(m.xy, k);
-    if (analysisStep == 2)
+    int k = rmsmLevel(cell, rmsmProject(p).xy);
+    float prop = texelFetch(sampleNormals, cell, 0).w;
+    vec2 st[4];
+    bool valid[4];
+    for (int i = 0; i < samples; ++i)
     {
-      ivec2 last = textureSize(samplePositions, 0) - 1;
-      for (int i = 1; i < 4; ++i)
+      ivec2 c = min(origin + ivec2(i & 1, i >> 1), last);
+      vec4 q = texelFetch(samplePositions, c, 0);
+      vec4 qn = texelFetch(sampleNormals, c, 0);
+      vec3 o = rmsmProject(q.xyz);
+      st[i] = o.xy;
+      valid[i] = q.w >= 0.5 && (perspective == 0 || o.z > 0.0) && !any(isnan(o.xy));
+      if (valid[i] && c != cell &&
+        (qn.w != prop || dot(normalize(qn.xyz), normalize(n)) < creaseCosine))
       {
-        vec4 q = texelFetch(samplePositions, min(cell + ivec2(i & 1, i >> 1), last), 0);
-        vec3 o = rmsmProject(q.xyz);
-        bool valid = q.w >= 0.5 && (perspective == 0 || o.z > 0.0) && !any(isnan(o.xy));
-        keys[i] = valid ? rmsmKey(o.xy, k) : 0.0;
+        k = max(k, rmsmLevel(c, o.xy));
       }
+    }
+    level = float(k);
+    for (int i = 0; i < samples; ++i)
+    {
+      keys[i] = valid[i] ? rmsmKey(st[i], k) : 0.0;
     }
   }
   // Never true; keeps the quad's texture-coordinate attribute active in the program.
@@ -191,13 +214,32 @@ float rmsmSlopeTerm(vec3 p, vec3 m, vec3 normal)
 }
 
 // The four compared texels of level k around NDC point m.xy (each resolved through the page
-// table, so taps across a page border read their own page) and the bilinear weights.
+// table, so taps across a page border read their own page) and the bilinear weights. When
+// all four lie in one page resident at level k (all but a sixteenth of the samples), one
+// page-table fetch and one textureGather read them: on llvmpipe each fetch costs about as
+// much as the rest of the lookup.
 vec4 rmsmTaps(vec3 m, int k, float slopeTerm, out vec2 w)
 {
   int side = 1 << k;
   vec2 u = (m.xy * 0.5 + 0.5) * float(side) - 0.5;
   vec2 b = floor(u);
   w = u - b;
+  ivec2 t0 = ivec2(b);
+  if (all(greaterThanEqual(t0, ivec2(0))) && all(lessThan(t0 + 1, ivec2(side))) &&
+    all(equal(t0 >> pageBits, (t0 + 1) >> pageBits)))
+  {
+    int entry = texelFetch(pageTable, t0 >> pageBits, finestLevel - k).r;
+    if (baseLevel + (entry >> 24) == k)
+    {
+      int slot = entry & 0xFFFFFF;
+      ivec2 a = (ivec2(slot % slotsPerRow, slot / slotsPerRow) << pageBits) +
+        (t0 & ((1 << pageBits) - 1));
+      // The texel corner a + 1 gathers (a.x, a.y + 1), (a.x + 1, a.y + 1), (a.x + 1, a.y),
+      // (a.x, a.y) into x, y, z, w.
+      vec4 d = textureGather(atlas, vec2(a + 1) / vec2(textureSize(atlas, 0))).wzxy;
+      return vec4(greaterThanEqual(d, vec4(m.z - constantBias - slopeTerm * exp2(-float(k)))));
+    }
+  }
   vec4 l;
   for (int i = 0; i < 4; ++i)
   {
@@ -224,14 +266,19 @@ int rmsmLevelOf(ivec2 cell)
 // applied once on top of the resolution-matched requests. The taps' slope term is doubled,
 // as for the 2 x 2 filter (they reach one texel away), so that a slanted receiver alone does
 // not look like an edge.
+// Only samples with a requested level (pending when the requests were made) are tested; the
+// facing rules are not evaluated again.
 void main()
 {
   ivec2 cell = ivec2(gl_FragCoord.xy);
-  vec3 p;
-  vec3 n;
   float key = 0.0;
-  int k = rmsmLevelOf(cell);
-  if (penumbraClassify(cell, p, n) == 2 && k < finestLevel)
+  float requested = texelFetch(requests, cell / levelStep, 0).r;
+  int k = clamp(int(requested), baseLevel, finestLevel);
+  vec4 position = texelFetch(samplePositions, cell, 0);
+  vec3 p = position.xyz;
+  vec3 n = texelFetch(sampleNormals, cell, 0).xyz;
+  if (requested > 0.0 && k < finestLevel && position.w >= 0.5 && penumbraFinite(p) &&
+    penumbraFinite(n))
   {
     vec3 m = rmsmProject(p);
     vec2 w;
