@@ -701,8 +701,18 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::KeyPass(vtkPenumbraFrame* f
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
     vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
+    // At full size the G-buffer's depth test leaves the background out (see
+    // vtkPenumbraFrame::BindVisibilityTarget()); its keys and levels are cleared to 0.
+    const bool full = w == frame->GetWidth() && h == frame->GetHeight();
     penumbra_light_views::QuadPassState pass(win->GetState(), this->RequestFBO,
-      { targets[2 * layer].Get(), targets[2 * layer + 1].Get() }, w, h);
+      { targets[2 * layer].Get(), targets[2 * layer + 1].Get() }, w, h,
+      full ? gbuffer->GetDepthTexture() : nullptr);
+    if (full)
+    {
+      const GLfloat zero[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
+      glClearBufferfv(GL_COLOR, 0, zero);
+      glClearBufferfv(GL_COLOR, 1, zero);
+    }
     win->GetShaderCache()->ReadyShaderProgram(program);
     gbuffer->GetPositionTexture()->Activate();
     gbuffer->GetNormalTexture()->Activate();
@@ -1136,7 +1146,8 @@ void vtkPenumbraResolutionMatchedShadows::Internals::SetLookupUniforms(
   program->SetUniformi("levelStep", levelStep);
   program->SetUniformi("atlas", this->Atlas->GetTextureUnit());
   program->SetUniformi("pageTable", this->Cur->PageTableAlias->GetTextureUnit());
-  program->SetUniformi("slotsPerRow", static_cast<int>(this->Atlas->GetWidth()) >> PageBits);
+  program->SetUniformi(
+    "slotsPerRowBits", FloorLog2(static_cast<int>(this->Atlas->GetWidth()) >> PageBits));
   program->SetUniformf("tanHalf", static_cast<float>(this->Cur->Map.TanHalf));
   program->SetUniformf("footprintScale",
     static_cast<float>(

@@ -104,7 +104,9 @@ ivec2 rmsmTexel(vec2 st, int k)
 float rmsmKey(vec2 st, int k)
 {
   ivec2 page = rmsmTexel(st, k) >> pageBits;
-  int offset = ((1 << (2 * (k - pageBits))) - (1 << (2 * (baseLevel - pageBits)))) / 3;
+  // Exact in float (below 2^24); an integer division is not vectorized on llvmpipe.
+  int offset =
+    int(round(float((1 << (2 * (k - pageBits))) - (1 << (2 * (baseLevel - pageBits)))) / 3.0));
   return float(offset + (page.y << (k - pageBits)) + page.x + 1);
 }
 
@@ -175,7 +177,8 @@ uniform int levelStep;        // pixels per side of a block sharing one level (1
 uniform int refineLevels;     // RMSM_REFINE: levels finer at shadow edges
 uniform isampler2D pageTable; // mip m = level finestLevel - m: (level - base) << 24 | slot
 uniform sampler2D atlas;      // the resident pages' depths, 32 x 32 texels each
-uniform int slotsPerRow;
+uniform int slotsPerRowBits;  // log2 of the atlas slots per row (shifts: integer division
+                              // is not vectorized on llvmpipe)
 uniform float tanHalf;        // perspective: tangent of the half field of view
 uniform float footprintScale; // orthographic: world size of a texel at level 0
 uniform float depthPerLengthOrtho; // orthographic: |row 2|
@@ -196,7 +199,7 @@ float rmsmTap(ivec2 texel, int k, float z, float slopeTerm)
   int resident = baseLevel + (entry >> 24);
   int slot = entry & 0xFFFFFF;
   ivec2 t = texel >> (k - resident);
-  ivec2 origin = ivec2(slot % slotsPerRow, slot / slotsPerRow) << pageBits;
+  ivec2 origin = ivec2(slot & ((1 << slotsPerRowBits) - 1), slot >> slotsPerRowBits) << pageBits;
   float stored = texelFetch(atlas, origin + (t & ((1 << pageBits) - 1)), 0).r;
   return stored >= z - constantBias - slopeTerm * exp2(-float(resident)) ? 1.0 : 0.0;
 }
@@ -232,7 +235,7 @@ vec4 rmsmTaps(vec3 m, int k, float slopeTerm, out vec2 w)
     if (baseLevel + (entry >> 24) == k)
     {
       int slot = entry & 0xFFFFFF;
-      ivec2 a = (ivec2(slot % slotsPerRow, slot / slotsPerRow) << pageBits) +
+      ivec2 a = (ivec2(slot & ((1 << slotsPerRowBits) - 1), slot >> slotsPerRowBits) << pageBits) +
         (t0 & ((1 << pageBits) - 1));
       // The texel corner a + 1 gathers (a.x, a.y + 1), (a.x + 1, a.y + 1), (a.x + 1, a.y),
       // (a.x, a.y) into x, y, z, w.
