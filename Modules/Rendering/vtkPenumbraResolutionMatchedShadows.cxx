@@ -55,7 +55,7 @@ constexpr int SuperpageSide = 1 << (PageBits + SuperpageBits);
 // superpage cost more than the superpage's raster (docs/benchmarks.md).
 constexpr int ScratchCellBits = 2;
 constexpr int ScratchSide = SuperpageSide << ScratchCellBits;
-constexpr int BaseLevelCap = 10;      // the always-resident level: at most 1024^2 texels
+constexpr int BaseLevelCap = 8;       // the always-resident level: at most 256^2 texels
 constexpr double MaxSpotCone = 60.0;  // one perspective view (shadowmap's single-view rule)
 constexpr double MaxTangent = 1000.0; // the slope bias's cap, as shadowmap's
 

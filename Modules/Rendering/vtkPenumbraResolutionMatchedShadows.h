@@ -9,14 +9,16 @@
  * - Virtual map: one light view fitted to the bounds of the whole scene (casters and
  *   receivers), not to the current view (the paper's fixed light frustum), so that pages
  *   stay valid while the camera moves. Level k has 2^k texels per side, from the base level
- *   (min(10, log2(AtlasSize) - 1, log2(MaxResolution)), always resident as a whole, the
+ *   (min(8, log2(AtlasSize) - 1, log2(MaxResolution)), always resident as a whole, the
  *   fallback of every sample) to log2(MaxResolution).
  * - Requests (§3.3.2, Eq. 1): a full-screen pass over the G-buffer computes per pending
  *   sample (facing the light, inside the cone) the level whose texel matches the sample's
  *   footprint in the map, from dX and dY, the map coordinates' change to the neighbouring
- *   pixels on the same prop (one-sided, the smaller side): by default its smallest width,
- *   or the paper's square root of its area (SetFootprint()), rounded up and LODBias levels
- *   finer; it writes the key of the page it needs and the level. The keys are read back (4 bytes
+ *   pixels on the same prop (one-sided, the smaller side): by default the paper's square
+ *   root of its area, or its smallest width (SetFootprint()), rounded up and LODBias levels
+ *   finer; by default for one sample per 2 x 2 block (SetAnalysisStep()), whose samples on
+ *   another surface add their own level (the block takes the finest); it writes the key of
+ *   the page each sample needs and the level. The keys are read back (4 bytes
  * per pixel; on llvmpipe GPU memory is host memory, so the paper's GPU scan/sort/compaction buys
  * nothing here) and de-duplicated with one byte per page of the pyramid, in key order (coarse
  * levels first, which makes allocation deterministic).
@@ -34,7 +36,11 @@
  * the casters with a projection cropped to the bounding rectangle of its new pages (depth
  * untouched, so depths agree across levels), into one of the 16 cells of a scratch; once a
  * batch of 16 is drawn, each page is copied into its atlas slot (glCopyImageSubData).
- * - Lookup (§3.3.1): the level the sample requested, the page table entry, one nearest
+ * - Shadow-edge refinement (SetRefineLevels()): with those pages resident, the samples whose
+ *   2 x 2 texels disagree request the page RefineLevels levels finer, made resident the same
+ *   way (a second round of superpages); elsewhere the requested level is already exact.
+ * - Lookup (§3.3.1): the level the sample requested (or refined to), the page table entry,
+ *   one nearest
  *   atlas texel (or 2 x 2 bilinear PCF at that level, SetFilter()) compared with a
  *   slope-scaled bias of that level's texel (the paper blends 2 x 2 PCF at two adjacent
  *   levels; not implemented).
@@ -137,8 +143,9 @@ public:
    * How a sample's footprint in the map sets its level. FOOTPRINT_AREA is the paper's Eq. 1
    * (§3.3.2), the texel as large as the square root of the footprint's area: along the short
    * axis of an anisotropic footprint (receivers seen at a slant) the texel is then coarser
-   * than the pixel. FOOTPRINT_WIDTH (default) takes the footprint's smallest width, the same
-   * for a square footprint and finer for a slanted one (more pages). Measured in
+   * than the pixel; the default, since shadow edges are refined anyway (SetRefineLevels()).
+   * FOOTPRINT_WIDTH takes the footprint's smallest width, the same for a square footprint
+   * and finer for a slanted one (2.5 times the pages under a grazing light). Measured in
    * docs/benchmarks.md.
    */
   vtkSetClampMacro(Footprint, int, FOOTPRINT_AREA, FOOTPRINT_WIDTH);
@@ -161,7 +168,7 @@ public:
    * 2 x 2 texels at its level disagree (a shadow boundary passes within a texel of it, the
    * only place where a point-sampled map can answer wrongly) requests the page RefineLevels
    * levels finer and is looked up there (the edge test of the adaptive shadow maps Lefohn et
-   * al. 2007 improve on, applied once). 0 turns it off. Default 2, clamped to [0, 4].
+   * al. 2007 improve on, applied once). 0 turns it off. Default 3, clamped to [0, 4].
    */
   vtkSetClampMacro(RefineLevels, int, 0, 4);
   vtkGetMacro(RefineLevels, int);
@@ -172,7 +179,8 @@ public:
    * The request pass computes the level (Eq. 1) of one sample per AnalysisStep x
    * AnalysisStep block of pixels (Lefohn et al. 2007, §3.3.5, reduced analysis resolution);
    * the block's other samples request their own pages at that level and are looked up at
-   * it. Default 1 (every sample), clamped to [1, 2].
+   * it; a block sample on another prop or surface adds its own level, and the block takes
+   * the finest. Default 2, clamped to [1, 2].
    */
   vtkSetClampMacro(AnalysisStep, int, 1, 2);
   vtkGetMacro(AnalysisStep, int);
@@ -260,10 +268,10 @@ protected:
   int MaxResolution = 32768;
   int AtlasSize = 4096;
   int Filter = FILTER_NONE;
-  int Footprint = FOOTPRINT_WIDTH;
+  int Footprint = FOOTPRINT_AREA;
   int LODBias = 1;
-  int AnalysisStep = 1;
-  int RefineLevels = 2;
+  int AnalysisStep = 2;
+  int RefineLevels = 3;
   bool Cached = true;
   double Bias = 1e-4;
   double SlopeBias = 1.0;
