@@ -55,7 +55,12 @@ constexpr int SuperpageSide = 1 << (PageBits + SuperpageBits);
 // superpage cost more than the superpage's raster (docs/benchmarks.md).
 constexpr int ScratchCellBits = 2;
 constexpr int ScratchSide = SuperpageSide << ScratchCellBits;
-constexpr int BaseLevelCap = 8;       // the always-resident level: at most 256^2 texels
+constexpr int BaseLevelCap = 8; // the always-resident level: at most 256^2 texels
+// No sample requests a level coarser than 1024^2: a sample needing less (far away, or a small
+// frame) still gets 1024^2 texels, so that occluders thinner than a coarse texel do not vanish
+// from the map (the edge refinement cannot find what the map does not show). Only the pages
+// samples request are rendered, not the whole level.
+constexpr int MinRequestLevel = 10;
 constexpr double MaxSpotCone = 60.0;  // one perspective view (shadowmap's single-view rule)
 constexpr double MaxTangent = 1000.0; // the slope bias's cap, as shadowmap's
 
@@ -345,6 +350,12 @@ int vtkPenumbraResolutionMatchedShadows::GetBaseLevel()
 }
 
 //------------------------------------------------------------------------------
+int vtkPenumbraResolutionMatchedShadows::GetMinimumRequestLevel()
+{
+  return std::min(MinRequestLevel, FloorLog2(this->MaxResolution));
+}
+
+//------------------------------------------------------------------------------
 bool vtkPenumbraResolutionMatchedShadows::CanShadow(vtkLight* light)
 {
   return light && !vtkPenumbraAreaLight::SafeDownCast(light) &&
@@ -421,21 +432,24 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::FrameLight(
     const bool same = !flushed && frame->GetSamplesTime() == this->Cur->RequestSamplesTime &&
       this->Cur->CoarserShare == 0.0;
     this->Cur->RequestSamplesTime = frame->GetSamplesTime();
-    if (!same && !this->Request(self, frame, setup, error))
+    if (same)
     {
-      return false;
+      // Nothing to request, allocate or render (the allocation's pass over every sample's
+      // keys alone cost a few ms a light): only the statistics.
+      self->NumberOfResidentPages =
+        self->GetAtlasCapacity() - static_cast<int>(this->FreeSlots.size());
+      self->CoarserShare = this->Cur->CoarserShare;
     }
-    if (!this->MakeResident(self, error))
+    else
     {
-      return false;
-    }
-    // The shadow edges the requested pages show take their finer pages (same as above:
-    // nothing new for the same samples and pages).
-    this->Cur->Refined = self->RefineLevels > 0;
-    if (!same && this->Cur->Refined &&
-      !(this->Refine(self, frame, setup, error) && this->MakeResident(self, error)))
-    {
-      return false;
+      // The requested pages, then the shadow edges they show take their finer pages.
+      this->Cur->Refined = self->RefineLevels > 0;
+      if (!(this->Request(self, frame, setup, error) && this->MakeResident(self, error) &&
+            (!this->Cur->Refined ||
+              (this->Refine(self, frame, setup, error) && this->MakeResident(self, error)))))
+      {
+        return false;
+      }
     }
   }
   const auto lookupStart = Clock::now();
@@ -678,6 +692,7 @@ void vtkPenumbraResolutionMatchedShadows::Internals::SetMapUniforms(
   program->SetUniformi("perspective", this->Cur->Map.Perspective ? 1 : 0);
   program->SetUniformf("invFar", static_cast<float>(1.0 / this->Cur->Map.Far));
   program->SetUniformi("baseLevel", this->Levels.Base);
+  program->SetUniformi("minLevel", self->GetMinimumRequestLevel());
   program->SetUniformi("finestLevel", this->Levels.Finest);
   program->SetUniformi("lodBias", self->LODBias);
   program->SetUniformi("analysisStep", self->AnalysisStep);

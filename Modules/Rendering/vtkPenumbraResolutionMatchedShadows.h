@@ -14,11 +14,12 @@
  * - Requests (§3.3.2, Eq. 1): a full-screen pass over the G-buffer computes per pending
  *   sample (facing the light, inside the cone) the level whose texel matches the sample's
  *   footprint in the map, from dX and dY, the map coordinates' change to the neighbouring
- *   pixels on the same prop (one-sided, the smaller side): by default the paper's square
- *   root of its area, or its smallest width (SetFootprint()), rounded up and LODBias levels
- *   finer; by default for one sample per 2 x 2 block (SetAnalysisStep()), whose samples on
- *   another surface add their own level (the block takes the finest); it writes the key of
- *   the page each sample needs and the level. The keys are read back (4 bytes
+ *   pixels on the same prop (one-sided, the smaller side): by default its smallest width,
+ *   or the paper's square root of its area (SetFootprint()), rounded up, LODBias levels
+ *   finer and no coarser than GetMinimumRequestLevel(); optionally for one sample per
+ *   2 x 2 block (SetAnalysisStep()), whose samples on another surface add their own level
+ *   (the block takes the finest); it writes the key of the page each sample needs and the
+ *   level. The keys are read back (4 bytes
  * per pixel; on llvmpipe GPU memory is host memory, so the paper's GPU scan/sort/compaction buys
  * nothing here) and de-duplicated with one byte per page of the pyramid, in key order (coarse
  * levels first, which makes allocation deterministic).
@@ -143,10 +144,11 @@ public:
    * How a sample's footprint in the map sets its level. FOOTPRINT_AREA is the paper's Eq. 1
    * (§3.3.2), the texel as large as the square root of the footprint's area: along the short
    * axis of an anisotropic footprint (receivers seen at a slant) the texel is then coarser
-   * than the pixel; the default, since shadow edges are refined anyway (SetRefineLevels()).
-   * FOOTPRINT_WIDTH takes the footprint's smallest width, the same for a square footprint
-   * and finer for a slanted one (2.5 times the pages under a grazing light). Measured in
-   * docs/benchmarks.md.
+   * than the pixel, and the lookup's slope bias, one such coarse texel wide, lets light leak
+   * onto receivers that the light grazes (false lit several pixels from a shadow, which the
+   * edge refinement does not see). FOOTPRINT_WIDTH (default) takes the footprint's smallest
+   * width, the same for a square footprint and finer for a slanted one (2.5 times the pages
+   * under a grazing light). Measured in docs/benchmarks.md.
    */
   vtkSetClampMacro(Footprint, int, FOOTPRINT_AREA, FOOTPRINT_WIDTH);
   vtkGetMacro(Footprint, int);
@@ -156,7 +158,8 @@ public:
   /**
    * Levels finer than the one whose texel matches a sample's footprint (Eq. 1 rounded up):
    * 0 matches the paper; each level more halves the texel and quadruples the pages. Default
-   * 1, clamped to [0, 2].
+   * 1: at 0 the lookup's slope bias, a texel wide, lets light leak onto receivers the light
+   * grazes (torture/grazing_light at 128 x 96: 1.5e-2 against 6.6e-3). Clamped to [0, 2].
    */
   vtkSetClampMacro(LODBias, int, 0, 2);
   vtkGetMacro(LODBias, int);
@@ -180,7 +183,9 @@ public:
    * AnalysisStep block of pixels (Lefohn et al. 2007, §3.3.5, reduced analysis resolution);
    * the block's other samples request their own pages at that level and are looked up at
    * it; a block sample on another prop or surface adds its own level, and the block takes
-   * the finest. Default 2, clamped to [1, 2].
+   * the finest. Default 1 (every sample: with 2, blocks straddling a wall and the ground
+   * under a grazing light take both surfaces' levels, which spreads the pages over more
+   * superpages), clamped to [1, 2].
    */
   vtkSetClampMacro(AnalysisStep, int, 1, 2);
   vtkGetMacro(AnalysisStep, int);
@@ -216,6 +221,14 @@ public:
 
   /** The coarsest level in the page table, always resident: log2 of its side in texels. */
   int GetBaseLevel();
+
+  /**
+   * The coarsest level a sample requests, log2 of texels per side: min(10, log2
+   * MaxResolution). Samples whose footprint needs less still get 1024^2 texels, so that
+   * occluders thinner than a coarser texel stay in the map (only requested pages of it are
+   * rendered).
+   */
+  int GetMinimumRequestLevel();
 
   /** Atlas slots (pages of 32 x 32 texels). */
   int GetAtlasCapacity() { return (this->AtlasSize / PageSize) * (this->AtlasSize / PageSize); }
@@ -268,9 +281,9 @@ protected:
   int MaxResolution = 32768;
   int AtlasSize = 4096;
   int Filter = FILTER_NONE;
-  int Footprint = FOOTPRINT_AREA;
+  int Footprint = FOOTPRINT_WIDTH;
   int LODBias = 1;
-  int AnalysisStep = 2;
+  int AnalysisStep = 1;
   int RefineLevels = 3;
   bool Cached = true;
   double Bias = 1e-4;

@@ -26,6 +26,8 @@ uniform int perspective;
 uniform float invFar;      // perspective: depth = w / Far
 uniform int baseLevel;     // coarsest level in the page table, always fully resident
 uniform int finestLevel;   // log2 of the maximum effective resolution
+uniform int minLevel;      // no request coarser than this (occluders thinner than a texel of
+                           // a coarser level would vanish from the map)
 uniform int lodBias;       // levels finer than the matched one
 uniform int footprintWidth; // 1: texels as small as the footprint's smallest width
 uniform int analysisStep;  // the request pass analyses one sample per step x step block (1, 2)
@@ -89,7 +91,7 @@ int rmsmLevel(ivec2 cell, vec2 st)
   float size = footprintWidth != 0 ? area / max(0.5 * max(length(a), length(b)), 1e-30)
                                    : sqrt(area);
   float k = -log2(max(size, exp2(-float(finestLevel + 1))));
-  return clamp(int(ceil(k)) + lodBias, baseLevel, finestLevel);
+  return clamp(int(ceil(k)) + lodBias, max(baseLevel, minLevel), finestLevel);
 }
 
 // The texel of level k (2^k per side) holding NDC point st.
