@@ -42,8 +42,9 @@
  *   way (a second round of superpages); elsewhere the requested level is already exact.
  * - Lookup (§3.3.1): the level the sample requested (or refined to), the page table entry,
  *   one nearest
- *   atlas texel (or 2 x 2 bilinear PCF at that level, SetFilter()) compared with a
- *   slope-scaled bias of that level's texel (the paper blends 2 x 2 PCF at two adjacent
+ *   atlas texel (or 2 x 2 bilinear PCF at that level, SetFilter()) compared with the
+ *   sample's receiver plane at the texel's centre and a small slope-scaled bias of that
+ *   level's texel (the paper blends 2 x 2 PCF at two adjacent
  *   levels; not implemented).
  * - Cached mode (§3.3.4, default on): the pages stay resident while the light, the casters
  *   and the settings are unchanged (the virtual map does not follow the camera), so a still
@@ -144,11 +145,11 @@ public:
    * How a sample's footprint in the map sets its level. FOOTPRINT_AREA is the paper's Eq. 1
    * (§3.3.2), the texel as large as the square root of the footprint's area: along the short
    * axis of an anisotropic footprint (receivers seen at a slant) the texel is then coarser
-   * than the pixel, and the lookup's slope bias, one such coarse texel wide, lets light leak
-   * onto receivers that the light grazes (false lit several pixels from a shadow, which the
-   * edge refinement does not see). FOOTPRINT_WIDTH (default) takes the footprint's smallest
-   * width, the same for a square footprint and finer for a slanted one (2.5 times the pages
-   * under a grazing light). Measured in docs/benchmarks.md.
+   * than the pixel (the default: the shadow edges are refined, SetRefineLevels(), and the
+   * receiver plane keeps coarse texels from leaking light onto grazed receivers).
+   * FOOTPRINT_WIDTH takes the footprint's smallest width, the same for a square footprint
+   * and finer for a slanted one (2.5 times the pages under a grazing light). Measured in
+   * docs/benchmarks.md.
    */
   vtkSetClampMacro(Footprint, int, FOOTPRINT_AREA, FOOTPRINT_WIDTH);
   vtkGetMacro(Footprint, int);
@@ -158,8 +159,8 @@ public:
   /**
    * Levels finer than the one whose texel matches a sample's footprint (Eq. 1 rounded up):
    * 0 matches the paper; each level more halves the texel and quadruples the pages. Default
-   * 1: at 0 the lookup's slope bias, a texel wide, lets light leak onto receivers the light
-   * grazes (torture/grazing_light at 128 x 96: 1.5e-2 against 6.6e-3). Clamped to [0, 2].
+   * 1 (with 0, shadow edges the refinement does not reach, at creases and contacts, are
+   * twice as often wrong: the city at 1280 x 720, 9.3e-5 against 3.7e-5). Clamped to [0, 2].
    */
   vtkSetClampMacro(LODBias, int, 0, 2);
   vtkGetMacro(LODBias, int);
@@ -183,9 +184,7 @@ public:
    * AnalysisStep block of pixels (Lefohn et al. 2007, §3.3.5, reduced analysis resolution);
    * the block's other samples request their own pages at that level and are looked up at
    * it; a block sample on another prop or surface adds its own level, and the block takes
-   * the finest. Default 1 (every sample: with 2, blocks straddling a wall and the ground
-   * under a grazing light take both surfaces' levels, which spreads the pages over more
-   * superpages), clamped to [1, 2].
+   * the finest. Default 2, clamped to [1, 2].
    */
   vtkSetClampMacro(AnalysisStep, int, 1, 2);
   vtkGetMacro(AnalysisStep, int);
@@ -212,8 +211,10 @@ public:
 
   ///@{
   /**
-   * Slope-scaled bias in texel footprints of the level a sample is compared at. Default 1,
-   * clamped to [0, 16].
+   * Slope-scaled bias in texel footprints of the level a sample is compared at, on top of
+   * the receiver plane: each texel is compared with the depth of the sample's tangent plane
+   * at the texel's centre (receiver plane depth bias), so this only covers curvature and
+   * rounding. Default 0.25, clamped to [0, 16].
    */
   vtkSetClampMacro(SlopeBias, double, 0.0, 16.0);
   vtkGetMacro(SlopeBias, double);
@@ -281,13 +282,13 @@ protected:
   int MaxResolution = 32768;
   int AtlasSize = 4096;
   int Filter = FILTER_NONE;
-  int Footprint = FOOTPRINT_WIDTH;
+  int Footprint = FOOTPRINT_AREA;
   int LODBias = 1;
-  int AnalysisStep = 1;
+  int AnalysisStep = 2;
   int RefineLevels = 3;
   bool Cached = true;
   double Bias = 1e-4;
-  double SlopeBias = 1.0;
+  double SlopeBias = 0.25;
   int NumberOfRequestedPages = 0;
   int RequestedLevels[2] = { 0, 0 };
   int NumberOfRenderedPages = 0;

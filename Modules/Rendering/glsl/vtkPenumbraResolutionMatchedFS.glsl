@@ -187,9 +187,28 @@ uniform float depthPerLengthOrtho; // orthographic: |row 2|
 uniform vec3 lightPosition;   // rebased
 uniform vec3 toLightDirection; // directional: unit vector towards the light
 uniform float constantBias;
-uniform float slopeBias;      // in texel footprints of the level compared against (twice
-                              // that with the 2 x 2 filter, whose taps reach one texel)
+uniform float slopeBias;      // in texel footprints of the level compared against, on top
+                              // of the receiver plane (curvature); twice that with the 2 x 2
+                              // filter, whose taps reach one texel
 uniform float maxTangent;
+
+// The sample's NDC s, t and its receiver plane's stored-depth change per NDC unit of s and t
+// (set by rmsmSlopeTerm() before any tap).
+vec2 rmsmSt = vec2(0.0);
+vec2 rmsmGrad = vec2(0.0);
+
+// Receiver plane depth bias: each texel is compared with the depth of the sample's receiver
+// plane at the texel's centre, not with the sample's own depth. A slope-scaled bias has to
+// cover the receiver's depth change across a whole texel, and under a light that grazes the
+// receiver that tolerance lets light leak a texel or more past an occluder's edge (false lit
+// several pixels from the shadow at coarse levels, where the edge refinement sees four
+// agreeing texels); the plane leaves only curvature and rounding to the bias. The stored
+// depth value of that plane at the centre of texel t of level kp:
+float rmsmPlaneDepth(ivec2 t, int kp, float z)
+{
+  vec2 centre = (vec2(t) + 0.5) * exp2(1.0 - float(kp)) - 1.0;
+  return z + dot(rmsmGrad, centre - rmsmSt);
+}
 
 // One texel of level k compared with depth z: the page table's entry for its page names
 // the resident page serving it (that level or the finest resident coarser one), whose texel
@@ -203,7 +222,10 @@ float rmsmTap(ivec2 texel, int k, float z, float slopeTerm)
   ivec2 t = texel >> (k - resident);
   ivec2 origin = ivec2(slot & ((1 << slotsPerRowBits) - 1), slot >> slotsPerRowBits) << pageBits;
   float stored = texelFetch(atlas, origin + (t & ((1 << pageBits) - 1)), 0).r;
-  return stored >= z - constantBias - slopeTerm * exp2(-float(resident)) ? 1.0 : 0.0;
+  return stored >= rmsmPlaneDepth(t, resident, z) - constantBias -
+      slopeTerm * exp2(-float(resident))
+    ? 1.0
+    : 0.0;
 }
 
 // The slope term of the bias, per texel footprint at level 0 (rmsmTap scales it to the
@@ -215,6 +237,31 @@ float rmsmSlopeTerm(vec3 p, vec3 m, vec3 normal)
   float depthPerLength = perspective != 0 ? invFar : depthPerLengthOrtho;
   float cosine = max(1e-9, dot(normal, toLight));
   float tangent = min(maxTangent, sqrt(max(0.0, 1.0 - cosine * cosine)) / cosine);
+  // The plane through p with the sample's normal, its depth as a function of the map's s and
+  // t from the projection's Jacobian (rows ds, dt, dz per world displacement d; in the plane
+  // n . d = 0).
+  rmsmSt = m.xy;
+  rmsmGrad = vec2(0.0);
+  {
+    vec4 clip = lightMatrix * vec4(p, 1.0);
+    vec3 r0 = vec3(lightMatrix[0][0], lightMatrix[1][0], lightMatrix[2][0]);
+    vec3 r1 = vec3(lightMatrix[0][1], lightMatrix[1][1], lightMatrix[2][1]);
+    vec3 r2 = vec3(lightMatrix[0][2], lightMatrix[1][2], lightMatrix[2][2]);
+    vec3 r3 = vec3(lightMatrix[0][3], lightMatrix[1][3], lightMatrix[2][3]);
+    vec3 ds = perspective != 0 ? (r0 - clip.x / clip.w * r3) / clip.w : r0;
+    vec3 dt = perspective != 0 ? (r1 - clip.y / clip.w * r3) / clip.w : r1;
+    vec3 dz = perspective != 0 ? r3 * invFar : r2;
+    mat3 a = transpose(mat3(ds, dt, normal));
+    if (abs(determinant(a)) > 0.0)
+    {
+      mat3 inv = inverse(a);
+      rmsmGrad = vec2(dot(dz, inv[0]), dot(dz, inv[1]));
+      // At most the slope of maxTangent: the depth change over a level-0 texel (2 NDC units).
+      float cap = 0.5 * maxTangent * footprint * depthPerLength;
+      float len = length(rmsmGrad);
+      rmsmGrad *= len > cap ? cap / len : 1.0;
+    }
+  }
   return slopeBias * footprint * tangent * depthPerLength;
 }
 
@@ -242,7 +289,9 @@ vec4 rmsmTaps(vec3 m, int k, float slopeTerm, out vec2 w)
       // The texel corner a + 1 gathers (a.x, a.y + 1), (a.x + 1, a.y + 1), (a.x + 1, a.y),
       // (a.x, a.y) into x, y, z, w.
       vec4 d = textureGather(atlas, vec2(a + 1) / vec2(textureSize(atlas, 0))).wzxy;
-      return vec4(greaterThanEqual(d, vec4(m.z - constantBias - slopeTerm * exp2(-float(k)))));
+      vec4 planes = vec4(rmsmPlaneDepth(t0, k, m.z), rmsmPlaneDepth(t0 + ivec2(1, 0), k, m.z),
+        rmsmPlaneDepth(t0 + ivec2(0, 1), k, m.z), rmsmPlaneDepth(t0 + ivec2(1, 1), k, m.z));
+      return vec4(greaterThanEqual(d, planes - constantBias - slopeTerm * exp2(-float(k))));
     }
   }
   vec4 l;
