@@ -14,9 +14,9 @@
  * - Requests (§3.3.2, Eq. 1): a full-screen pass over the G-buffer computes per pending
  *   sample (facing the light, inside the cone) the level whose texel matches the sample's
  *   footprint in the map, from dX and dY, the map coordinates' change to the neighbouring
- *   pixels on the same prop (one-sided, the smaller side): by default its smallest width,
- *   or the paper's square root of its area (SetFootprint()), rounded up, LODBias levels
- *   finer and no coarser than GetMinimumRequestLevel(); optionally for one sample per
+ *   pixels on the same prop (one-sided, the smaller side): by default the paper's square
+ *   root of its area, or its smallest width (SetFootprint()), rounded up, LODBias levels
+ *   finer and no coarser than GetMinimumRequestLevel(); by default for one sample per
  *   2 x 2 block (SetAnalysisStep()), whose samples on another surface add their own level
  *   (the block takes the finest); it writes the key of the page each sample needs and the
  *   level. The keys are read back (4 bytes
