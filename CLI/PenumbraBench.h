@@ -13,6 +13,11 @@
 #include <vector>
 
 class vtkContextView;
+class vtkFloatArray;
+class vtkIntArray;
+class vtkLight;
+class vtkPenumbraViewSamples;
+class vtkUnsignedCharArray;
 class vtkPenumbraShadowPass;
 class vtkRenderWindow;
 class vtkRenderer;
@@ -57,6 +62,9 @@ struct Options
   bool MovingCamera = false;
   // --still-frames: also time frames in which nothing changes (the pass reuses its visibility).
   bool StillFrames = false;
+  // --mismatch-lists: per hard light and point, the samples that disagree with the
+  // reference and what surrounds them (WriteMismatchList()).
+  bool MismatchLists = false;
 
   // --scale-sweep: caster triangle counts; empty = the scene benchmark runs instead.
   std::vector<vtkIdType> SweepTriangles;
@@ -106,6 +114,16 @@ extern const double Palette[PaletteSize][3];
 
 // Renders a chart view offscreen and writes it as PNG; false with `error` set on failure.
 bool SaveChart(vtkContextView* view, const std::string& path, std::string& error);
+
+// --mismatch-lists: writes `path` (CSV), one row per measured sample whose `estimate`
+// disagrees with `reference` (thresholded at 0.5, ties excluded): its pixel, both answers,
+// the Chebyshev distance in pixels to the reference's nearest shadow boundary (4: none within
+// 3), whether an 8-neighbour is background, another prop or a surface turned by more than
+// ~10 degrees (silhouette, crease, contact), the cosine to the light and, from `levels`
+// (may be null), the level rmsm looked it up at. Returns a one-line summary by category.
+std::string WriteMismatchList(const std::string& path, vtkPenumbraViewSamples* samples,
+  vtkFloatArray* estimate, vtkFloatArray* reference, vtkUnsignedCharArray* ties, vtkLight* light,
+  vtkIntArray* levels);
 
 // The scale sweep (--scale-sweep): writes sweep.csv, sweep.md and sweep.png into
 // options.OutDir and returns the exit status.

@@ -3,11 +3,12 @@
 //
 //   penumbra-bench [--scenes A,B,...] [--techniques T[:k=v;k=v],...] [--size WxH]
 //                  [--frames N] [--warmup N] [--moving-light] [--moving-camera]
-//                  [--still-frames] [--no-images] --out DIR
+//                  [--still-frames] [--no-images] [--mismatch-lists] --out DIR
 //
 // Writes DIR/results.csv, DIR/results.md and DIR/chart.png (and, unless --no-images, each
-// point's image and error image). Scenes are names of files in Data/Scenes or paths to scene
-// files. A progress bar goes to stderr.
+// point's image and error image; with --mismatch-lists, per hard light and point a CSV of the
+// samples that disagree with the reference, and a summary by category on stderr). Scenes are names
+// of files in Data/Scenes or paths to scene files. A progress bar goes to stderr.
 //
 // Method, per scene:
 //  - the view samples and the exact visibility of every light of the scene that is on and
@@ -65,6 +66,7 @@
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraRayTracedShadows.h"
 #include "vtkPenumbraReference.h"
+#include "vtkPenumbraResolutionMatchedShadows.h"
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
@@ -158,7 +160,7 @@ int Usage(const char* why)
   }
   std::cerr << "usage: penumbra-bench [--scenes A,B,...] [--techniques T[:k=v;k=v],...]"
                " [--size WxH] [--frames N] [--warmup N] [--moving-light] [--moving-camera] "
-               "[--still-frames] [--no-images]"
+               "[--still-frames] [--no-images] [--mismatch-lists]"
                " --out DIR\n"
                "       penumbra-bench --scale-sweep [N1,N2,...] [--budget SECONDS]"
                " [--techniques ...] [--size WxH] [--frames N] [--warmup N] --out DIR\n";
@@ -609,6 +611,10 @@ int ParseArguments(int argc, char* argv[], Options& o)
     {
       o.Images = false;
     }
+    else if (a == "--mismatch-lists")
+    {
+      o.MismatchLists = true;
+    }
     else if (a == "--scale-sweep")
     {
       // The counts are optional: a following argument that is not an option is the list.
@@ -895,6 +901,21 @@ vtkSmartPointer<vtkFloatArray> ReadPass(
                 << Fixed(llsm->GetRasterTimeMs(), 1) << " ms, trace "
                 << Fixed(llsm->GetTraceTimeMs(), 1) << " ms\n";
     }
+    if (auto* rmsm = vtkPenumbraResolutionMatchedShadows::SafeDownCast(technique))
+    {
+      std::cerr << "\n"
+                << ctx.Label << " " << spec.Label()
+                << " (last light of the last frame): " << rmsm->GetNumberOfRequestedPages()
+                << " pages requested (levels " << rmsm->GetRequestedLevels()[0] << "-"
+                << rmsm->GetRequestedLevels()[1] << "), " << rmsm->GetNumberOfRefinedPages()
+                << " refined at edges, " << rmsm->GetNumberOfRenderedPages() << " rendered in "
+                << rmsm->GetNumberOfSuperpages() << " superpages, "
+                << rmsm->GetNumberOfResidentPages() << " resident, coarser share "
+                << Fixed(rmsm->GetCoarserShare(), 4) << "; requests "
+                << Fixed(rmsm->GetRequestTimeMs(), 1) << " ms, pages "
+                << Fixed(rmsm->GetPageTimeMs(), 1) << " ms, lookup "
+                << Fixed(rmsm->GetLookupTimeMs(), 1) << " ms\n";
+    }
     auto* gears = vtkPenumbraGearsShadows::SafeDownCast(technique);
     if (gears && gears->GetLastLightWasArea() && m.Area)
     {
@@ -914,6 +935,23 @@ vtkSmartPointer<vtkFloatArray> ReadPass(
     m.TracedAtK[SamplesKey(spec.Setting)] = estimate;
   }
   return estimate;
+}
+
+// --mismatch-lists: the samples of light `m` that `estimate` gets wrong, into `path`, and a
+// summary on stderr (with rmsm's per-sample levels).
+void ListMismatches(SceneContext& ctx, Measured& m, const TechniqueSpec& spec,
+  vtkFloatArray* estimate, const std::string& path)
+{
+  vtkNew<vtkIntArray> levels;
+  vtkPenumbraShadowPass* pass = ShadowPassOf(ctx.Renderer);
+  auto* rmsm = vtkPenumbraResolutionMatchedShadows::SafeDownCast(
+    pass ? pass->GetLightTechnique(m.LightIndex) : nullptr);
+  const bool haveLevels = rmsm && rmsm->GetSampleLevels(m.Light, levels);
+  std::cerr << "\n"
+            << ctx.Label << " " << spec.Label() << " light " << m.LightIndex << ": "
+            << WriteMismatchList(path, ctx.Samples, estimate, m.Reference, m.Ties, m.Light,
+                 haveLevels ? levels.Get() : nullptr)
+            << "\n";
 }
 
 // Error of `estimate` against the reference into `row`, and the point's images.
@@ -943,6 +981,10 @@ void ScorePoint(SceneContext& ctx, Measured& m, const TechniqueSpec& spec, const
     if (o.Images)
     {
       metrics->WriteErrorImage(o.Width, o.Height, (errorStem + "_error.png").c_str());
+    }
+    if (o.MismatchLists)
+    {
+      ListMismatches(ctx, m, spec, estimate, errorStem + "_mismatch.csv");
     }
   }
   const bool exactSoft = m.Area && m.Area->GetShape() == vtkPenumbraAreaLight::Line;

@@ -711,6 +711,17 @@ void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup)
 }
 
 //------------------------------------------------------------------------------
+void SetLightUniforms(vtkShaderProgram* program, const LightSetup& setup)
+{
+  const float position[3] = { static_cast<float>(setup.Position[0]),
+    static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
+  const float toLight[3] = { static_cast<float>(setup.Direction[0]),
+    static_cast<float>(setup.Direction[1]), static_cast<float>(setup.Direction[2]) };
+  program->SetUniform3f("lightPosition", position);
+  program->SetUniform3f("toLightDirection", toLight);
+}
+
+//------------------------------------------------------------------------------
 void CasterBuffers::Release()
 {
   if (this->VertexArray)

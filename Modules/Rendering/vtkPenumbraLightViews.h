@@ -336,6 +336,12 @@ private:
 void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup);
 
 /**
+ * The float uniforms of the lookups' slope bias: `lightPosition` (rebased) and
+ * `toLightDirection` (directional lights: unit vector towards the light).
+ */
+void SetLightUniforms(vtkShaderProgram* program, const LightSetup& setup);
+
+/**
  * The entry of `light` in a per-light cache whose entries (T) hold a vtkWeakPointer<vtkLight>
  * named Light: its existing entry, else the entry of a deleted light, else a new one; an
  * entry taken over or created is reset to T() first.

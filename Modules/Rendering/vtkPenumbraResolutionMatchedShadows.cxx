@@ -1,5 +1,6 @@
 #include "vtkPenumbraResolutionMatchedShadows.h"
 
+#include "vtkIntArray.h"
 #include "vtkLight.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
@@ -28,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,7 +49,18 @@ constexpr int PageBits = 5; // 32 x 32 texel pages
 // a sparse 1024^2 bounding rectangle a lot (docs/benchmarks.md, "Resolution-matched").
 constexpr int SuperpageBits = 3;
 constexpr int SuperpageSide = 1 << (PageBits + SuperpageBits);
-constexpr int BaseLevelCap = 10;      // the always-resident level: at most 1024^2 texels
+// The scratch holds 2^ScratchCellBits x 2^ScratchCellBits superpages side by side: a batch of
+// superpages is rendered before any of their pages is copied into the atlas. On llvmpipe a
+// copy out of a texture that pending draws write waits for them to be rasterized; one wait a
+// superpage cost more than the superpage's raster (docs/benchmarks.md).
+constexpr int ScratchCellBits = 2;
+constexpr int ScratchSide = SuperpageSide << ScratchCellBits;
+constexpr int BaseLevelCap = 8; // the always-resident level: at most 256^2 texels
+// No sample requests a level coarser than 1024^2: a sample needing less (far away, or a small
+// frame) still gets 1024^2 texels, so that occluders thinner than a coarse texel do not vanish
+// from the map (the edge refinement cannot find what the map does not show). Only the pages
+// samples request are rendered, not the whole level.
+constexpr int MinRequestLevel = 10;
 constexpr double MaxSpotCone = 60.0;  // one perspective view (shadowmap's single-view rule)
 constexpr double MaxTangent = 1000.0; // the slope bias's cap, as shadowmap's
 
@@ -108,6 +121,14 @@ struct NewPage
   }
 };
 
+// A superpage rendered into a cell of the scratch: its pages [First, Last) of the sorted new
+// pages, their bounding rectangle's first page (X0, Y0) and the cell's origin in texels.
+struct SuperpageCell
+{
+  size_t First, Last;
+  int X0, Y0, CellX, CellY;
+};
+
 // `view` with its s and t rows cropped so that the texels [x0, x0 + w) x [y0, y0 + h) of level
 // k (2^k texels per side) fill a w x h viewport, texel centres on pixel centres; the depth row
 // is untouched, so depths agree across superpages and levels.
@@ -145,13 +166,40 @@ vtkSmartPointer<vtkTextureObject> NearestTexture(vtkOpenGLRenderWindow* win)
   return tex;
 }
 
+// `targets` made 2 per layer and w x h: per layer the keys + 1 (`keyFormat`: GL_RGBA32F, four
+// keys per pixel, or GL_R32F) and the levels (R32F).
+void EnsureKeyTargets(vtkOpenGLRenderWindow* win,
+  std::vector<vtkSmartPointer<vtkTextureObject>>& targets, size_t layers, int w, int h,
+  int keyFormat)
+{
+  targets.resize(2 * layers);
+  for (size_t t = 0; t < targets.size(); ++t)
+  {
+    auto& target = targets[t];
+    const bool rgba = t % 2 == 0 && keyFormat == GL_RGBA32F;
+    if (!target)
+    {
+      target = NearestTexture(win);
+      target->SetInternalFormat(rgba ? GL_RGBA32F : GL_R32F);
+      target->SetFormat(rgba ? GL_RGBA : GL_RED);
+      target->SetDataType(GL_FLOAT);
+    }
+    if (static_cast<int>(target->GetWidth()) != w || static_cast<int>(target->GetHeight()) != h)
+    {
+      target->Allocate2D(w, h, rgba ? 4 : 1, VTK_FLOAT);
+    }
+  }
+}
+
 // A request or lookup program's source: the facing rules in (they need double precision).
-// `role`: "RMSM_REQUEST", "RMSM_BILINEAR" (the 2 x 2 lookup) or "" (the nearest lookup).
+// `role`: "RMSM_REQUEST", "RMSM_REFINE", "RMSM_BILINEAR" (the 2 x 2 lookup) or "" (the
+// nearest lookup).
 std::string FrameShader(const std::string& role)
 {
   std::string fs = vtkPenumbraResolutionMatchedFS;
   vtkShaderProgram::Substitute(fs, "//VTK::System::Dec",
-    std::string("//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n") +
+    std::string("//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n"
+                "#extension GL_ARB_texture_gather : require\n") +
       (role.empty() ? "" : "#define " + role + "\n"),
     false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Classify", vtkPenumbraShadowMapClassify, false);
@@ -173,6 +221,8 @@ struct LightPages
   std::vector<float> Keys; // read-back requests (key + 1 per pixel, 0: none)
   bool TableDirty = true;
   vtkMTimeType RequestSamplesTime = 0; // the view samples the last requests came from
+  int RequestFrameSize[2] = { 0, 0 };  // the frame's pixels the last requests came from
+  int RequestStep = 1;                 // and its analysis step
   double CoarserShare = 0.0;
   GLuint PageTable = 0;                             // R32I, one mip per level
   vtkSmartPointer<vtkTextureObject> PageTableAlias; // binds PageTable through VTK's units
@@ -180,6 +230,18 @@ struct LightPages
   // with 2 x 2 analysis blocks the block's four pages) and the levels (R32F), which the
   // lookup reads.
   std::vector<vtkSmartPointer<vtkTextureObject>> RequestTargets;
+  // Per layer the refine pass's outputs, full size: the refined pages' keys + 1 (R32F) and
+  // every sample's final level (R32F), which the lookup reads when Refined.
+  std::vector<vtkSmartPointer<vtkTextureObject>> RefineTargets;
+  std::vector<float> RefineKeys; // read-back refined requests
+  bool Refined = false;          // the last requests were refined at shadow edges
+
+  // The levels the lookup reads for `layer`, and pixels per side sharing one.
+  vtkTextureObject* LevelTarget(size_t layer, int analysisStep, int& step) const
+  {
+    step = this->Refined ? 1 : analysisStep;
+    return (this->Refined ? this->RefineTargets : this->RequestTargets)[2 * layer + 1];
+  }
 };
 
 struct vtkPenumbraResolutionMatchedShadows::Internals
@@ -201,6 +263,7 @@ struct vtkPenumbraResolutionMatchedShadows::Internals
   int PageTableMips = 0;
   vtkSmartPointer<vtkOpenGLFramebufferObject> RequestFBO;
   std::unique_ptr<vtkOpenGLQuadHelper> RequestQuad;
+  std::unique_ptr<vtkOpenGLQuadHelper> RefineQuad;
   std::unique_ptr<vtkOpenGLQuadHelper> LookupQuads[2]; // nearest, 2 x 2 (FILTER_BILINEAR)
 
   // Phases (see the definitions).
@@ -217,9 +280,20 @@ struct vtkPenumbraResolutionMatchedShadows::Internals
   void ReleaseLight(LightPages& pages);
   void SetMapUniforms(vtkPenumbraResolutionMatchedShadows* self, vtkShaderProgram* program,
     vtkPenumbraViewSamplesPass* gbuffer, const LightSetup& setup, bool anyCaster);
+  void SetLookupUniforms(vtkPenumbraResolutionMatchedShadows* self, vtkShaderProgram* program,
+    vtkTextureObject* levels, int levelStep, const LightSetup& setup);
+  bool KeyPass(vtkPenumbraFrame* frame, vtkOpenGLQuadHelper* quad,
+    std::vector<vtkSmartPointer<vtkTextureObject>>& targets, int w, int h, int channels,
+    std::vector<float>& keys, const std::function<void(int, vtkShaderProgram*)>& bind,
+    const std::function<void(int)>& unbind);
+  bool MarkRequests(const std::vector<float>& keys, std::string& error);
   bool Request(vtkPenumbraResolutionMatchedShadows* self, vtkPenumbraFrame* frame,
     const LightSetup& setup, std::string& error);
+  bool Refine(vtkPenumbraResolutionMatchedShadows* self, vtkPenumbraFrame* frame,
+    const LightSetup& setup, std::string& error);
+  bool MakeResident(vtkPenumbraResolutionMatchedShadows* self, std::string& error);
   std::vector<NewPage> Allocate(vtkPenumbraResolutionMatchedShadows* self);
+  void CopyPages(const std::vector<NewPage>& pages, const std::vector<SuperpageCell>& cells);
   void UploadTable();
   bool RenderPages(
     vtkPenumbraResolutionMatchedShadows* self, std::vector<NewPage>& pages, std::string& error);
@@ -276,6 +350,12 @@ int vtkPenumbraResolutionMatchedShadows::GetBaseLevel()
 }
 
 //------------------------------------------------------------------------------
+int vtkPenumbraResolutionMatchedShadows::GetMinimumRequestLevel()
+{
+  return std::min(MinRequestLevel, FloorLog2(this->MaxResolution));
+}
+
+//------------------------------------------------------------------------------
 bool vtkPenumbraResolutionMatchedShadows::CanShadow(vtkLight* light)
 {
   return light && !vtkPenumbraAreaLight::SafeDownCast(light) &&
@@ -307,7 +387,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::FrameLight(
 {
   const auto start = Clock::now();
   self->RequestTimeMs = self->PageTimeMs = self->LookupTimeMs = 0.0;
-  self->NumberOfRenderedPages = self->NumberOfSuperpages = 0;
+  self->NumberOfRenderedPages = self->NumberOfSuperpages = self->NumberOfRefinedPages = 0;
   vtkLight* light = frame->GetShadowedLight(k);
   vtkPenumbraSceneGeometry* geometry = frame->GetGeometry();
   vtkOpenGLRenderWindow* win = frame->GetWindow();
@@ -352,18 +432,25 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::FrameLight(
     const bool same = !flushed && frame->GetSamplesTime() == this->Cur->RequestSamplesTime &&
       this->Cur->CoarserShare == 0.0;
     this->Cur->RequestSamplesTime = frame->GetSamplesTime();
-    if (!same && !this->Request(self, frame, setup, error))
+    if (same)
     {
-      return false;
+      // Nothing to request, allocate or render (the allocation's pass over every sample's
+      // keys alone cost a few ms a light): only the statistics.
+      self->NumberOfResidentPages =
+        self->GetAtlasCapacity() - static_cast<int>(this->FreeSlots.size());
+      self->CoarserShare = this->Cur->CoarserShare;
     }
-    const auto pageStart = Clock::now();
-    std::vector<NewPage> pages = this->Allocate(self);
-    this->UploadTable();
-    if (!this->RenderPages(self, pages, error))
+    else
     {
-      return false;
+      // The requested pages, then the shadow edges they show take their finer pages.
+      this->Cur->Refined = self->RefineLevels > 0;
+      if (!(this->Request(self, frame, setup, error) && this->MakeResident(self, error) &&
+            (!this->Cur->Refined ||
+              (this->Refine(self, frame, setup, error) && this->MakeResident(self, error)))))
+      {
+        return false;
+      }
     }
-    self->PageTimeMs = ElapsedMs(pageStart);
   }
   const auto lookupStart = Clock::now();
   const bool ok = this->Lookup(self, frame, k, setup, anyCaster, error);
@@ -407,13 +494,15 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::EnsureResources(
   if (!this->Scratch)
   {
     this->Scratch = NearestTexture(win);
-    this->Scratch->AllocateDepth(SuperpageSide, SuperpageSide, vtkTextureObject::Float32);
+    this->Scratch->AllocateDepth(ScratchSide, ScratchSide, vtkTextureObject::Float32);
     this->MapFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
     this->MapFBO->SetContext(win);
     this->RequestFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
     this->RequestFBO->SetContext(win);
     this->RequestQuad.reset(new vtkOpenGLQuadHelper(
       win, vtkPenumbraFrame::GetSurfaceQuadVS(), FrameShader("RMSM_REQUEST").c_str(), ""));
+    this->RefineQuad.reset(new vtkOpenGLQuadHelper(
+      win, vtkPenumbraFrame::GetSurfaceQuadVS(), FrameShader("RMSM_REFINE").c_str(), ""));
   }
   auto& lookup = this->LookupQuads[self->Filter == FILTER_BILINEAR ? 1 : 0];
   if (!lookup)
@@ -421,12 +510,12 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::EnsureResources(
     lookup.reset(new vtkOpenGLQuadHelper(win, vtkPenumbraFrame::GetSurfaceQuadVS(),
       FrameShader(self->Filter == FILTER_BILINEAR ? "RMSM_BILINEAR" : "").c_str(), ""));
   }
-  for (auto* quad : { this->RequestQuad.get(), lookup.get() })
+  for (auto* quad : { this->RequestQuad.get(), this->RefineQuad.get(), lookup.get() })
   {
     if (!quad->Program || !quad->Program->GetCompiled())
     {
       error = "the request or lookup program does not compile on this OpenGL implementation "
-              "(GL_ARB_gpu_shader_fp64 and integer textures are required)";
+              "(GL_ARB_gpu_shader_fp64, GL_ARB_texture_gather and integer textures are required)";
       return false;
     }
   }
@@ -509,11 +598,14 @@ void vtkPenumbraResolutionMatchedShadows::Internals::ReleaseLight(LightPages& pa
   }
   pages.PageTable = 0;
   pages.PageTableAlias = nullptr;
-  for (auto& tex : pages.RequestTargets)
+  for (auto* targets : { &pages.RequestTargets, &pages.RefineTargets })
   {
-    tex->ReleaseGraphicsResources(this->Window);
+    for (auto& tex : *targets)
+    {
+      tex->ReleaseGraphicsResources(this->Window);
+    }
+    targets->clear();
   }
-  pages.RequestTargets.clear();
   pages.Key.clear();
 }
 
@@ -600,10 +692,86 @@ void vtkPenumbraResolutionMatchedShadows::Internals::SetMapUniforms(
   program->SetUniformi("perspective", this->Cur->Map.Perspective ? 1 : 0);
   program->SetUniformf("invFar", static_cast<float>(1.0 / this->Cur->Map.Far));
   program->SetUniformi("baseLevel", this->Levels.Base);
+  program->SetUniformi("minLevel", self->GetMinimumRequestLevel());
   program->SetUniformi("finestLevel", this->Levels.Finest);
   program->SetUniformi("lodBias", self->LODBias);
   program->SetUniformi("analysisStep", self->AnalysisStep);
   program->SetUniformi("footprintWidth", self->Footprint == FOOTPRINT_WIDTH ? 1 : 0);
+}
+
+//------------------------------------------------------------------------------
+// One full-screen pass per layer of the frame into that layer's two `targets` (keys + 1 and
+// levels, w x h), each layer's keys read back into `keys` (`channels` per pixel, layer after
+// layer). `bind` binds the layer's inputs and sets the program's uniforms, `unbind` releases
+// them.
+bool vtkPenumbraResolutionMatchedShadows::Internals::KeyPass(vtkPenumbraFrame* frame,
+  vtkOpenGLQuadHelper* quad, std::vector<vtkSmartPointer<vtkTextureObject>>& targets, int w, int h,
+  int channels, std::vector<float>& keys, const std::function<void(int, vtkShaderProgram*)>& bind,
+  const std::function<void(int)>& unbind)
+{
+  vtkOpenGLRenderWindow* win = frame->GetWindow();
+  const size_t perLayer = static_cast<size_t>(w) * h * channels;
+  keys.resize(perLayer * static_cast<size_t>(frame->GetNumberOfLayers()));
+  vtkShaderProgram* program = quad->Program;
+  for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
+  {
+    vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
+    // At full size the G-buffer's depth test leaves the background out (see
+    // vtkPenumbraFrame::BindVisibilityTarget()); its keys and levels are cleared to 0.
+    const bool full = w == frame->GetWidth() && h == frame->GetHeight();
+    penumbra_light_views::QuadPassState pass(win->GetState(), this->RequestFBO,
+      { targets[2 * layer].Get(), targets[2 * layer + 1].Get() }, w, h,
+      full ? gbuffer->GetDepthTexture() : nullptr);
+    if (full)
+    {
+      const GLfloat zero[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
+      glClearBufferfv(GL_COLOR, 0, zero);
+      glClearBufferfv(GL_COLOR, 1, zero);
+    }
+    win->GetShaderCache()->ReadyShaderProgram(program);
+    gbuffer->GetPositionTexture()->Activate();
+    gbuffer->GetNormalTexture()->Activate();
+    bind(layer, program);
+    quad->Render();
+    unbind(layer);
+    gbuffer->GetPositionTexture()->Deactivate();
+    gbuffer->GetNormalTexture()->Deactivate();
+    this->RequestFBO->ActivateReadBuffer(0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, w, h, channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT,
+      keys.data() + perLayer * static_cast<size_t>(layer));
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// The read-back `keys` (key + 1 per pixel, 0: none) marked in one byte per page of the
+// pyramid and appended to the requested keys (Lefohn et al. 2007's connected components,
+// compaction and sort, §3.2, on the CPU); false when a key lies outside the table.
+bool vtkPenumbraResolutionMatchedShadows::Internals::MarkRequests(
+  const std::vector<float>& keys, std::string& error)
+{
+  const long long size = static_cast<long long>(this->Cur->Requested.size());
+  bool outside = false;
+  for (float value : keys)
+  {
+    const long long key = static_cast<long long>(value) - 1;
+    outside = outside || key >= size;
+    if (key < 0 || key >= size)
+    {
+      continue;
+    }
+    if (!this->Cur->Requested[static_cast<size_t>(key)])
+    {
+      this->Cur->Requested[static_cast<size_t>(key)] = 1;
+      this->Cur->RequestedKeys.push_back(key);
+    }
+  }
+  if (outside)
+  {
+    error = "a page request lies outside the page table";
+  }
+  return !outside;
 }
 
 //------------------------------------------------------------------------------
@@ -616,73 +784,26 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
   std::string& error)
 {
   const auto start = Clock::now();
-  vtkOpenGLRenderWindow* win = frame->GetWindow();
   const int step = self->AnalysisStep;
   const int w = (frame->GetWidth() + step - 1) / step, h = (frame->GetHeight() + step - 1) / step;
-  // Per layer the keys (RGBA: the block's samples) and the levels.
+  this->Cur->RequestFrameSize[0] = frame->GetWidth();
+  this->Cur->RequestFrameSize[1] = frame->GetHeight();
+  this->Cur->RequestStep = step;
   const size_t layers = static_cast<size_t>(frame->GetNumberOfLayers());
-  this->Cur->RequestTargets.resize(2 * layers);
-  for (size_t t = 0; t < this->Cur->RequestTargets.size(); ++t)
-  {
-    auto& target = this->Cur->RequestTargets[t];
-    const bool keys = t % 2 == 0;
-    if (!target)
-    {
-      target = NearestTexture(win);
-      target->SetInternalFormat(keys ? GL_RGBA32F : GL_R32F);
-      target->SetFormat(keys ? GL_RGBA : GL_RED);
-      target->SetDataType(GL_FLOAT);
-    }
-    if (static_cast<int>(target->GetWidth()) != w || static_cast<int>(target->GetHeight()) != h)
-    {
-      target->Allocate2D(w, h, keys ? 4 : 1, VTK_FLOAT);
-    }
-  }
+  // Per layer the keys (RGBA: the block's samples) and the levels.
+  EnsureKeyTargets(frame->GetWindow(), this->Cur->RequestTargets, layers, w, h, GL_RGBA32F);
   this->Cur->Requested.assign(this->Cur->SlotOf.size(), 0);
   this->Cur->RequestedKeys.clear();
+  this->Cur->RefineKeys.clear();
   // One key per pixel, or the four of each 2 x 2 block.
-  const int channels = step == 2 ? 4 : 1;
-  const size_t perLayer = static_cast<size_t>(w) * h * channels;
-  this->Cur->Keys.resize(perLayer * layers);
-  vtkShaderProgram* program = this->RequestQuad->Program;
-  for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
+  this->KeyPass(
+    frame, this->RequestQuad.get(), this->Cur->RequestTargets, w, h, step == 2 ? 4 : 1,
+    this->Cur->Keys,
+    [&](int layer, vtkShaderProgram* program)
+    { this->SetMapUniforms(self, program, frame->GetLayer(layer), setup, true); },
+    [](int) {});
+  if (!this->MarkRequests(this->Cur->Keys, error))
   {
-    vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
-    penumbra_light_views::QuadPassState pass(win->GetState(), this->RequestFBO,
-      { this->Cur->RequestTargets[2 * layer].Get(),
-        this->Cur->RequestTargets[2 * layer + 1].Get() },
-      w, h);
-    win->GetShaderCache()->ReadyShaderProgram(program);
-    gbuffer->GetPositionTexture()->Activate();
-    gbuffer->GetNormalTexture()->Activate();
-    this->SetMapUniforms(self, program, gbuffer, setup, true);
-    this->RequestQuad->Render();
-    gbuffer->GetPositionTexture()->Deactivate();
-    gbuffer->GetNormalTexture()->Deactivate();
-    this->RequestFBO->ActivateReadBuffer(0);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, w, h, channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT,
-      this->Cur->Keys.data() + perLayer * static_cast<size_t>(layer));
-  }
-  const long long size = static_cast<long long>(this->Cur->Requested.size());
-  for (float value : this->Cur->Keys)
-  {
-    const long long key = static_cast<long long>(value) - 1;
-    if (key < 0 || key >= size)
-    {
-      continue;
-    }
-    if (!this->Cur->Requested[static_cast<size_t>(key)])
-    {
-      this->Cur->Requested[static_cast<size_t>(key)] = 1;
-      this->Cur->RequestedKeys.push_back(key);
-    }
-  }
-  if (this->Cur->Keys.size() > 0 &&
-    std::any_of(this->Cur->Keys.begin(), this->Cur->Keys.end(),
-      [size](float v) { return v > static_cast<float>(size); }))
-  {
-    error = "a page request lies outside the page table";
     return false;
   }
   std::sort(this->Cur->RequestedKeys.begin(), this->Cur->RequestedKeys.end());
@@ -696,6 +817,61 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Request(
   }
   self->RequestTimeMs = ElapsedMs(start);
   return true;
+}
+
+//------------------------------------------------------------------------------
+// Shadow-edge refinement (the refine program, RMSM_REFINE in the shader): with the requested
+// pages resident, the samples whose 2 x 2 taps straddle a shadow edge request the page
+// RefineLevels levels finer; every sample's final level goes to RefineTargets for the
+// lookup. The new keys join the requested ones (so allocation never evicts them).
+bool vtkPenumbraResolutionMatchedShadows::Internals::Refine(
+  vtkPenumbraResolutionMatchedShadows* self, vtkPenumbraFrame* frame, const LightSetup& setup,
+  std::string& error)
+{
+  const auto start = Clock::now();
+  const int w = frame->GetWidth(), h = frame->GetHeight();
+  EnsureKeyTargets(frame->GetWindow(), this->Cur->RefineTargets,
+    static_cast<size_t>(frame->GetNumberOfLayers()), w, h, GL_R32F);
+  const size_t before = this->Cur->RequestedKeys.size();
+  this->KeyPass(
+    frame, this->RefineQuad.get(), this->Cur->RefineTargets, w, h, 1, this->Cur->RefineKeys,
+    [&](int layer, vtkShaderProgram* program)
+    {
+      vtkTextureObject* levels = this->Cur->RequestTargets[2 * static_cast<size_t>(layer) + 1];
+      levels->Activate();
+      this->SetMapUniforms(self, program, frame->GetLayer(layer), setup, true);
+      this->SetLookupUniforms(self, program, levels, self->AnalysisStep, setup);
+      program->SetUniformi("refineLevels", self->RefineLevels);
+    },
+    [&](int layer)
+    {
+      this->Cur->PageTableAlias->Deactivate();
+      this->Atlas->Deactivate();
+      this->Cur->RequestTargets[2 * static_cast<size_t>(layer) + 1]->Deactivate();
+    });
+  if (!this->MarkRequests(this->Cur->RefineKeys, error))
+  {
+    return false;
+  }
+  std::sort(this->Cur->RequestedKeys.begin() + static_cast<std::ptrdiff_t>(before),
+    this->Cur->RequestedKeys.end());
+  self->NumberOfRefinedPages = static_cast<int>(this->Cur->RequestedKeys.size() - before);
+  self->RequestTimeMs += ElapsedMs(start);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// The requested pages made resident: allocated, the page table uploaded, the new pages
+// rendered.
+bool vtkPenumbraResolutionMatchedShadows::Internals::MakeResident(
+  vtkPenumbraResolutionMatchedShadows* self, std::string& error)
+{
+  const auto start = Clock::now();
+  std::vector<NewPage> pages = this->Allocate(self);
+  this->UploadTable();
+  const bool ok = this->RenderPages(self, pages, error);
+  self->PageTimeMs += ElapsedMs(start);
+  return ok;
 }
 
 //------------------------------------------------------------------------------
@@ -755,13 +931,16 @@ std::vector<NewPage> vtkPenumbraResolutionMatchedShadows::Internals::Allocate(
   const int capacity = self->GetAtlasCapacity();
   self->NumberOfResidentPages = capacity - static_cast<int>(this->FreeSlots.size());
   size_t requesting = 0, coarser = 0;
-  for (float value : this->Cur->Keys)
+  for (const auto* keys : { &this->Cur->Keys, &this->Cur->RefineKeys })
   {
-    const long long key = static_cast<long long>(value) - 1;
-    if (key >= 0)
+    for (float value : *keys)
     {
-      ++requesting;
-      coarser += this->Cur->SlotOf[static_cast<size_t>(key)] < 0 ? 1 : 0;
+      const long long key = static_cast<long long>(value) - 1;
+      if (key >= 0)
+      {
+        ++requesting;
+        coarser += this->Cur->SlotOf[static_cast<size_t>(key)] < 0 ? 1 : 0;
+      }
     }
   }
   this->Cur->CoarserShare = requesting ? static_cast<double>(coarser) / requesting : 0.0;
@@ -836,7 +1015,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
   std::sort(pages.begin(), pages.end());
   vtkOpenGLState* ostate = win->GetState();
   penumbra_light_views::MapRenderState renderState(
-    ostate, this->MapFBO, SuperpageSide, SuperpageSide, false);
+    ostate, this->MapFBO, ScratchSide, ScratchSide, false);
   vtkOpenGLState::ScopedglScissor scissor(ostate);
   this->MapFBO->AddDepthAttachment(this->Scratch);
   ostate->vtkglDrawBuffer(GL_NONE);
@@ -847,45 +1026,73 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
   program->SetUniformf("invFar", static_cast<float>(1.0 / this->Cur->Map.Far));
   program->SetUniformi("peel", 0);
   program->SetUniformf("peelGap", 0.0f);
-  const GLuint scratch = this->Scratch->GetHandle(), atlas = this->Atlas->GetHandle();
-  const int slotsPerRow = static_cast<int>(this->Atlas->GetWidth()) >> PageBits;
+  std::vector<SuperpageCell> cells;
   for (size_t first = 0; first < pages.size();)
   {
-    size_t last = first;
-    int x0 = pages[first].X, x1 = x0, y0 = pages[first].Y, y1 = y0;
-    while (last < pages.size() && pages[last].SameSuperpage(pages[first]))
+    SuperpageCell cell{ first, first, pages[first].X, pages[first].Y, 0, 0 };
+    int x1 = cell.X0, y1 = cell.Y0;
+    while (cell.Last < pages.size() && pages[cell.Last].SameSuperpage(pages[first]))
     {
-      x0 = std::min(x0, pages[last].X);
-      x1 = std::max(x1, pages[last].X);
-      y0 = std::min(y0, pages[last].Y);
-      y1 = std::max(y1, pages[last].Y);
-      ++last;
+      cell.X0 = std::min(cell.X0, pages[cell.Last].X);
+      x1 = std::max(x1, pages[cell.Last].X);
+      cell.Y0 = std::min(cell.Y0, pages[cell.Last].Y);
+      y1 = std::max(y1, pages[cell.Last].Y);
+      ++cell.Last;
     }
-    const int w = (x1 - x0 + 1) << PageBits, h = (y1 - y0 + 1) << PageBits;
+    const int index = static_cast<int>(cells.size());
+    if (index == 0)
+    {
+      // The whole scratch at once, unscissored: Mesa clears a scissored rectangle by drawing
+      // a quad, about what a superpage's own draw costs.
+      ostate->vtkglDisable(GL_SCISSOR_TEST);
+      const GLfloat one = 1.0f;
+      glClearBufferfv(GL_DEPTH, 0, &one);
+      ostate->vtkglEnable(GL_SCISSOR_TEST);
+    }
+    cell.CellX = (index & ((1 << ScratchCellBits) - 1)) * SuperpageSide;
+    cell.CellY = (index >> ScratchCellBits) * SuperpageSide;
+    const int w = (x1 - cell.X0 + 1) << PageBits, h = (y1 - cell.Y0 + 1) << PageBits;
     const View crop =
-      CroppedView(this->Cur->Map, pages[first].K, x0 << PageBits, y0 << PageBits, w, h);
+      CroppedView(this->Cur->Map, pages[first].K, cell.X0 << PageBits, cell.Y0 << PageBits, w, h);
     float matrix[16];
     crop.ToFloatMatrix(matrix);
     program->SetUniformMatrix4x4("lightMatrix", matrix);
-    ostate->vtkglViewport(0, 0, w, h);
-    ostate->vtkglScissor(0, 0, w, h);
-    const GLfloat one = 1.0f;
-    glClearBufferfv(GL_DEPTH, 0, &one);
+    ostate->vtkglViewport(cell.CellX, cell.CellY, w, h);
+    ostate->vtkglScissor(cell.CellX, cell.CellY, w, h);
     glDrawArrays(GL_TRIANGLES, 0, this->Casters.VertexCount);
-    for (size_t i = first; i < last; ++i)
-    {
-      const NewPage& page = pages[i];
-      glCopyImageSubData(scratch, GL_TEXTURE_2D, 0, (page.X - x0) << PageBits,
-        (page.Y - y0) << PageBits, 0, atlas, GL_TEXTURE_2D, 0,
-        (page.Slot % slotsPerRow) << PageBits, (page.Slot / slotsPerRow) << PageBits, 0,
-        self->PageSize, self->PageSize, 1);
-    }
+    cells.push_back(cell);
     ++self->NumberOfSuperpages;
-    first = last;
+    first = cell.Last;
+    if (cells.size() == (size_t(1) << (2 * ScratchCellBits)) || first == pages.size())
+    {
+      this->CopyPages(pages, cells);
+      cells.clear();
+    }
   }
-  self->NumberOfRenderedPages = static_cast<int>(pages.size());
+  self->NumberOfRenderedPages += static_cast<int>(pages.size());
   self->TotalRenderedPages += static_cast<long long>(pages.size());
   return true;
+}
+
+//------------------------------------------------------------------------------
+// §3.3.3 (step 12): the pages of a batch of rendered superpages copied from their scratch
+// cells into their atlas slots (the first copy waits for the batch's draws).
+void vtkPenumbraResolutionMatchedShadows::Internals::CopyPages(
+  const std::vector<NewPage>& pages, const std::vector<SuperpageCell>& cells)
+{
+  const GLuint scratch = this->Scratch->GetHandle(), atlas = this->Atlas->GetHandle();
+  const int slotsPerRow = static_cast<int>(this->Atlas->GetWidth()) >> PageBits;
+  for (const SuperpageCell& cell : cells)
+  {
+    for (size_t i = cell.First; i < cell.Last; ++i)
+    {
+      const NewPage& page = pages[i];
+      glCopyImageSubData(scratch, GL_TEXTURE_2D, 0, cell.CellX + ((page.X - cell.X0) << PageBits),
+        cell.CellY + ((page.Y - cell.Y0) << PageBits), 0, atlas, GL_TEXTURE_2D, 0,
+        (page.Slot % slotsPerRow) << PageBits, (page.Slot / slotsPerRow) << PageBits, 0, PageSize,
+        PageSize, 1);
+    }
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -920,40 +1127,82 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::Lookup(
     win->GetShaderCache()->ReadyShaderProgram(program);
     gbuffer->GetPositionTexture()->Activate();
     gbuffer->GetNormalTexture()->Activate();
-    vtkTextureObject* requests = anyCaster
-      ? this->Cur->RequestTargets[2 * static_cast<size_t>(layer) + 1].Get()
+    int step = 1;
+    vtkTextureObject* levels = anyCaster
+      ? this->Cur->LevelTarget(static_cast<size_t>(layer), self->AnalysisStep, step)
       : gbuffer->GetPositionTexture(); // not read: no sample is pending
-    requests->Activate();
-    this->Atlas->Activate();
-    this->Cur->PageTableAlias->Activate();
+    levels->Activate();
     this->SetMapUniforms(self, program, gbuffer, setup, anyCaster);
-    program->SetUniformi("requests", requests->GetTextureUnit());
-    program->SetUniformi("atlas", this->Atlas->GetTextureUnit());
-    program->SetUniformi("pageTable", this->Cur->PageTableAlias->GetTextureUnit());
-    program->SetUniformi("slotsPerRow", static_cast<int>(this->Atlas->GetWidth()) >> PageBits);
-    program->SetUniformf("tanHalf", static_cast<float>(this->Cur->Map.TanHalf));
-    program->SetUniformf("footprintScale",
-      static_cast<float>(
-        std::max(2.0 / Norm3(this->Cur->Map.Row[0]), 2.0 / Norm3(this->Cur->Map.Row[1]))));
-    program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(this->Cur->Map.Row[2])));
-    const float position[3] = { static_cast<float>(setup.Position[0]),
-      static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
-    const float toLight[3] = { static_cast<float>(setup.Direction[0]),
-      static_cast<float>(setup.Direction[1]), static_cast<float>(setup.Direction[2]) };
-    program->SetUniform3f("lightPosition", position);
-    program->SetUniform3f("toLightDirection", toLight);
-    program->SetUniformf("constantBias", static_cast<float>(self->Bias));
-    program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias));
-    program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
+    this->SetLookupUniforms(self, program, levels, step, setup);
     quad->Render();
     this->Cur->PageTableAlias->Deactivate();
     this->Atlas->Deactivate();
     if (anyCaster)
     {
-      requests->Deactivate();
+      levels->Deactivate();
     }
     gbuffer->GetPositionTexture()->Deactivate();
     gbuffer->GetNormalTexture()->Deactivate();
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// The uniforms of the programs that read the pages (refine and lookup): the sample levels
+// (`levels`, bound, one per levelStep x levelStep pixels), the atlas and page table (bound
+// here), and the bias.
+void vtkPenumbraResolutionMatchedShadows::Internals::SetLookupUniforms(
+  vtkPenumbraResolutionMatchedShadows* self, vtkShaderProgram* program, vtkTextureObject* levels,
+  int levelStep, const LightSetup& setup)
+{
+  this->Atlas->Activate();
+  this->Cur->PageTableAlias->Activate();
+  program->SetUniformi("requests", levels->GetTextureUnit());
+  program->SetUniformi("levelStep", levelStep);
+  program->SetUniformi("atlas", this->Atlas->GetTextureUnit());
+  program->SetUniformi("pageTable", this->Cur->PageTableAlias->GetTextureUnit());
+  program->SetUniformi(
+    "slotsPerRowBits", FloorLog2(static_cast<int>(this->Atlas->GetWidth()) >> PageBits));
+  program->SetUniformf("tanHalf", static_cast<float>(this->Cur->Map.TanHalf));
+  program->SetUniformf("footprintScale",
+    static_cast<float>(
+      std::max(2.0 / Norm3(this->Cur->Map.Row[0]), 2.0 / Norm3(this->Cur->Map.Row[1]))));
+  program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(this->Cur->Map.Row[2])));
+  penumbra_light_views::SetLightUniforms(program, setup);
+  program->SetUniformf("constantBias", static_cast<float>(self->Bias));
+  program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias));
+  program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
+}
+
+//------------------------------------------------------------------------------
+bool vtkPenumbraResolutionMatchedShadows::GetSampleLevels(vtkLight* light, vtkIntArray* levels)
+{
+  levels->SetNumberOfComponents(1);
+  levels->SetNumberOfTuples(0);
+  Internals& impl = *this->Impl;
+  auto pages = std::find_if(impl.Lights.begin(), impl.Lights.end(),
+    [light](const LightPages& p) { return light && p.Light == light; });
+  if (!impl.Window || pages == impl.Lights.end() || pages->RequestTargets.size() < 2)
+  {
+    return false;
+  }
+  int step = 1;
+  vtkTextureObject* target = pages->LevelTarget(0, pages->RequestStep, step);
+  const int w = static_cast<int>(target->GetWidth()), h = static_cast<int>(target->GetHeight());
+  std::vector<float> analysed(static_cast<size_t>(w) * h);
+  impl.Window->MakeCurrent();
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(target->GetHandle(), 0, GL_RED, GL_FLOAT,
+    static_cast<GLsizei>(analysed.size() * sizeof(float)), analysed.data());
+  const int width = pages->RequestFrameSize[0], height = pages->RequestFrameSize[1];
+  levels->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
+  for (int y = 0; y < height; ++y)
+  {
+    for (int x = 0; x < width; ++x)
+    {
+      levels->SetValue(static_cast<vtkIdType>(y) * width + x,
+        static_cast<int>(analysed[static_cast<size_t>(y / step) * w + x / step]));
+    }
   }
   return true;
 }
@@ -989,8 +1238,8 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Release(vtkWindow* window)
       fbo->ReleaseGraphicsResources(this->Window);
     }
   }
-  for (auto* quad :
-    { this->RequestQuad.get(), this->LookupQuads[0].get(), this->LookupQuads[1].get() })
+  for (auto* quad : { this->RequestQuad.get(), this->RefineQuad.get(), this->LookupQuads[0].get(),
+         this->LookupQuads[1].get() })
   {
     if (quad)
     {
@@ -1000,6 +1249,7 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Release(vtkWindow* window)
   this->Atlas = this->Scratch = nullptr;
   this->MapFBO = this->RequestFBO = nullptr;
   this->RequestQuad.reset();
+  this->RefineQuad.reset();
   this->LookupQuads[0].reset();
   this->LookupQuads[1].reset();
   this->Window = nullptr;
@@ -1014,6 +1264,7 @@ void vtkPenumbraResolutionMatchedShadows::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "Cached: " << this->Cached << "\n";
   os << indent << "Bias: " << this->Bias << "\n";
   os << indent << "SlopeBias: " << this->SlopeBias << "\n";
+  os << indent << "RefineLevels: " << this->RefineLevels << "\n";
   os << indent << "NumberOfRequestedPages: " << this->NumberOfRequestedPages << "\n";
   os << indent << "NumberOfRenderedPages: " << this->NumberOfRenderedPages << "\n";
   os << indent << "NumberOfSuperpages: " << this->NumberOfSuperpages << "\n";

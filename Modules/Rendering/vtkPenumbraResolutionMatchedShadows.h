@@ -9,14 +9,17 @@
  * - Virtual map: one light view fitted to the bounds of the whole scene (casters and
  *   receivers), not to the current view (the paper's fixed light frustum), so that pages
  *   stay valid while the camera moves. Level k has 2^k texels per side, from the base level
- *   (min(10, log2(AtlasSize) - 1, log2(MaxResolution)), always resident as a whole, the
+ *   (min(8, log2(AtlasSize) - 1, log2(MaxResolution)), always resident as a whole, the
  *   fallback of every sample) to log2(MaxResolution).
  * - Requests (§3.3.2, Eq. 1): a full-screen pass over the G-buffer computes per pending
  *   sample (facing the light, inside the cone) the level whose texel matches the sample's
  *   footprint in the map, from dX and dY, the map coordinates' change to the neighbouring
- *   pixels on the same prop (one-sided, the smaller side): by default its smallest width,
- *   or the paper's square root of its area (SetFootprint()), rounded up and LODBias levels
- *   finer; it writes the key of the page it needs and the level. The keys are read back (4 bytes
+ *   pixels on the same prop (one-sided, the smaller side): by default the paper's square
+ *   root of its area, or its smallest width (SetFootprint()), rounded up, LODBias levels
+ *   finer and no coarser than GetMinimumRequestLevel(); by default for one sample per
+ *   2 x 2 block (SetAnalysisStep()), whose samples on another surface add their own level
+ *   (the block takes the finest); it writes the key of the page each sample needs and the
+ *   level. The keys are read back (4 bytes
  * per pixel; on llvmpipe GPU memory is host memory, so the paper's GPU scan/sort/compaction buys
  * nothing here) and de-duplicated with one byte per page of the pyramid, in key order (coarse
  * levels first, which makes allocation deterministic).
@@ -32,11 +35,16 @@
  *   level, 256^2 texels, not the paper's 1024^2: on llvmpipe a pass is cheap and the
  *   unrequested texels of a sparse large rectangle are not); each superpage is one geometry pass of
  * the casters with a projection cropped to the bounding rectangle of its new pages (depth
- * untouched, so depths agree across levels), then each page is copied into its atlas slot
- *   (glCopyImageSubData).
- * - Lookup (§3.3.1): the level the sample requested, the page table entry, one nearest
- *   atlas texel (or 2 x 2 bilinear PCF at that level, SetFilter()) compared with a
- *   slope-scaled bias of that level's texel (the paper blends 2 x 2 PCF at two adjacent
+ * untouched, so depths agree across levels), into one of the 16 cells of a scratch; once a
+ * batch of 16 is drawn, each page is copied into its atlas slot (glCopyImageSubData).
+ * - Shadow-edge refinement (SetRefineLevels()): with those pages resident, the samples whose
+ *   2 x 2 texels disagree request the page RefineLevels levels finer, made resident the same
+ *   way (a second round of superpages); elsewhere the requested level is already exact.
+ * - Lookup (§3.3.1): the level the sample requested (or refined to), the page table entry,
+ *   one nearest
+ *   atlas texel (or 2 x 2 bilinear PCF at that level, SetFilter()) compared with the
+ *   sample's receiver plane at the texel's centre and a small slope-scaled bias of that
+ *   level's texel (the paper blends 2 x 2 PCF at two adjacent
  *   levels; not implemented).
  * - Cached mode (§3.3.4, default on): the pages stay resident while the light, the casters
  *   and the settings are unchanged (the virtual map does not follow the camera), so a still
@@ -48,9 +56,10 @@
  * (the pass shadows them with its fallback), ComputeFrame() reports an error.
  * Memory: the atlas keeps AtlasSize^2 x 4 bytes (64 MiB at 4096^2, shared by the lights);
  * per light the page table 4/3 x (MaxResolution / 32)^2 x 4 bytes (5.3 MiB at 32768^2), the
- * request targets 20 bytes per analysed pixel and layer (keys RGBA32F, levels R32F), and
- * on the CPU the page table twice more (slots and entries) and the read-back requests (4 or
- * 16 bytes per analysed pixel); the superpage scratch 256^2 x 4 bytes.
+ * request targets 20 bytes per analysed pixel and layer (keys RGBA32F, levels R32F), the
+ * refine targets 8 bytes per pixel and layer, and on the CPU the page table twice more
+ * (slots and entries) and the read-back requests (4 or 16 bytes per analysed pixel, 4 per
+ * pixel); the superpage scratch 1024^2 x 4 bytes (4 MiB).
  */
 
 #ifndef vtkPenumbraResolutionMatchedShadows_h
@@ -60,6 +69,8 @@
 #include "vtkPenumbraShadowTechnique.h"
 
 #include <memory> // For std::unique_ptr
+
+class vtkIntArray;
 
 class VTKPENUMBRARENDERING_EXPORT vtkPenumbraResolutionMatchedShadows
   : public vtkPenumbraShadowTechnique
@@ -134,8 +145,10 @@ public:
    * How a sample's footprint in the map sets its level. FOOTPRINT_AREA is the paper's Eq. 1
    * (§3.3.2), the texel as large as the square root of the footprint's area: along the short
    * axis of an anisotropic footprint (receivers seen at a slant) the texel is then coarser
-   * than the pixel. FOOTPRINT_WIDTH (default) takes the footprint's smallest width, the same
-   * for a square footprint and finer for a slanted one (more pages). Measured in
+   * than the pixel (the default: the shadow edges are refined, SetRefineLevels(), and the
+   * receiver plane keeps coarse texels from leaking light onto grazed receivers).
+   * FOOTPRINT_WIDTH takes the footprint's smallest width, the same for a square footprint
+   * and finer for a slanted one (2.5 times the pages under a grazing light). Measured in
    * docs/benchmarks.md.
    */
   vtkSetClampMacro(Footprint, int, FOOTPRINT_AREA, FOOTPRINT_WIDTH);
@@ -146,7 +159,8 @@ public:
   /**
    * Levels finer than the one whose texel matches a sample's footprint (Eq. 1 rounded up):
    * 0 matches the paper; each level more halves the texel and quadruples the pages. Default
-   * 1, clamped to [0, 2].
+   * 1 (with 0, shadow edges the refinement does not reach, at creases and contacts, are
+   * twice as often wrong: the city at 1280 x 720, 9.3e-5 against 3.7e-5). Clamped to [0, 2].
    */
   vtkSetClampMacro(LODBias, int, 0, 2);
   vtkGetMacro(LODBias, int);
@@ -154,10 +168,23 @@ public:
 
   ///@{
   /**
+   * Levels finer at shadow edges: once the requested pages are resident, each sample whose
+   * 2 x 2 texels at its level disagree (a shadow boundary passes within a texel of it, the
+   * only place where a point-sampled map can answer wrongly) requests the page RefineLevels
+   * levels finer and is looked up there (the edge test of the adaptive shadow maps Lefohn et
+   * al. 2007 improve on, applied once). 0 turns it off. Default 3, clamped to [0, 4].
+   */
+  vtkSetClampMacro(RefineLevels, int, 0, 4);
+  vtkGetMacro(RefineLevels, int);
+  ///@}
+
+  ///@{
+  /**
    * The request pass computes the level (Eq. 1) of one sample per AnalysisStep x
    * AnalysisStep block of pixels (Lefohn et al. 2007, §3.3.5, reduced analysis resolution);
    * the block's other samples request their own pages at that level and are looked up at
-   * it. Default 1 (every sample), clamped to [1, 2].
+   * it; a block sample on another prop or surface adds its own level, and the block takes
+   * the finest. Default 2, clamped to [1, 2].
    */
   vtkSetClampMacro(AnalysisStep, int, 1, 2);
   vtkGetMacro(AnalysisStep, int);
@@ -184,8 +211,10 @@ public:
 
   ///@{
   /**
-   * Slope-scaled bias in texel footprints of the level a sample is compared at. Default 1,
-   * clamped to [0, 16].
+   * Slope-scaled bias in texel footprints of the level a sample is compared at, on top of
+   * the receiver plane: each texel is compared with the depth of the sample's tangent plane
+   * at the texel's centre (receiver plane depth bias), so this only covers curvature and
+   * rounding. Default 0.25, clamped to [0, 16].
    */
   vtkSetClampMacro(SlopeBias, double, 0.0, 16.0);
   vtkGetMacro(SlopeBias, double);
@@ -193,6 +222,14 @@ public:
 
   /** The coarsest level in the page table, always resident: log2 of its side in texels. */
   int GetBaseLevel();
+
+  /**
+   * The coarsest level a sample requests, log2 of texels per side: min(10, log2
+   * MaxResolution). Samples whose footprint needs less still get 1024^2 texels, so that
+   * occluders thinner than a coarser texel stay in the map (only requested pages of it are
+   * rendered).
+   */
+  int GetMinimumRequestLevel();
 
   /** Atlas slots (pages of 32 x 32 texels). */
   int GetAtlasCapacity() { return (this->AtlasSize / PageSize) * (this->AtlasSize / PageSize); }
@@ -210,10 +247,20 @@ public:
   vtkGetMacro(NumberOfRequestedPages, int);
   vtkGetVector2Macro(RequestedLevels, int);
   vtkGetMacro(NumberOfRenderedPages, int);
+  vtkGetMacro(NumberOfRefinedPages, int);
   vtkGetMacro(NumberOfSuperpages, int);
   vtkGetMacro(NumberOfResidentPages, int);
   vtkGetMacro(CoarserShare, double);
   ///@}
+
+  /**
+   * Diagnostics: the level (log2 of texels per side) each pixel of the frame's first layer
+   * requested for `light` in its last request pass and was looked up at, 0 where it
+   * requested nothing (not facing the light, outside the cone, background), row by row from
+   * the bottom (with AnalysisStep 2, per pixel its block's level). Returns false (and leaves
+   * `levels` empty) when the light has no requests.
+   */
+  bool GetSampleLevels(vtkLight* light, vtkIntArray* levels);
 
   /** Pages rendered since construction. */
   vtkGetMacro(TotalRenderedPages, long long);
@@ -235,15 +282,17 @@ protected:
   int MaxResolution = 32768;
   int AtlasSize = 4096;
   int Filter = FILTER_NONE;
-  int Footprint = FOOTPRINT_WIDTH;
+  int Footprint = FOOTPRINT_AREA;
   int LODBias = 1;
-  int AnalysisStep = 1;
+  int AnalysisStep = 2;
+  int RefineLevels = 3;
   bool Cached = true;
   double Bias = 1e-4;
-  double SlopeBias = 1.0;
+  double SlopeBias = 0.25;
   int NumberOfRequestedPages = 0;
   int RequestedLevels[2] = { 0, 0 };
   int NumberOfRenderedPages = 0;
+  int NumberOfRefinedPages = 0;
   int NumberOfSuperpages = 0;
   int NumberOfResidentPages = 0;
   double CoarserShare = 0.0;

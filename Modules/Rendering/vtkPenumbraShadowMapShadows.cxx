@@ -1976,12 +1976,7 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
 void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(vtkPenumbraShadowMapShadows* self,
   vtkShaderProgram* program, const LightSetup& setup, const LightMaps& m)
 {
-  const float centre[3] = { static_cast<float>(setup.Position[0]),
-    static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
-  const float toLight[3] = { static_cast<float>(setup.Direction[0]),
-    static_cast<float>(setup.Direction[1]), static_cast<float>(setup.Direction[2]) };
-  program->SetUniform3f("lightPosition", centre);
-  program->SetUniform3f("toLightDirection", toLight);
+  penumbra_light_views::SetLightUniforms(program, setup);
   program->SetUniformf("mapScale", static_cast<float>(m.MapScale));
   const float mapSize[2] = { static_cast<float>(m.Width), static_cast<float>(m.Height) };
   program->SetUniform2f("mapSize", mapSize);

@@ -511,23 +511,30 @@ const OptionTable RMSMOptions = {
     "\"none\": the nearest texel of the requested level, 0/1; \"bilinear\": 2 x 2 PCF at "
     "that level, the taps resolved through the page table and weighted bilinearly (the "
     "paper blends two levels; this uses one)" },
-  { "footprint", OptionType::Choice, "width", 0, 0, { "width", "area" }, "",
-    "how a sample's footprint in the map sets its level: \"width\", texels as small as the "
-    "footprint's smallest width; \"area\", the paper's Eq. 1, texels as large as the square "
-    "root of its area (coarser across slanted receivers)" },
+  { "footprint", OptionType::Choice, "area", 0, 0, { "width", "area" }, "",
+    "how a sample's footprint in the map sets its level: \"area\", the paper's Eq. 1, texels "
+    "as large as the square root of its area (coarser across slanted receivers; their shadow "
+    "edges are refined); \"width\", texels as small as the footprint's smallest width (more "
+    "pages)" },
   { "lod_bias", OptionType::Integer, 1, 0, 2, {}, "levels",
     "request levels this much finer than the one whose texel matches a sample's footprint "
     "(0: matched, rounded up; each level quadruples the pages)" },
-  { "analysis_step", OptionType::Integer, 1, 1, 2, {}, "samples",
+  { "refine", OptionType::Integer, 3, 0, 4, {}, "levels",
+    "levels finer at shadow edges: the samples whose 2 x 2 texels at their level disagree "
+    "request the page this much finer once the requested pages are resident (0: off)" },
+  { "analysis_step", OptionType::Integer, 2, 1, 2, {}, "samples",
     "the request pass computes the level of one sample per n x n block (2: four times fewer "
-    "level computations; the block's samples request their own pages at that level)" },
+    "level computations; the block's samples request their own pages at that level, those "
+    "on another surface add their own level and the block takes the finest)" },
   { "cached", OptionType::Boolean, true, 0, 0, {}, "",
     "keep the pages while the light, the casters and the settings are unchanged (only new "
     "requests are rendered); false rebuilds every frame" },
   { "bias", OptionType::Number, 1e-4, 0.0, 0.1, {}, "fraction of the depth range",
     "constant depth bias as a fraction of the virtual map's depth range" },
-  { "slope_bias", OptionType::Number, 1.0, 0.0, 16.0, {}, "texel footprints",
-    "slope-scaled bias in texel footprints of the level a sample is compared at (the slope's "
+  { "slope_bias", OptionType::Number, 0.25, 0.0, 16.0, {}, "texel footprints",
+    "slope-scaled bias in texel footprints of the level a sample is compared at, on top of the "
+    "receiver plane (each texel is compared with the sample's tangent plane at its centre; the "
+    "slope's "
     "tangent is capped at 1000)" },
 };
 
@@ -543,6 +550,7 @@ void InstallRMSM(vtkRenderer* ren, const Options& opts)
       ? vtkPenumbraResolutionMatchedShadows::FOOTPRINT_AREA
       : vtkPenumbraResolutionMatchedShadows::FOOTPRINT_WIDTH);
   technique->SetLODBias(opts.Integer("lod_bias"));
+  technique->SetRefineLevels(opts.Integer("refine"));
   technique->SetAnalysisStep(opts.Integer("analysis_step"));
   technique->SetCached(opts.Boolean("cached"));
   technique->SetBias(opts.Number("bias"));

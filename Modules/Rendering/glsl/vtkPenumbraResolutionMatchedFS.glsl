@@ -7,6 +7,10 @@
 //   request) into an RGBA32F target (with 2 x 2 analysis blocks the block's four samples'
 //   pages) and the level into an R32F one; keys stay below 2^24, so they are exact
 //   in float.
+// - RMSM_REFINE (the shadow-edge refinement, see rmsmEdge()): each pending sample whose
+//   2 x 2 taps at its requested level disagree lies at a shadow boundary, where alone the
+//   texel size decides the answer; it requests the page refineLevels levels finer and is
+//   looked up there. Writes key + 1 (0: no request) and the final level of every sample.
 // - otherwise the lookup (§3.3.1): the level the sample requested (read from that target:
 //   computing it again costs more than the rest of the lookup on llvmpipe), the page table's
 //   entry for the sample's
@@ -22,11 +26,14 @@ uniform int perspective;
 uniform float invFar;      // perspective: depth = w / Far
 uniform int baseLevel;     // coarsest level in the page table, always fully resident
 uniform int finestLevel;   // log2 of the maximum effective resolution
+uniform int minLevel;      // no request coarser than this (occluders thinner than a texel of
+                           // a coarser level would vanish from the map)
 uniform int lodBias;       // levels finer than the matched one
 uniform int footprintWidth; // 1: texels as small as the footprint's smallest width
 uniform int analysisStep;  // the request pass analyses one sample per step x step block (1, 2)
 
 const int pageBits = 5; // 32 x 32 texel pages (§4: "a page size of 32^2 texels")
+const float creaseCosine = 0.99; // normals more than ~8 degrees apart: another surface
 
 // NDC s, t and the stored-depth value of a rebased point.
 vec3 rmsmProject(vec3 p)
@@ -84,7 +91,7 @@ int rmsmLevel(ivec2 cell, vec2 st)
   float size = footprintWidth != 0 ? area / max(0.5 * max(length(a), length(b)), 1e-30)
                                    : sqrt(area);
   float k = -log2(max(size, exp2(-float(finestLevel + 1))));
-  return clamp(int(ceil(k)) + lodBias, baseLevel, finestLevel);
+  return clamp(int(ceil(k)) + lodBias, max(baseLevel, minLevel), finestLevel);
 }
 
 // The texel of level k (2^k per side) holding NDC point st.
@@ -94,43 +101,68 @@ ivec2 rmsmTexel(vec2 st, int k)
   return clamp(ivec2(floor((st * 0.5 + 0.5) * float(side))), ivec2(0), ivec2(side - 1));
 }
 
-#ifdef RMSM_REQUEST
 // key + 1 of the page of level k holding NDC point st: the pages of the levels before k
 // (4^(j - 5) per level j, from baseLevel on), then row by row.
 float rmsmKey(vec2 st, int k)
 {
   ivec2 page = rmsmTexel(st, k) >> pageBits;
-  int offset = ((1 << (2 * (k - pageBits))) - (1 << (2 * (baseLevel - pageBits)))) / 3;
+  // Exact in float (below 2^24); an integer division is not vectorized on llvmpipe.
+  int offset =
+    int(round(float((1 << (2 * (k - pageBits))) - (1 << (2 * (baseLevel - pageBits)))) / 3.0));
   return float(offset + (page.y << (k - pageBits)) + page.x + 1);
 }
+
+#ifdef RMSM_REQUEST
 
 void main()
 {
   // One analysed sample per analysisStep^2 block (§3.3.5, "reduce the resolution of the
   // analysis"); its derivatives still come from its adjacent pixels. With 2 x 2 blocks the
-  // other three samples request their own pages at the analysed sample's level, so every
-  // sample's page is requested, only the level is shared.
-  ivec2 cell = ivec2(gl_FragCoord.xy) * analysisStep;
+  // other three samples request their own pages at the block's level, so every sample's page
+  // is requested, only the level is shared. A block sample on another prop or on a surface
+  // turned away from the analysed one (a crease, a contact, a silhouette) has a footprint of
+  // its own, often much smaller (a wall next to the ground under a grazing light): its level
+  // is computed too and the block takes the finest.
+  // The analysed sample is the block's first pending one (the others may face the light
+  // when it does not).
+  ivec2 origin = ivec2(gl_FragCoord.xy) * analysisStep;
+  ivec2 last = textureSize(samplePositions, 0) - 1;
+  int samples = analysisStep * analysisStep;
   vec3 p;
   vec3 n;
+  ivec2 cell = origin;
+  int state = penumbraClassify(cell, p, n);
+  for (int i = 1; i < samples && state != 2; ++i)
+  {
+    cell = min(origin + ivec2(i & 1, i >> 1), last);
+    state = penumbraClassify(cell, p, n);
+  }
   vec4 keys = vec4(0.0);
   float level = 0.0;
-  if (penumbraClassify(cell, p, n) == 2)
+  if (state == 2)
   {
-    vec3 m = rmsmProject(p);
-    int k = rmsmLevel(cell, m.xy);
-    level = float(k);
-    keys.x = rmsmKey(m.xy, k);
-    if (analysisStep == 2)
+    int k = rmsmLevel(cell, rmsmProject(p).xy);
+    float prop = texelFetch(sampleNormals, cell, 0).w;
+    vec2 st[4];
+    bool valid[4];
+    for (int i = 0; i < samples; ++i)
     {
-      ivec2 last = textureSize(samplePositions, 0) - 1;
-      for (int i = 1; i < 4; ++i)
+      ivec2 c = min(origin + ivec2(i & 1, i >> 1), last);
+      vec4 q = texelFetch(samplePositions, c, 0);
+      vec4 qn = texelFetch(sampleNormals, c, 0);
+      vec3 o = rmsmProject(q.xyz);
+      st[i] = o.xy;
+      valid[i] = q.w >= 0.5 && (perspective == 0 || o.z > 0.0) && !any(isnan(o.xy));
+      if (valid[i] && c != cell &&
+        (qn.w != prop || dot(normalize(qn.xyz), normalize(n)) < creaseCosine))
       {
-        vec4 q = texelFetch(samplePositions, min(cell + ivec2(i & 1, i >> 1), last), 0);
-        vec3 o = rmsmProject(q.xyz);
-        bool valid = q.w >= 0.5 && (perspective == 0 || o.z > 0.0) && !any(isnan(o.xy));
-        keys[i] = valid ? rmsmKey(o.xy, k) : 0.0;
+        k = max(k, rmsmLevel(c, o.xy));
       }
+    }
+    level = float(k);
+    for (int i = 0; i < samples; ++i)
+    {
+      keys[i] = valid[i] ? rmsmKey(st[i], k) : 0.0;
     }
   }
   // Never true; keeps the quad's texture-coordinate attribute active in the program.
@@ -142,19 +174,41 @@ void main()
   gl_FragData[1] = vec4(level);
 }
 #else
-uniform sampler2D requests;   // the request pass's levels for these samples' blocks
+uniform sampler2D requests;   // the levels for these samples (or their blocks)
+uniform int levelStep;        // pixels per side of a block sharing one level (1 or 2)
+uniform int refineLevels;     // RMSM_REFINE: levels finer at shadow edges
 uniform isampler2D pageTable; // mip m = level finestLevel - m: (level - base) << 24 | slot
 uniform sampler2D atlas;      // the resident pages' depths, 32 x 32 texels each
-uniform int slotsPerRow;
+uniform int slotsPerRowBits;  // log2 of the atlas slots per row (shifts: integer division
+                              // is not vectorized on llvmpipe)
 uniform float tanHalf;        // perspective: tangent of the half field of view
 uniform float footprintScale; // orthographic: world size of a texel at level 0
 uniform float depthPerLengthOrtho; // orthographic: |row 2|
 uniform vec3 lightPosition;   // rebased
 uniform vec3 toLightDirection; // directional: unit vector towards the light
 uniform float constantBias;
-uniform float slopeBias;      // in texel footprints of the level compared against (twice
-                              // that with the 2 x 2 filter, whose taps reach one texel)
+uniform float slopeBias;      // in texel footprints of the level compared against, on top
+                              // of the receiver plane (curvature); twice that with the 2 x 2
+                              // filter, whose taps reach one texel
 uniform float maxTangent;
+
+// The sample's NDC s, t and its receiver plane's stored-depth change per NDC unit of s and t
+// (set by rmsmSlopeTerm() before any tap).
+vec2 rmsmSt = vec2(0.0);
+vec2 rmsmGrad = vec2(0.0);
+
+// Receiver plane depth bias: each texel is compared with the depth of the sample's receiver
+// plane at the texel's centre, not with the sample's own depth. A slope-scaled bias has to
+// cover the receiver's depth change across a whole texel, and under a light that grazes the
+// receiver that tolerance lets light leak a texel or more past an occluder's edge (false lit
+// several pixels from the shadow at coarse levels, where the edge refinement sees four
+// agreeing texels); the plane leaves only curvature and rounding to the bias. The stored
+// depth value of that plane at the centre of texel t of level kp:
+float rmsmPlaneDepth(ivec2 t, int kp, float z)
+{
+  vec2 centre = (vec2(t) + 0.5) * exp2(1.0 - float(kp)) - 1.0;
+  return z + dot(rmsmGrad, centre - rmsmSt);
+}
 
 // One texel of level k compared with depth z: the page table's entry for its page names
 // the resident page serving it (that level or the finest resident coarser one), whose texel
@@ -166,38 +220,149 @@ float rmsmTap(ivec2 texel, int k, float z, float slopeTerm)
   int resident = baseLevel + (entry >> 24);
   int slot = entry & 0xFFFFFF;
   ivec2 t = texel >> (k - resident);
-  ivec2 origin = ivec2(slot % slotsPerRow, slot / slotsPerRow) << pageBits;
+  ivec2 origin = ivec2(slot & ((1 << slotsPerRowBits) - 1), slot >> slotsPerRowBits) << pageBits;
   float stored = texelFetch(atlas, origin + (t & ((1 << pageBits) - 1)), 0).r;
-  return stored >= z - constantBias - slopeTerm * exp2(-float(resident)) ? 1.0 : 0.0;
+  return stored >= rmsmPlaneDepth(t, resident, z) - constantBias -
+      slopeTerm * exp2(-float(resident))
+    ? 1.0
+    : 0.0;
 }
 
-float rmsmCompare(ivec2 cell, vec3 p, vec3 normal)
+// The slope term of the bias, per texel footprint at level 0 (rmsmTap scales it to the
+// resident level's texel).
+float rmsmSlopeTerm(vec3 p, vec3 m, vec3 normal)
 {
-  vec3 m = rmsmProject(p);
-  // The level its block's analysed sample requested (0 when that one requested nothing);
-  // pages nobody requested are served by the finest resident coarser page.
-  int k = clamp(int(texelFetch(requests, cell / analysisStep, 0).r), baseLevel, finestLevel);
   vec3 toLight = perspective != 0 ? normalize(lightPosition - p) : toLightDirection;
   float footprint = perspective != 0 ? 2.0 * tanHalf * (m.z / invFar) : footprintScale;
   float depthPerLength = perspective != 0 ? invFar : depthPerLengthOrtho;
   float cosine = max(1e-9, dot(normal, toLight));
   float tangent = min(maxTangent, sqrt(max(0.0, 1.0 - cosine * cosine)) / cosine);
-  float slopeTerm = slopeBias * footprint * tangent * depthPerLength;
-#ifdef RMSM_BILINEAR
-  // 2 x 2 PCF at level k (the paper blends two such lookups at adjacent levels): the four
-  // texels around the continuous position, each resolved through the page table (so taps
-  // across a page border read their own page), weighted bilinearly.
+  // The plane through p with the sample's normal, its depth as a function of the map's s and
+  // t from the projection's Jacobian (rows ds, dt, dz per world displacement d; in the plane
+  // n . d = 0).
+  rmsmSt = m.xy;
+  rmsmGrad = vec2(0.0);
+  {
+    vec4 clip = lightMatrix * vec4(p, 1.0);
+    vec3 r0 = vec3(lightMatrix[0][0], lightMatrix[1][0], lightMatrix[2][0]);
+    vec3 r1 = vec3(lightMatrix[0][1], lightMatrix[1][1], lightMatrix[2][1]);
+    vec3 r2 = vec3(lightMatrix[0][2], lightMatrix[1][2], lightMatrix[2][2]);
+    vec3 r3 = vec3(lightMatrix[0][3], lightMatrix[1][3], lightMatrix[2][3]);
+    vec3 ds = perspective != 0 ? (r0 - clip.x / clip.w * r3) / clip.w : r0;
+    vec3 dt = perspective != 0 ? (r1 - clip.y / clip.w * r3) / clip.w : r1;
+    vec3 dz = perspective != 0 ? r3 * invFar : r2;
+    mat3 a = transpose(mat3(ds, dt, normal));
+    if (abs(determinant(a)) > 0.0)
+    {
+      mat3 inv = inverse(a);
+      rmsmGrad = vec2(dot(dz, inv[0]), dot(dz, inv[1]));
+      // At most the slope of maxTangent: the depth change over a level-0 texel (2 NDC units).
+      float cap = 0.5 * maxTangent * footprint * depthPerLength;
+      float len = length(rmsmGrad);
+      rmsmGrad *= len > cap ? cap / len : 1.0;
+    }
+  }
+  return slopeBias * footprint * tangent * depthPerLength;
+}
+
+// The four compared texels of level k around NDC point m.xy (each resolved through the page
+// table, so taps across a page border read their own page) and the bilinear weights. When
+// all four lie in one page resident at level k (all but a sixteenth of the samples), one
+// page-table fetch and one textureGather read them: on llvmpipe each fetch costs about as
+// much as the rest of the lookup.
+vec4 rmsmTaps(vec3 m, int k, float slopeTerm, out vec2 w)
+{
   int side = 1 << k;
   vec2 u = (m.xy * 0.5 + 0.5) * float(side) - 0.5;
   vec2 b = floor(u);
-  vec2 w = u - b;
-  float l[4];
+  w = u - b;
+  ivec2 t0 = ivec2(b);
+  if (all(greaterThanEqual(t0, ivec2(0))) && all(lessThan(t0 + 1, ivec2(side))) &&
+    all(equal(t0 >> pageBits, (t0 + 1) >> pageBits)))
+  {
+    int entry = texelFetch(pageTable, t0 >> pageBits, finestLevel - k).r;
+    if (baseLevel + (entry >> 24) == k)
+    {
+      int slot = entry & 0xFFFFFF;
+      ivec2 a = (ivec2(slot & ((1 << slotsPerRowBits) - 1), slot >> slotsPerRowBits) << pageBits) +
+        (t0 & ((1 << pageBits) - 1));
+      // The texel corner a + 1 gathers (a.x, a.y + 1), (a.x + 1, a.y + 1), (a.x + 1, a.y),
+      // (a.x, a.y) into x, y, z, w.
+      vec4 d = textureGather(atlas, vec2(a + 1) / vec2(textureSize(atlas, 0))).wzxy;
+      vec4 planes = vec4(rmsmPlaneDepth(t0, k, m.z), rmsmPlaneDepth(t0 + ivec2(1, 0), k, m.z),
+        rmsmPlaneDepth(t0 + ivec2(0, 1), k, m.z), rmsmPlaneDepth(t0 + ivec2(1, 1), k, m.z));
+      return vec4(greaterThanEqual(d, planes - constantBias - slopeTerm * exp2(-float(k))));
+    }
+  }
+  vec4 l;
   for (int i = 0; i < 4; ++i)
   {
     ivec2 texel = clamp(ivec2(b) + ivec2(i & 1, i >> 1), ivec2(0), ivec2(side - 1));
-    l[i] = rmsmTap(texel, k, m.z, 2.0 * slopeTerm);
+    l[i] = rmsmTap(texel, k, m.z, slopeTerm);
   }
-  return mix(mix(l[0], l[1], w.x), mix(l[2], l[3], w.x), w.y);
+  return l;
+}
+
+// The level a sample is looked up at: its own (or its block's) from the request or refine
+// pass, clamped to the table (0: it requested nothing, the base level serves it).
+int rmsmLevelOf(ivec2 cell)
+{
+  return clamp(int(texelFetch(requests, cell / levelStep, 0).r), baseLevel, finestLevel);
+}
+
+#ifdef RMSM_REFINE
+// Shadow-edge refinement. A point-sampled map answers wrongly only where an occluder's edge
+// passes between the sample and the centre of its texel, and then the four texels around the
+// sample straddle that edge: their compares disagree. Those samples (a thin band along the
+// shadow boundaries) take the page refineLevels levels finer, which shrinks the band's width
+// by 2^refineLevels; elsewhere the matched level is already exact. This is the edge test of
+// the iterative adaptive shadow maps Lefohn et al. 2007 start from (§2, Algorithm 1 step 6),
+// applied once on top of the resolution-matched requests. The taps' slope term is doubled,
+// as for the 2 x 2 filter (they reach one texel away), so that a slanted receiver alone does
+// not look like an edge.
+// Only samples with a requested level (pending when the requests were made) are tested; the
+// facing rules are not evaluated again.
+void main()
+{
+  ivec2 cell = ivec2(gl_FragCoord.xy);
+  float key = 0.0;
+  float requested = texelFetch(requests, cell / levelStep, 0).r;
+  int k = clamp(int(requested), baseLevel, finestLevel);
+  vec4 position = texelFetch(samplePositions, cell, 0);
+  vec3 p = position.xyz;
+  vec3 n = texelFetch(sampleNormals, cell, 0).xyz;
+  if (requested > 0.0 && k < finestLevel && position.w >= 0.5 && penumbraFinite(p) &&
+    penumbraFinite(n))
+  {
+    vec3 m = rmsmProject(p);
+    vec2 w;
+    vec4 l = rmsmTaps(m, k, 2.0 * rmsmSlopeTerm(p, m, normalize(n)), w);
+    float lit = l.x + l.y + l.z + l.w;
+    if (lit > 0.0 && lit < 4.0)
+    {
+      k = min(k + refineLevels, finestLevel);
+      key = rmsmKey(m.xy, k);
+    }
+  }
+  if (texCoord.x < -1.0)
+  {
+    key = 0.0;
+  }
+  gl_FragData[0] = vec4(key);
+  gl_FragData[1] = vec4(float(k));
+}
+#else
+float rmsmCompare(ivec2 cell, vec3 p, vec3 normal)
+{
+  vec3 m = rmsmProject(p);
+  // Pages nobody requested are served by the finest resident coarser page.
+  int k = rmsmLevelOf(cell);
+  float slopeTerm = rmsmSlopeTerm(p, m, normal);
+#ifdef RMSM_BILINEAR
+  // 2 x 2 PCF at level k (the paper blends two such lookups at adjacent levels).
+  vec2 w;
+  vec4 l = rmsmTaps(m, k, 2.0 * slopeTerm, w);
+  return mix(mix(l.x, l.y, w.x), mix(l.z, l.w, w.x), w.y);
 #else
   return rmsmTap(rmsmTexel(m.xy, k), k, m.z, slopeTerm);
 #endif
@@ -217,4 +382,5 @@ void main()
   }
   gl_FragData[0] = vec4(v);
 }
+#endif
 #endif
