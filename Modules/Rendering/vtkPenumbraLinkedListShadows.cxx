@@ -1,22 +1,27 @@
 #include "vtkPenumbraLinkedListShadows.h"
 
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
 #include "vtkPenumbraConservativeShadows.h"
 #include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPenumbraVisibilityRules.h"
+#include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkUnsignedCharArray.h"
 
 #include "vtkPenumbraConservativeMapCPU.h"
 #include "vtkPenumbraLightViews.h"
+#include "vtkPenumbraLinkedListCompute.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -28,6 +33,8 @@
 vtkStandardNewMacro(vtkPenumbraLinkedListShadows);
 
 using penumbra_light_views::View;
+using penumbra_llsm::ListCompute;
+using penumbra_llsm::NoNode;
 using penumbra_rules::Hit;
 
 namespace
@@ -448,30 +455,40 @@ void ProjectSamples(const View& view, int size, signed char viewIndex,
   }
 }
 
-// The per-texel lists of one pass (Johnson et al. 2005's grid of lists; the CPU form of
-// Ferko 2014's head pointers and node pool): the nodes sorted by texel, then sample, and per
-// texel the index of its first node. Head and Active have a value per texel and are reset
-// only where a list was, so a pass with few samples costs no full-grid clear.
+// The per-texel lists of one pass (Johnson et al. 2005's grid of lists, as Ferko 2014 builds
+// it: head pointers and a node pool of (sample, next) links). The CPU builds them as a sort
+// by texel, each node linking to the next of its texel; the GPU (ListCompute) by atomic
+// counter and head exchange, in any order within a list. The rasterizer walks either by the
+// links. Head and Active have a value per texel and are reset only where a list was, so a
+// pass with few samples costs no full-grid clear. Sample ids are pixel indices (32 bits).
 struct Lists
 {
-  std::vector<vtkIdType> Head;       // per texel: first node, -1 when empty
-  std::vector<unsigned char> Active; // per texel: holds an undecided sample
-  std::vector<vtkIdType> Nodes;      // sample ids
-  std::vector<vtkIdType> NodeTexel;  // per node: its texel
-  std::vector<vtkIdType> Counts;     // dense passes: the counting sort's rows
+  std::vector<std::uint32_t> Head;       // per texel: first node, NoNode when empty
+  std::vector<unsigned char> Active;     // per texel: holds an undecided sample
+  std::vector<std::uint32_t> Nodes;      // per node: sample id, next node (NoNode: list end)
+  std::vector<std::uint32_t> NodeTexel;  // per node: its texel
+  std::vector<vtkIdType> Samples;        // the pass's samples, in node order
+  std::vector<vtkIdType> Counts;         // dense CPU passes: the counting sort's rows
+  std::vector<std::uint32_t> Items;      // GPU passes: (sample, texel) pairs
+  std::vector<std::uint32_t> TexelHeads; // GPU passes: per node, its texel's head
 
-  // Lists the `count` samples from `first` (texel per sample in `texel`), marks them open
-  // and their texels active; returns the longest list, and the non-empty texels in `rows`.
-  vtkIdType Build(int size, const vtkIdType* first, vtkIdType count,
-    const std::vector<vtkIdType>& texel, unsigned char* state, vtkIdType& rows)
+  void Reserve(int size)
   {
     const size_t texels = static_cast<size_t>(size) * size;
     if (this->Head.size() != texels)
     {
-      this->Head.assign(texels, -1);
+      this->Head.assign(texels, NoNode);
       this->Active.assign(texels, 0);
     }
-    this->Nodes.resize(static_cast<size_t>(count));
+  }
+
+  // CPU: lists the `count` samples from `first` (texel per sample in `texel`).
+  void BuildOnCPU(
+    int size, const vtkIdType* first, vtkIdType count, const std::vector<vtkIdType>& texel)
+  {
+    const size_t texels = static_cast<size_t>(size) * size;
+    this->Reserve(size);
+    this->Nodes.resize(2 * static_cast<size_t>(count));
     this->NodeTexel.resize(static_cast<size_t>(count));
     auto texelOf = [&](vtkIdType i) { return texel[static_cast<size_t>(first[i])]; };
     if (static_cast<size_t>(count) * 8 >= texels)
@@ -488,9 +505,9 @@ struct Lists
       }
       for (vtkIdType i = 0; i < count; ++i)
       {
-        const vtkIdType j = this->Counts[static_cast<size_t>(texelOf(i))]++;
-        this->Nodes[static_cast<size_t>(j)] = first[i];
-        this->NodeTexel[static_cast<size_t>(j)] = texelOf(i);
+        const size_t j = static_cast<size_t>(this->Counts[static_cast<size_t>(texelOf(i))]++);
+        this->Nodes[2 * j] = static_cast<std::uint32_t>(first[i]);
+        this->NodeTexel[j] = static_cast<std::uint32_t>(texelOf(i));
       }
     }
     else
@@ -504,35 +521,99 @@ struct Lists
       std::sort(pairs.begin(), pairs.end());
       for (size_t j = 0; j < pairs.size(); ++j)
       {
-        this->NodeTexel[j] = pairs[j].first;
-        this->Nodes[j] = pairs[j].second;
+        this->NodeTexel[j] = static_cast<std::uint32_t>(pairs[j].first);
+        this->Nodes[2 * j] = static_cast<std::uint32_t>(pairs[j].second);
       }
     }
+    // Link each node to the next of its texel; the first of a run is the texel's head.
+    for (size_t j = 0; j < this->NodeTexel.size(); ++j)
+    {
+      const std::uint32_t t = this->NodeTexel[j];
+      const bool last = j + 1 == this->NodeTexel.size() || this->NodeTexel[j + 1] != t;
+      this->Nodes[2 * j + 1] = last ? NoNode : static_cast<std::uint32_t>(j + 1);
+      if (j == 0 || this->NodeTexel[j - 1] != t)
+      {
+        this->Head[t] = static_cast<std::uint32_t>(j);
+      }
+    }
+  }
+
+  // GPU: links the view's samples of `listed` still Pending, at most `capacity` (the node
+  // pool) of them; the others stay Pending for a further pass. `overflow`: the pool was too
+  // small (the counter went beyond it).
+  bool BuildOnGPU(ListCompute& compute, int size, const std::vector<vtkIdType>& listed,
+    vtkIdType capacity, const std::vector<vtkIdType>& texel, const unsigned char* state,
+    bool& overflow, std::string& why)
+  {
+    this->Reserve(size);
+    this->Items.clear();
+    for (vtkIdType s : listed)
+    {
+      if (state[s] == Pending)
+      {
+        this->Items.push_back(static_cast<std::uint32_t>(s));
+        this->Items.push_back(static_cast<std::uint32_t>(texel[static_cast<size_t>(s)]));
+      }
+    }
+    std::uint32_t requested = 0;
+    if (!compute.Link(this->Items.data(), this->Items.size() / 2, this->Head.size(),
+          static_cast<size_t>(capacity), this->Nodes, requested, why))
+    {
+      return false;
+    }
+    overflow = requested > capacity;
+    const size_t count = this->Nodes.size() / 2;
+    this->NodeTexel.resize(count);
+    for (size_t j = 0; j < count; ++j)
+    {
+      this->NodeTexel[j] = static_cast<std::uint32_t>(texel[this->Nodes[2 * j]]);
+    }
+    if (!compute.Heads(this->NodeTexel, this->TexelHeads, why))
+    {
+      return false;
+    }
+    for (size_t j = 0; j < count; ++j)
+    {
+      this->Head[this->NodeTexel[j]] = this->TexelHeads[j];
+    }
+    return true;
+  }
+
+  // After either build: marks the listed samples open and their texels active, collects the
+  // pass's samples; returns the longest list, and the non-empty texels in `rows`.
+  vtkIdType Finish(unsigned char* state, vtkIdType& rows)
+  {
+    const size_t count = this->NodeTexel.size();
+    this->Samples.resize(count);
     vtkIdType longest = 0;
     rows = 0;
-    for (vtkIdType j = 0; j < count;)
+    for (size_t j = 0; j < count; ++j)
     {
-      const vtkIdType t = this->NodeTexel[static_cast<size_t>(j)];
-      this->Head[static_cast<size_t>(t)] = j;
-      this->Active[static_cast<size_t>(t)] = 1;
-      const vtkIdType begin = j;
-      for (; j < count && this->NodeTexel[static_cast<size_t>(j)] == t; ++j)
+      const std::uint32_t t = this->NodeTexel[j];
+      this->Samples[j] = static_cast<vtkIdType>(this->Nodes[2 * j]);
+      state[this->Samples[j]] = Open;
+      this->Active[t] = 1;
+      if (this->Head[t] == j)
       {
-        state[this->Nodes[static_cast<size_t>(j)]] = Open;
+        vtkIdType length = 0;
+        for (std::uint32_t k = this->Head[t]; k != NoNode; k = this->Nodes[2 * k + 1])
+        {
+          ++length;
+        }
+        longest = std::max(longest, length);
+        ++rows;
       }
-      longest = std::max(longest, j - begin);
-      ++rows;
     }
     return longest;
   }
 
-  // Empties the texels of the last Build.
+  // Empties the texels of the last build.
   void Clear()
   {
-    for (vtkIdType t : this->NodeTexel)
+    for (std::uint32_t t : this->NodeTexel)
     {
-      this->Head[static_cast<size_t>(t)] = -1;
-      this->Active[static_cast<size_t>(t)] = 0;
+      this->Head[t] = NoNode;
+      this->Active[t] = 0;
     }
   }
 };
@@ -545,9 +626,7 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
   const std::vector<vtkIdType>& casters, Lists& lists, penumbra_light_views::ExactTriangles& exact,
   std::vector<vtkIdType>& nearTriangles)
 {
-  const std::vector<vtkIdType>& nodes = lists.Nodes;
-  const std::vector<vtkIdType>& nodeTexel = lists.NodeTexel;
-  const vtkIdType count = static_cast<vtkIdType>(nodes.size());
+  const std::vector<std::uint32_t>& nodes = lists.Nodes;
   std::vector<unsigned char>& active = lists.Active;
   const double* vertices = ctx.In->TriangleVertices;
   const vtkIdType* own = ctx.In->Triangles;
@@ -561,11 +640,9 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
       bool made = false;
       vtkIdType tests = 0;
       bool open = false;
-      const vtkIdType row = static_cast<vtkIdType>(texel);
-      for (vtkIdType j = lists.Head[texel];
-           j >= 0 && j < count && nodeTexel[static_cast<size_t>(j)] == row; ++j)
+      for (std::uint32_t j = lists.Head[texel]; j != NoNode; j = nodes[2 * j + 1])
       {
-        const vtkIdType s = nodes[static_cast<size_t>(j)];
+        const vtkIdType s = static_cast<vtkIdType>(nodes[2 * j]);
         if (state[s] == Shadowed)
         {
           continue;
@@ -641,12 +718,25 @@ struct vtkPenumbraLinkedListShadows::Internals
   std::vector<double> Depth;     // per sample
   std::vector<vtkIdType> Texel;  // per sample, its texel in its view
   std::vector<vtkIdType> Listed; // the view's listable samples, ascending
+  std::vector<vtkIdType> Pick;   // CPU passes: the pass's samples
   Lists Grid;
+  ListCompute Compute;             // the GPU list path
+  bool UseGpu = false;             // this call's lists are built on the GPU
+  std::string ReportedProblem;     // the last reason the GPU path could not run
+  vtkNew<vtkIdTypeArray> Recorded; // RecordLists: (view, texel, sample)
   std::vector<vtkIdType> Near;     // the apex region's triangles
   SampleCells Cells;               // the pass's listed samples, coarse
   CasterClusters Clusters;         // the casters, grouped for culling
   std::vector<unsigned char> Keep; // per caster (cluster order): not culled
   std::vector<vtkIdType> Kept;     // the pass's casters after culling
+
+  // The phases of ComputeVisibility, in the order it runs them (defined below it).
+  void ChooseListPath(vtkPenumbraLinkedListShadows* self, vtkRenderer* renderer, vtkIdType n);
+  bool BuildPass(vtkPenumbraLinkedListShadows* self, int view, vtkIdType capacity,
+    unsigned char* state, vtkIdType& rows);
+  void ListView(vtkPenumbraLinkedListShadows* self, const View& view, int vi,
+    const TestContext& ctx, vtkIdType& rows);
+  void ReportListPath(vtkPenumbraLinkedListShadows* self, const std::string& why);
 };
 
 //------------------------------------------------------------------------------
@@ -674,7 +764,9 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfValidSamples = this->NumberOfListedSamples = this->MaxListLength = 0;
   this->NumberOfTests = this->NumberOfTracedSamples = 0;
   this->MeanListLength = 0.0;
-  this->NumberOfPasses = this->NumberOfViews = 0;
+  this->NumberOfPasses = this->NumberOfViews = this->NumberOfOverflows = 0;
+  impl.Recorded->SetNumberOfComponents(3);
+  impl.Recorded->SetNumberOfTuples(0);
   this->NumberOfCulledCasters = this->NumberOfRasterizedCasters = 0;
   this->ClassifyTimeMs = this->ListTimeMs = this->RasterTimeMs = this->TraceTimeMs = 0.0;
 
@@ -727,53 +819,24 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   const TestContext ctx = { &in, penumbra_rules::SceneDiagonal(geometry),
     this->Reference->GetRelativeEpsilon(), this->Reference->GetTieFactor(), state,
     impl.Depth.data() };
-  const int size = this->Resolution;
   vtkIdType rows = 0;
   if (!views.empty())
   {
     impl.Clusters.Update(impl.Casters.TriangleIds, in.TriangleVertices,
       std::max(geometry->GetGeometryTime(), geometry->GetFlagsTime()));
   }
+  impl.ChooseListPath(this, renderer, n);
   for (size_t vi = 0; vi < views.size(); ++vi)
   {
-    auto listStart = Clock::now();
+    const auto listStart = Clock::now();
     impl.Listed.clear();
-    ProjectSamples(views[vi], size, static_cast<signed char>(vi), sampleView, ctx, n, impl.Texel,
-      impl.Depth, impl.Listed);
+    ProjectSamples(views[vi], this->Resolution, static_cast<signed char>(vi), sampleView, ctx, n,
+      impl.Texel, impl.Depth, impl.Listed);
     this->ListTimeMs += ElapsedMs(listStart);
-    const vtkIdType listed = static_cast<vtkIdType>(impl.Listed.size());
-    const vtkIdType capacity =
-      this->ListCapacity > 0 ? this->ListCapacity : std::max<vtkIdType>(listed, 1);
-    for (vtkIdType first = 0; first < listed; first += capacity)
-    {
-      const vtkIdType count = std::min(capacity, listed - first);
-      listStart = Clock::now();
-      vtkIdType passRows = 0;
-      this->MaxListLength = std::max(this->MaxListLength,
-        impl.Grid.Build(size, impl.Listed.data() + first, count, impl.Texel, state, passRows));
-      rows += passRows;
-      this->ListTimeMs += ElapsedMs(listStart);
-      const auto rasterStart = Clock::now();
-      const std::vector<vtkIdType>* casters = &impl.Casters.TriangleIds;
-      if (this->CullCasters)
-      {
-        // Only casters that can reach a listed sample are rasterized (see SampleCells).
-        impl.Cells.Build(size, impl.Listed.data() + first, count, impl.Texel, impl.Depth.data());
-        this->NumberOfCulledCasters += impl.Clusters.Cull(
-          views[vi], size, impl.Cells, in.TriangleVertices, impl.Keep, impl.Kept);
-        casters = &impl.Kept;
-      }
-      this->NumberOfRasterizedCasters += static_cast<vtkIdType>(casters->size());
-      impl.Near.clear();
-      this->NumberOfTests +=
-        RasterizeLists(views[vi], size, ctx, *casters, impl.Grid, impl.Casters.Exact, impl.Near);
-      this->NumberOfTests += TestNearTriangles(ctx, impl.Listed.data() + first, count, impl.Near);
-      impl.Grid.Clear();
-      this->RasterTimeMs += ElapsedMs(rasterStart);
-      ++this->NumberOfPasses;
-    }
-    this->NumberOfListedSamples += listed;
+    impl.ListView(this, views[vi], static_cast<int>(vi), ctx, rows);
+    this->NumberOfListedSamples += static_cast<vtkIdType>(impl.Listed.size());
   }
+  this->LastListBuilder = impl.UseGpu ? LISTS_GPU : LISTS_CPU;
   this->MeanListLength = rows > 0 ? static_cast<double>(this->NumberOfListedSamples) / rows : 0.0;
 
   // ---- 5. Settle the lists' answers; the unknown and unlisted samples are traced.
@@ -801,6 +864,167 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   visibility->Modified();
   this->LastTimeMs = ElapsedMs(start);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+// The list path of this call: the GPU when asked for and its context runs compute shaders
+// (sample ids must fit its 32-bit nodes), else the CPU.
+void vtkPenumbraLinkedListShadows::Internals::ChooseListPath(
+  vtkPenumbraLinkedListShadows* self, vtkRenderer* renderer, vtkIdType n)
+{
+  this->UseGpu = false;
+  if (self->ListBuilder != LISTS_GPU)
+  {
+    return;
+  }
+  std::string why;
+  auto* window =
+    renderer ? vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow()) : nullptr;
+  if (n >= static_cast<vtkIdType>(NoNode))
+  {
+    why = "more view samples than 32-bit node links can name";
+  }
+  else if (self->Resolution > 4096)
+  {
+    why = "a grid beyond 4096^2 texels";
+  }
+  else
+  {
+    this->UseGpu = this->Compute.Prepare(window, why);
+  }
+  if (!this->UseGpu)
+  {
+    this->ReportListPath(self, why);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraLinkedListShadows::Internals::ReportListPath(
+  vtkPenumbraLinkedListShadows* self, const std::string& why)
+{
+  // Said once per reason: the CPU lists give the same answer, so rendering goes on.
+  if (why != this->ReportedProblem)
+  {
+    this->ReportedProblem = why;
+    vtkErrorWithObjectMacro(self,
+      "GPU list construction (lists \"gpu\") cannot run: " << why << "; the CPU builds the lists");
+  }
+  this->UseGpu = false;
+}
+
+//------------------------------------------------------------------------------
+// One pass's lists of the view's samples still pending: on the GPU (a pool of `capacity`
+// nodes; the samples beyond it stay pending), or on the CPU (the first `capacity` pending).
+// Returns false when nothing was pending.
+bool vtkPenumbraLinkedListShadows::Internals::BuildPass(vtkPenumbraLinkedListShadows* self,
+  int view, vtkIdType capacity, unsigned char* state, vtkIdType& rows)
+{
+  bool built = false;
+  if (this->UseGpu)
+  {
+    std::string why;
+    bool overflow = false;
+    built = this->Grid.BuildOnGPU(
+      this->Compute, self->Resolution, this->Listed, capacity, this->Texel, state, overflow, why);
+    if (!built)
+    {
+      this->ReportListPath(self, why);
+    }
+    self->NumberOfOverflows += overflow ? 1 : 0;
+  }
+  if (!built)
+  {
+    this->Pick.clear();
+    for (size_t i = 0;
+         i < this->Listed.size() && static_cast<vtkIdType>(this->Pick.size()) < capacity; ++i)
+    {
+      if (state[this->Listed[i]] == Pending)
+      {
+        this->Pick.push_back(this->Listed[i]);
+      }
+    }
+    this->Grid.BuildOnCPU(
+      self->Resolution, this->Pick.data(), static_cast<vtkIdType>(this->Pick.size()), this->Texel);
+  }
+  vtkIdType passRows = 0;
+  self->MaxListLength = std::max(self->MaxListLength, this->Grid.Finish(state, passRows));
+  rows += passRows;
+  if (self->RecordLists)
+  {
+    for (size_t j = 0; j < this->Grid.Samples.size(); ++j)
+    {
+      const vtkIdType entry[3] = { view, this->Grid.NodeTexel[j], this->Grid.Samples[j] };
+      this->Recorded->InsertNextTypedTuple(entry);
+    }
+  }
+  return !this->Grid.Samples.empty();
+}
+
+//------------------------------------------------------------------------------
+// Per pass of one view: the lists, caster culling, the irregular rasterization and the apex
+// region's triangles.
+void vtkPenumbraLinkedListShadows::Internals::ListView(vtkPenumbraLinkedListShadows* self,
+  const View& view, int vi, const TestContext& ctx, vtkIdType& rows)
+{
+  const int size = self->Resolution;
+  const vtkIdType listed = static_cast<vtkIdType>(this->Listed.size());
+  const vtkIdType capacity =
+    self->ListCapacity > 0 ? self->ListCapacity : std::max<vtkIdType>(listed, 1);
+  for (vtkIdType remaining = listed; remaining > 0;)
+  {
+    const auto listStart = Clock::now();
+    const bool any = this->BuildPass(self, vi, capacity, ctx.State, rows);
+    self->ListTimeMs += ElapsedMs(listStart);
+    if (!any)
+    {
+      break;
+    }
+    const vtkIdType count = static_cast<vtkIdType>(this->Grid.Samples.size());
+    remaining -= count;
+    const auto rasterStart = Clock::now();
+    const std::vector<vtkIdType>* casters = &this->Casters.TriangleIds;
+    if (self->CullCasters)
+    {
+      // Only casters that can reach a listed sample are rasterized (see SampleCells).
+      this->Cells.Build(size, this->Grid.Samples.data(), count, this->Texel, this->Depth.data());
+      self->NumberOfCulledCasters += this->Clusters.Cull(
+        view, size, this->Cells, ctx.In->TriangleVertices, this->Keep, this->Kept);
+      casters = &this->Kept;
+    }
+    self->NumberOfRasterizedCasters += static_cast<vtkIdType>(casters->size());
+    this->Near.clear();
+    self->NumberOfTests +=
+      RasterizeLists(view, size, ctx, *casters, this->Grid, this->Casters.Exact, this->Near);
+    self->NumberOfTests += TestNearTriangles(ctx, this->Grid.Samples.data(), count, this->Near);
+    this->Grid.Clear();
+    self->RasterTimeMs += ElapsedMs(rasterStart);
+    ++self->NumberOfPasses;
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraLinkedListShadows::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Impl->Compute.Release(window);
+}
+
+//------------------------------------------------------------------------------
+vtkIdTypeArray* vtkPenumbraLinkedListShadows::GetRecordedLists()
+{
+  vtkIdTypeArray* recorded = this->Impl->Recorded;
+  // Sorted tuples: the per-texel sample sets, independent of node order and pass split.
+  const vtkIdType n = recorded->GetNumberOfTuples();
+  std::vector<std::array<vtkIdType, 3>> tuples(static_cast<size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    recorded->GetTypedTuple(i, tuples[static_cast<size_t>(i)].data());
+  }
+  std::sort(tuples.begin(), tuples.end());
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    recorded->SetTypedTuple(i, tuples[static_cast<size_t>(i)].data());
+  }
+  return recorded;
 }
 
 //------------------------------------------------------------------------------
@@ -838,6 +1062,8 @@ void vtkPenumbraLinkedListShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfTracedSamples: " << this->NumberOfTracedSamples << "\n";
   os << indent << "NumberOfPasses: " << this->NumberOfPasses << "\n";
   os << indent << "NumberOfViews: " << this->NumberOfViews << "\n";
+  os << indent << "ListBuilder: " << (this->ListBuilder == LISTS_GPU ? "gpu" : "cpu") << "\n";
+  os << indent << "NumberOfOverflows: " << this->NumberOfOverflows << "\n";
   os << indent << "CullCasters: " << (this->CullCasters ? "on" : "off") << "\n";
   os << indent << "NumberOfCulledCasters: " << this->NumberOfCulledCasters << "\n";
   os << indent << "NumberOfRasterizedCasters: " << this->NumberOfRasterizedCasters << "\n";

@@ -20,10 +20,19 @@
  *    place of its resolution criterion (which relies on a biased standard shadow map).
  * 2. Light views fitted to those samples: directional lights one orthographic view, spot
  *    lights up to 60 degrees one perspective view, others six cube faces.
- * 3. Lists: the CPU form of the per-texel linked lists (head pointers, node pool, atomic
- *    counter) is a counting sort into compressed rows (counts, prefix sum, fill), one node
- *    per sample. A node pool smaller than the samples (SetListCapacity) never drops one: the
- *    samples are listed in several passes of at most that many nodes each.
+ * 3. Lists: per texel a linked list of its samples (head pointers and a node pool of
+ *    (sample, next) links), built by one of two paths (SetListBuilder) that give the same
+ *    per-texel sample sets. The CPU path sorts the samples by texel (a counting sort, or a
+ *    plain sort when they are few) and links each node to the next of its texel. The GPU
+ *    path is Ferko 2014's construction, like the per-pixel linked lists of order-independent
+ *    transparency (Thibieroz and Gruen 2010): a GL 4.3 compute shader takes a node per
+ *    sample from the pool with an atomic counter and links it in front of its texel's list
+ *    by an atomic exchange of the head pointer (vtkPenumbraLinkedListCompute.h); the nodes
+ *    and the heads of the listed texels are read back. The samples' texels are projected on
+ *    the CPU in double precision either way, so both paths list a sample in the texel the
+ *    rasterizer tests it at. A node pool smaller than the samples (SetListCapacity) never
+ *    drops one: the CPU lists at most that many per pass, the GPU detects the overflow
+ *    (counter beyond the pool) and lists the samples that got no node in a further pass.
  * 4. Caster culling (SetCullCasters): casters whose light-space box covers no coarse cell
  *    holding a listed sample, or that lie behind the farthest listed sample of every such
  *    cell, are skipped; they could decide no sample.
@@ -43,8 +52,9 @@
  *
  * Area lights are rejected (error, the pass renders that light unshadowed).
  *
- * Memory per view: 8 bytes per texel (row starts) plus 1 (open flag) and 16 bytes per
- * listed sample; 9 MiB at the default 1024^2.
+ * Memory per view: 4 bytes per texel (head pointers) plus 1 (open flag) and about 24 bytes
+ * per listed sample; 5 MiB at the default 1024^2 (the GPU path holds another head image and
+ * pool in buffers).
  */
 
 #ifndef vtkPenumbraLinkedListShadows_h
@@ -55,6 +65,7 @@
 
 #include <memory> // For std::unique_ptr
 
+class vtkIdTypeArray;
 class vtkPenumbraConservativeShadows;
 class vtkPenumbraReference;
 
@@ -67,6 +78,47 @@ public:
 
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
+
+  /**
+   * Frees the GPU list path's buffers and program.
+   */
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  enum ListBuilders
+  {
+    LISTS_CPU = 0,
+    LISTS_GPU = 1
+  };
+
+  ///@{
+  /**
+   * Who builds the per-texel lists (see the class description): LISTS_CPU (default; faster on
+   * Mesa llvmpipe, see docs/benchmarks.md) or LISTS_GPU (a GL 4.3 compute shader, in the
+   * renderer's context). The same lists and visibility either way. Where the GPU path cannot
+   * run (no OpenGL 4.3, no OpenGL window) it says why in an error and the CPU builds them.
+   */
+  vtkSetClampMacro(ListBuilder, int, LISTS_CPU, LISTS_GPU);
+  vtkGetMacro(ListBuilder, int);
+  void SetListBuilderToCPU() { this->SetListBuilder(LISTS_CPU); }
+  void SetListBuilderToGPU() { this->SetListBuilder(LISTS_GPU); }
+  ///@}
+
+  /**
+   * The path that built the last call's lists (LISTS_GPU only when every pass ran on it).
+   */
+  vtkGetMacro(LastListBuilder, int);
+
+  ///@{
+  /**
+   * For tests: with RecordLists on, every call keeps its lists as (view, texel, sample)
+   * tuples (3 components), sorted, so the two paths' per-texel sample sets can be compared
+   * whatever their node order and pass split. Default off.
+   */
+  vtkSetMacro(RecordLists, bool);
+  vtkGetMacro(RecordLists, bool);
+  vtkBooleanMacro(RecordLists, bool);
+  vtkIdTypeArray* GetRecordedLists();
+  ///@}
 
   ///@{
   /**
@@ -145,6 +197,12 @@ public:
   vtkGetMacro(NumberOfViews, int);
   ///@}
 
+  /**
+   * GPU lists: passes of the last call whose node pool overflowed (the counter went beyond
+   * SetListCapacity); their unlinked samples were listed in further passes.
+   */
+  vtkGetMacro(NumberOfOverflows, int);
+
   ///@{
   /**
    * Caster culling of the last call, summed over views and passes: casters skipped before the
@@ -184,6 +242,10 @@ protected:
   vtkIdType ListCapacity = 0;
   bool Hybrid = false;
   bool CullCasters = true;
+  int ListBuilder = LISTS_CPU;
+  int LastListBuilder = LISTS_CPU;
+  bool RecordLists = false;
+  int NumberOfOverflows = 0;
   vtkIdType NumberOfCulledCasters = 0;
   vtkIdType NumberOfRasterizedCasters = 0;
   vtkIdType NumberOfValidSamples = 0;
