@@ -497,17 +497,40 @@ struct vtkPenumbraConservativeShadows::Internals
           const double margin = 1e-6 * (1.0 + std::fabs(depth));
           const vtkIdType own = tris[s];
 
-          // The reference's ray: same direction, same scale-relative epsilons.
-          const penumbra_light_views::ShadowRay ray =
-            penumbra_light_views::MakeShadowRay(f.In->Light, p, f.Diagonal, f.Epsilon, f.TieFactor);
-          const bool rayOk = ray.Ok;
+          // The reference's ray: same direction, same scale-relative epsilons; made when the
+          // first exact test needs it (most samples are decided by the first layer's depth).
+          // Its Ok flag is known without it: a positional light's ray needs a non-zero
+          // direction (MakeShadowRay normalizes it).
+          penumbra_light_views::ShadowRay ray;
+          bool rayMade = false;
+          auto shadowRay = [&]() -> const penumbra_light_views::ShadowRay&
+          {
+            if (!rayMade)
+            {
+              ray = penumbra_light_views::MakeShadowRay(
+                f.In->Light, p, f.Diagonal, f.Epsilon, f.TieFactor);
+              rayMade = true;
+            }
+            return ray;
+          };
+          bool rayOk = true;
+          if (f.In->Light.Type != LightSetup::Kind::Directional)
+          {
+            double d2 = 0.0;
+            for (int c = 0; c < 3; ++c)
+            {
+              const double d = f.In->Light.Position[c] - p[c];
+              d2 += d * d;
+            }
+            rayOk = d2 > 0.0;
+          }
 
           bool nearClear = true;
           for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
           {
             const vtkIdType blocker = nearTriangles[k];
             const Hit hit = nearTestable && blocker != own
-              ? TestBlocker(ray, blocker, tv, scratch)
+              ? TestBlocker(shadowRay(), blocker, tv, scratch)
               : (blocker == own ? Hit::Miss : Hit::Unknown);
             if (hit == Hit::Clear)
             {
@@ -535,7 +558,7 @@ struct vtkPenumbraConservativeShadows::Internals
             {
               break;
             }
-            const Hit hit = TestBlocker(ray, blocker, tv, scratch);
+            const Hit hit = TestBlocker(shadowRay(), blocker, tv, scratch);
             if (hit == Hit::Clear)
             {
               vis[s] = 0.0f;

@@ -287,13 +287,18 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
       for (vtkIdType s = begin; s < end; ++s)
       {
         pending[s] = decidedValue;
+        if (props[s] < 0)
+        {
+          vis[s] = -1.0f; // background: its position and normal need not be read
+          continue;
+        }
         double p[3], normal[3];
         for (int c = 0; c < 3; ++c)
         {
           p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
           normal[c] = nrm[3 * s + c];
         }
-        if (props[s] < 0 || !Finite3(p) || !Finite3(normal))
+        if (!Finite3(p) || !Finite3(normal))
         {
           vis[s] = -1.0f;
           continue;

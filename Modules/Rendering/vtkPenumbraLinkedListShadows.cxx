@@ -3,6 +3,7 @@
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkLight.h"
+#include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLRenderWindow.h"
@@ -79,10 +80,22 @@ struct TestContext
   // unless another triangle shadows it.
   void Test(vtkIdType s, const penumbra_rules::ExactTriangle* triangle) const
   {
+    this->Test(s, this->Ray(s), triangle);
+  }
+
+  // Sample s's shadow ray, as the reference makes it.
+  penumbra_light_views::ShadowRay Ray(vtkIdType s) const
+  {
     double p[3];
     this->Position(s, p);
-    const penumbra_light_views::ShadowRay ray = penumbra_light_views::MakeShadowRay(
+    return penumbra_light_views::MakeShadowRay(
       this->In->Light, p, this->Diagonal, this->Epsilon, this->TieFactor);
+  }
+
+  // The same with the sample's ray made already.
+  void Test(vtkIdType s, const penumbra_light_views::ShadowRay& ray,
+    const penumbra_rules::ExactTriangle* triangle) const
+  {
     const Hit hit = triangle ? penumbra_light_views::TestShadowRay(ray, *triangle) : Hit::Unknown;
     if (hit == Hit::Clear)
     {
@@ -415,7 +428,8 @@ struct CasterClusters
 // projected (the hybrid's few), after one pass over the per-sample bytes.
 void ProjectSamples(const View& view, int size, signed char viewIndex,
   const std::vector<signed char>& sampleView, const TestContext& ctx, vtkIdType n,
-  std::vector<vtkIdType>& texel, std::vector<double>& depth, std::vector<vtkIdType>& listed)
+  std::vector<vtkIdType>& texel, std::vector<double>& depth, std::vector<float>& point,
+  std::vector<vtkIdType>& listed)
 {
   std::vector<vtkIdType> candidates;
   for (vtkIdType s = 0; s < n; ++s)
@@ -444,6 +458,8 @@ void ProjectSamples(const View& view, int size, signed char viewIndex,
         const int iy = std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
         texel[static_cast<size_t>(s)] = static_cast<vtkIdType>(iy) * size + ix;
         depth[static_cast<size_t>(s)] = d;
+        point[2 * static_cast<size_t>(s)] = static_cast<float>((ms * 0.5 + 0.5) * size);
+        point[2 * static_cast<size_t>(s) + 1] = static_cast<float>((mt * 0.5 + 0.5) * size);
       }
     });
   for (vtkIdType s : candidates)
@@ -665,6 +681,399 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
   return stats.VisitWork;
 }
 
+// A sample's shadow ray projects to its own point in the view (see the class description),
+// so a triangle that blocks it covers that point up to the rounding the rasterizer's quarter
+// texel allows for; the sparse path asks for the point within this many texels of the
+// triangle's projection (as BoundPoints' margin).
+constexpr double PointMargin = BoxMargin;
+
+// The unit edge lines (a, b, c: a x + b y + c >= 0 inside, distances in texels) of a
+// triangle's projection into `view` (all vertices in front of a perspective apex), and the
+// plane of its depth quantity over the projection (orthographic: the stored depth;
+// perspective: Far / w, whose inverse is the stored depth), both affine in texel units.
+// False when the projection has no area to speak of.
+bool EdgeLines(const View& view, int size, const double* tri, double* edge, double* plane)
+{
+  double Q[3];
+  double X[3], Y[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    const double* p = tri + 3 * k;
+    const double w = view.Perspective ? view.Dot(3, p) : 1.0;
+    X[k] = (view.Dot(0, p) / w * 0.5 + 0.5) * size;
+    Y[k] = (view.Dot(1, p) / w * 0.5 + 0.5) * size;
+    Q[k] = view.Perspective ? view.Far / w : view.Dot(2, p);
+  }
+  const double area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+  const double extent = std::max({ X[0], X[1], X[2] }) - std::min({ X[0], X[1], X[2] }) +
+    std::max({ Y[0], Y[1], Y[2] }) - std::min({ Y[0], Y[1], Y[2] });
+  if (!std::isfinite(area + extent) || !(std::fabs(area) > 1e-6 * extent * extent))
+  {
+    return false;
+  }
+  const double orient = area > 0.0 ? 1.0 : -1.0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const int j = (k + 1) % 3;
+    double a = -(Y[j] - Y[k]) * orient, b = (X[j] - X[k]) * orient;
+    const double length = std::sqrt(a * a + b * b);
+    if (!(length > 0.0))
+    {
+      return false;
+    }
+    a /= length;
+    b /= length;
+    edge[3 * k] = a;
+    edge[3 * k + 1] = b;
+    edge[3 * k + 2] = -(a * X[k] + b * Y[k]);
+  }
+  const double ex1 = X[1] - X[0], ey1 = Y[1] - Y[0], eq1 = Q[1] - Q[0];
+  const double ex2 = X[2] - X[0], ey2 = Y[2] - Y[0], eq2 = Q[2] - Q[0];
+  const double det = ex1 * ey2 - ex2 * ey1;
+  plane[0] = (eq1 * ey2 - eq2 * ey1) / det;
+  plane[1] = (ex1 * eq2 - ex2 * eq1) / det;
+  plane[2] = Q[0] - plane[0] * X[0] - plane[1] * Y[0];
+  return std::isfinite(plane[0] + plane[1] + plane[2]);
+}
+
+// Whether the triangle's depth plane lies beyond `depth` everywhere within PointMargin texels
+// of `point` (then it cannot meet the sample's ray, which runs towards smaller depths); the
+// margins cover the plane's rounding like Behind's.
+inline bool PlaneBehind(bool perspective, const double* plane, const float* point, double depth)
+{
+  const double x = point[0], y = point[1];
+  const double q = plane[2] + plane[0] * x + plane[1] * y;
+  const double spread = PointMargin * (std::fabs(plane[0]) + std::fabs(plane[1]));
+  const double slack =
+    1e-7 * (std::fabs(plane[2]) + std::fabs(plane[0] * x) + std::fabs(plane[1] * y) + spread);
+  double lower;
+  if (perspective)
+  {
+    // Stored depth = 1 / q: its minimum over the box is at q's maximum, if q stays positive.
+    const double qmin = q - spread - slack, qmax = q + spread + slack;
+    if (!(qmin > 0.0))
+    {
+      return false;
+    }
+    lower = (1.0 / qmax) * (1.0 - 1e-9);
+  }
+  else
+  {
+    lower = q - spread - slack;
+  }
+  return lower > depth + 1e-6 * (1.0 + std::fabs(depth));
+}
+
+// What CasterGrid::MayBlock needs of a binned caster: edge lines and depth plane
+// (EdgeLines), unit normal, the float rounding of its vertices (as ExactTriangle rounds them)
+// and the texels per world unit of a lateral offset at its nearest point (`rowScale`: half
+// the grid times the norm of the view's x and y rows, for perspective views plus the w row
+// for |x / w| <= 1.01, divided by the nearest w). False: no area (no 2D cull).
+bool ProjectionBounds(const View& view, double rowScale, const double* tri, double* edge,
+  double* plane, double* normal, double& slop, double& scale, int size)
+{
+  if (!EdgeLines(view, size, tri, edge, plane))
+  {
+    return false;
+  }
+  double e1[3], e2[3], largest = 0.0, wmin = 1.0;
+  for (int c = 0; c < 3; ++c)
+  {
+    e1[c] = tri[3 + c] - tri[c];
+    e2[c] = tri[6 + c] - tri[c];
+  }
+  for (int k = 0; k < 9; ++k)
+  {
+    largest = std::max(largest, std::fabs(tri[k]));
+  }
+  if (view.Perspective)
+  {
+    wmin = std::min({ view.Dot(3, tri), view.Dot(3, tri + 3), view.Dot(3, tri + 6) });
+  }
+  vtkMath::Cross(e1, e2, normal);
+  const double length = vtkMath::Normalize(normal);
+  slop = 2.0 * std::ldexp(largest, -23);
+  scale = rowScale / wmin;
+  return length > 0.0 && wmin > 0.0 && std::isfinite(scale + slop);
+}
+
+// Passes with few listed samples for their casters (fewer than SparseFactor per caster, as the
+// hybrid's hard samples): instead of every caster's conservative footprint (clipping and
+// separating axes, the setup that dominates when few texels hold a list), each caster's
+// light-space box (BoundPoints: its projection plus a margin for rounding) is binned to bands
+// of BandRows grid rows, and meets the listed texels its box overlaps, found by a search per
+// row. Per sample, MayBlock then skips the casters the exact test would call a miss (its
+// depth plane beyond the sample, or the sample's point outside its projection by more than
+// the test's own slack), and the rest get the exact test. A box covers every texel the
+// rasterizer's footprint covers and MayBlock only drops provable misses, so each sample ends
+// with the same decision as under the rasterizer (Hit::Clear is sticky, Unknown is traced).
+constexpr vtkIdType SparseFactor = 2;
+
+struct CasterGrid
+{
+  static constexpr int BandRows = 16;
+  std::vector<double> Box;         // per caster: texel box x0, x1, y0, y1
+  std::vector<float> Lower;        // per caster: lowest stored depth
+  std::vector<unsigned char> Kind; // per caster: 0 cannot block, 1 binned, 2 apex region
+  std::vector<double> Edge;        // per caster: 3 unit edge lines (a, b, c), inside >= 0
+  std::vector<double> Plane;       // per caster: depth quantity plane (EdgeLines)
+  bool Perspective = false;
+  std::vector<unsigned char> Flat; // per caster: projection without area (no edge test)
+  std::vector<double> Normal;      // per caster: unit normal (double vertices)
+  std::vector<double> Slop;        // per caster: float rounding of its vertices (world)
+  std::vector<double> Scale;       // per caster: texels per world unit at its nearest
+
+  // False when caster i provably cannot block the sample at `point` (texel units) with stored
+  // depth `depth` and shadow `ray`: its depth plane lies beyond the sample near the point, or
+  // the point lies farther from its projection than the exact test's slack. SegmentTest
+  // (penumbra_rules) calls a ray a miss once it passes outside an edge by more than
+  // slack = ErrPos (1 + 1 / |cos|) in the triangle's plane (cos: ray against normal), so a
+  // ray it does not call a miss meets the plane within that of the (float-rounded) triangle;
+  // projected into the view, that is within (slack + rounding) x Scale texels of each edge
+  // line, doubled here for the projection's own rounding.
+  bool MayBlock(std::uint32_t i, const float* point, double depth,
+    const penumbra_light_views::ShadowRay& ray) const
+  {
+    if (this->Flat[i])
+    {
+      return true;
+    }
+    if (PlaneBehind(this->Perspective, this->Plane.data() + 3 * i, point, depth))
+    {
+      return false;
+    }
+    const double* n = this->Normal.data() + 3 * i;
+    const double cosine = std::fabs(ray.D[0] * n[0] + ray.D[1] * n[1] + ray.D[2] * n[2]);
+    if (!(cosine > 1e-5))
+    {
+      return true; // grazing: the exact test leaves it to the tracer
+    }
+    const double margin =
+      2.0 * (ray.ErrPos * (1.0 + 1.0 / cosine) + this->Slop[i]) * this->Scale[i] + 1e-3;
+    const double* e = this->Edge.data() + 9 * i;
+    const double x = point[0], y = point[1];
+    return e[0] * x + e[1] * y + e[2] >= -margin && e[3] * x + e[4] * y + e[5] >= -margin &&
+      e[6] * x + e[7] * y + e[8] >= -margin;
+  }
+  std::vector<std::uint32_t> Texels;   // the pass's texels with a list, ascending
+  std::vector<std::uint32_t> RowStart; // per grid row: its first entry in Texels (size + 1)
+  std::vector<vtkIdType> BandStart;    // per band of grid rows: first entry (bands + 1)
+  std::vector<std::uint32_t> Entries;  // per band: the casters whose box reaches it
+  std::vector<penumbra_light_views::ShadowRay> Rays; // per node of the pass
+
+  // Grid rows and columns of the texels whose square caster i's box overlaps
+  // (x + 1 >= x0 and x <= x1).
+  static int First(double v, int size)
+  {
+    return std::max(0, std::min(size - 1, static_cast<int>(std::ceil(v)) - 1));
+  }
+  static int Last(double v, int size)
+  {
+    return std::max(0, std::min(size - 1, static_cast<int>(std::floor(v))));
+  }
+  int FirstRow(size_t i, int size) const { return First(this->Box[4 * i + 2], size); }
+  int LastRow(size_t i, int size) const { return Last(this->Box[4 * i + 3], size); }
+
+  // Bins `casters` by band, lists the pass's texels and makes the listed samples' rays; the
+  // apex region's casters go to `nearTriangles` (as with the rasterizer). Returns the binned.
+  vtkIdType Build(const View& view, int size, const TestContext& ctx,
+    const std::vector<vtkIdType>& casters, const Lists& lists,
+    std::vector<vtkIdType>& nearTriangles)
+  {
+    const size_t n = casters.size();
+    this->Box.resize(4 * n);
+    this->Lower.resize(n);
+    this->Kind.assign(n, 0);
+    this->Edge.resize(9 * n);
+    this->Plane.resize(3 * n);
+    this->Flat.assign(n, 1);
+    this->Normal.resize(3 * n);
+    this->Slop.resize(n);
+    this->Scale.resize(n);
+    this->Perspective = view.Perspective;
+    auto norm3 = [](const double* r) { return std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]); };
+    const double w3 = view.Perspective ? 1.01 * norm3(view.Row[3]) : 0.0;
+    const double rowScale = 0.5 * size *
+      std::sqrt((norm3(view.Row[0]) + w3) * (norm3(view.Row[0]) + w3) +
+        (norm3(view.Row[1]) + w3) * (norm3(view.Row[1]) + w3));
+    vtkSMPTools::For(0, static_cast<vtkIdType>(n),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          const double* tri = ctx.In->TriangleVertices + 9 * casters[static_cast<size_t>(i)];
+          unsigned char& kind = this->Kind[static_cast<size_t>(i)];
+          if (view.Perspective)
+          {
+            const double w[3] = { view.Dot(3, tri), view.Dot(3, tri + 3), view.Dot(3, tri + 6) };
+            if (!(std::max({ w[0], w[1], w[2] }) > 0.0))
+            {
+              continue; // wholly behind the apex: no ray in front of it meets it
+            }
+            if (!(std::min({ w[0], w[1], w[2] }) >= view.NearW))
+            {
+              kind = 2;
+              continue;
+            }
+          }
+          double* box = this->Box.data() + 4 * i;
+          if (!BoundPoints(view, size, tri, 3, box, this->Lower[static_cast<size_t>(i)]))
+          {
+            kind = 2;
+          }
+          else if (box[1] >= 0.0 && box[3] >= 0.0 && box[0] < size && box[2] < size)
+          {
+            kind = 1;
+            this->Flat[static_cast<size_t>(i)] = !ProjectionBounds(view, rowScale, tri,
+              this->Edge.data() + 9 * i, this->Plane.data() + 3 * i, this->Normal.data() + 3 * i,
+              this->Slop[static_cast<size_t>(i)], this->Scale[static_cast<size_t>(i)], size);
+          }
+        }
+      });
+    // The pass's texels with a list, ascending (row-major), and where each row's begin.
+    this->Texels.clear();
+    for (size_t j = 0; j < lists.NodeTexel.size(); ++j)
+    {
+      if (lists.Head[lists.NodeTexel[j]] == j)
+      {
+        this->Texels.push_back(lists.NodeTexel[j]);
+      }
+    }
+    if (!std::is_sorted(this->Texels.begin(), this->Texels.end()))
+    {
+      std::sort(this->Texels.begin(), this->Texels.end()); // GPU lists: any node order
+    }
+    this->RowStart.assign(static_cast<size_t>(size) + 1, 0);
+    for (std::uint32_t t : this->Texels)
+    {
+      ++this->RowStart[t / static_cast<std::uint32_t>(size) + 1];
+    }
+    for (int y = 0; y < size; ++y)
+    {
+      this->RowStart[static_cast<size_t>(y) + 1] += this->RowStart[static_cast<size_t>(y)];
+    }
+    // Casters per band of BandRows grid rows, by their boxes' rows (a counting sort).
+    const int bands = (size + BandRows - 1) / BandRows;
+    this->BandStart.assign(static_cast<size_t>(bands) + 1, 0);
+    auto forBands = [&](size_t i, auto&& f)
+    {
+      for (int b = this->FirstRow(i, size) / BandRows; b <= this->LastRow(i, size) / BandRows; ++b)
+      {
+        f(static_cast<size_t>(b));
+      }
+    };
+    vtkIdType binned = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+      if (this->Kind[i] == 2)
+      {
+        nearTriangles.push_back(casters[i]);
+      }
+      else if (this->Kind[i] == 1)
+      {
+        ++binned;
+        forBands(i, [&](size_t b) { ++this->BandStart[b + 1]; });
+      }
+    }
+    for (size_t b = 1; b < this->BandStart.size(); ++b)
+    {
+      this->BandStart[b] += this->BandStart[b - 1];
+    }
+    std::vector<vtkIdType> fill(this->BandStart.begin(), this->BandStart.end() - 1);
+    this->Entries.resize(static_cast<size_t>(this->BandStart.back()));
+    for (size_t i = 0; i < n; ++i)
+    {
+      if (this->Kind[i] == 1)
+      {
+        forBands(i,
+          [&](size_t b)
+          { this->Entries[static_cast<size_t>(fill[b]++)] = static_cast<std::uint32_t>(i); });
+      }
+    }
+    // Each listed sample's ray, once per pass (node order).
+    this->Rays.resize(lists.Samples.size());
+    vtkSMPTools::For(0, static_cast<vtkIdType>(lists.Samples.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType j = begin; j < end; ++j)
+        {
+          this->Rays[static_cast<size_t>(j)] = ctx.Ray(lists.Samples[static_cast<size_t>(j)]);
+        }
+      });
+    return binned;
+  }
+};
+
+// The sparse form of RasterizeLists: per band, each binned caster meets the samples of the
+// listed texels its box overlaps (MayBlock first, then the exact test). Returns the number of
+// exact tests.
+vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<vtkIdType>& casters,
+  const Lists& lists, const CasterGrid& grid, const float* point,
+  penumbra_light_views::ExactTriangles& exact)
+{
+  const double* vertices = ctx.In->TriangleVertices;
+  const vtkIdType* own = ctx.In->Triangles;
+  unsigned char* state = ctx.State;
+  const int bands = static_cast<int>(grid.BandStart.size()) - 1;
+  std::atomic<vtkIdType> tests(0);
+  // Bands in parallel: a texel's samples belong to one band, so to one thread.
+  vtkSMPTools::For(0, bands,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      vtkIdType local = 0;
+      penumbra_rules::ExactTriangle scratch;
+      for (vtkIdType b = begin; b < end; ++b)
+      {
+        const int rowLo = static_cast<int>(b) * CasterGrid::BandRows;
+        const int rowHi = std::min(size - 1, rowLo + CasterGrid::BandRows - 1);
+        for (vtkIdType e = grid.BandStart[static_cast<size_t>(b)];
+             e < grid.BandStart[static_cast<size_t>(b) + 1]; ++e)
+        {
+          const std::uint32_t i = grid.Entries[static_cast<size_t>(e)];
+          const vtkIdType id = casters[i];
+          const std::uint32_t x0 =
+            static_cast<std::uint32_t>(CasterGrid::First(grid.Box[4 * i], size));
+          const std::uint32_t x1 =
+            static_cast<std::uint32_t>(CasterGrid::Last(grid.Box[4 * i + 1], size));
+          const penumbra_rules::ExactTriangle* triangle = nullptr;
+          bool made = false;
+          for (int y = std::max(rowLo, grid.FirstRow(i, size));
+               y <= std::min(rowHi, grid.LastRow(i, size)); ++y)
+          {
+            const auto rowBegin = grid.Texels.begin() + grid.RowStart[static_cast<size_t>(y)];
+            const auto rowEnd = grid.Texels.begin() + grid.RowStart[static_cast<size_t>(y) + 1];
+            const std::uint32_t base =
+              static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(size);
+            for (auto it = rowBegin == rowEnd ? rowEnd
+                                              : std::lower_bound(rowBegin, rowEnd, base + x0);
+                 it != rowEnd && *it <= base + x1; ++it)
+            {
+              for (std::uint32_t j = lists.Head[*it]; j != NoNode; j = lists.Nodes[2 * j + 1])
+              {
+                const vtkIdType s = static_cast<vtkIdType>(lists.Nodes[2 * j]);
+                const penumbra_light_views::ShadowRay& ray = grid.Rays[j];
+                if (state[s] == Shadowed || own[s] == id || Behind(grid.Lower[i], ctx.Depth[s]) ||
+                  !grid.MayBlock(i, point + 2 * s, ctx.Depth[s], ray))
+                {
+                  continue;
+                }
+                if (!made)
+                {
+                  triangle = exact.Get(id, vertices, scratch);
+                  made = true;
+                }
+                ctx.Test(s, ray, triangle);
+                ++local;
+              }
+            }
+          }
+        }
+      }
+      tests += local;
+    });
+  return tests.load();
+}
+
 // The apex region's triangles would cover the whole view: each is tested against every
 // listed sample still undecided (up to MaxNearTriangles; beyond, those samples are traced).
 vtkIdType TestNearTriangles(const TestContext& ctx, const vtkIdType* listed, vtkIdType count,
@@ -717,6 +1126,7 @@ struct vtkPenumbraLinkedListShadows::Internals
   vtkNew<vtkUnsignedCharArray> State;
   std::vector<double> Depth;     // per sample
   std::vector<vtkIdType> Texel;  // per sample, its texel in its view
+  std::vector<float> Point;      // per sample, its point in its view (texel units)
   std::vector<vtkIdType> Listed; // the view's listable samples, ascending
   std::vector<vtkIdType> Pick;   // CPU passes: the pass's samples
   Lists Grid;
@@ -726,6 +1136,7 @@ struct vtkPenumbraLinkedListShadows::Internals
   vtkNew<vtkIdTypeArray> Recorded; // RecordLists: (view, texel, sample)
   std::vector<vtkIdType> Near;     // the apex region's triangles
   SampleCells Cells;               // the pass's listed samples, coarse
+  CasterGrid Bands;                // sparse passes: the casters binned by box
   CasterClusters Clusters;         // the casters, grouped for culling
   std::vector<unsigned char> Keep; // per caster (cluster order): not culled
   std::vector<vtkIdType> Kept;     // the pass's casters after culling
@@ -765,6 +1176,7 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfTests = this->NumberOfTracedSamples = 0;
   this->MeanListLength = 0.0;
   this->NumberOfPasses = this->NumberOfViews = this->NumberOfOverflows = 0;
+  this->NumberOfSparsePasses = 0;
   impl.Recorded->SetNumberOfComponents(3);
   impl.Recorded->SetNumberOfTuples(0);
   this->NumberOfCulledCasters = this->NumberOfRasterizedCasters = 0;
@@ -816,6 +1228,7 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   // ---- 2.-4. Per view and pass: lists, irregular rasterization, apex-region triangles.
   impl.Depth.resize(static_cast<size_t>(n));
   impl.Texel.resize(static_cast<size_t>(n));
+  impl.Point.resize(2 * static_cast<size_t>(n));
   const TestContext ctx = { &in, penumbra_rules::SceneDiagonal(geometry),
     this->Reference->GetRelativeEpsilon(), this->Reference->GetTieFactor(), state,
     impl.Depth.data() };
@@ -831,7 +1244,7 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
     const auto listStart = Clock::now();
     impl.Listed.clear();
     ProjectSamples(views[vi], this->Resolution, static_cast<signed char>(vi), sampleView, ctx, n,
-      impl.Texel, impl.Depth, impl.Listed);
+      impl.Texel, impl.Depth, impl.Point, impl.Listed);
     this->ListTimeMs += ElapsedMs(listStart);
     impl.ListView(this, views[vi], static_cast<int>(vi), ctx, rows);
     this->NumberOfListedSamples += static_cast<vtkIdType>(impl.Listed.size());
@@ -993,8 +1406,20 @@ void vtkPenumbraLinkedListShadows::Internals::ListView(vtkPenumbraLinkedListShad
     }
     self->NumberOfRasterizedCasters += static_cast<vtkIdType>(casters->size());
     this->Near.clear();
-    self->NumberOfTests +=
-      RasterizeLists(view, size, ctx, *casters, this->Grid, this->Casters.Exact, this->Near);
+    // Sparse lists (the hybrid's hard samples) are tested caster by caster box (CasterGrid);
+    // dense ones, where the per-caster setup of the footprints pays off, rasterized.
+    if (count < SparseFactor * static_cast<vtkIdType>(casters->size()))
+    {
+      this->Bands.Build(view, size, ctx, *casters, this->Grid, this->Near);
+      self->NumberOfTests += TestListsByBands(
+        size, ctx, *casters, this->Grid, this->Bands, this->Point.data(), this->Casters.Exact);
+      ++self->NumberOfSparsePasses;
+    }
+    else
+    {
+      self->NumberOfTests +=
+        RasterizeLists(view, size, ctx, *casters, this->Grid, this->Casters.Exact, this->Near);
+    }
     self->NumberOfTests += TestNearTriangles(ctx, this->Grid.Samples.data(), count, this->Near);
     this->Grid.Clear();
     self->RasterTimeMs += ElapsedMs(rasterStart);
@@ -1064,6 +1489,7 @@ void vtkPenumbraLinkedListShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfViews: " << this->NumberOfViews << "\n";
   os << indent << "ListBuilder: " << (this->ListBuilder == LISTS_GPU ? "gpu" : "cpu") << "\n";
   os << indent << "NumberOfOverflows: " << this->NumberOfOverflows << "\n";
+  os << indent << "NumberOfSparsePasses: " << this->NumberOfSparsePasses << "\n";
   os << indent << "CullCasters: " << (this->CullCasters ? "on" : "off") << "\n";
   os << indent << "NumberOfCulledCasters: " << this->NumberOfCulledCasters << "\n";
   os << indent << "NumberOfRasterizedCasters: " << this->NumberOfRasterizedCasters << "\n";

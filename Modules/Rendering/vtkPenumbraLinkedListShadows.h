@@ -47,6 +47,13 @@
  *    Triangles that reach a perspective view's apex region (a light on or near a surface)
  *    would cover the whole view: they are tested against every sample of the view instead
  *    (beyond 256 of them, the view's open samples are traced).
+ *    Sparse passes (fewer than 2 listed samples per caster left after culling, typically the
+ *    hybrid's hard samples) skip the footprints, whose setup then costs more than the tests:
+ *    each caster's light-space box is binned to bands of grid rows and meets the listed
+ *    texels it overlaps; per sample, casters the exact test would provably call a miss (depth
+ *    plane beyond the sample, or the sample's point outside the projection by more than the
+ *    test's slack) are skipped. Every triangle the rasterizer would test is tested, so the
+ *    decisions are the same.
  * 5. Unknown samples (grazing, on an edge, in the tie band, outside every view) are traced by
  *    vtkPenumbraReference, so the answer equals the reference's bit for bit.
  *
@@ -203,6 +210,11 @@ public:
    */
   vtkGetMacro(NumberOfOverflows, int);
 
+  /**
+   * Passes of the last call tested in the sparse form (step 4 of the class description).
+   */
+  vtkGetMacro(NumberOfSparsePasses, int);
+
   ///@{
   /**
    * Caster culling of the last call, summed over views and passes: casters skipped before the
@@ -246,6 +258,7 @@ protected:
   int LastListBuilder = LISTS_CPU;
   bool RecordLists = false;
   int NumberOfOverflows = 0;
+  int NumberOfSparsePasses = 0;
   vtkIdType NumberOfCulledCasters = 0;
   vtkIdType NumberOfRasterizedCasters = 0;
   vtkIdType NumberOfValidSamples = 0;

@@ -40,6 +40,10 @@ namespace
 {
 using namespace penumbra_technique_tests;
 
+// Passes tested in the sparse form (few listed samples per caster), over every comparison:
+// the hybrid's plane scenes must use it, so its exactness is checked above too.
+int SparsePasses = 0;
+
 // The shadowed samples outside ties, summed over a comparison's lights.
 struct Shadows
 {
@@ -130,8 +134,10 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
     }
     CHECK(
       llsm->ComputeVisibility(renderer, pass->GetGeometry(), samples, pass->GetLight(i), direct));
+    SparsePasses += llsm->GetNumberOfSparsePasses();
+    CHECK(llsm->GetNumberOfSparsePasses() <= llsm->GetNumberOfPasses());
     std::printf("%-40s light %d: valid %lld, listed %lld (%.1f%%, sent %.1f%%), lists max %lld "
-                "mean %.2f, tests %lld, traced %lld, passes %d, views %d, ties %lld, "
+                "mean %.2f, tests %lld, traced %lld, passes %d (sparse %d), views %d, ties %lld, "
                 "mismatches %lld (direct %lld), casters culled %lld rasterized %lld; classify "
                 "%.1f, lists %.1f, raster %.1f, "
                 "trace %.1f ms\n",
@@ -140,10 +146,11 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
       100.0 * llsm->GetUncertainFraction(), static_cast<long long>(llsm->GetMaxListLength()),
       llsm->GetMeanListLength(), static_cast<long long>(llsm->GetNumberOfTests()),
       static_cast<long long>(llsm->GetNumberOfTracedSamples()), llsm->GetNumberOfPasses(),
-      llsm->GetNumberOfViews(), static_cast<long long>(reference->GetNumberOfTies()),
-      static_cast<long long>(mismatches[0]), static_cast<long long>(mismatches[1]),
-      static_cast<long long>(culled), static_cast<long long>(rasterized), llsm->GetClassifyTimeMs(),
-      llsm->GetListTimeMs(), llsm->GetRasterTimeMs(), llsm->GetTraceTimeMs());
+      llsm->GetNumberOfSparsePasses(), llsm->GetNumberOfViews(),
+      static_cast<long long>(reference->GetNumberOfTies()), static_cast<long long>(mismatches[0]),
+      static_cast<long long>(mismatches[1]), static_cast<long long>(culled),
+      static_cast<long long>(rasterized), llsm->GetClassifyTimeMs(), llsm->GetListTimeMs(),
+      llsm->GetRasterTimeMs(), llsm->GetTraceTimeMs());
     CHECK(mismatches[0] == 0 && mismatches[1] == 0);
     CHECK(valid == samples->GetNumberOfValidSamples());
     CHECK(llsm->GetNumberOfListedSamples() <= valid);
@@ -179,11 +186,13 @@ const LightType HardLights[] = { LightType::Directional, LightType::Spot, LightT
 
 int CheckPlane()
 {
+  SparsePasses = 0;
   for (LightType type : HardLights)
   {
     RUN(CompareBoth(std::string("plane+box ") + Name(type), PlaneScene(type, 0.02, 0.5),
       "{\"resolution\": 256}"));
   }
+  CHECK(SparsePasses > 0);
   return EXIT_SUCCESS;
 }
 
