@@ -1396,7 +1396,12 @@ void vtkPenumbraLinkedListShadows::Internals::ListView(vtkPenumbraLinkedListShad
     remaining -= count;
     const auto rasterStart = Clock::now();
     const std::vector<vtkIdType>* casters = &this->Casters.TriangleIds;
-    if (self->CullCasters)
+    // Sparse lists (the hybrid's hard samples) are tested caster by caster box (CasterGrid),
+    // which needs no coarse culling first: its bands skip the casters whose box meets no
+    // listed texel, and MayBlock's depth test is per sample. Dense ones, where the per-caster
+    // setup of the footprints pays off, are culled and rasterized.
+    const bool sparse = count < SparseFactor * static_cast<vtkIdType>(casters->size());
+    if (self->CullCasters && !sparse)
     {
       // Only casters that can reach a listed sample are rasterized (see SampleCells).
       this->Cells.Build(size, this->Grid.Samples.data(), count, this->Texel, this->Depth.data());
@@ -1406,9 +1411,7 @@ void vtkPenumbraLinkedListShadows::Internals::ListView(vtkPenumbraLinkedListShad
     }
     self->NumberOfRasterizedCasters += static_cast<vtkIdType>(casters->size());
     this->Near.clear();
-    // Sparse lists (the hybrid's hard samples) are tested caster by caster box (CasterGrid);
-    // dense ones, where the per-caster setup of the footprints pays off, rasterized.
-    if (count < SparseFactor * static_cast<vtkIdType>(casters->size()))
+    if (sparse)
     {
       this->Bands.Build(view, size, ctx, *casters, this->Grid, this->Near);
       self->NumberOfTests += TestListsByBands(

@@ -47,8 +47,8 @@
  *    Triangles that reach a perspective view's apex region (a light on or near a surface)
  *    would cover the whole view: they are tested against every sample of the view instead
  *    (beyond 256 of them, the view's open samples are traced).
- *    Sparse passes (fewer than 2 listed samples per caster left after culling, typically the
- *    hybrid's hard samples) skip the footprints, whose setup then costs more than the tests:
+ *    Sparse passes (fewer than 2 listed samples per caster, typically the hybrid's hard
+ *    samples) skip the culling and the footprints, whose setup then costs more than the tests:
  *    each caster's light-space box is binned to bands of grid rows and meets the listed
  *    texels it overlaps; per sample, casters the exact test would provably call a miss (depth
  *    plane beyond the sample, or the sample's point outside the projection by more than the
@@ -170,7 +170,8 @@ public:
    * each with the largest depth of its samples, as a max pyramid). A caster that covers no
    * cell holding a listed sample, or lies behind the farthest listed sample of every such
    * cell it covers, could decide no sample, so it is skipped; the answer does not change.
-   * Off: every caster is rasterized (for comparisons).
+   * Sparse passes (see the class description) need no such culling and skip it. Off: every
+   * caster is rasterized (for comparisons).
    */
   vtkSetMacro(CullCasters, bool);
   vtkGetMacro(CullCasters, bool);
