@@ -424,17 +424,17 @@ struct CasterClusters
 
 // Projects the view's pending samples into its grid: `texel` and `depth` per listable sample
 // (appended to `listed`, ascending); a sample outside the grid or behind the apex, or on a
-// positional light, is left to the tracer (Pending). Only the view's pending samples are
-// projected (the hybrid's few), after one pass over the per-sample bytes.
+// positional light, is left to the tracer (Pending). Only the view's samples of `pending`
+// (the call's pending samples, ascending; the hybrid's few) are projected.
 void ProjectSamples(const View& view, int size, signed char viewIndex,
-  const std::vector<signed char>& sampleView, const TestContext& ctx, vtkIdType n,
-  std::vector<vtkIdType>& texel, std::vector<double>& depth, std::vector<float>& point,
-  std::vector<vtkIdType>& listed)
+  const std::vector<signed char>& sampleView, const TestContext& ctx,
+  const std::vector<vtkIdType>& pending, std::vector<vtkIdType>& texel, std::vector<double>& depth,
+  std::vector<float>& point, std::vector<vtkIdType>& listed)
 {
   std::vector<vtkIdType> candidates;
-  for (vtkIdType s = 0; s < n; ++s)
+  for (vtkIdType s : pending)
   {
-    if (ctx.State[s] == Pending && sampleView[static_cast<size_t>(s)] == viewIndex)
+    if (sampleView[static_cast<size_t>(s)] == viewIndex)
     {
       candidates.push_back(s);
     }
@@ -1124,11 +1124,12 @@ struct vtkPenumbraLinkedListShadows::Internals
 {
   penumbra_light_views::CasterBuffers Casters; // CPU lists only, never uploaded
   vtkNew<vtkUnsignedCharArray> State;
-  std::vector<double> Depth;     // per sample
-  std::vector<vtkIdType> Texel;  // per sample, its texel in its view
-  std::vector<float> Point;      // per sample, its point in its view (texel units)
-  std::vector<vtkIdType> Listed; // the view's listable samples, ascending
-  std::vector<vtkIdType> Pick;   // CPU passes: the pass's samples
+  std::vector<double> Depth;       // per sample
+  std::vector<vtkIdType> Texel;    // per sample, its texel in its view
+  std::vector<float> Point;        // per sample, its point in its view (texel units)
+  std::vector<vtkIdType> ToDecide; // the call's samples to decide, ascending
+  std::vector<vtkIdType> Listed;   // the view's listable samples, ascending
+  std::vector<vtkIdType> Pick;     // CPU passes: the pass's samples
   Lists Grid;
   ListCompute Compute;             // the GPU list path
   bool UseGpu = false;             // this call's lists are built on the GPU
@@ -1214,14 +1215,20 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
     penumbra_light_views::ClassifyFacing(in.Light, n, in.Positions, in.Normals, in.Props, in.Shift,
       anyCaster, vis, state, Pending, Settled);
   }
+  // The pending samples, listed once: every later phase visits only them.
+  impl.ToDecide.clear();
   for (vtkIdType s = 0; s < n; ++s)
   {
     this->NumberOfValidSamples += vis[s] >= 0.0f;
+    if (state[s] == Pending)
+    {
+      impl.ToDecide.push_back(s);
+    }
   }
   std::vector<View> views;
   std::vector<signed char> sampleView;
   penumbra_light_views::FitViews(
-    in.Light, n, in.Positions, in.Shift, state, Pending, views, sampleView);
+    in.Light, n, in.Positions, in.Shift, state, Pending, views, sampleView, &impl.ToDecide);
   this->NumberOfViews = static_cast<int>(views.size());
   this->ClassifyTimeMs = ElapsedMs(classifyStart);
 
@@ -1243,8 +1250,8 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   {
     const auto listStart = Clock::now();
     impl.Listed.clear();
-    ProjectSamples(views[vi], this->Resolution, static_cast<signed char>(vi), sampleView, ctx, n,
-      impl.Texel, impl.Depth, impl.Point, impl.Listed);
+    ProjectSamples(views[vi], this->Resolution, static_cast<signed char>(vi), sampleView, ctx,
+      impl.ToDecide, impl.Texel, impl.Depth, impl.Point, impl.Listed);
     this->ListTimeMs += ElapsedMs(listStart);
     impl.ListView(this, views[vi], static_cast<int>(vi), ctx, rows);
     this->NumberOfListedSamples += static_cast<vtkIdType>(impl.Listed.size());
@@ -1254,7 +1261,8 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
 
   // ---- 5. Settle the lists' answers; the unknown and unlisted samples are traced.
   vtkIdType traced = 0;
-  for (vtkIdType s = 0; s < n; ++s)
+  // Only pending samples changed state; the others are settled (0) already.
+  for (vtkIdType s : impl.ToDecide)
   {
     if (state[s] == Shadowed)
     {
