@@ -1,7 +1,8 @@
 /**
  * @class   vtkPenumbraLinkedListShadows
  * @brief   Exact hard shadows by irregular rasterization: linked-list shadow maps (LLSM,
- *          Ferko 2014) and the hybrid LLSM of the same thesis, on the CPU.
+ *          Ferko 2014) and the hybrid LLSM of the same thesis: lists built on the CPU or by a
+ *          GL 4.3 compute shader, irregular rasterization on the CPU.
  *
  * LLSM builds the irregular z-buffer of Johnson, Lee, Burns, Mark, "The Irregular Z-Buffer:
  * Hardware Acceleration for Irregular Data Structures", ACM TOG 24(4), 2005, the way Ferko
