@@ -83,6 +83,7 @@ struct FrameContext
   float* Vis = nullptr;
   unsigned char* State = nullptr;
   const std::vector<signed char>* SampleView = nullptr;
+  const std::vector<vtkIdType>* Pending = nullptr; // the samples pass A left pending, ascending
 };
 }
 
@@ -92,6 +93,7 @@ struct vtkPenumbraConservativeShadows::Internals
   // The caster triangles on the GPU (shared upload code, rebuilt only when the geometry changes).
   penumbra_light_views::CasterBuffers Casters;
   std::vector<GLuint> ViewIndices;
+  std::vector<vtkIdType> PendingList; // the samples pass A left pending (reused per call)
 
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   static constexpr int MaxLayers = 4;
@@ -469,13 +471,15 @@ struct vtkPenumbraConservativeShadows::Internals
       const penumbra_rules::ExactTriangle* triangle = exact.Get(blocker, vertices, scratch);
       return triangle ? penumbra_light_views::TestShadowRay(ray, *triangle) : Hit::Unknown;
     };
-    vtkSMPTools::For(0, f.In->NumberOfSamples,
+    const std::vector<vtkIdType>& pending = *f.Pending;
+    vtkSMPTools::For(0, static_cast<vtkIdType>(pending.size()),
       [&](vtkIdType begin, vtkIdType end)
       {
         vtkIdType localLit = 0, localShadowed = 0;
         penumbra_rules::ExactTriangle scratch;
-        for (vtkIdType s = begin; s < end; ++s)
+        for (vtkIdType i = begin; i < end; ++i)
         {
+          const vtkIdType s = pending[static_cast<size_t>(i)];
           if (state[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
           {
             continue;
@@ -694,6 +698,17 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(
     setup, n, pos, nrm, props, shift, anyCaster, vis, state, Pending, Decided);
   std::atomic<vtkIdType> lit(facing.Lit), shadowed(facing.Shadowed);
+  // The pending samples, listed once: the later phases visit only them (at 1280 x 720 a
+  // scene covers a fraction of the pixels).
+  std::vector<vtkIdType>& pending = impl.PendingList;
+  pending.clear();
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    if (state[s] == Pending)
+    {
+      pending.push_back(s);
+    }
+  }
 
   // ---- Light cameras.
   // The views cover the pending samples only (FitViews): casters nearer the light than the
@@ -701,7 +716,7 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   // to the whole scene would waste its texels.
   std::vector<View> views;
   std::vector<signed char> sampleView;
-  penumbra_light_views::FitViews(setup, n, pos, shift, state, Pending, views, sampleView);
+  penumbra_light_views::FitViews(setup, n, pos, shift, state, Pending, views, sampleView, &pending);
   this->NumberOfViews = static_cast<int>(views.size());
 
   // ---- Per view: render both CSM layers, read them back, classify its samples.
@@ -738,6 +753,7 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
     frame.Vis = vis;
     frame.State = state;
     frame.SampleView = &sampleView;
+    frame.Pending = &pending;
     std::atomic<vtkIdType> viewLit(0), viewShadowed(0);
 
     for (size_t vi = 0; vi < views.size(); ++vi)
@@ -758,8 +774,9 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   }
 
   // ---- The uncertain samples, for the caller to resolve.
+  // Only pass A's pending samples can be other than Decided (0) here.
   vtkIdType uncertain = 0;
-  for (vtkIdType s = 0; s < n; ++s)
+  for (vtkIdType s : pending)
   {
     // Samples still pending here had no view (cannot happen with full coverage) and are
     // uncertain too, so nothing is ever left undecided.
