@@ -822,6 +822,68 @@ struct CasterGrid
   std::vector<double> Normal;      // per caster: unit normal (double vertices)
   std::vector<double> Slop;        // per caster: float rounding of its vertices (world)
   std::vector<double> Scale;       // per caster: texels per world unit at its nearest
+  std::vector<double> TexelMargin; // per caster: MayBlock's margin for any pass ray, or -1
+
+  // An upper bound of MayBlock's margin for caster i over every ray of the pass that can
+  // come near it (the largest ErrPos; the smallest cosine with its normal: a directional
+  // light's one direction, or for a positional light h / d, h the light's distance from the
+  // triangle's plane and d its farthest vertex). -1 when the bound is too loose to use.
+  double MarginBound(
+    size_t i, const double* tri, const penumbra_light_views::LightSetup& light, double errPos) const
+  {
+    const double* n = this->Normal.data() + 3 * i;
+    double cosine = 0.0, reach = 0.0;
+    if (light.Type == penumbra_light_views::LightSetup::Kind::Directional)
+    {
+      cosine = std::fabs(vtkMath::Dot(light.Direction, n));
+      reach = 1.0;
+    }
+    else
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const double d[3] = { tri[3 * k] - light.Position[0], tri[3 * k + 1] - light.Position[1],
+          tri[3 * k + 2] - light.Position[2] };
+        reach = std::max(reach, vtkMath::Norm(d));
+        if (k == 0)
+        {
+          cosine = std::fabs(vtkMath::Dot(d, n));
+        }
+      }
+      cosine = reach > 0.0 ? cosine / reach : 0.0;
+    }
+    cosine *= 1.0 - 1e-6;
+    if (!(cosine > 1e-5))
+    {
+      return -1.0;
+    }
+    const double slack = errPos * (1.0 + 1.0 / cosine) + this->Slop[i];
+    if (!(slack < 1e-3 * reach) || !std::isfinite(slack * this->Scale[i]))
+    {
+      return -1.0; // rays that near it may leave the cosine bound
+    }
+    return 2.0 * slack * this->Scale[i] + 2e-3;
+  }
+
+  // False when no point of texel (x, y) lies within caster i's TexelMargin of its projection:
+  // then no sample of the texel passes MayBlock.
+  bool TexelNear(std::uint32_t i, double x, double y) const
+  {
+    const double m = this->TexelMargin[i];
+    if (m < 0.0)
+    {
+      return true;
+    }
+    const double* e = this->Edge.data() + 9 * i;
+    for (int k = 0; k < 3; ++k, e += 3)
+    {
+      if (e[2] + e[0] * (e[0] > 0.0 ? x + 1.0 : x) + e[1] * (e[1] > 0.0 ? y + 1.0 : y) < -m)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
 
   // False when caster i provably cannot block the sample at `point` (texel units) with stored
   // depth `depth` and shadow `ray`: its depth plane lies beyond the sample near the point, or
@@ -880,7 +942,23 @@ struct CasterGrid
     const std::vector<vtkIdType>& casters, const Lists& lists,
     std::vector<vtkIdType>& nearTriangles)
   {
+    // Each listed sample's ray, once per pass (node order).
+    this->Rays.resize(lists.Samples.size());
+    vtkSMPTools::For(0, static_cast<vtkIdType>(lists.Samples.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType j = begin; j < end; ++j)
+        {
+          this->Rays[static_cast<size_t>(j)] = ctx.Ray(lists.Samples[static_cast<size_t>(j)]);
+        }
+      });
+    double errPos = 0.0; // the largest positional slack of the pass's rays
+    for (const penumbra_light_views::ShadowRay& ray : this->Rays)
+    {
+      errPos = std::max(errPos, ray.ErrPos);
+    }
     const size_t n = casters.size();
+    this->TexelMargin.assign(n, -1.0);
     this->Box.resize(4 * n);
     this->Lower.resize(n);
     this->Kind.assign(n, 0);
@@ -927,6 +1005,11 @@ struct CasterGrid
             this->Flat[static_cast<size_t>(i)] = !ProjectionBounds(view, rowScale, tri,
               this->Edge.data() + 9 * i, this->Plane.data() + 3 * i, this->Normal.data() + 3 * i,
               this->Slop[static_cast<size_t>(i)], this->Scale[static_cast<size_t>(i)], size);
+            if (!this->Flat[static_cast<size_t>(i)])
+            {
+              this->TexelMargin[static_cast<size_t>(i)] =
+                this->MarginBound(static_cast<size_t>(i), tri, ctx.In->Light, errPos);
+            }
           }
         }
       });
@@ -990,16 +1073,6 @@ struct CasterGrid
           { this->Entries[static_cast<size_t>(fill[b]++)] = static_cast<std::uint32_t>(i); });
       }
     }
-    // Each listed sample's ray, once per pass (node order).
-    this->Rays.resize(lists.Samples.size());
-    vtkSMPTools::For(0, static_cast<vtkIdType>(lists.Samples.size()),
-      [&](vtkIdType begin, vtkIdType end)
-      {
-        for (vtkIdType j = begin; j < end; ++j)
-        {
-          this->Rays[static_cast<size_t>(j)] = ctx.Ray(lists.Samples[static_cast<size_t>(j)]);
-        }
-      });
     return binned;
   }
 };
@@ -1048,6 +1121,10 @@ vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<v
                                               : std::lower_bound(rowBegin, rowEnd, base + x0);
                  it != rowEnd && *it <= base + x1; ++it)
             {
+              if (!grid.TexelNear(i, *it - base, y))
+              {
+                continue;
+              }
               for (std::uint32_t j = lists.Head[*it]; j != NoNode; j = lists.Nodes[2 * j + 1])
               {
                 const vtkIdType s = static_cast<vtkIdType>(lists.Nodes[2 * j]);

@@ -51,7 +51,8 @@
  *    Sparse passes (fewer than 2 listed samples per caster, typically the hybrid's hard
  *    samples) skip the culling and the footprints, whose setup then costs more than the tests:
  *    each caster's light-space box is binned to bands of grid rows and meets the listed
- *    texels it overlaps; per sample, casters the exact test would provably call a miss (depth
+ *    texels it overlaps (first per texel, with a margin bound for all the pass's rays, then
+ *    per sample); casters the exact test would provably call a miss (depth
  *    plane beyond the sample, or the sample's point outside the projection by more than the
  *    test's slack) are skipped. Every triangle the rasterizer would test is tested, so the
  *    decisions are the same.
