@@ -83,6 +83,7 @@ struct FrameContext
   float* Vis = nullptr;
   unsigned char* State = nullptr;
   const std::vector<signed char>* SampleView = nullptr;
+  const std::vector<vtkIdType>* Pending = nullptr; // the samples pass A left pending, ascending
 };
 }
 
@@ -92,6 +93,7 @@ struct vtkPenumbraConservativeShadows::Internals
   // The caster triangles on the GPU (shared upload code, rebuilt only when the geometry changes).
   penumbra_light_views::CasterBuffers Casters;
   std::vector<GLuint> ViewIndices;
+  std::vector<vtkIdType> PendingList; // the samples pass A left pending (reused per call)
 
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   static constexpr int MaxLayers = 4;
@@ -469,13 +471,15 @@ struct vtkPenumbraConservativeShadows::Internals
       const penumbra_rules::ExactTriangle* triangle = exact.Get(blocker, vertices, scratch);
       return triangle ? penumbra_light_views::TestShadowRay(ray, *triangle) : Hit::Unknown;
     };
-    vtkSMPTools::For(0, f.In->NumberOfSamples,
+    const std::vector<vtkIdType>& pending = *f.Pending;
+    vtkSMPTools::For(0, static_cast<vtkIdType>(pending.size()),
       [&](vtkIdType begin, vtkIdType end)
       {
         vtkIdType localLit = 0, localShadowed = 0;
         penumbra_rules::ExactTriangle scratch;
-        for (vtkIdType s = begin; s < end; ++s)
+        for (vtkIdType i = begin; i < end; ++i)
         {
+          const vtkIdType s = pending[static_cast<size_t>(i)];
           if (state[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
           {
             continue;
@@ -497,17 +501,40 @@ struct vtkPenumbraConservativeShadows::Internals
           const double margin = 1e-6 * (1.0 + std::fabs(depth));
           const vtkIdType own = tris[s];
 
-          // The reference's ray: same direction, same scale-relative epsilons.
-          const penumbra_light_views::ShadowRay ray =
-            penumbra_light_views::MakeShadowRay(f.In->Light, p, f.Diagonal, f.Epsilon, f.TieFactor);
-          const bool rayOk = ray.Ok;
+          // The reference's ray: same direction, same scale-relative epsilons; made when the
+          // first exact test needs it (most samples are decided by the first layer's depth).
+          // Its Ok flag is known without it: a positional light's ray needs a non-zero
+          // direction (MakeShadowRay normalizes it).
+          penumbra_light_views::ShadowRay ray;
+          bool rayMade = false;
+          auto shadowRay = [&]() -> const penumbra_light_views::ShadowRay&
+          {
+            if (!rayMade)
+            {
+              ray = penumbra_light_views::MakeShadowRay(
+                f.In->Light, p, f.Diagonal, f.Epsilon, f.TieFactor);
+              rayMade = true;
+            }
+            return ray;
+          };
+          bool rayOk = true;
+          if (f.In->Light.Type != LightSetup::Kind::Directional)
+          {
+            double d2 = 0.0;
+            for (int c = 0; c < 3; ++c)
+            {
+              const double d = f.In->Light.Position[c] - p[c];
+              d2 += d * d;
+            }
+            rayOk = d2 > 0.0;
+          }
 
           bool nearClear = true;
           for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
           {
             const vtkIdType blocker = nearTriangles[k];
             const Hit hit = nearTestable && blocker != own
-              ? TestBlocker(ray, blocker, tv, scratch)
+              ? TestBlocker(shadowRay(), blocker, tv, scratch)
               : (blocker == own ? Hit::Miss : Hit::Unknown);
             if (hit == Hit::Clear)
             {
@@ -535,7 +562,7 @@ struct vtkPenumbraConservativeShadows::Internals
             {
               break;
             }
-            const Hit hit = TestBlocker(ray, blocker, tv, scratch);
+            const Hit hit = TestBlocker(shadowRay(), blocker, tv, scratch);
             if (hit == Hit::Clear)
             {
               vis[s] = 0.0f;
@@ -671,6 +698,17 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(
     setup, n, pos, nrm, props, shift, anyCaster, vis, state, Pending, Decided);
   std::atomic<vtkIdType> lit(facing.Lit), shadowed(facing.Shadowed);
+  // The pending samples, listed once: the later phases visit only them (at 1280 x 720 a
+  // scene covers a fraction of the pixels).
+  std::vector<vtkIdType>& pending = impl.PendingList;
+  pending.clear();
+  for (vtkIdType s = 0; s < n; ++s)
+  {
+    if (state[s] == Pending)
+    {
+      pending.push_back(s);
+    }
+  }
 
   // ---- Light cameras.
   // The views cover the pending samples only (FitViews): casters nearer the light than the
@@ -678,7 +716,7 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   // to the whole scene would waste its texels.
   std::vector<View> views;
   std::vector<signed char> sampleView;
-  penumbra_light_views::FitViews(setup, n, pos, shift, state, Pending, views, sampleView);
+  penumbra_light_views::FitViews(setup, n, pos, shift, state, Pending, views, sampleView, &pending);
   this->NumberOfViews = static_cast<int>(views.size());
 
   // ---- Per view: render both CSM layers, read them back, classify its samples.
@@ -715,6 +753,7 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
     frame.Vis = vis;
     frame.State = state;
     frame.SampleView = &sampleView;
+    frame.Pending = &pending;
     std::atomic<vtkIdType> viewLit(0), viewShadowed(0);
 
     for (size_t vi = 0; vi < views.size(); ++vi)
@@ -735,8 +774,9 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   }
 
   // ---- The uncertain samples, for the caller to resolve.
+  // Only pass A's pending samples can be other than Decided (0) here.
   vtkIdType uncertain = 0;
-  for (vtkIdType s = 0; s < n; ++s)
+  for (vtkIdType s : pending)
   {
     // Samples still pending here had no view (cannot happen with full coverage) and are
     // uncertain too, so nothing is ever left undecided.

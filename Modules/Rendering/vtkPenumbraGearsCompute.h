@@ -22,14 +22,15 @@
  * core since 4.0), at least 12 storage blocks in a compute shader and at most 32 light
  * samples per row. Prepare() says why when any of it is missing.
  *
- * Raw GL (VTK 9.1's vtkShader has no compute stage and vtkOpenGLBufferObject no SSBO
- * type): the program is compiled once per (k, rows, masks) and its uniform locations are
- * looked up once; VTK's shader cache is told its program was unbound.
+ * The context check, storage buffers and compilation are the module's shared compute device
+ * (vtkPenumbraCompute.h): the program is compiled once per (k, rows, masks) and its uniform
+ * locations are looked up once.
  */
 
 #ifndef vtkPenumbraGearsCompute_h
 #define vtkPenumbraGearsCompute_h
 
+#include "vtkPenumbraCompute.h"
 #include "vtkType.h"
 
 #include <cstdint>
@@ -119,12 +120,7 @@ public:
   /// Frees the program and buffers (the window's context is made current first).
   void Release(vtkWindow* window);
 
-  /// Bytes uploaded by the last SetCasters/SetSamples/Run calls since the last reset.
-  std::size_t UploadedBytes = 0;
-
 private:
-  // Drops every handle without deleting it (its context is gone or already cleaned).
-  void Forget();
   struct Program
   {
     unsigned int Id = 0;
@@ -152,19 +148,14 @@ private:
     BufferCount
   };
 
-  bool Upload(int buffer, const void* data, std::size_t bytes, std::string& why);
   bool Compile(int k, int rows, bool keepMasks, Program& program, std::string& why);
 
-  vtkOpenGLRenderWindow* Window = nullptr;
+  penumbra_compute::Device Device;
+  std::uint64_t Generation = 0;    // the Device generation Programs belong to
   std::map<int, Program> Programs; // key: (k, rows, masks)
   Program* Current = nullptr;
-  unsigned int Buffers[BufferCount] = {};
-  std::size_t Capacity[BufferCount] = {};
   std::uint64_t CasterVersion = 0;
   std::size_t CasterCount = 0;
-  std::int64_t MaxBlockBytes = 0;
-  bool Checked = false;
-  std::string Unsupported; // non-empty: the context lacks a feature (checked once)
 };
 }
 

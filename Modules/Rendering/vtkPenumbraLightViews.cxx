@@ -287,13 +287,18 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
       for (vtkIdType s = begin; s < end; ++s)
       {
         pending[s] = decidedValue;
+        if (props[s] < 0)
+        {
+          vis[s] = -1.0f; // background: its position and normal need not be read
+          continue;
+        }
         double p[3], normal[3];
         for (int c = 0; c < 3; ++c)
         {
           p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
           normal[c] = nrm[3 * s + c];
         }
-        if (props[s] < 0 || !Finite3(p) || !Finite3(normal))
+        if (!Finite3(p) || !Finite3(normal))
         {
           vis[s] = -1.0f;
           continue;
@@ -345,17 +350,35 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
 //------------------------------------------------------------------------------
 void FitViews(const LightSetup& light, vtkIdType n, const float* pos, const double shift[3],
   const unsigned char* state, unsigned char pendingValue, std::vector<View>& views,
-  std::vector<signed char>& sampleView)
+  std::vector<signed char>& sampleView, const std::vector<vtkIdType>* pending)
 {
   views.clear();
   sampleView.assign(static_cast<size_t>(n), -1);
   double box[6] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
     std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
     std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
-  bool any = false;
-  for (vtkIdType s = 0; s < n; ++s)
+  // Calls f(s) for every pending sample, from the list when there is one.
+  auto forPending = [&](auto&& f)
   {
-    if (state[s] == pendingValue)
+    if (pending)
+    {
+      for (vtkIdType s : *pending)
+      {
+        f(s);
+      }
+      return;
+    }
+    for (vtkIdType s = 0; s < n; ++s)
+    {
+      if (state[s] == pendingValue)
+      {
+        f(s);
+      }
+    }
+  };
+  bool any = false;
+  forPending(
+    [&](vtkIdType s)
     {
       any = true;
       for (int c = 0; c < 3; ++c)
@@ -364,8 +387,7 @@ void FitViews(const LightSetup& light, vtkIdType n, const float* pos, const doub
         box[2 * c] = std::min(box[2 * c], v);
         box[2 * c + 1] = std::max(box[2 * c + 1], v);
       }
-    }
-  }
+    });
   if (!any)
   {
     return;
@@ -390,26 +412,23 @@ void FitViews(const LightSetup& light, vtkIdType n, const float* pos, const doub
       views.push_back(PerspectiveView(light.Position, f, 1.0, box));
     }
   }
-  for (vtkIdType s = 0; s < n; ++s)
-  {
-    if (state[s] != pendingValue)
+  forPending(
+    [&](vtkIdType s)
     {
-      continue;
-    }
-    if (views.size() == 1)
-    {
-      sampleView[static_cast<size_t>(s)] = 0;
-      continue;
-    }
-    double v[3];
-    int best = 0;
-    for (int c = 0; c < 3; ++c)
-    {
-      v[c] = static_cast<double>(pos[3 * s + c]) + shift[c] - light.Position[c];
-      best = std::fabs(v[c]) > std::fabs(v[best]) ? c : best;
-    }
-    sampleView[static_cast<size_t>(s)] = static_cast<signed char>(2 * best + (v[best] < 0.0));
-  }
+      if (views.size() == 1)
+      {
+        sampleView[static_cast<size_t>(s)] = 0;
+        return;
+      }
+      double v[3];
+      int best = 0;
+      for (int c = 0; c < 3; ++c)
+      {
+        v[c] = static_cast<double>(pos[3 * s + c]) + shift[c] - light.Position[c];
+        best = std::fabs(v[c]) > std::fabs(v[best]) ? c : best;
+      }
+      sampleView[static_cast<size_t>(s)] = static_cast<signed char>(2 * best + (v[best] < 0.0));
+    });
 }
 
 //------------------------------------------------------------------------------

@@ -152,11 +152,12 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
  * wider spots and point lights six 90-degree cube faces. `sampleView[s]` receives the view
  * of each such sample (its dominant axis for cube faces), -1 for the others. A shadow ray
  * projects to its own sample's map point, so views fitted to the samples lose no caster that
- * could block one of them. No views when no sample is pending.
+ * could block one of them. No views when no sample is pending. `pending`, when given, lists
+ * exactly those samples, so the state of the others is not scanned.
  */
 void FitViews(const LightSetup& light, vtkIdType n, const float* pos, const double shift[3],
   const unsigned char* state, unsigned char pendingValue, std::vector<View>& views,
-  std::vector<signed char>& sampleView);
+  std::vector<signed char>& sampleView, const std::vector<vtkIdType>* pending = nullptr);
 
 /**
  * A view sample's shadow ray as vtkPenumbraReference casts it: origin P (rebased), unit

@@ -1,22 +1,28 @@
 #include "vtkPenumbraLinkedListShadows.h"
 
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkLight.h"
+#include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
 #include "vtkPenumbraConservativeShadows.h"
 #include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPenumbraVisibilityRules.h"
+#include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkUnsignedCharArray.h"
 
 #include "vtkPenumbraConservativeMapCPU.h"
 #include "vtkPenumbraLightViews.h"
+#include "vtkPenumbraLinkedListCompute.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -28,6 +34,8 @@
 vtkStandardNewMacro(vtkPenumbraLinkedListShadows);
 
 using penumbra_light_views::View;
+using penumbra_llsm::ListCompute;
+using penumbra_llsm::NoNode;
 using penumbra_rules::Hit;
 
 namespace
@@ -72,10 +80,22 @@ struct TestContext
   // unless another triangle shadows it.
   void Test(vtkIdType s, const penumbra_rules::ExactTriangle* triangle) const
   {
+    this->Test(s, this->Ray(s), triangle);
+  }
+
+  // Sample s's shadow ray, as the reference makes it.
+  penumbra_light_views::ShadowRay Ray(vtkIdType s) const
+  {
     double p[3];
     this->Position(s, p);
-    const penumbra_light_views::ShadowRay ray = penumbra_light_views::MakeShadowRay(
+    return penumbra_light_views::MakeShadowRay(
       this->In->Light, p, this->Diagonal, this->Epsilon, this->TieFactor);
+  }
+
+  // The same with the sample's ray made already.
+  void Test(vtkIdType s, const penumbra_light_views::ShadowRay& ray,
+    const penumbra_rules::ExactTriangle* triangle) const
+  {
     const Hit hit = triangle ? penumbra_light_views::TestShadowRay(ray, *triangle) : Hit::Unknown;
     if (hit == Hit::Clear)
     {
@@ -404,16 +424,17 @@ struct CasterClusters
 
 // Projects the view's pending samples into its grid: `texel` and `depth` per listable sample
 // (appended to `listed`, ascending); a sample outside the grid or behind the apex, or on a
-// positional light, is left to the tracer (Pending). Only the view's pending samples are
-// projected (the hybrid's few), after one pass over the per-sample bytes.
+// positional light, is left to the tracer (Pending). Only the view's samples of `pending`
+// (the call's pending samples, ascending; the hybrid's few) are projected.
 void ProjectSamples(const View& view, int size, signed char viewIndex,
-  const std::vector<signed char>& sampleView, const TestContext& ctx, vtkIdType n,
-  std::vector<vtkIdType>& texel, std::vector<double>& depth, std::vector<vtkIdType>& listed)
+  const std::vector<signed char>& sampleView, const TestContext& ctx,
+  const std::vector<vtkIdType>& pending, std::vector<vtkIdType>& texel, std::vector<double>& depth,
+  std::vector<float>& point, std::vector<vtkIdType>& listed)
 {
   std::vector<vtkIdType> candidates;
-  for (vtkIdType s = 0; s < n; ++s)
+  for (vtkIdType s : pending)
   {
-    if (ctx.State[s] == Pending && sampleView[static_cast<size_t>(s)] == viewIndex)
+    if (sampleView[static_cast<size_t>(s)] == viewIndex)
     {
       candidates.push_back(s);
     }
@@ -437,6 +458,8 @@ void ProjectSamples(const View& view, int size, signed char viewIndex,
         const int iy = std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
         texel[static_cast<size_t>(s)] = static_cast<vtkIdType>(iy) * size + ix;
         depth[static_cast<size_t>(s)] = d;
+        point[2 * static_cast<size_t>(s)] = static_cast<float>((ms * 0.5 + 0.5) * size);
+        point[2 * static_cast<size_t>(s) + 1] = static_cast<float>((mt * 0.5 + 0.5) * size);
       }
     });
   for (vtkIdType s : candidates)
@@ -448,30 +471,40 @@ void ProjectSamples(const View& view, int size, signed char viewIndex,
   }
 }
 
-// The per-texel lists of one pass (Johnson et al. 2005's grid of lists; the CPU form of
-// Ferko 2014's head pointers and node pool): the nodes sorted by texel, then sample, and per
-// texel the index of its first node. Head and Active have a value per texel and are reset
-// only where a list was, so a pass with few samples costs no full-grid clear.
+// The per-texel lists of one pass (Johnson et al. 2005's grid of lists, as Ferko 2014 builds
+// it: head pointers and a node pool of (sample, next) links). The CPU builds them as a sort
+// by texel, each node linking to the next of its texel; the GPU (ListCompute) by atomic
+// counter and head exchange, in any order within a list. The rasterizer walks either by the
+// links. Head and Active have a value per texel and are reset only where a list was, so a
+// pass with few samples costs no full-grid clear. Sample ids are pixel indices (32 bits).
 struct Lists
 {
-  std::vector<vtkIdType> Head;       // per texel: first node, -1 when empty
-  std::vector<unsigned char> Active; // per texel: holds an undecided sample
-  std::vector<vtkIdType> Nodes;      // sample ids
-  std::vector<vtkIdType> NodeTexel;  // per node: its texel
-  std::vector<vtkIdType> Counts;     // dense passes: the counting sort's rows
+  std::vector<std::uint32_t> Head;       // per texel: first node, NoNode when empty
+  std::vector<unsigned char> Active;     // per texel: holds an undecided sample
+  std::vector<std::uint32_t> Nodes;      // per node: sample id, next node (NoNode: list end)
+  std::vector<std::uint32_t> NodeTexel;  // per node: its texel
+  std::vector<vtkIdType> Samples;        // the pass's samples, in node order
+  std::vector<vtkIdType> Counts;         // dense CPU passes: the counting sort's rows
+  std::vector<std::uint32_t> Items;      // GPU passes: (sample, texel) pairs
+  std::vector<std::uint32_t> TexelHeads; // GPU passes: per node, its texel's head
 
-  // Lists the `count` samples from `first` (texel per sample in `texel`), marks them open
-  // and their texels active; returns the longest list, and the non-empty texels in `rows`.
-  vtkIdType Build(int size, const vtkIdType* first, vtkIdType count,
-    const std::vector<vtkIdType>& texel, unsigned char* state, vtkIdType& rows)
+  void Reserve(int size)
   {
     const size_t texels = static_cast<size_t>(size) * size;
     if (this->Head.size() != texels)
     {
-      this->Head.assign(texels, -1);
+      this->Head.assign(texels, NoNode);
       this->Active.assign(texels, 0);
     }
-    this->Nodes.resize(static_cast<size_t>(count));
+  }
+
+  // CPU: lists the `count` samples from `first` (texel per sample in `texel`).
+  void BuildOnCPU(
+    int size, const vtkIdType* first, vtkIdType count, const std::vector<vtkIdType>& texel)
+  {
+    const size_t texels = static_cast<size_t>(size) * size;
+    this->Reserve(size);
+    this->Nodes.resize(2 * static_cast<size_t>(count));
     this->NodeTexel.resize(static_cast<size_t>(count));
     auto texelOf = [&](vtkIdType i) { return texel[static_cast<size_t>(first[i])]; };
     if (static_cast<size_t>(count) * 8 >= texels)
@@ -488,9 +521,9 @@ struct Lists
       }
       for (vtkIdType i = 0; i < count; ++i)
       {
-        const vtkIdType j = this->Counts[static_cast<size_t>(texelOf(i))]++;
-        this->Nodes[static_cast<size_t>(j)] = first[i];
-        this->NodeTexel[static_cast<size_t>(j)] = texelOf(i);
+        const size_t j = static_cast<size_t>(this->Counts[static_cast<size_t>(texelOf(i))]++);
+        this->Nodes[2 * j] = static_cast<std::uint32_t>(first[i]);
+        this->NodeTexel[j] = static_cast<std::uint32_t>(texelOf(i));
       }
     }
     else
@@ -504,35 +537,99 @@ struct Lists
       std::sort(pairs.begin(), pairs.end());
       for (size_t j = 0; j < pairs.size(); ++j)
       {
-        this->NodeTexel[j] = pairs[j].first;
-        this->Nodes[j] = pairs[j].second;
+        this->NodeTexel[j] = static_cast<std::uint32_t>(pairs[j].first);
+        this->Nodes[2 * j] = static_cast<std::uint32_t>(pairs[j].second);
       }
     }
+    // Link each node to the next of its texel; the first of a run is the texel's head.
+    for (size_t j = 0; j < this->NodeTexel.size(); ++j)
+    {
+      const std::uint32_t t = this->NodeTexel[j];
+      const bool last = j + 1 == this->NodeTexel.size() || this->NodeTexel[j + 1] != t;
+      this->Nodes[2 * j + 1] = last ? NoNode : static_cast<std::uint32_t>(j + 1);
+      if (j == 0 || this->NodeTexel[j - 1] != t)
+      {
+        this->Head[t] = static_cast<std::uint32_t>(j);
+      }
+    }
+  }
+
+  // GPU: links the view's samples of `listed` still Pending, at most `capacity` (the node
+  // pool) of them; the others stay Pending for a further pass. `overflow`: the pool was too
+  // small (the counter went beyond it).
+  bool BuildOnGPU(ListCompute& compute, int size, const std::vector<vtkIdType>& listed,
+    vtkIdType capacity, const std::vector<vtkIdType>& texel, const unsigned char* state,
+    bool& overflow, std::string& why)
+  {
+    this->Reserve(size);
+    this->Items.clear();
+    for (vtkIdType s : listed)
+    {
+      if (state[s] == Pending)
+      {
+        this->Items.push_back(static_cast<std::uint32_t>(s));
+        this->Items.push_back(static_cast<std::uint32_t>(texel[static_cast<size_t>(s)]));
+      }
+    }
+    std::uint32_t requested = 0;
+    if (!compute.Link(this->Items.data(), this->Items.size() / 2, this->Head.size(),
+          static_cast<size_t>(capacity), this->Nodes, requested, why))
+    {
+      return false;
+    }
+    overflow = requested > capacity;
+    const size_t count = this->Nodes.size() / 2;
+    this->NodeTexel.resize(count);
+    for (size_t j = 0; j < count; ++j)
+    {
+      this->NodeTexel[j] = static_cast<std::uint32_t>(texel[this->Nodes[2 * j]]);
+    }
+    if (!compute.Heads(this->NodeTexel, this->TexelHeads, why))
+    {
+      return false;
+    }
+    for (size_t j = 0; j < count; ++j)
+    {
+      this->Head[this->NodeTexel[j]] = this->TexelHeads[j];
+    }
+    return true;
+  }
+
+  // After either build: marks the listed samples open and their texels active, collects the
+  // pass's samples; returns the longest list, and the non-empty texels in `rows`.
+  vtkIdType Finish(unsigned char* state, vtkIdType& rows)
+  {
+    const size_t count = this->NodeTexel.size();
+    this->Samples.resize(count);
     vtkIdType longest = 0;
     rows = 0;
-    for (vtkIdType j = 0; j < count;)
+    for (size_t j = 0; j < count; ++j)
     {
-      const vtkIdType t = this->NodeTexel[static_cast<size_t>(j)];
-      this->Head[static_cast<size_t>(t)] = j;
-      this->Active[static_cast<size_t>(t)] = 1;
-      const vtkIdType begin = j;
-      for (; j < count && this->NodeTexel[static_cast<size_t>(j)] == t; ++j)
+      const std::uint32_t t = this->NodeTexel[j];
+      this->Samples[j] = static_cast<vtkIdType>(this->Nodes[2 * j]);
+      state[this->Samples[j]] = Open;
+      this->Active[t] = 1;
+      if (this->Head[t] == j)
       {
-        state[this->Nodes[static_cast<size_t>(j)]] = Open;
+        vtkIdType length = 0;
+        for (std::uint32_t k = this->Head[t]; k != NoNode; k = this->Nodes[2 * k + 1])
+        {
+          ++length;
+        }
+        longest = std::max(longest, length);
+        ++rows;
       }
-      longest = std::max(longest, j - begin);
-      ++rows;
     }
     return longest;
   }
 
-  // Empties the texels of the last Build.
+  // Empties the texels of the last build.
   void Clear()
   {
-    for (vtkIdType t : this->NodeTexel)
+    for (std::uint32_t t : this->NodeTexel)
     {
-      this->Head[static_cast<size_t>(t)] = -1;
-      this->Active[static_cast<size_t>(t)] = 0;
+      this->Head[t] = NoNode;
+      this->Active[t] = 0;
     }
   }
 };
@@ -545,9 +642,7 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
   const std::vector<vtkIdType>& casters, Lists& lists, penumbra_light_views::ExactTriangles& exact,
   std::vector<vtkIdType>& nearTriangles)
 {
-  const std::vector<vtkIdType>& nodes = lists.Nodes;
-  const std::vector<vtkIdType>& nodeTexel = lists.NodeTexel;
-  const vtkIdType count = static_cast<vtkIdType>(nodes.size());
+  const std::vector<std::uint32_t>& nodes = lists.Nodes;
   std::vector<unsigned char>& active = lists.Active;
   const double* vertices = ctx.In->TriangleVertices;
   const vtkIdType* own = ctx.In->Triangles;
@@ -561,11 +656,9 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
       bool made = false;
       vtkIdType tests = 0;
       bool open = false;
-      const vtkIdType row = static_cast<vtkIdType>(texel);
-      for (vtkIdType j = lists.Head[texel];
-           j >= 0 && j < count && nodeTexel[static_cast<size_t>(j)] == row; ++j)
+      for (std::uint32_t j = lists.Head[texel]; j != NoNode; j = nodes[2 * j + 1])
       {
-        const vtkIdType s = nodes[static_cast<size_t>(j)];
+        const vtkIdType s = static_cast<vtkIdType>(nodes[2 * j]);
         if (state[s] == Shadowed)
         {
           continue;
@@ -586,6 +679,476 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
       return tests;
     });
   return stats.VisitWork;
+}
+
+// A sample's shadow ray projects to its own point in the view (see the class description),
+// so a triangle that blocks it covers that point up to the rounding the rasterizer's quarter
+// texel allows for; the sparse path asks for the point within this many texels of the
+// triangle's projection (as BoundPoints' margin).
+constexpr double PointMargin = BoxMargin;
+
+// The unit edge lines (a, b, c: a x + b y + c >= 0 inside, distances in texels) of a
+// triangle's projection into `view` (all vertices in front of a perspective apex), and the
+// plane of its depth quantity over the projection (orthographic: the stored depth;
+// perspective: Far / w, whose inverse is the stored depth), both affine in texel units.
+// False when the projection has no area to speak of.
+bool EdgeLines(const View& view, int size, const double* tri, double* edge, double* plane)
+{
+  double Q[3];
+  double X[3], Y[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    const double* p = tri + 3 * k;
+    const double w = view.Perspective ? view.Dot(3, p) : 1.0;
+    X[k] = (view.Dot(0, p) / w * 0.5 + 0.5) * size;
+    Y[k] = (view.Dot(1, p) / w * 0.5 + 0.5) * size;
+    Q[k] = view.Perspective ? view.Far / w : view.Dot(2, p);
+  }
+  const double area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+  const double extent = std::max({ X[0], X[1], X[2] }) - std::min({ X[0], X[1], X[2] }) +
+    std::max({ Y[0], Y[1], Y[2] }) - std::min({ Y[0], Y[1], Y[2] });
+  if (!std::isfinite(area + extent) || !(std::fabs(area) > 1e-6 * extent * extent))
+  {
+    return false;
+  }
+  const double orient = area > 0.0 ? 1.0 : -1.0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const int j = (k + 1) % 3;
+    double a = -(Y[j] - Y[k]) * orient, b = (X[j] - X[k]) * orient;
+    const double length = std::sqrt(a * a + b * b);
+    if (!(length > 0.0))
+    {
+      return false;
+    }
+    a /= length;
+    b /= length;
+    edge[3 * k] = a;
+    edge[3 * k + 1] = b;
+    edge[3 * k + 2] = -(a * X[k] + b * Y[k]);
+  }
+  const double ex1 = X[1] - X[0], ey1 = Y[1] - Y[0], eq1 = Q[1] - Q[0];
+  const double ex2 = X[2] - X[0], ey2 = Y[2] - Y[0], eq2 = Q[2] - Q[0];
+  const double det = ex1 * ey2 - ex2 * ey1;
+  plane[0] = (eq1 * ey2 - eq2 * ey1) / det;
+  plane[1] = (ex1 * eq2 - ex2 * eq1) / det;
+  plane[2] = Q[0] - plane[0] * X[0] - plane[1] * Y[0];
+  return std::isfinite(plane[0] + plane[1] + plane[2]);
+}
+
+// Whether the triangle's depth plane lies beyond `depth` everywhere within PointMargin texels
+// of `point` (then it cannot meet the sample's ray, which runs towards smaller depths); the
+// margins cover the plane's rounding like Behind's.
+inline bool PlaneBehind(bool perspective, const double* plane, const float* point, double depth)
+{
+  const double x = point[0], y = point[1];
+  const double q = plane[2] + plane[0] * x + plane[1] * y;
+  const double spread = PointMargin * (std::fabs(plane[0]) + std::fabs(plane[1]));
+  const double slack =
+    1e-7 * (std::fabs(plane[2]) + std::fabs(plane[0] * x) + std::fabs(plane[1] * y) + spread);
+  double lower;
+  if (perspective)
+  {
+    // Stored depth = 1 / q: its minimum over the box is at q's maximum, if q stays positive.
+    const double qmin = q - spread - slack, qmax = q + spread + slack;
+    if (!(qmin > 0.0))
+    {
+      return false;
+    }
+    lower = (1.0 / qmax) * (1.0 - 1e-9);
+  }
+  else
+  {
+    lower = q - spread - slack;
+  }
+  return lower > depth + 1e-6 * (1.0 + std::fabs(depth));
+}
+
+// What CasterGrid::MayBlock needs of a binned caster: edge lines and depth plane
+// (EdgeLines), unit normal, the float rounding of its vertices (as ExactTriangle rounds them)
+// and the texels per world unit of a lateral offset at its nearest point (`rowScale`: half
+// the grid times the norm of the view's x and y rows, for perspective views plus the w row
+// for |x / w| <= 1.01, divided by the nearest w). False: no area (no 2D cull).
+bool ProjectionBounds(const View& view, double rowScale, const double* tri, double* edge,
+  double* plane, double* normal, double& slop, double& scale, int size)
+{
+  if (!EdgeLines(view, size, tri, edge, plane))
+  {
+    return false;
+  }
+  double e1[3], e2[3], largest = 0.0, wmin = 1.0;
+  for (int c = 0; c < 3; ++c)
+  {
+    e1[c] = tri[3 + c] - tri[c];
+    e2[c] = tri[6 + c] - tri[c];
+  }
+  for (int k = 0; k < 9; ++k)
+  {
+    largest = std::max(largest, std::fabs(tri[k]));
+  }
+  if (view.Perspective)
+  {
+    wmin = std::min({ view.Dot(3, tri), view.Dot(3, tri + 3), view.Dot(3, tri + 6) });
+  }
+  vtkMath::Cross(e1, e2, normal);
+  const double length = vtkMath::Normalize(normal);
+  slop = 2.0 * std::ldexp(largest, -23);
+  scale = rowScale / wmin;
+  return length > 0.0 && wmin > 0.0 && std::isfinite(scale + slop);
+}
+
+// Passes with few listed samples for their casters (fewer than SparseFactor per caster, as the
+// hybrid's hard samples): instead of every caster's conservative footprint (clipping and
+// separating axes, the setup that dominates when few texels hold a list), each caster's
+// light-space box (BoundPoints: its projection plus a margin for rounding) is binned to bands
+// of BandRows grid rows, and meets the listed texels its box overlaps, found by a search per
+// row. Per sample, MayBlock then skips the casters the exact test would call a miss (its
+// depth plane beyond the sample, or the sample's point outside its projection by more than
+// the test's own slack), and the rest get the exact test. A box covers every texel the
+// rasterizer's footprint covers and MayBlock only drops provable misses, so each sample ends
+// with the same decision as under the rasterizer (Hit::Clear is sticky, Unknown is traced).
+constexpr vtkIdType SparseFactor = 2;
+
+struct CasterGrid
+{
+  static constexpr int BandRows = 16;
+  std::vector<double> Box;         // per caster: texel box x0, x1, y0, y1
+  std::vector<float> Lower;        // per caster: lowest stored depth
+  std::vector<unsigned char> Kind; // per caster: 0 cannot block, 1 binned, 2 apex region
+  std::vector<double> Edge;        // per caster: 3 unit edge lines (a, b, c), inside >= 0
+  std::vector<double> Plane;       // per caster: depth quantity plane (EdgeLines)
+  bool Perspective = false;
+  std::vector<unsigned char> Flat; // per caster: projection without area (no edge test)
+  std::vector<double> Normal;      // per caster: unit normal (double vertices)
+  std::vector<double> Slop;        // per caster: float rounding of its vertices (world)
+  std::vector<double> Scale;       // per caster: texels per world unit at its nearest
+  std::vector<double> TexelMargin; // per caster: MayBlock's margin for any pass ray, or -1
+
+  // An upper bound of MayBlock's margin for caster i over every ray of the pass that can
+  // come near it (the largest ErrPos; the smallest cosine with its normal: a directional
+  // light's one direction, or for a positional light h / d, h the light's distance from the
+  // triangle's plane and d its farthest vertex). -1 when the bound is too loose to use.
+  double MarginBound(
+    size_t i, const double* tri, const penumbra_light_views::LightSetup& light, double errPos) const
+  {
+    const double* n = this->Normal.data() + 3 * i;
+    double cosine = 0.0, reach = 0.0;
+    if (light.Type == penumbra_light_views::LightSetup::Kind::Directional)
+    {
+      cosine = std::fabs(vtkMath::Dot(light.Direction, n));
+      reach = 1.0;
+    }
+    else
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const double d[3] = { tri[3 * k] - light.Position[0], tri[3 * k + 1] - light.Position[1],
+          tri[3 * k + 2] - light.Position[2] };
+        reach = std::max(reach, vtkMath::Norm(d));
+        if (k == 0)
+        {
+          cosine = std::fabs(vtkMath::Dot(d, n));
+        }
+      }
+      cosine = reach > 0.0 ? cosine / reach : 0.0;
+    }
+    cosine *= 1.0 - 1e-6;
+    if (!(cosine > 1e-5))
+    {
+      return -1.0;
+    }
+    const double slack = errPos * (1.0 + 1.0 / cosine) + this->Slop[i];
+    if (!(slack < 1e-3 * reach) || !std::isfinite(slack * this->Scale[i]))
+    {
+      return -1.0; // rays that near it may leave the cosine bound
+    }
+    return 2.0 * slack * this->Scale[i] + 2e-3;
+  }
+
+  // False when no point of texel (x, y) lies within caster i's TexelMargin of its projection:
+  // then no sample of the texel passes MayBlock.
+  bool TexelNear(std::uint32_t i, double x, double y) const
+  {
+    const double m = this->TexelMargin[i];
+    if (m < 0.0)
+    {
+      return true;
+    }
+    const double* e = this->Edge.data() + 9 * i;
+    for (int k = 0; k < 3; ++k, e += 3)
+    {
+      if (e[2] + e[0] * (e[0] > 0.0 ? x + 1.0 : x) + e[1] * (e[1] > 0.0 ? y + 1.0 : y) < -m)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // False when caster i provably cannot block the sample at `point` (texel units) with stored
+  // depth `depth` and shadow `ray`: its depth plane lies beyond the sample near the point, or
+  // the point lies farther from its projection than the exact test's slack. SegmentTest
+  // (penumbra_rules) calls a ray a miss once it passes outside an edge by more than
+  // slack = ErrPos (1 + 1 / |cos|) in the triangle's plane (cos: ray against normal), so a
+  // ray it does not call a miss meets the plane within that of the (float-rounded) triangle;
+  // projected into the view, that is within (slack + rounding) x Scale texels of each edge
+  // line, doubled here for the projection's own rounding.
+  bool MayBlock(std::uint32_t i, const float* point, double depth,
+    const penumbra_light_views::ShadowRay& ray) const
+  {
+    if (this->Flat[i])
+    {
+      return true;
+    }
+    if (PlaneBehind(this->Perspective, this->Plane.data() + 3 * i, point, depth))
+    {
+      return false;
+    }
+    const double* n = this->Normal.data() + 3 * i;
+    const double cosine = std::fabs(ray.D[0] * n[0] + ray.D[1] * n[1] + ray.D[2] * n[2]);
+    if (!(cosine > 1e-5))
+    {
+      return true; // grazing: the exact test leaves it to the tracer
+    }
+    const double margin =
+      2.0 * (ray.ErrPos * (1.0 + 1.0 / cosine) + this->Slop[i]) * this->Scale[i] + 1e-3;
+    const double* e = this->Edge.data() + 9 * i;
+    const double x = point[0], y = point[1];
+    return e[0] * x + e[1] * y + e[2] >= -margin && e[3] * x + e[4] * y + e[5] >= -margin &&
+      e[6] * x + e[7] * y + e[8] >= -margin;
+  }
+  std::vector<std::uint32_t> Texels;   // the pass's texels with a list, ascending
+  std::vector<std::uint32_t> RowStart; // per grid row: its first entry in Texels (size + 1)
+  std::vector<vtkIdType> BandStart;    // per band of grid rows: first entry (bands + 1)
+  std::vector<std::uint32_t> Entries;  // per band: the casters whose box reaches it
+  std::vector<penumbra_light_views::ShadowRay> Rays; // per node of the pass
+
+  // Grid rows and columns of the texels whose square caster i's box overlaps
+  // (x + 1 >= x0 and x <= x1).
+  static int First(double v, int size)
+  {
+    return std::max(0, std::min(size - 1, static_cast<int>(std::ceil(v)) - 1));
+  }
+  static int Last(double v, int size)
+  {
+    return std::max(0, std::min(size - 1, static_cast<int>(std::floor(v))));
+  }
+  int FirstRow(size_t i, int size) const { return First(this->Box[4 * i + 2], size); }
+  int LastRow(size_t i, int size) const { return Last(this->Box[4 * i + 3], size); }
+
+  // Bins `casters` by band, lists the pass's texels and makes the listed samples' rays; the
+  // apex region's casters go to `nearTriangles` (as with the rasterizer). Returns the binned.
+  vtkIdType Build(const View& view, int size, const TestContext& ctx,
+    const std::vector<vtkIdType>& casters, const Lists& lists,
+    std::vector<vtkIdType>& nearTriangles)
+  {
+    // Each listed sample's ray, once per pass (node order).
+    this->Rays.resize(lists.Samples.size());
+    vtkSMPTools::For(0, static_cast<vtkIdType>(lists.Samples.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType j = begin; j < end; ++j)
+        {
+          this->Rays[static_cast<size_t>(j)] = ctx.Ray(lists.Samples[static_cast<size_t>(j)]);
+        }
+      });
+    double errPos = 0.0; // the largest positional slack of the pass's rays
+    for (const penumbra_light_views::ShadowRay& ray : this->Rays)
+    {
+      errPos = std::max(errPos, ray.ErrPos);
+    }
+    const size_t n = casters.size();
+    this->TexelMargin.assign(n, -1.0);
+    this->Box.resize(4 * n);
+    this->Lower.resize(n);
+    this->Kind.assign(n, 0);
+    this->Edge.resize(9 * n);
+    this->Plane.resize(3 * n);
+    this->Flat.assign(n, 1);
+    this->Normal.resize(3 * n);
+    this->Slop.resize(n);
+    this->Scale.resize(n);
+    this->Perspective = view.Perspective;
+    auto norm3 = [](const double* r) { return std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]); };
+    const double w3 = view.Perspective ? 1.01 * norm3(view.Row[3]) : 0.0;
+    const double rowScale = 0.5 * size *
+      std::sqrt((norm3(view.Row[0]) + w3) * (norm3(view.Row[0]) + w3) +
+        (norm3(view.Row[1]) + w3) * (norm3(view.Row[1]) + w3));
+    vtkSMPTools::For(0, static_cast<vtkIdType>(n),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          const double* tri = ctx.In->TriangleVertices + 9 * casters[static_cast<size_t>(i)];
+          unsigned char& kind = this->Kind[static_cast<size_t>(i)];
+          if (view.Perspective)
+          {
+            const double w[3] = { view.Dot(3, tri), view.Dot(3, tri + 3), view.Dot(3, tri + 6) };
+            if (!(std::max({ w[0], w[1], w[2] }) > 0.0))
+            {
+              continue; // wholly behind the apex: no ray in front of it meets it
+            }
+            if (!(std::min({ w[0], w[1], w[2] }) >= view.NearW))
+            {
+              kind = 2;
+              continue;
+            }
+          }
+          double* box = this->Box.data() + 4 * i;
+          if (!BoundPoints(view, size, tri, 3, box, this->Lower[static_cast<size_t>(i)]))
+          {
+            kind = 2;
+          }
+          else if (box[1] >= 0.0 && box[3] >= 0.0 && box[0] < size && box[2] < size)
+          {
+            kind = 1;
+            this->Flat[static_cast<size_t>(i)] = !ProjectionBounds(view, rowScale, tri,
+              this->Edge.data() + 9 * i, this->Plane.data() + 3 * i, this->Normal.data() + 3 * i,
+              this->Slop[static_cast<size_t>(i)], this->Scale[static_cast<size_t>(i)], size);
+            if (!this->Flat[static_cast<size_t>(i)])
+            {
+              this->TexelMargin[static_cast<size_t>(i)] =
+                this->MarginBound(static_cast<size_t>(i), tri, ctx.In->Light, errPos);
+            }
+          }
+        }
+      });
+    // The pass's texels with a list, ascending (row-major), and where each row's begin.
+    this->Texels.clear();
+    for (size_t j = 0; j < lists.NodeTexel.size(); ++j)
+    {
+      if (lists.Head[lists.NodeTexel[j]] == j)
+      {
+        this->Texels.push_back(lists.NodeTexel[j]);
+      }
+    }
+    if (!std::is_sorted(this->Texels.begin(), this->Texels.end()))
+    {
+      std::sort(this->Texels.begin(), this->Texels.end()); // GPU lists: any node order
+    }
+    this->RowStart.assign(static_cast<size_t>(size) + 1, 0);
+    for (std::uint32_t t : this->Texels)
+    {
+      ++this->RowStart[t / static_cast<std::uint32_t>(size) + 1];
+    }
+    for (int y = 0; y < size; ++y)
+    {
+      this->RowStart[static_cast<size_t>(y) + 1] += this->RowStart[static_cast<size_t>(y)];
+    }
+    // Casters per band of BandRows grid rows, by their boxes' rows (a counting sort).
+    const int bands = (size + BandRows - 1) / BandRows;
+    this->BandStart.assign(static_cast<size_t>(bands) + 1, 0);
+    auto forBands = [&](size_t i, auto&& f)
+    {
+      for (int b = this->FirstRow(i, size) / BandRows; b <= this->LastRow(i, size) / BandRows; ++b)
+      {
+        f(static_cast<size_t>(b));
+      }
+    };
+    vtkIdType binned = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+      if (this->Kind[i] == 2)
+      {
+        nearTriangles.push_back(casters[i]);
+      }
+      else if (this->Kind[i] == 1)
+      {
+        ++binned;
+        forBands(i, [&](size_t b) { ++this->BandStart[b + 1]; });
+      }
+    }
+    for (size_t b = 1; b < this->BandStart.size(); ++b)
+    {
+      this->BandStart[b] += this->BandStart[b - 1];
+    }
+    std::vector<vtkIdType> fill(this->BandStart.begin(), this->BandStart.end() - 1);
+    this->Entries.resize(static_cast<size_t>(this->BandStart.back()));
+    for (size_t i = 0; i < n; ++i)
+    {
+      if (this->Kind[i] == 1)
+      {
+        forBands(i,
+          [&](size_t b)
+          { this->Entries[static_cast<size_t>(fill[b]++)] = static_cast<std::uint32_t>(i); });
+      }
+    }
+    return binned;
+  }
+};
+
+// The sparse form of RasterizeLists: per band, each binned caster meets the samples of the
+// listed texels its box overlaps (MayBlock first, then the exact test). Returns the number of
+// exact tests.
+vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<vtkIdType>& casters,
+  const Lists& lists, const CasterGrid& grid, const float* point,
+  penumbra_light_views::ExactTriangles& exact)
+{
+  const double* vertices = ctx.In->TriangleVertices;
+  const vtkIdType* own = ctx.In->Triangles;
+  unsigned char* state = ctx.State;
+  const int bands = static_cast<int>(grid.BandStart.size()) - 1;
+  std::atomic<vtkIdType> tests(0);
+  // Bands in parallel: a texel's samples belong to one band, so to one thread.
+  vtkSMPTools::For(0, bands,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      vtkIdType local = 0;
+      penumbra_rules::ExactTriangle scratch;
+      for (vtkIdType b = begin; b < end; ++b)
+      {
+        const int rowLo = static_cast<int>(b) * CasterGrid::BandRows;
+        const int rowHi = std::min(size - 1, rowLo + CasterGrid::BandRows - 1);
+        for (vtkIdType e = grid.BandStart[static_cast<size_t>(b)];
+             e < grid.BandStart[static_cast<size_t>(b) + 1]; ++e)
+        {
+          const std::uint32_t i = grid.Entries[static_cast<size_t>(e)];
+          const vtkIdType id = casters[i];
+          const std::uint32_t x0 =
+            static_cast<std::uint32_t>(CasterGrid::First(grid.Box[4 * i], size));
+          const std::uint32_t x1 =
+            static_cast<std::uint32_t>(CasterGrid::Last(grid.Box[4 * i + 1], size));
+          const penumbra_rules::ExactTriangle* triangle = nullptr;
+          bool made = false;
+          for (int y = std::max(rowLo, grid.FirstRow(i, size));
+               y <= std::min(rowHi, grid.LastRow(i, size)); ++y)
+          {
+            const auto rowBegin = grid.Texels.begin() + grid.RowStart[static_cast<size_t>(y)];
+            const auto rowEnd = grid.Texels.begin() + grid.RowStart[static_cast<size_t>(y) + 1];
+            const std::uint32_t base =
+              static_cast<std::uint32_t>(y) * static_cast<std::uint32_t>(size);
+            for (auto it = rowBegin == rowEnd ? rowEnd
+                                              : std::lower_bound(rowBegin, rowEnd, base + x0);
+                 it != rowEnd && *it <= base + x1; ++it)
+            {
+              if (!grid.TexelNear(i, *it - base, y))
+              {
+                continue;
+              }
+              for (std::uint32_t j = lists.Head[*it]; j != NoNode; j = lists.Nodes[2 * j + 1])
+              {
+                const vtkIdType s = static_cast<vtkIdType>(lists.Nodes[2 * j]);
+                const penumbra_light_views::ShadowRay& ray = grid.Rays[j];
+                if (state[s] == Shadowed || own[s] == id || Behind(grid.Lower[i], ctx.Depth[s]) ||
+                  !grid.MayBlock(i, point + 2 * s, ctx.Depth[s], ray))
+                {
+                  continue;
+                }
+                if (!made)
+                {
+                  triangle = exact.Get(id, vertices, scratch);
+                  made = true;
+                }
+                ctx.Test(s, ray, triangle);
+                ++local;
+              }
+            }
+          }
+        }
+      }
+      tests += local;
+    });
+  return tests.load();
 }
 
 // The apex region's triangles would cover the whole view: each is tested against every
@@ -638,15 +1201,31 @@ struct vtkPenumbraLinkedListShadows::Internals
 {
   penumbra_light_views::CasterBuffers Casters; // CPU lists only, never uploaded
   vtkNew<vtkUnsignedCharArray> State;
-  std::vector<double> Depth;     // per sample
-  std::vector<vtkIdType> Texel;  // per sample, its texel in its view
-  std::vector<vtkIdType> Listed; // the view's listable samples, ascending
+  std::vector<double> Depth;       // per sample
+  std::vector<vtkIdType> Texel;    // per sample, its texel in its view
+  std::vector<float> Point;        // per sample, its point in its view (texel units)
+  std::vector<vtkIdType> ToDecide; // the call's samples to decide, ascending
+  std::vector<vtkIdType> Listed;   // the view's listable samples, ascending
+  std::vector<vtkIdType> Pick;     // CPU passes: the pass's samples
   Lists Grid;
+  ListCompute Compute;             // the GPU list path
+  bool UseGpu = false;             // this call's lists are built on the GPU
+  std::string ReportedProblem;     // the last reason the GPU path could not run
+  vtkNew<vtkIdTypeArray> Recorded; // RecordLists: (view, texel, sample)
   std::vector<vtkIdType> Near;     // the apex region's triangles
   SampleCells Cells;               // the pass's listed samples, coarse
+  CasterGrid Bands;                // sparse passes: the casters binned by box
   CasterClusters Clusters;         // the casters, grouped for culling
   std::vector<unsigned char> Keep; // per caster (cluster order): not culled
   std::vector<vtkIdType> Kept;     // the pass's casters after culling
+
+  // The phases of ComputeVisibility, in the order it runs them (defined below it).
+  void ChooseListPath(vtkPenumbraLinkedListShadows* self, vtkRenderer* renderer, vtkIdType n);
+  bool BuildPass(vtkPenumbraLinkedListShadows* self, int view, vtkIdType capacity,
+    unsigned char* state, vtkIdType& rows);
+  void ListView(vtkPenumbraLinkedListShadows* self, const View& view, int vi,
+    const TestContext& ctx, vtkIdType& rows);
+  void ReportListPath(vtkPenumbraLinkedListShadows* self, const std::string& why);
 };
 
 //------------------------------------------------------------------------------
@@ -674,7 +1253,10 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfValidSamples = this->NumberOfListedSamples = this->MaxListLength = 0;
   this->NumberOfTests = this->NumberOfTracedSamples = 0;
   this->MeanListLength = 0.0;
-  this->NumberOfPasses = this->NumberOfViews = 0;
+  this->NumberOfPasses = this->NumberOfViews = this->NumberOfOverflows = 0;
+  this->NumberOfSparsePasses = 0;
+  impl.Recorded->SetNumberOfComponents(3);
+  impl.Recorded->SetNumberOfTuples(0);
   this->NumberOfCulledCasters = this->NumberOfRasterizedCasters = 0;
   this->ClassifyTimeMs = this->ListTimeMs = this->RasterTimeMs = this->TraceTimeMs = 0.0;
 
@@ -710,75 +1292,54 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
     penumbra_light_views::ClassifyFacing(in.Light, n, in.Positions, in.Normals, in.Props, in.Shift,
       anyCaster, vis, state, Pending, Settled);
   }
+  // The pending samples, listed once: every later phase visits only them.
+  impl.ToDecide.clear();
   for (vtkIdType s = 0; s < n; ++s)
   {
     this->NumberOfValidSamples += vis[s] >= 0.0f;
+    if (state[s] == Pending)
+    {
+      impl.ToDecide.push_back(s);
+    }
   }
   std::vector<View> views;
   std::vector<signed char> sampleView;
   penumbra_light_views::FitViews(
-    in.Light, n, in.Positions, in.Shift, state, Pending, views, sampleView);
+    in.Light, n, in.Positions, in.Shift, state, Pending, views, sampleView, &impl.ToDecide);
   this->NumberOfViews = static_cast<int>(views.size());
   this->ClassifyTimeMs = ElapsedMs(classifyStart);
 
   // ---- 2.-4. Per view and pass: lists, irregular rasterization, apex-region triangles.
   impl.Depth.resize(static_cast<size_t>(n));
   impl.Texel.resize(static_cast<size_t>(n));
+  impl.Point.resize(2 * static_cast<size_t>(n));
   const TestContext ctx = { &in, penumbra_rules::SceneDiagonal(geometry),
     this->Reference->GetRelativeEpsilon(), this->Reference->GetTieFactor(), state,
     impl.Depth.data() };
-  const int size = this->Resolution;
   vtkIdType rows = 0;
   if (!views.empty())
   {
     impl.Clusters.Update(impl.Casters.TriangleIds, in.TriangleVertices,
       std::max(geometry->GetGeometryTime(), geometry->GetFlagsTime()));
   }
+  impl.ChooseListPath(this, renderer, n);
   for (size_t vi = 0; vi < views.size(); ++vi)
   {
-    auto listStart = Clock::now();
+    const auto listStart = Clock::now();
     impl.Listed.clear();
-    ProjectSamples(views[vi], size, static_cast<signed char>(vi), sampleView, ctx, n, impl.Texel,
-      impl.Depth, impl.Listed);
+    ProjectSamples(views[vi], this->Resolution, static_cast<signed char>(vi), sampleView, ctx,
+      impl.ToDecide, impl.Texel, impl.Depth, impl.Point, impl.Listed);
     this->ListTimeMs += ElapsedMs(listStart);
-    const vtkIdType listed = static_cast<vtkIdType>(impl.Listed.size());
-    const vtkIdType capacity =
-      this->ListCapacity > 0 ? this->ListCapacity : std::max<vtkIdType>(listed, 1);
-    for (vtkIdType first = 0; first < listed; first += capacity)
-    {
-      const vtkIdType count = std::min(capacity, listed - first);
-      listStart = Clock::now();
-      vtkIdType passRows = 0;
-      this->MaxListLength = std::max(this->MaxListLength,
-        impl.Grid.Build(size, impl.Listed.data() + first, count, impl.Texel, state, passRows));
-      rows += passRows;
-      this->ListTimeMs += ElapsedMs(listStart);
-      const auto rasterStart = Clock::now();
-      const std::vector<vtkIdType>* casters = &impl.Casters.TriangleIds;
-      if (this->CullCasters)
-      {
-        // Only casters that can reach a listed sample are rasterized (see SampleCells).
-        impl.Cells.Build(size, impl.Listed.data() + first, count, impl.Texel, impl.Depth.data());
-        this->NumberOfCulledCasters += impl.Clusters.Cull(
-          views[vi], size, impl.Cells, in.TriangleVertices, impl.Keep, impl.Kept);
-        casters = &impl.Kept;
-      }
-      this->NumberOfRasterizedCasters += static_cast<vtkIdType>(casters->size());
-      impl.Near.clear();
-      this->NumberOfTests +=
-        RasterizeLists(views[vi], size, ctx, *casters, impl.Grid, impl.Casters.Exact, impl.Near);
-      this->NumberOfTests += TestNearTriangles(ctx, impl.Listed.data() + first, count, impl.Near);
-      impl.Grid.Clear();
-      this->RasterTimeMs += ElapsedMs(rasterStart);
-      ++this->NumberOfPasses;
-    }
-    this->NumberOfListedSamples += listed;
+    impl.ListView(this, views[vi], static_cast<int>(vi), ctx, rows);
+    this->NumberOfListedSamples += static_cast<vtkIdType>(impl.Listed.size());
   }
+  this->LastListBuilder = impl.UseGpu ? LISTS_GPU : LISTS_CPU;
   this->MeanListLength = rows > 0 ? static_cast<double>(this->NumberOfListedSamples) / rows : 0.0;
 
   // ---- 5. Settle the lists' answers; the unknown and unlisted samples are traced.
   vtkIdType traced = 0;
-  for (vtkIdType s = 0; s < n; ++s)
+  // Only pending samples changed state; the others are settled (0) already.
+  for (vtkIdType s : impl.ToDecide)
   {
     if (state[s] == Shadowed)
     {
@@ -801,6 +1362,182 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   visibility->Modified();
   this->LastTimeMs = ElapsedMs(start);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+// The list path of this call: the GPU when asked for and its context runs compute shaders
+// (sample ids must fit its 32-bit nodes), else the CPU.
+void vtkPenumbraLinkedListShadows::Internals::ChooseListPath(
+  vtkPenumbraLinkedListShadows* self, vtkRenderer* renderer, vtkIdType n)
+{
+  this->UseGpu = false;
+  if (self->ListBuilder != LISTS_GPU)
+  {
+    return;
+  }
+  std::string why;
+  auto* window =
+    renderer ? vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow()) : nullptr;
+  if (n >= static_cast<vtkIdType>(NoNode))
+  {
+    why = "more view samples than 32-bit node links can name";
+  }
+  else if (self->Resolution > 4096)
+  {
+    why = "a grid beyond 4096^2 texels";
+  }
+  else
+  {
+    this->UseGpu = this->Compute.Prepare(window, why);
+  }
+  if (!this->UseGpu)
+  {
+    this->ReportListPath(self, why);
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraLinkedListShadows::Internals::ReportListPath(
+  vtkPenumbraLinkedListShadows* self, const std::string& why)
+{
+  // Said once per reason: the CPU lists give the same answer, so rendering goes on.
+  if (why != this->ReportedProblem)
+  {
+    this->ReportedProblem = why;
+    vtkErrorWithObjectMacro(self,
+      "GPU list construction (lists \"gpu\") cannot run: " << why << "; the CPU builds the lists");
+  }
+  this->UseGpu = false;
+}
+
+//------------------------------------------------------------------------------
+// One pass's lists of the view's samples still pending: on the GPU (a pool of `capacity`
+// nodes; the samples beyond it stay pending), or on the CPU (the first `capacity` pending).
+// Returns false when nothing was pending.
+bool vtkPenumbraLinkedListShadows::Internals::BuildPass(vtkPenumbraLinkedListShadows* self,
+  int view, vtkIdType capacity, unsigned char* state, vtkIdType& rows)
+{
+  bool built = false;
+  if (this->UseGpu)
+  {
+    std::string why;
+    bool overflow = false;
+    built = this->Grid.BuildOnGPU(
+      this->Compute, self->Resolution, this->Listed, capacity, this->Texel, state, overflow, why);
+    if (!built)
+    {
+      this->ReportListPath(self, why);
+    }
+    self->NumberOfOverflows += overflow ? 1 : 0;
+  }
+  if (!built)
+  {
+    this->Pick.clear();
+    for (size_t i = 0;
+         i < this->Listed.size() && static_cast<vtkIdType>(this->Pick.size()) < capacity; ++i)
+    {
+      if (state[this->Listed[i]] == Pending)
+      {
+        this->Pick.push_back(this->Listed[i]);
+      }
+    }
+    this->Grid.BuildOnCPU(
+      self->Resolution, this->Pick.data(), static_cast<vtkIdType>(this->Pick.size()), this->Texel);
+  }
+  vtkIdType passRows = 0;
+  self->MaxListLength = std::max(self->MaxListLength, this->Grid.Finish(state, passRows));
+  rows += passRows;
+  if (self->RecordLists)
+  {
+    for (size_t j = 0; j < this->Grid.Samples.size(); ++j)
+    {
+      const vtkIdType entry[3] = { view, this->Grid.NodeTexel[j], this->Grid.Samples[j] };
+      this->Recorded->InsertNextTypedTuple(entry);
+    }
+  }
+  return !this->Grid.Samples.empty();
+}
+
+//------------------------------------------------------------------------------
+// Per pass of one view: the lists, caster culling, the irregular rasterization and the apex
+// region's triangles.
+void vtkPenumbraLinkedListShadows::Internals::ListView(vtkPenumbraLinkedListShadows* self,
+  const View& view, int vi, const TestContext& ctx, vtkIdType& rows)
+{
+  const int size = self->Resolution;
+  const vtkIdType listed = static_cast<vtkIdType>(this->Listed.size());
+  const vtkIdType capacity =
+    self->ListCapacity > 0 ? self->ListCapacity : std::max<vtkIdType>(listed, 1);
+  for (vtkIdType remaining = listed; remaining > 0;)
+  {
+    const auto listStart = Clock::now();
+    const bool any = this->BuildPass(self, vi, capacity, ctx.State, rows);
+    self->ListTimeMs += ElapsedMs(listStart);
+    if (!any)
+    {
+      break;
+    }
+    const vtkIdType count = static_cast<vtkIdType>(this->Grid.Samples.size());
+    remaining -= count;
+    const auto rasterStart = Clock::now();
+    const std::vector<vtkIdType>* casters = &this->Casters.TriangleIds;
+    // Sparse lists (the hybrid's hard samples) are tested caster by caster box (CasterGrid),
+    // which needs no coarse culling first: its bands skip the casters whose box meets no
+    // listed texel, and MayBlock's depth test is per sample. Dense ones, where the per-caster
+    // setup of the footprints pays off, are culled and rasterized.
+    const bool sparse = count < SparseFactor * static_cast<vtkIdType>(casters->size());
+    if (self->CullCasters && !sparse)
+    {
+      // Only casters that can reach a listed sample are rasterized (see SampleCells).
+      this->Cells.Build(size, this->Grid.Samples.data(), count, this->Texel, this->Depth.data());
+      self->NumberOfCulledCasters += this->Clusters.Cull(
+        view, size, this->Cells, ctx.In->TriangleVertices, this->Keep, this->Kept);
+      casters = &this->Kept;
+    }
+    self->NumberOfRasterizedCasters += static_cast<vtkIdType>(casters->size());
+    this->Near.clear();
+    if (sparse)
+    {
+      this->Bands.Build(view, size, ctx, *casters, this->Grid, this->Near);
+      self->NumberOfTests += TestListsByBands(
+        size, ctx, *casters, this->Grid, this->Bands, this->Point.data(), this->Casters.Exact);
+      ++self->NumberOfSparsePasses;
+    }
+    else
+    {
+      self->NumberOfTests +=
+        RasterizeLists(view, size, ctx, *casters, this->Grid, this->Casters.Exact, this->Near);
+    }
+    self->NumberOfTests += TestNearTriangles(ctx, this->Grid.Samples.data(), count, this->Near);
+    this->Grid.Clear();
+    self->RasterTimeMs += ElapsedMs(rasterStart);
+    ++self->NumberOfPasses;
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraLinkedListShadows::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Impl->Compute.Release(window);
+}
+
+//------------------------------------------------------------------------------
+vtkIdTypeArray* vtkPenumbraLinkedListShadows::GetRecordedLists()
+{
+  vtkIdTypeArray* recorded = this->Impl->Recorded;
+  // Sorted tuples: the per-texel sample sets, independent of node order and pass split.
+  const vtkIdType n = recorded->GetNumberOfTuples();
+  std::vector<std::array<vtkIdType, 3>> tuples(static_cast<size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    recorded->GetTypedTuple(i, tuples[static_cast<size_t>(i)].data());
+  }
+  std::sort(tuples.begin(), tuples.end());
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    recorded->SetTypedTuple(i, tuples[static_cast<size_t>(i)].data());
+  }
+  return recorded;
 }
 
 //------------------------------------------------------------------------------
@@ -838,6 +1575,9 @@ void vtkPenumbraLinkedListShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfTracedSamples: " << this->NumberOfTracedSamples << "\n";
   os << indent << "NumberOfPasses: " << this->NumberOfPasses << "\n";
   os << indent << "NumberOfViews: " << this->NumberOfViews << "\n";
+  os << indent << "ListBuilder: " << (this->ListBuilder == LISTS_GPU ? "gpu" : "cpu") << "\n";
+  os << indent << "NumberOfOverflows: " << this->NumberOfOverflows << "\n";
+  os << indent << "NumberOfSparsePasses: " << this->NumberOfSparsePasses << "\n";
   os << indent << "CullCasters: " << (this->CullCasters ? "on" : "off") << "\n";
   os << indent << "NumberOfCulledCasters: " << this->NumberOfCulledCasters << "\n";
   os << indent << "NumberOfRasterizedCasters: " << this->NumberOfRasterizedCasters << "\n";

@@ -1,7 +1,8 @@
 /**
  * @class   vtkPenumbraLinkedListShadows
  * @brief   Exact hard shadows by irregular rasterization: linked-list shadow maps (LLSM,
- *          Ferko 2014) and the hybrid LLSM of the same thesis, on the CPU.
+ *          Ferko 2014) and the hybrid LLSM of the same thesis: lists built on the CPU or by a
+ *          GL 4.3 compute shader, irregular rasterization on the CPU.
  *
  * LLSM builds the irregular z-buffer of Johnson, Lee, Burns, Mark, "The Irregular Z-Buffer:
  * Hardware Acceleration for Irregular Data Structures", ACM TOG 24(4), 2005, the way Ferko
@@ -20,10 +21,19 @@
  *    place of its resolution criterion (which relies on a biased standard shadow map).
  * 2. Light views fitted to those samples: directional lights one orthographic view, spot
  *    lights up to 60 degrees one perspective view, others six cube faces.
- * 3. Lists: the CPU form of the per-texel linked lists (head pointers, node pool, atomic
- *    counter) is a counting sort into compressed rows (counts, prefix sum, fill), one node
- *    per sample. A node pool smaller than the samples (SetListCapacity) never drops one: the
- *    samples are listed in several passes of at most that many nodes each.
+ * 3. Lists: per texel a linked list of its samples (head pointers and a node pool of
+ *    (sample, next) links), built by one of two paths (SetListBuilder) that give the same
+ *    per-texel sample sets. The CPU path sorts the samples by texel (a counting sort, or a
+ *    plain sort when they are few) and links each node to the next of its texel. The GPU
+ *    path is Ferko 2014's construction, like the per-pixel linked lists of order-independent
+ *    transparency (Thibieroz and Gruen 2010): a GL 4.3 compute shader takes a node per
+ *    sample from the pool with an atomic counter and links it in front of its texel's list
+ *    by an atomic exchange of the head pointer (vtkPenumbraLinkedListCompute.h); the nodes
+ *    and the heads of the listed texels are read back. The samples' texels are projected on
+ *    the CPU in double precision either way, so both paths list a sample in the texel the
+ *    rasterizer tests it at. A node pool smaller than the samples (SetListCapacity) never
+ *    drops one: the CPU lists at most that many per pass, the GPU detects the overflow
+ *    (counter beyond the pool) and lists the samples that got no node in a further pass.
  * 4. Caster culling (SetCullCasters): casters whose light-space box covers no coarse cell
  *    holding a listed sample, or that lie behind the farthest listed sample of every such
  *    cell, are skipped; they could decide no sample.
@@ -38,13 +48,22 @@
  *    Triangles that reach a perspective view's apex region (a light on or near a surface)
  *    would cover the whole view: they are tested against every sample of the view instead
  *    (beyond 256 of them, the view's open samples are traced).
+ *    Sparse passes (fewer than 2 listed samples per caster, typically the hybrid's hard
+ *    samples) skip the culling and the footprints, whose setup then costs more than the tests:
+ *    each caster's light-space box is binned to bands of grid rows and meets the listed
+ *    texels it overlaps (first per texel, with a margin bound for all the pass's rays, then
+ *    per sample); casters the exact test would provably call a miss (depth
+ *    plane beyond the sample, or the sample's point outside the projection by more than the
+ *    test's slack) are skipped. Every triangle the rasterizer would test is tested, so the
+ *    decisions are the same.
  * 5. Unknown samples (grazing, on an edge, in the tie band, outside every view) are traced by
  *    vtkPenumbraReference, so the answer equals the reference's bit for bit.
  *
  * Area lights are rejected (error, the pass renders that light unshadowed).
  *
- * Memory per view: 8 bytes per texel (row starts) plus 1 (open flag) and 16 bytes per
- * listed sample; 9 MiB at the default 1024^2.
+ * Memory per view: 4 bytes per texel (head pointers) plus 1 (open flag) and about 24 bytes
+ * per listed sample; 5 MiB at the default 1024^2 (the GPU path holds another head image and
+ * pool in buffers).
  */
 
 #ifndef vtkPenumbraLinkedListShadows_h
@@ -55,6 +74,7 @@
 
 #include <memory> // For std::unique_ptr
 
+class vtkIdTypeArray;
 class vtkPenumbraConservativeShadows;
 class vtkPenumbraReference;
 
@@ -67,6 +87,47 @@ public:
 
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
+
+  /**
+   * Frees the GPU list path's buffers and program.
+   */
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  enum ListBuilders
+  {
+    LISTS_CPU = 0,
+    LISTS_GPU = 1
+  };
+
+  ///@{
+  /**
+   * Who builds the per-texel lists (see the class description): LISTS_CPU (default; faster on
+   * Mesa llvmpipe, see docs/benchmarks.md) or LISTS_GPU (a GL 4.3 compute shader, in the
+   * renderer's context). The same lists and visibility either way. Where the GPU path cannot
+   * run (no OpenGL 4.3, no OpenGL window) it says why in an error and the CPU builds them.
+   */
+  vtkSetClampMacro(ListBuilder, int, LISTS_CPU, LISTS_GPU);
+  vtkGetMacro(ListBuilder, int);
+  void SetListBuilderToCPU() { this->SetListBuilder(LISTS_CPU); }
+  void SetListBuilderToGPU() { this->SetListBuilder(LISTS_GPU); }
+  ///@}
+
+  /**
+   * The path that built the last call's lists (LISTS_GPU only when every pass ran on it).
+   */
+  vtkGetMacro(LastListBuilder, int);
+
+  ///@{
+  /**
+   * For tests: with RecordLists on, every call keeps its lists as (view, texel, sample)
+   * tuples (3 components), sorted, so the two paths' per-texel sample sets can be compared
+   * whatever their node order and pass split. Default off.
+   */
+  vtkSetMacro(RecordLists, bool);
+  vtkGetMacro(RecordLists, bool);
+  vtkBooleanMacro(RecordLists, bool);
+  vtkIdTypeArray* GetRecordedLists();
+  ///@}
 
   ///@{
   /**
@@ -111,7 +172,8 @@ public:
    * each with the largest depth of its samples, as a max pyramid). A caster that covers no
    * cell holding a listed sample, or lies behind the farthest listed sample of every such
    * cell it covers, could decide no sample, so it is skipped; the answer does not change.
-   * Off: every caster is rasterized (for comparisons).
+   * Sparse passes (see the class description) need no such culling and skip it. Off: every
+   * caster is rasterized (for comparisons).
    */
   vtkSetMacro(CullCasters, bool);
   vtkGetMacro(CullCasters, bool);
@@ -144,6 +206,17 @@ public:
   vtkGetMacro(NumberOfPasses, int);
   vtkGetMacro(NumberOfViews, int);
   ///@}
+
+  /**
+   * GPU lists: passes of the last call whose node pool overflowed (the counter went beyond
+   * SetListCapacity); their unlinked samples were listed in further passes.
+   */
+  vtkGetMacro(NumberOfOverflows, int);
+
+  /**
+   * Passes of the last call tested in the sparse form (step 4 of the class description).
+   */
+  vtkGetMacro(NumberOfSparsePasses, int);
 
   ///@{
   /**
@@ -184,6 +257,11 @@ protected:
   vtkIdType ListCapacity = 0;
   bool Hybrid = false;
   bool CullCasters = true;
+  int ListBuilder = LISTS_CPU;
+  int LastListBuilder = LISTS_CPU;
+  bool RecordLists = false;
+  int NumberOfOverflows = 0;
+  int NumberOfSparsePasses = 0;
   vtkIdType NumberOfCulledCasters = 0;
   vtkIdType NumberOfRasterizedCasters = 0;
   vtkIdType NumberOfValidSamples = 0;

@@ -384,6 +384,12 @@ const OptionTable LinkedListOptions = {
   { "capacity", OptionType::Integer, 0, 0, 2147483647, {}, "samples",
     "node-pool size: at most this many samples are listed per pass, the others in further "
     "passes (none is dropped); 0: one node per sample, one pass" },
+  { "lists", OptionType::Choice, "cpu", 0, 0, { "cpu", "gpu" }, "",
+    "who builds the per-texel lists: \"cpu\", a sort by texel (measured faster on Mesa "
+    "llvmpipe), or \"gpu\", Ferko 2014's construction in a GL 4.3 compute shader (node pool, "
+    "atomic counter, atomic head exchange; an overflowing pool lists the rest in another "
+    "pass); the same lists and visibility, and the CPU builds them (with an error) where "
+    "OpenGL 4.3 is missing" },
 };
 
 // llsm-hybrid: llsm's options and its classifier's.
@@ -401,6 +407,8 @@ void InstallLinkedList(vtkRenderer* ren, const Options& opts, bool hybrid)
   vtkNew<vtkPenumbraLinkedListShadows> technique;
   technique->SetResolution(opts.Integer("resolution"));
   technique->SetListCapacity(opts.Integer("capacity"));
+  technique->SetListBuilder(opts.Choice("lists") == 1 ? vtkPenumbraLinkedListShadows::LISTS_GPU
+                                                      : vtkPenumbraLinkedListShadows::LISTS_CPU);
   technique->SetHybrid(hybrid);
   if (hybrid)
   {

@@ -6,10 +6,13 @@
 // torture scenes; still exact with a one-texel grid and with a node pool far smaller than the
 // samples; the degenerate frames (no geometry, no casters, every sample facing away) give the
 // reference's answer; the statistics add up; caster culling changes no answer (recomputed
-// with it off) and culls casters on the default scene for every light type.
+// with it off) and culls casters on the default scene for every light type; the GPU list path
+// (compute shader, atomic counter and head exchange) lists the same samples per texel as the
+// CPU path and gives the same visibility, also when a small node pool overflows.
 #include "vtkActor.h"
 #include "vtkActorCollection.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkPenumbraConservativeShadows.h"
@@ -29,12 +32,17 @@
 #include "PenumbraTechniqueTests.h"
 #include "PenumbraTestMacros.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
 namespace
 {
 using namespace penumbra_technique_tests;
+
+// Passes tested in the sparse form (few listed samples per caster), over every comparison:
+// the hybrid's plane scenes must use it, so its exactness is checked above too.
+int SparsePasses = 0;
 
 // The shadowed samples outside ties, summed over a comparison's lights.
 struct Shadows
@@ -43,6 +51,27 @@ struct Shadows
   vtkIdType Reference = 0;
 };
 
+// Renders `renderer` (128 x 96, in a new `window`) with `name` ("llsm" or "llsm-hybrid") and
+// `options`; the pass's technique, or null when any of it failed.
+vtkPenumbraLinkedListShadows* RenderWith(vtkRenderer* renderer, const std::string& name,
+  const std::string& options, vtkSmartPointer<vtkRenderWindow>& window)
+{
+  window = TestWindow(renderer, 128, 96);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  if (!techniques->Apply(renderer, name.c_str(), options.c_str()))
+  {
+    return nullptr;
+  }
+  window->Render();
+  vtkPenumbraShadowPass* pass = ShadowPass(renderer);
+  if (!pass || pass->GetNumberOfLights() < 1)
+  {
+    return nullptr;
+  }
+  auto* llsm = vtkPenumbraLinkedListShadows::SafeDownCast(pass->GetTechnique());
+  return llsm && llsm->GetHybrid() == (name == "llsm-hybrid") ? llsm : nullptr;
+}
+
 // Renders `renderer` (128 x 96) with `name` ("llsm" or "llsm-hybrid") and `options`, then
 // compares each light's visibility, from the pass and recomputed directly (the statistics
 // belong to that call), with the reference's. Fails on any mismatch outside ties.
@@ -50,14 +79,10 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
   const std::string& options, Shadows* shadows = nullptr, int minPasses = 1,
   vtkIdType* culls = nullptr)
 {
-  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 128, 96);
-  vtkNew<vtkPenumbraTechniques> techniques;
-  CHECK(techniques->Apply(renderer, name.c_str(), options.c_str()));
-  window->Render();
+  vtkSmartPointer<vtkRenderWindow> window;
+  vtkPenumbraLinkedListShadows* llsm = RenderWith(renderer, name, options, window);
+  CHECK(llsm != nullptr);
   vtkPenumbraShadowPass* pass = ShadowPass(renderer);
-  CHECK(pass != nullptr && pass->GetNumberOfLights() >= 1);
-  auto* llsm = vtkPenumbraLinkedListShadows::SafeDownCast(pass->GetTechnique());
-  CHECK(llsm != nullptr && llsm->GetHybrid() == (name == "llsm-hybrid"));
   vtkPenumbraViewSamples* samples = pass->GetViewSamples();
   CHECK(samples->GetNumberOfValidSamples() > 0);
 
@@ -109,8 +134,10 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
     }
     CHECK(
       llsm->ComputeVisibility(renderer, pass->GetGeometry(), samples, pass->GetLight(i), direct));
+    SparsePasses += llsm->GetNumberOfSparsePasses();
+    CHECK(llsm->GetNumberOfSparsePasses() <= llsm->GetNumberOfPasses());
     std::printf("%-40s light %d: valid %lld, listed %lld (%.1f%%, sent %.1f%%), lists max %lld "
-                "mean %.2f, tests %lld, traced %lld, passes %d, views %d, ties %lld, "
+                "mean %.2f, tests %lld, traced %lld, passes %d (sparse %d), views %d, ties %lld, "
                 "mismatches %lld (direct %lld), casters culled %lld rasterized %lld; classify "
                 "%.1f, lists %.1f, raster %.1f, "
                 "trace %.1f ms\n",
@@ -119,10 +146,11 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
       100.0 * llsm->GetUncertainFraction(), static_cast<long long>(llsm->GetMaxListLength()),
       llsm->GetMeanListLength(), static_cast<long long>(llsm->GetNumberOfTests()),
       static_cast<long long>(llsm->GetNumberOfTracedSamples()), llsm->GetNumberOfPasses(),
-      llsm->GetNumberOfViews(), static_cast<long long>(reference->GetNumberOfTies()),
-      static_cast<long long>(mismatches[0]), static_cast<long long>(mismatches[1]),
-      static_cast<long long>(culled), static_cast<long long>(rasterized), llsm->GetClassifyTimeMs(),
-      llsm->GetListTimeMs(), llsm->GetRasterTimeMs(), llsm->GetTraceTimeMs());
+      llsm->GetNumberOfSparsePasses(), llsm->GetNumberOfViews(),
+      static_cast<long long>(reference->GetNumberOfTies()), static_cast<long long>(mismatches[0]),
+      static_cast<long long>(mismatches[1]), static_cast<long long>(culled),
+      static_cast<long long>(rasterized), llsm->GetClassifyTimeMs(), llsm->GetListTimeMs(),
+      llsm->GetRasterTimeMs(), llsm->GetTraceTimeMs());
     CHECK(mismatches[0] == 0 && mismatches[1] == 0);
     CHECK(valid == samples->GetNumberOfValidSamples());
     CHECK(llsm->GetNumberOfListedSamples() <= valid);
@@ -158,11 +186,13 @@ const LightType HardLights[] = { LightType::Directional, LightType::Spot, LightT
 
 int CheckPlane()
 {
+  SparsePasses = 0;
   for (LightType type : HardLights)
   {
     RUN(CompareBoth(std::string("plane+box ") + Name(type), PlaneScene(type, 0.02, 0.5),
       "{\"resolution\": 256}"));
   }
+  CHECK(SparsePasses > 0);
   return EXIT_SUCCESS;
 }
 
@@ -194,6 +224,86 @@ int CheckDegenerateLists()
     RUN(Compare("plane+box capacity 97 " + light, PlaneScene(type, 0.02, 0.5), "llsm",
       "{\"resolution\": 64, \"capacity\": 97}", nullptr, 10));
   }
+  return EXIT_SUCCESS;
+}
+
+// The GPU and CPU list paths on the same frame: the same (view, texel, sample) sets, the same
+// visibility bit for bit. With a pool of `capacity` nodes the GPU path must overflow (and
+// still list every sample once, in further passes).
+int CompareListPaths(const std::string& label, vtkRenderer* renderer, const std::string& name,
+  const std::string& options, vtkIdType capacity)
+{
+  vtkSmartPointer<vtkRenderWindow> window;
+  vtkPenumbraLinkedListShadows* llsm = RenderWith(renderer, name, options, window);
+  CHECK(llsm != nullptr);
+  vtkPenumbraShadowPass* pass = ShadowPass(renderer);
+  llsm->RecordListsOn();
+  for (int i = 0; i < pass->GetNumberOfLights(); ++i)
+  {
+    vtkNew<vtkFloatArray> answer[2];
+    vtkNew<vtkIdTypeArray> lists[2];
+    for (int path :
+      { vtkPenumbraLinkedListShadows::LISTS_CPU, vtkPenumbraLinkedListShadows::LISTS_GPU })
+    {
+      llsm->SetListBuilder(path);
+      llsm->SetListCapacity(path == vtkPenumbraLinkedListShadows::LISTS_GPU ? capacity : 0);
+      CHECK(llsm->ComputeVisibility(
+        renderer, pass->GetGeometry(), pass->GetViewSamples(), pass->GetLight(i), answer[path]));
+      CHECK(llsm->GetLastListBuilder() == path);
+      lists[path]->DeepCopy(llsm->GetRecordedLists());
+    }
+    const vtkIdType listed = llsm->GetNumberOfListedSamples();
+    std::printf("%-40s light %d: %lld listed, GPU passes %d, overflows %d\n",
+      (name + " " + label).c_str(), i, static_cast<long long>(listed), llsm->GetNumberOfPasses(),
+      llsm->GetNumberOfOverflows());
+    CHECK(lists[0]->GetNumberOfTuples() == listed && lists[1]->GetNumberOfTuples() == listed);
+    for (vtkIdType k = 0; k < 3 * listed; ++k)
+    {
+      CHECK(lists[0]->GetValue(k) == lists[1]->GetValue(k));
+    }
+    // Some view holds more samples than the pool: its pool must have overflowed.
+    if (capacity > 0 && listed > capacity * llsm->GetNumberOfViews())
+    {
+      CHECK(llsm->GetNumberOfOverflows() > 0 && llsm->GetNumberOfPasses() > 1);
+    }
+    CHECK(capacity > 0 || llsm->GetNumberOfOverflows() == 0);
+    CHECK(llsm->GetNumberOfOverflows() < std::max(llsm->GetNumberOfPasses(), 1));
+    CHECK(answer[0]->GetNumberOfTuples() == answer[1]->GetNumberOfTuples());
+    for (vtkIdType s = 0; s < answer[0]->GetNumberOfTuples(); ++s)
+    {
+      CHECK(answer[0]->GetValue(s) == answer[1]->GetValue(s));
+    }
+  }
+  renderer->GetRenderWindow()->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
+// GPU lists against CPU lists (identical sets and visibility), and against the reference
+// through the registry option (0 mismatches), with and without a forced small pool.
+int CheckListPaths()
+{
+  for (LightType type : HardLights)
+  {
+    const std::string light = Name(type);
+    for (const char* name : { "llsm", "llsm-hybrid" })
+    {
+      RUN(CompareListPaths(
+        "plane+box lists " + light, PlaneScene(type, 0.02, 0.5), name, "{\"resolution\": 256}", 0));
+      RUN(CompareListPaths("plane+box pool 97 " + light, PlaneScene(type, 0.02, 0.5), name,
+        "{\"resolution\": 256}", 97));
+      RUN(CompareListPaths("sub-texel wire pool 50 " + light, PlaneScene(type, 0.001, 0.0005, 0.08),
+        name, "{\"resolution\": 256}", 50));
+    }
+    RUN(CompareBoth("plane+box gpu lists " + light, PlaneScene(type, 0.02, 0.5),
+      "{\"resolution\": 256, \"lists\": \"gpu\"}"));
+    RUN(Compare("plane+box gpu pool 97 " + light, PlaneScene(type, 0.02, 0.5), "llsm",
+      "{\"resolution\": 64, \"capacity\": 97, \"lists\": \"gpu\"}", nullptr, 10));
+  }
+  vtkNew<vtkPenumbraSceneReader> reader;
+  vtkSmartPointer<vtkRenderer> city = DefaultSceneWith(LightType::AsInScene, reader, 35.0);
+  CHECK(city != nullptr);
+  RUN(CompareListPaths("default.json pool 1000", city, "llsm", "{}", 1000));
   return EXIT_SUCCESS;
 }
 
@@ -293,6 +403,9 @@ int CheckBadInput()
   CHECK(techniques->Apply(renderer, "llsm", "{\"classify_resolution\": 512}") == 0);
   CHECK(techniques->Apply(renderer, "llsm-hybrid", "{\"classify_resolution\": 512}") == 1);
   CHECK(techniques->Apply(renderer, "llsm", "{\"resolution\": 1, \"capacity\": 5}") == 1);
+  CHECK(techniques->Apply(renderer, "llsm", "{\"lists\": \"gpu\"}") == 1);
+  CHECK(techniques->Apply(renderer, "llsm-hybrid", "{\"lists\": \"gpu\"}") == 1);
+  CHECK(techniques->Apply(renderer, "llsm", "{\"lists\": \"opencl\"}") == 0);
   return EXIT_SUCCESS;
 }
 }
@@ -303,6 +416,7 @@ int TestLinkedListShadows(int, char*[])
   RUN(CheckPlane());
   RUN(CheckThinWire());
   RUN(CheckDegenerateLists());
+  RUN(CheckListPaths());
   RUN(CheckEmptyFrames());
   RUN(CheckDefaultScene());
   RUN(CheckTortureScenes());
