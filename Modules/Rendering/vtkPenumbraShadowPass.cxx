@@ -5,6 +5,7 @@
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkCollection.h"
+#include "vtkCompositePolyDataMapper2.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
@@ -690,6 +691,19 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
   }
   frame->Finish();
   this->SetInjected(any ? injected : std::vector<char>());
+}
+
+namespace
+{
+// Block visibilities live on vtkCompositePolyDataMapper2, which the scene module cannot see:
+// registered here, when this library is loaded, so hidden blocks cast no shadows.
+vtkCompositeDataDisplayAttributes* CompositeDisplayAttributes(vtkMapper* mapper)
+{
+  auto* composite = vtkCompositePolyDataMapper2::SafeDownCast(mapper);
+  return composite ? composite->GetCompositeDataDisplayAttributes() : nullptr;
+}
+const bool DisplayAttributesRegistered =
+  (vtkPenumbraSceneGeometry::SetDisplayAttributesAccessor(&CompositeDisplayAttributes), true);
 }
 
 vtkStandardNewMacro(vtkPenumbraShadowPass);

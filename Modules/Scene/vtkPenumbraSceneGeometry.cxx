@@ -8,7 +8,9 @@
 #include "vtkAssemblyPath.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCompositeDataDisplayAttributes.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkDataObjectTree.h"
 #include "vtkDataObjectTreeIterator.h"
 #include "vtkDataSet.h"
 #include "vtkDataSetMapper.h"
@@ -43,6 +45,11 @@
 #include <unordered_map>
 #include <vector>
 
+namespace
+{
+vtkPenumbraSceneGeometry::DisplayAttributesAccessor DisplayAttributes = nullptr;
+}
+
 vtkStandardNewMacro(vtkPenumbraSceneGeometry);
 vtkInformationKeyMacro(vtkPenumbraSceneGeometry, NAME, String);
 
@@ -64,6 +71,8 @@ struct PropEntry
   vtkMTimeType DataMTime = 0;
   vtkMTimeType MapperMTime = 0;
   double Matrix[16];
+  vtkSmartPointer<vtkCompositeDataDisplayAttributes> Attributes; // block visibilities, if any
+  vtkMTimeType AttributesMTime = 0;
 
   std::vector<double> World;      // 9 per triangle, absolute world coordinates
   std::vector<vtkIdType> CellIds; // per triangle
@@ -222,6 +231,10 @@ struct vtkPenumbraSceneGeometry::Internals
   vtkIdType AppendPolyData(
     vtkPolyData* poly, const double m[16], vtkIdType cellIdBase, PropEntry& e, bool track);
 
+  // Appends the visible polydata leaves below `block` (depth first), advancing cellBase
+  // past hidden ones too; returns the number of NaN/inf points met.
+  vtkIdType AppendBlocks(
+    vtkDataObject* block, bool parentVisible, PropEntry& e, vtkIdType& cellBase);
   // Re-extracts an entry from its mapper's input. Returns false with `message` on bad input.
   bool Extract(PropEntry& e, const std::string& label, std::string& message);
 
@@ -374,22 +387,11 @@ bool vtkPenumbraSceneGeometry::Internals::Extract(
   vtkDataObject* data = e.Data;
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
   {
-    // Composite inputs are drawn by vtkCompositePolyDataMapper2, which draws only the
+    // Composite inputs are drawn by vtkCompositePolyDataMapper2, which draws only the visible
     // polydata leaves. Cell ids continue from block to block in depth-first order, counting
-    // every polydata leaf. Block visibility (vtkCompositeDataDisplayAttributes) is not read:
-    // it lives on vtkCompositePolyDataMapper2, a RenderingOpenGL2 class.
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    it->SkipEmptyNodesOn();
+    // every polydata leaf, hidden ones included.
     vtkIdType cellBase = 0;
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-    {
-      if (auto* poly = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-      {
-        badPoints += this->AppendPolyData(poly, e.Matrix, cellBase, e, false);
-        cellBase += poly->GetNumberOfCells();
-      }
-    }
+    badPoints = this->AppendBlocks(composite, true, e, cellBase);
   }
   else if (auto* poly = vtkPolyData::SafeDownCast(data))
   {
@@ -435,6 +437,39 @@ bool vtkPenumbraSceneGeometry::Internals::Extract(
     }
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkPenumbraSceneGeometry::Internals::AppendBlocks(
+  vtkDataObject* block, bool parentVisible, PropEntry& e, vtkIdType& cellBase)
+{
+  // A block's own visibility if set, else its parent's (vtkCompositePolyDataMapper2's rule).
+  vtkCompositeDataDisplayAttributes* attributes = e.Attributes;
+  const bool visible = attributes && attributes->HasBlockVisibility(block)
+    ? attributes->GetBlockVisibility(block)
+    : parentVisible;
+  vtkIdType badPoints = 0;
+  if (auto* poly = vtkPolyData::SafeDownCast(block))
+  {
+    if (visible)
+    {
+      badPoints += this->AppendPolyData(poly, e.Matrix, cellBase, e, false);
+    }
+    cellBase += poly->GetNumberOfCells();
+  }
+  else if (auto* tree = vtkDataObjectTree::SafeDownCast(block))
+  {
+    vtkSmartPointer<vtkDataObjectTreeIterator> it;
+    it.TakeReference(tree->NewTreeIterator());
+    it->TraverseSubTreeOff();
+    it->VisitOnlyLeavesOff();
+    it->SkipEmptyNodesOn();
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      badPoints += this->AppendBlocks(it->GetCurrentDataObject(), visible, e, cellBase);
+    }
+  }
+  return badPoints;
 }
 
 //------------------------------------------------------------------------------
@@ -717,12 +752,17 @@ int vtkPenumbraSceneGeometry::Update(vtkProp** props, int count)
         vtkMatrix4x4::Identity(matrix);
       }
 
+      vtkCompositeDataDisplayAttributes* attributes =
+        DisplayAttributes && vtkCompositeDataSet::SafeDownCast(data) ? DisplayAttributes(mapper)
+                                                                     : nullptr;
       PropEntry entry;
       bool reuse = false;
       if (found != previous.end())
       {
         PropEntry& old = found->second;
         reuse = old.Mapper == mapper && old.Data == data && old.DataMTime == data->GetMTime() &&
+          old.Attributes == attributes &&
+          old.AttributesMTime == (attributes ? attributes->GetMTime() : 0) &&
           old.MapperMTime == mapper->GetMTime() && std::equal(matrix, matrix + 16, old.Matrix);
         entry = std::move(old);
         previous.erase(found);
@@ -738,6 +778,8 @@ int vtkPenumbraSceneGeometry::Update(vtkProp** props, int count)
         entry.Data = data;
         entry.DataMTime = data->GetMTime();
         entry.MapperMTime = mapper->GetMTime();
+        entry.Attributes = attributes;
+        entry.AttributesMTime = attributes ? attributes->GetMTime() : 0;
         std::copy(matrix, matrix + 16, entry.Matrix);
         ++impl.ExtractedLastUpdate;
         if (!impl.Extract(entry, PropLabel(actor, i, key), error))
@@ -782,6 +824,12 @@ int vtkPenumbraSceneGeometry::Update(vtkProp** props, int count)
   }
   impl.Publish(this->Origin, geometryChanged);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraSceneGeometry::SetDisplayAttributesAccessor(DisplayAttributesAccessor accessor)
+{
+  DisplayAttributes = accessor;
 }
 
 //------------------------------------------------------------------------------

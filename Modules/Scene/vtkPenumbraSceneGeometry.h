@@ -13,9 +13,12 @@
  * vtkDataSetMapper does), composite inputs (polydata leaves in depth-first order, as the
  * composite mappers draw them), vtkAssembly. Polygons with more than three points and
  * triangle strips are triangulated; vertices and lines are ignored. Invisible props, props
- * without mapper or input, volumes and 2D actors are skipped. Block visibility of composite
- * data (vtkCompositeDataDisplayAttributes) is not honoured: it lives on
- * vtkCompositePolyDataMapper2, and this module must not depend on RenderingOpenGL2.
+ * without mapper or input, volumes and 2D actors are skipped. Hidden blocks of composite data
+ * (vtkCompositeDataDisplayAttributes, a block inheriting its parent's visibility unless set,
+ * as vtkCompositePolyDataMapper2 draws them) are skipped too, once a display-attributes
+ * accessor is registered (SetDisplayAttributesAccessor(): the mapper that holds them is a
+ * RenderingOpenGL2 class, which this module must not depend on; Penumbra's Rendering module
+ * registers it when loaded).
  *
  * Triangle order follows what VTK 9.1's vtkOpenGLPolyDataMapper draws, so that a G-buffer
  * pass can turn `gl_PrimitiveID + PrimitiveIDOffset` into a global triangle index with
@@ -51,10 +54,12 @@
 
 #include <memory> // For std::unique_ptr
 
+class vtkCompositeDataDisplayAttributes;
 class vtkDoubleArray;
 class vtkIdTypeArray;
 class vtkInformationStringKey;
 class vtkIntArray;
+class vtkMapper;
 class vtkProp;
 class vtkPropCollection;
 class vtkRenderer;
@@ -101,6 +106,16 @@ public:
    * props outside the view still cast shadows into it.
    */
   int Update(vtkProp** props, int count);
+#endif
+
+  /**
+   * How to find a mapper's block visibilities (vtkCompositeDataDisplayAttributes), nullptr
+   * when it has none. One accessor per process; Penumbra::Rendering registers the one for
+   * vtkCompositePolyDataMapper2. Without an accessor every block is extracted.
+   */
+#ifndef __VTK_WRAP__
+  using DisplayAttributesAccessor = vtkCompositeDataDisplayAttributes* (*)(vtkMapper*);
+  static void SetDisplayAttributesAccessor(DisplayAttributesAccessor accessor);
 #endif
 
   /**

@@ -8,10 +8,14 @@
 #include "vtkCamera.h"
 #include "vtkCameraPass.h"
 #include "vtkCommand.h"
+#include "vtkCompositeDataDisplayAttributes.h"
+#include "vtkCompositePolyDataMapper2.h"
 #include "vtkCubeSource.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkLight.h"
+#include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraRayTracedShadows.h"
@@ -24,6 +28,7 @@
 #include "vtkPenumbraTechniques.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPlaneSource.h"
+#include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
 #include "vtkRenderPassCollection.h"
@@ -513,8 +518,52 @@ int CheckManyLights()
   return EXIT_SUCCESS;
 }
 
+// Hidden blocks of composite data cast no shadows: vtkCompositePolyDataMapper2 does not draw
+// them, so the scene geometry (registered accessor) leaves them out, a block inheriting its
+// parent's visibility unless it has its own; showing a block again brings it back.
+int CheckHiddenBlocks()
+{
+  auto block = [](double z)
+  {
+    vtkNew<vtkPlaneSource> plane;
+    plane->SetCenter(0, 0, z);
+    plane->Update();
+    vtkSmartPointer<vtkPolyData> poly = plane->GetOutput();
+    return poly;
+  };
+  vtkNew<vtkMultiBlockDataSet> root, group;
+  root->SetBlock(0, block(0.0));
+  root->SetBlock(1, group);
+  group->SetBlock(0, block(1.0));
+  group->SetBlock(1, block(2.0));
+  vtkNew<vtkCompositePolyDataMapper2> mapper;
+  mapper->SetInputDataObject(root);
+  vtkNew<vtkCompositeDataDisplayAttributes> attributes;
+  mapper->SetCompositeDataDisplayAttributes(attributes);
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(actor);
+  vtkNew<vtkPenumbraSceneGeometry> geometry;
+
+  // Each plane is 2 triangles; cell ids continue over hidden blocks.
+  CHECK(geometry->Update(renderer) == 1 && geometry->GetNumberOfTriangles() == 6);
+  attributes->SetBlockVisibility(group, false);
+  CHECK(geometry->Update(renderer) == 1 && geometry->GetNumberOfTriangles() == 2);
+  attributes->SetBlockVisibility(group->GetBlock(1), true); // its own flag wins
+  CHECK(geometry->Update(renderer) == 1 && geometry->GetNumberOfTriangles() == 4);
+  CHECK(geometry->GetCellIds()->GetValue(2) == 2); // the second plane's cells are skipped
+  double bounds[6];
+  geometry->GetBounds(bounds);
+  CHECK(bounds[4] == 0.0 && bounds[5] == 2.0);
+  attributes->RemoveBlockVisibilities();
+  CHECK(geometry->Update(renderer) == 1 && geometry->GetNumberOfTriangles() == 6);
+  return EXIT_SUCCESS;
+}
+
 int TestShadowPass(int, char*[])
 {
+  RUN(CheckHiddenBlocks());
   RUN(CheckManyLights());
   RUN(CheckFrameReuse());
   RUN(CheckSamplesStayOnGPU());
