@@ -669,6 +669,9 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Flush(LightPages& pages)
       other.Key.clear();
     }
   }
+  // Slots popped from the back in ascending order: pages allocated one after another (row by
+  // row) then sit side by side in the atlas, and their copies merge (CopyPages()).
+  std::sort(this->FreeSlots.begin(), this->FreeSlots.end(), std::greater<int>());
   pages.Table.assign(pages.SlotOf.size(), 0);
   pages.TableDirty = true;
 }
@@ -1084,13 +1087,25 @@ void vtkPenumbraResolutionMatchedShadows::Internals::CopyPages(
   const int slotsPerRow = static_cast<int>(this->Atlas->GetWidth()) >> PageBits;
   for (const SuperpageCell& cell : cells)
   {
-    for (size_t i = cell.First; i < cell.Last; ++i)
+    for (size_t i = cell.First; i < cell.Last;)
     {
+      // A run of pages side by side in one row whose slots follow each other in one atlas row
+      // (the free list hands out consecutive slots, and allocation goes row by row) is one
+      // copy: on llvmpipe each copy costs more than its texels.
       const NewPage& page = pages[i];
+      size_t end = i + 1;
+      while (end < cell.Last && pages[end].Y == page.Y &&
+        pages[end].X == page.X + static_cast<int>(end - i) &&
+        pages[end].Slot == page.Slot + static_cast<int>(end - i) &&
+        pages[end].Slot / slotsPerRow == page.Slot / slotsPerRow)
+      {
+        ++end;
+      }
       glCopyImageSubData(scratch, GL_TEXTURE_2D, 0, cell.CellX + ((page.X - cell.X0) << PageBits),
         cell.CellY + ((page.Y - cell.Y0) << PageBits), 0, atlas, GL_TEXTURE_2D, 0,
-        (page.Slot % slotsPerRow) << PageBits, (page.Slot / slotsPerRow) << PageBits, 0, PageSize,
-        PageSize, 1);
+        (page.Slot % slotsPerRow) << PageBits, (page.Slot / slotsPerRow) << PageBits, 0,
+        static_cast<int>(end - i) << PageBits, PageSize, 1);
+      i = end;
     }
   }
 }
