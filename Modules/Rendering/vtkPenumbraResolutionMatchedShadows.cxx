@@ -220,6 +220,8 @@ struct LightPages
   std::vector<long long> RequestedKeys;
   std::vector<float> Keys; // read-back requests (key + 1 per pixel, 0: none)
   bool TableDirty = true;
+  bool FullTable = true;               // every entry to compute and upload (after a flush)
+  std::vector<long long> Changed;      // else the pages made or no longer resident since
   vtkMTimeType RequestSamplesTime = 0; // the view samples the last requests came from
   int RequestFrameSize[2] = { 0, 0 };  // the frame's pixels the last requests came from
   int RequestStep = 1;                 // and its analysis step
@@ -674,6 +676,8 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Flush(LightPages& pages)
   std::sort(this->FreeSlots.begin(), this->FreeSlots.end(), std::greater<int>());
   pages.Table.assign(pages.SlotOf.size(), 0);
   pages.TableDirty = true;
+  pages.FullTable = true;
+  pages.Changed.clear();
 }
 
 //------------------------------------------------------------------------------
@@ -916,6 +920,7 @@ std::vector<NewPage> vtkPenumbraResolutionMatchedShadows::Internals::Allocate(
           this->FreeSlots.push_back(slot);
           slot = -1;
           this->Cur->TableDirty = true;
+          this->Cur->Changed.push_back(r);
         }
       }
     }
@@ -930,6 +935,7 @@ std::vector<NewPage> vtkPenumbraResolutionMatchedShadows::Internals::Allocate(
     this->Cur->SlotOf[static_cast<size_t>(key)] = page.Slot;
     pages.push_back(page);
     this->Cur->TableDirty = true;
+    this->Cur->Changed.push_back(key);
   }
   const int capacity = self->GetAtlasCapacity();
   self->NumberOfResidentPages = capacity - static_cast<int>(this->FreeSlots.size());
@@ -953,27 +959,70 @@ std::vector<NewPage> vtkPenumbraResolutionMatchedShadows::Internals::Allocate(
 
 //------------------------------------------------------------------------------
 // The page table's entries, level by level from the base: a resident page's own slot, else
-// its parent's entry (the finest resident coarser page), uploaded when anything changed.
+// its parent's entry (the finest resident coarser page), uploaded when anything changed. After
+// a flush every entry is computed and uploaded; otherwise only the subtrees of the pages made
+// or no longer resident since the last upload, each level's bounding rectangle of them
+// uploaded (the refined pages of a frame are a few dozen: the whole table, 1.4 million
+// entries at 32768^2, cost a few ms to compute and upload).
 void vtkPenumbraResolutionMatchedShadows::Internals::UploadTable()
 {
-  if (!this->Cur->TableDirty)
+  LightPages& cur = *this->Cur;
+  if (!cur.TableDirty)
   {
     return;
   }
   const Pyramid& p = this->Levels;
-  for (int k = p.Base; k <= p.Finest; ++k)
+  const int levels = p.Finest - p.Base + 1;
+  // Per level the rectangle to upload, [x0, x1) x [y0, y1).
+  std::vector<int> rect(4 * static_cast<size_t>(levels), 0);
+  // The entries of level k in [x0, x1) x [y0, y1), their parents' being up to date.
+  auto compute = [&](int k, int x0, int x1, int y0, int y1)
   {
     const int side = p.Side(k);
-    for (int y = 0; y < side; ++y)
+    const int32_t tag = (k - p.Base) << 24;
+    for (int y = y0; y < y1; ++y)
     {
-      for (int x = 0; x < side; ++x)
+      const size_t row = static_cast<size_t>(p.Offset(k)) + static_cast<size_t>(y) * side;
+      const int* slots = cur.SlotOf.data() + row;
+      int32_t* entries = cur.Table.data() + row;
+      // The base level is always resident (it takes at most a quarter of the atlas).
+      const int32_t* parents = k == p.Base
+        ? nullptr
+        : cur.Table.data() + p.Offset(k - 1) + static_cast<size_t>(y >> 1) * (side >> 1);
+      for (int x = x0; x < x1; ++x)
       {
-        const size_t key = static_cast<size_t>(p.Key(k, x, y));
-        const int slot = this->Cur->SlotOf[key];
-        // The base level is always resident (it takes at most a quarter of the atlas).
-        this->Cur->Table[key] = slot >= 0 || k == p.Base
-          ? ((k - p.Base) << 24) | std::max(slot, 0)
-          : this->Cur->Table[static_cast<size_t>(p.Key(k - 1, x >> 1, y >> 1))];
+        entries[x] = slots[x] >= 0 || !parents ? (tag | std::max(slots[x], 0)) : parents[x >> 1];
+      }
+    }
+    int* r = rect.data() + 4 * (k - p.Base);
+    if (r[0] == r[1])
+    {
+      r[0] = x0, r[1] = x1, r[2] = y0, r[3] = y1;
+    }
+    else
+    {
+      r[0] = std::min(r[0], x0), r[1] = std::max(r[1], x1);
+      r[2] = std::min(r[2], y0), r[3] = std::max(r[3], y1);
+    }
+  };
+  if (cur.FullTable || cur.Changed.size() > 65536)
+  {
+    for (int k = p.Base; k <= p.Finest; ++k)
+    {
+      compute(k, 0, p.Side(k), 0, p.Side(k));
+    }
+  }
+  else
+  {
+    // Each changed page's subtree, coarse to fine (an overlap is computed twice, alike).
+    for (long long key : cur.Changed)
+    {
+      int k, x, y;
+      p.Decode(key, k, x, y);
+      for (int kk = k; kk <= p.Finest; ++kk)
+      {
+        const int d = kk - k;
+        compute(kk, x << d, (x + 1) << d, y << d, (y + 1) << d);
       }
     }
   }
@@ -981,10 +1030,20 @@ void vtkPenumbraResolutionMatchedShadows::Internals::UploadTable()
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   for (int k = p.Base; k <= p.Finest; ++k)
   {
-    glTextureSubImage2D(this->Cur->PageTable, p.Finest - k, 0, 0, p.Side(k), p.Side(k),
-      GL_RED_INTEGER, GL_INT, this->Cur->Table.data() + p.Offset(k));
+    const int* r = rect.data() + 4 * (k - p.Base);
+    if (r[0] == r[1])
+    {
+      continue;
+    }
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, p.Side(k));
+    glTextureSubImage2D(cur.PageTable, p.Finest - k, r[0], r[2], r[1] - r[0], r[3] - r[2],
+      GL_RED_INTEGER, GL_INT,
+      cur.Table.data() + p.Offset(k) + static_cast<size_t>(r[2]) * p.Side(k) + r[0]);
   }
-  this->Cur->TableDirty = false;
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  cur.Changed.clear();
+  cur.FullTable = false;
+  cur.TableDirty = false;
 }
 
 //------------------------------------------------------------------------------
