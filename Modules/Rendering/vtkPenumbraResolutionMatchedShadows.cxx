@@ -1088,48 +1088,68 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
   program->SetUniformf("invFar", static_cast<float>(1.0 / this->Cur->Map.Far));
   program->SetUniformi("peel", 0);
   program->SetUniformf("peelGap", 0.0f);
+  const size_t perBatch = size_t(1) << (2 * ScratchCellBits);
   std::vector<SuperpageCell> cells;
+  std::vector<int> sizes; // per cell of the batch, the bounding rectangle's w and h
   for (size_t first = 0; first < pages.size();)
   {
-    SuperpageCell cell{ first, first, pages[first].X, pages[first].Y, 0, 0 };
-    int x1 = cell.X0, y1 = cell.Y0;
-    while (cell.Last < pages.size() && pages[cell.Last].SameSuperpage(pages[first]))
+    // A batch: up to perBatch superpages, each in its cell of the scratch.
+    cells.clear();
+    sizes.clear();
+    while (first < pages.size() && cells.size() < perBatch)
     {
-      cell.X0 = std::min(cell.X0, pages[cell.Last].X);
-      x1 = std::max(x1, pages[cell.Last].X);
-      cell.Y0 = std::min(cell.Y0, pages[cell.Last].Y);
-      y1 = std::max(y1, pages[cell.Last].Y);
-      ++cell.Last;
+      SuperpageCell cell{ first, first, pages[first].X, pages[first].Y, 0, 0 };
+      int x1 = cell.X0, y1 = cell.Y0;
+      while (cell.Last < pages.size() && pages[cell.Last].SameSuperpage(pages[first]))
+      {
+        cell.X0 = std::min(cell.X0, pages[cell.Last].X);
+        x1 = std::max(x1, pages[cell.Last].X);
+        cell.Y0 = std::min(cell.Y0, pages[cell.Last].Y);
+        y1 = std::max(y1, pages[cell.Last].Y);
+        ++cell.Last;
+      }
+      const int index = static_cast<int>(cells.size());
+      cell.CellX = (index & ((1 << ScratchCellBits) - 1)) * SuperpageSide;
+      cell.CellY = (index >> ScratchCellBits) * SuperpageSide;
+      cells.push_back(cell);
+      sizes.push_back((x1 - cell.X0 + 1) << PageBits);
+      sizes.push_back((y1 - cell.Y0 + 1) << PageBits);
+      first = cell.Last;
     }
-    const int index = static_cast<int>(cells.size());
-    if (index == 0)
+    // Only the cells' rectangles cleared, before the batch's draws (the previous batch's copies
+    // waited for its draws: nothing pending writes the scratch). A clear of the whole 1024^2
+    // scratch makes llvmpipe process every tile of it; a scissored clear is a quad drawn.
+    // grazing_light, moving light: about 2-3 % of the frame.
+    const GLfloat one = 1.0f;
+    if (glClearTexSubImage)
     {
-      // The whole scratch at once, unscissored: Mesa clears a scissored rectangle by drawing
-      // a quad, about what a superpage's own draw costs.
+      for (size_t c = 0; c < cells.size(); ++c)
+      {
+        glClearTexSubImage(this->Scratch->GetHandle(), 0, cells[c].CellX, cells[c].CellY, 0,
+          sizes[2 * c], sizes[2 * c + 1], 1, GL_DEPTH_COMPONENT, GL_FLOAT, &one);
+      }
+    }
+    else
+    {
       ostate->vtkglDisable(GL_SCISSOR_TEST);
-      const GLfloat one = 1.0f;
       glClearBufferfv(GL_DEPTH, 0, &one);
       ostate->vtkglEnable(GL_SCISSOR_TEST);
     }
-    cell.CellX = (index & ((1 << ScratchCellBits) - 1)) * SuperpageSide;
-    cell.CellY = (index >> ScratchCellBits) * SuperpageSide;
-    const int w = (x1 - cell.X0 + 1) << PageBits, h = (y1 - cell.Y0 + 1) << PageBits;
-    const View crop =
-      CroppedView(this->Cur->Map, pages[first].K, cell.X0 << PageBits, cell.Y0 << PageBits, w, h);
-    float matrix[16];
-    crop.ToFloatMatrix(matrix);
-    program->SetUniformMatrix4x4("lightMatrix", matrix);
-    ostate->vtkglViewport(cell.CellX, cell.CellY, w, h);
-    ostate->vtkglScissor(cell.CellX, cell.CellY, w, h);
-    glDrawArrays(GL_TRIANGLES, 0, this->Casters.VertexCount);
-    cells.push_back(cell);
-    ++self->NumberOfSuperpages;
-    first = cell.Last;
-    if (cells.size() == (size_t(1) << (2 * ScratchCellBits)) || first == pages.size())
+    for (size_t c = 0; c < cells.size(); ++c)
     {
-      this->CopyPages(pages, cells);
-      cells.clear();
+      const SuperpageCell& cell = cells[c];
+      const int w = sizes[2 * c], h = sizes[2 * c + 1];
+      const View crop = CroppedView(
+        this->Cur->Map, pages[cell.First].K, cell.X0 << PageBits, cell.Y0 << PageBits, w, h);
+      float matrix[16];
+      crop.ToFloatMatrix(matrix);
+      program->SetUniformMatrix4x4("lightMatrix", matrix);
+      ostate->vtkglViewport(cell.CellX, cell.CellY, w, h);
+      ostate->vtkglScissor(cell.CellX, cell.CellY, w, h);
+      glDrawArrays(GL_TRIANGLES, 0, this->Casters.VertexCount);
+      ++self->NumberOfSuperpages;
     }
+    this->CopyPages(pages, cells);
   }
   self->NumberOfRenderedPages += static_cast<int>(pages.size());
   self->TotalRenderedPages += static_cast<long long>(pages.size());
