@@ -203,6 +203,35 @@ pvs.Render(view)
 check(installed_pass(view).GetTechnique().GetResolution() == 1024,
       "an out-of-range option property is refused and the view keeps its technique")
 
+# Hidden blocks cast no shadows: the same ground and box as blocks of one data set; hiding
+# the box block (BlockSelectors) must take its shadow away with it.
+for source in pvs.GetSources().values():
+    pvs.Hide(source, view)
+ground = pvs.Plane(Origin=[-4, -4, 0], Point1=[4, -4, 0], Point2=[-4, 4, 0])
+box = pvs.Box(XLength=2.0, YLength=2.0, ZLength=1.0, Center=[0.0, 0.0, 2.0])
+pvs.RenameSource("BlockGround", ground)  # GroupDatasets names its blocks after the sources
+blocks = pvs.Show(pvs.GroupDatasets(Input=[ground, box]), view)
+view.ShadowTechnique = "raytraced"
+view.ShadowOptions = ""
+
+
+def shadowed_samples():
+    pvs.Render(view)
+    shadow_pass = installed_pass(view)
+    visibility = shadow_pass.GetVisibility(0)  # none when nothing casts: the light is skipped
+    count = 0 if visibility is None else sum(
+        1 for i in range(visibility.GetNumberOfTuples()) if 0.0 <= visibility.GetValue(i) < 0.5)
+    return count, shadow_pass.GetGeometry().GetNumberOfTriangles()
+
+
+both = shadowed_samples()
+blocks.BlockSelectors = ["/Root/BlockGround"]
+ground_only = shadowed_samples()
+check(both[0] > 0 and both[1] == 14, "blocks: the box block shadows the ground (%d samples)"
+      % both[0])
+check(ground_only == (0, 2), "blocks: a hidden box block casts no shadow (%d samples, %d "
+      "triangles)" % ground_only)
+
 if failures:
     print("%d check(s) failed" % len(failures))
 else:
