@@ -28,7 +28,8 @@ enum class Answer
 {
   None,
   CPU,
-  GPU
+  GPU,
+  Shader // a ShaderLookup, its textures not written (yet): Resolve() writes them
 };
 
 // A pool slot that is created on first use and kept: frames reuse the same arrays (same
@@ -72,7 +73,8 @@ struct vtkPenumbraFrame::Internals
     vtkSmartPointer<vtkLight> Light;
     int Index = 0;
     Answer State = Answer::None;
-    vtkSmartPointer<vtkFloatArray> Values; // CPU answers: stacked samples
+    vtkSmartPointer<vtkFloatArray> Values;                  // CPU answers: stacked samples
+    std::shared_ptr<vtkPenumbraFrame::ShaderLookup> Lookup; // kept once resolved
   };
   std::vector<Shadowed> Lights;
   // SetActiveLights(): the lights a technique sees, as indices into Lights; empty with
@@ -107,9 +109,9 @@ struct vtkPenumbraFrame::Internals
   std::vector<char> Ready[2];
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
 
-  const Shadowed* Find(int index) const
+  Shadowed* Find(int index)
   {
-    for (const auto& l : this->Lights)
+    for (auto& l : this->Lights)
     {
       if (l.Index == index)
       {
@@ -354,6 +356,7 @@ void vtkPenumbraFrame::SetVisibility(int k, vtkFloatArray* visibility)
   auto& l = *slot;
   l.State = Answer::CPU;
   l.Values = visibility;
+  l.Lookup = nullptr;
   for (int layer = 0; layer < impl.NumberOfLayers; ++layer)
   {
     impl.Fresh[layer][static_cast<size_t>(l.Index)] = 0;
@@ -363,7 +366,9 @@ void vtkPenumbraFrame::SetVisibility(int k, vtkFloatArray* visibility)
 void vtkPenumbraFrame::MarkOnGPU(int k)
 {
   Internals& impl = *this->Impl;
-  if (auto* slot = impl.Slot(k))
+  auto* slot = impl.Slot(k);
+  // A shader lookup stays one: its textures are written when asked for (Resolve()).
+  if (slot && slot->State != Answer::Shader)
   {
     auto& l = *slot;
     l.State = Answer::GPU;
@@ -372,6 +377,64 @@ void vtkPenumbraFrame::MarkOnGPU(int k)
     {
       impl.Fresh[layer][static_cast<size_t>(l.Index)] = 0;
     }
+  }
+}
+
+vtkPenumbraFrame::ShaderLookup::~ShaderLookup() = default;
+
+void vtkPenumbraFrame::SetShaderLookup(int k, std::shared_ptr<ShaderLookup> lookup)
+{
+  Internals& impl = *this->Impl;
+  auto* slot = impl.Slot(k);
+  if (!slot || !lookup)
+  {
+    vtkErrorMacro("SetShaderLookup: no shadowed light " << k << " or no lookup");
+    return;
+  }
+  slot->State = Answer::Shader;
+  slot->Values = nullptr;
+  slot->Lookup = std::move(lookup);
+  for (int layer = 0; layer < impl.NumberOfLayers; ++layer)
+  {
+    impl.Fresh[layer][static_cast<size_t>(slot->Index)] = 0;
+  }
+}
+
+vtkPenumbraFrame::ShaderLookup* vtkPenumbraFrame::GetShaderLookup(int index)
+{
+  Internals& impl = *this->Impl;
+  Internals::Shadowed* l = impl.Find(index);
+  // A goniometric diagram scales the textures (Finish()): the shader does not know it.
+  const bool scaled = l && impl.NumberOfLayers > 0 &&
+    static_cast<size_t>(index) < impl.HasFactor[0].size() &&
+    impl.HasFactor[0][static_cast<size_t>(index)];
+  return l && l->State != Answer::None && !scaled ? l->Lookup.get() : nullptr;
+}
+
+// A shader lookup's textures, written on the first request: the lookup sees the frame with
+// this light alone, as its technique saw it.
+void vtkPenumbraFrame::Resolve(int index)
+{
+  Internals& impl = *this->Impl;
+  Internals::Shadowed* l = impl.Find(index);
+  if (!l || l->State != Answer::Shader)
+  {
+    return;
+  }
+  const std::vector<int> active = impl.Active;
+  const bool subset = impl.Subset;
+  impl.Active = { static_cast<int>(l - impl.Lights.data()) };
+  impl.Subset = true;
+  impl.Window->MakeCurrent();
+  std::string error;
+  const std::shared_ptr<ShaderLookup> lookup = l->Lookup;
+  const bool ok = lookup->Resolve(this, error);
+  impl.Active = active;
+  impl.Subset = subset;
+  l->State = Answer::GPU;
+  if (!ok)
+  {
+    vtkErrorMacro("The visibility of light " << index << " could not be read: " << error);
   }
 }
 
@@ -407,6 +470,7 @@ const char* vtkPenumbraFrame::GetSurfaceQuadVS()
 vtkFloatArray* vtkPenumbraFrame::GetVisibility(int layer, int index)
 {
   Internals& impl = *this->Impl;
+  this->Resolve(index);
   const Internals::Shadowed* l = impl.Find(index);
   if (layer < 0 || layer >= impl.NumberOfLayers || !l || l->State == Answer::None)
   {
@@ -459,6 +523,7 @@ vtkFloatArray* vtkPenumbraFrame::GetLightFactor(int layer, int index)
 vtkTextureObject* vtkPenumbraFrame::GetVisibilityTexture(int layer, int index)
 {
   Internals& impl = *this->Impl;
+  this->Resolve(index);
   const Internals::Shadowed* l = impl.Find(index);
   return layer >= 0 && layer < impl.NumberOfLayers && l && l->State != Answer::None
     ? impl.Textures[layer][static_cast<size_t>(index)].Get()
@@ -555,9 +620,9 @@ void vtkPenumbraFrame::Finish()
     for (const auto& l : impl.Lights)
     {
       const size_t i = static_cast<size_t>(l.Index);
-      if (l.State == Answer::None)
+      if (l.State == Answer::None || l.State == Answer::Shader)
       {
-        continue;
+        continue; // a shader lookup's textures are written when asked for (Resolve())
       }
       if (l.State != Answer::CPU && !impl.HasFactor[layer][i])
       {

@@ -34,6 +34,7 @@
 #include "vtkPenumbraRenderingModule.h" // For export macro
 
 #include <memory> // For std::unique_ptr
+#include <string> // For ShaderLookup
 #include <vector> // For SetActiveLights
 
 class vtkFloatArray;
@@ -43,6 +44,7 @@ class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
 class vtkPenumbraViewSamplesPass;
 class vtkRenderer;
+class vtkShaderProgram;
 class vtkTextureObject;
 class vtkWindow;
 
@@ -125,9 +127,55 @@ public:
   void MarkOnGPU(int k);
 
   /**
-   * True when shadowed light `k` got an answer (SetVisibility() or MarkOnGPU()).
+   * True when shadowed light `k` got an answer (SetVisibility(), MarkOnGPU() or
+   * SetShaderLookup()).
    */
   bool HasVisibility(int k);
+
+#ifndef __VTK_WRAP__
+  /**
+   * An answer the receivers' own fragment shaders compute while they are shaded, the way
+   * VTK's vtkShadowMapPass looks its maps up: no full-screen pass writes a visibility
+   * texture, so the shadowed frame costs about one depth map more than the unshadowed one.
+   * vtkPenumbraShadowPass injects GetSource() into each receiver's fragment shader and calls
+   * Activate(), SetUniforms() and Deactivate() around the draw. Resolve() writes the same
+   * values into the light's visibility textures from the G-buffer, and runs only when they
+   * are asked for (GetVisibility(), GetVisibilityTexture(): the benchmark and the tests), so
+   * what is measured is what is shown.
+   */
+  class VTKPENUMBRARENDERING_EXPORT ShaderLookup
+  {
+  public:
+    virtual ~ShaderLookup();
+    /**
+     * What the source depends on: equal keys give equal sources, so the pass rebuilds the
+     * receivers' shaders only when a key changes.
+     */
+    virtual std::string GetKey() = 0;
+    /**
+     * GLSL declarations defining `float penumbraReceive<suffix>(vec4 vertexVC)` (the light's
+     * visibility at the fragment); every global name in it ends with `suffix`. It may call
+     * vtkPenumbraViewSamplesPass::GetSurfaceDeclarations()'s `penumbraSurface`, which the
+     * pass declares once.
+     */
+    virtual std::string GetSource(const std::string& suffix) = 0;
+    /** Sets its uniforms on a receiver's program (textures already active). */
+    virtual void SetUniforms(vtkShaderProgram* program, const std::string& suffix) = 0;
+    virtual void Activate() = 0;
+    virtual void Deactivate() = 0;
+    /**
+     * Writes the frame's shadowed light 0 (the frame shows this light alone while it runs)
+     * through BindVisibilityTarget(); false (with `error`) when it cannot.
+     */
+    virtual bool Resolve(vtkPenumbraFrame* frame, std::string& error) = 0;
+  };
+
+  /** Shadowed light `k`'s answer is `lookup`, evaluated while shading (see ShaderLookup). */
+  void SetShaderLookup(int k, std::shared_ptr<ShaderLookup> lookup);
+
+  /** Pass light `index`'s shader lookup, or nullptr when it has none this frame. */
+  ShaderLookup* GetShaderLookup(int index);
+#endif
 
   /**
    * Binds shadowed light `k`'s visibility texture of `layer` as the colour target of the
@@ -208,6 +256,8 @@ protected:
 private:
   vtkPenumbraFrame(const vtkPenumbraFrame&) = delete;
   void operator=(const vtkPenumbraFrame&) = delete;
+
+  void Resolve(int index);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

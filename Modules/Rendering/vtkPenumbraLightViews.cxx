@@ -21,8 +21,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <limits>
+#include <regex>
+#include <set>
 
 namespace penumbra_light_views
 {
@@ -706,9 +709,10 @@ void CasterBuffers::Bind(vtkShaderProgram* program)
 //------------------------------------------------------------------------------
 namespace
 {
-void SetDouble3(vtkShaderProgram* program, const char* name, const double v[3])
+void SetDouble3(vtkShaderProgram* program, const std::string& name, const double v[3])
 {
-  const GLint location = glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), name);
+  const GLint location =
+    glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), name.c_str());
   if (location >= 0)
   {
     glUniform3d(location, v[0], v[1], v[2]);
@@ -716,13 +720,14 @@ void SetDouble3(vtkShaderProgram* program, const char* name, const double v[3])
 }
 }
 
-void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup)
+void SetClassifyUniforms(
+  vtkShaderProgram* program, const LightSetup& setup, const std::string& suffix)
 {
-  SetDouble3(program, "classifyDirection", setup.Direction);
-  SetDouble3(program, "classifyPosition", setup.Position);
-  SetDouble3(program, "classifyAxis", setup.Axis);
-  const GLint cone =
-    glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), "classifyCosCone");
+  SetDouble3(program, "classifyDirection" + suffix, setup.Direction);
+  SetDouble3(program, "classifyPosition" + suffix, setup.Position);
+  SetDouble3(program, "classifyAxis" + suffix, setup.Axis);
+  const GLint cone = glGetUniformLocation(
+    static_cast<GLuint>(program->GetHandle()), ("classifyCosCone" + suffix).c_str());
   if (cone >= 0)
   {
     glUniform1d(cone, setup.CosCone);
@@ -730,14 +735,78 @@ void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup)
 }
 
 //------------------------------------------------------------------------------
-void SetLightUniforms(vtkShaderProgram* program, const LightSetup& setup)
+void SetLightUniforms(vtkShaderProgram* program, const LightSetup& setup, const std::string& suffix)
 {
   const float position[3] = { static_cast<float>(setup.Position[0]),
     static_cast<float>(setup.Position[1]), static_cast<float>(setup.Position[2]) };
   const float toLight[3] = { static_cast<float>(setup.Direction[0]),
     static_cast<float>(setup.Direction[1]), static_cast<float>(setup.Direction[2]) };
-  program->SetUniform3f("lightPosition", position);
-  program->SetUniform3f("toLightDirection", toLight);
+  program->SetUniform3f(("lightPosition" + suffix).c_str(), position);
+  program->SetUniform3f(("toLightDirection" + suffix).c_str(), toLight);
+}
+
+//------------------------------------------------------------------------------
+std::string SuffixGlobals(const std::string& source, const std::string& suffix)
+{
+  // Declared names: the uniforms, constants and functions the snippets declare at column 0
+  // (their bodies are indented, so locals and parameters keep their names).
+  static const std::regex declared(
+    R"((?:^|\n)(?:uniform\s+\w+|const\s+\w+|\w+)\s+(\w+)\s*(?:;|=|\())");
+  static const std::set<std::string> keep = { "main", "penumbraSurface" };
+  std::set<std::string> names;
+  for (auto it = std::sregex_iterator(source.begin(), source.end(), declared);
+       it != std::sregex_iterator(); ++it)
+  {
+    const std::string name = (*it)[1].str();
+    if (!keep.count(name))
+    {
+      names.insert(name);
+    }
+  }
+  // One pass over the identifiers, renaming the declared ones wherever they appear.
+  std::string out;
+  out.reserve(source.size() + 64);
+  size_t i = 0;
+  while (i < source.size())
+  {
+    const char c = source[i];
+    if (std::isalpha(static_cast<unsigned char>(c)) || c == '_')
+    {
+      size_t j = i;
+      while (j < source.size() &&
+        (std::isalnum(static_cast<unsigned char>(source[j])) || source[j] == '_'))
+      {
+        ++j;
+      }
+      const std::string word = source.substr(i, j - i);
+      out += word;
+      if (names.count(word) && (i == 0 || source[i - 1] != '.'))
+      {
+        out += suffix;
+      }
+      i = j;
+    }
+    else if (std::isdigit(static_cast<unsigned char>(c)))
+    {
+      // Numbers (1e-6, 0.0LF) are copied whole so that their letters are not identifiers.
+      size_t j = i;
+      while (j < source.size() &&
+        (std::isalnum(static_cast<unsigned char>(source[j])) || source[j] == '.' ||
+          ((source[j] == '-' || source[j] == '+') &&
+            (source[j - 1] == 'e' || source[j - 1] == 'E'))))
+      {
+        ++j;
+      }
+      out.append(source, i, j - i);
+      i = j;
+    }
+    else
+    {
+      out += c;
+      ++i;
+    }
+  }
+  return out;
 }
 
 //------------------------------------------------------------------------------

@@ -334,13 +334,22 @@ private:
  * The uniforms of the per-sample facing rules (vtkPenumbraShadowMapClassify.glsl) from the
  * light exactly as the reference reduces it: directions, position and cone in double.
  */
-void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup);
+void SetClassifyUniforms(
+  vtkShaderProgram* program, const LightSetup& setup, const std::string& suffix = "");
 
 /**
  * The float uniforms of the lookups' slope bias: `lightPosition` (rebased) and
  * `toLightDirection` (directional lights: unit vector towards the light).
  */
-void SetLightUniforms(vtkShaderProgram* program, const LightSetup& setup);
+void SetLightUniforms(
+  vtkShaderProgram* program, const LightSetup& setup, const std::string& suffix = "");
+
+/**
+ * `source` (GLSL declarations) with `suffix` appended to every name it declares at global
+ * scope (uniforms, constants, functions; not `penumbraSurface` and `main`), wherever the name
+ * appears: several copies of one snippet, one per light, can then live in one shader.
+ */
+std::string SuffixGlobals(const std::string& source, const std::string& suffix);
 
 /**
  * The entry of `light` in a per-light cache whose entries (T) hold a vtkWeakPointer<vtkLight>

@@ -14,6 +14,7 @@
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraFrame.h"
+#include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraLightViews.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
@@ -37,6 +38,7 @@
 #include "vtkPenumbraShadowMapMidpointFS.h"
 #include "vtkPenumbraShadowMapParaboloidFS.h"
 #include "vtkPenumbraShadowMapParaboloidVS.h"
+#include "vtkPenumbraShadowMapReceive.h"
 #include "vtkPenumbraShadowMapTileSample.h"
 #include "vtkPenumbraShadowMapTilesFS.h"
 #include "vtkPenumbraShadowMapVS.h"
@@ -603,22 +605,25 @@ double OrthoFootprint(const View& view, const LightMaps& m)
 }
 
 // The uniforms of one slot's view (vtkPenumbraShadowMapCompare.glsl).
-void SetSlotUniforms(vtkShaderProgram* program, const LightMaps& m, int slot)
+// `suffix` ends every name (see penumbra_light_views::SuffixGlobals).
+void SetSlotUniforms(
+  vtkShaderProgram* program, const LightMaps& m, int slot, const std::string& suffix = "")
 {
-  program->SetUniformi("slot", slot);
+  auto name = [&suffix](const char* base) { return base + suffix; };
+  program->SetUniformi(name("slot").c_str(), slot);
   if (m.Paraboloid)
   {
-    program->SetUniformf("invFar", static_cast<float>(1.0 / m.Far));
+    program->SetUniformf(name("invFar").c_str(), static_cast<float>(1.0 / m.Far));
     return;
   }
   const View& view = m.Views[static_cast<size_t>(slot)];
   float matrix[16];
   view.ToFloatMatrix(matrix);
-  program->SetUniformMatrix4x4("lightMatrix", matrix);
-  program->SetUniformf("invFar", static_cast<float>(1.0 / view.Far));
-  program->SetUniformf("tanHalf", static_cast<float>(view.TanHalf));
-  program->SetUniformf("footprintScale", static_cast<float>(OrthoFootprint(view, m)));
-  program->SetUniformf("depthPerLengthOrtho", static_cast<float>(Norm3(view.Row[2])));
+  program->SetUniformMatrix4x4(name("lightMatrix").c_str(), matrix);
+  program->SetUniformf(name("invFar").c_str(), static_cast<float>(1.0 / view.Far));
+  program->SetUniformf(name("tanHalf").c_str(), static_cast<float>(view.TanHalf));
+  program->SetUniformf(name("footprintScale").c_str(), static_cast<float>(OrthoFootprint(view, m)));
+  program->SetUniformf(name("depthPerLengthOrtho").c_str(), static_cast<float>(Norm3(view.Row[2])));
 }
 }
 
@@ -777,7 +782,9 @@ struct vtkPenumbraShadowMapShadows::Internals
   bool EstimateFrame(vtkPenumbraFrame* frame, const LightSetup& setup, const View& view, int step,
     std::vector<float>& needs, std::string& error);
   void SetCompareUniforms(vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program,
-    const LightSetup& setup, const LightMaps& m);
+    const LightSetup& setup, const LightMaps& m, const std::string& suffix = "");
+  std::shared_ptr<vtkPenumbraFrame::ShaderLookup> ShaderLookup(
+    vtkPenumbraShadowMapShadows* self, const LightSetup& setup, const LightMaps& maps);
   void SetSoftUniforms(
     vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightMaps& m);
   bool LookupList(vtkPenumbraShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
@@ -1182,7 +1189,7 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   this->NumberOfViews = CountViews(*maps);
 
   const auto lookupStart = Clock::now();
-  if (this->Lookup == LOOKUP_GPU)
+  if (this->Lookup != LOOKUP_CPU)
   {
     std::string error;
     if (!impl.LookupList(this, in, setup, *maps, state, vis, error))
@@ -1563,7 +1570,7 @@ void vtkPenumbraShadowMapShadows::Internals::DrawSlotLayers(vtkPenumbraShadowMap
   vtkOpenGLState* ostate, vtkShaderProgram* program, GLsizei count, vtkTextureObject* slotTexture,
   LightMaps* maps, int slot)
 {
-  const bool gpuLookup = self->Lookup == LOOKUP_GPU;
+  const bool gpuLookup = self->Lookup != LOOKUP_CPU;
   const bool midpoint = self->DepthMode == DEPTH_MIDPOINT;
   const size_t texels = static_cast<size_t>(maps->Width) * maps->Height;
   std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
@@ -1613,7 +1620,7 @@ void vtkPenumbraShadowMapShadows::Internals::ResolveMidpoint(vtkPenumbraShadowMa
   vtkOpenGLRenderWindow* win, vtkShaderProgram* program, vtkTextureObject* slotTexture,
   LightMaps* maps, int slot)
 {
-  if (self->Lookup == LOOKUP_GPU)
+  if (self->Lookup != LOOKUP_CPU)
   {
     vtkOpenGLQuadHelper& quad = *this->MidpointQuad;
     vtkOpenGLState* ostate = win->GetState();
@@ -1650,7 +1657,7 @@ void vtkPenumbraShadowMapShadows::Internals::ResolveMidpoint(vtkPenumbraShadowMa
 vtkTextureObject* vtkPenumbraShadowMapShadows::Internals::SlotTexture(
   vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win, LightMaps* maps, int slot)
 {
-  const bool gpuLookup = self->Lookup == LOOKUP_GPU;
+  const bool gpuLookup = self->Lookup != LOOKUP_CPU;
   auto& kept = maps->Textures[static_cast<size_t>(slot)];
   if (kept &&
     (!gpuLookup || static_cast<int>(kept->GetWidth()) != maps->Width ||
@@ -1974,15 +1981,17 @@ void vtkPenumbraShadowMapShadows::Internals::LookupCPU(vtkPenumbraShadowMapShado
 //------------------------------------------------------------------------------
 // The uniforms every slot shares (vtkPenumbraShadowMapCompare.glsl).
 void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(vtkPenumbraShadowMapShadows* self,
-  vtkShaderProgram* program, const LightSetup& setup, const LightMaps& m)
+  vtkShaderProgram* program, const LightSetup& setup, const LightMaps& m, const std::string& suffix)
 {
-  penumbra_light_views::SetLightUniforms(program, setup);
-  program->SetUniformf("mapScale", static_cast<float>(m.MapScale));
+  auto name = [&suffix](const char* base) { return base + suffix; };
+  penumbra_light_views::SetLightUniforms(program, setup, suffix);
+  program->SetUniformf(name("mapScale").c_str(), static_cast<float>(m.MapScale));
   const float mapSize[2] = { static_cast<float>(m.Width), static_cast<float>(m.Height) };
-  program->SetUniform2f("mapSize", mapSize);
-  program->SetUniformf("constantBias", static_cast<float>(self->Bias));
-  program->SetUniformf("slopeBias", static_cast<float>(self->SlopeBias * (1.0 + BiasRadius(self))));
-  program->SetUniformf("maxTangent", static_cast<float>(MaxTangent));
+  program->SetUniform2f(name("mapSize").c_str(), mapSize);
+  program->SetUniformf(name("constantBias").c_str(), static_cast<float>(self->Bias));
+  program->SetUniformf(
+    name("slopeBias").c_str(), static_cast<float>(self->SlopeBias * (1.0 + BiasRadius(self))));
+  program->SetUniformf(name("maxTangent").c_str(), static_cast<float>(MaxTangent));
   this->SetSoftUniforms(self, program, m);
 }
 
@@ -2077,10 +2086,103 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
     self->NumberOfViews = CountViews(*maps);
   }
   const auto lookupStart = Clock::now();
-  const bool ok = this->LookupFrame(self, frame, k, setup, anyCaster, maps, error);
+  bool ok = true;
+  if (self->Lookup == LOOKUP_GPU && maps && CountViews(*maps) == 1 && !maps->Textures.empty() &&
+    maps->Textures[0] && !UsesPcss(self, *maps) &&
+    !vtkPenumbraGoniometricLight::SafeDownCast(light))
+  {
+    frame->SetShaderLookup(k, this->ShaderLookup(self, setup, *maps));
+  }
+  else
+  {
+    ok = this->LookupFrame(self, frame, k, setup, anyCaster, maps, error);
+  }
   self->LookupTimeMs = ElapsedMs(lookupStart);
   self->LastTimeMs = ElapsedMs(start);
   return ok;
+}
+
+//------------------------------------------------------------------------------
+// The GPU lookup of a light with one map (directional and spot lights), made by the
+// receivers' own fragment shaders while they are shaded (vtkPenumbraShadowMapReceive.glsl),
+// as VTK's vtkShadowMapPass does: no full-screen pass, no visibility texture. LookupFrame()
+// writes the same values from the G-buffer when they are asked for.
+std::shared_ptr<vtkPenumbraFrame::ShaderLookup>
+vtkPenumbraShadowMapShadows::Internals::ShaderLookup(
+  vtkPenumbraShadowMapShadows* self, const LightSetup& setup, const LightMaps& maps)
+{
+  class MapLookup : public vtkPenumbraFrame::ShaderLookup
+  {
+  public:
+    vtkSmartPointer<vtkPenumbraShadowMapShadows> Self;
+    Internals* Impl = nullptr;
+    LightSetup Setup;
+    vtkWeakPointer<vtkLight> Light;
+    LookupVariant Variant;
+
+    // The light's cache entry while it still holds this light's map.
+    const LightMaps* Maps() const
+    {
+      for (const LightMaps& m : this->Impl->Cache)
+      {
+        if (this->Light && m.Light == this->Light && m.Valid && !m.Textures.empty() &&
+          m.Textures[0])
+        {
+          return &m;
+        }
+      }
+      return nullptr;
+    }
+    std::string GetKey() override { return this->Variant.Key(); }
+    std::string GetSource(const std::string& suffix) override
+    {
+      return penumbra_light_views::SuffixGlobals(
+        this->Variant.Specialize(ComposeShader(vtkPenumbraShadowMapReceive)), suffix);
+    }
+    void Activate() override
+    {
+      if (const LightMaps* m = this->Maps())
+      {
+        m->Textures[0]->Activate();
+      }
+    }
+    void Deactivate() override
+    {
+      if (const LightMaps* m = this->Maps())
+      {
+        m->Textures[0]->Deactivate();
+      }
+    }
+    void SetUniforms(vtkShaderProgram* program, const std::string& suffix) override
+    {
+      const LightMaps* m = this->Maps();
+      if (!m)
+      {
+        return;
+      }
+      penumbra_light_views::SetClassifyUniforms(program, this->Setup, suffix);
+      this->Impl->SetCompareUniforms(this->Self, program, this->Setup, *m, suffix);
+      SetSlotUniforms(program, *m, 0, suffix);
+      program->SetUniformi(("shadowMap" + suffix).c_str(), m->Textures[0]->GetTextureUnit());
+    }
+    bool Resolve(vtkPenumbraFrame* frame, std::string& error) override
+    {
+      const LightMaps* m = this->Maps();
+      if (!m)
+      {
+        error = "its shadow map was released";
+        return false;
+      }
+      return this->Impl->LookupFrame(this->Self, frame, 0, this->Setup, true, m, error);
+    }
+  };
+  auto lookup = std::make_shared<MapLookup>();
+  lookup->Self = self;
+  lookup->Impl = this;
+  lookup->Setup = setup;
+  lookup->Light = maps.Light;
+  lookup->Variant = this->Variant(self, setup, true, &maps);
+  return lookup;
 }
 
 //------------------------------------------------------------------------------

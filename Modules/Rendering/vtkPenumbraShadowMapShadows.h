@@ -306,17 +306,22 @@ public:
 
   enum LookupModes
   {
-    LOOKUP_GPU = 0, ///< hardware depth compare in a fragment program (default)
-    LOOKUP_CPU = 1  ///< maps read back, compared in double precision with vtkSMPTools
+    LOOKUP_GPU = 0,    ///< hardware depth compare on the GPU (default, see SetLookup())
+    LOOKUP_CPU = 1,    ///< maps read back, compared in double precision with vtkSMPTools
+    LOOKUP_GBUFFER = 2 ///< LOOKUP_GPU, always as a full-screen pass over the G-buffer
   };
 
   ///@{
   /**
    * Where the per-sample depth comparison runs (see the class description). Both give the
    * same answers up to float rounding of the projection; the GPU lookup avoids reading the
-   * maps back, which dominates at high resolutions (README has the figures).
+   * maps back, which dominates at high resolutions (README has the figures). LOOKUP_GPU
+   * compares a light with one map (directional, spot) inside the receivers' own fragment
+   * shaders while they are shaded, as VTK's vtkShadowMapPass does, and runs the full-screen
+   * G-buffer pass only when the visibility is asked for (vtkPenumbraFrame::ShaderLookup);
+   * LOOKUP_GBUFFER always runs that pass (the same values; for comparisons).
    */
-  vtkSetClampMacro(Lookup, int, LOOKUP_GPU, LOOKUP_CPU);
+  vtkSetClampMacro(Lookup, int, LOOKUP_GPU, LOOKUP_GBUFFER);
   vtkGetMacro(Lookup, int);
   ///@}
 

@@ -277,6 +277,12 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
 constexpr int ReservedTextureUnits = 8;
 
 // Shader tags of the two sample layers and the prefixes of their visibility samplers.
+// The suffix of light i's shader-lookup names in a receiver's shader.
+std::string LookupSuffix(size_t i)
+{
+  return "_L" + std::to_string(i);
+}
+
 const char* const LayerTags[2] = { "//PENUMBRA::Visibility::Dec",
   "//PENUMBRA::TranslucentVisibility::Dec" };
 const char* const LayerSamplers[2] = { "penumbraVisibility", "penumbraTranslucentVisibility" };
@@ -315,9 +321,10 @@ struct vtkPenumbraShadowPass::Internals
   std::vector<Report> Reports;
   int NumberOfSkipped = 0;
 
-  // Per light: whether the shaders scale its colour by its visibility (empty: no light is
-  // shadowed); shader code depends on it.
-  std::vector<char> Injected;
+  // Per light: how the shaders scale its colour (empty: no light is shadowed): "" not at
+  // all, "texture" by its visibility texture, else by its shader lookup of this key (see
+  // vtkPenumbraFrame::ShaderLookup). Shader code depends on it.
+  std::vector<std::string> Injected;
   vtkTimeStamp ShaderTime;
 
   // What the last frame's view samples (ViewKey()) and its visibility (ViewKey() and
@@ -329,7 +336,7 @@ struct vtkPenumbraShadowPass::Internals
 
   double ExtractionMs = 0, SamplesMs = 0, TechniqueMs = 0, ShadingMs = 0;
 
-  void SetInjected(std::vector<char> injected)
+  void SetInjected(std::vector<std::string> injected)
   {
     if (injected != this->Injected)
     {
@@ -674,13 +681,16 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
     group.first->ComputeFrame(frame);
   }
   frame->ClearActiveLights();
-  std::vector<char> injected(this->Lights.size(), 0);
+  frame->Finish();
+  std::vector<std::string> injected(this->Lights.size());
   bool any = false;
   for (int k = 0; k < frame->GetNumberOfShadowedLights(); ++k)
   {
     if (frame->HasVisibility(k))
     {
-      injected[static_cast<size_t>(frame->GetLightIndex(k))] = 1;
+      const int index = frame->GetLightIndex(k);
+      vtkPenumbraFrame::ShaderLookup* lookup = frame->GetShaderLookup(index);
+      injected[static_cast<size_t>(index)] = lookup ? "lookup:" + lookup->GetKey() : "texture";
       any = true;
     }
     else
@@ -689,8 +699,7 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
         "Light " << frame->GetLightIndex(k) << " rendered without shadows: the technique failed");
     }
   }
-  frame->Finish();
-  this->SetInjected(any ? injected : std::vector<char>());
+  this->SetInjected(any ? injected : std::vector<std::string>());
 }
 
 namespace
@@ -988,13 +997,25 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   }
 
   t = Now();
+  // What the receivers' shaders read: each light's visibility textures, or what its shader
+  // lookup reads.
   std::vector<vtkTextureObject*> textures;
-  for (int layer = 0; layer < 2; ++layer)
+  std::vector<vtkPenumbraFrame::ShaderLookup*> lookups;
+  for (size_t i = 0; i < impl.Injected.size(); ++i)
   {
-    for (size_t i = 0; i < impl.Injected.size(); ++i)
+    if (impl.Injected[i].empty())
     {
-      vtkTextureObject* tex = impl.Frame->GetVisibilityTexture(layer, static_cast<int>(i));
-      if (impl.Injected[i] && tex)
+      continue;
+    }
+    if (vtkPenumbraFrame::ShaderLookup* lookup = impl.Frame->GetShaderLookup(static_cast<int>(i)))
+    {
+      lookups.push_back(lookup);
+      lookup->Activate();
+      continue;
+    }
+    for (int layer = 0; layer < 2; ++layer)
+    {
+      if (vtkTextureObject* tex = impl.Frame->GetVisibilityTexture(layer, static_cast<int>(i)))
       {
         textures.push_back(tex);
         tex->Activate();
@@ -1008,6 +1029,10 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   for (vtkTextureObject* tex : textures)
   {
     tex->Deactivate();
+  }
+  for (vtkPenumbraFrame::ShaderLookup* lookup : lookups)
+  {
+    lookup->Deactivate();
   }
   win->WaitForCompletion();
   impl.ShadingMs = 1000.0 * (Now() - t);
@@ -1049,19 +1074,38 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
   // After VTK's light uniforms: rename each shadowed light's colour to colour x visibility.
   // A macro naming itself is not expanded again, so `lightColorN` inside it is the uniform.
   std::string dec = vtkPenumbraVisibilityDec;
+  std::string lookups;
   const Internals& impl = *this->Impl;
   for (size_t i = 0; i < impl.Injected.size(); ++i)
   {
     const std::string color = "lightColor" + std::to_string(i);
-    if (!impl.Injected[i] ||
+    if (impl.Injected[i].empty() ||
       fragmentShader.find("uniform vec3 " + color + ";") == std::string::npos)
     {
       continue; // light i is unshadowed, or this shader does not light with it
+    }
+    if (vtkPenumbraFrame::ShaderLookup* lookup = impl.Frame->GetShaderLookup(static_cast<int>(i)))
+    {
+      // Evaluated where VTK's lighting reads the colour, inside main(), where vertexVC is.
+      const std::string suffix = LookupSuffix(i);
+      lookups += lookup->GetSource(suffix);
+      dec += "#define " + color + " (" + color + " * penumbraReceive" + suffix + "(vertexVC))\n";
+      continue;
     }
     const std::string sampler = LayerSamplers[layer] + std::to_string(i);
     dec += "uniform sampler2D " + sampler + ";\n";
     dec += "#define " + color + " (" + color + " * penumbraShadow(texelFetch(" + sampler +
       ", penumbraTexel(), 0).r))\n";
+  }
+  if (!lookups.empty())
+  {
+    dec = vtkPenumbraViewSamplesPass::GetSurfaceDeclarations() + lookups + dec;
+    // The lookups' facing rules are in double precision, like the reference's.
+    if (fragmentShader.find("GL_ARB_gpu_shader_fp64") == std::string::npos)
+    {
+      vtkShaderProgram::Substitute(fragmentShader, "//VTK::System::Dec",
+        "//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n", false);
+    }
   }
   vtkShaderProgram::Substitute(fragmentShader, tag, dec, false);
   return true;
@@ -1071,7 +1115,24 @@ bool vtkPenumbraShadowPass::SetShaderParameters(
   vtkShaderProgram* program, vtkAbstractMapper*, vtkProp*, vtkOpenGLVertexArrayObject*)
 {
   Internals& impl = *this->Impl;
-  if (impl.Injected.empty() || !program->IsUniformUsed("penumbraViewportOrigin"))
+  if (impl.Injected.empty())
+  {
+    return true;
+  }
+  if (program->IsUniformUsed("penumbraVCToRebased"))
+  {
+    impl.SamplesPass->SetSurfaceUniforms(program);
+    for (size_t i = 0; i < impl.Injected.size(); ++i)
+    {
+      vtkPenumbraFrame::ShaderLookup* lookup =
+        impl.Injected[i].empty() ? nullptr : impl.Frame->GetShaderLookup(static_cast<int>(i));
+      if (lookup)
+      {
+        lookup->SetUniforms(program, LookupSuffix(i));
+      }
+    }
+  }
+  if (!program->IsUniformUsed("penumbraViewportOrigin"))
   {
     return true;
   }

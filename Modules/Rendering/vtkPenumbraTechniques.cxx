@@ -440,10 +440,12 @@ const OptionTable ShadowMapOptions = {
   { "point", OptionType::Choice, "cube", 0, 0, { "cube", "paraboloid" }, "",
     "point lights: \"cube\", six 90-degree faces (only those holding receivers are rendered), "
     "or \"paraboloid\", two dual-paraboloid hemispheres with exact per-sample projection" },
-  { "lookup", OptionType::Choice, "gpu", 0, 0, { "gpu", "cpu" }, "",
-    "\"gpu\": a fragment program compares each sample with `sampler2DShadow`, the maps never "
-    "leave the GPU; \"cpu\": maps read back and compared in double precision with vtkSMPTools "
-    "(same answers up to float rounding)" },
+  { "lookup", OptionType::Choice, "gpu", 0, 0, { "gpu", "cpu", "gbuffer" }, "",
+    "\"gpu\": compared with `sampler2DShadow`, the maps never leave the GPU; lights with one "
+    "map (directional, spot) are compared in the receivers' own shaders while they are shaded, "
+    "as VTK's shadow pass does; \"cpu\": maps read back and compared in double precision with "
+    "vtkSMPTools (same answers up to float rounding); \"gbuffer\": \"gpu\", always as a "
+    "full-screen pass over the view samples (the same values, one pass more)" },
 };
 
 // Everything shadowmap and resm share but how big the maps are.
@@ -467,8 +469,9 @@ void ReadShadowMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* tech
     vtkPenumbraShadowMapShadows::FILTER_PCF, vtkPenumbraShadowMapShadows::FILTER_BILINEAR };
   technique->SetFilter(filters[opts.Choice("filter")]);
   technique->SetPCFKernel(opts.Integer("pcf_kernel"));
-  technique->SetLookup(opts.Choice("lookup") == 1 ? vtkPenumbraShadowMapShadows::LOOKUP_CPU
-                                                  : vtkPenumbraShadowMapShadows::LOOKUP_GPU);
+  const int lookups[] = { vtkPenumbraShadowMapShadows::LOOKUP_GPU,
+    vtkPenumbraShadowMapShadows::LOOKUP_CPU, vtkPenumbraShadowMapShadows::LOOKUP_GBUFFER };
+  technique->SetLookup(lookups[opts.Choice("lookup")]);
 }
 
 void InstallShadowMap(vtkRenderer* ren, const Options& opts)

@@ -29,6 +29,7 @@
 #include "vtkTranslucentPass.h"
 #include "vtk_glew.h"
 
+#include "vtkPenumbraSurfaceDec.h"
 #include "vtkPenumbraViewSamplesDec.h"
 #include "vtkPenumbraViewSamplesImpl.h"
 
@@ -708,7 +709,7 @@ bool vtkPenumbraViewSamplesPass::PostReplaceShaderValues(
   const bool hasPosition = fragmentShader.find("vec4 vertexVC") != std::string::npos;
   if (hasPosition)
   {
-    std::string dec = vtkPenumbraViewSamplesDec;
+    std::string dec = std::string(vtkPenumbraSurfaceDec) + vtkPenumbraViewSamplesDec;
     if (fragmentShader.find("uniform int PrimitiveIDOffset") == std::string::npos)
     {
       dec += "uniform int PrimitiveIDOffset;\n";
@@ -744,16 +745,27 @@ bool vtkPenumbraViewSamplesPass::SetShaderParameters(
   if (program->IsUniformUsed("penumbraVCToRebased"))
   {
     const int index = impl.FindPropIndex(prop);
-    program->SetUniformMatrix("penumbraVCToRebased", impl.VCToRebasedTransposed);
-    program->SetUniform3f("penumbraCameraRebased", impl.CameraRebased);
-    program->SetUniform3f("penumbraViewDirection", impl.ViewDirection);
-    program->SetUniformi("penumbraParallel", impl.Parallel);
+    this->SetSurfaceUniforms(program);
     // Props that do not receive shadows give no sample: they are lit unshadowed and get no
     // shadow work (they still occlude the samples behind them).
     const bool sampled = index >= 0 && vtkPenumbraShadowKeys::ReceivesShadows(prop);
     program->SetUniformf("penumbraPropIndex", sampled ? static_cast<float>(index) : -1.0f);
   }
   return true;
+}
+
+void vtkPenumbraViewSamplesPass::SetSurfaceUniforms(vtkShaderProgram* program)
+{
+  Internals& impl = *this->Impl;
+  program->SetUniformMatrix("penumbraVCToRebased", impl.VCToRebasedTransposed);
+  program->SetUniform3f("penumbraCameraRebased", impl.CameraRebased);
+  program->SetUniform3f("penumbraViewDirection", impl.ViewDirection);
+  program->SetUniformi("penumbraParallel", impl.Parallel);
+}
+
+const char* vtkPenumbraViewSamplesPass::GetSurfaceDeclarations()
+{
+  return vtkPenumbraSurfaceDec;
 }
 
 void vtkPenumbraViewSamplesPass::ReleaseGraphicsResources(vtkWindow* w)

@@ -38,6 +38,7 @@
 
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
+class vtkShaderProgram;
 class vtkTextureObject;
 class vtkWindow;
 
@@ -131,6 +132,17 @@ public:
   vtkTextureObject* GetNormalTexture();
   vtkTextureObject* GetPrimitiveTexture();
   vtkTextureObject* GetDepthTexture(); ///< float depth, 1 where no surface was seen
+  ///@}
+
+  ///@{
+  /**
+   * The GLSL function `penumbraSurface(vertexVC, out position, out normal)` that gives a
+   * fragment the position and facet normal its view sample records, with its uniforms; and
+   * those uniforms for the camera of the last Render(). Shaders that look shadows up while
+   * shading (vtkPenumbraShadowPass) use them to see exactly the samples of this pass.
+   */
+  static const char* GetSurfaceDeclarations();
+  void SetSurfaceUniforms(vtkShaderProgram* program);
   ///@}
 
   void Render(const vtkRenderState* s) override;

@@ -18,13 +18,10 @@ bool penumbraFinite(vec3 v)
   return !any(isnan(v)) && !any(isinf(v));
 }
 
-int penumbraClassify(ivec2 cell, out vec3 p, out vec3 n)
+// The rules for one surface point p with facet normal n (rebased, toward the camera).
+int penumbraClassifyPoint(vec3 p, vec3 n)
 {
-  vec4 position = texelFetch(samplePositions, cell, 0);
-  vec4 normal = texelFetch(sampleNormals, cell, 0);
-  p = position.xyz;
-  n = normal.xyz;
-  if (position.w < 0.5 || normal.w < 0.0 || !penumbraFinite(p) || !penumbraFinite(n))
+  if (!penumbraFinite(p) || !penumbraFinite(n))
   {
     return -1;
   }
@@ -46,4 +43,14 @@ int penumbraClassify(ivec2 cell, out vec3 p, out vec3 n)
     return 0;
   }
   return anyCaster != 0 ? 2 : 1;
+}
+
+// The rules for the G-buffer sample at `cell` (its position and normal returned).
+int penumbraClassify(ivec2 cell, out vec3 p, out vec3 n)
+{
+  vec4 position = texelFetch(samplePositions, cell, 0);
+  vec4 normal = texelFetch(sampleNormals, cell, 0);
+  p = position.xyz;
+  n = normal.xyz;
+  return position.w < 0.5 || normal.w < 0.0 ? -1 : penumbraClassifyPoint(p, n);
 }

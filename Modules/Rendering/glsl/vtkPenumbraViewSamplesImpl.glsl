@@ -1,19 +1,13 @@
   // Penumbra view samples (appended after the mapper's lighting code): the surface position
-  // relative to the rebasing origin in float32, its facet normal turned toward the camera,
-  // the prop index and the mapper's primitive id (split in two exact 16-bit halves). The
-  // primitive target repeats the prop index and the valid flag so that it alone identifies
-  // the surface: the CPU can read it back and rebuild the position from the triangle.
+  // relative to the rebasing origin in float32, its facet normal turned toward the camera
+  // (penumbraSurface), the prop index and the mapper's primitive id (split in two exact
+  // 16-bit halves). The primitive target repeats the prop index and the valid flag so that
+  // it alone identifies the surface: the CPU can read it back and rebuild the position from
+  // the triangle.
   {
-    vec3 penumbraPos = (penumbraVCToRebased * vec4(vertexVC.xyz, 1.0)).xyz;
-    // The facet normal from screen-space derivatives is the true plane of the triangle,
-    // which is what decides whether light can reach it (not the shading normal).
-    vec3 penumbraN = normalize(cross(dFdx(penumbraPos), dFdy(penumbraPos)));
-    vec3 penumbraToEye = (penumbraParallel == 1) ? -penumbraViewDirection
-                                                 : (penumbraCameraRebased - penumbraPos);
-    if (dot(penumbraN, penumbraToEye) < 0.0)
-    {
-      penumbraN = -penumbraN;
-    }
+    vec3 penumbraPos;
+    vec3 penumbraN;
+    penumbraSurface(vertexVC, penumbraPos, penumbraN);
     int penumbraPrim = gl_PrimitiveID + PrimitiveIDOffset;
     gl_FragData[0] = vec4(penumbraPos, 1.0);
     gl_FragData[1] = vec4(penumbraN, penumbraPropIndex);

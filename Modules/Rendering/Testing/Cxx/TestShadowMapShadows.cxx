@@ -15,6 +15,7 @@
 #include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraFrame.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -221,6 +222,71 @@ int CheckLookupsAgree()
       static_cast<long long>(shadowed), static_cast<long long>(differ));
     CHECK(shadowed > 0);
     CHECK(differ <= valid / 1000);
+  }
+  return EXIT_SUCCESS;
+}
+
+// The GPU lookup made in the receivers' own shaders (lookup "gpu": no visibility texture,
+// vtkPenumbraFrame::ShaderLookup) shades exactly what the full-screen G-buffer lookup
+// (lookup "gbuffer") writes: the same image, pixel for pixel, and the same visibility read
+// back; a spot light too, and the filters that take several taps.
+int CheckShaderLookup()
+{
+  const char* filters[] = { "none", "pcf", "bilinear" };
+  for (int spot = 0; spot < 2; ++spot)
+  {
+    for (const char* filter : filters)
+    {
+      vtkSmartPointer<vtkUnsignedCharArray> images[2];
+      vtkNew<vtkFloatArray> answers[2];
+      for (int g = 0; g < 2; ++g)
+      {
+        vtkSmartPointer<vtkRenderer> renderer = PlaneAndBox();
+        if (spot)
+        {
+          auto* light = vtkLight::SafeDownCast(renderer->GetLights()->GetItemAsObject(0));
+          CHECK(light != nullptr);
+          light->SetPositional(true);
+          light->SetPosition(1.5, 0.7, 3.0);
+          light->SetFocalPoint(0.0, 0.0, 0.0);
+          light->SetConeAngle(60.0);
+        }
+        auto window = WindowFor(renderer, 160, 120);
+        vtkNew<vtkPenumbraTechniques> techniques;
+        const std::string options = std::string("{\"filter\": \"") + filter + "\", \"lookup\": \"" +
+          (g ? "gbuffer" : "gpu") + "\"}";
+        CHECK(techniques->Apply(renderer, "shadowmap", options.c_str()));
+        window->Render();
+        vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
+        CHECK(pass && pass->GetFrame());
+        // Only the "gpu" lookup is made while shading; reading the visibility resolves it.
+        CHECK((pass->GetFrame()->GetShaderLookup(0) != nullptr) == (g == 0));
+        images[g] = vtkSmartPointer<vtkUnsignedCharArray>::New();
+        CHECK(window->GetRGBACharPixelData(0, 0, 159, 119, 0, images[g]) == VTK_OK);
+        CHECK(pass->GetVisibility(0) != nullptr);
+        answers[g]->DeepCopy(pass->GetVisibility(0));
+        window->RemoveRenderer(renderer);
+        window->Finalize();
+      }
+      vtkIdType pixels = 0, values = 0, shadowed = 0;
+      for (vtkIdType i = 0; i < images[0]->GetNumberOfValues(); ++i)
+      {
+        pixels += images[0]->GetValue(i) != images[1]->GetValue(i);
+      }
+      CHECK(answers[0]->GetNumberOfTuples() == answers[1]->GetNumberOfTuples());
+      for (vtkIdType i = 0; i < answers[0]->GetNumberOfTuples(); ++i)
+      {
+        values += answers[0]->GetValue(i) != answers[1]->GetValue(i);
+        shadowed += answers[0]->GetValue(i) == 0.0f;
+      }
+      std::printf("shader lookup vs G-buffer lookup, %s light, filter %-8s: %lld channel values "
+                  "and %lld visibilities differ (%lld shadowed)\n",
+        spot ? "spot" : "directional", filter, static_cast<long long>(pixels),
+        static_cast<long long>(values), static_cast<long long>(shadowed));
+      CHECK(shadowed > 100);
+      CHECK(pixels == 0);
+      CHECK(values == 0);
+    }
   }
   return EXIT_SUCCESS;
 }
@@ -844,6 +910,7 @@ int TestShadowMapShadows(int, char*[])
   RUN(CheckParaboloidRoundTrip());
   RUN(CheckMapCache());
   RUN(CheckLookupsAgree());
+  RUN(CheckShaderLookup());
   RUN(CheckBilinearEdges());
   RUN(CheckPCSSLimits());
   RUN(CheckResolutionSeries());
