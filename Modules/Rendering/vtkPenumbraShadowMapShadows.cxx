@@ -645,10 +645,10 @@ bool AreaAsSpot(vtkPenumbraAreaLight* area, LightSetup& setup, std::string& erro
   return true;
 }
 
-// A depth map read as raw depth on its own texture unit (PCSS's blocker search), through a
-// sampler object that turns the texture's compare mode off; also binds the map on the
-// programs that do not use it, so that the sampler2D never shares a unit with the
-// sampler2DShadow.
+// A depth map read as raw depth on its own texture unit (every lookup's texelFetch compare,
+// vtkPenumbraShadowMapCompare.glsl), through a sampler object that turns the texture's
+// compare mode off; also bound for programs that read no map, so that the sampler2D never
+// shares a unit with the G-buffer's samplers.
 class RawDepthBinding
 {
 public:
@@ -1843,14 +1843,9 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupList(vtkPenumbraShadowMapShad
         continue; // no pending sample falls into this slot
       }
       SetSlotUniforms(program, m, static_cast<int>(slot));
-      map->Activate();
-      program->SetUniformi("shadowMap", map->GetTextureUnit());
-      {
-        RawDepthBinding raw(win, this->RawDepthSampler, map);
-        program->SetUniformi("depthMap", raw.GetUnit());
-        quad.Render();
-      }
-      map->Deactivate();
+      RawDepthBinding raw(win, this->RawDepthSampler, map);
+      program->SetUniformi("depthMap", raw.GetUnit());
+      quad.Render();
     }
     this->ListPositions->Deactivate();
     this->ListNormals->Deactivate();
@@ -2119,6 +2114,7 @@ vtkPenumbraShadowMapShadows::Internals::ShaderLookup(
     LightSetup Setup;
     vtkWeakPointer<vtkLight> Light;
     LookupVariant Variant;
+    std::unique_ptr<RawDepthBinding> Raw; // between Activate() and Deactivate()
 
     // The light's cache entry while it still holds this light's map.
     const LightMaps* Maps() const
@@ -2141,18 +2137,14 @@ vtkPenumbraShadowMapShadows::Internals::ShaderLookup(
     }
     void Activate() override
     {
-      if (const LightMaps* m = this->Maps())
+      const LightMaps* m = this->Maps();
+      if (m && this->Impl->Window)
       {
-        m->Textures[0]->Activate();
+        this->Raw.reset(
+          new RawDepthBinding(this->Impl->Window, this->Impl->RawDepthSampler, m->Textures[0]));
       }
     }
-    void Deactivate() override
-    {
-      if (const LightMaps* m = this->Maps())
-      {
-        m->Textures[0]->Deactivate();
-      }
-    }
+    void Deactivate() override { this->Raw.reset(); }
     void SetUniforms(vtkShaderProgram* program, const std::string& suffix) override
     {
       const LightMaps* m = this->Maps();
@@ -2163,7 +2155,10 @@ vtkPenumbraShadowMapShadows::Internals::ShaderLookup(
       penumbra_light_views::SetClassifyUniforms(program, this->Setup, suffix);
       this->Impl->SetCompareUniforms(this->Self, program, this->Setup, *m, suffix);
       SetSlotUniforms(program, *m, 0, suffix);
-      program->SetUniformi(("shadowMap" + suffix).c_str(), m->Textures[0]->GetTextureUnit());
+      if (this->Raw)
+      {
+        program->SetUniformi(("depthMap" + suffix).c_str(), this->Raw->GetUnit());
+      }
     }
     bool Resolve(vtkPenumbraFrame* frame, std::string& error) override
     {
@@ -2325,7 +2320,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
     ComposeShader(vtkPenumbraShadowMapFrameFS), this->Variant(self, setup, anyCaster, maps));
   if (!this->NoMap)
   {
-    // A sampler2DShadow must never share a unit with the G-buffer's sampler2Ds, even when
+    // The depth sampler must never share a unit with the G-buffer's samplers, even when
     // no map is read: a 1 x 1 stand-in is bound when there is none.
     this->NoMap = Internals::CompareTexture(win, 1, 1);
   }
@@ -2371,14 +2366,9 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
       {
         SetSlotUniforms(program, *maps, slots[i]);
       }
-      map->Activate();
-      program->SetUniformi("shadowMap", map->GetTextureUnit());
-      {
-        RawDepthBinding raw(win, this->RawDepthSampler, map);
-        program->SetUniformi("depthMap", raw.GetUnit());
-        quad->Render();
-      }
-      map->Deactivate();
+      RawDepthBinding raw(win, this->RawDepthSampler, map);
+      program->SetUniformi("depthMap", raw.GetUnit());
+      quad->Render();
     }
     gbuffer->GetPositionTexture()->Deactivate();
     gbuffer->GetNormalTexture()->Deactivate();

@@ -283,6 +283,9 @@ std::string LookupSuffix(size_t i)
   return "_L" + std::to_string(i);
 }
 
+// Where the receivers' shader lookups run: just before VTK's lighting code.
+const char* const ReceiveTag = "//PENUMBRA::Receive::Impl";
+
 const char* const LayerTags[2] = { "//PENUMBRA::Visibility::Dec",
   "//PENUMBRA::TranslucentVisibility::Dec" };
 const char* const LayerSamplers[2] = { "penumbraVisibility", "penumbraTranslucentVisibility" };
@@ -1054,6 +1057,8 @@ bool vtkPenumbraShadowPass::PreReplaceShaderValues(
     const int layer = IsTranslucentReceiver(prop) ? 1 : 0;
     vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Dec",
       std::string("//VTK::Light::Dec\n") + LayerTags[layer] + "\n", false);
+    vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Impl",
+      std::string(ReceiveTag) + "\n//VTK::Light::Impl", false);
   }
   return true;
 }
@@ -1074,7 +1079,7 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
   // After VTK's light uniforms: rename each shadowed light's colour to colour x visibility.
   // A macro naming itself is not expanded again, so `lightColorN` inside it is the uniform.
   std::string dec = vtkPenumbraVisibilityDec;
-  std::string lookups;
+  std::string lookups, visibilities;
   const Internals& impl = *this->Impl;
   for (size_t i = 0; i < impl.Injected.size(); ++i)
   {
@@ -1087,9 +1092,13 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
     if (vtkPenumbraFrame::ShaderLookup* lookup = impl.Frame->GetShaderLookup(static_cast<int>(i)))
     {
       // Evaluated where VTK's lighting reads the colour, inside main(), where vertexVC is.
+      // Computed once before VTK's lighting (which reads the colour twice), where vertexVC
+      // is.
       const std::string suffix = LookupSuffix(i);
       lookups += lookup->GetSource(suffix);
-      dec += "#define " + color + " (" + color + " * penumbraReceive" + suffix + "(vertexVC))\n";
+      visibilities +=
+        "  float penumbraVisibility" + suffix + " = penumbraReceive" + suffix + "(vertexVC);\n";
+      dec += "#define " + color + " (" + color + " * penumbraVisibility" + suffix + ")\n";
       continue;
     }
     const std::string sampler = LayerSamplers[layer] + std::to_string(i);
@@ -1108,6 +1117,7 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
     }
   }
   vtkShaderProgram::Substitute(fragmentShader, tag, dec, false);
+  vtkShaderProgram::Substitute(fragmentShader, ReceiveTag, visibilities, false);
   return true;
 }
 

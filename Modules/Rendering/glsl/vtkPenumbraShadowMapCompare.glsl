@@ -1,7 +1,10 @@
 // Shadow-map comparison shared by the lookups (Brabec 2003, ch. 4-5): the slot a sample
 // falls into (one view, a cube face, a paraboloid hemisphere), its projection, linear depth
-// and slope-scaled bias, and the hardware depth compare (sampler2DShadow, LEQUAL, nearest
-// texels; PCF averages the compared taps, Fast PCF weights the 2 x 2 adjacent ones). The same projection, slot choice and bias as the
+// and slope-scaled bias, and the depth compare of nearest texels (LEQUAL: lit where the
+// reference depth is at most the stored one; PCF averages the compared taps, Fast PCF
+// weights the 2 x 2 adjacent ones). The compare is a texelFetch of the raw depth and a
+// test: the same texel and answer as a sampler2DShadow lookup with nearest filtering, at a
+// fraction of its cost on llvmpipe. The same projection, slot choice and bias as the
 // CPU lookup of vtkPenumbraShadowMapShadows, in float. The lookup programs compile slotMode,
 // perspective, radius, bilinear and pcss as constants (LookupVariant in
 // vtkPenumbraShadowMapShadows.cxx): the branches a light does not take cost nothing.
@@ -22,17 +25,29 @@ uniform float slopeBias;   // SlopeBias * (1 + radius)
 uniform float maxTangent;
 uniform int radius;        // PCF radius in texels, 0 without PCF
 uniform int bilinear;      // 1: Fast PCF, the 2 x 2 adjacent taps weighted bilinearly (ch. 5.2)
-uniform sampler2DShadow shadowMap; // hardware compare: LEQUAL, nearest
+uniform sampler2D depthMap; // the map's raw depth (a sampler object turns its compare off)
 // PCSS (Fernando 2005, "Percentage-Closer Soft Shadows") for area and linear lights, on the
-// perspective map from the light's centre: the same texture read as raw depth.
+// perspective map from the light's centre.
 uniform int pcss;
-uniform sampler2D depthMap;  // the map without compare (a sampler object on its own unit)
 uniform vec3 lightU;         // half the light's extent along U (world)
 uniform vec3 lightV;         // half along V (zero for a linear light)
 uniform int searchTaps;      // blocker-search taps per light axis
 uniform int filterTaps;      // PCF taps per light axis
 uniform float searchDepth;   // nearest blocker assumed at this fraction of the receiver's w
 uniform float maxRadius;     // taps at most this far from the sample, in NDC
+
+// 1 where a receiver at depth `reference` is lit by the map's texel `texel` (LEQUAL), else 0.
+float penumbraLit(ivec2 texel, float reference)
+{
+  return reference <= texelFetch(depthMap, texel, 0).r ? 1.0 : 0.0;
+}
+
+// The same at texture coordinates `coord` ([0, 1]^2): the texel nearest filtering reads.
+float penumbraLitAt(vec2 coord, float reference)
+{
+  ivec2 last = ivec2(mapSize) - 1;
+  return penumbraLit(clamp(ivec2(floor(coord * mapSize)), ivec2(0), last), reference);
+}
 
 // Where a blocker at light-view depth wb (along the axis) hides light point centre + off
 // from a receiver at depth w: st + xy(off) (1 / wb - 1 / w), xy(off) the off vector through
@@ -89,7 +104,7 @@ float penumbraSoft(vec2 st, float w, float threshold, float perTexel)
       float b = line ? 0.0 : (float(j) + 0.5) / float(rows) * 2.0 - 1.0;
       vec2 offset = (a * du + b * dv) * scale;
       float bias = perTexel * min(length(offset), maxRadius) * texelsPerNdc;
-      lit += texture(shadowMap, vec3(penumbraTap(st, offset), threshold - bias));
+      lit += penumbraLitAt(penumbraTap(st, offset), threshold - bias);
     }
   }
   return lit / float(rows * filterTaps);
@@ -173,7 +188,7 @@ float penumbraCompare(vec3 p, vec3 normal)
     for (int k = 0; k < 4; ++k)
     {
       ivec2 i = clamp(i0 + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
-      l[k] = texture(shadowMap, vec3((vec2(i) + 0.5) / mapSize, threshold));
+      l[k] = penumbraLit(i, threshold);
     }
     return mix(mix(l[0], l[1], w.x), mix(l[2], l[3], w.x), w.y);
   }
@@ -185,8 +200,7 @@ float penumbraCompare(vec3 p, vec3 normal)
     for (int dx = -radius; dx <= radius; ++dx)
     {
       // PCF stays inside the map, as on the CPU.
-      vec2 t = (vec2(clamp(texel + ivec2(dx, dy), ivec2(0), size - 1)) + 0.5) / mapSize;
-      lit += texture(shadowMap, vec3(t, threshold));
+      lit += penumbraLit(clamp(texel + ivec2(dx, dy), ivec2(0), size - 1), threshold);
       taps += 1.0;
     }
   }
