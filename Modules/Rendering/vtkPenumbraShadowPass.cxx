@@ -350,6 +350,30 @@ struct vtkPenumbraShadowPass::Internals
 
   static bool CastsLight(vtkLight* light) { return penumbra_rules::LightEmits(light); }
 
+  // Light i's shader lookup when the receivers' shaders make it (see Injected).
+  vtkPenumbraFrame::ShaderLookup* InjectedLookup(size_t i) const
+  {
+    return i < this->Injected.size() && this->Injected[i].compare(0, 7, "lookup:") == 0
+      ? this->Frame->GetShaderLookup(static_cast<int>(i))
+      : nullptr;
+  }
+
+  // A reused frame (nothing changed) reads visibility textures: the shader lookups are
+  // written into them once (the same values), so that repeated frames cost a texture read
+  // per fragment instead of a lookup.
+  void BakeShaderLookups()
+  {
+    std::vector<std::string> injected = this->Injected;
+    for (size_t i = 0; i < injected.size(); ++i)
+    {
+      if (this->InjectedLookup(i) && this->Frame->GetVisibilityTexture(0, static_cast<int>(i)))
+      {
+        injected[i] = "texture";
+      }
+    }
+    this->SetInjected(injected);
+  }
+
   void CollectLights(vtkRenderer* ren);
   std::vector<double> ViewKey(const vtkRenderState* s, vtkPenumbraShadowPass* pass);
   std::vector<double> LightsKey();
@@ -991,6 +1015,10 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
       impl.LastViewKey.swap(viewKey);
       impl.LastLightsKey.swap(lightsKey);
     }
+    else
+    {
+      impl.BakeShaderLookups();
+    }
   }
   else
   {
@@ -1010,7 +1038,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     {
       continue;
     }
-    if (vtkPenumbraFrame::ShaderLookup* lookup = impl.Frame->GetShaderLookup(static_cast<int>(i)))
+    if (vtkPenumbraFrame::ShaderLookup* lookup = impl.InjectedLookup(i))
     {
       lookups.push_back(lookup);
       lookup->Activate();
@@ -1089,7 +1117,7 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
     {
       continue; // light i is unshadowed, or this shader does not light with it
     }
-    if (vtkPenumbraFrame::ShaderLookup* lookup = impl.Frame->GetShaderLookup(static_cast<int>(i)))
+    if (vtkPenumbraFrame::ShaderLookup* lookup = impl.InjectedLookup(i))
     {
       // Evaluated where VTK's lighting reads the colour, inside main(), where vertexVC is.
       // Computed once before VTK's lighting (which reads the colour twice), where vertexVC
@@ -1134,9 +1162,7 @@ bool vtkPenumbraShadowPass::SetShaderParameters(
     impl.SamplesPass->SetSurfaceUniforms(program);
     for (size_t i = 0; i < impl.Injected.size(); ++i)
     {
-      vtkPenumbraFrame::ShaderLookup* lookup =
-        impl.Injected[i].empty() ? nullptr : impl.Frame->GetShaderLookup(static_cast<int>(i));
-      if (lookup)
+      if (vtkPenumbraFrame::ShaderLookup* lookup = impl.InjectedLookup(i))
       {
         lookup->SetUniforms(program, LookupSuffix(i));
       }

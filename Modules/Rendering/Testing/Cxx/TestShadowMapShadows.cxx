@@ -229,7 +229,8 @@ int CheckLookupsAgree()
 // The GPU lookup made in the receivers' own shaders (lookup "gpu": no visibility texture,
 // vtkPenumbraFrame::ShaderLookup) shades exactly what the full-screen G-buffer lookup
 // (lookup "gbuffer") writes: the same image, pixel for pixel, and the same visibility read
-// back; a spot light too, and the filters that take several taps.
+// back; a spot light too, and the filters that take several taps; and a repeated frame, which
+// reads them from a texture, the same image again.
 int CheckShaderLookup()
 {
   const char* filters[] = { "none", "pcf", "bilinear" };
@@ -263,6 +264,16 @@ int CheckShaderLookup()
         CHECK((pass->GetFrame()->GetShaderLookup(0) != nullptr) == (g == 0));
         images[g] = vtkSmartPointer<vtkUnsignedCharArray>::New();
         CHECK(window->GetRGBACharPixelData(0, 0, 159, 119, 0, images[g]) == VTK_OK);
+        // A frame where nothing changed reads the lookup's values from a texture (written
+        // once): the same image again.
+        window->Render();
+        CHECK(pass->GetLastFrameReused());
+        vtkNew<vtkUnsignedCharArray> again;
+        CHECK(window->GetRGBACharPixelData(0, 0, 159, 119, 0, again) == VTK_OK);
+        for (vtkIdType i = 0; i < again->GetNumberOfValues(); ++i)
+        {
+          CHECK(again->GetValue(i) == images[g]->GetValue(i));
+        }
         CHECK(pass->GetVisibility(0) != nullptr);
         answers[g]->DeepCopy(pass->GetVisibility(0));
         window->RemoveRenderer(renderer);
