@@ -1183,8 +1183,12 @@ bool vtkPenumbraShadowPass::SetShaderParameters(
     for (size_t i = 0; i < impl.Injected.size(); ++i)
     {
       const std::string name = LayerSamplers[layer] + std::to_string(i);
+      if (impl.Injected[i] != "texture" || !program->IsUniformUsed(name.c_str()))
+      {
+        continue; // (asking a shader lookup for its texture would run its pass mid-draw)
+      }
       vtkTextureObject* tex = impl.Frame->GetVisibilityTexture(layer, static_cast<int>(i));
-      if (tex && program->IsUniformUsed(name.c_str()))
+      if (tex)
       {
         program->SetUniformi(name.c_str(), tex->GetTextureUnit());
       }

@@ -234,7 +234,9 @@ int CheckLookupsAgree()
 int CheckShaderLookup()
 {
   const char* filters[] = { "none", "pcf", "bilinear" };
-  for (int spot = 0; spot < 2; ++spot)
+  // 0 directional, 1 spot, 2 directional and a point light (whose cube maps are read from
+  // a texture while the directional light is looked up: both kinds in one shader).
+  for (int lights = 0; lights < 3; ++lights)
   {
     for (const char* filter : filters)
     {
@@ -243,7 +245,17 @@ int CheckShaderLookup()
       for (int g = 0; g < 2; ++g)
       {
         vtkSmartPointer<vtkRenderer> renderer = PlaneAndBox();
-        if (spot)
+        if (lights == 2)
+        {
+          vtkNew<vtkLight> point;
+          point->SetLightTypeToSceneLight();
+          point->SetPositional(true);
+          point->SetConeAngle(180.0);
+          point->SetPosition(-1.0, -0.5, 2.5);
+          point->SetIntensity(0.5);
+          renderer->AddLight(point);
+        }
+        if (lights == 1)
         {
           auto* light = vtkLight::SafeDownCast(renderer->GetLights()->GetItemAsObject(0));
           CHECK(light != nullptr);
@@ -292,8 +304,9 @@ int CheckShaderLookup()
       }
       std::printf("shader lookup vs G-buffer lookup, %s light, filter %-8s: %lld channel values "
                   "and %lld visibilities differ (%lld shadowed)\n",
-        spot ? "spot" : "directional", filter, static_cast<long long>(pixels),
-        static_cast<long long>(values), static_cast<long long>(shadowed));
+        lights == 1 ? "spot" : (lights == 2 ? "directional+point" : "directional"), filter,
+        static_cast<long long>(pixels), static_cast<long long>(values),
+        static_cast<long long>(shadowed));
       CHECK(shadowed > 100);
       CHECK(pixels == 0);
       CHECK(values == 0);
