@@ -153,10 +153,11 @@ public:
      */
     virtual std::string GetKey() = 0;
     /**
-     * GLSL declarations defining `float penumbraReceive<suffix>(vec4 vertexVC)` (the light's
-     * visibility at the fragment); every global name in it ends with `suffix`. It may call
-     * vtkPenumbraViewSamplesPass::GetSurfaceDeclarations()'s `penumbraSurface`, which the
-     * pass declares once.
+     * GLSL declarations defining `float penumbraReceive<suffix>(vec3 p, vec3 n)`: the light's
+     * visibility at the fragment whose surface is p, n (the rebased position and facet
+     * normal that vtkPenumbraViewSamplesPass::GetSurfaceDeclarations()'s `penumbraSurface`
+     * gives; the pass computes them once for every light). Every global name in it ends with
+     * `suffix`.
      */
     virtual std::string GetSource(const std::string& suffix) = 0;
     /** Sets its uniforms on a receiver's program (textures already active). */

@@ -1124,8 +1124,8 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
       // is.
       const std::string suffix = LookupSuffix(i);
       lookups += lookup->GetSource(suffix);
-      visibilities +=
-        "  float penumbraVisibility" + suffix + " = penumbraReceive" + suffix + "(vertexVC);\n";
+      visibilities += "  float penumbraVisibility" + suffix + " = penumbraReceive" + suffix +
+        "(penumbraP, penumbraN);\n";
       dec += "#define " + color + " (" + color + " * penumbraVisibility" + suffix + ")\n";
       continue;
     }
@@ -1137,6 +1137,9 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
   if (!lookups.empty())
   {
     dec = vtkPenumbraViewSamplesPass::GetSurfaceDeclarations() + lookups + dec;
+    visibilities = "  vec3 penumbraP;\n  vec3 penumbraN;\n  penumbraSurface(vertexVC, penumbraP, "
+                   "penumbraN);\n" +
+      visibilities;
     // The lookups' facing rules are in double precision, like the reference's.
     if (fragmentShader.find("GL_ARB_gpu_shader_fp64") == std::string::npos)
     {

@@ -7,11 +7,9 @@
 //PENUMBRA::Classify
 //PENUMBRA::Compare
 
-float penumbraReceive(vec4 vertexVC)
+// p, n: the fragment's surface (penumbraSurface), computed once for every light.
+float penumbraReceive(vec3 p, vec3 n)
 {
-  vec3 p;
-  vec3 n;
-  penumbraSurface(vertexVC, p, n);
   int state = penumbraClassifyPoint(p, n);
   if (state == 2 && slot >= 0)
   {
