@@ -721,6 +721,8 @@ void SetClassifyUniforms(vtkShaderProgram* program, const LightSetup& setup)
   SetDouble3(program, "classifyDirection", setup.Direction);
   SetDouble3(program, "classifyPosition", setup.Position);
   SetDouble3(program, "classifyAxis", setup.Axis);
+  SetDouble3(program, "classifyHalfU", setup.HalfU);
+  SetDouble3(program, "classifyHalfV", setup.HalfV);
   const GLint cone =
     glGetUniformLocation(static_cast<GLuint>(program->GetHandle()), "classifyCosCone");
   if (cone >= 0)

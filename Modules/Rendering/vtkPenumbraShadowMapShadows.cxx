@@ -37,6 +37,7 @@
 #include "vtkPenumbraShadowMapMidpointFS.h"
 #include "vtkPenumbraShadowMapParaboloidFS.h"
 #include "vtkPenumbraShadowMapParaboloidVS.h"
+#include "vtkPenumbraShadowMapSoft.h"
 #include "vtkPenumbraShadowMapTileSample.h"
 #include "vtkPenumbraShadowMapTilesFS.h"
 #include "vtkPenumbraShadowMapVS.h"
@@ -518,6 +519,7 @@ std::string ComposeShader(const char* source)
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Classify", vtkPenumbraShadowMapClassify, false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::TileSample", vtkPenumbraShadowMapTileSample, false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Compare", vtkPenumbraShadowMapCompare, false);
+  vtkShaderProgram::Substitute(fs, "//PENUMBRA::Soft", vtkPenumbraShadowMapSoft, false);
   return fs;
 }
 
@@ -525,14 +527,14 @@ std::string ComposeShader(const char* source)
 // (the slot layout, the projection, the filter, the facing rules' light kind) become
 // constants, so that the compiler drops the branches a light does not take: llvmpipe runs
 // every branch of an `if` under a lane mask, texture taps included, so a program that
-// carries PCSS's and the bilinear filter's taps pays for them on every pixel.
+// carries the soft lookups' and the bilinear filter's taps pays for them on every pixel.
 struct LookupVariant
 {
   int SlotMode = 0;
   int Perspective = 0;
   int Radius = 0;
   int Bilinear = 0;
-  int Pcss = 0;
+  int AreaMode = 0;
   int LightKind = 0;
   int LightOff = 0;
   int AnyCaster = 0;
@@ -540,7 +542,7 @@ struct LookupVariant
   std::vector<std::pair<const char*, int>> Constants() const
   {
     return { { "slotMode", this->SlotMode }, { "perspective", this->Perspective },
-      { "radius", this->Radius }, { "bilinear", this->Bilinear }, { "pcss", this->Pcss },
+      { "radius", this->Radius }, { "bilinear", this->Bilinear }, { "areaMode", this->AreaMode },
       { "lightKind", this->LightKind }, { "lightOff", this->LightOff },
       { "anyCaster", this->AnyCaster } };
   }
@@ -634,6 +636,13 @@ bool AreaAsSpot(vtkPenumbraAreaLight* area, LightSetup& setup, std::string& erro
     return false;
   }
   setup.Type = LightSetup::Kind::Spot;
+  setup.Area = true;
+  const bool line = area->GetShape() == vtkPenumbraAreaLight::Line;
+  for (int c = 0; c < 3; ++c)
+  {
+    setup.HalfU[c] = 0.5 * area->GetWidth() * u[c];
+    setup.HalfV[c] = line ? 0.0 : 0.5 * area->GetHeight() * v[c];
+  }
   std::copy(n, n + 3, setup.Axis);
   setup.Cone = AreaConeDegrees;
   setup.CosCone = std::cos(vtkMath::RadiansFromDegrees(AreaConeDegrees));
@@ -740,14 +749,14 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<TileOutputs> TileData;
   std::vector<double> TileKey;
   vtkSmartPointer<vtkTextureObject> NoMap;
-  GLuint RawDepthSampler = 0; // PCSS: reads the compare-mode maps as raw depth
+  GLuint RawDepthSampler = 0; // soft lookups: read the compare-mode maps as raw depth
   static constexpr int ExtentTile = Tile;
 
   // Phases (see the definitions).
   bool UpdateCasters(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
     vtkPenumbraSceneGeometry* geometry);
   int SlotMode(vtkPenumbraShadowMapShadows* self, const LightSetup& setup);
-  static bool UsesPcss(vtkPenumbraShadowMapShadows* self, const LightMaps& m);
+  static int SoftMode(vtkPenumbraShadowMapShadows* self, const LightMaps& m);
   LookupVariant Variant(vtkPenumbraShadowMapShadows* self, const LightSetup& setup, bool anyCaster,
     const LightMaps* maps);
   std::vector<double> MapKey(vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer,
@@ -780,6 +789,7 @@ struct vtkPenumbraShadowMapShadows::Internals
     const LightSetup& setup, const LightMaps& m);
   void SetSoftUniforms(
     vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightMaps& m);
+  static void SetAreaUniforms(vtkShaderProgram* program, const LightSetup& setup);
   bool LookupList(vtkPenumbraShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
     const LightSetup& setup, const LightMaps& m, const unsigned char* state, float* vis,
     std::string& error);
@@ -1241,10 +1251,11 @@ int vtkPenumbraShadowMapShadows::Internals::SlotMode(
 }
 
 //------------------------------------------------------------------------------
-bool vtkPenumbraShadowMapShadows::Internals::UsesPcss(
+// The soft lookup of a light's maps: AREA_NONE for hard lights, else the area light mode.
+int vtkPenumbraShadowMapShadows::Internals::SoftMode(
   vtkPenumbraShadowMapShadows* self, const LightMaps& m)
 {
-  return vtkPenumbraAreaLight::SafeDownCast(m.Light.Get()) && self->AreaLightMode == AREA_PCSS;
+  return vtkPenumbraAreaLight::SafeDownCast(m.Light.Get()) ? self->AreaLightMode : AREA_NONE;
 }
 
 //------------------------------------------------------------------------------
@@ -1256,7 +1267,7 @@ LookupVariant vtkPenumbraShadowMapShadows::Internals::Variant(
   LookupVariant v;
   v.LightKind = setup.Type == LightSetup::Kind::Directional
     ? 0
-    : (setup.Type == LightSetup::Kind::Spot ? 2 : 1);
+    : (setup.Type == LightSetup::Kind::Spot ? (setup.Area ? 3 : 2) : 1);
   v.LightOff = setup.Off ? 1 : 0;
   v.AnyCaster = anyCaster ? 1 : 0;
   if (!maps)
@@ -1268,7 +1279,7 @@ LookupVariant vtkPenumbraShadowMapShadows::Internals::Variant(
   v.Perspective = !maps->Paraboloid && !maps->Views.empty() && maps->Views[0].Perspective ? 1 : 0;
   v.Bilinear = self->Filter == FILTER_BILINEAR ? 1 : 0;
   v.Radius = v.Bilinear ? 0 : TapRadius(self);
-  v.Pcss = UsesPcss(self, *maps) ? 1 : 0;
+  v.AreaMode = SoftMode(self, *maps);
   return v;
 }
 
@@ -1987,31 +1998,46 @@ void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(vtkPenumbraShado
 }
 
 //------------------------------------------------------------------------------
-// PCSS's uniforms (vtkPenumbraShadowMapCompare.glsl): the light's half extents in world
-// units, the taps, the search depth and the tap radius in NDC.
+// The soft lookups' uniforms (vtkPenumbraShadowMapSoft.glsl): the taps, the search depth,
+// the tap radius in NDC and the single-sample mode's radii. The light's extents are set by
+// SetAreaUniforms().
 void vtkPenumbraShadowMapShadows::Internals::SetSoftUniforms(
   vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightMaps& m)
 {
-  auto* area = vtkPenumbraAreaLight::SafeDownCast(m.Light.Get());
-  double u[3] = { 0, 0, 0 }, v[3] = { 0, 0, 0 }, n[3];
-  if (!UsesPcss(self, m) || !area->GetAxes(u, v, n))
+  if (SoftMode(self, m) == AREA_NONE)
   {
     return;
   }
-  const bool line = area->GetShape() == vtkPenumbraAreaLight::Line;
-  float hu[3], hv[3];
-  for (int c = 0; c < 3; ++c)
-  {
-    hu[c] = static_cast<float>(0.5 * area->GetWidth() * u[c]);
-    hv[c] = line ? 0.0f : static_cast<float>(0.5 * area->GetHeight() * v[c]);
-  }
-  program->SetUniform3f("lightU", hu);
-  program->SetUniform3f("lightV", hv);
   program->SetUniformi("searchTaps", self->SearchTaps);
   program->SetUniformi("filterTaps", self->FilterTaps);
   program->SetUniformf("searchDepth", static_cast<float>(self->SearchDepth));
   const int side = std::max(1, std::min(m.Width, m.Height));
   program->SetUniformf("maxRadius", static_cast<float>(2.0 * self->MaxRadius / side));
+  program->SetUniformi("physical", self->Physical ? 1 : 0);
+  const float radii[3] = { static_cast<float>(self->RScale), static_cast<float>(self->RBias),
+    static_cast<float>(self->RShrink) };
+  program->SetUniform3f("thesisRadius", radii);
+}
+
+//------------------------------------------------------------------------------
+// An area light's centre and half extents (vtkPenumbraShadowMapSoft.glsl), also when no map
+// is read: the horizon term applies to samples without casters too.
+void vtkPenumbraShadowMapShadows::Internals::SetAreaUniforms(
+  vtkShaderProgram* program, const LightSetup& setup)
+{
+  if (!setup.Area)
+  {
+    return;
+  }
+  penumbra_light_views::SetLightUniforms(program, setup);
+  float hu[3], hv[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    hu[c] = static_cast<float>(setup.HalfU[c]);
+    hv[c] = static_cast<float>(setup.HalfV[c]);
+  }
+  program->SetUniform3f("lightU", hu);
+  program->SetUniform3f("lightV", hv);
 }
 
 //------------------------------------------------------------------------------
@@ -2033,9 +2059,10 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
     return false;
   }
   auto* area = vtkPenumbraAreaLight::SafeDownCast(light);
-  if (area && self->AreaLightMode != AREA_PCSS)
+  if (area && self->AreaLightMode == AREA_NONE)
   {
-    error = "area and linear lights need a soft-shadow technique (gears, raytraced, pcss)";
+    error = "area and linear lights need a soft-shadow technique (gears, raytraced, pcss, "
+            "single-sample-soft)";
     return false;
   }
   double origin[3];
@@ -2256,6 +2283,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
     {
       this->SetCompareUniforms(self, program, setup, *maps);
     }
+    this->SetAreaUniforms(program, setup);
     for (size_t i = 0; i < std::max<size_t>(1, slots.size()); ++i)
     {
       vtkTextureObject* map =

@@ -31,7 +31,8 @@ void main()
     {
       discard;
     }
-    v = state == 0 ? 0.0 : (state < 0 ? -1.0 : 1.0);
+    // An area light without casters still shows only its part above the tangent plane.
+    v = state == 0 ? 0.0 : (state < 0 ? -1.0 : (lightKind == 3 ? penumbraHorizon(p, normalize(n)) : 1.0));
   }
   // Never true; keeps the quad's texture-coordinate attribute active in the program.
   if (texCoord.x < -1.0)
