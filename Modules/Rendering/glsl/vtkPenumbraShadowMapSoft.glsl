@@ -175,31 +175,69 @@ float penumbraPcss(vec2 st, float w, float threshold, float bias, vec3 plane, ve
 // object IDs are replaced by the receiver-plane threshold: a texel counts as a blocker only
 // in front of the receiver's tangent plane, which rejects the receiver's own surface (the
 // tilted receiver of Fig. 11.5) and a convex object's other faces, and keeps the
-// self-penumbrae the IDs lose. Physical mode: each blocker texel i at map distance r_i and
-// depth d_i is taken as a straight edge across the direction e_i towards it, which hides
-// the light points o with e_i . xy(o) (1 / d_i - 1 / w) > r_i: the visible fraction is
-// penumbraFractionAbove(r_i / s_i, e_i . du, e_i . dv), minimised over the box; inside, the
-// same with the distance to the nearest lit texel and the depth of the blocker over the
-// sample. Thesis mode: f = r / r_max' with r_max = r_scale w + r_bias texels, scaled by
-// r_shrink (w - d) at the blocker found.
+// self-penumbrae the IDs lose.
+//
+// The box is scanned on a grid of at most (2 searchTaps + 1)^2 texels (every texel while it
+// is narrower, the thesis's linear AABB scan); the best candidate is then refined to
+// subpixel accuracy (the thesis's §11.3): a bisection along the direction to it finds the
+// edge, a second bisection 20 degrees off finds a second edge point, and the distance r is
+// taken perpendicular to the edge line through both.
+//
+// Physical mode: the edge hides the light points o with e . xy(o) (1 / d - 1 / w) > r (e
+// the edge's normal in the map, d the blocker's depth at the edge): the visible fraction is
+// penumbraFractionAbove(+-r / s, e . du, e . dv), s = 1 / d - 1 / w, exact for a straight
+// edge. Thesis mode: f = 0.5 (1 +- r / r_max') with r_max = r_scale w + r_bias texels and
+// r_max' = r_max r_shrink (w - d).
+
+// True when the map at continuous texel position `pos` is in the other state than the
+// sample (inner: lit, outer: blocked); `depth` receives its stored depth.
+bool penumbraOpposite(vec2 pos, bool inner, vec3 plane, float threshold, float bias,
+  out float depth)
+{
+  ivec2 texel = clamp(ivec2(floor(pos)), ivec2(0), ivec2(mapSize) - 1);
+  depth = texelFetch(depthMap, texel, 0).r;
+  bool blocked = depth < penumbraTapThreshold((vec2(texel) + 0.5) / mapSize, plane, threshold, bias);
+  return blocked != inner;
+}
+
+// Bisection on [0, hi] along unit e from f (the sample's state at 0, the other at hi): the
+// distance to the state change, to a quarter texel; `depth` the stored depth just past it.
+float penumbraEdge(vec2 f, vec2 e, float hi, bool inner, vec3 plane, float threshold,
+  float bias, inout float depth)
+{
+  float lo = 0.0;
+  for (int k = 0; k < 16 && hi - lo > 0.25; ++k)
+  {
+    float mid = 0.5 * (lo + hi);
+    float d;
+    if (penumbraOpposite(f + e * mid, inner, plane, threshold, bias, d))
+    {
+      hi = mid;
+      depth = d;
+    }
+    else
+    {
+      lo = mid;
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
 float penumbraSingleSample(vec2 st, float w, float threshold, float bias, vec3 plane)
 {
   vec2 du = (lightMatrix * vec4(lightU, 0.0)).xy;
   vec2 dv = (lightMatrix * vec4(lightV, 0.0)).xy;
   float texelsPerNdc = 0.5 * min(mapSize.x, mapSize.y);
-  ivec2 size = ivec2(mapSize);
   vec2 f = (st * 0.5 + 0.5) * mapSize; // continuous texel position (subpixel accuracy)
-  ivec2 centre = clamp(ivec2(floor(f)), ivec2(0), size - 1);
-  float dc = texelFetch(depthMap, centre, 0).r;
-  bool inner = dc < penumbraTapThreshold((vec2(centre) + 0.5) / mapSize, plane, threshold, bias);
+  float dc;
+  bool inner = penumbraOpposite(f, false, plane, threshold, bias, dc); // blocked
   float wc = max(1e-6, dc / invFar);
   // Search reach in texels.
-  float extent = length(du) + length(dv);
   float reach;
   if (physical != 0)
   {
     float s = inner ? 1.0 / wc - 1.0 / w : 1.0 / (searchDepth * w) - 1.0 / w;
-    reach = extent * max(0.0, s) * texelsPerNdc;
+    reach = (length(du) + length(dv)) * max(0.0, s) * texelsPerNdc;
   }
   else
   {
@@ -210,57 +248,73 @@ float penumbraSingleSample(vec2 st, float w, float threshold, float bias, vec3 p
   {
     return inner ? 0.0 : 1.0; // a point-like light: the hard shadow
   }
+  // 1. Coarse scan: the candidate whose penumbra it is deepest inside.
   int n = min(searchTaps, int(ceil(reach)));
   float step = reach / float(n);
-  float best = 1e30;   // smallest edge distance over penumbra half width
-  float bestValue = inner ? 0.0 : 1.0;
+  float best = 1e30;
+  vec2 bestOffset = vec2(0.0);
   for (int j = -n; j <= n; ++j)
   {
     for (int i = -n; i <= n; ++i)
     {
-      ivec2 texel = clamp(ivec2(floor(f + vec2(i, j) * step)), ivec2(0), size - 1);
-      vec2 toTexel = vec2(texel) + 0.5 - f;
-      // The edge lies half a texel before the texel's centre.
-      float r = max(0.0, length(toTexel) - 0.5);
-      if (r > reach)
+      vec2 offset = floor(f + vec2(i, j) * step) + 0.5 - f;
+      float r = length(offset);
+      float d;
+      if (r > reach + 0.5 || !penumbraOpposite(f + offset, inner, plane, threshold, bias, d))
       {
         continue;
-      }
-      vec2 t = (vec2(texel) + 0.5) / mapSize;
-      float d = texelFetch(depthMap, texel, 0).r;
-      bool blocked = d < penumbraTapThreshold(t, plane, threshold, bias);
-      if (blocked == inner)
-      {
-        continue; // outer: looking for blockers; inner: looking for lit texels
       }
       float s = inner ? 1.0 / wc - 1.0 / w : 1.0 / max(1e-6, d / invFar) - 1.0 / w;
-      if (s <= 0.0)
-      {
-        continue;
-      }
-      vec2 e = length(toTexel) > 0.0 ? normalize(toTexel) : vec2(1.0, 0.0);
-      float q;
-      float value;
-      if (physical != 0)
-      {
-        float alpha = dot(e, du) * texelsPerNdc;
-        float beta = dot(e, dv) * texelsPerNdc;
-        float h = r / s;
-        q = h / max(1e-12, abs(alpha) + abs(beta));
-        value = penumbraFractionAbove(inner ? -h : h, alpha, beta);
-      }
-      else
-      {
-        float rmax = max(1e-6, reach * thesisRadius.z * (w - (inner ? wc : d / invFar)));
-        q = r / rmax;
-        value = inner ? clamp(0.5 * (1.0 - q), 0.0, 0.5) : clamp(0.5 * (1.0 + q), 0.5, 1.0);
-      }
-      if (q < best)
+      vec2 e = r > 0.0 ? offset / r : vec2(1.0, 0.0);
+      float q = physical != 0
+        ? r / max(1e-12, s * (abs(dot(e, du)) + abs(dot(e, dv))) * texelsPerNdc)
+        : r / max(1e-6, reach * thesisRadius.z * (w - (inner ? wc : d / invFar)));
+      if (s > 0.0 && q < best)
       {
         best = q;
-        bestValue = value;
+        bestOffset = offset;
       }
     }
   }
-  return bestValue;
+  if (best >= 1e30)
+  {
+    return inner ? 0.0 : 1.0; // nothing in reach: umbra or fully lit
+  }
+  // 2. Refinement: two edge points by bisection, the distance perpendicular to their line.
+  float r1 = length(bestOffset);
+  vec2 e1 = r1 > 0.0 ? bestOffset / r1 : vec2(1.0, 0.0);
+  float d1 = dc;
+  float depth = dc;
+  penumbraOpposite(f + bestOffset, inner, plane, threshold, bias, d1);
+  float edge1 = penumbraEdge(f, e1, r1, inner, plane, threshold, bias, d1);
+  vec2 normal = e1;
+  float r = edge1;
+  for (int side = -1; side <= 1; side += 2)
+  {
+    float angle = 0.35 * float(side);
+    vec2 e2 = vec2(cos(angle) * e1.x - sin(angle) * e1.y, sin(angle) * e1.x + cos(angle) * e1.y);
+    float far2 = 3.0 * max(edge1, 1.0);
+    if (penumbraOpposite(f + e2 * far2, inner, plane, threshold, bias, depth))
+    {
+      float edge2 = penumbraEdge(f, e2, far2, inner, plane, threshold, bias, depth);
+      vec2 along = e2 * edge2 - e1 * edge1;
+      if (length(along) > 0.25)
+      {
+        vec2 m = normalize(vec2(-along.y, along.x));
+        m = dot(m, e1) < 0.0 ? -m : m;
+        normal = m;
+        r = max(0.0, dot(e1 * edge1, m));
+      }
+      break;
+    }
+  }
+  float s = inner ? 1.0 / wc - 1.0 / w : 1.0 / max(1e-6, d1 / invFar) - 1.0 / w;
+  if (physical != 0)
+  {
+    float h = r / max(1e-12, s);
+    return penumbraFractionAbove(
+      inner ? -h : h, dot(normal, du) * texelsPerNdc, dot(normal, dv) * texelsPerNdc);
+  }
+  float rmax = max(1e-6, reach * thesisRadius.z * (w - (inner ? wc : d1 / invFar)));
+  return inner ? clamp(0.5 * (1.0 - r / rmax), 0.0, 0.5) : clamp(0.5 * (1.0 + r / rmax), 0.5, 1.0);
 }
