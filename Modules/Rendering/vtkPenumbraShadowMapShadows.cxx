@@ -750,6 +750,9 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<double> TileKey;
   vtkSmartPointer<vtkTextureObject> NoMap;
   GLuint RawDepthSampler = 0; // soft lookups: read the compare-mode maps as raw depth
+  // Single-sample soft shadows' adaptive sampling: the block corners' values.
+  vtkSmartPointer<vtkOpenGLFramebufferObject> CoarseFBO;
+  vtkSmartPointer<vtkTextureObject> CoarseValues;
   static constexpr int ExtentTile = Tile;
 
   // Phases (see the definitions).
@@ -790,6 +793,9 @@ struct vtkPenumbraShadowMapShadows::Internals
   void SetSoftUniforms(
     vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightMaps& m);
   static void SetAreaUniforms(vtkShaderProgram* program, const LightSetup& setup);
+  void DrawLookup(vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame, int layer,
+    const LightSetup& setup, const LightMaps* maps, const std::vector<int>& slots,
+    vtkOpenGLQuadHelper* quad, int adaptivePass, int block);
   bool LookupList(vtkPenumbraShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
     const LightSetup& setup, const LightMaps& m, const unsigned char* state, float* vis,
     std::string& error);
@@ -2269,47 +2275,98 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
       slots.push_back(static_cast<int>(slot));
     }
   }
+  // Single-sample soft shadows with adaptive sampling: the block corners first.
+  const int block = maps && SoftMode(self, *maps) == AREA_SINGLE_SAMPLE ? self->AdaptiveBlock : 1;
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
-    vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
+    if (block > 1)
+    {
+      const int cw = (frame->GetWidth() - 1) / block + 2;
+      const int ch = (frame->GetHeight() - 1) / block + 2;
+      if (!this->CoarseValues)
+      {
+        this->CoarseFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+        this->CoarseFBO->SetContext(win);
+        this->CoarseValues = Internals::FloatTexture(win);
+        this->CoarseValues->SetInternalFormat(GL_RGBA32F);
+        this->CoarseValues->SetFormat(GL_RGBA);
+        this->CoarseValues->SetDataType(GL_FLOAT);
+      }
+      if (static_cast<int>(this->CoarseValues->GetWidth()) != cw ||
+        static_cast<int>(this->CoarseValues->GetHeight()) != ch)
+      {
+        this->CoarseValues->Allocate2D(cw, ch, 4, VTK_FLOAT);
+      }
+      penumbra_light_views::QuadPassState pass(
+        win->GetState(), this->CoarseFBO, { this->CoarseValues.Get() }, cw, ch);
+      this->DrawLookup(self, frame, layer, setup, maps, slots, quad, 1, block);
+    }
     vtkPenumbraFrame::VisibilityTarget target = frame->BindVisibilityTarget(layer, k);
-    win->GetShaderCache()->ReadyShaderProgram(program);
-    gbuffer->GetPositionTexture()->Activate();
-    gbuffer->GetNormalTexture()->Activate();
-    program->SetUniformi("samplePositions", gbuffer->GetPositionTexture()->GetTextureUnit());
-    program->SetUniformi("sampleNormals", gbuffer->GetNormalTexture()->GetTextureUnit());
-    penumbra_light_views::SetClassifyUniforms(program, setup);
-    if (maps)
+    if (block > 1)
     {
-      this->SetCompareUniforms(self, program, setup, *maps);
+      this->CoarseValues->Activate();
+      win->GetShaderCache()->ReadyShaderProgram(program);
+      program->SetUniformi("coarseValues", this->CoarseValues->GetTextureUnit());
     }
-    this->SetAreaUniforms(program, setup);
-    for (size_t i = 0; i < std::max<size_t>(1, slots.size()); ++i)
+    this->DrawLookup(self, frame, layer, setup, maps, slots, quad, block > 1 ? 2 : 0, block);
+    if (block > 1)
     {
-      vtkTextureObject* map =
-        slots.empty() ? this->NoMap.Get() : maps->Textures[static_cast<size_t>(slots[i])].Get();
-      program->SetUniformi("writeDecided", i == 0 ? 1 : 0);
-      if (slots.empty())
-      {
-        program->SetUniformi("slot", -1);
-      }
-      else
-      {
-        SetSlotUniforms(program, *maps, slots[i]);
-      }
-      map->Activate();
-      program->SetUniformi("shadowMap", map->GetTextureUnit());
-      {
-        RawDepthBinding raw(win, this->RawDepthSampler, map);
-        program->SetUniformi("depthMap", raw.GetUnit());
-        quad->Render();
-      }
-      map->Deactivate();
+      this->CoarseValues->Deactivate();
     }
-    gbuffer->GetPositionTexture()->Deactivate();
-    gbuffer->GetNormalTexture()->Deactivate();
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+// One lookup draw per rendered slot on one layer's G-buffer into the bound target (the
+// first also writes the samples the facing rules decide); `adaptivePass` as in
+// vtkPenumbraShadowMapSoft.glsl.
+void vtkPenumbraShadowMapShadows::Internals::DrawLookup(vtkPenumbraShadowMapShadows* self,
+  vtkPenumbraFrame* frame, int layer, const LightSetup& setup, const LightMaps* maps,
+  const std::vector<int>& slots, vtkOpenGLQuadHelper* quad, int adaptivePass, int block)
+{
+  vtkOpenGLRenderWindow* win = frame->GetWindow();
+  vtkShaderProgram* program = quad->Program;
+  vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
+  win->GetShaderCache()->ReadyShaderProgram(program);
+  gbuffer->GetPositionTexture()->Activate();
+  gbuffer->GetNormalTexture()->Activate();
+  program->SetUniformi("samplePositions", gbuffer->GetPositionTexture()->GetTextureUnit());
+  program->SetUniformi("sampleNormals", gbuffer->GetNormalTexture()->GetTextureUnit());
+  program->SetUniformi("adaptivePass", adaptivePass);
+  program->SetUniformi("adaptiveBlock", block);
+  const int image[2] = { frame->GetWidth(), frame->GetHeight() };
+  program->SetUniform2i("adaptiveImage", image);
+  penumbra_light_views::SetClassifyUniforms(program, setup);
+  if (maps)
+  {
+    this->SetCompareUniforms(self, program, setup, *maps);
+  }
+  this->SetAreaUniforms(program, setup);
+  for (size_t i = 0; i < std::max<size_t>(1, slots.size()); ++i)
+  {
+    vtkTextureObject* map =
+      slots.empty() ? this->NoMap.Get() : maps->Textures[static_cast<size_t>(slots[i])].Get();
+    program->SetUniformi("writeDecided", i == 0 ? 1 : 0);
+    if (slots.empty())
+    {
+      program->SetUniformi("slot", -1);
+    }
+    else
+    {
+      SetSlotUniforms(program, *maps, slots[i]);
+    }
+    map->Activate();
+    program->SetUniformi("shadowMap", map->GetTextureUnit());
+    {
+      RawDepthBinding raw(win, this->RawDepthSampler, map);
+      program->SetUniformi("depthMap", raw.GetUnit());
+      quad->Render();
+    }
+    map->Deactivate();
+  }
+  gbuffer->GetPositionTexture()->Deactivate();
+  gbuffer->GetNormalTexture()->Deactivate();
 }
 
 //------------------------------------------------------------------------------

@@ -189,6 +189,18 @@ public:
 
   ///@{
   /**
+   * Single-sample soft shadows' adaptive sampling (Brabec 2003, ch. 11.3): the search runs
+   * at the corners of AdaptiveBlock x AdaptiveBlock pixel blocks, and a pixel whose four
+   * corners lie on its prop and share its hard shadow test interpolates them bilinearly
+   * (others search). 1 searches at every pixel. Default 4 (the thesis's 4 x 4 blocks),
+   * clamped to [1, 16].
+   */
+  vtkSetClampMacro(AdaptiveBlock, int, 1, 16);
+  vtkGetMacro(AdaptiveBlock, int);
+  ///@}
+
+  ///@{
+  /**
    * PCSS: no tap lies farther than this from the sample, in map texels (bounds the cost of
    * huge lights; the penumbra is then too narrow). Default 64, clamped to [1, 4096].
    */
@@ -431,6 +443,7 @@ protected:
   double RScale = 4.0;
   double RBias = 0.0;
   double RShrink = 1.0;
+  int AdaptiveBlock = 4;
   int NumberOfMapRenders = 0;
   int NumberOfViews = 0;
   int NumberOfUploads = 0;

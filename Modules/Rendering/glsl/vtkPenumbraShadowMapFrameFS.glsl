@@ -15,7 +15,12 @@ void main()
 {
   vec3 p;
   vec3 n;
-  int state = penumbraClassify(ivec2(gl_FragCoord.xy), p, n);
+  // The adaptive sampling's first pass draws one fragment per block corner.
+  ivec2 cell = ivec2(gl_FragCoord.xy);
+  cell = adaptivePass == 1 ? min(cell * adaptiveBlock, adaptiveImage - 1) : cell;
+  penumbraPixel = cell;
+  penumbraProp = texelFetch(sampleNormals, cell, 0).w;
+  int state = penumbraClassify(cell, p, n);
   float v;
   if (state == 2 && slot >= 0)
   {
@@ -39,5 +44,5 @@ void main()
   {
     v = 0.0;
   }
-  gl_FragData[0] = vec4(v);
+  gl_FragData[0] = adaptivePass == 1 ? penumbraCorner : vec4(v);
 }

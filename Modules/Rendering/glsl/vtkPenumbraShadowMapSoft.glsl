@@ -14,6 +14,16 @@ uniform float maxRadius;     // taps at most this far from the sample, in NDC
 uniform int physical;        // SSS: 1 penumbra from the light's size, 0 the thesis's radii
 uniform vec3 thesisRadius;   // SSS thesis mode: r_scale (texels / length), r_bias (texels),
                              // r_shrink (1 / length)
+// SSS adaptive sampling (Brabec 2003, ch. 11.3): pass 1 searches at the corners of
+// adaptiveBlock x adaptiveBlock pixel blocks, pass 2 interpolates the corners bilinearly
+// where all four lie on the sample's prop and agree with its hard test, else searches.
+uniform int adaptivePass;       // 0 off, 1 block corners, 2 interpolate or search
+uniform int adaptiveBlock;      // pixels per block side
+uniform ivec2 adaptiveImage;    // the G-buffer's size in pixels
+uniform sampler2D coarseValues; // pass 2: per corner (value, prop, blocked, searched)
+ivec2 penumbraPixel;            // set by the frame program: the pixel being looked up
+float penumbraProp;             // and its prop
+vec4 penumbraCorner = vec4(0.0); // pass 1's output for the pixel (w = 1: searched)
 
 // The fraction of (a, b) in [-1, 1]^2 (b = 0 when beta is 0) with h0 + a alpha + b beta > 0:
 // the part of a rectangle (or segment) on the positive side of a plane, in closed form (the
@@ -223,14 +233,56 @@ float penumbraEdge(vec2 f, vec2 e, float hi, bool inner, vec3 plane, float thres
   return 0.5 * (lo + hi);
 }
 
+// Pass 2 of the adaptive sampling: the bilinear interpolation of the pixel's block corners
+// when all four were searched, lie on the pixel's prop and share its hard test (the
+// thesis's ID and hard-shadow test; a corner off the image is clamped to its last pixel).
+bool penumbraInterpolate(bool blocked, out float value)
+{
+  ivec2 block = penumbraPixel / adaptiveBlock;
+  ivec2 last = textureSize(coarseValues, 0) - 1;
+  float c[4];
+  for (int k = 0; k < 4; ++k)
+  {
+    vec4 corner = texelFetch(coarseValues, min(block + ivec2(k & 1, k >> 1), last), 0);
+    if (corner.w < 0.5 || corner.y != penumbraProp || (corner.z > 0.5) != blocked)
+    {
+      return false;
+    }
+    c[k] = corner.x;
+  }
+  vec2 p0 = vec2(block * adaptiveBlock);
+  vec2 p1 = vec2(min((block + 1) * adaptiveBlock, adaptiveImage - 1));
+  vec2 t = clamp((vec2(penumbraPixel) - p0) / max(p1 - p0, vec2(1.0)), 0.0, 1.0);
+  value = mix(mix(c[0], c[1], t.x), mix(c[2], c[3], t.x), t.y);
+  return true;
+}
+
+float penumbraSearch(vec2 f, bool inner, float dc, float w, float threshold, float bias,
+  vec3 plane);
+
 float penumbraSingleSample(vec2 st, float w, float threshold, float bias, vec3 plane)
+{
+  vec2 f = (st * 0.5 + 0.5) * mapSize; // continuous texel position (subpixel accuracy)
+  float dc;
+  bool inner = penumbraOpposite(f, false, plane, threshold, bias, dc); // blocked
+  float value;
+  if (adaptivePass == 2 && penumbraInterpolate(inner, value))
+  {
+    return value;
+  }
+  value = penumbraSearch(f, inner, dc, w, threshold, bias, plane);
+  penumbraCorner = vec4(value, penumbraProp, inner ? 1.0 : 0.0, 1.0);
+  return value;
+}
+
+// The search of one sample at continuous texel position f, blocked (inner) or not, dc the
+// depth stored at its texel.
+float penumbraSearch(vec2 f, bool inner, float dc, float w, float threshold, float bias,
+  vec3 plane)
 {
   vec2 du = (lightMatrix * vec4(lightU, 0.0)).xy;
   vec2 dv = (lightMatrix * vec4(lightV, 0.0)).xy;
   float texelsPerNdc = 0.5 * min(mapSize.x, mapSize.y);
-  vec2 f = (st * 0.5 + 0.5) * mapSize; // continuous texel position (subpixel accuracy)
-  float dc;
-  bool inner = penumbraOpposite(f, false, plane, threshold, bias, dc); // blocked
   float wc = max(1e-6, dc / invFar);
   // Search reach in texels.
   float reach;
