@@ -750,7 +750,7 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<double> TileKey;
   vtkSmartPointer<vtkTextureObject> NoMap;
   GLuint RawDepthSampler = 0; // soft lookups: read the compare-mode maps as raw depth
-  // Single-sample soft shadows' adaptive sampling: the block corners' values.
+  // The soft lookups' adaptive sampling: the block corners' values.
   vtkSmartPointer<vtkOpenGLFramebufferObject> CoarseFBO;
   vtkSmartPointer<vtkTextureObject> CoarseValues;
   static constexpr int ExtentTile = Tile;
@@ -2275,8 +2275,8 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
       slots.push_back(static_cast<int>(slot));
     }
   }
-  // Single-sample soft shadows with adaptive sampling: the block corners first.
-  const int block = maps && SoftMode(self, *maps) == AREA_SINGLE_SAMPLE ? self->AdaptiveBlock : 1;
+  // Soft lookups with adaptive sampling: the block corners first.
+  const int block = maps && SoftMode(self, *maps) != AREA_NONE ? self->AdaptiveBlock : 1;
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
     if (block > 1)

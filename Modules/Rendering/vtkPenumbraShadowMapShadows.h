@@ -189,11 +189,11 @@ public:
 
   ///@{
   /**
-   * Single-sample soft shadows' adaptive sampling (Brabec 2003, ch. 11.3): the search runs
-   * at the corners of AdaptiveBlock x AdaptiveBlock pixel blocks, and a pixel whose four
-   * corners lie on its prop and share its hard shadow test interpolates them bilinearly
-   * (others search). 1 searches at every pixel. Default 4 (the thesis's 4 x 4 blocks),
-   * clamped to [1, 16].
+   * The soft lookups' adaptive sampling (Brabec 2003, ch. 11.3, for single-sample soft
+   * shadows; used for PCSS too): the search runs at the corners of AdaptiveBlock x
+   * AdaptiveBlock pixel blocks, and a pixel whose four corners lie on its prop and share its
+   * hard shadow test interpolates them bilinearly (others search). 1 searches at every
+   * pixel. Default 4 (the thesis's 4 x 4 blocks), clamped to [1, 16].
    */
   vtkSetClampMacro(AdaptiveBlock, int, 1, 16);
   vtkGetMacro(AdaptiveBlock, int);

@@ -591,6 +591,10 @@ OptionTable PCSSTable()
     "the light (smaller: a wider search)" });
   table.push_back({ "max_radius", OptionType::Number, 64.0, 1.0, 4096.0, {}, "texels",
     "no tap lies farther from the sample (bounds the cost of huge lights)" });
+  table.push_back({ "block", OptionType::Integer, 4, 1, 16, {}, "pixels",
+    "adaptive sampling (Brabec 2003, ch. 11.3): search at the corners of block x block pixel "
+    "blocks and interpolate where the four corners lie on the pixel's prop and share its hard "
+    "shadow test; 1 searches at every pixel" });
   return table;
 }
 const OptionTable PCSSOptions = PCSSTable();
@@ -611,10 +615,6 @@ OptionTable SingleSampleTable()
   table.push_back({ "search_taps", OptionType::Integer, 6, 1, 16, {}, "taps per half side",
     "the nearest-blocker / nearest-lit search scans a (2n + 1) x (2n + 1) box of texels around "
     "the sample (one tap per texel while the box is narrower, else spread evenly over it)" });
-  table.push_back({ "block", OptionType::Integer, 4, 1, 16, {}, "pixels",
-    "adaptive sampling (Brabec 2003, ch. 11.3): search at the corners of block x block pixel "
-    "blocks and interpolate where the four corners lie on the pixel's prop and share its hard "
-    "shadow test; 1 searches at every pixel" });
   table.push_back({ "physical", OptionType::Boolean, true, 0, 0, {}, "",
     "true: every penumbra from the light's own size (similar triangles through the blocker "
     "texel found, no calibration); false: the thesis's radii r_scale, r_bias, r_shrink" });
@@ -651,6 +651,7 @@ void InstallPCSS(vtkRenderer* ren, const Options& opts)
   vtkNew<vtkPenumbraShadowMapShadows> technique;
   ReadMapOptions(opts, technique);
   technique->SetAreaLightMode(vtkPenumbraShadowMapShadows::AREA_PCSS);
+  technique->SetAdaptiveBlock(opts.Integer("block"));
   technique->SetSearchTaps(opts.Integer("search_taps"));
   technique->SetFilterTaps(opts.Integer("filter_taps"));
   technique->SetSearchDepth(opts.Number("search_depth"));

@@ -115,10 +115,56 @@ vec2 penumbraGridPoint(int i, int j, int columns, int rows)
   return vec2((float(i) + 0.5) / float(columns), (float(j) + 0.5) / float(rows)) * 2.0 - 1.0;
 }
 
+// Pass 2 of the adaptive sampling: the bilinear interpolation of the pixel's block corners
+// when all four were searched, lie on the pixel's prop and share its hard test (the
+// thesis's ID and hard-shadow test; a corner off the image is clamped to its last pixel).
+bool penumbraInterpolate(bool blocked, out float value)
+{
+  ivec2 block = penumbraPixel / adaptiveBlock;
+  ivec2 last = textureSize(coarseValues, 0) - 1;
+  float c[4];
+  for (int k = 0; k < 4; ++k)
+  {
+    vec4 corner = texelFetch(coarseValues, min(block + ivec2(k & 1, k >> 1), last), 0);
+    if (corner.w < 0.5 || corner.y != penumbraProp || (corner.z > 0.5) != blocked)
+    {
+      return false;
+    }
+    c[k] = corner.x;
+  }
+  vec2 p0 = vec2(block * adaptiveBlock);
+  vec2 p1 = vec2(min((block + 1) * adaptiveBlock, adaptiveImage - 1));
+  vec2 t = clamp((vec2(penumbraPixel) - p0) / max(p1 - p0, vec2(1.0)), 0.0, 1.0);
+  value = mix(mix(c[0], c[1], t.x), mix(c[2], c[3], t.x), t.y);
+  return true;
+}
+
 // PCSS over the light's taps above the receiver's tangent plane: a stratified grid of light
 // points (cell centres); the visible fraction is the horizon term times the share of the
 // taps above the plane that the map leaves lit.
+float penumbraPcssTaps(vec2 st, float w, float threshold, float bias, vec3 plane, vec3 n, vec3 p);
+
+// PCSS with the adaptive sampling of vtkPenumbraShadowMapShadows (block corners first, then
+// bilinear interpolation where they agree; the hard test is the sample's own texel).
 float penumbraPcss(vec2 st, float w, float threshold, float bias, vec3 plane, vec3 n, vec3 p)
+{
+  float value;
+  bool blocked = false;
+  if (adaptivePass != 0)
+  {
+    vec2 uv = st * 0.5 + 0.5;
+    blocked = texture(depthMap, uv).r < penumbraTapThreshold(uv, plane, threshold, bias);
+    if (adaptivePass == 2 && penumbraInterpolate(blocked, value))
+    {
+      return value;
+    }
+  }
+  value = penumbraPcssTaps(st, w, threshold, bias, plane, n, p);
+  penumbraCorner = vec4(value, penumbraProp, blocked ? 1.0 : 0.0, 1.0);
+  return value;
+}
+
+float penumbraPcssTaps(vec2 st, float w, float threshold, float bias, vec3 plane, vec3 n, vec3 p)
 {
   vec2 du = (lightMatrix * vec4(lightU, 0.0)).xy;
   vec2 dv = (lightMatrix * vec4(lightV, 0.0)).xy;
@@ -231,30 +277,6 @@ float penumbraEdge(vec2 f, vec2 e, float hi, bool inner, vec3 plane, float thres
     }
   }
   return 0.5 * (lo + hi);
-}
-
-// Pass 2 of the adaptive sampling: the bilinear interpolation of the pixel's block corners
-// when all four were searched, lie on the pixel's prop and share its hard test (the
-// thesis's ID and hard-shadow test; a corner off the image is clamped to its last pixel).
-bool penumbraInterpolate(bool blocked, out float value)
-{
-  ivec2 block = penumbraPixel / adaptiveBlock;
-  ivec2 last = textureSize(coarseValues, 0) - 1;
-  float c[4];
-  for (int k = 0; k < 4; ++k)
-  {
-    vec4 corner = texelFetch(coarseValues, min(block + ivec2(k & 1, k >> 1), last), 0);
-    if (corner.w < 0.5 || corner.y != penumbraProp || (corner.z > 0.5) != blocked)
-    {
-      return false;
-    }
-    c[k] = corner.x;
-  }
-  vec2 p0 = vec2(block * adaptiveBlock);
-  vec2 p1 = vec2(min((block + 1) * adaptiveBlock, adaptiveImage - 1));
-  vec2 t = clamp((vec2(penumbraPixel) - p0) / max(p1 - p0, vec2(1.0)), 0.0, 1.0);
-  value = mix(mix(c[0], c[1], t.x), mix(c[2], c[3], t.x), t.y);
-  return true;
 }
 
 float penumbraSearch(vec2 f, bool inner, float dc, float w, float threshold, float bias,
