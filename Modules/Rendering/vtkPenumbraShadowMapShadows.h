@@ -137,7 +137,7 @@ public:
   /**
    * PCSS blocker-search taps per light axis (n x n for a rectangle, n for a line); single-
    * sample soft shadows: taps per half side of the search box ((2n + 1)^2 taps, one per
-   * texel while the box is narrower). Default 6, clamped to [1, 16].
+   * texel while the box is narrower). Default 4, clamped to [1, 16].
    */
   vtkSetClampMacro(SearchTaps, int, 1, 16);
   vtkGetMacro(SearchTaps, int);
@@ -146,7 +146,7 @@ public:
   ///@{
   /**
    * PCSS filter taps per light axis (n x n for a rectangle, n for a line): the number of
-   * visibility levels. Default 8, clamped to [1, 32].
+   * visibility levels. Default 6, clamped to [1, 32].
    */
   vtkSetClampMacro(FilterTaps, int, 1, 32);
   vtkGetMacro(FilterTaps, int);
@@ -435,8 +435,8 @@ protected:
   int PointMode = POINT_CUBE;
   int Lookup = LOOKUP_GPU;
   int AreaLightMode = AREA_NONE;
-  int SearchTaps = 6;
-  int FilterTaps = 8;
+  int SearchTaps = 4;
+  int FilterTaps = 6;
   double SearchDepth = 0.2;
   double MaxRadius = 64.0;
   bool Physical = true;

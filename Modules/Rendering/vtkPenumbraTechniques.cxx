@@ -579,10 +579,10 @@ OptionTable PCSSTable()
       table.push_back(spec);
     }
   }
-  table.push_back({ "search_taps", OptionType::Integer, 6, 1, 16, {}, "taps per light axis",
+  table.push_back({ "search_taps", OptionType::Integer, 4, 1, 16, {}, "taps per light axis",
     "blocker-search taps on a stratified grid over the light (n x n for a rectangle, n for a "
     "line)" });
-  table.push_back({ "filter_taps", OptionType::Integer, 8, 1, 32, {}, "taps per light axis",
+  table.push_back({ "filter_taps", OptionType::Integer, 6, 1, 32, {}, "taps per light axis",
     "PCF taps over the light's image at the blockers' depth (n x n for a rectangle, n for a "
     "line): the number of visibility levels" });
   table.push_back({ "search_depth", OptionType::Number, 0.2, 0.01, 0.99, {},
@@ -612,7 +612,7 @@ OptionTable SingleSampleTable()
       table.push_back(spec);
     }
   }
-  table.push_back({ "search_taps", OptionType::Integer, 6, 1, 16, {}, "taps per half side",
+  table.push_back({ "search_taps", OptionType::Integer, 4, 1, 16, {}, "taps per half side",
     "the nearest-blocker / nearest-lit search scans a (2n + 1) x (2n + 1) box of texels around "
     "the sample (one tap per texel while the box is narrower, else spread evenly over it)" });
   table.push_back({ "physical", OptionType::Boolean, true, 0, 0, {}, "",
