@@ -135,7 +135,7 @@ public:
 
   ///@{
   /**
-   * PCSS blocker-search taps per light axis (n x n for a rectangle, n for a line); single-
+   * PCSS blocker-search taps per light axis (n x n for a rectangle, 2 n for a line); single-
    * sample soft shadows: taps per half side of the search box ((2n + 1)^2 taps, one per
    * texel while the box is narrower). Default 4, clamped to [1, 16].
    */
@@ -145,7 +145,7 @@ public:
 
   ///@{
   /**
-   * PCSS filter taps per light axis (n x n for a rectangle, n for a line): the number of
+   * PCSS filter taps per light axis (n x n for a rectangle, 2 n for a line): the number of
    * visibility levels. Default 6, clamped to [1, 32].
    */
   vtkSetClampMacro(FilterTaps, int, 1, 32);

@@ -580,10 +580,10 @@ OptionTable PCSSTable()
     }
   }
   table.push_back({ "search_taps", OptionType::Integer, 4, 1, 16, {}, "taps per light axis",
-    "blocker-search taps on a stratified grid over the light (n x n for a rectangle, n for a "
+    "blocker-search taps on a stratified grid over the light (n x n for a rectangle, 2 n for a "
     "line)" });
   table.push_back({ "filter_taps", OptionType::Integer, 6, 1, 32, {}, "taps per light axis",
-    "PCF taps over the light's image at the blockers' depth (n x n for a rectangle, n for a "
+    "PCF taps over the light's image at the blockers' depth (n x n for a rectangle, 2 n for a "
     "line): the number of visibility levels" });
   table.push_back({ "search_depth", OptionType::Number, 0.2, 0.01, 0.99, {},
     "fraction of the receiver's distance",

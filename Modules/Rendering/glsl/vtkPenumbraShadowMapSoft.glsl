@@ -7,8 +7,9 @@ uniform int areaMode;        // 0 hard light, 1 PCSS, 2 single-sample soft
 uniform sampler2D depthMap;  // the map without compare (a sampler object on its own unit)
 uniform vec3 lightU;         // half the light's extent along U (world)
 uniform vec3 lightV;         // half along V (zero for a linear light)
-uniform int searchTaps;      // PCSS: blocker-search taps per light axis; SSS: half box taps
-uniform int filterTaps;      // PCF taps per light axis
+uniform int searchTaps;      // PCSS: blocker-search taps per light axis (2 n on a segment);
+                             // SSS: box taps per half side
+uniform int filterTaps;      // PCF taps per light axis (2 n on a segment)
 uniform float searchDepth;   // nearest blocker assumed at this fraction of the receiver's w
 uniform float maxRadius;     // taps at most this far from the sample, in NDC
 uniform int physical;        // SSS: 1 penumbra from the light's size, 0 the thesis's radii
@@ -176,14 +177,16 @@ float penumbraPcssTaps(vec2 st, float w, float threshold, float bias, vec3 plane
   // 1. Blocker search over the region the light subtends, on a stratified grid of light
   //    points (cell centres), with blockers down to searchDepth * w.
   float reach = 1.0 / (searchDepth * w) - 1.0 / w;
+  // A segment gets twice the taps per axis: its one axis carries the whole penumbra.
+  int columns = line ? 2 * searchTaps : searchTaps;
   int rows = line ? 1 : searchTaps;
   float sum = 0.0;
   float found = 0.0;
   for (int j = 0; j < rows; ++j)
   {
-    for (int i = 0; i < searchTaps; ++i)
+    for (int i = 0; i < columns; ++i)
     {
-      vec2 ab = penumbraGridPoint(i, j, searchTaps, rows);
+      vec2 ab = penumbraGridPoint(i, j, columns, rows);
       vec2 t = penumbraTap(st, (ab.x * du + ab.y * dv) * reach);
       float d = texture(depthMap, t).r;
       if (d < penumbraTapThreshold(t, plane, threshold, bias))
@@ -197,7 +200,7 @@ float penumbraPcssTaps(vec2 st, float w, float threshold, float bias, vec3 plane
   {
     return horizon; // early out: nothing between the light and the receiver
   }
-  if (found == float(rows * searchTaps))
+  if (found == float(rows * columns))
   {
     return 0.0; // early out: the whole search region is blocked (the filter region is inside it)
   }
@@ -205,15 +208,16 @@ float penumbraPcssTaps(vec2 st, float w, float threshold, float bias, vec3 plane
   //    counting only light points above the tangent plane.
   float wb = max(1e-6, (sum / found) / invFar);
   float scale = max(0.0, 1.0 / wb - 1.0 / w);
+  columns = line ? 2 * filterTaps : filterTaps;
   rows = line ? 1 : filterTaps;
   float lit = 0.0;
   float above = 0.0;
   float total = 0.0;
   for (int j = 0; j < rows; ++j)
   {
-    for (int i = 0; i < filterTaps; ++i)
+    for (int i = 0; i < columns; ++i)
     {
-      vec2 ab = penumbraGridPoint(i, j, filterTaps, rows);
+      vec2 ab = penumbraGridPoint(i, j, columns, rows);
       vec2 t = penumbraTap(st, (ab.x * du + ab.y * dv) * scale);
       float l = texture(shadowMap, vec3(t, penumbraTapThreshold(t, plane, threshold, bias)));
       float up = h0 + dot(ab, vec2(alpha, beta)) > 0.0 ? 1.0 : 0.0;
@@ -222,7 +226,7 @@ float penumbraPcssTaps(vec2 st, float w, float threshold, float bias, vec3 plane
       total += l;
     }
   }
-  return horizon * (above > 0.0 ? lit / above : total / float(rows * filterTaps));
+  return horizon * (above > 0.0 ? lit / above : total / float(rows * columns));
 }
 
 // Single-sample soft shadows (Brabec 2003, ch. 11, Fig. 11.6): a sample the map leaves lit
