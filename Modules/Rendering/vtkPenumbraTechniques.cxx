@@ -630,15 +630,22 @@ OptionTable SingleSampleTable()
 }
 const OptionTable SingleSampleOptions = SingleSampleTable();
 
-void InstallSingleSample(vtkRenderer* ren, const Options& opts)
+// The options pcss and single-sample-soft share: the map's, the search and the adaptive
+// sampling.
+void ReadSoftOptions(const Options& opts, vtkPenumbraShadowMapShadows* technique, int mode)
 {
-  vtkNew<vtkPenumbraShadowMapShadows> technique;
   ReadMapOptions(opts, technique);
-  technique->SetAreaLightMode(vtkPenumbraShadowMapShadows::AREA_SINGLE_SAMPLE);
+  technique->SetAreaLightMode(mode);
   technique->SetSearchTaps(opts.Integer("search_taps"));
   technique->SetSearchDepth(opts.Number("search_depth"));
   technique->SetMaxRadius(opts.Number("max_radius"));
   technique->SetAdaptiveBlock(opts.Integer("block"));
+}
+
+void InstallSingleSample(vtkRenderer* ren, const Options& opts)
+{
+  vtkNew<vtkPenumbraShadowMapShadows> technique;
+  ReadSoftOptions(opts, technique, vtkPenumbraShadowMapShadows::AREA_SINGLE_SAMPLE);
   technique->SetPhysical(opts.Boolean("physical"));
   technique->SetRScale(opts.Number("r_scale"));
   technique->SetRBias(opts.Number("r_bias"));
@@ -649,13 +656,8 @@ void InstallSingleSample(vtkRenderer* ren, const Options& opts)
 void InstallPCSS(vtkRenderer* ren, const Options& opts)
 {
   vtkNew<vtkPenumbraShadowMapShadows> technique;
-  ReadMapOptions(opts, technique);
-  technique->SetAreaLightMode(vtkPenumbraShadowMapShadows::AREA_PCSS);
-  technique->SetAdaptiveBlock(opts.Integer("block"));
-  technique->SetSearchTaps(opts.Integer("search_taps"));
+  ReadSoftOptions(opts, technique, vtkPenumbraShadowMapShadows::AREA_PCSS);
   technique->SetFilterTaps(opts.Integer("filter_taps"));
-  technique->SetSearchDepth(opts.Number("search_depth"));
-  technique->SetMaxRadius(opts.Number("max_radius"));
   InstallShadowPass(ren, technique);
 }
 
