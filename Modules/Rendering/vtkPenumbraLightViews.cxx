@@ -726,6 +726,8 @@ void SetClassifyUniforms(
   SetDouble3(program, "classifyDirection" + suffix, setup.Direction);
   SetDouble3(program, "classifyPosition" + suffix, setup.Position);
   SetDouble3(program, "classifyAxis" + suffix, setup.Axis);
+  SetDouble3(program, "classifyHalfU" + suffix, setup.HalfU);
+  SetDouble3(program, "classifyHalfV" + suffix, setup.HalfV);
   const GLint cone = glGetUniformLocation(
     static_cast<GLuint>(program->GetHandle()), ("classifyCosCone" + suffix).c_str());
   if (cone >= 0)

@@ -93,6 +93,11 @@ struct LightSetup
   double Position[3] = { 0, 0, 0 };  // positional: rebased position
   double Axis[3] = { 0, 0, 0 };      // spot: unit axis away from the light
   double CosCone = -1.0;
+  // Area and linear lights (read as a spot at their centre): half extents along U and V
+  // (V zero for a line); the facing rule is then "any part above the tangent plane".
+  bool Area = false;
+  double HalfU[3] = { 0, 0, 0 };
+  double HalfV[3] = { 0, 0, 0 };
   double Cone = 180.0; // degrees, VTK's half-angle
   bool Off = false;    // switched off or zero intensity: lit everywhere, no map
 

@@ -39,6 +39,7 @@
 #include "vtkPenumbraShadowMapParaboloidFS.h"
 #include "vtkPenumbraShadowMapParaboloidVS.h"
 #include "vtkPenumbraShadowMapReceive.h"
+#include "vtkPenumbraShadowMapSoft.h"
 #include "vtkPenumbraShadowMapTileSample.h"
 #include "vtkPenumbraShadowMapTilesFS.h"
 #include "vtkPenumbraShadowMapVS.h"
@@ -520,6 +521,7 @@ std::string ComposeShader(const char* source)
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Classify", vtkPenumbraShadowMapClassify, false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::TileSample", vtkPenumbraShadowMapTileSample, false);
   vtkShaderProgram::Substitute(fs, "//PENUMBRA::Compare", vtkPenumbraShadowMapCompare, false);
+  vtkShaderProgram::Substitute(fs, "//PENUMBRA::Soft", vtkPenumbraShadowMapSoft, false);
   return fs;
 }
 
@@ -527,14 +529,14 @@ std::string ComposeShader(const char* source)
 // (the slot layout, the projection, the filter, the facing rules' light kind) become
 // constants, so that the compiler drops the branches a light does not take: llvmpipe runs
 // every branch of an `if` under a lane mask, texture taps included, so a program that
-// carries PCSS's and the bilinear filter's taps pays for them on every pixel.
+// carries the soft lookups' and the bilinear filter's taps pays for them on every pixel.
 struct LookupVariant
 {
   int SlotMode = 0;
   int Perspective = 0;
   int Radius = 0;
   int Bilinear = 0;
-  int Pcss = 0;
+  int AreaMode = 0;
   int LightKind = 0;
   int LightOff = 0;
   int AnyCaster = 0;
@@ -542,7 +544,7 @@ struct LookupVariant
   std::vector<std::pair<const char*, int>> Constants() const
   {
     return { { "slotMode", this->SlotMode }, { "perspective", this->Perspective },
-      { "radius", this->Radius }, { "bilinear", this->Bilinear }, { "pcss", this->Pcss },
+      { "radius", this->Radius }, { "bilinear", this->Bilinear }, { "areaMode", this->AreaMode },
       { "lightKind", this->LightKind }, { "lightOff", this->LightOff },
       { "anyCaster", this->AnyCaster } };
   }
@@ -639,6 +641,13 @@ bool AreaAsSpot(vtkPenumbraAreaLight* area, LightSetup& setup, std::string& erro
     return false;
   }
   setup.Type = LightSetup::Kind::Spot;
+  setup.Area = true;
+  const bool line = area->GetShape() == vtkPenumbraAreaLight::Line;
+  for (int c = 0; c < 3; ++c)
+  {
+    setup.HalfU[c] = 0.5 * area->GetWidth() * u[c];
+    setup.HalfV[c] = line ? 0.0 : 0.5 * area->GetHeight() * v[c];
+  }
   std::copy(n, n + 3, setup.Axis);
   setup.Cone = AreaConeDegrees;
   setup.CosCone = std::cos(vtkMath::RadiansFromDegrees(AreaConeDegrees));
@@ -745,14 +754,17 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<TileOutputs> TileData;
   std::vector<double> TileKey;
   vtkSmartPointer<vtkTextureObject> NoMap;
-  GLuint RawDepthSampler = 0; // PCSS: reads the compare-mode maps as raw depth
+  GLuint RawDepthSampler = 0; // soft lookups: read the compare-mode maps as raw depth
+  // The soft lookups' adaptive sampling: the block corners' values.
+  vtkSmartPointer<vtkOpenGLFramebufferObject> CoarseFBO;
+  vtkSmartPointer<vtkTextureObject> CoarseValues;
   static constexpr int ExtentTile = Tile;
 
   // Phases (see the definitions).
   bool UpdateCasters(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
     vtkPenumbraSceneGeometry* geometry);
   int SlotMode(vtkPenumbraShadowMapShadows* self, const LightSetup& setup);
-  static bool UsesPcss(vtkPenumbraShadowMapShadows* self, const LightMaps& m);
+  static int SoftMode(vtkPenumbraShadowMapShadows* self, const LightMaps& m);
   LookupVariant Variant(vtkPenumbraShadowMapShadows* self, const LightSetup& setup, bool anyCaster,
     const LightMaps* maps);
   std::vector<double> MapKey(vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer,
@@ -787,6 +799,10 @@ struct vtkPenumbraShadowMapShadows::Internals
     vtkPenumbraShadowMapShadows* self, const LightSetup& setup, const LightMaps& maps);
   void SetSoftUniforms(
     vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightMaps& m);
+  static void SetAreaUniforms(vtkShaderProgram* program, const LightSetup& setup);
+  void DrawLookup(vtkPenumbraShadowMapShadows* self, vtkPenumbraFrame* frame, int layer,
+    const LightSetup& setup, const LightMaps* maps, const std::vector<int>& slots,
+    vtkOpenGLQuadHelper* quad, int adaptivePass, int block);
   bool LookupList(vtkPenumbraShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
     const LightSetup& setup, const LightMaps& m, const unsigned char* state, float* vis,
     std::string& error);
@@ -1248,10 +1264,11 @@ int vtkPenumbraShadowMapShadows::Internals::SlotMode(
 }
 
 //------------------------------------------------------------------------------
-bool vtkPenumbraShadowMapShadows::Internals::UsesPcss(
+// The soft lookup of a light's maps: AREA_NONE for hard lights, else the area light mode.
+int vtkPenumbraShadowMapShadows::Internals::SoftMode(
   vtkPenumbraShadowMapShadows* self, const LightMaps& m)
 {
-  return vtkPenumbraAreaLight::SafeDownCast(m.Light.Get()) && self->AreaLightMode == AREA_PCSS;
+  return vtkPenumbraAreaLight::SafeDownCast(m.Light.Get()) ? self->AreaLightMode : AREA_NONE;
 }
 
 //------------------------------------------------------------------------------
@@ -1263,7 +1280,7 @@ LookupVariant vtkPenumbraShadowMapShadows::Internals::Variant(
   LookupVariant v;
   v.LightKind = setup.Type == LightSetup::Kind::Directional
     ? 0
-    : (setup.Type == LightSetup::Kind::Spot ? 2 : 1);
+    : (setup.Type == LightSetup::Kind::Spot ? (setup.Area ? 3 : 2) : 1);
   v.LightOff = setup.Off ? 1 : 0;
   v.AnyCaster = anyCaster ? 1 : 0;
   if (!maps)
@@ -1275,7 +1292,7 @@ LookupVariant vtkPenumbraShadowMapShadows::Internals::Variant(
   v.Perspective = !maps->Paraboloid && !maps->Views.empty() && maps->Views[0].Perspective ? 1 : 0;
   v.Bilinear = self->Filter == FILTER_BILINEAR ? 1 : 0;
   v.Radius = v.Bilinear ? 0 : TapRadius(self);
-  v.Pcss = UsesPcss(self, *maps) ? 1 : 0;
+  v.AreaMode = SoftMode(self, *maps);
   return v;
 }
 
@@ -1991,31 +2008,46 @@ void vtkPenumbraShadowMapShadows::Internals::SetCompareUniforms(vtkPenumbraShado
 }
 
 //------------------------------------------------------------------------------
-// PCSS's uniforms (vtkPenumbraShadowMapCompare.glsl): the light's half extents in world
-// units, the taps, the search depth and the tap radius in NDC.
+// The soft lookups' uniforms (vtkPenumbraShadowMapSoft.glsl): the taps, the search depth,
+// the tap radius in NDC and the single-sample mode's radii. The light's extents are set by
+// SetAreaUniforms().
 void vtkPenumbraShadowMapShadows::Internals::SetSoftUniforms(
   vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program, const LightMaps& m)
 {
-  auto* area = vtkPenumbraAreaLight::SafeDownCast(m.Light.Get());
-  double u[3] = { 0, 0, 0 }, v[3] = { 0, 0, 0 }, n[3];
-  if (!UsesPcss(self, m) || !area->GetAxes(u, v, n))
+  if (SoftMode(self, m) == AREA_NONE)
   {
     return;
   }
-  const bool line = area->GetShape() == vtkPenumbraAreaLight::Line;
-  float hu[3], hv[3];
-  for (int c = 0; c < 3; ++c)
-  {
-    hu[c] = static_cast<float>(0.5 * area->GetWidth() * u[c]);
-    hv[c] = line ? 0.0f : static_cast<float>(0.5 * area->GetHeight() * v[c]);
-  }
-  program->SetUniform3f("lightU", hu);
-  program->SetUniform3f("lightV", hv);
   program->SetUniformi("searchTaps", self->SearchTaps);
   program->SetUniformi("filterTaps", self->FilterTaps);
   program->SetUniformf("searchDepth", static_cast<float>(self->SearchDepth));
   const int side = std::max(1, std::min(m.Width, m.Height));
   program->SetUniformf("maxRadius", static_cast<float>(2.0 * self->MaxRadius / side));
+  program->SetUniformi("physical", self->Physical ? 1 : 0);
+  const float radii[3] = { static_cast<float>(self->RScale), static_cast<float>(self->RBias),
+    static_cast<float>(self->RShrink) };
+  program->SetUniform3f("thesisRadius", radii);
+}
+
+//------------------------------------------------------------------------------
+// An area light's centre and half extents (vtkPenumbraShadowMapSoft.glsl), also when no map
+// is read: the horizon term applies to samples without casters too.
+void vtkPenumbraShadowMapShadows::Internals::SetAreaUniforms(
+  vtkShaderProgram* program, const LightSetup& setup)
+{
+  if (!setup.Area)
+  {
+    return;
+  }
+  penumbra_light_views::SetLightUniforms(program, setup);
+  float hu[3], hv[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    hu[c] = static_cast<float>(setup.HalfU[c]);
+    hv[c] = static_cast<float>(setup.HalfV[c]);
+  }
+  program->SetUniform3f("lightU", hu);
+  program->SetUniform3f("lightV", hv);
 }
 
 //------------------------------------------------------------------------------
@@ -2037,9 +2069,10 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
     return false;
   }
   auto* area = vtkPenumbraAreaLight::SafeDownCast(light);
-  if (area && self->AreaLightMode != AREA_PCSS)
+  if (area && self->AreaLightMode == AREA_NONE)
   {
-    error = "area and linear lights need a soft-shadow technique (gears, raytraced, pcss)";
+    error = "area and linear lights need a soft-shadow technique (gears, raytraced, pcss, "
+            "single-sample-soft)";
     return false;
   }
   double origin[3];
@@ -2083,7 +2116,7 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
   const auto lookupStart = Clock::now();
   bool ok = true;
   if (self->Lookup == LOOKUP_GPU && maps && CountViews(*maps) == 1 && !maps->Textures.empty() &&
-    maps->Textures[0] && !UsesPcss(self, *maps) &&
+    maps->Textures[0] && SoftMode(self, *maps) == AREA_NONE &&
     !vtkPenumbraGoniometricLight::SafeDownCast(light))
   {
     frame->SetShaderLookup(k, this->ShaderLookup(self, setup, *maps));
@@ -2339,41 +2372,93 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
       slots.push_back(static_cast<int>(slot));
     }
   }
+  // Soft lookups with adaptive sampling: the block corners first.
+  const int block = maps && SoftMode(self, *maps) != AREA_NONE ? self->AdaptiveBlock : 1;
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
-    vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
+    if (block > 1)
+    {
+      const int cw = (frame->GetWidth() - 1) / block + 2;
+      const int ch = (frame->GetHeight() - 1) / block + 2;
+      if (!this->CoarseValues)
+      {
+        this->CoarseFBO = vtkSmartPointer<vtkOpenGLFramebufferObject>::New();
+        this->CoarseFBO->SetContext(win);
+        this->CoarseValues = Internals::FloatTexture(win);
+        this->CoarseValues->SetInternalFormat(GL_RGBA32F);
+        this->CoarseValues->SetFormat(GL_RGBA);
+        this->CoarseValues->SetDataType(GL_FLOAT);
+      }
+      if (static_cast<int>(this->CoarseValues->GetWidth()) != cw ||
+        static_cast<int>(this->CoarseValues->GetHeight()) != ch)
+      {
+        this->CoarseValues->Allocate2D(cw, ch, 4, VTK_FLOAT);
+      }
+      penumbra_light_views::QuadPassState pass(
+        win->GetState(), this->CoarseFBO, { this->CoarseValues.Get() }, cw, ch);
+      this->DrawLookup(self, frame, layer, setup, maps, slots, quad, 1, block);
+    }
     vtkPenumbraFrame::VisibilityTarget target = frame->BindVisibilityTarget(layer, k);
-    win->GetShaderCache()->ReadyShaderProgram(program);
-    gbuffer->GetPositionTexture()->Activate();
-    gbuffer->GetNormalTexture()->Activate();
-    program->SetUniformi("samplePositions", gbuffer->GetPositionTexture()->GetTextureUnit());
-    program->SetUniformi("sampleNormals", gbuffer->GetNormalTexture()->GetTextureUnit());
-    penumbra_light_views::SetClassifyUniforms(program, setup);
-    if (maps)
+    if (block > 1)
     {
-      this->SetCompareUniforms(self, program, setup, *maps);
+      this->CoarseValues->Activate();
+      win->GetShaderCache()->ReadyShaderProgram(program);
+      program->SetUniformi("coarseValues", this->CoarseValues->GetTextureUnit());
     }
-    for (size_t i = 0; i < std::max<size_t>(1, slots.size()); ++i)
+    this->DrawLookup(self, frame, layer, setup, maps, slots, quad, block > 1 ? 2 : 0, block);
+    if (block > 1)
     {
-      vtkTextureObject* map =
-        slots.empty() ? this->NoMap.Get() : maps->Textures[static_cast<size_t>(slots[i])].Get();
-      program->SetUniformi("writeDecided", i == 0 ? 1 : 0);
-      if (slots.empty())
-      {
-        program->SetUniformi("slot", -1);
-      }
-      else
-      {
-        SetSlotUniforms(program, *maps, slots[i]);
-      }
-      RawDepthBinding raw(win, this->RawDepthSampler, map);
-      program->SetUniformi("depthMap", raw.GetUnit());
-      quad->Render();
+      this->CoarseValues->Deactivate();
     }
-    gbuffer->GetPositionTexture()->Deactivate();
-    gbuffer->GetNormalTexture()->Deactivate();
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+// One lookup draw per rendered slot on one layer's G-buffer into the bound target (the
+// first also writes the samples the facing rules decide); `adaptivePass` as in
+// vtkPenumbraShadowMapSoft.glsl.
+void vtkPenumbraShadowMapShadows::Internals::DrawLookup(vtkPenumbraShadowMapShadows* self,
+  vtkPenumbraFrame* frame, int layer, const LightSetup& setup, const LightMaps* maps,
+  const std::vector<int>& slots, vtkOpenGLQuadHelper* quad, int adaptivePass, int block)
+{
+  vtkOpenGLRenderWindow* win = frame->GetWindow();
+  vtkShaderProgram* program = quad->Program;
+  vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
+  win->GetShaderCache()->ReadyShaderProgram(program);
+  gbuffer->GetPositionTexture()->Activate();
+  gbuffer->GetNormalTexture()->Activate();
+  program->SetUniformi("samplePositions", gbuffer->GetPositionTexture()->GetTextureUnit());
+  program->SetUniformi("sampleNormals", gbuffer->GetNormalTexture()->GetTextureUnit());
+  program->SetUniformi("adaptivePass", adaptivePass);
+  program->SetUniformi("adaptiveBlock", block);
+  const int image[2] = { frame->GetWidth(), frame->GetHeight() };
+  program->SetUniform2i("adaptiveImage", image);
+  penumbra_light_views::SetClassifyUniforms(program, setup);
+  if (maps)
+  {
+    this->SetCompareUniforms(self, program, setup, *maps);
+  }
+  this->SetAreaUniforms(program, setup);
+  for (size_t i = 0; i < std::max<size_t>(1, slots.size()); ++i)
+  {
+    vtkTextureObject* map =
+      slots.empty() ? this->NoMap.Get() : maps->Textures[static_cast<size_t>(slots[i])].Get();
+    program->SetUniformi("writeDecided", i == 0 ? 1 : 0);
+    if (slots.empty())
+    {
+      program->SetUniformi("slot", -1);
+    }
+    else
+    {
+      SetSlotUniforms(program, *maps, slots[i]);
+    }
+    RawDepthBinding raw(win, this->RawDepthSampler, map);
+    program->SetUniformi("depthMap", raw.GetUnit());
+    quad->Render();
+  }
+  gbuffer->GetPositionTexture()->Deactivate();
+  gbuffer->GetNormalTexture()->Deactivate();
 }
 
 //------------------------------------------------------------------------------

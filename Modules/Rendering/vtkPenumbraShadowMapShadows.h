@@ -50,16 +50,24 @@
  * (96 MiB for a cube at 2048^2), per light, as GPU textures (GPU lookup) or CPU arrays.
  *
  * Area and linear lights are rejected (error; the pass renders that light unshadowed) unless
- * AreaLightMode is AREA_PCSS (the `pcss` technique): then each gets one perspective map from
- * its centre along its normal (fitted like a spot light with a cone just under 90 degrees,
- * whose facing and cone rules it then follows) and percentage-closer soft shadows: Fernando,
+ * AreaLightMode is AREA_PCSS (the `pcss` technique) or AREA_SINGLE_SAMPLE
+ * (`single-sample-soft`): then each gets one perspective map from its centre along its
+ * normal (fitted like a spot light with a cone just under 90 degrees, whose cone rule it
+ * then follows). A sample is lit by the part of the light above its tangent plane (the
+ * reference's rule per light point; closed form for a rectangle or segment), and every map
+ * tap is compared with the receiver's tangent plane at the tap's texel (receiver-plane
+ * depth bias). Single-sample soft shadows: Brabec, "Shadow Techniques for Interactive and
+ * Real-Time Applications", PhD thesis, 2003, ch. 11 (nearest blocker / nearest lit texel in
+ * a box around the sample, meeting at 0.5), see vtkPenumbraShadowMapSoft.glsl. PCSS:
+ * percentage-closer soft shadows: Fernando,
  * "Percentage-Closer Soft Shadows", NVIDIA 2005, with the search region and the filter
  * kernel the light's own rectangle or segment projected into the map (its U and V axes
  * through the map's rows), taps on a stratified grid of light points. A blocker at
  * light-view depth wb hides light point centre + o from a receiver at depth w where the map
  * shows it at st + xy(o) (1/wb - 1/w), so the blocker search looks at the light's image for
  * wb = SearchDepth * w, the average depth of the blockers found fixes wb, and PCF over the
- * light's image at that wb gives the visible fraction. GPU lookup only.
+ * light's image at that wb gives the visible fraction (over the taps above the tangent
+ * plane); a search that finds no blocker, or only blockers, ends early. GPU lookup only.
  */
 
 #ifndef vtkPenumbraShadowMapShadows_h
@@ -92,38 +100,44 @@ public:
   void ReleaseGraphicsResources(vtkWindow* window) override;
 
   /**
-   * True with AREA_PCSS: area and linear lights get percentage-closer soft shadows.
+   * True with AREA_PCSS or AREA_SINGLE_SAMPLE: area and linear lights get soft shadows.
    */
-  bool HandlesAreaLights() override { return this->AreaLightMode == AREA_PCSS; }
+  bool HandlesAreaLights() override { return this->AreaLightMode != AREA_NONE; }
 
   /**
-   * The registry's name of this configuration: "pcss", "resm" or "shadowmap".
+   * The registry's name of this configuration: "pcss", "single-sample-soft", "resm" or
+   * "shadowmap".
    */
   const char* GetTechniqueName() override
   {
-    return this->AreaLightMode == AREA_PCSS
-      ? "pcss"
-      : (this->ResolutionMode == RESOLUTION_ESTIMATED ? "resm" : "shadowmap");
+    if (this->AreaLightMode != AREA_NONE)
+    {
+      return this->AreaLightMode == AREA_PCSS ? "pcss" : "single-sample-soft";
+    }
+    return this->ResolutionMode == RESOLUTION_ESTIMATED ? "resm" : "shadowmap";
   }
 
   enum AreaLightModes
   {
-    AREA_NONE = 0, ///< area and linear lights are rejected (hard-shadow technique)
-    AREA_PCSS = 1  ///< percentage-closer soft shadows (Fernando 2005)
+    AREA_NONE = 0,         ///< area and linear lights are rejected (hard-shadow technique)
+    AREA_PCSS = 1,         ///< percentage-closer soft shadows (Fernando 2005)
+    AREA_SINGLE_SAMPLE = 2 ///< single-sample soft shadows (Brabec 2003, ch. 11)
   };
 
   ///@{
   /**
-   * AREA_NONE (default) or AREA_PCSS, see the class description. PCSS needs the GPU lookup.
+   * AREA_NONE (default), AREA_PCSS or AREA_SINGLE_SAMPLE, see the class description. Both
+   * soft modes need the GPU lookup.
    */
-  vtkSetClampMacro(AreaLightMode, int, AREA_NONE, AREA_PCSS);
+  vtkSetClampMacro(AreaLightMode, int, AREA_NONE, AREA_SINGLE_SAMPLE);
   vtkGetMacro(AreaLightMode, int);
   ///@}
 
   ///@{
   /**
-   * PCSS blocker-search taps per light axis (n x n for a rectangle, n for a line). Default
-   * 6, clamped to [1, 16].
+   * PCSS blocker-search taps per light axis (n x n for a rectangle, 2 n for a line); single-
+   * sample soft shadows: taps per half side of the search box ((2n + 1)^2 taps, one per
+   * texel while the box is narrower). Default 4, clamped to [1, 16].
    */
   vtkSetClampMacro(SearchTaps, int, 1, 16);
   vtkGetMacro(SearchTaps, int);
@@ -131,8 +145,8 @@ public:
 
   ///@{
   /**
-   * PCSS filter taps per light axis (n x n for a rectangle, n for a line): the number of
-   * visibility levels. Default 8, clamped to [1, 32].
+   * PCSS filter taps per light axis (n x n for a rectangle, 2 n for a line): the number of
+   * visibility levels. Default 6, clamped to [1, 32].
    */
   vtkSetClampMacro(FilterTaps, int, 1, 32);
   vtkGetMacro(FilterTaps, int);
@@ -146,6 +160,43 @@ public:
    */
   vtkSetClampMacro(SearchDepth, double, 0.01, 0.99);
   vtkGetMacro(SearchDepth, double);
+  ///@}
+
+  ///@{
+  /**
+   * Single-sample soft shadows: true (default) derives each penumbra from the light's own
+   * size (no calibration); false uses the thesis's radii (RScale, RBias, RShrink).
+   */
+  vtkSetMacro(Physical, bool);
+  vtkGetMacro(Physical, bool);
+  vtkBooleanMacro(Physical, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Single-sample soft shadows with Physical off (Brabec 2003, ch. 11): the search radius
+   * r_max = RScale * w + RBias texels (w the receiver's distance along the light's axis) and,
+   * at a blocker of depth d, r_max * RShrink * (w - d). RScale in texels per unit length
+   * (default 4), RBias in texels (default 0), RShrink per unit length (default 1).
+   */
+  vtkSetClampMacro(RScale, double, 0.0, 1e6);
+  vtkGetMacro(RScale, double);
+  vtkSetClampMacro(RBias, double, 0.0, 4096.0);
+  vtkGetMacro(RBias, double);
+  vtkSetClampMacro(RShrink, double, 1e-9, 1e9);
+  vtkGetMacro(RShrink, double);
+  ///@}
+
+  ///@{
+  /**
+   * The soft lookups' adaptive sampling (Brabec 2003, ch. 11.3, for single-sample soft
+   * shadows; used for PCSS too): the search runs at the corners of AdaptiveBlock x
+   * AdaptiveBlock pixel blocks, and a pixel whose four corners lie on its prop and share its
+   * hard shadow test interpolates them bilinearly (others search). 1 searches at every
+   * pixel. Default 4 (the thesis's 4 x 4 blocks), clamped to [1, 16].
+   */
+  vtkSetClampMacro(AdaptiveBlock, int, 1, 16);
+  vtkGetMacro(AdaptiveBlock, int);
   ///@}
 
   ///@{
@@ -389,10 +440,15 @@ protected:
   int PointMode = POINT_CUBE;
   int Lookup = LOOKUP_GPU;
   int AreaLightMode = AREA_NONE;
-  int SearchTaps = 6;
-  int FilterTaps = 8;
+  int SearchTaps = 4;
+  int FilterTaps = 6;
   double SearchDepth = 0.2;
   double MaxRadius = 64.0;
+  bool Physical = true;
+  double RScale = 4.0;
+  double RBias = 0.0;
+  double RShrink = 1.0;
+  int AdaptiveBlock = 4;
   int NumberOfMapRenders = 0;
   int NumberOfViews = 0;
   int NumberOfUploads = 0;

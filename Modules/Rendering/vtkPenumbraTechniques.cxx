@@ -582,11 +582,11 @@ OptionTable PCSSTable()
       table.push_back(spec);
     }
   }
-  table.push_back({ "search_taps", OptionType::Integer, 6, 1, 16, {}, "taps per light axis",
-    "blocker-search taps on a stratified grid over the light (n x n for a rectangle, n for a "
+  table.push_back({ "search_taps", OptionType::Integer, 4, 1, 16, {}, "taps per light axis",
+    "blocker-search taps on a stratified grid over the light (n x n for a rectangle, 2 n for a "
     "line)" });
-  table.push_back({ "filter_taps", OptionType::Integer, 8, 1, 32, {}, "taps per light axis",
-    "PCF taps over the light's image at the blockers' depth (n x n for a rectangle, n for a "
+  table.push_back({ "filter_taps", OptionType::Integer, 6, 1, 32, {}, "taps per light axis",
+    "PCF taps over the light's image at the blockers' depth (n x n for a rectangle, 2 n for a "
     "line): the number of visibility levels" });
   table.push_back({ "search_depth", OptionType::Number, 0.2, 0.01, 0.99, {},
     "fraction of the receiver's distance",
@@ -594,19 +594,73 @@ OptionTable PCSSTable()
     "the light (smaller: a wider search)" });
   table.push_back({ "max_radius", OptionType::Number, 64.0, 1.0, 4096.0, {}, "texels",
     "no tap lies farther from the sample (bounds the cost of huge lights)" });
+  table.push_back({ "block", OptionType::Integer, 4, 1, 16, {}, "pixels",
+    "adaptive sampling (Brabec 2003, ch. 11.3): search at the corners of block x block pixel "
+    "blocks and interpolate where the four corners lie on the pixel's prop and share its hard "
+    "shadow test; 1 searches at every pixel" });
   return table;
 }
 const OptionTable PCSSOptions = PCSSTable();
 
+// Single-sample soft shadows (Brabec 2003, ch. 11): shadowmap's map options, the search box
+// and the two ways of sizing the penumbra (the light's size, or the thesis's radii).
+OptionTable SingleSampleTable()
+{
+  OptionTable table;
+  for (const OptionSpec& spec : PCSSOptions)
+  {
+    const std::string name = spec.Name;
+    if (name != "search_taps" && name != "filter_taps")
+    {
+      table.push_back(spec);
+    }
+  }
+  table.push_back({ "search_taps", OptionType::Integer, 4, 1, 16, {}, "taps per half side",
+    "the nearest-blocker / nearest-lit search scans a (2n + 1) x (2n + 1) box of texels around "
+    "the sample (one tap per texel while the box is narrower, else spread evenly over it)" });
+  table.push_back({ "physical", OptionType::Boolean, true, 0, 0, {}, "",
+    "true: every penumbra from the light's own size (similar triangles through the blocker "
+    "texel found, no calibration); false: the thesis's radii r_scale, r_bias, r_shrink" });
+  table.push_back({ "r_scale", OptionType::Number, 4.0, 0.0, 1e6, {}, "texels per unit length",
+    "physical=false: search radius grows by this per unit of the receiver's distance from the "
+    "light along its axis" });
+  table.push_back({ "r_bias", OptionType::Number, 0.0, 0.0, 4096.0, {}, "texels",
+    "physical=false: search radius at zero distance" });
+  table.push_back({ "r_shrink", OptionType::Number, 1.0, 1e-9, 1e9, {}, "per unit length",
+    "physical=false: at a blocker of depth d the radius becomes r_max r_shrink (w - d), w the "
+    "receiver's depth (contact shadows sharpen)" });
+  return table;
+}
+const OptionTable SingleSampleOptions = SingleSampleTable();
+
+// The options pcss and single-sample-soft share: the map's, the search and the adaptive
+// sampling.
+void ReadSoftOptions(const Options& opts, vtkPenumbraShadowMapShadows* technique, int mode)
+{
+  ReadMapOptions(opts, technique);
+  technique->SetAreaLightMode(mode);
+  technique->SetSearchTaps(opts.Integer("search_taps"));
+  technique->SetSearchDepth(opts.Number("search_depth"));
+  technique->SetMaxRadius(opts.Number("max_radius"));
+  technique->SetAdaptiveBlock(opts.Integer("block"));
+}
+
+void InstallSingleSample(vtkRenderer* ren, const Options& opts)
+{
+  vtkNew<vtkPenumbraShadowMapShadows> technique;
+  ReadSoftOptions(opts, technique, vtkPenumbraShadowMapShadows::AREA_SINGLE_SAMPLE);
+  technique->SetPhysical(opts.Boolean("physical"));
+  technique->SetRScale(opts.Number("r_scale"));
+  technique->SetRBias(opts.Number("r_bias"));
+  technique->SetRShrink(opts.Number("r_shrink"));
+  InstallShadowPass(ren, technique);
+}
+
 void InstallPCSS(vtkRenderer* ren, const Options& opts)
 {
   vtkNew<vtkPenumbraShadowMapShadows> technique;
-  ReadMapOptions(opts, technique);
-  technique->SetAreaLightMode(vtkPenumbraShadowMapShadows::AREA_PCSS);
-  technique->SetSearchTaps(opts.Integer("search_taps"));
+  ReadSoftOptions(opts, technique, vtkPenumbraShadowMapShadows::AREA_PCSS);
   technique->SetFilterTaps(opts.Integer("filter_taps"));
-  technique->SetSearchDepth(opts.Number("search_depth"));
-  technique->SetMaxRadius(opts.Number("max_radius"));
   InstallShadowPass(ren, technique);
 }
 
@@ -798,6 +852,12 @@ const std::vector<Technique>& Registry()
       "perspective map from the light's centre, a blocker search and a PCF kernel shaped like "
       "the light's image in the map; other lights get shadowmap's hard shadows",
       PCSSOptions, InstallPCSS },
+    { "single-sample-soft",
+      "single-sample soft shadows (Brabec 2003, ch. 11) from area and linear lights: one "
+      "perspective map from the light's centre, the nearest blocker (outer penumbra) or nearest "
+      "lit texel (inner penumbra) in a box around each sample; other lights get shadowmap's hard "
+      "shadows",
+      SingleSampleOptions, InstallSingleSample },
   };
   return techniques;
 }

@@ -5,13 +5,15 @@
 // are compiled as constants (LookupVariant in vtkPenumbraShadowMapShadows.cxx).
 uniform sampler2D samplePositions; // xyz rebased, w = 1 where a surface was seen
 uniform sampler2D sampleNormals;   // xyz facet normal toward the camera, w = prop (-1: none)
-uniform int lightKind;     // 0 directional, 1 point, 2 spot
+uniform int lightKind;     // 0 directional, 1 point, 2 spot, 3 area or linear light (as a spot)
 uniform int lightOff;
 uniform int anyCaster;
 uniform dvec3 classifyDirection; // directional: unit vector towards the light
 uniform dvec3 classifyPosition;  // positional: rebased
 uniform dvec3 classifyAxis;      // spot: unit axis away from the light
 uniform double classifyCosCone;
+uniform dvec3 classifyHalfU;     // area: half the light's extent along U (zero for a point)
+uniform dvec3 classifyHalfV;     // area: half along V (zero for a line)
 
 bool penumbraFinite(vec3 v)
 {
@@ -31,8 +33,16 @@ int penumbraClassifyPoint(vec3 p, vec3 n)
   }
   dvec3 dp = dvec3(p);
   dvec3 toLight = lightKind == 0 ? classifyDirection : classifyPosition - dp;
-  bool facing = dot(dvec3(n), toLight) > 0.0LF;
-  if (facing && lightKind == 2)
+  // An area light shines on a sample while any part of it lies above the sample's tangent
+  // plane (the reference's rule per light point); the visible fraction of it is
+  // penumbraHorizon() of vtkPenumbraShadowMapSoft.glsl.
+  double height = dot(dvec3(n), toLight);
+  if (lightKind == 3)
+  {
+    height += abs(dot(dvec3(n), classifyHalfU)) + abs(dot(dvec3(n), classifyHalfV));
+  }
+  bool facing = height > 0.0LF;
+  if (facing && lightKind >= 2)
   {
     dvec3 fromLight = -toLight;
     double len = length(fromLight);

@@ -6,7 +6,7 @@
 // test: the same texel and answer as a sampler2DShadow lookup with nearest filtering, at a
 // fraction of its cost on llvmpipe. The same projection, slot choice and bias as the
 // CPU lookup of vtkPenumbraShadowMapShadows, in float. The lookup programs compile slotMode,
-// perspective, radius, bilinear and pcss as constants (LookupVariant in
+// perspective, radius, bilinear and areaMode as constants (LookupVariant in
 // vtkPenumbraShadowMapShadows.cxx): the branches a light does not take cost nothing.
 uniform int slotMode;      // 0 one view, 1 cube faces, 2 paraboloid hemispheres
 uniform int slot;          // the slot this draw looks up
@@ -26,15 +26,6 @@ uniform float maxTangent;
 uniform int radius;        // PCF radius in texels, 0 without PCF
 uniform int bilinear;      // 1: Fast PCF, the 2 x 2 adjacent taps weighted bilinearly (ch. 5.2)
 uniform sampler2D depthMap; // the map's raw depth (a sampler object turns its compare off)
-// PCSS (Fernando 2005, "Percentage-Closer Soft Shadows") for area and linear lights, on the
-// perspective map from the light's centre.
-uniform int pcss;
-uniform vec3 lightU;         // half the light's extent along U (world)
-uniform vec3 lightV;         // half along V (zero for a linear light)
-uniform int searchTaps;      // blocker-search taps per light axis
-uniform int filterTaps;      // PCF taps per light axis
-uniform float searchDepth;   // nearest blocker assumed at this fraction of the receiver's w
-uniform float maxRadius;     // taps at most this far from the sample, in NDC
 
 // 1 where a receiver at depth `reference` is lit by the map's texel `texel` (LEQUAL), else 0.
 float penumbraLit(ivec2 texel, float reference)
@@ -48,67 +39,7 @@ float penumbraLitAt(vec2 coord, float reference)
   ivec2 last = ivec2(mapSize) - 1;
   return penumbraLit(clamp(ivec2(floor(coord * mapSize)), ivec2(0), last), reference);
 }
-
-// Where a blocker at light-view depth wb (along the axis) hides light point centre + off
-// from a receiver at depth w: st + xy(off) (1 / wb - 1 / w), xy(off) the off vector through
-// the map's rows (similar triangles; exact for off in the light's plane).
-vec2 penumbraTap(vec2 st, vec2 offset)
-{
-  float len = length(offset);
-  offset *= len > maxRadius ? maxRadius / len : 1.0;
-  return clamp((st + offset) * 0.5 + 0.5, 0.5 / mapSize, 1.0 - 0.5 / mapSize);
-}
-
-float penumbraSoft(vec2 st, float w, float threshold, float perTexel)
-{
-  vec2 du = (lightMatrix * vec4(lightU, 0.0)).xy;
-  vec2 dv = (lightMatrix * vec4(lightV, 0.0)).xy;
-  bool line = dot(lightV, lightV) == 0.0;
-  float texelsPerNdc = 0.5 * min(mapSize.x, mapSize.y);
-  // 1. Blocker search over the region the light subtends, on a stratified grid of light
-  //    points (cell centres), with blockers down to searchDepth * w.
-  float reach = 1.0 / (searchDepth * w) - 1.0 / w;
-  int rows = line ? 1 : searchTaps;
-  float sum = 0.0;
-  float found = 0.0;
-  for (int j = 0; j < rows; ++j)
-  {
-    for (int i = 0; i < searchTaps; ++i)
-    {
-      float a = (float(i) + 0.5) / float(searchTaps) * 2.0 - 1.0;
-      float b = line ? 0.0 : (float(j) + 0.5) / float(rows) * 2.0 - 1.0;
-      vec2 offset = (a * du + b * dv) * reach;
-      float d = texture(depthMap, penumbraTap(st, offset)).r;
-      float bias = perTexel * min(length(offset), maxRadius) * texelsPerNdc;
-      if (d < threshold - bias)
-      {
-        sum += d;
-        found += 1.0;
-      }
-    }
-  }
-  if (found == 0.0)
-  {
-    return 1.0;
-  }
-  // 2. Penumbra from the average blocker depth; 3. PCF over the light's image at that depth.
-  float wb = max(1e-6, (sum / found) / invFar);
-  float scale = max(0.0, 1.0 / wb - 1.0 / w);
-  rows = line ? 1 : filterTaps;
-  float lit = 0.0;
-  for (int j = 0; j < rows; ++j)
-  {
-    for (int i = 0; i < filterTaps; ++i)
-    {
-      float a = (float(i) + 0.5) / float(filterTaps) * 2.0 - 1.0;
-      float b = line ? 0.0 : (float(j) + 0.5) / float(rows) * 2.0 - 1.0;
-      vec2 offset = (a * du + b * dv) * scale;
-      float bias = perTexel * min(length(offset), maxRadius) * texelsPerNdc;
-      lit += penumbraLitAt(penumbraTap(st, offset), threshold - bias);
-    }
-  }
-  return lit / float(rows * filterTaps);
-}
+//PENUMBRA::Soft
 
 int penumbraSlot(vec3 p)
 {
@@ -168,14 +99,21 @@ float penumbraCompare(vec3 p, vec3 normal)
       toLight = toLightDirection;
     }
   }
+  if (areaMode != 0)
+  {
+    // Area and linear lights: every tap is compared at its texel's centre with the
+    // receiver's tangent plane there, so the slope term needs no tangent; the sample may
+    // face away from the light's centre (part of the light is still above its plane).
+    float bias = constantBias + slopeBias * footprint * depthPerLength;
+    vec3 plane = penumbraReceiverPlane(p, normal);
+    float w = depth / invFar;
+    return areaMode == 1 ? penumbraPcss(st, w, depth - bias, bias, plane, normal, p)
+                         : penumbraHorizon(p, normal) *
+        penumbraSingleSample(st, w, depth - bias, bias, plane);
+  }
   float cosine = max(1e-9, dot(normal, toLight));
   float tangent = min(maxTangent, sqrt(max(0.0, 1.0 - cosine * cosine)) / cosine);
   float threshold = depth - constantBias - slopeBias * footprint * tangent * depthPerLength;
-  if (pcss != 0)
-  {
-    // The receiver's depth change per texel of tap distance, for the taps' slope bias.
-    return penumbraSoft(st, depth / invFar, threshold, footprint * tangent * depthPerLength);
-  }
   ivec2 size = ivec2(mapSize);
   if (bilinear != 0)
   {

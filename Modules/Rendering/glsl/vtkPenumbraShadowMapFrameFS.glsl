@@ -15,7 +15,12 @@ void main()
 {
   vec3 p;
   vec3 n;
-  int state = penumbraClassify(ivec2(gl_FragCoord.xy), p, n);
+  // The adaptive sampling's first pass draws one fragment per block corner.
+  ivec2 cell = ivec2(gl_FragCoord.xy);
+  cell = adaptivePass == 1 ? min(cell * adaptiveBlock, adaptiveImage - 1) : cell;
+  penumbraPixel = cell;
+  penumbraProp = texelFetch(sampleNormals, cell, 0).w;
+  int state = penumbraClassify(cell, p, n);
   float v;
   if (state == 2 && slot >= 0)
   {
@@ -31,12 +36,13 @@ void main()
     {
       discard;
     }
-    v = state == 0 ? 0.0 : (state < 0 ? -1.0 : 1.0);
+    // An area light without casters still shows only its part above the tangent plane.
+    v = state == 0 ? 0.0 : (state < 0 ? -1.0 : (lightKind == 3 ? penumbraHorizon(p, normalize(n)) : 1.0));
   }
   // Never true; keeps the quad's texture-coordinate attribute active in the program.
   if (texCoord.x < -1.0)
   {
     v = 0.0;
   }
-  gl_FragData[0] = vec4(v);
+  gl_FragData[0] = adaptivePass == 1 ? penumbraCorner : vec4(v);
 }

@@ -378,10 +378,11 @@ int CheckBilinearEdges()
   return EXIT_SUCCESS;
 }
 
-// PCSS (Fernando 2005) at its limits, on the plane and box under an area light where the
+// PCSS (Fernando 2005) and single-sample soft shadows (Brabec 2003, ch. 11) at their limits,
+// on the plane and box under an area light where the
 // directional light was: a tiny light converges to the exact hard shadow (small MAE, like
 // the hard shadow map), a huge one stays finite with every value in [0, 1].
-int CheckPCSSLimits()
+int CheckSoftLimits(const char* technique)
 {
   const double sizes[2] = { 1e-3, 50.0 };
   for (double size : sizes)
@@ -397,7 +398,7 @@ int CheckPCSSLimits()
     renderer->AddLight(light);
     auto window = WindowFor(renderer, 200, 150);
     vtkNew<vtkPenumbraTechniques> techniques;
-    CHECK(techniques->Apply(renderer, "pcss", "{}"));
+    CHECK(techniques->Apply(renderer, technique, "{}"));
     window->Render();
     vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
     CHECK(pass && pass->GetVisibility(0));
@@ -423,9 +424,9 @@ int CheckPCSSLimits()
       lo = std::min(lo, v);
       hi = std::max(hi, v);
     }
-    std::printf("pcss, light %g x %g: MAE %.4f against the converged reference, values in "
+    std::printf("%s, light %g x %g: MAE %.4f against the converged reference, values in "
                 "[%g, %g], %lld of %lld outside [0, 1]\n",
-      size, size, metrics->GetMAE(), lo, hi, static_cast<long long>(bad),
+      technique, size, size, metrics->GetMAE(), lo, hi, static_cast<long long>(bad),
       static_cast<long long>(valid));
     CHECK(valid > 0 && bad == 0);
     if (size < 1.0)
@@ -936,7 +937,8 @@ int TestShadowMapShadows(int, char*[])
   RUN(CheckLookupsAgree());
   RUN(CheckShaderLookup());
   RUN(CheckBilinearEdges());
-  RUN(CheckPCSSLimits());
+  RUN(CheckSoftLimits("pcss"));
+  RUN(CheckSoftLimits("single-sample-soft"));
   RUN(CheckResolutionSeries());
   RUN(CheckGrazingLight());
   RUN(CheckNonSquare());
