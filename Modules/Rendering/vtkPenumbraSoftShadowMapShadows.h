@@ -1,0 +1,179 @@
+/**
+ * @class   vtkPenumbraSoftShadowMapShadows
+ * @brief   Soft shadow maps for linear and rectangular area lights: Brabec, "Shadow
+ *          Techniques for Interactive and Real-Time Applications", PhD thesis, 2003, ch. 10.
+ *
+ * Per area or linear light (vtkPenumbraAreaLight) and frame:
+ * 1. Light samples: a line gets NumberOfLineSamples points evenly spaced from one endpoint
+ *    to the other (both included); a rectangle the GridSamples x GridSamples grid whose
+ *    outer points are its corners. The light is split into elements that share samples:
+ *    segments between adjacent line samples (ch. 10.1.2), two triangles per grid cell
+ *    (ch. 10.1.3). Each element carries 1 / (number of elements) of the light.
+ * 2. Depth maps: one perspective map per light sample, all looking along the light's
+ *    emission direction (flipped when the receivers lie behind it) with a square field of view
+ *    fitted to the visible receivers (at most 85 degrees off the axis), storing linear 32-bit
+ *    float depth (distance along the axis / Far) of the casters, rendered on the GPU with
+ *    shadowmap's programs and read back.
+ * 3. Depth discontinuities (ch. 10.1.4): the 3 x 3 Laplacian of each map, divided by 3 times
+ *    the texel's depth (a straight step of relative height h gives h), above Threshold marks
+ *    a texel; a 2 x 2 texel cell with a marked texel whose depths differ by more than
+ *    Threshold times the nearest becomes a "skin" of two triangles between its texel centres
+ *    unprojected to world space, with visibility 0 at near (occluder) vertices and 1 at far
+ *    (receiver) vertices. Cells within 2 texels of the map border are skipped (the frustum
+ *    edges are no silhouettes).
+ * 4. Warping (ch. 10.1.1): each sample's skins are projected into the maps of the samples it
+ *    shares an element with and scan-converted there with perspective-correct Gouraud
+ *    interpolation, depth-tested against the destination's real depth and never writing it
+ *    (the shadow test must see only real geometry). Where skins overlap, the nearest to the
+ *    destination sample wins (a separate skin depth buffer). Done on the CPU with vtkSMPTools.
+ * 5. Visibility channels: within an element of m samples each sample starts at 1/m (a point
+ *    every sample sees sums to 1: 0.5 for segments, 1/3 for triangles); where a skin from
+ *    another sample of the element covers it, it gets the skin's value times 1/(m - 1) (the
+ *    smallest over the element's other samples, for triangles). A sample's channel is the
+ *    sum over its elements, each divided by the number of elements.
+ * 6. Lookup, per view sample p on the CPU: the sum over light samples i of V_i(p) when p
+ *    passes map i's shadow test and light sample i lies above p's tangent plane (the
+ *    reference's per-sample facing rule, vtkPenumbraReference), 0 otherwise. A p outside map
+ *    i's frustum counts as seen by i with its lit share.
+ *
+ * Where it is not exact: the visibility across a penumbra is linear in the skin's parameter
+ * (exact only for a line parallel to the receiver, ch. 10, Eq. 10.1; area lights have a
+ * rational quadratic transition); points that see the light but none of its samples are in
+ * umbra (undersampling, ch. 10.1.2); thin occluders under the threshold and map aliasing.
+ * Point, spot and directional lights get vtkPenumbraShadowMapShadows' hard shadows at the
+ * same resolution and bias.
+ */
+
+#ifndef vtkPenumbraSoftShadowMapShadows_h
+#define vtkPenumbraSoftShadowMapShadows_h
+
+#include "vtkPenumbraRenderingModule.h" // For export macro
+#include "vtkPenumbraShadowTechnique.h"
+
+#include <memory> // For std::unique_ptr
+
+class VTKPENUMBRARENDERING_EXPORT vtkPenumbraSoftShadowMapShadows
+  : public vtkPenumbraShadowTechnique
+{
+public:
+  static vtkPenumbraSoftShadowMapShadows* New();
+  vtkTypeMacro(vtkPenumbraSoftShadowMapShadows, vtkPenumbraShadowTechnique);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+    vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;
+
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  bool HandlesAreaLights() override { return true; }
+  const char* GetTechniqueName() override { return "soft-shadowmap"; }
+
+  ///@{
+  /**
+   * Light samples along a linear light, both endpoints included. Default 3 (the thesis's
+   * endpoints and centre: 2 show the overlap artifact of ch. 10.1.2), clamped to [2, 16].
+   */
+  vtkSetClampMacro(NumberOfLineSamples, int, 2, 16);
+  vtkGetMacro(NumberOfLineSamples, int);
+  ///@}
+
+  ///@{
+  /**
+   * Light samples per axis of a rectangular light, the corners included. Default 2 (the 4
+   * corners), clamped to [2, 4].
+   */
+  vtkSetClampMacro(GridSamples, int, 2, 4);
+  vtkGetMacro(GridSamples, int);
+  ///@}
+
+  enum ElementModes
+  {
+    ELEMENTS_CELLS = 0,    ///< grid cells, visible polygon (Ying et al.'s variant, ch. 10.1.3)
+    ELEMENTS_TRIANGLES = 1 ///< two triangles per cell, per-vertex channels (ch. 10.1.3)
+  };
+
+  ///@{
+  /**
+   * How a rectangular light's samples are combined, see the class description. Default
+   * ELEMENTS_CELLS.
+   */
+  vtkSetClampMacro(Elements, int, ELEMENTS_CELLS, ELEMENTS_TRIANGLES);
+  vtkGetMacro(Elements, int);
+  ///@}
+
+  ///@{
+  /**
+   * Texels per side of each light sample's map. Default 1024, clamped to [64, 4096].
+   */
+  vtkSetClampMacro(Resolution, int, 64, 4096);
+  vtkGetMacro(Resolution, int);
+  ///@}
+
+  ///@{
+  /**
+   * Depth-discontinuity threshold, relative: a depth jump of this fraction of the depth
+   * (linear depth from the light sample) makes a skin. Too low makes skins at creases and on
+   * sloped receivers (false penumbrae), too high misses occluders close to their receivers.
+   * Default 0.02, clamped to [0.001, 1].
+   */
+  vtkSetClampMacro(Threshold, double, 0.001, 1.0);
+  vtkGetMacro(Threshold, double);
+  ///@}
+
+  ///@{
+  /**
+   * Constant depth bias of the shadow test as a fraction of the map's Far. Default 1e-4,
+   * clamped to [0, 0.1].
+   */
+  vtkSetClampMacro(Bias, double, 0.0, 0.1);
+  vtkGetMacro(Bias, double);
+  ///@}
+
+  ///@{
+  /**
+   * Slope-scaled bias in texel footprints (as vtkPenumbraShadowMapShadows'). Default 1,
+   * clamped to [0, 16].
+   */
+  vtkSetClampMacro(SlopeBias, double, 0.0, 16.0);
+  vtkGetMacro(SlopeBias, double);
+  ///@}
+
+  ///@{
+  /**
+   * What the last area light's call did: light samples (maps), skin triangles built (over
+   * all maps), and the phase times in milliseconds (maps rendered and read back; skins found
+   * and warped; lookup).
+   */
+  vtkGetMacro(NumberOfMaps, int);
+  vtkGetMacro(NumberOfSkins, vtkIdType);
+  vtkGetMacro(MapTimeMs, double);
+  vtkGetMacro(SkinTimeMs, double);
+  vtkGetMacro(LookupTimeMs, double);
+  ///@}
+
+protected:
+  vtkPenumbraSoftShadowMapShadows();
+  ~vtkPenumbraSoftShadowMapShadows() override;
+
+  int NumberOfLineSamples = 3;
+  int GridSamples = 2;
+  int Elements = ELEMENTS_CELLS;
+  int Resolution = 1024;
+  double Threshold = 0.02;
+  double Bias = 1e-4;
+  double SlopeBias = 1.0;
+  int NumberOfMaps = 0;
+  vtkIdType NumberOfSkins = 0;
+  double MapTimeMs = 0.0;
+  double SkinTimeMs = 0.0;
+  double LookupTimeMs = 0.0;
+
+private:
+  vtkPenumbraSoftShadowMapShadows(const vtkPenumbraSoftShadowMapShadows&) = delete;
+  void operator=(const vtkPenumbraSoftShadowMapShadows&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
