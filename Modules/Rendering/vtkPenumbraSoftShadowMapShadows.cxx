@@ -222,9 +222,14 @@ struct RasterVertex
   double X, Y, InvW, V;
 };
 
-// Scan-converts one skin triangle into `dst` (perspective-correct Gouraud), where it lies in
-// front of the destination's real depth by more than `bias`; the nearest skin wins through
-// `zbuf`, the real depth is never written (Brabec 2003, ch. 10: skins only depth-tested).
+// Scan-converts one skin triangle into `dst` where it lies in front of the destination's
+// real depth by more than `bias`; the nearest skin wins through `zbuf`, the real depth is
+// never written (Brabec 2003, ch. 10: skins are only depth-tested). The depth is interpolated
+// perspective-correctly, the visibility linearly in the destination's image (Gouraud without
+// perspective correction): a skin covers exactly the penumbra behind it as the destination
+// sees it, so for a receiver parallel to a linear light the value is linear across the
+// penumbra, exactly Eq. 10.1 (perspective-correct interpolation would be linear along the
+// skin instead, 0.1 off in the middle of the test edge's penumbra).
 void RasterizeSkin(const RasterVertex v[3], const SampleMap& dst, int res, double bias,
   std::vector<float>& value, std::vector<float>& zbuf)
 {
@@ -275,8 +280,7 @@ void RasterizeSkin(const RasterVertex v[3], const SampleMap& dst, int res, doubl
         continue;
       }
       zbuf[i] = static_cast<float>(depth);
-      const double vis =
-        (l0 * v[0].V * v[0].InvW + l1 * v[1].V * v[1].InvW + l2 * v[2].V * v[2].InvW) / invW;
+      const double vis = l0 * v[0].V + l1 * v[1].V + l2 * v[2].V;
       value[i] = static_cast<float>(std::min(1.0, std::max(0.0, vis)));
     }
   }
