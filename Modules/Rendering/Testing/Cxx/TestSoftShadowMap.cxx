@@ -55,14 +55,7 @@ vtkSmartPointer<vtkRenderer> EdgeScene(vtkLight* light)
   occluder->SetOrigin(-3, -3, 1);
   occluder->SetPoint1(0, -3, 1);
   occluder->SetPoint2(-3, 3, 1);
-  for (vtkPlaneSource* source : { ground.Get(), occluder.Get() })
-  {
-    vtkNew<vtkPolyDataMapper> mapper;
-    mapper->SetInputConnection(source->GetOutputPort());
-    vtkNew<vtkActor> actor;
-    actor->SetMapper(mapper);
-    renderer->AddActor(actor);
-  }
+  penumbra_technique_tests::AddSources(renderer, { ground, occluder });
   vtkCamera* camera = renderer->GetActiveCamera();
   camera->SetPosition(4, 0, 1.25);
   camera->SetFocalPoint(-0.5, 0, 0);
