@@ -3,6 +3,7 @@
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
 #include "vtkMath.h"
+#include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLRenderWindow.h"
@@ -423,10 +424,19 @@ struct vtkPenumbraSoftShadowMapShadows::Internals
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   vtkSmartPointer<vtkTextureObject> DepthTexture;
   int MapSize = 0;
-  std::vector<SampleMap> Maps;
-  LightElements Parts;
-  // Per channel of Parts: the warped skin values (-1 where none).
-  std::vector<std::vector<float>> Values;
+  // One light's maps, elements and channels, kept while its key (light, scene, settings and,
+  // when the maps could not be fitted to the scene, the view samples) stays the same.
+  struct LightState
+  {
+    vtkWeakPointer<vtkLight> Light;
+    std::vector<double> Key;
+    std::vector<SampleMap> Maps;
+    LightElements Parts;
+    std::vector<std::vector<float>> Values; // per channel of Parts, -1 where no skin
+  };
+  std::vector<LightState> Cache;
+  LightState* Now = nullptr; // the light being computed
+  bool FitScene = false;     // FIT_SCENE asked for
   // Point, spot and directional lights: hard shadow maps.
   vtkNew<vtkPenumbraShadowMapShadows> Hard;
 
@@ -452,13 +462,19 @@ struct vtkPenumbraSoftShadowMapShadows::Internals
     this->FBO = nullptr;
     this->MapSize = 0;
     this->Window = nullptr;
+    this->Cache.clear();
+    this->Now = nullptr;
   }
 
   bool UpdateCasters(vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry);
   void PlaceSamples(
     vtkPenumbraSoftShadowMapShadows* self, vtkPenumbraAreaLight* area, const double origin[3]);
-  void FitViews(vtkPenumbraSoftShadowMapShadows* self, vtkPenumbraAreaLight* area,
-    const penumbra_light_views::FrameInputs& in);
+  bool FitViews(vtkPenumbraAreaLight* area, const penumbra_light_views::FrameInputs& in);
+  bool FitToScene(double f[3], std::vector<double>& widest);
+  void FitToSamples(const penumbra_light_views::FrameInputs& in, double f[3],
+    std::vector<double>& widest, double box[6]);
+  std::vector<double> MapKey(vtkPenumbraSoftShadowMapShadows* self, vtkPenumbraAreaLight* area,
+    vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, bool sceneFit);
   bool RenderMaps(vtkPenumbraSoftShadowMapShadows* self, std::string& error);
   void BuildChannels(vtkPenumbraSoftShadowMapShadows* self);
   void Lookup(vtkPenumbraSoftShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
@@ -517,29 +533,29 @@ void vtkPenumbraSoftShadowMapShadows::Internals::PlaceSamples(
   const bool line = area->GetShape() == vtkPenumbraAreaLight::Line;
   const int k = line ? self->NumberOfLineSamples : self->GridSamples;
   const int rows = line ? 1 : k;
-  this->Maps.resize(static_cast<size_t>(k * rows));
+  this->Now->Maps.resize(static_cast<size_t>(k * rows));
   for (int j = 0; j < rows; ++j)
   {
     for (int i = 0; i < k; ++i)
     {
       const double a = (static_cast<double>(i) / (k - 1) - 0.5) * area->GetWidth();
       const double b = line ? 0.0 : (static_cast<double>(j) / (k - 1) - 0.5) * area->GetHeight();
-      SampleMap& m = this->Maps[static_cast<size_t>(j * k + i)];
+      SampleMap& m = this->Now->Maps[static_cast<size_t>(j * k + i)];
       for (int c = 0; c < 3; ++c)
       {
         m.Apex[c] = (centre[c] - origin[c]) + a * u[c] + b * v[c];
       }
     }
   }
-  this->Parts = LightElements();
+  this->Now->Parts = LightElements();
   const bool triangles = self->Elements == ELEMENTS_TRIANGLES;
-  this->Parts.M = line ? 2 : (triangles ? 3 : 4);
+  this->Now->Parts.M = line ? 2 : (triangles ? 3 : 4);
   for (int j = 0; j < std::max(1, rows - 1); ++j)
   {
     for (int i = 0; i + 1 < k; ++i)
     {
       const int c0 = j * k + i;
-      auto& index = this->Parts.Index;
+      auto& index = this->Now->Parts.Index;
       if (line)
       {
         index.insert(index.end(), { c0, c0 + 1 });
@@ -554,20 +570,104 @@ void vtkPenumbraSoftShadowMapShadows::Internals::PlaceSamples(
       }
     }
   }
-  this->Parts.Link(static_cast<int>(this->Maps.size()));
+  this->Now->Parts.Link(static_cast<int>(this->Now->Maps.size()));
 }
 
 //------------------------------------------------------------------------------
-// One perspective view per light sample along the emission direction (flipped when the
-// receivers lie behind the light), its square field of view fitted to every receiver in
-// front of it (at most MaxHalfAngleDegrees), Far reaching the farthest receiver or caster.
-void vtkPenumbraSoftShadowMapShadows::Internals::FitViews(vtkPenumbraSoftShadowMapShadows*,
+// One perspective view per light sample along the emission direction (flipped when the scene
+// or the receivers lie behind the light), its square field of view fitted to the whole scene
+// when every corner of its box lies within MaxHalfAngleDegrees of each sample's axis (the
+// maps then do not depend on the view and are kept while the camera moves), else to every
+// view sample in front of it (at most MaxHalfAngleDegrees); Far reaches the farthest surface
+// or receiver. True when fitted to the scene.
+bool vtkPenumbraSoftShadowMapShadows::Internals::FitViews(
   vtkPenumbraAreaLight* area, const penumbra_light_views::FrameInputs& in)
 {
   double u[3], v[3], f[3];
   area->GetAxes(u, v, f);
-  const size_t count = this->Maps.size();
-  // Per thread: the receivers' bounds, the signed sum of their offsets along f, and per map
+  std::vector<double> widest;
+  double box[6];
+  std::copy(this->Surfaces.Bounds, this->Surfaces.Bounds + 6, box);
+  const bool scene = this->FitScene && this->FitToScene(f, widest);
+  if (!scene)
+  {
+    area->GetAxes(u, v, f);
+    this->FitToSamples(in, f, widest, box);
+  }
+  double r[3], up[3];
+  penumbra_light_views::Basis(f, r, up);
+  const double maxTan = std::tan(vtkMath::RadiansFromDegrees(MaxHalfAngleDegrees));
+  for (size_t m = 0; m < this->Now->Maps.size(); ++m)
+  {
+    SampleMap& map = this->Now->Maps[m];
+    map.Camera =
+      penumbra_light_views::PerspectiveView(map.Apex, f, std::min(maxTan, 1.02 * widest[m]), box);
+    std::copy(r, r + 3, map.Axes[0]);
+    std::copy(up, up + 3, map.Axes[1]);
+    std::copy(f, f + 3, map.Axes[2]);
+  }
+  return scene;
+}
+
+//------------------------------------------------------------------------------
+// The scene fit of FitViews: per map the widest tangent to a corner of the box of every
+// surface; false when a corner is not well in front of a sample (the emission direction `f`
+// is flipped towards the box first).
+bool vtkPenumbraSoftShadowMapShadows::Internals::FitToScene(
+  double f[3], std::vector<double>& widest)
+{
+  const double* b = this->Surfaces.Bounds;
+  if (this->Surfaces.VertexCount == 0)
+  {
+    return false;
+  }
+  // The axis from the light's centre to the box's: the narrowest cone over the scene.
+  double toBox[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+  for (const SampleMap& m : this->Now->Maps)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      toBox[c] -= m.Apex[c] / this->Now->Maps.size();
+    }
+  }
+  if (!(vtkMath::Normalize(toBox) > 0.0))
+  {
+    return false;
+  }
+  std::copy(toBox, toBox + 3, f);
+  double r[3], up[3];
+  penumbra_light_views::Basis(f, r, up);
+  const double maxTan = std::tan(vtkMath::RadiansFromDegrees(MaxHalfAngleDegrees));
+  widest.assign(this->Now->Maps.size(), std::tan(vtkMath::RadiansFromDegrees(1.0)));
+  for (size_t m = 0; m < this->Now->Maps.size(); ++m)
+  {
+    const double* a = this->Now->Maps[m].Apex;
+    for (int i = 0; i < 8; ++i)
+    {
+      const double d[3] = { b[i & 1] - a[0], b[2 + ((i >> 1) & 1)] - a[1],
+        b[4 + ((i >> 2) & 1)] - a[2] };
+      const double w = vtkMath::Dot(d, f);
+      const double lateral =
+        std::max(std::fabs(vtkMath::Dot(d, r)), std::fabs(vtkMath::Dot(d, up)));
+      if (!(w > 0.0) || !(1.02 * lateral < maxTan * w))
+      {
+        return false;
+      }
+      widest[m] = std::max(widest[m], lateral / w);
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+// The view-sample fit of FitViews: `f` flipped towards most receivers, per map the widest
+// tangent to a receiver in front of it, and `box` grown by the receivers' bounds.
+void vtkPenumbraSoftShadowMapShadows::Internals::FitToSamples(
+  const penumbra_light_views::FrameInputs& in, double f[3], std::vector<double>& widest,
+  double box[6])
+{
+  const size_t count = this->Now->Maps.size();
+  // Per thread: the receivers' bounds, the signed count of their sides along f, and per map
   // the largest |lateral| / depth.
   struct Fit
   {
@@ -575,13 +675,14 @@ void vtkPenumbraSoftShadowMapShadows::Internals::FitViews(vtkPenumbraSoftShadowM
     double Side = 0.0;
     std::vector<double> Tan;
   };
-  const double* apex0 = this->Maps[0].Apex;
+  const double* apex0 = this->Now->Maps[0].Apex;
   auto point = [&](vtkIdType s, double p[3])
   {
     for (int c = 0; c < 3; ++c)
     {
       p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
     }
+    return in.Props[s] >= 0 && std::isfinite(p[0] + p[1] + p[2]);
   };
   vtkSMPThreadLocal<Fit> local;
   vtkSMPTools::For(0, in.NumberOfSamples,
@@ -591,37 +692,33 @@ void vtkPenumbraSoftShadowMapShadows::Internals::FitViews(vtkPenumbraSoftShadowM
       for (vtkIdType s = s0; s < s1; ++s)
       {
         double p[3];
-        point(s, p);
-        if (in.Props[s] < 0 || !std::isfinite(p[0] + p[1] + p[2]))
-        {
-          continue;
-        }
-        for (int c = 0; c < 3; ++c)
+        for (int c = 0; point(s, p) && c < 3; ++c)
         {
           fit.Box[2 * c] = std::min(fit.Box[2 * c], p[c]);
           fit.Box[2 * c + 1] = std::max(fit.Box[2 * c + 1], p[c]);
+          const double d = p[c] - apex0[c];
+          fit.Side +=
+            c == 2 ? (vtkMath::Dot(p, f) - vtkMath::Dot(apex0, f) > 0.0 ? 1.0 : -1.0) : 0.0;
+          (void)d;
         }
-        const double d[3] = { p[0] - apex0[0], p[1] - apex0[1], p[2] - apex0[2] };
-        fit.Side += vtkMath::Dot(d, f) > 0.0 ? 1.0 : -1.0;
       }
     });
-  Fit all;
+  double side = 0.0;
   for (const Fit& fit : local)
   {
     for (int c = 0; c < 3; ++c)
     {
-      all.Box[2 * c] = std::min(all.Box[2 * c], fit.Box[2 * c]);
-      all.Box[2 * c + 1] = std::max(all.Box[2 * c + 1], fit.Box[2 * c + 1]);
+      box[2 * c] = std::min(box[2 * c], fit.Box[2 * c]);
+      box[2 * c + 1] = std::max(box[2 * c + 1], fit.Box[2 * c + 1]);
     }
-    all.Side += fit.Side;
+    side += fit.Side;
   }
-  if (all.Side < 0.0)
+  if (side < 0.0)
   {
     vtkMath::MultiplyScalar(f, -1.0);
   }
   double r[3], up[3];
   penumbra_light_views::Basis(f, r, up);
-  // The widest angle per map, over the samples in front of it.
   vtkSMPThreadLocal<Fit> tangents;
   vtkSMPTools::For(0, in.NumberOfSamples,
     [&](vtkIdType s0, vtkIdType s1)
@@ -631,10 +728,9 @@ void vtkPenumbraSoftShadowMapShadows::Internals::FitViews(vtkPenumbraSoftShadowM
       for (vtkIdType s = s0; s < s1; ++s)
       {
         double p[3];
-        point(s, p);
-        for (size_t m = 0; in.Props[s] >= 0 && m < count; ++m)
+        for (size_t m = 0; point(s, p) && m < count; ++m)
         {
-          const double* a = this->Maps[m].Apex;
+          const double* a = this->Now->Maps[m].Apex;
           const double d[3] = { p[0] - a[0], p[1] - a[1], p[2] - a[2] };
           const double w = vtkMath::Dot(d, f);
           const double lateral =
@@ -643,30 +739,13 @@ void vtkPenumbraSoftShadowMapShadows::Internals::FitViews(vtkPenumbraSoftShadowM
         }
       }
     });
-  std::vector<double> widest(count, std::tan(vtkMath::RadiansFromDegrees(1.0)));
+  widest.assign(count, std::tan(vtkMath::RadiansFromDegrees(1.0)));
   for (const Fit& fit : tangents)
   {
     for (size_t m = 0; m < fit.Tan.size(); ++m)
     {
       widest[m] = std::max(widest[m], fit.Tan[m]);
     }
-  }
-  const double maxTan = std::tan(vtkMath::RadiansFromDegrees(MaxHalfAngleDegrees));
-  double box[6];
-  std::copy(all.Box, all.Box + 6, box);
-  for (int c = 0; c < 3 && this->Surfaces.VertexCount > 0; ++c)
-  {
-    box[2 * c] = std::min(box[2 * c], this->Surfaces.Bounds[2 * c]);
-    box[2 * c + 1] = std::max(box[2 * c + 1], this->Surfaces.Bounds[2 * c + 1]);
-  }
-  for (size_t m = 0; m < count; ++m)
-  {
-    SampleMap& map = this->Maps[m];
-    map.Camera =
-      penumbra_light_views::PerspectiveView(map.Apex, f, std::min(maxTan, 1.02 * widest[m]), box);
-    std::copy(r, r + 3, map.Axes[0]);
-    std::copy(up, up + 3, map.Axes[1]);
-    std::copy(f, f + 3, map.Axes[2]);
   }
 }
 
@@ -709,7 +788,7 @@ bool vtkPenumbraSoftShadowMapShadows::Internals::RenderMaps(
       break;
     }
     buffers->Bind(program);
-    for (SampleMap& m : this->Maps)
+    for (SampleMap& m : this->Now->Maps)
     {
       float matrix[16];
       m.Camera.ToFloatMatrix(matrix);
@@ -723,7 +802,7 @@ bool vtkPenumbraSoftShadowMapShadows::Internals::RenderMaps(
       glReadPixels(0, 0, res, res, GL_DEPTH_COMPONENT, GL_FLOAT, target.data());
     }
   }
-  for (SampleMap& m : this->Maps)
+  for (SampleMap& m : this->Now->Maps)
   {
     m.Surface.resize(this->NeedSurfaces ? m.Surface.size() : 0);
   }
@@ -739,13 +818,13 @@ void vtkPenumbraSoftShadowMapShadows::Internals::BuildChannels(
 {
   const int res = self->Resolution;
   self->NumberOfSkins = 0;
-  for (SampleMap& m : this->Maps)
+  for (SampleMap& m : this->Now->Maps)
   {
     m.Skins = BuildSkins(m, res, self->Threshold);
     self->NumberOfSkins += static_cast<vtkIdType>(m.Skins.size() / SkinTriangle);
   }
-  const auto& channels = this->Parts.Channels;
-  this->Values.resize(channels.size());
+  const auto& channels = this->Now->Parts.Channels;
+  this->Now->Values.resize(channels.size());
   vtkSMPThreadLocal<std::vector<float>> zbuf;
   vtkSMPTools::For(0, static_cast<vtkIdType>(channels.size()),
     [&](vtkIdType c0, vtkIdType c1)
@@ -753,9 +832,9 @@ void vtkPenumbraSoftShadowMapShadows::Internals::BuildChannels(
       for (vtkIdType c = c0; c < c1; ++c)
       {
         const auto& edge = channels[static_cast<size_t>(c)];
-        WarpSkins(this->Maps[static_cast<size_t>(edge.second)].Skins,
-          this->Maps[static_cast<size_t>(edge.first)], res, self->Bias,
-          this->Values[static_cast<size_t>(c)], zbuf.Local());
+        WarpSkins(this->Now->Maps[static_cast<size_t>(edge.second)].Skins,
+          this->Now->Maps[static_cast<size_t>(edge.first)], res, self->Bias,
+          this->Now->Values[static_cast<size_t>(c)], zbuf.Local());
       }
     });
 }
@@ -768,7 +847,7 @@ void vtkPenumbraSoftShadowMapShadows::Internals::Lookup(vtkPenumbraSoftShadowMap
   const penumbra_light_views::FrameInputs& in, bool anyCaster, float* vis)
 {
   const int res = self->Resolution;
-  const int samples = static_cast<int>(this->Maps.size());
+  const int samples = static_cast<int>(this->Now->Maps.size());
   const bool off = in.Light.Off;
   vtkSMPTools::For(0, in.NumberOfSamples,
     [&](vtkIdType s0, vtkIdType s1)
@@ -794,14 +873,15 @@ void vtkPenumbraSoftShadowMapShadows::Internals::Lookup(vtkPenumbraSoftShadowMap
         }
         for (int i = 0; i < samples; ++i)
         {
-          test[i] = this->Test(self, this->Maps[static_cast<size_t>(i)], p, nrm, anyCaster, res);
+          test[i] =
+            this->Test(self, this->Now->Maps[static_cast<size_t>(i)], p, nrm, anyCaster, res);
         }
         double sum = 0.0;
-        for (int e = 0; e < this->Parts.Count(); ++e)
+        for (int e = 0; e < this->Now->Parts.Count(); ++e)
         {
-          sum += ElementVisibility(this->Parts, e, test, samples, this->Values);
+          sum += ElementVisibility(this->Now->Parts, e, test, samples, this->Now->Values);
         }
-        vis[s] = static_cast<float>(std::min(1.0, std::max(0.0, sum / this->Parts.Count())));
+        vis[s] = static_cast<float>(std::min(1.0, std::max(0.0, sum / this->Now->Parts.Count())));
       }
     });
 }
@@ -838,6 +918,26 @@ SampleTest vtkPenumbraSoftShadowMapShadows::Internals::Test(vtkPenumbraSoftShado
 }
 
 //------------------------------------------------------------------------------
+// What a light's maps and channels depend on: the light (its settings and motion), the
+// scene's triangles and flags, this technique's settings, and the view samples when the maps
+// were fitted to them.
+std::vector<double> vtkPenumbraSoftShadowMapShadows::Internals::MapKey(
+  vtkPenumbraSoftShadowMapShadows* self, vtkPenumbraAreaLight* area,
+  vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, bool sceneFit)
+{
+  double origin[3];
+  geometry->GetOrigin(origin);
+  vtkMatrix4x4* transform = area->GetTransformMatrix();
+  return { static_cast<double>(area->GetMTime()),
+    transform ? static_cast<double>(transform->GetMTime()) : 0.0,
+    static_cast<double>(geometry->GetGeometryTime()), static_cast<double>(geometry->GetFlagsTime()),
+    origin[0], origin[1], origin[2], static_cast<double>(self->Resolution),
+    static_cast<double>(self->NumberOfLineSamples), static_cast<double>(self->GridSamples),
+    static_cast<double>(self->Elements), self->Threshold, self->Bias,
+    static_cast<double>(self->Fit), sceneFit ? 0.0 : static_cast<double>(samples->GetMTime()) };
+}
+
+//------------------------------------------------------------------------------
 // Brabec 2003, ch. 10 for one area or linear light: inputs, light samples, their maps, the
 // skins and channels, the lookup. Other lights go to the hard shadow maps.
 int vtkPenumbraSoftShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
@@ -869,23 +969,32 @@ int vtkPenumbraSoftShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   }
   this->MapTimeMs = this->SkinTimeMs = this->LookupTimeMs = 0.0;
   const bool anyCaster = !in.Light.Off && impl.UpdateCasters(in.Window, geometry);
+  impl.Now = &penumbra_light_views::LightCacheEntry(impl.Cache, light);
+  impl.FitScene = this->Fit == FIT_SCENE;
   impl.PlaceSamples(this, area, in.GeometryOrigin);
-  this->NumberOfMaps = static_cast<int>(impl.Maps.size());
+  this->NumberOfMaps = static_cast<int>(impl.Now->Maps.size());
   visibility->SetNumberOfComponents(1);
   visibility->SetNumberOfTuples(in.NumberOfSamples);
   float* vis = in.NumberOfSamples ? visibility->GetPointer(0) : nullptr;
   if (anyCaster && in.NumberOfSamples > 0)
   {
     const auto mapStart = Clock::now();
-    impl.FitViews(this, area, in);
-    if (!impl.RenderMaps(this, error))
+    const bool sceneFit = impl.FitViews(area, in);
+    std::vector<double> key = impl.MapKey(this, area, geometry, samples, sceneFit);
+    if (key != impl.Now->Key)
     {
-      PENUMBRA_FAIL("soft shadow maps: " << error);
+      impl.Now->Key.clear();
+      if (!impl.RenderMaps(this, error))
+      {
+        PENUMBRA_FAIL("soft shadow maps: " << error);
+      }
+      this->MapTimeMs = ElapsedMs(mapStart);
+      const auto skinStart = Clock::now();
+      impl.BuildChannels(this);
+      this->SkinTimeMs = ElapsedMs(skinStart);
+      impl.Now->Key = std::move(key);
+      ++this->NumberOfBuilds;
     }
-    this->MapTimeMs = ElapsedMs(mapStart);
-    const auto skinStart = Clock::now();
-    impl.BuildChannels(this);
-    this->SkinTimeMs = ElapsedMs(skinStart);
   }
   const auto lookupStart = Clock::now();
   impl.Lookup(this, in, anyCaster, vis);

@@ -101,6 +101,26 @@ public:
   vtkGetMacro(Elements, int);
   ///@}
 
+  enum FitModes
+  {
+    FIT_VIEW = 0, ///< maps fitted to the view samples: rebuilt when the camera moves
+    FIT_SCENE = 1 ///< maps fitted to the whole scene: kept while only the camera moves
+  };
+
+  ///@{
+  /**
+   * What each light sample's map covers. FIT_SCENE (default): the box of every surface, seen
+   * along the axis from the light's centre to the box's centre, when each corner lies within
+   * 85 degrees of that axis from every sample (else as FIT_VIEW); the maps and channels are
+   * then kept while only the camera moves, at the resolution the whole scene leaves (coarser
+   * when the view shows a part of it). FIT_VIEW: the view samples in front of each sample,
+   * along the light's emission direction (every texel serves the view; maps and skins are
+   * rebuilt whenever the view samples change).
+   */
+  vtkSetClampMacro(Fit, int, FIT_VIEW, FIT_SCENE);
+  vtkGetMacro(Fit, int);
+  ///@}
+
   ///@{
   /**
    * Texels per side of each light sample's map. Default 1024, clamped to [64, 4096].
@@ -143,8 +163,10 @@ public:
   /**
    * What the last area light's call did: light samples (maps), skin triangles built (over
    * all maps), and the phase times in milliseconds (maps rendered and read back; skins found
-   * and warped; lookup).
+   * and warped; lookup; the first two are 0 when the light's maps were kept). Builds: how
+   * many times maps and channels were built since construction.
    */
+  vtkGetMacro(NumberOfBuilds, int);
   vtkGetMacro(NumberOfMaps, int);
   vtkGetMacro(NumberOfSkins, vtkIdType);
   vtkGetMacro(MapTimeMs, double);
@@ -159,11 +181,13 @@ protected:
   int NumberOfLineSamples = 3;
   int GridSamples = 2;
   int Elements = ELEMENTS_CELLS;
+  int Fit = FIT_SCENE;
   int Resolution = 1024;
   double Threshold = 0.02;
   double Bias = 5e-4;
   double SlopeBias = 1.0;
   int NumberOfMaps = 0;
+  int NumberOfBuilds = 0;
   vtkIdType NumberOfSkins = 0;
   double MapTimeMs = 0.0;
   double SkinTimeMs = 0.0;

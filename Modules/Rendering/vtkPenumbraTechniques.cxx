@@ -623,6 +623,11 @@ const OptionTable SoftShadowMapOptions = {
     "triangles per cell with per-vertex visibility channels (the thesis's own)" },
   { "resolution", OptionType::Integer, 1024, 64, 4096, {}, "texels",
     "texels per side of each light sample's depth map" },
+  { "fit", OptionType::Choice, "scene", 0, 0, { "scene", "view" }, "",
+    "what each light sample's map covers: \"scene\", the whole scene when it lies within 85 "
+    "degrees of the axis from the light to it (maps and skins kept while only the camera "
+    "moves; coarser texels when the view shows part of the scene), else as \"view\"; "
+    "\"view\", the visible receivers (rebuilt whenever the view changes)" },
   { "threshold", OptionType::Number, 0.02, 0.001, 1.0, {}, "fraction of the depth",
     "depth discontinuity (skin) threshold: the 3 x 3 Laplacian and the jump across a 2 x 2 "
     "cell, relative to the depth from the light sample" },
@@ -643,6 +648,8 @@ void InstallSoftShadowMap(vtkRenderer* ren, const Options& opts)
       ? vtkPenumbraSoftShadowMapShadows::ELEMENTS_TRIANGLES
       : vtkPenumbraSoftShadowMapShadows::ELEMENTS_CELLS);
   technique->SetResolution(opts.Integer("resolution"));
+  technique->SetFit(opts.Choice("fit") == 1 ? vtkPenumbraSoftShadowMapShadows::FIT_VIEW
+                                            : vtkPenumbraSoftShadowMapShadows::FIT_SCENE);
   technique->SetThreshold(opts.Number("threshold"));
   technique->SetBias(opts.Number("bias"));
   technique->SetSlopeBias(opts.Number("slope_bias"));
