@@ -3,38 +3,40 @@
  * @brief   Soft shadow maps for linear and rectangular area lights: Brabec, "Shadow
  *          Techniques for Interactive and Real-Time Applications", PhD thesis, 2003, ch. 10.
  *
- * Per area or linear light (vtkPenumbraAreaLight) and frame:
+ * Per area or linear light (vtkPenumbraAreaLight):
  * 1. Light samples: a line gets NumberOfLineSamples points evenly spaced from one endpoint
  *    to the other (both included); a rectangle the GridSamples x GridSamples grid whose
- *    outer points are its corners. The light is split into elements that share samples:
- *    segments between adjacent line samples (ch. 10.1.2), two triangles per grid cell
- *    (ch. 10.1.3). Each element carries 1 / (number of elements) of the light.
- * 2. Depth maps: one perspective map per light sample, all looking along the light's
- *    emission direction (flipped when the receivers lie behind it) with a square field of view
- *    fitted to the visible receivers (at most 85 degrees off the axis), storing linear 32-bit
- *    float depth (distance along the axis / Far) of the casters, rendered on the GPU with
- *    shadowmap's programs and read back.
- * 3. Depth discontinuities (ch. 10.1.4): the 3 x 3 Laplacian of each map, divided by 3 times
- *    the texel's depth (a straight step of relative height h gives h), above Threshold marks
- *    a texel; a 2 x 2 texel cell with a marked texel whose depths differ by more than
- *    Threshold times the nearest becomes a "skin" of two triangles between its texel centres
- *    unprojected to world space, with visibility 0 at near (occluder) vertices and 1 at far
- *    (receiver) vertices. Cells within 2 texels of the map border are skipped (the frustum
- *    edges are no silhouettes).
- * 4. Warping (ch. 10.1.1): each sample's skins are projected into the maps of the samples it
- *    shares an element with and scan-converted there with perspective-correct Gouraud
- *    interpolation, depth-tested against the destination's real depth and never writing it
- *    (the shadow test must see only real geometry). Where skins overlap, the nearest to the
- *    destination sample wins (a separate skin depth buffer). Done on the CPU with vtkSMPTools.
- * 5. Visibility channels: within an element of m samples each sample starts at 1/m (a point
- *    every sample sees sums to 1: 0.5 for segments, 1/3 for triangles); where a skin from
- *    another sample of the element covers it, it gets the skin's value times 1/(m - 1) (the
- *    smallest over the element's other samples, for triangles). A sample's channel is the
- *    sum over its elements, each divided by the number of elements.
- * 6. Lookup, per view sample p on the CPU: the sum over light samples i of V_i(p) when p
- *    passes map i's shadow test and light sample i lies above p's tangent plane (the
- *    reference's per-sample facing rule, vtkPenumbraReference), 0 otherwise. A p outside map
- *    i's frustum counts as seen by i with its lit share.
+ *    outer points are its corners. The light is split into equal elements that share
+ *    samples: segments between adjacent line samples (ch. 10.1.2); grid cells (ELEMENTS_CELLS,
+ *    Ying et al.'s polygon variant in ch. 10.1.3) or two triangles per cell
+ *    (ELEMENTS_TRIANGLES, ch. 10.1.3).
+ * 2. Depth maps: one perspective map per light sample with a square field of view (see
+ *    SetFit(): the whole scene, kept while only the camera moves, or the view samples),
+ *    storing linear 32-bit float depth (distance along the axis / Far) of the casters,
+ *    rendered on the GPU with shadowmap's programs and read back; when some triangles do not
+ *    cast, a second map of every surface, where the skins end.
+ * 3. Depth discontinuities (ch. 10.1.4): a 2 x 2 texel cell whose depths differ by more than
+ *    Threshold times the nearest, and where the 3 x 3 Laplacian of one of its texels divided
+ *    by 3 times its depth (a straight step of relative height h gives h) exceeds Threshold
+ *    too, becomes a "skin": its triangles that join near and far texels, unprojected to world
+ *    space, visibility 0 at near (occluder) and 1 at far (receiver) vertices. Cells within 2
+ *    texels of the map border (the frustum's edges) and cells whose near side does not cast
+ *    make none.
+ * 4. Warping (ch. 10.1.1): per element edge (a, b), b's skins are projected into a's map and
+ *    scan-converted there on the CPU (vtkSMPTools): depth perspective-correct and tested
+ *    against a's real depth, never written (the shadow test must see only real geometry);
+ *    the nearest skin wins where skins overlap; the visibility interpolated linearly in a's
+ *    image, which for a receiver parallel to a linear light is exactly the linear ramp of
+ *    Eq. 10.1.
+ * 5. Lookup per view sample on the CPU: light sample i is lit when the view sample passes
+ *    map i's shadow test and i lies above its tangent plane (the reference's per-sample
+ *    facing rule, vtkPenumbraReference); outside map i nothing blocks it. On an element edge
+ *    from a lit a to an unlit b, t(a -> b) is the skin value of b in a's map (0.5 where no
+ *    skin covers the sample), or the tangent plane's exact crossing when b lies below it,
+ *    the smaller of both. A segment gives 1, t or 0 (the thesis's channels initialised to
+ *    0.5); a cell the area of the polygon through its lit corners and its edges' split
+ *    points; a triangle 1/3 per lit vertex, or half the smallest skin value of the other two
+ *    in its map (the thesis's scheme). The visibility is the mean over the elements.
  *
  * Where it is not exact: the visibility across a penumbra is linear in the skin's parameter
  * (exact only for a line parallel to the receiver, ch. 10, Eq. 10.1; area lights have a
