@@ -207,14 +207,15 @@ bool LightSetup::Read(vtkLight* light, const double geometryOrigin[3], std::stri
 
 //------------------------------------------------------------------------------
 bool FrameInputs::Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
-  vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility, std::string& error)
+  vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility, std::string& error,
+  bool allowArea)
 {
   if (!renderer || !geometry || !samples || !light || !visibility)
   {
     error = "a renderer, geometry, samples, a light and an output array are all required";
     return false;
   }
-  if (vtkPenumbraAreaLight::SafeDownCast(light))
+  if (!allowArea && vtkPenumbraAreaLight::SafeDownCast(light))
   {
     error = "only point, spot and directional lights are handled, not area or linear lights";
     return false;
@@ -639,7 +640,7 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
     for (vtkIdType t = 0; v && t < nTriangles; ++t)
     {
       // The reference's rule: casters with area (a zero-area triangle blocks no ray).
-      if (!geometry->IsOccluder(t))
+      if (!this->AllSurfaces && !geometry->IsOccluder(t))
       {
         continue;
       }

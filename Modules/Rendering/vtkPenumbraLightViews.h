@@ -125,13 +125,14 @@ struct FrameInputs
 
   /**
    * Checks every input of a map-based technique's ComputeVisibility: all present, an OpenGL
-   * window, a hard light (area and linear lights need other techniques), arrays that exist
-   * and agree in size, finite origins, a usable light. False with `error` set otherwise
-   * (nothing is written).
+   * window, a hard light (area and linear lights need other techniques, unless `allowArea`:
+   * then Light holds an area light read as a plain positional vtkLight, for its switch and
+   * intensity), arrays that exist and agree in size, finite origins, a usable light. False
+   * with `error` set otherwise (nothing is written).
    */
   bool Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
-    vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility,
-    std::string& error);
+    vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility, std::string& error,
+    bool allowArea = false);
 };
 
 /**
@@ -306,6 +307,9 @@ struct CasterBuffers
   std::vector<vtkIdType> TriangleIds; // the casters, ascending
   double Bounds[6] = { 1, -1, 1, -1, 1, -1 };
   ExactTriangles Exact; // the casters' exact triangles, reset with the list
+  // Every triangle instead of the casters only (soft shadow maps find the receivers behind
+  // a silhouette with them); set before the first Update.
+  bool AllSurfaces = false;
 
   /**
    * Brings the caster list up to date and, with `upload` (context current), the GL buffers;

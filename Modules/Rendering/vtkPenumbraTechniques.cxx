@@ -14,6 +14,7 @@
 #include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowVolumeShadows.h"
+#include "vtkPenumbraSoftShadowMapShadows.h"
 #include "vtkRenderPassCollection.h"
 #include "vtkRenderState.h"
 #include "vtkRenderWindow.h"
@@ -664,6 +665,54 @@ void InstallPCSS(vtkRenderer* ren, const Options& opts)
   InstallShadowPass(ren, technique);
 }
 
+// Soft shadow maps (Brabec 2003, ch. 10): the light samples, the maps and the skins'
+// threshold; the bias as shadowmap's.
+const OptionTable SoftShadowMapOptions = {
+  { "samples", OptionType::Integer, 3, 2, 16, {}, "light samples",
+    "linear lights: samples along the line, both endpoints included (2 shows the overlap "
+    "artifact of ch. 10.1.2)" },
+  { "grid", OptionType::Integer, 2, 2, 4, {}, "light samples per axis",
+    "rectangular lights: a k x k grid whose outer samples are the corners (2: the 4 corners), "
+    "split into elements (see elements)" },
+  { "elements", OptionType::Choice, "cells", 0, 0, { "cells", "triangles" }, "",
+    "rectangular lights: \"cells\", per grid cell the polygon of its lit corners and the "
+    "skins' split points on its edges (Ying et al.'s variant, ch. 10.1.3); \"triangles\", two "
+    "triangles per cell with per-vertex visibility channels (the thesis's own)" },
+  { "resolution", OptionType::Integer, 1024, 64, 4096, {}, "texels",
+    "texels per side of each light sample's depth map" },
+  { "fit", OptionType::Choice, "scene", 0, 0, { "scene", "view" }, "",
+    "what each light sample's map covers: \"scene\", the whole scene when it lies within 85 "
+    "degrees of the axis from the light to it (maps and skins kept while only the camera "
+    "moves; coarser texels when the view shows part of the scene), else as \"view\"; "
+    "\"view\", the visible receivers (rebuilt whenever the view changes)" },
+  { "threshold", OptionType::Number, 0.02, 0.001, 1.0, {}, "fraction of the depth",
+    "depth discontinuity (skin) threshold: the 3 x 3 Laplacian and the jump across a 2 x 2 "
+    "cell, relative to the depth from the light sample" },
+  { "bias", OptionType::Number, 5e-4, 0.0, 0.1, {}, "fraction of the depth range",
+    "constant depth bias of the shadow test and the skins' depth test (1e-4 leaves acne on "
+    "city_area_light's roofs)" },
+  { "slope_bias", OptionType::Number, 1.0, 0.0, 16.0, {}, "texel footprints",
+    "slope-scaled bias: the receiver's depth change across this many texels at its angle to "
+    "the light sample" },
+};
+
+void InstallSoftShadowMap(vtkRenderer* ren, const Options& opts)
+{
+  vtkNew<vtkPenumbraSoftShadowMapShadows> technique;
+  technique->SetNumberOfLineSamples(opts.Integer("samples"));
+  technique->SetGridSamples(opts.Integer("grid"));
+  technique->SetElements(opts.Choice("elements") == 1
+      ? vtkPenumbraSoftShadowMapShadows::ELEMENTS_TRIANGLES
+      : vtkPenumbraSoftShadowMapShadows::ELEMENTS_CELLS);
+  technique->SetResolution(opts.Integer("resolution"));
+  technique->SetFit(opts.Choice("fit") == 1 ? vtkPenumbraSoftShadowMapShadows::FIT_VIEW
+                                            : vtkPenumbraSoftShadowMapShadows::FIT_SCENE);
+  technique->SetThreshold(opts.Number("threshold"));
+  technique->SetBias(opts.Number("bias"));
+  technique->SetSlopeBias(opts.Number("slope_bias"));
+  InstallShadowPass(ren, technique);
+}
+
 const OptionTable VolumesOptions = {
   { "silhouettes", OptionType::Choice, "cpu", 0, 0, { "cpu", "gpu", "none" }, "",
     "\"cpu\": silhouette edges from OpenMesh half-edges, in double; \"gpu\": a geometry shader "
@@ -858,6 +907,12 @@ const std::vector<Technique>& Registry()
       "lit texel (inner penumbra) in a box around each sample; other lights get shadowmap's hard "
       "shadows",
       SingleSampleOptions, InstallSingleSample },
+    { "soft-shadowmap",
+      "soft shadow maps (Brabec 2003, ch. 10) from area and linear lights: a depth map per light "
+      "sample (line: endpoints and interior samples; rectangle: corner grid), skins across "
+      "depth discontinuities warped into the neighbouring samples' maps as visibility channels; "
+      "other lights get shadowmap's hard shadows",
+      SoftShadowMapOptions, InstallSoftShadowMap },
   };
   return techniques;
 }

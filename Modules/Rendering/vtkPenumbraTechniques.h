@@ -10,8 +10,9 @@
  * Registered techniques: `none`, `auto` (the default of scene files, the CLI, the examples and
  * the Python helper: per light, the technique the project's measurements favour, see
  * vtkPenumbraAutoShadows), `vtk-shadowmap`, `raytraced`, `conservative`, `shadowmap`, `resm`,
- * `volumes` and `gears`. Each has one option table (name, type, default, range or choices,
- * unit, one-line doc) in vtkPenumbraTechniques.cxx; Apply() validates against it, and the
+ * `volumes`, `gears`, `pcss` and `soft-shadowmap` (the full list: GetTechniqueName()). Each
+ * has one option table (name, type, default, range or choices, unit, one-line doc) in
+ * vtkPenumbraTechniques.cxx; Apply() validates against it, and the
  * option accessors below, `penumbra-render --list-techniques`, the option section of
  * Data/Scenes/SCHEMA.md (GetOptionsMarkdown()) and the Python docstrings are produced from it.
  *

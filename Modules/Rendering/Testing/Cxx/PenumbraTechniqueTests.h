@@ -19,6 +19,7 @@
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 
+#include <initializer_list>
 #include <iostream>
 #include <string>
 
@@ -72,6 +73,19 @@ inline void SetLight(vtkRenderer* renderer, LightType type, const double from[3]
   renderer->AddLight(light);
 }
 
+// One actor per source, with default properties, added to `renderer`.
+inline void AddSources(vtkRenderer* renderer, std::initializer_list<vtkPolyDataAlgorithm*> sources)
+{
+  for (auto* source : sources)
+  {
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputConnection(source->GetOutputPort());
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    renderer->AddActor(actor);
+  }
+}
+
 // Plane z = 0 (8 x 6 m) under a box occluder at z = 1 - thickness .. 1, lit from (1.5, 0.7, 3)
 // towards the origin (spot lights: 35 degrees). With `zoom` a parallel camera looks straight
 // down at the shadow of (0, 0, 1) through a window `zoom` metres high.
@@ -86,15 +100,7 @@ inline vtkSmartPointer<vtkRenderer> PlaneScene(
   plane->SetResolution(8, 6);
   vtkNew<vtkCubeSource> box;
   box->SetBounds(-halfWidth, halfWidth, -0.5, 0.5, 1.0 - thickness, 1.0);
-  vtkPolyDataAlgorithm* sources[] = { plane, box };
-  for (auto* source : sources)
-  {
-    vtkNew<vtkPolyDataMapper> mapper;
-    mapper->SetInputConnection(source->GetOutputPort());
-    vtkNew<vtkActor> actor;
-    actor->SetMapper(mapper);
-    renderer->AddActor(actor);
-  }
+  AddSources(renderer, { plane, box });
   vtkCamera* camera = renderer->GetActiveCamera();
   camera->SetPosition(0.5, -6, 8);
   camera->SetFocalPoint(0, 0, 0);

@@ -78,6 +78,10 @@ const Bound Bounds[] = {
   { "huge_area_light.json", "single-sample-soft", "{}", 0.07342 }, // measured 0.03421
   { "tiny_area_light.json", "adaptive-soft", "{}", 0.005 },        // measured 0.00000
   { "huge_area_light.json", "adaptive-soft", "{}", 0.01098 },      // measured 0.00299
+  { "tiny_area_light.json", "soft-shadowmap", "{}", 0.01412 },  // measured 0.00456
+  { "huge_area_light.json", "soft-shadowmap", "{}", 0.0757 },   // measured 0.03535
+  { "thin_occluders.json", "soft-shadowmap", "{}", 0.00166 },   // measured 0.00033 (hard)
+  { "bad_triangles.json", "soft-shadowmap", "{}", 0.00338 },    // measured 0.00119 (hard)
 };
 
 // Deliberately broken settings that the bounds must catch: no bias at all (acne on a
