@@ -906,13 +906,28 @@ SampleTest vtkPenumbraSoftShadowMapShadows::Internals::Test(vtkPenumbraSoftShado
   const int ix = std::min(res - 1, static_cast<int>((ms * 0.5 + 0.5) * res));
   const int iy = std::min(res - 1, static_cast<int>((mt * 0.5 + 0.5) * res));
   test.Texel = static_cast<vtkIdType>(iy) * res + ix;
-  const double cosine =
-    test.Facing / (vtkMath::Norm(toLight) * std::max(1e-30, vtkMath::Norm(nrm)));
-  const double tangent =
-    std::min(MaxTangent, std::sqrt(std::max(0.0, 1.0 - cosine * cosine)) / cosine);
+  // Blocked when the stored depth lies below depth - Bias - slope * min(MaxTangent, tan).
+  // The angle matters only when the stored depth falls inside the slope term's room: then,
+  // with T = room / slope and c the cosine, min(MaxTangent, tan) < T exactly when
+  // c^2 (1 + T^2) > 1 (T <= MaxTangent there), so no square root or division per sample.
   const double footprint = 2.0 * depth * m.Camera.TanHalf / res; // over Far
-  const double bias = self->Bias + self->SlopeBias * footprint * tangent;
-  test.Blocked = m.Depth[static_cast<size_t>(test.Texel)] < depth - bias;
+  const double slope = self->SlopeBias * footprint;
+  const double room = depth - self->Bias - m.Depth[static_cast<size_t>(test.Texel)];
+  if (!(room > 0.0))
+  {
+    test.Blocked = false;
+  }
+  else if (!(slope > 0.0) || room > slope * MaxTangent)
+  {
+    test.Blocked = true;
+  }
+  else
+  {
+    const double t = room / slope;
+    const double cosine2 =
+      test.Facing * test.Facing / (vtkMath::Dot(toLight, toLight) * vtkMath::Dot(nrm, nrm));
+    test.Blocked = cosine2 * (1.0 + t * t) > 1.0;
+  }
   test.Lit = !test.Blocked;
   return test;
 }
