@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -412,6 +413,46 @@ double ElementVisibility(const LightElements& parts, int e, const SampleTest* te
 
 }
 
+// Whether every sample of the block [x0, x1) x [y0, y1) (of a sample image `width` wide)
+// has the prop of corner c[0] and lies on its plane: the same facet normal, and within a
+// thousandth of the block's size of the plane through c[0]. Then the block holds one flat
+// surface, and its corners' agreement on full light or umbra stands for its samples.
+bool OnePlane(const penumbra_light_views::FrameInputs& in, const vtkIdType c[4], int x0, int y0,
+  int x1, int y1, int width)
+{
+  const float* p0 = in.Positions + 3 * c[0];
+  const float* n0 = in.Normals + 3 * c[0];
+  double size = 0.0;
+  for (int k = 1; k < 4; ++k)
+  {
+    const float* p = in.Positions + 3 * c[k];
+    size = std::max(size,
+      std::fabs(static_cast<double>(p[0]) - p0[0]) + std::fabs(static_cast<double>(p[1]) - p0[1]) +
+        std::fabs(static_cast<double>(p[2]) - p0[2]));
+  }
+  const double tolerance = 1e-3 * size;
+  for (int y = y0; y < y1; ++y)
+  {
+    for (int x = x0; x < x1; ++x)
+    {
+      const vtkIdType s = static_cast<vtkIdType>(y) * width + x;
+      const float* p = in.Positions + 3 * s;
+      const float* n = in.Normals + 3 * s;
+      double along = 0.0, agree = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        along += (static_cast<double>(p[k]) - p0[k]) * n0[k];
+        agree += static_cast<double>(n[k]) * n0[k];
+      }
+      if (in.Props[s] != in.Props[c[0]] || !(agree > 0.9999) || !(std::fabs(along) <= tolerance))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 struct vtkPenumbraSoftShadowMapShadows::Internals
 {
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
@@ -478,7 +519,9 @@ struct vtkPenumbraSoftShadowMapShadows::Internals
   bool RenderMaps(vtkPenumbraSoftShadowMapShadows* self, std::string& error);
   void BuildChannels(vtkPenumbraSoftShadowMapShadows* self);
   void Lookup(vtkPenumbraSoftShadowMapShadows* self, const penumbra_light_views::FrameInputs& in,
-    bool anyCaster, float* vis);
+    int width, int rows, bool anyCaster, float* vis);
+  void LookupBlocks(const penumbra_light_views::FrameInputs& in, int width, int rows, int block,
+    const std::function<float(vtkIdType)>& one, float* vis);
   static SampleTest Test(vtkPenumbraSoftShadowMapShadows* self, const SampleMap& m,
     const double p[3], const double nrm[3], bool anyCaster, int res);
 };
@@ -844,44 +887,108 @@ void vtkPenumbraSoftShadowMapShadows::Internals::BuildChannels(
 // or below the tangent plane counts as occluded, as the reference's TraceAreaSample counts
 // it), then the elements' visible fractions, averaged.
 void vtkPenumbraSoftShadowMapShadows::Internals::Lookup(vtkPenumbraSoftShadowMapShadows* self,
-  const penumbra_light_views::FrameInputs& in, bool anyCaster, float* vis)
+  const penumbra_light_views::FrameInputs& in, int width, int rows, bool anyCaster, float* vis)
 {
   const int res = self->Resolution;
   const int samples = static_cast<int>(this->Now->Maps.size());
   const bool off = in.Light.Off;
-  vtkSMPTools::For(0, in.NumberOfSamples,
-    [&](vtkIdType s0, vtkIdType s1)
+  // One view sample: background -1, light off 1, else the elements' visible fractions.
+  auto one = [&](vtkIdType s) -> float
+  {
+    double p[3], nrm[3];
+    for (int c = 0; c < 3; ++c)
     {
-      SampleTest test[MaxSamples];
-      for (vtkIdType s = s0; s < s1; ++s)
+      p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
+      nrm[c] = in.Normals[3 * s + c];
+    }
+    if (in.Props[s] < 0 || !std::isfinite(p[0] + p[1] + p[2] + nrm[0] + nrm[1] + nrm[2]))
+    {
+      return -1.0f;
+    }
+    if (off)
+    {
+      return 1.0f;
+    }
+    SampleTest test[MaxSamples];
+    for (int i = 0; i < samples; ++i)
+    {
+      test[i] = this->Test(self, this->Now->Maps[static_cast<size_t>(i)], p, nrm, anyCaster, res);
+    }
+    double sum = 0.0;
+    for (int e = 0; e < this->Now->Parts.Count(); ++e)
+    {
+      sum += ElementVisibility(this->Now->Parts, e, test, samples, this->Now->Values);
+    }
+    return static_cast<float>(std::min(1.0, std::max(0.0, sum / this->Now->Parts.Count())));
+  };
+  const int block = self->Block;
+  if (block <= 1 || off || !anyCaster || width <= 0 || rows <= 0 ||
+    static_cast<vtkIdType>(width) * rows != in.NumberOfSamples)
+  {
+    vtkSMPTools::For(0, in.NumberOfSamples,
+      [&](vtkIdType s0, vtkIdType s1)
       {
-        double p[3], nrm[3];
-        for (int c = 0; c < 3; ++c)
+        for (vtkIdType s = s0; s < s1; ++s)
         {
-          p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
-          nrm[c] = in.Normals[3 * s + c];
+          vis[s] = one(s);
         }
-        if (in.Props[s] < 0 || !std::isfinite(p[0] + p[1] + p[2] + nrm[0] + nrm[1] + nrm[2]))
+      });
+    return;
+  }
+  this->LookupBlocks(in, width, rows, block, one, vis);
+}
+
+//------------------------------------------------------------------------------
+// The blocked lookup of SetBlock(): the lattice of block corners first, then per block
+// either the corners' common value (full light or umbra, every sample on the corners'
+// plane) or a lookup per sample.
+void vtkPenumbraSoftShadowMapShadows::Internals::LookupBlocks(
+  const penumbra_light_views::FrameInputs& in, int width, int rows, int block,
+  const std::function<float(vtkIdType)>& one, float* vis)
+{
+  const int bw = (width + block - 1) / block, bh = (rows + block - 1) / block;
+  auto corner = [&](int bx, int by)
+  {
+    return static_cast<vtkIdType>(std::min(by * block, rows - 1)) * width +
+      std::min(bx * block, width - 1);
+  };
+  std::vector<float> lattice(static_cast<size_t>(bw + 1) * (bh + 1));
+  vtkSMPTools::For(0, static_cast<vtkIdType>(lattice.size()),
+    [&](vtkIdType l0, vtkIdType l1)
+    {
+      for (vtkIdType l = l0; l < l1; ++l)
+      {
+        lattice[static_cast<size_t>(l)] =
+          one(corner(static_cast<int>(l % (bw + 1)), static_cast<int>(l / (bw + 1))));
+      }
+    });
+  vtkSMPTools::For(0, static_cast<vtkIdType>(bw) * bh,
+    [&](vtkIdType b0, vtkIdType b1)
+    {
+      for (vtkIdType b = b0; b < b1; ++b)
+      {
+        const int bx = static_cast<int>(b % bw), by = static_cast<int>(b / bw);
+        const int x1 = std::min(width, (bx + 1) * block), y1 = std::min(rows, (by + 1) * block);
+        const float v = lattice[static_cast<size_t>(by) * (bw + 1) + bx];
+        const vtkIdType c[4] = { corner(bx, by), corner(bx + 1, by), corner(bx, by + 1),
+          corner(bx + 1, by + 1) };
+        bool uniform = (v == 0.0f || v == 1.0f) &&
+          v == lattice[static_cast<size_t>(by) * (bw + 1) + bx + 1] &&
+          v == lattice[static_cast<size_t>(by + 1) * (bw + 1) + bx] &&
+          v == lattice[static_cast<size_t>(by + 1) * (bw + 1) + bx + 1];
+        for (int k = 1; uniform && k < 4; ++k)
         {
-          vis[s] = -1.0f;
-          continue;
+          uniform = in.Props[c[k]] == in.Props[c[0]];
         }
-        if (off)
+        uniform = uniform && OnePlane(in, c, bx * block, by * block, x1, y1, width);
+        for (int y = by * block; y < y1; ++y)
         {
-          vis[s] = 1.0f;
-          continue;
+          for (int x = bx * block; x < x1; ++x)
+          {
+            const vtkIdType s = static_cast<vtkIdType>(y) * width + x;
+            vis[s] = uniform ? v : one(s);
+          }
         }
-        for (int i = 0; i < samples; ++i)
-        {
-          test[i] =
-            this->Test(self, this->Now->Maps[static_cast<size_t>(i)], p, nrm, anyCaster, res);
-        }
-        double sum = 0.0;
-        for (int e = 0; e < this->Now->Parts.Count(); ++e)
-        {
-          sum += ElementVisibility(this->Now->Parts, e, test, samples, this->Now->Values);
-        }
-        vis[s] = static_cast<float>(std::min(1.0, std::max(0.0, sum / this->Now->Parts.Count())));
       }
     });
 }
@@ -1012,7 +1119,7 @@ int vtkPenumbraSoftShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     }
   }
   const auto lookupStart = Clock::now();
-  impl.Lookup(this, in, anyCaster, vis);
+  impl.Lookup(this, in, samples->GetWidth(), samples->GetHeight(), anyCaster, vis);
   this->LookupTimeMs = ElapsedMs(lookupStart);
   visibility->Modified();
   this->LastTimeMs = ElapsedMs(start);

@@ -163,6 +163,19 @@ public:
 
   ///@{
   /**
+   * Lookup block side in samples (not in the thesis): the lookup runs at every Block-th
+   * sample per axis first, and a block whose four corners agree on full light or full
+   * umbra, and whose samples all lie on the corners' plane (same prop, same facet normal),
+   * takes that value without a lookup per sample; every other block is looked up sample by
+   * sample. 1 looks up every sample. Default 4, clamped to [1, 16]. A shadow or gap narrower
+   * than a block that falls between its corners is missed (measured in docs/benchmarks.md).
+   */
+  vtkSetClampMacro(Block, int, 1, 16);
+  vtkGetMacro(Block, int);
+  ///@}
+
+  ///@{
+  /**
    * What the last area light's call did: light samples (maps), skin triangles built (over
    * all maps), and the phase times in milliseconds (maps rendered and read back; skins found
    * and warped; lookup; the first two are 0 when the light's maps were kept). Builds: how
@@ -188,6 +201,7 @@ protected:
   double Threshold = 0.02;
   double Bias = 5e-4;
   double SlopeBias = 1.0;
+  int Block = 4;
   int NumberOfMaps = 0;
   int NumberOfBuilds = 0;
   vtkIdType NumberOfSkins = 0;

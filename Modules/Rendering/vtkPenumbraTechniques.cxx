@@ -694,6 +694,9 @@ const OptionTable SoftShadowMapOptions = {
   { "slope_bias", OptionType::Number, 1.0, 0.0, 16.0, {}, "texel footprints",
     "slope-scaled bias: the receiver's depth change across this many texels at its angle to "
     "the light sample" },
+  { "block", OptionType::Integer, 4, 1, 16, {}, "samples",
+    "lookup block side: blocks whose corners agree on full light or umbra and whose samples "
+    "lie on one plane take the corners' value; 1 looks up every sample" },
 };
 
 void InstallSoftShadowMap(vtkRenderer* ren, const Options& opts)
@@ -710,6 +713,7 @@ void InstallSoftShadowMap(vtkRenderer* ren, const Options& opts)
   technique->SetThreshold(opts.Number("threshold"));
   technique->SetBias(opts.Number("bias"));
   technique->SetSlopeBias(opts.Number("slope_bias"));
+  technique->SetBlock(opts.Integer("block"));
   InstallShadowPass(ren, technique);
 }
 

@@ -303,6 +303,40 @@ int CheckKeptMaps()
   return EXIT_SUCCESS;
 }
 
+// The blocked lookup (SetBlock) against a lookup per sample on the same view samples: blocks
+// take their corners' value only where that is the answer (full light or umbra over one
+// flat surface), so the penumbra, the occluder's edge and the lit plane agree.
+int CheckBlocks()
+{
+  auto light = EdgeLight(false, 2.0, 1.0);
+  Rendered each;
+  RUN(Render(light, "{\"block\": 1}", each));
+  vtkNew<vtkFloatArray> reference;
+  reference->DeepCopy(each.Pass->GetVisibility(0));
+  for (const char* options : { "{}", "{\"block\": 8}" })
+  {
+    Rendered r;
+    RUN(Render(light, options, r));
+    vtkFloatArray* vis = r.Pass->GetVisibility(0);
+    CHECK(vis->GetNumberOfTuples() == reference->GetNumberOfTuples());
+    vtkIdType differ = 0, valid = 0, penumbra = 0;
+    for (vtkIdType s = 0; s < vis->GetNumberOfTuples(); ++s)
+    {
+      const float v = reference->GetValue(s);
+      valid += v >= 0.0f;
+      penumbra += v > 0.0f && v < 1.0f;
+      differ += std::fabs(vis->GetValue(s) - v) > 1e-6f;
+    }
+    std::printf("blocked lookup %-14s: %lld of %lld samples (%lld in the penumbra) differ from "
+                "the lookup per sample\n",
+      options, static_cast<long long>(differ), static_cast<long long>(valid),
+      static_cast<long long>(penumbra));
+    CHECK(penumbra > 1000);
+    CHECK(differ <= valid / 1000);
+  }
+  return EXIT_SUCCESS;
+}
+
 void CatchError(vtkObject*, unsigned long, void* clientData, void* callData)
 {
   *static_cast<std::string*>(clientData) = static_cast<const char*>(callData);
@@ -371,6 +405,7 @@ int TestSoftShadowMap(int, char*[])
   RUN(CheckStraightEdge());
   RUN(CheckLimits());
   RUN(CheckKeptMaps());
+  RUN(CheckBlocks());
   RUN(CheckBadInput());
   return EXIT_SUCCESS;
 }
