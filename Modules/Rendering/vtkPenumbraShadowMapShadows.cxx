@@ -261,14 +261,24 @@ void MergeExtent(const TileOutputs& data, int tiles, ReceiverExtent& e)
   }
 }
 
-// The light-plane images of a box's 8 corners (centre +- half along the world axes): their
+// The light-plane images of a box's corners (centre +- half along the world axes): their
 // hull is the box's shadow on the plane, so the hull of all of them holds every receiver.
+// A flat box (a tile of an axis-aligned floor or wall) has 4 distinct corners, not 8.
 void AddPlaneCorners(const double axes[3][3], const double centre[3], const double half[3],
   std::vector<std::array<double, 2>>& plane)
 {
   const double mid[2] = { vtkMath::Dot(centre, axes[0]), vtkMath::Dot(centre, axes[1]) };
+  int used = 0;
+  for (int c = 0; c < 3; ++c)
+  {
+    used |= half[c] > 0.0 ? 1 << c : 0;
+  }
   for (int corner = 0; corner < 8; ++corner)
   {
+    if (corner & ~used)
+    {
+      continue; // the same point as the corner without this bit
+    }
     std::array<double, 2> q = { mid[0], mid[1] };
     for (int c = 0; c < 3; ++c)
     {
@@ -430,10 +440,17 @@ void FitPlaneRectangle(
   double best[2] = { 1.0, 0.0 };
   std::array<double, 4> span = HullSpan(hull, best);
   double bestCost = cost(span);
-  auto consider = [&](const double u[2])
+  auto consider = [&](const double direction[2])
   {
+    // Of the four directions that give this rectangle, the one nearest the basis (no
+    // needless quarter turn of the map); a candidate must win by more than rounding, so
+    // ties keep the basis (and a moving light's map turns less often).
+    const double turns[4][2] = { { direction[0], direction[1] }, { -direction[1], direction[0] },
+      { -direction[0], -direction[1] }, { direction[1], -direction[0] } };
+    const double* u = *std::max_element(std::begin(turns), std::end(turns),
+      [](const double* a, const double* b) { return a[0] < b[0]; });
     const std::array<double, 4> s = HullSpan(hull, u);
-    if (cost(s) < bestCost)
+    if (cost(s) < bestCost * (1.0 - 1e-9))
     {
       bestCost = cost(s);
       span = s;
