@@ -10,8 +10,9 @@
  * - Directional lights: one orthographic map whose s/t extent and depth range are fitted
  *   to the valid view samples that face the light (Brabec 2003, §4.2.1, axis-aligned
  *   rectangle in light space, computed exactly from the samples instead of a control
- *   texture). Casters in front of the fitted near plane are not clipped but clamped to depth
- *   0 (GL_DEPTH_CLAMP plus gl_FragDepth clamping, ch. 4.1.2), so they still shadow.
+ *   texture; SetFitRectangle() rotates it, §4.2.2). Casters in front of the fitted near plane are
+ * not clipped but clamped to depth 0 (GL_DEPTH_CLAMP plus gl_FragDepth clamping, ch. 4.1.2), so
+ * they still shadow.
  * - Spot lights (VTK cone half-angle below 90 degrees): one perspective map along the axis,
  *   its field of view fitted to the receivers inside the cone (never wider than the cone).
  * - Point lights (positional, cone >= 90): six 90-degree cube faces (`Point` = cube,
