@@ -151,6 +151,11 @@ struct ReceiverExtent
   double Farthest = 0.0;
   double SpotTan = 0.0;
   vtkIdType Pending = 0;
+  // Directional lights fitted with the minimum-area rectangle: the receivers' tile-box
+  // corners in the light plane (along LightAxes' axes[0] and axes[1]).
+  bool CollectPlane = false;
+  bool Square = false; // the shortest longer side instead of the least area
+  std::vector<std::array<double, 2>> Plane;
 };
 
 // Light-space axes: a directional light travels along axes[2], a spot light looks along it;
@@ -256,6 +261,231 @@ void MergeExtent(const TileOutputs& data, int tiles, ReceiverExtent& e)
   }
 }
 
+// The light-plane images of a box's corners (centre +- half along the world axes): their
+// hull is the box's shadow on the plane, so the hull of all of them holds every receiver.
+// A flat box (a tile of an axis-aligned floor or wall) has 4 distinct corners, not 8.
+void AddPlaneCorners(const double axes[3][3], const double centre[3], const double half[3],
+  std::vector<std::array<double, 2>>& plane)
+{
+  const double mid[2] = { vtkMath::Dot(centre, axes[0]), vtkMath::Dot(centre, axes[1]) };
+  int used = 0;
+  for (int c = 0; c < 3; ++c)
+  {
+    used |= half[c] > 0.0 ? 1 << c : 0;
+  }
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    if (corner & ~used)
+    {
+      continue; // the same point as the corner without this bit
+    }
+    std::array<double, 2> q = { mid[0], mid[1] };
+    for (int c = 0; c < 3; ++c)
+    {
+      const double h = (corner >> c) & 1 ? half[c] : -half[c];
+      q[0] += h * axes[0][c];
+      q[1] += h * axes[1][c];
+    }
+    plane.push_back(q);
+  }
+}
+
+using PlanePoint = std::array<double, 2>;
+
+double Cross2(const PlanePoint& o, const PlanePoint& a, const PlanePoint& b)
+{
+  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+// Akl-Toussaint: the points extreme in eight directions, in counter-clockwise order, span a
+// polygon inside the hull; points strictly inside it are no hull vertices. On a view's tile
+// boxes this leaves few of the corners for the sort of the monotone chain. The diagonals are
+// those of the points' bounding box (`size`), so a long thin set keeps few points too.
+std::vector<PlanePoint> ExtremePointFilter(
+  const std::vector<PlanePoint>& points, const double size[2])
+{
+  const double sx = size[0] > 0.0 ? 1.0 / size[0] : 1.0;
+  const double sy = size[1] > 0.0 ? 1.0 / size[1] : 1.0;
+  size_t extreme[8] = { 0, 0, 0, 0, 0, 0, 0, 0 };
+  double best[8];
+  std::fill(best, best + 8, -std::numeric_limits<double>::max());
+  for (size_t i = 0; i < points.size(); ++i)
+  {
+    const double x = points[i][0], y = points[i][1];
+    const double u = sx * x, v = sy * y;
+    const double d[8] = { x, u + v, y, v - u, -x, -u - v, -y, u - v };
+    for (int k = 0; k < 8; ++k)
+    {
+      if (d[k] > best[k])
+      {
+        best[k] = d[k];
+        extreme[k] = i;
+      }
+    }
+  }
+  std::vector<PlanePoint> polygon;
+  for (size_t index : extreme)
+  {
+    if (!points.empty() && (polygon.empty() || points[index] != polygon.back()))
+    {
+      polygon.push_back(points[index]);
+    }
+  }
+  while (polygon.size() > 1 && polygon.front() == polygon.back())
+  {
+    polygon.pop_back();
+  }
+  if (polygon.size() < 3)
+  {
+    return points;
+  }
+  // Inside every edge: n . p > c with n the edge's left normal.
+  std::vector<std::array<double, 3>> edges;
+  for (size_t i = 0; i < polygon.size(); ++i)
+  {
+    const PlanePoint& a = polygon[i];
+    const PlanePoint& b = polygon[(i + 1) % polygon.size()];
+    const double nx = a[1] - b[1], ny = b[0] - a[0];
+    edges.push_back({ nx, ny, nx * a[0] + ny * a[1] });
+  }
+  std::vector<PlanePoint> kept;
+  for (const PlanePoint& p : points)
+  {
+    bool inside = true;
+    for (const std::array<double, 3>& edge : edges)
+    {
+      inside &= edge[0] * p[0] + edge[1] * p[1] > edge[2];
+    }
+    if (!inside)
+    {
+      kept.push_back(p);
+    }
+  }
+  return kept;
+}
+
+// Andrew's monotone chain (Brabec 2003, ch. 4.2.2): the convex hull, counter-clockwise,
+// without collinear points.
+std::vector<PlanePoint> ConvexHull(std::vector<PlanePoint> p)
+{
+  std::sort(p.begin(), p.end());
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3)
+  {
+    return p;
+  }
+  std::vector<PlanePoint> hull(2 * p.size());
+  size_t k = 0;
+  for (size_t i = 0; i < p.size(); ++i)
+  {
+    while (k >= 2 && Cross2(hull[k - 2], hull[k - 1], p[i]) <= 0.0)
+    {
+      --k;
+    }
+    hull[k++] = p[i];
+  }
+  for (size_t i = p.size() - 1, lower = k + 1; i > 0; --i)
+  {
+    while (k >= lower && Cross2(hull[k - 2], hull[k - 1], p[i - 1]) <= 0.0)
+    {
+      --k;
+    }
+    hull[k++] = p[i - 1];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+// The extent of the hull along the unit direction u and its normal: { lo_u, hi_u, lo_n, hi_n }.
+std::array<double, 4> HullSpan(const std::vector<PlanePoint>& hull, const double u[2])
+{
+  std::array<double, 4> s = { std::numeric_limits<double>::max(),
+    -std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+    -std::numeric_limits<double>::max() };
+  for (const PlanePoint& p : hull)
+  {
+    const double a = u[0] * p[0] + u[1] * p[1], b = -u[1] * p[0] + u[0] * p[1];
+    s[0] = std::min(s[0], a);
+    s[1] = std::max(s[1], a);
+    s[2] = std::min(s[2], b);
+    s[3] = std::max(s[3], b);
+  }
+  return s;
+}
+
+// Rotates axes[0] and axes[1] in their plane to the best enclosing rectangle of the points
+// and sets lo/hi along them. `square` false: the minimum area (Brabec 2003, ch. 4.2.2: "the
+// minimum area rectangle enclosing a convex polygon P has a side collinear with an edge of
+// P", so the hull's edge directions are the candidates). `square` true: the shortest longer
+// side, which is what a square map's texels follow (its optimum may lie between edge
+// directions, where the two sides are equal: the candidates add every degree, so it is
+// within a degree's rotation of the optimum). The basis itself is a candidate too, so the
+// fit never does worse than the axis-aligned one. Each candidate costs a pass over the hull;
+// beyond 256 edges only every n-th edge is tried (any orientation is a valid fit, only a
+// less tight one). Fewer than 3 hull points (a degenerate receiver set): axes unchanged.
+void FitPlaneRectangle(
+  const std::vector<PlanePoint>& points, bool square, double axes[3][3], double lo[3], double hi[3])
+{
+  const double size[2] = { hi[0] - lo[0], hi[1] - lo[1] };
+  const std::vector<PlanePoint> hull = ConvexHull(ExtremePointFilter(points, size));
+  if (hull.size() < 3)
+  {
+    return;
+  }
+  auto cost = [square](const std::array<double, 4>& s)
+  {
+    const double w = s[1] - s[0], h = s[3] - s[2];
+    return square ? std::max(w, h) : w * h;
+  };
+  double best[2] = { 1.0, 0.0 };
+  std::array<double, 4> span = HullSpan(hull, best);
+  double bestCost = cost(span);
+  auto consider = [&](const double direction[2])
+  {
+    // Of the four directions that give this rectangle, the one nearest the basis (no
+    // needless quarter turn of the map); a candidate must win by more than rounding, so
+    // ties keep the basis (and a moving light's map turns less often).
+    const double turns[4][2] = { { direction[0], direction[1] }, { -direction[1], direction[0] },
+      { -direction[0], -direction[1] }, { direction[1], -direction[0] } };
+    const double* u = *std::max_element(std::begin(turns), std::end(turns),
+      [](const double* a, const double* b) { return a[0] < b[0]; });
+    const std::array<double, 4> s = HullSpan(hull, u);
+    if (cost(s) < bestCost * (1.0 - 1e-9))
+    {
+      bestCost = cost(s);
+      span = s;
+      std::copy(u, u + 2, best);
+    }
+  };
+  const size_t n = hull.size(), step = std::max<size_t>(1, n / 256);
+  for (size_t i = 0; i < n; i += step)
+  {
+    const PlanePoint& a = hull[i];
+    const PlanePoint& b = hull[(i + 1) % n];
+    const double len = std::hypot(b[0] - a[0], b[1] - a[1]);
+    const double u[2] = { (b[0] - a[0]) / len, (b[1] - a[1]) / len };
+    consider(u);
+  }
+  for (int degree = 1; square && degree < 90; ++degree)
+  {
+    const double angle = vtkMath::RadiansFromDegrees(static_cast<double>(degree));
+    const double u[2] = { std::cos(angle), std::sin(angle) };
+    consider(u);
+  }
+  double rotated[2][3];
+  for (int c = 0; c < 3; ++c)
+  {
+    rotated[0][c] = best[0] * axes[0][c] + best[1] * axes[1][c];
+    rotated[1][c] = -best[1] * axes[0][c] + best[0] * axes[1][c];
+  }
+  for (int a = 0; a < 2; ++a)
+  {
+    std::copy(rotated[a], rotated[a] + 3, axes[a]);
+    lo[a] = span[2 * a];
+    hi[a] = span[2 * a + 1];
+  }
+}
+
 // Fits to the per-view tile boxes (vtkPenumbraShadowMapTilesFS) that may hold a receiver of a
 // directional or spot light: every tile with a surface, less, for a directional light, those
 // whose normals all face away from it (interval bounds with a margin above float rounding).
@@ -313,6 +543,10 @@ void ExtentFromTiles(const LightSetup& setup, const TileOutputs& data, int tiles
           std::fabs(half[2] * axes[a][2]);
         e.Lo[a] = std::min(e.Lo[a], mid - reach);
         e.Hi[a] = std::max(e.Hi[a], mid + reach);
+      }
+      if (e.CollectPlane)
+      {
+        AddPlaneCorners(axes, centre, half, e.Plane);
       }
       continue;
     }
@@ -1165,6 +1399,8 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   if (!maps->Valid || maps->Key != key)
   {
     ReceiverExtent extent;
+    extent.CollectPlane = this->FitRectangle != FIT_AXIS;
+    extent.Square = this->FitRectangle == FIT_SQUARE;
     if (slotMode == SlotsOne)
     {
       // The same tile boxes the GPU frame path fits to, so both lookups use the same maps.
@@ -1346,18 +1582,24 @@ void vtkPenumbraShadowMapShadows::Internals::FitViews(
   {
     // Orthographic rows fitted to the receivers' light-space rectangle and depth span.
     // Casters in front of the near plane clamp to depth 0 (ch. 4.1.2): they still shadow.
-    double axes[3][3];
+    double axes[3][3], lo[3], hi[3];
     LightAxes(setup, axes);
+    std::copy(e.Lo, e.Lo + 3, lo);
+    std::copy(e.Hi, e.Hi + 3, hi);
+    if (!e.Plane.empty())
+    {
+      FitPlaneRectangle(e.Plane, e.Square, axes, lo, hi); // ch. 4.2.2
+    }
     View v;
     double extent = 0.0;
     for (int a = 0; a < 3; ++a)
     {
-      extent = std::max(extent, e.Hi[a] - e.Lo[a]);
+      extent = std::max(extent, hi[a] - lo[a]);
     }
     const double pad = 1e-3 * extent + 1e-9 * (1.0 + Norm3(e.Box));
     for (int a = 0; a < 3; ++a)
     {
-      const double l = e.Lo[a] - pad, h = e.Hi[a] + pad;
+      const double l = lo[a] - pad, h = hi[a] + pad;
       const double scale = a < 2 ? 2.0 / (h - l) : 1.0 / (h - l);
       for (int c = 0; c < 3; ++c)
       {
@@ -2095,6 +2337,8 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
     if (!maps->Valid || maps->Key != key)
     {
       ReceiverExtent extent;
+      extent.CollectPlane = self->FitRectangle != FIT_AXIS;
+      extent.Square = self->FitRectangle == FIT_SQUARE;
       if (!this->ReduceExtent(self, frame, setup, extent, error))
       {
         return false;
@@ -2478,6 +2722,25 @@ bool vtkPenumbraShadowMapShadows::GetMapSize(vtkLight* light, int size[2], doubl
 }
 
 //------------------------------------------------------------------------------
+bool vtkPenumbraShadowMapShadows::GetMapFootprint(vtkLight* light, double sides[2])
+{
+  for (const LightMaps& maps : this->Impl->Cache)
+  {
+    if (light && maps.Light == light && maps.Valid && maps.Views.size() == 1 &&
+      !maps.Views[0].Perspective && !maps.Paraboloid)
+    {
+      // Orthographic rows: NDC x = Row[a] . p, so a side of 2 NDC units is 2 / |Row[a]|.
+      for (int a = 0; a < 2; ++a)
+      {
+        sides[a] = 2.0 / Norm3(maps.Views[0].Row[a]);
+      }
+      return true;
+    }
+  }
+  return false;
+}
+
+//------------------------------------------------------------------------------
 void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -2495,6 +2758,11 @@ void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Bias: " << this->Bias << "\n";
   os << indent << "SlopeBias: " << this->SlopeBias << "\n";
   os << indent << "DepthMode: " << (this->DepthMode == DEPTH_MIDPOINT ? "midpoint" : "linear")
+     << "\n";
+  os << indent << "FitRectangle: "
+     << (this->FitRectangle == FIT_SQUARE
+            ? "square"
+            : (this->FitRectangle == FIT_MINIMUM ? "minimum" : "axis"))
      << "\n";
   os << indent << "PointMode: " << (this->PointMode == POINT_PARABOLOID ? "paraboloid" : "cube")
      << "\n";

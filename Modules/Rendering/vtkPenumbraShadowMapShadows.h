@@ -10,8 +10,9 @@
  * - Directional lights: one orthographic map whose s/t extent and depth range are fitted
  *   to the valid view samples that face the light (Brabec 2003, §4.2.1, axis-aligned
  *   rectangle in light space, computed exactly from the samples instead of a control
- *   texture). Casters in front of the fitted near plane are not clipped but clamped to depth
- *   0 (GL_DEPTH_CLAMP plus gl_FragDepth clamping, ch. 4.1.2), so they still shadow.
+ *   texture; SetFitRectangle() rotates it, §4.2.2). Casters in front of the fitted near plane are
+ * not clipped but clamped to depth 0 (GL_DEPTH_CLAMP plus gl_FragDepth clamping, ch. 4.1.2), so
+ * they still shadow.
  * - Spot lights (VTK cone half-angle below 90 degrees): one perspective map along the axis,
  *   its field of view fitted to the receivers inside the cone (never wider than the cone).
  * - Point lights (positional, cone >= 90): six 90-degree cube faces (`Point` = cube,
@@ -384,6 +385,32 @@ public:
   vtkGetMacro(PointMode, int);
   ///@}
 
+  enum FitRectangles
+  {
+    FIT_AXIS = 0,    ///< axis-aligned in the light's arbitrary basis (ch. 4.2.1)
+    FIT_MINIMUM = 1, ///< the minimum-area rectangle over the receivers (ch. 4.2.2)
+    FIT_SQUARE = 2   ///< the rectangle whose longer side is shortest
+  };
+
+  ///@{
+  /**
+   * How a directional light's orthographic map is fitted in its plane: FIT_AXIS (default),
+   * the rectangle aligned with an arbitrary in-plane basis of the light direction, or
+   * FIT_MINIMUM, the minimum-area enclosing rectangle of the receivers' light-plane hull
+   * (Brabec 2003, ch. 4.2.2), so the same texels cover less area, or FIT_SQUARE, the
+   * enclosing rectangle whose longer side is shortest (a square map's texels are that side
+   * over the resolution; within a degree's rotation of the optimum). Other lights ignore it.
+   */
+  vtkSetClampMacro(FitRectangle, int, FIT_AXIS, FIT_SQUARE);
+  vtkGetMacro(FitRectangle, int);
+  ///@}
+
+  /**
+   * The world-space side lengths of the cached orthographic map of directional `light`
+   * (the fitted rectangle, padding included); false when the light has no such map.
+   */
+  bool GetMapFootprint(vtkLight* light, double sides[2]);
+
   /**
    * Views (faces, hemispheres) rendered since construction; cached maps do not count.
    */
@@ -438,6 +465,7 @@ protected:
   double SlopeBias = 1.0;
   int DepthMode = DEPTH_LINEAR;
   int PointMode = POINT_CUBE;
+  int FitRectangle = FIT_AXIS;
   int Lookup = LOOKUP_GPU;
   int AreaLightMode = AREA_NONE;
   int SearchTaps = 4;

@@ -441,6 +441,12 @@ const OptionTable ShadowMapOptions = {
   { "point", OptionType::Choice, "cube", 0, 0, { "cube", "paraboloid" }, "",
     "point lights: \"cube\", six 90-degree faces (only those holding receivers are rendered), "
     "or \"paraboloid\", two dual-paraboloid hemispheres with exact per-sample projection" },
+  { "fit_rectangle", OptionType::Choice, "axis", 0, 0, { "axis", "minimum", "square" }, "",
+    "directional lights: the map's rectangle in the light plane, \"axis\" aligned with an "
+    "arbitrary basis of the light direction (ch. 4.2.1), \"minimum\" the minimum-area "
+    "rectangle around the hull of the receivers' tile boxes (Brabec 2003, ch. 4.2.2: fewer "
+    "texels for the same density, but longer ones along one side of a square map), "
+    "\"square\" the one whose longer side is shortest (the square map's coarser texel side)" },
   { "lookup", OptionType::Choice, "gpu", 0, 0, { "gpu", "cpu", "gbuffer" }, "",
     "\"gpu\": compared with `sampler2DShadow`, the maps never leave the GPU; lights with one "
     "map (directional, spot) are compared in the receivers' own shaders while they are shaded, "
@@ -460,6 +466,9 @@ void ReadMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* technique)
                                                     : vtkPenumbraShadowMapShadows::DEPTH_LINEAR);
   technique->SetPointMode(opts.Choice("point") == 1 ? vtkPenumbraShadowMapShadows::POINT_PARABOLOID
                                                     : vtkPenumbraShadowMapShadows::POINT_CUBE);
+  const int fits[] = { vtkPenumbraShadowMapShadows::FIT_AXIS,
+    vtkPenumbraShadowMapShadows::FIT_MINIMUM, vtkPenumbraShadowMapShadows::FIT_SQUARE };
+  technique->SetFitRectangle(fits[opts.Choice("fit_rectangle")]);
 }
 
 // shadowmap's and resm's: the map options, the filter and where the lookup runs.
