@@ -716,13 +716,15 @@ int vtkPenumbraReference::TraceAreaRays(vtkPenumbraViewSamples* samples,
       for (vtkIdType i = begin; i < end; ++i)
       {
         const vtkIdType s = sampleIds[i];
+        // Background first: its position and normal are not even read.
         double p[3], normal[3];
-        for (int c = 0; c < 3; ++c)
+        const bool surface = in.Props[s] >= 0;
+        for (int c = 0; surface && c < 3; ++c)
         {
           p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
           normal[c] = in.Normals[3 * s + c];
         }
-        if (in.Props[s] < 0 || !Finite3(p) || !Finite3(normal))
+        if (!surface || !Finite3(p) || !Finite3(normal))
         {
           visible[i] = 0;
           continue;
@@ -1007,13 +1009,15 @@ int vtkPenumbraReference::Run(vtkPenumbraViewSamples* samples, const LightRays& 
         {
           continue; // not ours to decide: the caller's value stays
         }
+        // Background first: its position and normal are not even read.
         double p[3], normal[3];
-        for (int c = 0; c < 3; ++c)
+        const bool surface = in.Props[s] >= 0;
+        for (int c = 0; surface && c < 3; ++c)
         {
           p[c] = static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c];
           normal[c] = in.Normals[3 * s + c];
         }
-        if (in.Props[s] < 0 || !Finite3(p) || !Finite3(normal))
+        if (!surface || !Finite3(p) || !Finite3(normal))
         {
           if (vis)
           {

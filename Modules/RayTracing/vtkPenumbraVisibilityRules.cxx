@@ -37,7 +37,13 @@ double SceneDiagonal(vtkPenumbraSceneGeometry* geometry)
 RayBand SampleBand(const double p[3], double diagonal, double epsilon, double tieFactor)
 {
   RayBand band;
-  band.Scale = std::max(vtkMath::Norm(p), diagonal);
+  // max(|p|, D) without the square root where |p|^2 lies clearly below D^2 (the usual case:
+  // the frame is rebased near the scene), the same value bit for bit: sqrt rounds
+  // monotonically, and the margin covers the rounding of both squares.
+  const double squared = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+  band.Scale = squared < diagonal * diagonal * (1.0 - 1e-12)
+    ? diagonal
+    : std::max(std::sqrt(squared), diagonal);
   band.TNear = epsilon * band.Scale;
   band.TieLimit = tieFactor * epsilon * band.Scale;
   return band;
