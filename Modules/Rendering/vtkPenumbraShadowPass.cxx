@@ -219,14 +219,22 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
     return hard && casterBox &&
       RayMeetsBox(p, toLight, points.empty() ? nullptr : points[0].data(), casterBox);
   };
-  const vtkIdType count = samples->GetNumberOfSamples();
+  // The arrays read directly (this scan runs per light and frame), as far as all are long.
+  const int* props = samples->GetPropIndices()->GetPointer(0);
+  const float* positions = samples->GetPositions()->GetPointer(0);
+  double origin[3];
+  samples->GetOrigin(origin);
+  const vtkIdType count =
+    std::min({ samples->GetNumberOfSamples(), samples->GetPropIndices()->GetNumberOfTuples(),
+      samples->GetPositions()->GetNumberOfTuples(), samples->GetNormals()->GetNumberOfTuples() });
   for (vtkIdType i = 0; i < count; ++i)
   {
-    double p[3];
-    if (!samples->GetWorldPosition(i, p))
+    if (props[i] < 0)
     {
       continue;
     }
+    const double p[3] = { positions[3 * i] + origin[0], positions[3 * i + 1] + origin[1],
+      positions[3 * i + 2] + origin[2] };
     anyValid = true;
     const float* nrm = normals + 3 * i;
     if (points.empty())
