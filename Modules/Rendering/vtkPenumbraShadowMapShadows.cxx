@@ -2074,7 +2074,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupList(vtkPenumbraShadowMapShad
   if (!program || !program->GetCompiled())
   {
     error = "the shadow map lookup program does not compile or link on this OpenGL "
-            "implementation (sampler2DShadow is required)";
+            "implementation (texelFetch of depth textures is required)";
     return false;
   }
   std::vector<float>& result = this->ListResult;
@@ -2605,7 +2605,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
   if (!program || !program->GetCompiled())
   {
     error = "the shadow map lookup program does not compile on this OpenGL implementation "
-            "(sampler2DShadow and GL_ARB_gpu_shader_fp64 are required)";
+            "(texelFetch of depth textures and GL_ARB_gpu_shader_fp64 are required)";
     return false;
   }
   std::vector<int> slots;

@@ -34,9 +34,10 @@
  * The depth comparison runs per view sample, after the reference's facing and spot-cone rules
  * (samples facing away or outside the cone are shadowed, lights that are off are lit
  * everywhere and get no map), so the error against vtkPenumbraReference measures shadow-map
- * aliasing only. Two lookups (SetLookup()): on the GPU (default) with the hardware depth
- * compare (sampler2DShadow, LEQUAL, nearest texels; PCF averages the compared taps), the maps
- * staying on the GPU and only the visibility of the pending samples read back; or on the
+ * aliasing only. Two lookups (SetLookup()): on the GPU (default) with a depth compare per
+ * tap (texelFetch of the raw depth and a LEQUAL test, the nearest texel's answer of a
+ * sampler2DShadow; PCF averages the compared taps), the maps staying on the GPU and only the
+ * visibility of the pending samples read back; or on the
  * CPU (vtkSMPTools, double precision) after reading the maps back. A sample is shadowed
  * when stored depth < sample depth - bias, with
  *   bias = Bias + SlopeBias * (1 + r) * texel footprint * tan(angle to the light) / range,

@@ -448,7 +448,8 @@ const OptionTable ShadowMapOptions = {
     "texels for the same density, but longer ones along one side of a square map), "
     "\"square\" the one whose longer side is shortest (the square map's coarser texel side)" },
   { "lookup", OptionType::Choice, "gpu", 0, 0, { "gpu", "cpu", "gbuffer" }, "",
-    "\"gpu\": compared with `sampler2DShadow`, the maps never leave the GPU; lights with one "
+    "\"gpu\": compared on the GPU (a `texelFetch` of the depth and a test per tap), the maps "
+    "never leave the GPU; lights with one "
     "map (directional, spot) are compared in the receivers' own shaders while they are shaded, "
     "as VTK's shadow pass does; \"cpu\": maps read back and compared in double precision with "
     "vtkSMPTools (same answers up to float rounding); \"gbuffer\": \"gpu\", always as a "
