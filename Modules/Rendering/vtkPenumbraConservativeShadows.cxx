@@ -93,7 +93,8 @@ struct vtkPenumbraConservativeShadows::Internals
   // The caster triangles on the GPU (shared upload code, rebuilt only when the geometry changes).
   penumbra_light_views::CasterBuffers Casters;
   std::vector<GLuint> ViewIndices;
-  std::vector<vtkIdType> PendingList; // the samples pass A left pending (reused per call)
+  std::vector<vtkIdType> PendingList;   // the samples pass A left pending (reused per call)
+  std::vector<vtkIdType> UncertainList; // the call's uncertain samples, ascending
 
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   static constexpr int MaxLayers = 4;
@@ -651,6 +652,7 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   this->NumberOfViews = 0;
   this->NumberOfMapBuilds = 0;
   this->NumberOfTexelWrites = 0;
+  impl.UncertainList.clear();
 
   // ---- Input checks: nothing is written before they pass.
   penumbra_light_views::FrameInputs in;
@@ -775,14 +777,19 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
 
   // ---- The uncertain samples, for the caller to resolve.
   // Only pass A's pending samples can be other than Decided (0) here.
-  vtkIdType uncertain = 0;
+  std::vector<vtkIdType>& uncertainList = impl.UncertainList;
+  uncertainList.clear();
   for (vtkIdType s : pending)
   {
     // Samples still pending here had no view (cannot happen with full coverage) and are
     // uncertain too, so nothing is ever left undecided.
     state[s] = (state[s] == Uncertain || state[s] == Pending) ? 1 : 0;
-    uncertain += state[s];
+    if (state[s])
+    {
+      uncertainList.push_back(s);
+    }
   }
+  const vtkIdType uncertain = static_cast<vtkIdType>(uncertainList.size());
   this->MapTimeMs = uploadMs + mapMs;
   this->ClassifyTimeMs = classifyMs;
   this->NumberOfLitSamples = lit.load();
@@ -792,6 +799,12 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   visibility->Modified();
   this->LastTimeMs = ElapsedMs(start);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+const std::vector<vtkIdType>& vtkPenumbraConservativeShadows::GetUncertainSamples()
+{
+  return this->Impl->UncertainList;
 }
 
 //------------------------------------------------------------------------------

@@ -1234,6 +1234,7 @@ vtkPenumbraLinkedListShadows::vtkPenumbraLinkedListShadows()
   , Reference(vtkPenumbraReference::New())
   , Impl(new Internals)
 {
+  this->Classifier->SetLayers(3); // see GetClassifier()
 }
 
 //------------------------------------------------------------------------------
@@ -1287,19 +1288,29 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   mask->SetNumberOfTuples(n);
   float* vis = n ? visibility->GetPointer(0) : nullptr;
   unsigned char* state = n ? mask->GetPointer(0) : nullptr;
-  if (!this->Hybrid)
+  // The pending samples, listed once: every later phase visits only them. The hybrid's
+  // classifier lists and counts them already (its uncertain samples, mask value 1 =
+  // Pending; lit + shadowed + uncertain = the valid samples), so its samples are not scanned
+  // again.
+  impl.ToDecide.clear();
+  if (this->Hybrid)
+  {
+    const std::vector<vtkIdType>& uncertain = this->Classifier->GetUncertainSamples();
+    impl.ToDecide.assign(uncertain.begin(), uncertain.end());
+    this->NumberOfValidSamples = this->Classifier->GetNumberOfLitSamples() +
+      this->Classifier->GetNumberOfShadowedSamples() + static_cast<vtkIdType>(uncertain.size());
+  }
+  else
   {
     penumbra_light_views::ClassifyFacing(in.Light, n, in.Positions, in.Normals, in.Props, in.Shift,
       anyCaster, vis, state, Pending, Settled);
-  }
-  // The pending samples, listed once: every later phase visits only them.
-  impl.ToDecide.clear();
-  for (vtkIdType s = 0; s < n; ++s)
-  {
-    this->NumberOfValidSamples += vis[s] >= 0.0f;
-    if (state[s] == Pending)
+    for (vtkIdType s = 0; s < n; ++s)
     {
-      impl.ToDecide.push_back(s);
+      this->NumberOfValidSamples += vis[s] >= 0.0f;
+      if (state[s] == Pending)
+      {
+        impl.ToDecide.push_back(s);
+      }
     }
   }
   std::vector<View> views;
