@@ -742,20 +742,12 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   // reference's light rules): decide what needs no map, and find the box the light cameras
   // must cover.
   const double diagonal = penumbra_rules::SceneDiagonal(geometry);
-  const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(
-    setup, n, pos, nrm, props, shift, anyCaster, vis, state, Pending, Decided);
-  std::atomic<vtkIdType> lit(facing.Lit), shadowed(facing.Shadowed);
-  // The pending samples, listed once: the later phases visit only them (at 1280 x 720 a
-  // scene covers a fraction of the pixels).
+  // The pending samples, listed once by the same pass: the later phases visit only them (at
+  // 1280 x 720 a scene covers a fraction of the pixels).
   std::vector<vtkIdType>& pending = impl.PendingList;
-  pending.clear();
-  for (vtkIdType s = 0; s < n; ++s)
-  {
-    if (state[s] == Pending)
-    {
-      pending.push_back(s);
-    }
-  }
+  const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(
+    setup, n, pos, nrm, props, shift, anyCaster, vis, state, Pending, Decided, &pending);
+  std::atomic<vtkIdType> lit(facing.Lit), shadowed(facing.Shadowed);
 
   // ---- Light cameras.
   // The views cover the pending samples only (FitViews): casters nearer the light than the
