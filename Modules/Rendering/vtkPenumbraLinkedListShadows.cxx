@@ -918,6 +918,7 @@ struct CasterGrid
       e[6] * x + e[7] * y + e[8] >= -margin;
   }
   std::vector<std::uint32_t> Texels;   // the pass's texels with a list, ascending
+  std::vector<double> TexelDepth;      // per entry of Texels: its samples' farthest depth
   std::vector<std::uint32_t> RowStart; // per grid row: its first entry in Texels (size + 1)
   std::vector<vtkIdType> BandStart;    // per band of grid rows: first entry (bands + 1)
   std::vector<std::uint32_t> Entries;  // per band: the casters whose box reaches it
@@ -1026,6 +1027,17 @@ struct CasterGrid
     {
       std::sort(this->Texels.begin(), this->Texels.end()); // GPU lists: any node order
     }
+    this->TexelDepth.resize(this->Texels.size());
+    for (size_t k = 0; k < this->Texels.size(); ++k)
+    {
+      double farthest = -std::numeric_limits<double>::infinity();
+      for (std::uint32_t j = lists.Head[this->Texels[k]]; j != NoNode; j = lists.Nodes[2 * j + 1])
+      {
+        const double depth = ctx.Depth[lists.Nodes[2 * j]];
+        farthest = depth <= farthest ? farthest : depth; // a NaN depth stays (never Behind)
+      }
+      this->TexelDepth[k] = farthest;
+    }
     this->RowStart.assign(static_cast<size_t>(size) + 1, 0);
     for (std::uint32_t t : this->Texels)
     {
@@ -1121,7 +1133,10 @@ vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<v
                                               : std::lower_bound(rowBegin, rowEnd, base + x0);
                  it != rowEnd && *it <= base + x1; ++it)
             {
-              if (!grid.TexelNear(i, *it - base, y))
+              // Behind grows with the sample's depth: a caster behind the texel's farthest
+              // sample is behind each of its samples (the per-sample test below).
+              const size_t k = static_cast<size_t>(it - grid.Texels.begin());
+              if (Behind(grid.Lower[i], grid.TexelDepth[k]) || !grid.TexelNear(i, *it - base, y))
               {
                 continue;
               }
