@@ -85,6 +85,16 @@ struct FrameContext
   const std::vector<signed char>* SampleView = nullptr;
   const std::vector<vtkIdType>* Pending = nullptr; // the samples pass A left pending, ascending
 };
+
+// A sample of a view projected into its map (rule 2 of ClassifyView), waiting for its
+// decision: the sample, its point (rebased, double), depth and texel in the view.
+struct Projected
+{
+  vtkIdType S;
+  double P[3];
+  double Depth;
+  size_t Texel;
+};
 }
 
 struct vtkPenumbraConservativeShadows::Internals
@@ -93,7 +103,8 @@ struct vtkPenumbraConservativeShadows::Internals
   // The caster triangles on the GPU (shared upload code, rebuilt only when the geometry changes).
   penumbra_light_views::CasterBuffers Casters;
   std::vector<GLuint> ViewIndices;
-  std::vector<vtkIdType> PendingList; // the samples pass A left pending (reused per call)
+  std::vector<vtkIdType> PendingList;   // the samples pass A left pending (reused per call)
+  std::vector<vtkIdType> UncertainList; // the call's uncertain samples, ascending
 
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   static constexpr int MaxLayers = 4;
@@ -426,6 +437,108 @@ struct vtkPenumbraConservativeShadows::Internals
     }
   }
 
+  // Rules 3a-3c (and the apex region's triangles) for one projected sample of the view;
+  // leaves it Uncertain when none decides it.
+  static void DecideSample(const FrameContext& f, const ViewMaps& maps,
+    penumbra_light_views::ExactTriangles& exact, const Projected& q,
+    penumbra_rules::ExactTriangle& scratch, vtkIdType& localLit, vtkIdType& localShadowed)
+  {
+    const std::vector<vtkIdType>& nearTriangles = maps.Near;
+    const bool nearTestable = nearTriangles.size() <= MaxNearTriangles;
+    const double* tv = f.In->TriangleVertices;
+    const vtkIdType nTriangles = f.In->NumberOfTriangles;
+    float* vis = f.Vis;
+    unsigned char* state = f.State;
+    // The exact test of rule 3c (and of the apex region's triangles) against one blocker.
+    auto TestBlocker = [&exact](const penumbra_light_views::ShadowRay& ray, vtkIdType blocker,
+                         const double* vertices, penumbra_rules::ExactTriangle& triangle)
+    {
+      const penumbra_rules::ExactTriangle* made = exact.Get(blocker, vertices, triangle);
+      return made ? penumbra_light_views::TestShadowRay(ray, *made) : Hit::Unknown;
+    };
+    const vtkIdType s = q.S;
+    const double* p = q.P;
+    const double depth = q.Depth;
+    const size_t texel = q.Texel;
+    const double margin = 1e-6 * (1.0 + std::fabs(depth));
+    const vtkIdType own = f.In->Triangles[s];
+
+    // The reference's ray: same direction, same scale-relative epsilons; made when the
+    // first exact test needs it (most samples are decided by the first layer's depth).
+    // Its Ok flag is known without it: a positional light's ray needs a non-zero
+    // direction (MakeShadowRay normalizes it).
+    penumbra_light_views::ShadowRay ray;
+    bool rayMade = false;
+    auto shadowRay = [&]() -> const penumbra_light_views::ShadowRay&
+    {
+      if (!rayMade)
+      {
+        ray =
+          penumbra_light_views::MakeShadowRay(f.In->Light, p, f.Diagonal, f.Epsilon, f.TieFactor);
+        rayMade = true;
+      }
+      return ray;
+    };
+    bool rayOk = true;
+    if (f.In->Light.Type != LightSetup::Kind::Directional)
+    {
+      double d2 = 0.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        const double d = f.In->Light.Position[c] - p[c];
+        d2 += d * d;
+      }
+      rayOk = d2 > 0.0;
+    }
+
+    bool nearClear = true;
+    for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
+    {
+      const vtkIdType blocker = nearTriangles[k];
+      const Hit hit = nearTestable && blocker != own
+        ? TestBlocker(shadowRay(), blocker, tv, scratch)
+        : (blocker == own ? Hit::Miss : Hit::Unknown);
+      if (hit == Hit::Clear)
+      {
+        vis[s] = 0.0f;
+        state[s] = Decided;
+        ++localShadowed;
+      }
+      nearClear = hit == Hit::Miss;
+    }
+    for (int k = 0; k < f.Layers && rayOk && nearClear; ++k)
+    {
+      const std::uint32_t id = maps.Ids[k][texel] & IdMask;
+      if (id == 0 || maps.Depth[k][texel] > depth + margin)
+      {
+        state[s] = Decided;
+        ++localLit;
+        break;
+      }
+      const vtkIdType blocker = static_cast<vtkIdType>(id) - 1;
+      if (blocker == own)
+      {
+        continue;
+      }
+      if (blocker >= nTriangles)
+      {
+        break;
+      }
+      const Hit hit = TestBlocker(shadowRay(), blocker, tv, scratch);
+      if (hit == Hit::Clear)
+      {
+        vis[s] = 0.0f;
+        state[s] = Decided;
+        ++localShadowed;
+        break;
+      }
+      if (hit == Hit::Unknown)
+      {
+        break;
+      }
+    }
+  }
+
   // Classifies the pending samples of view `viewIndex` with its maps: lit, shadowed or
   // uncertain. `exact` holds the casters' exact triangles (kept between frames).
   static void ClassifyView(const FrameContext& f, const View& view, signed char viewIndex,
@@ -452,128 +565,61 @@ struct vtkPenumbraConservativeShadows::Internals
     // of the map (they would cover all of it); each is tested exactly against the sample's
     // ray first, with rule 3b/3c above. Beyond MaxNearTriangles of them the view's samples
     // are all traced.
-    const std::vector<vtkIdType>& nearTriangles = maps.Near;
-    const bool nearTestable = nearTriangles.size() <= MaxNearTriangles;
     const int size = f.Size;
     const int layers = f.Layers;
     const double* shift = f.In->Shift;
     const float* pos = f.In->Positions;
-    const vtkIdType* tris = f.In->Triangles;
-    const double* tv = f.In->TriangleVertices;
-    const vtkIdType nTriangles = f.In->NumberOfTriangles;
     const std::vector<signed char>& sampleView = *f.SampleView;
-    float* vis = f.Vis;
     unsigned char* state = f.State;
-    // The exact test of rule 3c (and of the apex region's triangles) against one blocker.
-    auto TestBlocker = [&exact](const penumbra_light_views::ShadowRay& ray, vtkIdType blocker,
-                         const double* vertices, penumbra_rules::ExactTriangle& scratch)
-    {
-      const penumbra_rules::ExactTriangle* triangle = exact.Get(blocker, vertices, scratch);
-      return triangle ? penumbra_light_views::TestShadowRay(ray, *triangle) : Hit::Unknown;
-    };
     const std::vector<vtkIdType>& pending = *f.Pending;
+    // Samples are projected a batch at a time and their texels' first two layers fetched
+    // ahead (prefetch) before any is decided: the map lookups miss the cache (a 1024^2 layer
+    // is 8 MB), and waiting for each in turn was most of the classification's time.
+    constexpr vtkIdType Batch = 32;
     vtkSMPTools::For(0, static_cast<vtkIdType>(pending.size()),
       [&](vtkIdType begin, vtkIdType end)
       {
         vtkIdType localLit = 0, localShadowed = 0;
         penumbra_rules::ExactTriangle scratch;
-        for (vtkIdType i = begin; i < end; ++i)
+        Projected batch[Batch];
+        for (vtkIdType first = begin; first < end; first += Batch)
         {
-          const vtkIdType s = pending[static_cast<size_t>(i)];
-          if (state[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
+          int count = 0;
+          for (vtkIdType i = first; i < std::min(end, first + Batch); ++i)
           {
-            continue;
-          }
-          state[s] = Uncertain;
-          double p[3];
-          for (int c = 0; c < 3; ++c)
-          {
-            p[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
-          }
-          double ms, mt, depth;
-          if (!view.Project(p, ms, mt, depth) || !(std::fabs(ms) <= 1.0) || !(std::fabs(mt) <= 1.0))
-          {
-            continue;
-          }
-          const int ix = std::min(size - 1, std::max(0, static_cast<int>((ms * 0.5 + 0.5) * size)));
-          const int iy = std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
-          const size_t texel = static_cast<size_t>(iy) * size + ix;
-          const double margin = 1e-6 * (1.0 + std::fabs(depth));
-          const vtkIdType own = tris[s];
-
-          // The reference's ray: same direction, same scale-relative epsilons; made when the
-          // first exact test needs it (most samples are decided by the first layer's depth).
-          // Its Ok flag is known without it: a positional light's ray needs a non-zero
-          // direction (MakeShadowRay normalizes it).
-          penumbra_light_views::ShadowRay ray;
-          bool rayMade = false;
-          auto shadowRay = [&]() -> const penumbra_light_views::ShadowRay&
-          {
-            if (!rayMade)
-            {
-              ray = penumbra_light_views::MakeShadowRay(
-                f.In->Light, p, f.Diagonal, f.Epsilon, f.TieFactor);
-              rayMade = true;
-            }
-            return ray;
-          };
-          bool rayOk = true;
-          if (f.In->Light.Type != LightSetup::Kind::Directional)
-          {
-            double d2 = 0.0;
-            for (int c = 0; c < 3; ++c)
-            {
-              const double d = f.In->Light.Position[c] - p[c];
-              d2 += d * d;
-            }
-            rayOk = d2 > 0.0;
-          }
-
-          bool nearClear = true;
-          for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
-          {
-            const vtkIdType blocker = nearTriangles[k];
-            const Hit hit = nearTestable && blocker != own
-              ? TestBlocker(shadowRay(), blocker, tv, scratch)
-              : (blocker == own ? Hit::Miss : Hit::Unknown);
-            if (hit == Hit::Clear)
-            {
-              vis[s] = 0.0f;
-              state[s] = Decided;
-              ++localShadowed;
-            }
-            nearClear = hit == Hit::Miss;
-          }
-          for (int k = 0; k < layers && rayOk && nearClear; ++k)
-          {
-            const std::uint32_t id = maps.Ids[k][texel] & IdMask;
-            if (id == 0 || maps.Depth[k][texel] > depth + margin)
-            {
-              state[s] = Decided;
-              ++localLit;
-              break;
-            }
-            const vtkIdType blocker = static_cast<vtkIdType>(id) - 1;
-            if (blocker == own)
+            const vtkIdType s = pending[static_cast<size_t>(i)];
+            if (state[s] != Pending || sampleView[static_cast<size_t>(s)] != viewIndex)
             {
               continue;
             }
-            if (blocker >= nTriangles)
+            state[s] = Uncertain;
+            Projected& q = batch[count];
+            for (int c = 0; c < 3; ++c)
             {
-              break;
+              q.P[c] = static_cast<double>(pos[3 * s + c]) + shift[c];
             }
-            const Hit hit = TestBlocker(shadowRay(), blocker, tv, scratch);
-            if (hit == Hit::Clear)
+            double ms, mt;
+            if (!view.Project(q.P, ms, mt, q.Depth) || !(std::fabs(ms) <= 1.0) ||
+              !(std::fabs(mt) <= 1.0))
             {
-              vis[s] = 0.0f;
-              state[s] = Decided;
-              ++localShadowed;
-              break;
+              continue;
             }
-            if (hit == Hit::Unknown)
+            const int ix =
+              std::min(size - 1, std::max(0, static_cast<int>((ms * 0.5 + 0.5) * size)));
+            const int iy =
+              std::min(size - 1, std::max(0, static_cast<int>((mt * 0.5 + 0.5) * size)));
+            q.S = s;
+            q.Texel = static_cast<size_t>(iy) * size + ix;
+            for (int k = 0; k < std::min(layers, 2); ++k)
             {
-              break;
+              __builtin_prefetch(maps.Ids[k].data() + q.Texel);
+              __builtin_prefetch(maps.Depth[k].data() + q.Texel);
             }
+            ++count;
+          }
+          for (int j = 0; j < count; ++j)
+          {
+            DecideSample(f, maps, exact, batch[j], scratch, localLit, localShadowed);
           }
         }
         viewLit += localLit;
@@ -651,6 +697,7 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   this->NumberOfViews = 0;
   this->NumberOfMapBuilds = 0;
   this->NumberOfTexelWrites = 0;
+  impl.UncertainList.clear();
 
   // ---- Input checks: nothing is written before they pass.
   penumbra_light_views::FrameInputs in;
@@ -695,20 +742,12 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   // reference's light rules): decide what needs no map, and find the box the light cameras
   // must cover.
   const double diagonal = penumbra_rules::SceneDiagonal(geometry);
-  const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(
-    setup, n, pos, nrm, props, shift, anyCaster, vis, state, Pending, Decided);
-  std::atomic<vtkIdType> lit(facing.Lit), shadowed(facing.Shadowed);
-  // The pending samples, listed once: the later phases visit only them (at 1280 x 720 a
-  // scene covers a fraction of the pixels).
+  // The pending samples, listed once by the same pass: the later phases visit only them (at
+  // 1280 x 720 a scene covers a fraction of the pixels).
   std::vector<vtkIdType>& pending = impl.PendingList;
-  pending.clear();
-  for (vtkIdType s = 0; s < n; ++s)
-  {
-    if (state[s] == Pending)
-    {
-      pending.push_back(s);
-    }
-  }
+  const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(
+    setup, n, pos, nrm, props, shift, anyCaster, vis, state, Pending, Decided, &pending);
+  std::atomic<vtkIdType> lit(facing.Lit), shadowed(facing.Shadowed);
 
   // ---- Light cameras.
   // The views cover the pending samples only (FitViews): casters nearer the light than the
@@ -775,14 +814,19 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
 
   // ---- The uncertain samples, for the caller to resolve.
   // Only pass A's pending samples can be other than Decided (0) here.
-  vtkIdType uncertain = 0;
+  std::vector<vtkIdType>& uncertainList = impl.UncertainList;
+  uncertainList.clear();
   for (vtkIdType s : pending)
   {
     // Samples still pending here had no view (cannot happen with full coverage) and are
     // uncertain too, so nothing is ever left undecided.
     state[s] = (state[s] == Uncertain || state[s] == Pending) ? 1 : 0;
-    uncertain += state[s];
+    if (state[s])
+    {
+      uncertainList.push_back(s);
+    }
   }
+  const vtkIdType uncertain = static_cast<vtkIdType>(uncertainList.size());
   this->MapTimeMs = uploadMs + mapMs;
   this->ClassifyTimeMs = classifyMs;
   this->NumberOfLitSamples = lit.load();
@@ -792,6 +836,12 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   visibility->Modified();
   this->LastTimeMs = ElapsedMs(start);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+const std::vector<vtkIdType>& vtkPenumbraConservativeShadows::GetUncertainSamples()
+{
+  return this->Impl->UncertainList;
 }
 
 //------------------------------------------------------------------------------

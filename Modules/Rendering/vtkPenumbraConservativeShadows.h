@@ -54,6 +54,7 @@
 #include "vtkPenumbraShadowTechnique.h"
 
 #include <memory> // For std::unique_ptr
+#include <vector> // For GetUncertainSamples
 
 class vtkPenumbraReference;
 class vtkUnsignedCharArray;
@@ -139,6 +140,15 @@ public:
   vtkGetMacro(NumberOfUncertainSamples, vtkIdType);
   ///@}
 
+#ifndef __VTK_WRAP__
+  /**
+   * The uncertain samples of the last call (mask value 1), ascending; valid until the next
+   * call. A caller that resolves them (llsm-hybrid) reads them here instead of scanning
+   * every sample's mask.
+   */
+  const std::vector<vtkIdType>& GetUncertainSamples();
+#endif
+
   /**
    * Uncertain / (lit + shadowed + uncertain) of the last call; 0 without valid samples.
    */
@@ -180,7 +190,10 @@ public:
   /**
    * The ray tracer for the uncertain samples (exposed for its statistics and epsilons).
    */
-  vtkPenumbraReference* GetReference() { return this->Reference; }
+  vtkPenumbraReference* GetReference()
+  {
+    return this->Reference;
+  }
 
 protected:
   vtkPenumbraConservativeShadows();

@@ -24,6 +24,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <regex>
 #include <set>
 
@@ -280,14 +281,19 @@ bool FrameInputs::Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry
 //------------------------------------------------------------------------------
 FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* pos,
   const float* nrm, const int* props, const double shift[3], bool anyCaster, float* vis,
-  unsigned char* pending, unsigned char pendingValue, unsigned char decidedValue)
+  unsigned char* pending, unsigned char pendingValue, unsigned char decidedValue,
+  std::vector<vtkIdType>* pendingList)
 {
   std::atomic<vtkIdType> lit(0), shadowed(0), waiting(0);
   const bool directional = light.Type == LightSetup::Kind::Directional;
+  // Each chunk's pending samples, by the chunk's first sample (chunks run in any order).
+  std::vector<std::pair<vtkIdType, std::vector<vtkIdType>>> chunks;
+  std::mutex chunksMutex;
   vtkSMPTools::For(0, n,
     [&](vtkIdType begin, vtkIdType end)
     {
       vtkIdType localLit = 0, localShadowed = 0, localPending = 0;
+      std::vector<vtkIdType> localList;
       for (vtkIdType s = begin; s < end; ++s)
       {
         pending[s] = decidedValue;
@@ -339,11 +345,31 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
         }
         pending[s] = pendingValue;
         ++localPending;
+        if (pendingList)
+        {
+          localList.push_back(s);
+        }
       }
       lit += localLit;
       shadowed += localShadowed;
       waiting += localPending;
+      if (!localList.empty())
+      {
+        const std::lock_guard<std::mutex> lock(chunksMutex);
+        chunks.emplace_back(begin, std::move(localList));
+      }
     });
+  if (pendingList)
+  {
+    std::sort(
+      chunks.begin(), chunks.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    pendingList->clear();
+    pendingList->reserve(static_cast<size_t>(waiting.load()));
+    for (const auto& chunk : chunks)
+    {
+      pendingList->insert(pendingList->end(), chunk.second.begin(), chunk.second.end());
+    }
+  }
   FacingCounts counts;
   counts.Lit = lit.load();
   counts.Shadowed = shadowed.load();

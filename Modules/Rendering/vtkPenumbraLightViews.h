@@ -139,7 +139,8 @@ struct FrameInputs
  * Per-sample pass shared by the techniques: background -> -1; light off -> 1; facing away
  * or outside a spot cone -> 0 (the reference's rule); no casters -> 1; otherwise
  * `pending[s] = 1` and visibility 1 until a map says otherwise. `shift` moves sample
- * positions into the geometry's frame.
+ * positions into the geometry's frame. `pendingList` (optional) receives the pending
+ * samples, ascending, listed by the same parallel pass instead of a later serial scan.
  */
 struct FacingCounts
 {
@@ -149,7 +150,8 @@ struct FacingCounts
 };
 FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* pos,
   const float* nrm, const int* props, const double shift[3], bool anyCaster, float* vis,
-  unsigned char* pending, unsigned char pendingValue, unsigned char decidedValue);
+  unsigned char* pending, unsigned char pendingValue, unsigned char decidedValue,
+  std::vector<vtkIdType>* pendingList = nullptr);
 
 /**
  * The light cameras that cover the samples with `state[s] == pendingValue`: directional

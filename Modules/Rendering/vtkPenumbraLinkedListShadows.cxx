@@ -917,7 +917,11 @@ struct CasterGrid
     return e[0] * x + e[1] * y + e[2] >= -margin && e[3] * x + e[4] * y + e[5] >= -margin &&
       e[6] * x + e[7] * y + e[8] >= -margin;
   }
+  static constexpr int TileTexels = 16;
+  std::vector<std::uint32_t> TileSums; // summed-area table of listed texels per tile
+  int Tiles = 0;                       // tiles per side
   std::vector<std::uint32_t> Texels;   // the pass's texels with a list, ascending
+  std::vector<double> TexelDepth;      // per entry of Texels: its samples' farthest depth
   std::vector<std::uint32_t> RowStart; // per grid row: its first entry in Texels (size + 1)
   std::vector<vtkIdType> BandStart;    // per band of grid rows: first entry (bands + 1)
   std::vector<std::uint32_t> Entries;  // per band: the casters whose box reaches it
@@ -935,6 +939,46 @@ struct CasterGrid
   }
   int FirstRow(size_t i, int size) const { return First(this->Box[4 * i + 2], size); }
   int LastRow(size_t i, int size) const { return Last(this->Box[4 * i + 3], size); }
+
+  // Counts the pass's listed texels per tile of TileTexels^2 texels, as a summed-area table.
+  void CountTiles(int size, const Lists& lists)
+  {
+    this->Tiles = (size + TileTexels - 1) / TileTexels;
+    const size_t side = static_cast<size_t>(this->Tiles) + 1;
+    this->TileSums.assign(side * side, 0);
+    for (size_t j = 0; j < lists.NodeTexel.size(); ++j)
+    {
+      const std::uint32_t t = lists.NodeTexel[j];
+      const size_t x = t % static_cast<std::uint32_t>(size) / TileTexels;
+      const size_t y = t / static_cast<std::uint32_t>(size) / TileTexels;
+      this->TileSums[(y + 1) * side + x + 1] = 1; // marked; summed below
+    }
+    for (size_t y = 1; y < side; ++y)
+    {
+      for (size_t x = 1; x < side; ++x)
+      {
+        this->TileSums[y * side + x] += this->TileSums[(y - 1) * side + x] +
+          this->TileSums[y * side + x - 1] - this->TileSums[(y - 1) * side + x - 1];
+      }
+    }
+  }
+
+  // Whether caster i's box overlaps a tile with a listed texel: if not, the band walk would
+  // find no listed texel under it (the same First/Last texel bounds), so it is not binned.
+  bool BoxMeetsList(size_t i, int size) const
+  {
+    const size_t side = static_cast<size_t>(this->Tiles) + 1;
+    const size_t x0 = static_cast<size_t>(First(this->Box[4 * i], size) / TileTexels);
+    const size_t x1 = static_cast<size_t>(Last(this->Box[4 * i + 1], size) / TileTexels) + 1;
+    const size_t y0 = static_cast<size_t>(this->FirstRow(i, size) / TileTexels);
+    const size_t y1 = static_cast<size_t>(this->LastRow(i, size) / TileTexels) + 1;
+    if (x1 <= x0 || y1 <= y0)
+    {
+      return true; // an empty span: leave it to the band walk
+    }
+    const std::uint32_t* t = this->TileSums.data();
+    return t[y1 * side + x1] - t[y0 * side + x1] - t[y1 * side + x0] + t[y0 * side + x0] > 0;
+  }
 
   // Bins `casters` by band, lists the pass's texels and makes the listed samples' rays; the
   // apex region's casters go to `nearTriangles` (as with the rasterizer). Returns the binned.
@@ -957,6 +1001,7 @@ struct CasterGrid
     {
       errPos = std::max(errPos, ray.ErrPos);
     }
+    this->CountTiles(size, lists);
     const size_t n = casters.size();
     this->TexelMargin.assign(n, -1.0);
     this->Box.resize(4 * n);
@@ -999,7 +1044,8 @@ struct CasterGrid
           {
             kind = 2;
           }
-          else if (box[1] >= 0.0 && box[3] >= 0.0 && box[0] < size && box[2] < size)
+          else if (box[1] >= 0.0 && box[3] >= 0.0 && box[0] < size && box[2] < size &&
+            this->BoxMeetsList(static_cast<size_t>(i), size))
           {
             kind = 1;
             this->Flat[static_cast<size_t>(i)] = !ProjectionBounds(view, rowScale, tri,
@@ -1025,6 +1071,17 @@ struct CasterGrid
     if (!std::is_sorted(this->Texels.begin(), this->Texels.end()))
     {
       std::sort(this->Texels.begin(), this->Texels.end()); // GPU lists: any node order
+    }
+    this->TexelDepth.resize(this->Texels.size());
+    for (size_t k = 0; k < this->Texels.size(); ++k)
+    {
+      double farthest = -std::numeric_limits<double>::infinity();
+      for (std::uint32_t j = lists.Head[this->Texels[k]]; j != NoNode; j = lists.Nodes[2 * j + 1])
+      {
+        const double depth = ctx.Depth[lists.Nodes[2 * j]];
+        farthest = depth <= farthest ? farthest : depth; // a NaN depth stays (never Behind)
+      }
+      this->TexelDepth[k] = farthest;
     }
     this->RowStart.assign(static_cast<size_t>(size) + 1, 0);
     for (std::uint32_t t : this->Texels)
@@ -1121,7 +1178,10 @@ vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<v
                                               : std::lower_bound(rowBegin, rowEnd, base + x0);
                  it != rowEnd && *it <= base + x1; ++it)
             {
-              if (!grid.TexelNear(i, *it - base, y))
+              // Behind grows with the sample's depth: a caster behind the texel's farthest
+              // sample is behind each of its samples (the per-sample test below).
+              const size_t k = static_cast<size_t>(it - grid.Texels.begin());
+              if (Behind(grid.Lower[i], grid.TexelDepth[k]) || !grid.TexelNear(i, *it - base, y))
               {
                 continue;
               }
@@ -1234,6 +1294,7 @@ vtkPenumbraLinkedListShadows::vtkPenumbraLinkedListShadows()
   , Reference(vtkPenumbraReference::New())
   , Impl(new Internals)
 {
+  this->Classifier->SetLayers(3); // see GetClassifier()
 }
 
 //------------------------------------------------------------------------------
@@ -1287,19 +1348,29 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   mask->SetNumberOfTuples(n);
   float* vis = n ? visibility->GetPointer(0) : nullptr;
   unsigned char* state = n ? mask->GetPointer(0) : nullptr;
-  if (!this->Hybrid)
+  // The pending samples, listed once: every later phase visits only them. The hybrid's
+  // classifier lists and counts them already (its uncertain samples, mask value 1 =
+  // Pending; lit + shadowed + uncertain = the valid samples), so its samples are not scanned
+  // again.
+  impl.ToDecide.clear();
+  if (this->Hybrid)
+  {
+    const std::vector<vtkIdType>& uncertain = this->Classifier->GetUncertainSamples();
+    impl.ToDecide.assign(uncertain.begin(), uncertain.end());
+    this->NumberOfValidSamples = this->Classifier->GetNumberOfLitSamples() +
+      this->Classifier->GetNumberOfShadowedSamples() + static_cast<vtkIdType>(uncertain.size());
+  }
+  else
   {
     penumbra_light_views::ClassifyFacing(in.Light, n, in.Positions, in.Normals, in.Props, in.Shift,
       anyCaster, vis, state, Pending, Settled);
-  }
-  // The pending samples, listed once: every later phase visits only them.
-  impl.ToDecide.clear();
-  for (vtkIdType s = 0; s < n; ++s)
-  {
-    this->NumberOfValidSamples += vis[s] >= 0.0f;
-    if (state[s] == Pending)
+    for (vtkIdType s = 0; s < n; ++s)
     {
-      impl.ToDecide.push_back(s);
+      this->NumberOfValidSamples += vis[s] >= 0.0f;
+      if (state[s] == Pending)
+      {
+        impl.ToDecide.push_back(s);
+      }
     }
   }
   std::vector<View> views;

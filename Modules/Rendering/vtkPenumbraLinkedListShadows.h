@@ -182,6 +182,9 @@ public:
 
   /**
    * The hybrid's classifier (its Resolution and Layers are the classification's settings).
+   * Its Layers default to 3 here, not 2: the third layer decides most of the samples two
+   * leave uncertain (the city: 0.6 % listed instead of 5.8 %), and a listed sample costs
+   * the hybrid more than the layer does (see docs/benchmarks.md).
    */
   vtkPenumbraConservativeShadows* GetClassifier() { return this->Classifier; }
 

@@ -399,6 +399,11 @@ OptionTable LinkedListHybridTable()
   OptionTable table = LinkedListOptions;
   table.push_back({ "classify_resolution", OptionType::Integer, 1024, 64, 8192, {}, "texels",
     "texels per side of the conservative shadow map that decides the easy samples" });
+  table.push_back({ "classify_layers", OptionType::Integer, 3, 2, 4, {}, "",
+    "depth-peeled layers of that map: each decides more samples without the lists (3 "
+    "against 2: 0.6 % instead of 5.8 % of the city's samples listed, 4.6 % instead of 7.7 % "
+    "of the isosurface's) at one more layer to build when the light or the view moves; 3 "
+    "was the fastest with a still and with a moving light" });
   return table;
 }
 const OptionTable LinkedListHybridOptions = LinkedListHybridTable();
@@ -414,6 +419,7 @@ void InstallLinkedList(vtkRenderer* ren, const Options& opts, bool hybrid)
   if (hybrid)
   {
     technique->GetClassifier()->SetResolution(opts.Integer("classify_resolution"));
+    technique->GetClassifier()->SetLayers(opts.Integer("classify_layers"));
   }
   InstallShadowPass(ren, technique);
 }

@@ -164,6 +164,26 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
       CHECK(
         llsm->GetNumberOfListedSamples() <= llsm->GetClassifier()->GetNumberOfUncertainSamples());
       CHECK(llsm->GetUncertainFraction() == llsm->GetListedFraction());
+      // The list it takes them from: the uncertain samples, ascending.
+      vtkPenumbraConservativeShadows* classifier = llsm->GetClassifier();
+      const std::vector<vtkIdType>& uncertain = classifier->GetUncertainSamples();
+      CHECK(static_cast<vtkIdType>(uncertain.size()) == classifier->GetNumberOfUncertainSamples());
+      CHECK(std::is_sorted(uncertain.begin(), uncertain.end()));
+      // Classified with two map layers instead of three: the same answer, and the third
+      // layer only ever decides samples two leave uncertain.
+      const vtkIdType uncertainWithThree = classifier->GetNumberOfUncertainSamples();
+      CHECK(classifier->GetLayers() == 3);
+      classifier->SetLayers(2);
+      vtkNew<vtkFloatArray> twoLayers;
+      CHECK(llsm->ComputeVisibility(
+        renderer, pass->GetGeometry(), samples, pass->GetLight(i), twoLayers));
+      classifier->SetLayers(3);
+      CHECK(classifier->GetNumberOfUncertainSamples() >= uncertainWithThree);
+      CHECK(twoLayers->GetNumberOfTuples() == direct->GetNumberOfTuples());
+      for (vtkIdType s = 0; s < direct->GetNumberOfTuples(); ++s)
+      {
+        CHECK(twoLayers->GetValue(s) == direct->GetValue(s));
+      }
     }
   }
   renderer->GetRenderWindow()->RemoveRenderer(renderer);
