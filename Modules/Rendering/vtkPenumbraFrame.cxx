@@ -60,6 +60,8 @@ struct vtkPenumbraFrame::Internals
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
   vtkWeakPointer<vtkPenumbraSceneGeometry> Geometry;
   vtkPenumbraViewSamplesPass* Layers[2] = { nullptr, nullptr };
+  // Renders the layers' samples when they are first asked for (Begin()); empty once done.
+  std::function<void()> PendingSamples;
   int NumberOfLayers = 0;
   int Width = 0, Height = 0;
   int NumberOfLights = 0;
@@ -261,8 +263,20 @@ int vtkPenumbraFrame::GetNumberOfLayers()
   return this->Impl->NumberOfLayers;
 }
 
+void vtkPenumbraFrame::EnsureSamples()
+{
+  Internals& impl = *this->Impl;
+  if (impl.PendingSamples)
+  {
+    const std::function<void()> render = std::move(impl.PendingSamples);
+    impl.PendingSamples = nullptr;
+    render();
+  }
+}
+
 vtkPenumbraViewSamplesPass* vtkPenumbraFrame::GetLayer(int layer)
 {
+  this->EnsureSamples();
   return layer >= 0 && layer < this->Impl->NumberOfLayers ? this->Impl->Layers[layer] : nullptr;
 }
 
@@ -279,6 +293,7 @@ bool vtkPenumbraFrame::GetSamplesReadBack()
 vtkPenumbraViewSamples* vtkPenumbraFrame::GetSamples()
 {
   Internals& impl = *this->Impl;
+  this->EnsureSamples();
   if (impl.NumberOfLayers == 0)
   {
     return nullptr;
@@ -449,6 +464,7 @@ vtkPenumbraFrame::VisibilityTarget vtkPenumbraFrame::BindVisibilityTarget(int la
   Internals& impl = *this->Impl;
   const int index = this->GetLightIndex(k);
   const size_t t = static_cast<size_t>(index);
+  this->EnsureSamples(); // the target tests against the layer's depth
   impl.Clear(layer, t);
   return VisibilityTarget(new VisibilityTarget::State(impl.Window->GetState(), impl.Framebuffer(),
     impl.Textures[layer][t], impl.Width, impl.Height, impl.Layers[layer]->GetDepthTexture()));
@@ -532,7 +548,7 @@ vtkTextureObject* vtkPenumbraFrame::GetVisibilityTexture(int layer, int index)
 
 void vtkPenumbraFrame::Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
   vtkPenumbraViewSamplesPass* opaque, vtkPenumbraViewSamplesPass* translucent, int numberOfLights,
-  bool newSamples)
+  bool newSamples, std::function<void()> renderSamples)
 {
   Internals& impl = *this->Impl;
   auto* win = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
@@ -553,6 +569,7 @@ void vtkPenumbraFrame::Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* ge
   if (newSamples)
   {
     impl.SamplesTime.Modified();
+    impl.PendingSamples = std::move(renderSamples); // rendered already when empty
   }
   impl.Lights.clear();
   impl.Active.clear();
@@ -641,6 +658,7 @@ void vtkPenumbraFrame::Finish()
 void vtkPenumbraFrame::Release(vtkWindow* window)
 {
   Internals& impl = *this->Impl;
+  impl.PendingSamples = nullptr;
   for (auto& layer : impl.Textures)
   {
     for (auto& tex : layer)

@@ -33,9 +33,10 @@
 #include "vtkObject.h"
 #include "vtkPenumbraRenderingModule.h" // For export macro
 
-#include <memory> // For std::unique_ptr
-#include <string> // For ShaderLookup
-#include <vector> // For SetActiveLights
+#include <functional> // For Begin's sample renderer
+#include <memory>     // For std::unique_ptr
+#include <string>     // For ShaderLookup
+#include <vector>     // For SetActiveLights
 
 class vtkFloatArray;
 class vtkLight;
@@ -236,10 +237,15 @@ public:
    * visibility textures are sized; `newSamples` false when the layers still hold the last
    * frame's samples, whose CPU view then stays valid), Finish() applies
    * goniometric diagrams and uploads the CPU answers. Release() frees the GL objects.
+   * With a `renderSamples` function, new samples are rendered on demand: by it, on the
+   * first request of the layers or the samples (GetLayer(), GetSamples(), a visibility
+   * target or a read-back of a shader lookup), so a frame nothing asks them of renders none.
+   * EnsureSamples() makes that request.
    */
   void Begin(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamplesPass* opaque, vtkPenumbraViewSamplesPass* translucent, int numberOfLights,
-    bool newSamples);
+    bool newSamples, std::function<void()> renderSamples = nullptr);
+  void EnsureSamples();
   void AddShadowedLight(vtkLight* light, int index);
   void Finish();
   void Release(vtkWindow* window);

@@ -1,6 +1,7 @@
 #include "vtkPenumbraShadowMapShadows.h"
 
 #include "vtkCamera.h"
+#include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
 #include "vtkMath.h"
@@ -571,6 +572,39 @@ void ExtentFromTiles(const LightSetup& setup, const TileOutputs& data, int tiles
   }
 }
 
+// The scene fit (SetFitTo(FIT_TO_SCENE)): every vertex of the scene's triangles is a
+// receiver point. A spot light with a vertex behind its apex gets the whole cone (that
+// triangle may reach into it), as a tile box behind it does in ExtentFromTiles().
+void ExtentFromScene(
+  const LightSetup& setup, int slotMode, vtkPenumbraSceneGeometry* geometry, ReceiverExtent& e)
+{
+  double axes[3][3];
+  LightAxes(setup, axes);
+  vtkDoubleArray* vertices = geometry->GetVertices();
+  const vtkIdType count = vertices ? 3 * geometry->GetNumberOfTriangles() : 0;
+  const bool plane = e.CollectPlane && setup.Type == LightSetup::Kind::Directional;
+  bool behind = false;
+  for (vtkIdType v = 0; v < count; ++v)
+  {
+    const double* p = vertices->GetPointer(3 * v);
+    AddReceiver(setup, axes, slotMode, p, e);
+    if (plane)
+    {
+      e.Plane.push_back({ vtkMath::Dot(p, axes[0]), vtkMath::Dot(p, axes[1]) });
+    }
+    if (setup.Type == LightSetup::Kind::Spot)
+    {
+      const double q[3] = { p[0] - setup.Position[0], p[1] - setup.Position[1],
+        p[2] - setup.Position[2] };
+      behind = behind || !(vtkMath::Dot(q, axes[2]) > 0.0);
+    }
+  }
+  if (behind)
+  {
+    e.SpotTan = std::numeric_limits<double>::max();
+  }
+}
+
 constexpr int Tile = 4; // samples per side of a tile box (see ExtentFromTiles)
 
 int TileCount(int width, int height)
@@ -1004,6 +1038,11 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<double> MapKey(vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer,
     vtkLight* light, vtkPenumbraSceneGeometry* geometry, const double shift[3], double samples,
     double pending);
+  // Whether the maps are fitted to the scene (SetFitTo()), not to the view.
+  static bool FitsScene(vtkPenumbraShadowMapShadows* self)
+  {
+    return self->FitTo == FIT_TO_SCENE && self->ResolutionMode == RESOLUTION_FIXED;
+  }
   void FitViews(
     const LightSetup& setup, const ReceiverExtent& e, int slotMode, int size, LightMaps* maps);
   using Estimator = std::function<bool(const View&, std::vector<float>&, std::string&)>;
@@ -1401,7 +1440,11 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     ReceiverExtent extent;
     extent.CollectPlane = this->FitRectangle != FIT_AXIS;
     extent.Square = this->FitRectangle == FIT_SQUARE;
-    if (slotMode == SlotsOne)
+    if (Internals::FitsScene(this))
+    {
+      ExtentFromScene(setup, slotMode, geometry, extent);
+    }
+    else if (slotMode == SlotsOne)
     {
       // The same tile boxes the GPU frame path fits to, so both lookups use the same maps.
       ExtentFromTiles(setup, TilesFromSamples(in, samples->GetWidth(), samples->GetHeight()),
@@ -1552,6 +1595,11 @@ std::vector<double> vtkPenumbraShadowMapShadows::Internals::MapKey(
   key.push_back(static_cast<double>(geometry->GetGeometryTime()));
   key.push_back(static_cast<double>(geometry->GetFlagsTime()));
   key.insert(key.end(), origin, origin + 3);
+  key.push_back(static_cast<double>(self->GetMTime()));
+  if (FitsScene(self))
+  {
+    return key; // nothing of the view
+  }
   key.insert(key.end(), shift, shift + 3);
   key.push_back(samples);
   key.push_back(pending);
@@ -1568,7 +1616,6 @@ std::vector<double> vtkPenumbraShadowMapShadows::Internals::MapKey(
   const int* size = renderer->GetSize();
   key.push_back(size[0]);
   key.push_back(size[1]);
-  key.push_back(static_cast<double>(self->GetMTime()));
   return key;
 }
 
@@ -2339,7 +2386,11 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
       ReceiverExtent extent;
       extent.CollectPlane = self->FitRectangle != FIT_AXIS;
       extent.Square = self->FitRectangle == FIT_SQUARE;
-      if (!this->ReduceExtent(self, frame, setup, extent, error))
+      if (FitsScene(self))
+      {
+        ExtentFromScene(setup, this->SlotMode(self, setup), geometry, extent);
+      }
+      else if (!this->ReduceExtent(self, frame, setup, extent, error))
       {
         return false;
       }

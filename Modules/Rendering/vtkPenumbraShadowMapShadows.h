@@ -406,6 +406,26 @@ public:
   vtkGetMacro(FitRectangle, int);
   ///@}
 
+  enum FitTargets
+  {
+    FIT_TO_VIEW = 0, ///< the receivers the view samples see (default)
+    FIT_TO_SCENE = 1 ///< every surface of the scene: kept while only the camera moves
+  };
+
+  ///@{
+  /**
+   * What the maps cover. FIT_TO_VIEW (default): the receivers the view samples see (their
+   * tile boxes, Brabec 2003, ch. 4.2), the densest map for the view, fitted and rendered
+   * again whenever the camera moves. FIT_TO_SCENE: every triangle of the scene, as VTK's
+   * vtkShadowMapPass fits its maps: coarser texels on what is seen, but the maps depend only
+   * on the lights and the scene, so a frame where only the camera moved renders none (and
+   * the lookup in the receivers' shaders needs no view samples for them). RESM
+   * (RESOLUTION_ESTIMATED) sizes its maps from the view samples and always fits to the view.
+   */
+  vtkSetClampMacro(FitTo, int, FIT_TO_VIEW, FIT_TO_SCENE);
+  vtkGetMacro(FitTo, int);
+  ///@}
+
   /**
    * The world-space side lengths of the cached orthographic map of directional `light`
    * (the fitted rectangle, padding included); false when the light has no such map.
@@ -467,6 +487,7 @@ protected:
   int DepthMode = DEPTH_LINEAR;
   int PointMode = POINT_CUBE;
   int FitRectangle = FIT_AXIS;
+  int FitTo = FIT_TO_VIEW;
   int Lookup = LOOKUP_GPU;
   int AreaLightMode = AREA_NONE;
   int SearchTaps = 4;

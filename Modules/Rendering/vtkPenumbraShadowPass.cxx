@@ -33,6 +33,7 @@
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPenumbraViewSamplesPass.h"
 #include "vtkPenumbraVisibilityRules.h"
+#include "vtkProp.h"
 #include "vtkProperty.h"
 #include "vtkRenderPassCollection.h"
 #include "vtkRenderState.h"
@@ -44,6 +45,7 @@
 #include "vtkTimerLog.h"
 #include "vtkTranslucentPass.h"
 #include "vtkVolumetricPass.h"
+#include "vtkWeakPointer.h"
 #include "vtk_glew.h"
 
 #include <cfloat>
@@ -401,6 +403,13 @@ struct vtkPenumbraShadowPass::Internals
   std::vector<double> ViewKey(const vtkRenderState* s, vtkPenumbraShadowPass* pass);
   std::vector<double> LightsKey();
   void RenderSamples(const vtkRenderState* s);
+  // A new view: what a frame needs of it before any sample exists (whether translucent
+  // receivers make a second layer, the camera for the receivers' shader lookups, and the
+  // props to render the samples with when they are first asked for).
+  void PrepareSamples(const vtkRenderState* s);
+  void RenderPreparedSamples();
+  vtkWeakPointer<vtkRenderer> SampleRenderer;
+  std::vector<vtkSmartPointer<vtkProp>> SampleProps;
   void ComputeVisibility(vtkPenumbraShadowPass* pass);
   vtkPenumbraShadowTechnique* Choose(vtkPenumbraShadowPass* pass, size_t i);
   void SkipUnreachedLights(bool readsSamples);
@@ -572,26 +581,55 @@ std::vector<double> vtkPenumbraShadowPass::Internals::LightsKey()
   return key;
 }
 
+void vtkPenumbraShadowPass::Internals::PrepareSamples(const vtkRenderState* s)
+{
+  // Translucent receivers: their nearest surface per pixel is a second sample layer
+  // (translucent props are drawn after the opaque ones, over them, and need their own
+  // visibility; the opaque samples hold the surface behind them).
+  this->HasTranslucentLayer = false;
+  this->SampleRenderer = s->GetRenderer();
+  this->SampleProps.clear();
+  for (int i = 0; i < s->GetPropArrayCount(); ++i)
+  {
+    this->SampleProps.emplace_back(s->GetPropArray()[i]);
+    this->HasTranslucentLayer =
+      this->HasTranslucentLayer || IsTranslucentReceiver(s->GetPropArray()[i]);
+  }
+  if (this->HasTranslucentLayer && !this->TranslucentSamplesPass)
+  {
+    this->TranslucentSamplesPass = vtkSmartPointer<vtkPenumbraViewSamplesPass>::New();
+    this->TranslucentSamplesPass->TranslucentOn();
+  }
+  this->SamplesPass->SetGeometry(this->Geometry);
+  this->SamplesPass->UpdateView(s->GetRenderer());
+}
+
+void vtkPenumbraShadowPass::Internals::RenderPreparedSamples()
+{
+  if (!this->SampleRenderer)
+  {
+    return;
+  }
+  const double t = Now();
+  std::vector<vtkProp*> props;
+  for (const auto& prop : this->SampleProps)
+  {
+    props.push_back(prop);
+  }
+  vtkRenderState state(this->SampleRenderer);
+  state.SetPropArrayAndCount(props.data(), static_cast<int>(props.size()));
+  this->RenderSamples(&state);
+  this->LastSampled = true;
+  this->SamplesMs += 1000.0 * (Now() - t);
+}
+
 void vtkPenumbraShadowPass::Internals::RenderSamples(const vtkRenderState* s)
 {
   auto* win = vtkOpenGLRenderWindow::SafeDownCast(s->GetRenderer()->GetRenderWindow());
   this->SamplesPass->SetGeometry(this->Geometry);
   this->SamplesPass->Render(s);
-  // Translucent receivers: their nearest surface per pixel is a second sample layer
-  // (translucent props are drawn after the opaque ones, over them, and need their own
-  // visibility; the opaque samples hold the surface behind them).
-  this->HasTranslucentLayer = false;
-  for (int i = 0; i < s->GetPropArrayCount() && !this->HasTranslucentLayer; ++i)
-  {
-    this->HasTranslucentLayer = IsTranslucentReceiver(s->GetPropArray()[i]);
-  }
   if (this->HasTranslucentLayer)
   {
-    if (!this->TranslucentSamplesPass)
-    {
-      this->TranslucentSamplesPass = vtkSmartPointer<vtkPenumbraViewSamplesPass>::New();
-      this->TranslucentSamplesPass->TranslucentOn();
-    }
     this->TranslucentSamplesPass->SetGeometry(this->Geometry);
     this->TranslucentSamplesPass->Render(s);
   }
@@ -896,11 +934,13 @@ vtkRenderPass* vtkPenumbraShadowPass::GetShadowMapBakerPass()
 
 vtkPenumbraViewSamplesPass* vtkPenumbraShadowPass::GetViewSamplesPass()
 {
+  this->Impl->Frame->EnsureSamples();
   return this->Impl->SamplesPass;
 }
 
 vtkPenumbraViewSamples* vtkPenumbraShadowPass::GetViewSamples()
 {
+  this->Impl->Frame->EnsureSamples();
   return this->Impl->SamplesPass->GetSamples();
 }
 
@@ -928,6 +968,7 @@ vtkFloatArray* vtkPenumbraShadowPass::GetLightFactor(int index)
 
 vtkPenumbraViewSamples* vtkPenumbraShadowPass::GetTranslucentViewSamples()
 {
+  this->Impl->Frame->EnsureSamples();
   return this->Impl->HasFrame && this->Impl->HasTranslucentLayer
     ? this->Impl->TranslucentSamplesPass->GetSamples()
     : nullptr;
@@ -1021,21 +1062,24 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     impl.LastReused = this->ReuseUnchangedFrames && sameView && lightsKey == impl.LastLightsKey;
     if (!impl.LastReused)
     {
-      t = Now();
+      // A new view's samples are rendered when a technique (or a read-back) first asks for
+      // them: the receivers' shader lookups need none.
+      impl.LastSampled = false;
+      impl.SamplesMs = 0.0;
       if (!sameView)
       {
-        impl.RenderSamples(s);
+        impl.PrepareSamples(s);
       }
-      impl.LastSampled = !sameView;
-      impl.SamplesMs = 1000.0 * (Now() - t);
       t = Now();
+      Internals* internals = &impl;
       impl.Frame->Begin(ren, impl.Geometry, impl.SamplesPass,
         impl.HasTranslucentLayer ? impl.TranslucentSamplesPass.Get() : nullptr,
-        static_cast<int>(impl.Lights.size()), !sameView);
+        static_cast<int>(impl.Lights.size()), !sameView,
+        [internals] { internals->RenderPreparedSamples(); });
       impl.HasFrame = true;
       impl.ComputeVisibility(this);
       win->WaitForCompletion();
-      impl.TechniqueMs = 1000.0 * (Now() - t);
+      impl.TechniqueMs = 1000.0 * (Now() - t) - impl.SamplesMs;
       impl.LastViewKey.swap(viewKey);
       impl.LastLightsKey.swap(lightsKey);
     }

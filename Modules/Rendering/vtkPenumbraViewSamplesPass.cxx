@@ -373,30 +373,9 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
     }
   }
 
-  // View coordinates -> world -> minus origin, composed in double and sent once as float.
-  vtkCamera* cam = ren->GetActiveCamera();
-  double origin[3];
-  impl.Geometry->GetOrigin(origin);
-  vtkNew<vtkMatrix4x4> vcToWorld;
-  vtkMatrix4x4::Invert(cam->GetModelViewTransformMatrix(), vcToWorld);
-  for (int r = 0; r < 3; ++r)
-  {
-    vcToWorld->SetElement(r, 3, vcToWorld->GetElement(r, 3) - origin[r]);
-  }
-  // vtkShaderProgram uploads row-major data as GLSL's column-major matrices.
-  vtkMatrix4x4::Transpose(vcToWorld, impl.VCToRebasedTransposed);
-  double camPos[3], dop[3];
-  cam->GetPosition(camPos);
-  cam->GetDirectionOfProjection(dop);
-  for (int c = 0; c < 3; ++c)
-  {
-    impl.CameraRebased[c] = static_cast<float>(camPos[c] - origin[c]);
-    impl.ViewDirection[c] = static_cast<float>(dop[c]);
-  }
-  impl.Parallel = cam->GetParallelProjection() ? 1 : 0;
+  this->UpdateView(ren);
   impl.Width = w;
   impl.Height = h;
-  impl.ComputeNDCToRebased(ren, vcToWorld);
 
   vtkOpenGLState* ostate = win->GetState();
   vtkOpenGLState::ScopedglEnableDisable blendSaver(ostate, GL_BLEND);
@@ -460,8 +439,9 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
   }
   this->PostRender(s);
 
-  std::copy(origin, origin + 3, impl.Origin);
-  std::copy(camPos, camPos + 3, impl.CameraPosition);
+  // What the samples were rendered with (the samples' metadata, see GetSamples()).
+  impl.Geometry->GetOrigin(impl.Origin);
+  ren->GetActiveCamera()->GetPosition(impl.CameraPosition);
   impl.Stale = true;
   ostate->PopFramebufferBindings();
 }
@@ -752,6 +732,40 @@ bool vtkPenumbraViewSamplesPass::SetShaderParameters(
     program->SetUniformf("penumbraPropIndex", sampled ? static_cast<float>(index) : -1.0f);
   }
   return true;
+}
+
+//------------------------------------------------------------------------------
+// The camera's part of the samples (what SetSurfaceUniforms() sends): also needed by the
+// receivers' shader lookups on a frame whose samples are not rendered.
+void vtkPenumbraViewSamplesPass::UpdateView(vtkRenderer* ren)
+{
+  Internals& impl = *this->Impl;
+  if (!impl.Geometry || !ren || !ren->GetActiveCamera())
+  {
+    return;
+  }
+  // View coordinates -> world -> minus origin, composed in double and sent once as float.
+  vtkCamera* cam = ren->GetActiveCamera();
+  double origin[3];
+  impl.Geometry->GetOrigin(origin);
+  vtkNew<vtkMatrix4x4> vcToWorld;
+  vtkMatrix4x4::Invert(cam->GetModelViewTransformMatrix(), vcToWorld);
+  for (int r = 0; r < 3; ++r)
+  {
+    vcToWorld->SetElement(r, 3, vcToWorld->GetElement(r, 3) - origin[r]);
+  }
+  // vtkShaderProgram uploads row-major data as GLSL's column-major matrices.
+  vtkMatrix4x4::Transpose(vcToWorld, impl.VCToRebasedTransposed);
+  double camPos[3], dop[3];
+  cam->GetPosition(camPos);
+  cam->GetDirectionOfProjection(dop);
+  for (int c = 0; c < 3; ++c)
+  {
+    impl.CameraRebased[c] = static_cast<float>(camPos[c] - origin[c]);
+    impl.ViewDirection[c] = static_cast<float>(dop[c]);
+  }
+  impl.Parallel = cam->GetParallelProjection() ? 1 : 0;
+  impl.ComputeNDCToRebased(ren, vcToWorld);
 }
 
 void vtkPenumbraViewSamplesPass::SetSurfaceUniforms(vtkShaderProgram* program)

@@ -145,6 +145,13 @@ public:
   void SetSurfaceUniforms(vtkShaderProgram* program);
   ///@}
 
+  /**
+   * Takes the camera of `renderer` for SetSurfaceUniforms() without rendering (Render()
+   * does it too): a frame whose samples are rendered only on demand still shades its
+   * shader lookups with the current camera.
+   */
+  void UpdateView(vtkRenderer* renderer);
+
   void Render(const vtkRenderState* s) override;
   void ReleaseGraphicsResources(vtkWindow* w) override;
 

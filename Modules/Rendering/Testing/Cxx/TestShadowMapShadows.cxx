@@ -234,6 +234,29 @@ int CheckLookupsAgree()
 // (lookup "gbuffer") writes: the same image, pixel for pixel, and the same visibility read
 // back; a spot light too, and the filters that take several taps; and a repeated frame, which
 // reads them from a texture, the same image again.
+// Whether the shader lookup's run (index 0) and the full-screen lookup's (1) agree: the
+// same image bytes and read-back visibilities, with some shadow (over 100 samples at 0).
+bool SameLookups(const std::string& label, vtkSmartPointer<vtkUnsignedCharArray> images[2],
+  vtkFloatArray* answers[2])
+{
+  vtkIdType pixels = 0, values = 0, shadowed = 0;
+  for (vtkIdType i = 0; i < images[0]->GetNumberOfValues(); ++i)
+  {
+    pixels += images[0]->GetValue(i) != images[1]->GetValue(i);
+  }
+  values += std::abs(answers[0]->GetNumberOfTuples() - answers[1]->GetNumberOfTuples());
+  const vtkIdType n = std::min(answers[0]->GetNumberOfTuples(), answers[1]->GetNumberOfTuples());
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    values += answers[0]->GetValue(i) != answers[1]->GetValue(i);
+    shadowed += answers[0]->GetValue(i) == 0.0f;
+  }
+  std::printf("%s: %lld channel values and %lld visibilities differ (%lld shadowed)\n",
+    label.c_str(), static_cast<long long>(pixels), static_cast<long long>(values),
+    static_cast<long long>(shadowed));
+  return shadowed > 100 && pixels == 0 && values == 0;
+}
+
 int CheckShaderLookup()
 {
   const char* filters[] = { "none", "pcf", "bilinear" };
@@ -294,27 +317,60 @@ int CheckShaderLookup()
         window->RemoveRenderer(renderer);
         window->Finalize();
       }
-      vtkIdType pixels = 0, values = 0, shadowed = 0;
-      for (vtkIdType i = 0; i < images[0]->GetNumberOfValues(); ++i)
-      {
-        pixels += images[0]->GetValue(i) != images[1]->GetValue(i);
-      }
-      CHECK(answers[0]->GetNumberOfTuples() == answers[1]->GetNumberOfTuples());
-      for (vtkIdType i = 0; i < answers[0]->GetNumberOfTuples(); ++i)
-      {
-        values += answers[0]->GetValue(i) != answers[1]->GetValue(i);
-        shadowed += answers[0]->GetValue(i) == 0.0f;
-      }
-      std::printf("shader lookup vs G-buffer lookup, %s light, filter %-8s: %lld channel values "
-                  "and %lld visibilities differ (%lld shadowed)\n",
-        lights == 1 ? "spot" : (lights == 2 ? "directional+point" : "directional"), filter,
-        static_cast<long long>(pixels), static_cast<long long>(values),
-        static_cast<long long>(shadowed));
-      CHECK(shadowed > 100);
-      CHECK(pixels == 0);
-      CHECK(values == 0);
+      vtkFloatArray* read[2] = { answers[0], answers[1] };
+      const std::string kind =
+        lights == 1 ? "spot" : (lights == 2 ? "directional+point" : "directional");
+      CHECK(SameLookups(
+        "shader lookup vs G-buffer lookup, " + kind + " light, filter " + filter, images, read));
     }
   }
+  return EXIT_SUCCESS;
+}
+
+// fit: "scene" (SetFitTo(FIT_TO_SCENE)): after a camera move the directional light's map
+// is the same (its footprint unchanged; the view fit's is smaller), the frame looked up
+// in the receivers' shaders renders no view samples, and its image and read-back visibility
+// (samples rendered on demand) equal those of the full-screen lookup, which renders them.
+int CheckSceneFit()
+{
+  vtkSmartPointer<vtkUnsignedCharArray> images[2];
+  vtkNew<vtkFloatArray> answers[2];
+  double moved[2][2] = { { 0, 0 }, { 0, 0 } };
+  for (int g = 0; g < 2; ++g)
+  {
+    vtkSmartPointer<vtkRenderer> renderer = PlaneAndBox();
+    auto window = WindowFor(renderer, 160, 120);
+    vtkNew<vtkPenumbraTechniques> techniques;
+    const std::string options =
+      std::string("{\"fit\": \"scene\", \"lookup\": \"") + (g ? "gbuffer" : "gpu") + "\"}";
+    CHECK(techniques->Apply(renderer, "shadowmap", options.c_str()));
+    window->Render();
+    vtkPenumbraShadowPass* pass = ShadowPassOf(renderer);
+    double before[2], after[2];
+    CHECK(TechniqueOf(renderer)->GetMapFootprint(pass->GetLight(0), before));
+    renderer->GetActiveCamera()->Azimuth(25.0);
+    renderer->GetActiveCamera()->Zoom(1.4);
+    window->Render();
+    CHECK(!pass->GetLastFrameReused());
+    CHECK(pass->GetLastFrameRenderedSamples() == (g == 1));
+    CHECK(TechniqueOf(renderer)->GetMapFootprint(pass->GetLight(0), after));
+    CHECK(before[0] == after[0] && before[1] == after[1]);
+    images[g] = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    CHECK(window->GetRGBACharPixelData(0, 0, 159, 119, 0, images[g]) == VTK_OK);
+    CHECK(pass->GetVisibility(0) != nullptr);
+    answers[g]->DeepCopy(pass->GetVisibility(0));
+    // The view fit of the same scene refits the map to the moved view.
+    CHECK(techniques->Apply(renderer, "shadowmap", "{\"fit\": \"view\"}"));
+    window->Render();
+    CHECK(TechniqueOf(renderer)->GetMapFootprint(ShadowPassOf(renderer)->GetLight(0), moved[g]));
+    // The view fit covers only the receivers seen after the zoom: less than the scene.
+    CHECK(moved[g][0] * moved[g][1] < 0.95 * after[0] * after[1]);
+    window->RemoveRenderer(renderer);
+    window->Finalize();
+  }
+  vtkFloatArray* read[2] = { answers[0], answers[1] };
+  std::printf("view fit footprint after the move: %.3f x %.3f\n", moved[0][0], moved[0][1]);
+  CHECK(SameLookups("scene fit after a camera move, shader vs G-buffer lookup", images, read));
   return EXIT_SUCCESS;
 }
 
@@ -1029,6 +1085,7 @@ int TestShadowMapShadows(int, char*[])
   RUN(CheckMapCache());
   RUN(CheckLookupsAgree());
   RUN(CheckShaderLookup());
+  RUN(CheckSceneFit());
   RUN(CheckBilinearEdges());
   RUN(CheckSoftLimits("pcss"));
   RUN(CheckSoftLimits("single-sample-soft"));
