@@ -274,6 +274,11 @@ void vtkPenumbraFrame::EnsureSamples()
   }
 }
 
+void vtkPenumbraFrame::ForgetPendingSamples()
+{
+  this->Impl->PendingSamples = nullptr;
+}
+
 vtkPenumbraViewSamplesPass* vtkPenumbraFrame::GetLayer(int layer)
 {
   this->EnsureSamples();

@@ -246,6 +246,8 @@ public:
     vtkPenumbraViewSamplesPass* opaque, vtkPenumbraViewSamplesPass* translucent, int numberOfLights,
     bool newSamples, std::function<void()> renderSamples = nullptr);
   void EnsureSamples();
+  /** Drops the on-demand rendering of Begin() (its pass is going away). */
+  void ForgetPendingSamples();
   void AddShadowedLight(vtkLight* light, int index);
   void Finish();
   void Release(vtkWindow* window);

@@ -823,7 +823,11 @@ vtkPenumbraShadowPass::vtkPenumbraShadowPass()
   this->Impl->Delegate = sequence;
 }
 
-vtkPenumbraShadowPass::~vtkPenumbraShadowPass() = default;
+vtkPenumbraShadowPass::~vtkPenumbraShadowPass()
+{
+  // The frame may outlive the pass (GetFrame()); its on-demand samples render through it.
+  this->Impl->Frame->ForgetPendingSamples();
+}
 
 void vtkPenumbraShadowPass::SetTechnique(vtkPenumbraShadowTechnique* technique)
 {
