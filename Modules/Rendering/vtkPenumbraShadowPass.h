@@ -207,10 +207,14 @@ public:
   bool GetLastFrameReused();
 
   /**
-   * True when the last Render() rendered the view samples (G-buffer). They are kept while
-   * the view is unchanged (camera, window size, geometry, flags, props), so a frame in which
-   * only lights or the technique changed computes the visibility on the same samples without
-   * rendering or reading them again.
+   * True when the last Render(), or a read-back since (GetVisibility(), GetViewSamples()),
+   * rendered the view samples (G-buffer). A new view's samples are rendered only when first
+   * asked for: a frame
+   * whose lights are all looked up in the receivers' shaders with maps that do not depend on
+   * the view (shadowmap's fit "scene") renders none. They are kept while the view is
+   * unchanged (camera, window size, geometry, flags, props), so a frame in which only lights
+   * or the technique changed computes the visibility on the same samples without rendering
+   * or reading them again.
    */
   bool GetLastFrameRenderedSamples();
 
