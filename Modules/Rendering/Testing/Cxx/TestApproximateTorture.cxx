@@ -63,8 +63,18 @@ const Bound Bounds[] = {
   { "georef_1e7.json", "shadowmap", "{\"fit_rectangle\": \"square\"}",
     0.00186 }, // measured 0.00043
   { "georef_1e7.json", "shadowmap", "{\"fit_rectangle\": \"minimum\"}",
-    0.00186 },                                                // measured 0.00043
-  { "point_light_in_room.json", "shadowmap", "{}", 0.00132 }, // measured 0.00016
+    0.00186 },                                                                  // measured 0.00043
+  { "bad_triangles.json", "shadowmap", "{\"fit\": \"scene\"}", 0.00266 },       // measured 0.00083
+  { "coplanar_contact.json", "shadowmap", "{\"fit\": \"scene\"}", 0.0012 },     // measured 0.00010
+  { "depth_range.json", "shadowmap", "{\"fit\": \"scene\"}", 0.001 },           // measured 0.00000
+  { "georef_1e7.json", "shadowmap", "{\"fit\": \"scene\"}", 0.0027 },           // measured 0.00085
+  { "grazing_light.json", "shadowmap", "{\"fit\": \"scene\"}", 0.07788 },       // measured 0.03844
+  { "point_light_in_room.json", "shadowmap", "{\"fit\": \"scene\"}", 0.00132 }, // measured 0.00016
+  { "point_light_on_surface.json", "shadowmap", "{\"fit\": \"scene\"}",
+    0.0545 },                                                              // measured 0.02675
+  { "thin_occluders.json", "shadowmap", "{\"fit\": \"scene\"}", 0.00122 }, // measured 0.00011
+  { "zenith_light.json", "shadowmap", "{\"fit\": \"scene\"}", 0.001 },     // measured 0.00000
+  { "point_light_in_room.json", "shadowmap", "{}", 0.00132 },              // measured 0.00016
   { "point_light_in_room.json", "shadowmap", "{\"point\": \"paraboloid\"}",
     0.00198 },                                                     // measured 0.00049
   { "point_light_on_surface.json", "shadowmap", "{}", 0.0545 },    // measured 0.02675
