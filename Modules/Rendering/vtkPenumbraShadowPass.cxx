@@ -610,6 +610,8 @@ void vtkPenumbraShadowPass::Internals::RenderPreparedSamples()
   {
     return;
   }
+  // Also called after Render() (a read-back), when another window's context may be current.
+  this->SampleRenderer->GetRenderWindow()->MakeCurrent();
   const double t = Now();
   std::vector<vtkProp*> props;
   for (const auto& prop : this->SampleProps)
