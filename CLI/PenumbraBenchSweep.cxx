@@ -8,7 +8,9 @@
 //
 // Per N and technique two rows: the camera still (techniques may reuse the last frame's
 // visibility) and the camera turning 0.5 degrees about the scene centre before every frame
-// (nothing view-dependent can be reused). Per row: median frame time, the shadow pass's
+// (nothing view-dependent can be reused); with --moving-light a third, the camera still and
+// the sun turning 0.5 degrees about the vertical before every frame (nothing that depends on
+// the light can be reused: maps, fits, volumes). Per row: median frame time, the shadow pass's
 // technique and view-sample phases, and the process's peak resident memory during the row.
 // Per technique and camera, the cost exponent: the least-squares slope of log(frame ms)
 // against log(triangles). Writes sweep.csv, sweep.md (also printed), sweep.png, and
@@ -27,6 +29,8 @@
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkPen.h"
 #include "vtkPenumbraImageIO.h"
@@ -61,7 +65,12 @@ struct SweepRow
 {
   vtkIdType Triangles = 0; // the caster's; the ground adds 2
   TechniqueSpec Technique;
-  bool Moving = false;
+  enum Motion
+  {
+    Still,
+    CameraTurns,
+    LightTurns
+  } Moves = Still;
   double MedianMs = -1, MinMs = -1;
   // The still row's first frame after the technique is installed: scene extraction,
   // acceleration structures, shader compilation. Not a warm-up frame: the budget check
@@ -76,7 +85,12 @@ struct SweepRow
   // costs no longer hide it.
   double ExponentLastTwo = NAN;
 
-  std::string Camera() const { return this->Moving ? "moving" : "still"; }
+  // What moves between frames, as the tables and the CSV's `camera` column name it.
+  std::string Camera() const
+  {
+    return this->Moves == Still ? "still"
+                                : (this->Moves == CameraTurns ? "moving" : "light moving");
+  }
   std::string Series() const { return this->Technique.Label() + " " + this->Camera(); }
 };
 
@@ -187,8 +201,8 @@ struct SweepScene
   penumbra_cli::ErrorLog* Errors = nullptr;
 };
 
-// One row: the applied technique with the camera still or turning; fills the row's times,
-// phases and memory, or says why it is not measured.
+// One row: the applied technique with the camera still or turning, or the sun turning; fills
+// the row's times, phases and memory, or says why it is not measured.
 void MeasureSweepRow(const SweepScene& scene, const Options& o, SweepRow& row)
 {
   vtkCamera* camera = scene.Renderer->GetActiveCamera();
@@ -196,6 +210,9 @@ void MeasureSweepRow(const SweepScene& scene, const Options& o, SweepRow& row)
   camera->GetPosition(position);
   camera->GetFocalPoint(focal);
   camera->GetViewUp(up);
+  vtkLight* sun = vtkLight::SafeDownCast(scene.Renderer->GetLights()->GetItemAsObject(0));
+  double sunPosition[3];
+  sun->GetPosition(sunPosition);
   vtkPenumbraShadowPass* pass = ShadowPassOf(scene.Renderer);
   if (pass)
   {
@@ -204,7 +221,7 @@ void MeasureSweepRow(const SweepScene& scene, const Options& o, SweepRow& row)
   std::vector<double> techniqueMs, samplesMs;
   const bool peak = ResetPeakMemory();
   row.RssBeforeMB = peak ? StatusMB("VmRSS") : -1.0;
-  if (!row.Moving)
+  if (row.Moves == SweepRow::Still)
   {
     const auto t0 = penumbra_cli::Clock::now();
     scene.Window->Render();
@@ -223,10 +240,18 @@ void MeasureSweepRow(const SweepScene& scene, const Options& o, SweepRow& row)
     scene.Window, o.Warmup, o.Frames, 1000.0 * o.BudgetSeconds,
     [&](int)
     {
-      if (row.Moving)
+      if (row.Moves == SweepRow::CameraTurns)
       {
         camera->Azimuth(0.5); // about the view-up axis through the focal point
         scene.Renderer->ResetCameraClippingRange();
+      }
+      else if (row.Moves == SweepRow::LightTurns)
+      {
+        double p[3];
+        sun->GetPosition(p);
+        const double a = vtkMath::RadiansFromDegrees(0.5);
+        sun->SetPosition(p[0] * std::cos(a) - p[1] * std::sin(a),
+          p[0] * std::sin(a) + p[1] * std::cos(a), p[2]); // about the vertical
       }
     },
     [&]()
@@ -241,6 +266,7 @@ void MeasureSweepRow(const SweepScene& scene, const Options& o, SweepRow& row)
   camera->SetPosition(position);
   camera->SetFocalPoint(focal);
   camera->SetViewUp(up);
+  sun->SetPosition(sunPosition);
   scene.Renderer->ResetCameraClippingRange();
   if (scene.Errors->Raised())
   {
@@ -301,7 +327,7 @@ void Summarize(std::vector<SweepRow>& rows)
     const SweepRow* none = nullptr;
     for (const SweepRow& s : rows)
     {
-      none = s.Technique.Name == "none" && s.Triangles == r.Triangles && s.Moving == r.Moving &&
+      none = s.Technique.Name == "none" && s.Triangles == r.Triangles && s.Moves == r.Moves &&
           s.NotMeasured.empty()
         ? &s
         : none;
@@ -358,7 +384,9 @@ void WriteSweepMarkdown(
       << o.Width << "×" << o.Height << ". Median of " << o.Frames << " frames after " << o.Warmup
       << " warm-up frame(s), glFinish before each clock reading. *still*: the camera does not "
          "move (a technique may reuse the last frame's visibility); *moving*: the camera turns "
-         "0.5° about the scene centre before every frame (warm-up frames included). *first "
+         "0.5° about the scene centre before every frame (warm-up frames included); *light "
+         "moving* (with --moving-light): the camera still, the sun turns 0.5° about the vertical "
+         "before every frame. *first "
          "frame*: the first frame after the technique is installed (scene extraction, "
          "acceleration structures, shaders), rendered before the still row's warm-up. *technique* "
          "and *samples*: medians "
@@ -410,7 +438,8 @@ void WriteSweepMarkdown(
 }
 
 // Log-log: median frame time against caster triangles, one line per technique and camera
-// (still solid with circles, moving dashed with squares, one colour per technique).
+// (still solid with circles, camera moving dashed with squares, light moving dotted with
+// diamonds, one colour per technique).
 bool WriteSweepChart(const std::string& path, const std::vector<SweepRow>& rows, std::string& error)
 {
   vtkNew<vtkContextView> view;
@@ -479,8 +508,10 @@ bool WriteSweepChart(const std::string& path, const std::vector<SweepRow>& rows,
     const double* rgb = Palette[colour % PaletteSize];
     plot->SetColor(rgb[0], rgb[1], rgb[2]);
     plot->SetWidth(2.0);
-    plot->GetPen()->SetLineType(first->Moving ? vtkPen::DASH_LINE : vtkPen::SOLID_LINE);
-    plot->SetMarkerStyle(first->Moving ? vtkPlotPoints::SQUARE : vtkPlotPoints::CIRCLE);
+    const int line[] = { vtkPen::SOLID_LINE, vtkPen::DASH_LINE, vtkPen::DOT_LINE };
+    const int marker[] = { vtkPlotPoints::CIRCLE, vtkPlotPoints::SQUARE, vtkPlotPoints::DIAMOND };
+    plot->GetPen()->SetLineType(line[first->Moves]);
+    plot->SetMarkerStyle(marker[first->Moves]);
     plot->SetMarkerSize(8.0f);
   }
   // Room above the slowest point for the legend, which sits top left over the small counts.
@@ -506,7 +537,13 @@ bool WriteSweepChart(const std::string& path, const std::vector<SweepRow>& rows,
 int RunSweep(const Options& o)
 {
   std::vector<SweepRow> rows;
-  const int total = static_cast<int>(o.SweepTriangles.size() * o.Techniques.size() * 2);
+  std::vector<SweepRow::Motion> motions = { SweepRow::Still, SweepRow::CameraTurns };
+  if (o.MovingLight)
+  {
+    motions.push_back(SweepRow::LightTurns);
+  }
+  const int total =
+    static_cast<int>(o.SweepTriangles.size() * o.Techniques.size() * motions.size());
   int done = 0;
   bool failed = false;
   // Series that ran out of budget: cost grows with N, so their larger counts are not tried.
@@ -531,7 +568,7 @@ int RunSweep(const Options& o)
     vtkNew<vtkPenumbraTechniques> registry;
     for (const TechniqueSpec& spec : o.Techniques)
     {
-      // Applied once for both rows: the moving row starts from the still row's caches.
+      // Applied once for all rows: the moving rows start from the still row's caches.
       std::string refused;
       if (spec.Options.contains("samples"))
       {
@@ -542,12 +579,12 @@ int RunSweep(const Options& o)
         refused = registry->GetErrorMessage();
         failed = true;
       }
-      for (const bool moving : { false, true })
+      for (const SweepRow::Motion motion : motions)
       {
         SweepRow row;
         row.Triangles = caster->GetNumberOfPolys();
         row.Technique = spec;
-        row.Moving = moving;
+        row.Moves = motion;
         Progress(done, total, std::to_string(row.Triangles) + ": " + row.Series());
         if (!refused.empty())
         {
@@ -567,7 +604,8 @@ int RunSweep(const Options& o)
         {
           overBudget.insert(row.Series());
         }
-        if (!moving && spec.Name != "none" && row.NotMeasured.empty() && !sceneImage)
+        if (motion == SweepRow::Still && spec.Name != "none" && row.NotMeasured.empty() &&
+          !sceneImage)
         {
           // What the sweep renders: the first shadowed still frame, for the reader to check.
           vtkNew<vtkPenumbraImageIO> io;

@@ -655,10 +655,11 @@ int ParseArguments(int argc, char* argv[], Options& o)
   }
   if (!o.SweepTriangles.empty())
   {
-    if (scenesGiven || o.MovingLight || o.MovingCamera || o.StillFrames)
+    if (scenesGiven || o.MovingCamera || o.StillFrames)
     {
       return Usage("--scale-sweep renders its own scene and turns the camera: no --scenes, "
-                   "--moving-light, --moving-camera or --still-frames");
+                   "--moving-camera or --still-frames (--moving-light adds rows with the sun "
+                   "turning)");
     }
     o.Width = sizeGiven ? o.Width : SweepWidth;
     o.Height = sizeGiven ? o.Height : SweepHeight;

@@ -223,6 +223,26 @@ class BenchTest(unittest.TestCase):
             self.assertGreater(len(png), 2000)
             self.assertGreater(os.path.getsize(os.path.join(out, "sweep_scene.png")), 1000)
 
+    def test_scale_sweep_moving_light(self):
+        # --moving-light adds a row per technique with the sun turning: the shadow map is
+        # refitted and rendered again every frame there, and kept while nothing moves.
+        with tempfile.TemporaryDirectory() as out:
+            code, _, stderr = run_bench(out, "--scale-sweep", "2000", "--moving-light",
+                                        "--techniques", "shadowmap:fit=scene", "--size",
+                                        "160x120", "--frames", "3")
+            self.assertEqual(code, 0, stderr)
+            rows = read_csv(out, "sweep.csv")
+            cameras = {(row["technique"], row["camera"]): row for row in rows}
+            self.assertEqual(set(cameras), {(t, c) for t in ("none", "shadowmap")
+                                            for c in ("still", "moving", "light moving")})
+            for row in rows:
+                self.assertEqual(row["status"], "measured")
+            still = float(cameras[("shadowmap", "still")]["technique_ms"])
+            turning = float(cameras[("shadowmap", "light moving")]["technique_ms"])
+            self.assertGreater(turning, 2.0 * still, (still, turning))
+            self.assertGreater(float(cameras[("shadowmap", "light moving")]["ratio_to_none"]),
+                               0.0)
+
     def test_scale_sweep_budget(self):
         # A row whose first frame after the technique is installed needs more than the
         # budget, or whose first timed frame needs more than its share of it, is not
