@@ -572,31 +572,198 @@ void ExtentFromTiles(const LightSetup& setup, const TileOutputs& data, int tiles
   }
 }
 
+// The scene's triangle vertices in runs of SceneChunks::Size, each with its box, so that the
+// scene fit (ExtentFromScene) reads only the runs whose box could move the extent: every
+// quantity of the extent is a minimum or maximum over the vertices, and a box bounds its
+// vertices. Rebuilt when the triangles change (vtkPenumbraSceneGeometry::GetGeometryTime()),
+// kept while only the light moves, which is when the scene fit is recomputed.
+struct SceneChunks
+{
+  static constexpr vtkIdType Size = 256;
+  vtkPenumbraSceneGeometry* Geometry = nullptr; // identity only, never dereferenced
+  vtkMTimeType Time = 0;
+  vtkIdType Count = 0; // vertices (3 per triangle)
+  std::vector<std::array<double, 6>> Boxes;
+
+  void Update(vtkPenumbraSceneGeometry* geometry)
+  {
+    vtkDoubleArray* vertices = geometry->GetVertices();
+    const vtkIdType count = vertices ? 3 * geometry->GetNumberOfTriangles() : 0;
+    if (geometry == this->Geometry && geometry->GetGeometryTime() == this->Time &&
+      count == this->Count)
+    {
+      return;
+    }
+    this->Geometry = geometry;
+    this->Time = geometry->GetGeometryTime();
+    this->Count = count;
+    this->Boxes.assign(static_cast<size_t>((count + Size - 1) / Size), {});
+    vtkSMPTools::For(0, static_cast<vtkIdType>(this->Boxes.size()),
+      [&](vtkIdType first, vtkIdType last)
+      {
+        for (vtkIdType c = first; c < last; ++c)
+        {
+          std::array<double, 6>& box = this->Boxes[static_cast<size_t>(c)];
+          box = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+            std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+            std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
+          for (vtkIdType v = c * Size; v < std::min(count, (c + 1) * Size); ++v)
+          {
+            const double* p = vertices->GetPointer(3 * v);
+            for (int k = 0; k < 3; ++k)
+            {
+              box[2 * k] = std::min(box[2 * k], p[k]);
+              box[2 * k + 1] = std::max(box[2 * k + 1], p[k]);
+            }
+          }
+        }
+      });
+  }
+};
+
+// Whether a vertex inside `box` could change what AddReceiver() has gathered in `e` (the
+// light-space bounds, the farthest distance, a spot's widest tangent and whether a vertex
+// lies behind its apex, the slots used). Each bound is the exact extreme over the box, grown
+// by far more than the rounding of the per-vertex expressions, so a chunk it skips holds no
+// vertex that would change the result.
+bool MayMoveExtent(const LightSetup& setup, int slotMode, const double axes[3][3],
+  const std::array<double, 6>& box, const ReceiverExtent& e, bool behind)
+{
+  constexpr double fuzz = 1e-12;
+  if (setup.Type == LightSetup::Kind::Directional)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      double mid = 0.0, reach = 0.0, size = 0.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        const double centre = 0.5 * (box[2 * c] + box[2 * c + 1]);
+        const double half = 0.5 * (box[2 * c + 1] - box[2 * c]);
+        mid += centre * axes[a][c];
+        reach += half * std::fabs(axes[a][c]);
+        size += (std::fabs(centre) + half) * std::fabs(axes[a][c]);
+      }
+      const double slack = fuzz * size + std::numeric_limits<double>::min();
+      if (mid - reach - slack < e.Lo[a] || mid + reach + slack > e.Hi[a])
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+  const int slots = slotMode == SlotsCube ? 6 : (slotMode == SlotsParaboloid ? 2 : 1);
+  if (std::count(e.Used.begin(), e.Used.begin() + slots, 1) < slots)
+  {
+    return true;
+  }
+  double farthest = 0.0, tangent = 0.0, lowestW = std::numeric_limits<double>::max();
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    const double q[3] = { ((corner & 1) ? box[1] : box[0]) - setup.Position[0],
+      ((corner & 2) ? box[3] : box[2]) - setup.Position[1],
+      ((corner & 4) ? box[5] : box[4]) - setup.Position[2] };
+    farthest = std::max(farthest, Norm3(q));
+    const double w = vtkMath::Dot(q, axes[2]);
+    lowestW = std::min(lowestW, w);
+    // |q . axes[0]| / w is linear-fractional where w > 0: its maximum over the box is at a
+    // corner.
+    tangent = std::max(tangent,
+      std::max(std::fabs(vtkMath::Dot(q, axes[0])), std::fabs(vtkMath::Dot(q, axes[1]))) / w);
+  }
+  if (farthest * (1.0 + fuzz) >= e.Farthest)
+  {
+    return true;
+  }
+  if (setup.Type != LightSetup::Kind::Spot || behind)
+  {
+    return false; // behind the apex, the fit takes the whole cone whatever the tangents
+  }
+  return !(lowestW > fuzz * farthest) || tangent * (1.0 + fuzz) >= e.SpotTan;
+}
+
 // The scene fit (SetFitTo(FIT_TO_SCENE)): every vertex of the scene's triangles is a
 // receiver point. A spot light with a vertex behind its apex gets the whole cone (that
-// triangle may reach into it), as a tile box behind it does in ExtentFromTiles().
-void ExtentFromScene(
-  const LightSetup& setup, int slotMode, vtkPenumbraSceneGeometry* geometry, ReceiverExtent& e)
+// triangle may reach into it), as a tile box behind it does in ExtentFromTiles(). Only the
+// chunks that may move the extent are read (MayMoveExtent), after the ones whose boxes reach
+// farthest, which usually hold the extremes; the result is the same as reading every vertex.
+// The minimum-area rectangle needs every vertex of the plane's hull, so it reads them all.
+void ExtentFromScene(const LightSetup& setup, int slotMode, vtkPenumbraSceneGeometry* geometry,
+  SceneChunks& chunks, ReceiverExtent& e)
 {
-  double axes[3][3];
-  LightAxes(setup, axes);
   vtkDoubleArray* vertices = geometry->GetVertices();
   const vtkIdType count = vertices ? 3 * geometry->GetNumberOfTriangles() : 0;
-  const bool plane = e.CollectPlane && setup.Type == LightSetup::Kind::Directional;
-  bool behind = false;
-  for (vtkIdType v = 0; v < count; ++v)
+  if (count == 0)
   {
-    const double* p = vertices->GetPointer(3 * v);
-    AddReceiver(setup, axes, slotMode, p, e);
-    if (plane)
+    return;
+  }
+  double axes[3][3];
+  LightAxes(setup, axes);
+  chunks.Update(geometry);
+  const bool plane = e.CollectPlane && setup.Type == LightSetup::Kind::Directional;
+  const vtkIdType pending = e.Pending;
+  bool behind = false;
+  std::vector<char> read(chunks.Boxes.size(), 0);
+  auto readChunk = [&](size_t c)
+  {
+    read[c] = 1;
+    const vtkIdType first = static_cast<vtkIdType>(c) * SceneChunks::Size;
+    for (vtkIdType v = first; v < std::min(count, first + SceneChunks::Size); ++v)
     {
-      e.Plane.push_back({ vtkMath::Dot(p, axes[0]), vtkMath::Dot(p, axes[1]) });
+      const double* p = vertices->GetPointer(3 * v);
+      AddReceiver(setup, axes, slotMode, p, e);
+      if (plane)
+      {
+        e.Plane.push_back({ vtkMath::Dot(p, axes[0]), vtkMath::Dot(p, axes[1]) });
+      }
+      if (setup.Type == LightSetup::Kind::Spot)
+      {
+        const double q[3] = { p[0] - setup.Position[0], p[1] - setup.Position[1],
+          p[2] - setup.Position[2] };
+        behind = behind || !(vtkMath::Dot(q, axes[2]) > 0.0);
+      }
     }
-    if (setup.Type == LightSetup::Kind::Spot)
+  };
+  // Seeds: per light axis, the chunks whose boxes reach lowest and highest along it.
+  for (int a = 0; a < 3 && !plane; ++a)
+  {
+    auto along = [&](size_t c, int side)
     {
-      const double q[3] = { p[0] - setup.Position[0], p[1] - setup.Position[1],
-        p[2] - setup.Position[2] };
-      behind = behind || !(vtkMath::Dot(q, axes[2]) > 0.0);
+      const std::array<double, 6>& b = chunks.Boxes[c];
+      double d = 0.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        d += (axes[a][k] * side > 0.0 ? b[2 * k + 1] : b[2 * k]) * axes[a][k];
+      }
+      return d * side;
+    };
+    for (int side = -1; side <= 1; side += 2)
+    {
+      size_t best = 0;
+      for (size_t c = 1; c < chunks.Boxes.size(); ++c)
+      {
+        best = along(c, side) > along(best, side) ? c : best;
+      }
+      if (!read[best])
+      {
+        readChunk(best);
+      }
+    }
+  }
+  for (size_t c = 0; c < chunks.Boxes.size(); ++c)
+  {
+    if (!read[c] && (plane || MayMoveExtent(setup, slotMode, axes, chunks.Boxes[c], e, behind)))
+    {
+      readChunk(c);
+    }
+  }
+  // What every vertex counts for, from the chunks' boxes: the same as reading them all.
+  e.Pending = pending + count;
+  for (const std::array<double, 6>& box : chunks.Boxes)
+  {
+    for (int k = 0; k < 6; k += 2)
+    {
+      e.Box[k] = std::min(e.Box[k], box[k]);
+      e.Box[k + 1] = std::max(e.Box[k + 1], box[k + 1]);
     }
   }
   if (behind)
@@ -994,6 +1161,7 @@ struct vtkPenumbraShadowMapShadows::Internals
   std::vector<double> ParaboloidKey;
 
   std::vector<LightMaps> Cache;
+  SceneChunks Chunks; // the scene fit's vertex runs (ExtentFromScene)
   std::vector<unsigned char> State;
   std::vector<float> SecondLayer;
   // GPU lookup staging (pending-sample list, its positions, normals and answers), kept between
@@ -1442,7 +1610,7 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     extent.Square = this->FitRectangle == FIT_SQUARE;
     if (Internals::FitsScene(this))
     {
-      ExtentFromScene(setup, slotMode, geometry, extent);
+      ExtentFromScene(setup, slotMode, geometry, impl.Chunks, extent);
     }
     else if (slotMode == SlotsOne)
     {
@@ -2388,7 +2556,7 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
       extent.Square = self->FitRectangle == FIT_SQUARE;
       if (FitsScene(self))
       {
-        ExtentFromScene(setup, this->SlotMode(self, setup), geometry, extent);
+        ExtentFromScene(setup, this->SlotMode(self, setup), geometry, this->Chunks, extent);
       }
       else if (!this->ReduceExtent(self, frame, setup, extent, error))
       {
