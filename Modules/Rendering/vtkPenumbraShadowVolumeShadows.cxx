@@ -1185,8 +1185,9 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   struct VolumeSet
   {
     std::vector<double> Key;
-    std::uint64_t Stamp = 0;     // last use: the least recently used set is evicted
-    std::vector<float> Vertices; // xyzw, caps first
+    double Box[6] = { 0, 0, 0, 0, 0, 0 }; // with Cull: the box it was culled to (CullBox())
+    std::uint64_t Stamp = 0;              // last use: the least recently used set is evicted
+    std::vector<float> Vertices;          // xyzw, caps first
     GLsizei CapVertices = 0;
     GLsizei AllVertices = 0;
     std::vector<GLuint> AdjacencyIndices; // GPU silhouettes
@@ -1593,8 +1594,23 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     }
   }
 
-  // The volume cache: the set of `vl` for the pending `box`, built when missing (evicting
-  // the least recently used set when full), stamped as used now.
+  // The box a set of volumes is culled to: the pending box grown by a fifth of its largest
+  // side. Culling keeps every volume that reaches the box, so a set culled to a box serves
+  // every pending box inside it with the same counts; the margin lets a set outlive the small
+  // camera moves of an interaction instead of being rebuilt (and its outline welded again)
+  // every frame.
+  static void CullBox(const double box[6], double grown[6])
+  {
+    const double margin = 0.2 * std::max({ box[1] - box[0], box[3] - box[2], box[5] - box[4] });
+    for (int c = 0; c < 3; ++c)
+    {
+      grown[2 * c] = box[2 * c] - margin;
+      grown[2 * c + 1] = box[2 * c + 1] + margin;
+    }
+  }
+
+  // The volume cache: a set of `vl` whose culling box holds the pending `box`, built when
+  // missing (evicting the least recently used set when full), stamped as used now.
   VolumeSet* FindVolumes(vtkPenumbraShadowVolumeShadows& self, const Group& g,
     const VolumeLight& vl, const double box[6])
   {
@@ -1602,12 +1618,16 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     std::vector<double> key = { vl.Directional ? 1.0 : 0.0, vl.Direction[0], vl.Direction[1],
       vl.Direction[2], vl.Position[0], vl.Position[1], vl.Position[2], vl.Extrusion,
       self.Cull ? 1.0 : 0.0, self.GPUSilhouettes ? 1.0 : 0.0, self.Resolve ? 1.0 : 0.0 };
-    if (self.Cull)
+    auto serves = [&](const std::unique_ptr<VolumeSet>& v)
     {
-      key.insert(key.end(), box, box + 6);
-    }
-    auto found = std::find_if(this->Volumes.begin(), this->Volumes.end(),
-      [&](const std::unique_ptr<VolumeSet>& v) { return v->Key == key; });
+      bool inside = v->Key == key;
+      for (int c = 0; c < 3 && inside && self.Cull; ++c)
+      {
+        inside = v->Box[2 * c] <= box[2 * c] && box[2 * c + 1] <= v->Box[2 * c + 1];
+      }
+      return inside;
+    };
+    auto found = std::find_if(this->Volumes.begin(), this->Volumes.end(), serves);
     if (found == this->Volumes.end())
     {
       if (this->Volumes.size() >= MaxVolumeSets)
@@ -1622,8 +1642,9 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       found = this->Volumes.end() - 1;
       VolumeSet& build = **found;
       build.Key = key;
+      CullBox(box, build.Box);
       ++self.NumberOfVolumeBuilds;
-      BuildVolumes(build, this->Mesh, vl, self.Cull ? box : nullptr, g.RebasedBounds,
+      BuildVolumes(build, this->Mesh, vl, self.Cull ? build.Box : nullptr, g.RebasedBounds,
         self.GPUSilhouettes, self.Resolve);
       self.VolumeTimeMs += ElapsedMs(volumeStart);
     }

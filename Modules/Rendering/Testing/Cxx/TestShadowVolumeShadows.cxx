@@ -573,6 +573,65 @@ int CheckCaching()
   return EXIT_SUCCESS;
 }
 
+// Mismatches of every light's visibility in the pass's last frame against the reference on
+// the same samples (ties excluded).
+int PassMismatches(vtkRenderer* renderer, vtkIdType& mismatches)
+{
+  vtkPenumbraShadowPass* pass = ShadowPass(renderer);
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(pass->GetGeometry());
+  vtkNew<vtkPenumbraMetrics> metrics;
+  mismatches = 0;
+  for (int i = 0; i < pass->GetNumberOfLights(); ++i)
+  {
+    vtkNew<vtkFloatArray> ref;
+    CHECK(pass->GetVisibility(i) != nullptr);
+    CHECK(reference->ComputeVisibility(pass->GetViewSamples(), pass->GetLight(i), ref));
+    CHECK(metrics->CompareHard(pass->GetVisibility(i), ref, reference->GetTies()));
+    mismatches += metrics->GetFalseLit() + metrics->GetFalseShadow();
+  }
+  return EXIT_SUCCESS;
+}
+
+// With culling (the default) volumes are culled to the pending samples' box grown by a
+// margin: a small camera move keeps them, one that takes the samples outside that box
+// builds them again, and both frames stay exact.
+int CheckCullingReuse()
+{
+  auto renderer = Scene(
+    { Box(-0.5, 0.5, -0.5, 0.5, 0.6, 1.0), Sphere(-1.0, 0.5, 1.0, 0.6) }, LightType::Point, From);
+  renderer->GetActiveCamera()->Zoom(3.0); // part of the ground
+  vtkSmartPointer<vtkRenderWindow> window = TestWindow(renderer, 96, 64);
+  vtkNew<vtkPenumbraTechniques> techniques;
+  CHECK(techniques->Apply(renderer, "volumes", "{}"));
+  window->Render();
+  auto* technique =
+    vtkPenumbraShadowVolumeShadows::SafeDownCast(ShadowPass(renderer)->GetTechnique());
+  CHECK(technique != nullptr && technique->GetCull());
+  CHECK(technique->GetNumberOfVolumeBuilds() == 1);
+  vtkIdType mismatches = -1;
+  for (int frame = 0; frame < 3; ++frame)
+  {
+    renderer->GetActiveCamera()->Azimuth(0.5);
+    window->Render();
+    RUN(PassMismatches(renderer, mismatches));
+    std::printf("culling reuse, camera turned by %.1f degrees: %d volume builds, %lld mismatches\n",
+      0.5 * (frame + 1), technique->GetNumberOfVolumeBuilds(), static_cast<long long>(mismatches));
+    CHECK(technique->GetNumberOfVolumeBuilds() == 1);
+    CHECK(mismatches == 0);
+  }
+  renderer->GetActiveCamera()->Zoom(1.0 / 3.0); // the view takes in far more of the ground
+  window->Render();
+  RUN(PassMismatches(renderer, mismatches));
+  std::printf("culling reuse, zoomed out: %d volume builds, %lld mismatches\n",
+    technique->GetNumberOfVolumeBuilds(), static_cast<long long>(mismatches));
+  CHECK(technique->GetNumberOfVolumeBuilds() == 2);
+  CHECK(mismatches == 0);
+  renderer->GetRenderWindow()->RemoveRenderer(renderer);
+  window->Finalize();
+  return EXIT_SUCCESS;
+}
+
 // A goniometric light (Brabec 2003, §8.3.1) from Data/Lights/spot_pattern.gonio over the ground
 // and a box, shadowed by volumes and by two other techniques: the visibility is exactly the
 // reference's (the light is a point light to every technique), and the light factor the
@@ -972,6 +1031,7 @@ int TestShadowVolumeShadows(int, char*[])
   RUN(CheckPureStencil());
   RUN(CheckSpecks());
   RUN(CheckCaching());
+  RUN(CheckCullingReuse());
   RUN(CheckMultiLightMasks());
   RUN(CheckGoniometric());
   RUN(CheckScenes());
