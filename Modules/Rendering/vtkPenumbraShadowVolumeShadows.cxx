@@ -52,7 +52,9 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <numeric>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 vtkStandardNewMacro(vtkPenumbraShadowVolumeShadows);
@@ -903,9 +905,32 @@ struct VolumeOutline
 
   void Clear() { *this = VolumeOutline(); }
 
-  int Weld(const float* v, std::map<std::array<float, 4>, int>& index)
+  // Welding key: the vertex's four floats, -0 taken as +0 (equal as floats).
+  struct Key
   {
-    const std::array<float, 4> key = { v[0], v[1], v[2], v[3] };
+    std::array<float, 4> V;
+    bool operator==(const Key& o) const { return this->V == o.V; }
+  };
+  struct KeyHash
+  {
+    size_t operator()(const Key& k) const
+    {
+      std::uint32_t bits[4];
+      std::memcpy(bits, k.V.data(), sizeof(bits));
+      std::uint64_t h = 0x9e3779b97f4a7c15ull;
+      for (std::uint32_t b : bits)
+      {
+        h = (h ^ b) * 0xff51afd7ed558ccdull;
+        h ^= h >> 32;
+      }
+      return static_cast<size_t>(h);
+    }
+  };
+  using WeldIndex = std::unordered_map<Key, int, KeyHash>;
+
+  int Weld(const float* v, WeldIndex& index)
+  {
+    const Key key = { { v[0] + 0.0f, v[1] + 0.0f, v[2] + 0.0f, v[3] + 0.0f } };
     const auto found = index.emplace(key, static_cast<int>(this->Points.size()));
     if (found.second)
     {
@@ -919,25 +944,46 @@ struct VolumeOutline
   void Build(const std::vector<float>& triangles, const std::vector<float>& forced)
   {
     this->Clear();
-    std::map<std::array<float, 4>, int> index;
     const size_t nt = triangles.size() / 12;
+    WeldIndex index;
+    index.reserve(3 * nt / 2 + forced.size() / 4);
     this->Faces.resize(nt);
-    std::vector<std::array<int, 3>> entries; // first, second, incidence
-    entries.reserve(3 * nt);
     for (size_t t = 0; t < nt; ++t)
     {
-      auto& f = this->Faces[t];
       for (int k = 0; k < 3; ++k)
       {
-        f[static_cast<size_t>(k)] = this->Weld(triangles.data() + 12 * t + 4 * k, index);
+        this->Faces[t][static_cast<size_t>(k)] =
+          this->Weld(triangles.data() + 12 * t + 4 * k, index);
       }
+    }
+    // The face edges (first, second, incidence) in lexicographic order: bucketed by their
+    // first point (a counting sort), then each small bucket sorted.
+    std::vector<int> bucket(this->Points.size() + 1, 0);
+    for (const auto& f : this->Faces)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        ++bucket[static_cast<size_t>(std::min(f[static_cast<size_t>(k)], f[(k + 1) % 3])) + 1];
+      }
+    }
+    std::partial_sum(bucket.begin(), bucket.end(), bucket.begin());
+    std::vector<std::array<int, 3>> entries(3 * nt);
+    std::vector<int> next(bucket.begin(), bucket.end() - 1);
+    for (size_t t = 0; t < nt; ++t)
+    {
+      const auto& f = this->Faces[t];
       for (int k = 0; k < 3; ++k)
       {
         const int a = f[static_cast<size_t>(k)], b = f[static_cast<size_t>((k + 1) % 3)];
-        entries.push_back({ std::min(a, b), std::max(a, b), 2 * static_cast<int>(t) + (a < b) });
+        entries[static_cast<size_t>(next[static_cast<size_t>(std::min(a, b))]++)] = {
+          std::min(a, b), std::max(a, b), 2 * static_cast<int>(t) + (a < b)
+        };
       }
     }
-    std::sort(entries.begin(), entries.end());
+    for (size_t p = 0; p + 1 < bucket.size(); ++p)
+    {
+      std::sort(entries.begin() + bucket[p], entries.begin() + bucket[p + 1]);
+    }
     for (size_t i = 0; i < entries.size(); ++i)
     {
       if (i == 0 || entries[i][0] != entries[i - 1][0] || entries[i][1] != entries[i - 1][1])
