@@ -54,7 +54,6 @@
 #include <memory>
 #include <numeric>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 vtkStandardNewMacro(vtkPenumbraShadowVolumeShadows);
@@ -507,6 +506,30 @@ bool SegmentMayTouch(const VolumeLight& light, const Vec3& eye, const Vec3 v[3],
   return true;
 }
 
+// Volume vertices as drawn (xyzw floats), each with its point's identity: mesh point i is
+// NearId(i), its extruded copy FarId(i). Equal identities are equal floats, so the outline
+// (VolumeOutline) takes its topology from the identities without welding floats.
+struct VolumeStream
+{
+  std::vector<float> V;
+  std::vector<int> Id;
+
+  static int NearId(int i) { return 2 * i; }
+  static int FarId(int i) { return 2 * i + 1; }
+  void Put(double x, double y, double z, double w, int id)
+  {
+    this->V.insert(this->V.end(),
+      { static_cast<float>(x), static_cast<float>(y), static_cast<float>(z),
+        static_cast<float>(w) });
+    this->Id.push_back(id);
+  }
+  void Append(const VolumeStream& o)
+  {
+    this->V.insert(this->V.end(), o.V.begin(), o.V.end());
+    this->Id.insert(this->Id.end(), o.Id.begin(), o.Id.end());
+  }
+};
+
 // One light's volumes as xyzw triangles (Brabec 2003, ch. 3 and 8): light caps, then sides
 // and dark caps; and, for the outline (see VolumeOutline), the volumes the geometry stage
 // makes for GPU-silhouette components.
@@ -516,9 +539,9 @@ struct VolumeBuilder
   const VolumeLight& Light;
   const double* Box = nullptr; // culling box of the pending samples, null: no culling
   double FarW = 0.0;           // positional lights: w of the extruded copies
-  std::vector<float> Caps, Sides;
-  std::vector<float> GPUVolumes;   // GPU components, as the geometry stage draws them
-  std::vector<float> GPUUncertain; // segments: prism edges of faces it may classify otherwise
+  VolumeStream Caps, Sides;
+  VolumeStream GPUVolumes;   // GPU components, as the geometry stage draws them
+  VolumeStream GPUUncertain; // segments: prism edges of faces it may classify otherwise
   vtkIdType Culled = 0;
   vtkIdType SilhouetteEdges = 0;
 
@@ -528,57 +551,58 @@ struct VolumeBuilder
   {
   }
 
-  static void Put(std::vector<float>& out, const Vec3& p, double w)
+  // Mesh point i itself, as a volume vertex.
+  void Near(VolumeStream& out, int i) const
   {
-    out.insert(out.end(),
-      { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]),
-        static_cast<float>(w) });
+    const Vec3& p = this->Mesh.Points[static_cast<size_t>(i)];
+    out.Put(p[0], p[1], p[2], 1.0, VolumeStream::NearId(i));
   }
-  // Extruded copy of v: a finite prism for directional lights, a finite frustum for
-  // positional ones (PositionalFarW; the same formula as the GPU silhouette stage).
-  void PutFar(std::vector<float>& out, const Vec3& v) const
+  // Extruded copy of mesh point i: a finite prism for directional lights, a finite frustum
+  // for positional ones (PositionalFarW; the same formula as the GPU silhouette stage).
+  void Far(VolumeStream& out, int i) const
   {
+    const Vec3& v = this->Mesh.Points[static_cast<size_t>(i)];
     const VolumeLight& vl = this->Light;
     if (vl.Directional)
     {
-      Put(out,
-        { v[0] - vl.Extrusion * vl.Direction[0], v[1] - vl.Extrusion * vl.Direction[1],
-          v[2] - vl.Extrusion * vl.Direction[2] },
-        1.0);
+      out.Put(v[0] - vl.Extrusion * vl.Direction[0], v[1] - vl.Extrusion * vl.Direction[1],
+        v[2] - vl.Extrusion * vl.Direction[2], 1.0, VolumeStream::FarId(i));
     }
     else
     {
       const double w = this->FarW;
-      Put(out,
-        { v[0] - vl.Position[0] + w * vl.Position[0], v[1] - vl.Position[1] + w * vl.Position[1],
-          v[2] - vl.Position[2] + w * vl.Position[2] },
-        w);
+      out.Put(v[0] - vl.Position[0] + w * vl.Position[0],
+        v[1] - vl.Position[1] + w * vl.Position[1], v[2] - vl.Position[2] + w * vl.Position[2], w,
+        VolumeStream::FarId(i));
     }
   }
   // One side quad for edge u -> v of a light-facing oriented face (outward winding).
-  void Side(std::vector<float>& out, const Vec3& u, const Vec3& v) const
+  void Side(VolumeStream& out, int u, int v) const
   {
-    Put(out, u, 1.0);
-    this->PutFar(out, u);
-    this->PutFar(out, v);
-    Put(out, u, 1.0);
-    this->PutFar(out, v);
-    Put(out, v, 1.0);
+    this->Near(out, u);
+    this->Far(out, u);
+    this->Far(out, v);
+    this->Near(out, u);
+    this->Far(out, v);
+    this->Near(out, v);
   }
-  void CapAndDark(std::vector<float>& caps, std::vector<float>& sides, const Vec3& a, const Vec3& b,
-    const Vec3& c) const
+  void CapAndDark(VolumeStream& caps, VolumeStream& sides, const int t[3]) const
   {
-    Put(caps, a, 1.0);
-    Put(caps, b, 1.0);
-    Put(caps, c, 1.0);
-    this->PutFar(sides, a);
-    this->PutFar(sides, c);
-    this->PutFar(sides, b);
+    this->Near(caps, t[0]);
+    this->Near(caps, t[1]);
+    this->Near(caps, t[2]);
+    this->Far(sides, t[0]);
+    this->Far(sides, t[2]);
+    this->Far(sides, t[1]);
   }
-  // Per-triangle volume (Brabec 2003, ch. 3 brute force; correct for any input): the triangle
-  // turned toward the light, its extrusion and its three sides. `f` is its facing value.
-  void PerTriangle(Vec3 v[3], double f)
+  // Per-triangle volume (Brabec 2003, ch. 3 brute force; correct for any input): triangle
+  // `t` (mesh points) turned toward the light, its extrusion and its three sides.
+  void PerTriangle(std::array<int, 3> t)
   {
+    const auto& P = this->Mesh.Points;
+    Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
+      P[static_cast<size_t>(t[2])] };
+    const double f = this->Light.Facing(v[0], v[1], v[2]);
     if (!(f != 0.0)) // edge-on to the light: a flat volume, blocks nothing
     {
       return;
@@ -586,16 +610,17 @@ struct VolumeBuilder
     if (f < 0.0)
     {
       std::swap(v[1], v[2]);
+      std::swap(t[1], t[2]);
     }
     if (this->Box && VolumeMissesBox(this->Light, v, this->Box))
     {
       ++this->Culled;
       return;
     }
-    this->CapAndDark(this->Caps, this->Sides, v[0], v[1], v[2]);
-    this->Side(this->Sides, v[0], v[1]);
-    this->Side(this->Sides, v[1], v[2]);
-    this->Side(this->Sides, v[2], v[0]);
+    this->CapAndDark(this->Caps, this->Sides, t.data());
+    this->Side(this->Sides, t[0], t[1]);
+    this->Side(this->Sides, t[1], t[2]);
+    this->Side(this->Sides, t[2], t[0]);
   }
 
   // Whether the geometry stage, deciding facing in float32 on float32 vertices, may decide
@@ -616,18 +641,17 @@ struct VolumeBuilder
   }
   // The nine edges of a face's prism: every volume edge whose neighbourhood changes when the
   // face enters or leaves its set is one of them.
-  void PutPrismEdges(std::vector<float>& out, const Vec3 v[3]) const
+  void PutPrismEdges(VolumeStream& out, const std::array<int, 3>& t) const
   {
     for (int k = 0; k < 3; ++k)
     {
-      const Vec3& a = v[k];
-      const Vec3& b = v[(k + 1) % 3];
-      Put(out, a, 1.0);
-      Put(out, b, 1.0);
-      this->PutFar(out, a);
-      this->PutFar(out, b);
-      Put(out, a, 1.0);
-      this->PutFar(out, a);
+      const int a = t[static_cast<size_t>(k)], b = t[static_cast<size_t>((k + 1) % 3)];
+      this->Near(out, a);
+      this->Near(out, b);
+      this->Far(out, a);
+      this->Far(out, b);
+      this->Near(out, a);
+      this->Far(out, a);
     }
   }
 
@@ -645,8 +669,8 @@ struct VolumeBuilder
   void Component(const Connectivity::Component& c, bool bothSets, bool gpu)
   {
     const auto& P = this->Mesh.Points;
-    std::vector<float>& caps = gpu ? this->GPUVolumes : this->Caps;
-    std::vector<float>& sides = gpu ? this->GPUVolumes : this->Sides;
+    VolumeStream& caps = gpu ? this->GPUVolumes : this->Caps;
+    VolumeStream& sides = gpu ? this->GPUVolumes : this->Sides;
     // Per face: +1 light-facing set, -1 back-facing set (turned), 0 none. Facing is one
     // decision per face, ties (edge-on) in no set (Brabec 2003, ch. 9). A culled face leaves
     // its set: the sum of the remaining volumes stays a valid count.
@@ -654,18 +678,19 @@ struct VolumeBuilder
     bool any = false;
     for (size_t i = 0; i < c.Faces.size(); ++i)
     {
-      const auto& t = c.Faces[i];
+      std::array<int, 3> t = c.Faces[i];
       Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
         P[static_cast<size_t>(t[2])] };
       const double f = this->Light.Facing(v[0], v[1], v[2]);
       if (gpu && this->MayFaceOtherwise(v, f))
       {
-        this->PutPrismEdges(this->GPUUncertain, v);
+        this->PutPrismEdges(this->GPUUncertain, t);
       }
       signed char si = f > 0.0 ? 1 : (bothSets && f < 0.0 ? -1 : 0);
       if (si < 0)
       {
         std::swap(v[1], v[2]);
+        std::swap(t[1], t[2]);
       }
       if (si != 0 && !gpu && this->Box && VolumeMissesBox(this->Light, v, this->Box))
       {
@@ -674,7 +699,7 @@ struct VolumeBuilder
       }
       if (si != 0)
       {
-        this->CapAndDark(caps, sides, v[0], v[1], v[2]);
+        this->CapAndDark(caps, sides, t.data());
         any = true;
       }
       set[i] = si;
@@ -685,8 +710,7 @@ struct VolumeBuilder
     }
     for (const auto& e : c.Edges)
     {
-      const Vec3& p0 = P[static_cast<size_t>(e[0])];
-      const Vec3& p1 = P[static_cast<size_t>(e[1])];
+      const int p0 = e[0], p1 = e[1];
       const signed char s0 = set[static_cast<size_t>(e[2])];
       const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
       if (s0 == s1)
@@ -893,7 +917,7 @@ struct VolumeOutline
   // the GPU's float32 vertex transform and the double one here with a wide margin.
   static constexpr double Reach = 1.0 / 32.0;
 
-  std::vector<std::array<double, 4>> Points; // welded volume vertices, rebased, homogeneous
+  std::vector<std::array<double, 4>> Points; // volume vertices, rebased, homogeneous
   std::vector<std::array<int, 3>> Faces;     // volume triangles as drawn (their winding)
   std::vector<std::array<int, 2>> Edges;     // undirected, first < second
   std::vector<int> EdgeStart;                // edge e's incidences: [EdgeStart[e], [e + 1])
@@ -905,55 +929,31 @@ struct VolumeOutline
 
   void Clear() { *this = VolumeOutline(); }
 
-  // Welding key: the vertex's four floats, -0 taken as +0 (equal as floats).
-  struct Key
-  {
-    std::array<float, 4> V;
-    bool operator==(const Key& o) const { return this->V == o.V; }
-  };
-  struct KeyHash
-  {
-    size_t operator()(const Key& k) const
-    {
-      std::uint32_t bits[4];
-      std::memcpy(bits, k.V.data(), sizeof(bits));
-      std::uint64_t h = 0x9e3779b97f4a7c15ull;
-      for (std::uint32_t b : bits)
-      {
-        h = (h ^ b) * 0xff51afd7ed558ccdull;
-        h ^= h >> 32;
-      }
-      return static_cast<size_t>(h);
-    }
-  };
-  using WeldIndex = std::unordered_map<Key, int, KeyHash>;
-
-  int Weld(const float* v, WeldIndex& index)
-  {
-    const Key key = { { v[0] + 0.0f, v[1] + 0.0f, v[2] + 0.0f, v[3] + 0.0f } };
-    const auto found = index.emplace(key, static_cast<int>(this->Points.size()));
-    if (found.second)
-    {
-      this->Points.push_back({ v[0], v[1], v[2], v[3] });
-    }
-    return found.first->second;
-  }
-
-  // From triangles of xyzw vertices (as drawn: light caps first does not matter) and pairs
-  // of xyzw vertices that are always on the outline.
-  void Build(const std::vector<float>& triangles, const std::vector<float>& forced)
+  // From volume triangles (as drawn: light caps first does not matter) and segments that
+  // are always on the outline, with their points' identities (VolumeStream) over a mesh of
+  // `meshPoints` points. Points are numbered in order of first use.
+  void Build(const VolumeStream& triangles, const VolumeStream& forced, size_t meshPoints)
   {
     this->Clear();
-    const size_t nt = triangles.size() / 12;
-    WeldIndex index;
-    index.reserve(3 * nt / 2 + forced.size() / 4);
+    std::vector<int> number(2 * meshPoints, -1);
+    auto point = [&](const VolumeStream& from, size_t vertex)
+    {
+      int& n = number[static_cast<size_t>(from.Id[vertex])];
+      if (n < 0)
+      {
+        n = static_cast<int>(this->Points.size());
+        const float* v = from.V.data() + 4 * vertex;
+        this->Points.push_back({ v[0], v[1], v[2], v[3] });
+      }
+      return n;
+    };
+    const size_t nt = triangles.Id.size() / 3;
     this->Faces.resize(nt);
     for (size_t t = 0; t < nt; ++t)
     {
       for (int k = 0; k < 3; ++k)
       {
-        this->Faces[t][static_cast<size_t>(k)] =
-          this->Weld(triangles.data() + 12 * t + 4 * k, index);
+        this->Faces[t][static_cast<size_t>(k)] = point(triangles, 3 * t + static_cast<size_t>(k));
       }
     }
     // The face edges (first, second, incidence) in lexicographic order: bucketed by their
@@ -994,10 +994,9 @@ struct VolumeOutline
       this->Incidences.push_back(entries[i][2]);
     }
     this->EdgeStart.push_back(static_cast<int>(entries.size()));
-    for (size_t i = 0; i + 7 < forced.size(); i += 8)
+    for (size_t i = 0; i + 1 < forced.Id.size(); i += 2)
     {
-      this->Forced.push_back(
-        { this->Weld(forced.data() + i, index), this->Weld(forced.data() + i + 4, index) });
+      this->Forced.push_back({ point(forced, i), point(forced, i + 1) });
     }
   }
 
@@ -1272,12 +1271,9 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     builder.Box = box;
     builder.FarW = vl.Directional ? 0.0 : PositionalFarW(mesh, vl, bounds);
     build.FarW = builder.FarW;
-    const auto& P = mesh.Points;
     for (const auto& t : mesh.Loose)
     {
-      Vec3 v[3] = { P[static_cast<size_t>(t[0])], P[static_cast<size_t>(t[1])],
-        P[static_cast<size_t>(t[2])] };
-      builder.PerTriangle(v, vl.Facing(v[0], v[1], v[2]));
+      builder.PerTriangle(t);
     }
     for (const auto& c : mesh.Components)
     {
@@ -1301,19 +1297,20 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       }
       builder.Component(c, bothSets, gpu && !bothSets);
     }
-    build.CapVertices = static_cast<GLsizei>(builder.Caps.size() / 4);
-    build.AllVertices = static_cast<GLsizei>((builder.Caps.size() + builder.Sides.size()) / 4);
-    build.Vertices.swap(builder.Caps);
-    build.Vertices.insert(build.Vertices.end(), builder.Sides.begin(), builder.Sides.end());
+    build.CapVertices = static_cast<GLsizei>(builder.Caps.V.size() / 4);
+    build.AllVertices = static_cast<GLsizei>((builder.Caps.V.size() + builder.Sides.V.size()) / 4);
+    if (outline)
+    {
+      // Every volume triangle the outline is made of: the geometry stage's, then the drawn.
+      builder.GPUVolumes.Append(builder.Caps);
+      builder.GPUVolumes.Append(builder.Sides);
+      build.Outline.Build(builder.GPUVolumes, builder.GPUUncertain, mesh.Points.size());
+    }
+    build.Vertices.swap(builder.Caps.V);
+    build.Vertices.insert(build.Vertices.end(), builder.Sides.V.begin(), builder.Sides.V.end());
     build.SilhouetteEdges = gpu && !build.AdjacencyIndices.empty() ? -1 : builder.SilhouetteEdges;
     build.AdjacencyCount = static_cast<GLsizei>(build.AdjacencyIndices.size());
     build.Culled = builder.Culled;
-    if (outline)
-    {
-      builder.GPUVolumes.insert(
-        builder.GPUVolumes.end(), build.Vertices.begin(), build.Vertices.end());
-      build.Outline.Build(builder.GPUVolumes, builder.GPUUncertain);
-    }
   }
 
   void Evict(size_t i)
