@@ -140,6 +140,10 @@ struct vtkPenumbraConservativeShadows::Internals
     vtkWeakPointer<vtkLight> Light;
     std::vector<ViewMaps> Views;
     std::uint64_t LastUse = 0;
+    // The box the views are fitted to, grown by a tenth so that a camera that moves a little
+    // keeps the views and so the maps. It costs coarser texels on what is seen: on the bench's
+    // city the traced share rose from 5.8 % to 7.6 % (a fifth: 9.2 %).
+    penumbra_light_views::KeptBox Fit{ 0.1 };
   };
   std::vector<LightMaps> Cache;
   std::uint64_t Uses = 0;
@@ -755,7 +759,9 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
   // to the whole scene would waste its texels.
   std::vector<View> views;
   std::vector<signed char> sampleView;
-  penumbra_light_views::FitViews(setup, n, pos, shift, state, Pending, views, sampleView, &pending);
+  Internals::LightMaps& cached = impl.Entry(light);
+  penumbra_light_views::FitViews(
+    setup, n, pos, shift, state, Pending, views, sampleView, &pending, &cached.Fit);
   this->NumberOfViews = static_cast<int>(views.size());
 
   // ---- Per view: render both CSM layers, read them back, classify its samples.
@@ -777,7 +783,6 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
     {
       impl.AllocateMaps(win, size);
     }
-    Internals::LightMaps& cached = impl.Entry(light);
     cached.Views.resize(views.size());
 
     FrameContext frame;

@@ -378,9 +378,47 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
 }
 
 //------------------------------------------------------------------------------
+bool KeptBox::Serves(const double kept[6], const double box[6], double margin)
+{
+  double keptSide = 0.0, boxSide = 0.0;
+  for (int c = 0; c < 3; ++c)
+  {
+    if (!(kept[2 * c] <= box[2 * c] && box[2 * c + 1] <= kept[2 * c + 1]))
+    {
+      return false;
+    }
+    keptSide = std::max(keptSide, kept[2 * c + 1] - kept[2 * c]);
+    boxSide = std::max(boxSide, box[2 * c + 1] - box[2 * c]);
+  }
+  return keptSide <= (1.0 + 4.0 * margin) * boxSide;
+}
+
+//------------------------------------------------------------------------------
+void KeptBox::Grow(const double box[6], double margin, double grown[6])
+{
+  const double m = margin * std::max({ box[1] - box[0], box[3] - box[2], box[5] - box[4] });
+  for (int c = 0; c < 3; ++c)
+  {
+    grown[2 * c] = box[2 * c] - m;
+    grown[2 * c + 1] = box[2 * c + 1] + m;
+  }
+}
+
+//------------------------------------------------------------------------------
+const double* KeptBox::Hold(const double box[6])
+{
+  if (!this->Valid || !Serves(this->Box, box, this->Margin))
+  {
+    Grow(box, this->Margin, this->Box);
+    this->Valid = true;
+  }
+  return this->Box;
+}
+
+//------------------------------------------------------------------------------
 void FitViews(const LightSetup& light, vtkIdType n, const float* pos, const double shift[3],
   const unsigned char* state, unsigned char pendingValue, std::vector<View>& views,
-  std::vector<signed char>& sampleView, const std::vector<vtkIdType>* pending)
+  std::vector<signed char>& sampleView, const std::vector<vtkIdType>* pending, KeptBox* kept)
 {
   views.clear();
   sampleView.assign(static_cast<size_t>(n), -1);
@@ -421,6 +459,11 @@ void FitViews(const LightSetup& light, vtkIdType n, const float* pos, const doub
   if (!any)
   {
     return;
+  }
+  if (kept)
+  {
+    const double* fit = kept->Hold(box);
+    std::copy(fit, fit + 6, box);
   }
   using Kind = LightSetup::Kind;
   if (light.Type == Kind::Directional)

@@ -154,6 +154,30 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
   std::vector<vtkIdType>* pendingList = nullptr);
 
 /**
+ * A box kept across frames so that what is fitted to it outlives small changes of the box it
+ * must hold (a camera that moves a little). Anything fitted to a box that holds the samples
+ * is as valid for them as what is fitted to their own box: light views cover them, culled
+ * volumes reach them. Hold(box) keeps the current box while it Serves `box`, else replaces it
+ * by `box` grown on every side by Margin times its largest side.
+ */
+struct KeptBox
+{
+  double Margin = 0.0;
+  double Box[6] = { 0, 0, 0, 0, 0, 0 };
+  bool Valid = false;
+
+  /**
+   * Whether `kept` (grown by `margin`) may stand for `box`: it holds `box`, and is not so much
+   * larger (after a zoom in) that its largest side exceeds (1 + 4 margin) times box's.
+   */
+  static bool Serves(const double kept[6], const double box[6], double margin);
+  /** `box` grown on every side by `margin` times its largest side. */
+  static void Grow(const double box[6], double margin, double grown[6]);
+  /** The kept box after making it serve `box`. */
+  const double* Hold(const double box[6]);
+};
+
+/**
  * The light cameras that cover the samples with `state[s] == pendingValue`: directional
  * lights one orthographic view along the light fitted to their box; spot lights with a cone
  * of at most 60 degrees one perspective view circumscribing the cone (a degree to spare);
@@ -161,11 +185,14 @@ FacingCounts ClassifyFacing(const LightSetup& light, vtkIdType n, const float* p
  * of each such sample (its dominant axis for cube faces), -1 for the others. A shadow ray
  * projects to its own sample's map point, so views fitted to the samples lose no caster that
  * could block one of them. No views when no sample is pending. `pending`, when given, lists
- * exactly those samples, so the state of the others is not scanned.
+ * exactly those samples, so the state of the others is not scanned. With `kept` the views
+ * are fitted to the kept box made to hold the samples' box (KeptBox::Hold), so they stay the
+ * same while the samples move a little.
  */
 void FitViews(const LightSetup& light, vtkIdType n, const float* pos, const double shift[3],
   const unsigned char* state, unsigned char pendingValue, std::vector<View>& views,
-  std::vector<signed char>& sampleView, const std::vector<vtkIdType>* pending = nullptr);
+  std::vector<signed char>& sampleView, const std::vector<vtkIdType>* pending = nullptr,
+  KeptBox* kept = nullptr);
 
 /**
  * A view sample's shadow ray as vtkPenumbraReference casts it: origin P (rebased), unit

@@ -1230,7 +1230,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   struct VolumeSet
   {
     std::vector<double> Key;
-    double Box[6] = { 0, 0, 0, 0, 0, 0 }; // with Cull: the box it was culled to (CullBox())
+    double Box[6] = { 0, 0, 0, 0, 0, 0 }; // with Cull: the box it was culled to (CullMargin)
     std::uint64_t Stamp = 0;              // last use: the least recently used set is evicted
     std::vector<float> Vertices;          // xyzw, caps first
     GLsizei CapVertices = 0;
@@ -1637,20 +1637,11 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     }
   }
 
-  // The box a set of volumes is culled to: the pending box grown by a fifth of its largest
-  // side. Culling keeps every volume that reaches the box, so a set culled to a box serves
-  // every pending box inside it with the same counts; the margin lets a set outlive the small
-  // camera moves of an interaction instead of being rebuilt (and its outline welded again)
-  // every frame.
-  static void CullBox(const double box[6], double grown[6])
-  {
-    const double margin = 0.2 * std::max({ box[1] - box[0], box[3] - box[2], box[5] - box[4] });
-    for (int c = 0; c < 3; ++c)
-    {
-      grown[2 * c] = box[2 * c] - margin;
-      grown[2 * c + 1] = box[2 * c + 1] + margin;
-    }
-  }
+  // A set of volumes is culled to the pending box grown by a fifth of its largest side
+  // (penumbra_light_views::KeptBox): culling keeps every volume that reaches that box, so the
+  // set serves every later pending box inside it with the same counts, and outlives the
+  // small camera moves of an interaction instead of being rebuilt every frame.
+  static constexpr double CullMargin = 0.2;
 
   // The volume cache: a set of `vl` whose culling box holds the pending `box`, built when
   // missing (evicting the least recently used set when full), stamped as used now.
@@ -1663,12 +1654,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       self.Cull ? 1.0 : 0.0, self.GPUSilhouettes ? 1.0 : 0.0, self.Resolve ? 1.0 : 0.0 };
     auto serves = [&](const std::unique_ptr<VolumeSet>& v)
     {
-      bool inside = v->Key == key;
-      for (int c = 0; c < 3 && inside && self.Cull; ++c)
-      {
-        inside = v->Box[2 * c] <= box[2 * c] && box[2 * c + 1] <= v->Box[2 * c + 1];
-      }
-      return inside;
+      return v->Key == key &&
+        (!self.Cull || penumbra_light_views::KeptBox::Serves(v->Box, box, CullMargin));
     };
     auto found = std::find_if(this->Volumes.begin(), this->Volumes.end(), serves);
     if (found == this->Volumes.end())
@@ -1685,7 +1672,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       found = this->Volumes.end() - 1;
       VolumeSet& build = **found;
       build.Key = key;
-      CullBox(box, build.Box);
+      penumbra_light_views::KeptBox::Grow(box, CullMargin, build.Box);
       ++self.NumberOfVolumeBuilds;
       BuildVolumes(build, this->Mesh, vl, self.Cull ? build.Box : nullptr, g.RebasedBounds,
         self.GPUSilhouettes, self.Resolve);

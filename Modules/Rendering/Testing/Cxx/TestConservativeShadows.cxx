@@ -231,8 +231,10 @@ int CheckTortureScenes()
 }
 
 // The maps are kept between frames and rebuilt exactly when what they were built from
-// changes: the light, a caster, or the view (which covers the pending samples, so it moves
-// with the camera). Every frame stays exact.
+// changes: the light, a caster, or the view. The view covers the pending samples' box grown
+// by a tenth (penumbra_light_views::KeptBox), so a camera that turns a little keeps it, and one
+// that zooms in (the kept box much larger than needed) or out (the samples outside it)
+// refits it. Every frame stays exact.
 int CheckMapReuse()
 {
   auto renderer = PlaneScene(LightType::Directional, 0.1, 0.5);
@@ -274,10 +276,16 @@ int CheckMapReuse()
   CHECK(frame("nothing changed", false));
   occluder->SetPosition(0.3, 0.0, 0.0);
   CHECK(frame("occluder moved", true));
-  renderer->GetActiveCamera()->Azimuth(20.0);
+  renderer->GetActiveCamera()->Azimuth(1.0);
   renderer->ResetCameraClippingRange();
-  CHECK(frame("camera moved", true));
+  CHECK(frame("camera turned a little", false));
+  renderer->GetActiveCamera()->Zoom(3.0);
+  renderer->ResetCameraClippingRange();
+  CHECK(frame("camera zoomed in", true));
   CHECK(frame("nothing changed", false));
+  renderer->GetActiveCamera()->Zoom(1.0 / 3.0);
+  renderer->ResetCameraClippingRange();
+  CHECK(frame("camera zoomed out", true));
   renderer->GetRenderWindow()->RemoveRenderer(renderer);
   window->Finalize();
   return EXIT_SUCCESS;
