@@ -1,6 +1,11 @@
 #include "vtkPenumbraShadowPass.h"
 
 #include "vtkCameraPass.h"
+#include "vtkDepthPeelingPass.h"
+#include "vtkImageProcessingPass.h"
+#include "vtkOrderIndependentTranslucentPass.h"
+#include "vtkHardwareSelector.h"
+#include "vtkRenderStepsPass.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
@@ -27,6 +32,7 @@
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraGearsShadows.h"
+#include "vtkPenumbraMapperDraws.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraShadowTechnique.h"
@@ -44,6 +50,7 @@
 #include "vtkTextureObject.h"
 #include "vtkTimerLog.h"
 #include "vtkTranslucentPass.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkVolumetricPass.h"
 #include "vtkWeakPointer.h"
 #include "vtk_glew.h"
@@ -84,6 +91,98 @@ protected:
   ~NoBakingPass() override = default;
 };
 vtkStandardNewMacro(NoBakingPass);
+
+// The renderer's own drawing, as vtkOpenGLRenderer::DeviceRender does it without a pass
+// (inside the camera pass that stands before it): lights, then UpdateGeometry(), which
+// draws opaque props (with hidden-line removal or SSAO when the renderer asks),
+// translucent ones (order-independent transparency or depth peeling as set), FXAA, volumes
+// and overlays. So a shadowed scene is drawn exactly as plain VTK draws it.
+class RendererDrawingPass : public vtkRenderPass
+{
+public:
+  static RendererDrawingPass* New();
+  vtkTypeMacro(RendererDrawingPass, vtkRenderPass);
+  void Render(const vtkRenderState* s) override
+  {
+    vtkRenderer* ren = s->GetRenderer();
+    this->UpdateLightGeometry(ren);
+    this->UpdateLights(ren);
+    this->UpdateGeometry(ren, s->GetFrameBuffer());
+    this->NumberOfRenderedProps = ren->GetNumberOfPropsRendered();
+  }
+
+protected:
+  RendererDrawingPass() = default;
+  ~RendererDrawingPass() override = default;
+};
+vtkStandardNewMacro(RendererDrawingPass);
+
+int CountLightsOn(vtkRenderer* ren)
+{
+  int count = 0;
+  vtkLightCollection* lights = ren->GetLights();
+  vtkCollectionSimpleIterator it;
+  lights->InitTraversal(it);
+  while (vtkLight* light = lights->GetNextLight(it))
+  {
+    count += light->GetSwitch() ? 1 : 0;
+  }
+  return count;
+}
+
+// The first vtkPenumbraShadowPass in a composition of VTK's passes (camera, sequence,
+// render steps, image processing, translucency passes), or nullptr.
+vtkPenumbraShadowPass* FindShadowPass(vtkRenderPass* pass, int depth = 0)
+{
+  if (!pass || depth > 16)
+  {
+    return nullptr;
+  }
+  if (auto* shadows = vtkPenumbraShadowPass::SafeDownCast(pass))
+  {
+    return shadows;
+  }
+  std::vector<vtkRenderPass*> inner;
+  if (auto* camera = vtkCameraPass::SafeDownCast(pass))
+  {
+    inner.push_back(camera->GetDelegatePass());
+  }
+  else if (auto* sequence = vtkSequencePass::SafeDownCast(pass))
+  {
+    vtkRenderPassCollection* passes = sequence->GetPasses();
+    passes->InitTraversal();
+    while (vtkRenderPass* p = passes ? passes->GetNextRenderPass() : nullptr)
+    {
+      inner.push_back(p);
+    }
+  }
+  else if (auto* processing = vtkImageProcessingPass::SafeDownCast(pass))
+  {
+    inner.push_back(processing->GetDelegatePass());
+  }
+  else if (auto* steps = vtkRenderStepsPass::SafeDownCast(pass))
+  {
+    inner = { steps->GetCameraPass(), steps->GetLightsPass(), steps->GetOpaquePass(),
+      steps->GetTranslucentPass(), steps->GetVolumetricPass(), steps->GetOverlayPass(),
+      steps->GetPostProcessPass() };
+  }
+  else if (auto* oit = vtkOrderIndependentTranslucentPass::SafeDownCast(pass))
+  {
+    inner.push_back(oit->GetTranslucentPass());
+  }
+  else if (auto* peeling = vtkDepthPeelingPass::SafeDownCast(pass))
+  {
+    inner.push_back(peeling->GetTranslucentPass());
+  }
+  for (vtkRenderPass* p : inner)
+  {
+    if (vtkPenumbraShadowPass* found = FindShadowPass(p, depth + 1))
+    {
+      return found;
+    }
+  }
+  return nullptr;
+}
 
 // What VTK draws in its translucent pass, for a receiver: the props whose nearest
 // translucent surface gets its own view samples and visibility.
@@ -310,6 +409,9 @@ std::string LookupSuffix(size_t i)
 // Where the receivers' shader lookups run: just before VTK's lighting code.
 const char* const ReceiveTag = "//PENUMBRA::Receive::Impl";
 
+// Where the receivers' fragment surface is computed: VTK's uniform control flow.
+const char* const SurfaceTag = "//PENUMBRA::Receive::Surface";
+
 const char* const LayerTags[2] = { "//PENUMBRA::Visibility::Dec",
   "//PENUMBRA::TranslucentVisibility::Dec" };
 const char* const LayerSamplers[2] = { "penumbraVisibility", "penumbraTranslucentVisibility" };
@@ -318,6 +420,8 @@ const char* const LayerSamplers[2] = { "penumbraVisibility", "penumbraTranslucen
 struct vtkPenumbraShadowPass::Internals
 {
   vtkSmartPointer<vtkPenumbraShadowTechnique> Technique;
+  // The renderer's own drawing (RendererDrawingPass), the delegate unless one is set.
+  vtkSmartPointer<vtkRenderPass> DefaultDelegate = vtkSmartPointer<RendererDrawingPass>::New();
   vtkSmartPointer<vtkRenderPass> Delegate;
   vtkSmartPointer<vtkRenderPass> Baker = vtkSmartPointer<NoBakingPass>::New();
   vtkSmartPointer<vtkPenumbraSceneGeometry> Geometry =
@@ -460,6 +564,42 @@ struct vtkPenumbraShadowPass::Internals
       }
     }
     return this->HasCasters ? this->Casters.data() : nullptr;
+  }
+
+  // Why the last frame needed no shadow work although lights shine ("" when it did).
+  std::string Idle;
+
+  // Whether some extracted triangle receives shadows on a prop that is lit (an unlit prop
+  // receives no light, so no shadow). Kept while the geometry and its flags are unchanged.
+  bool Receivers = false;
+  std::vector<double> ReceiversKey;
+  bool AnyReceiver()
+  {
+    const std::vector<double> key = { static_cast<double>(this->Geometry->GetGeometryTime()),
+      static_cast<double>(this->Geometry->GetFlagsTime()) };
+    if (key == this->ReceiversKey)
+    {
+      return this->Receivers;
+    }
+    this->ReceiversKey = key;
+    this->Receivers = false;
+    vtkPenumbraSceneGeometry* g = this->Geometry;
+    for (int p = 0; p < g->GetNumberOfProps() && !this->Receivers; ++p)
+    {
+      auto* actor = vtkActor::SafeDownCast(g->GetProp(p));
+      if (actor && !actor->GetProperty()->GetLighting())
+      {
+        continue;
+      }
+      const vtkIdType first = g->GetPropTriangleOffset(p);
+      const vtkIdType count = g->GetPropTriangleCount(p);
+      const unsigned char* flags = g->GetFlags()->GetPointer(0);
+      for (vtkIdType t = first; t < first + count && !this->Receivers; ++t)
+      {
+        this->Receivers = (flags[t] & vtkPenumbraSceneGeometry::RECEIVES_SHADOWS) != 0;
+      }
+    }
+    return this->Receivers;
   }
 
   // The visible samples' bounding box in world coordinates, once per view; null when no
@@ -812,17 +952,7 @@ vtkInformationKeyMacro(vtkPenumbraShadowPass, INSTALLED, ObjectBase);
 vtkPenumbraShadowPass::vtkPenumbraShadowPass()
   : Impl(new Internals)
 {
-  // The same steps vtkRenderStepsPass runs, so translucent props, volumes and overlays are
-  // still drawn (VTK's UseShadows drops translucent geometry).
-  vtkNew<vtkRenderPassCollection> steps;
-  steps->AddItem(vtkNew<vtkLightsPass>());
-  steps->AddItem(vtkNew<vtkOpaquePass>());
-  steps->AddItem(vtkNew<vtkTranslucentPass>());
-  steps->AddItem(vtkNew<vtkVolumetricPass>());
-  steps->AddItem(vtkNew<vtkOverlayPass>());
-  vtkNew<vtkSequencePass> sequence;
-  sequence->SetPasses(steps);
-  this->Impl->Delegate = sequence;
+  this->Impl->Delegate = this->Impl->DefaultDelegate;
 }
 
 vtkPenumbraShadowPass::~vtkPenumbraShadowPass()
@@ -891,6 +1021,10 @@ std::string vtkPenumbraShadowPass::GetExplanation()
   {
     out << "no technique: every light is unshadowed\n";
   }
+  else if (!impl.Idle.empty())
+  {
+    out << "no shadow work in the last frame: " << impl.Idle << "\n";
+  }
   else if (!impl.HasFrame)
   {
     out << "no shadow work in the last frame (no light casts light, or nothing was visible)\n";
@@ -916,11 +1050,17 @@ std::string vtkPenumbraShadowPass::GetExplanation()
 
 void vtkPenumbraShadowPass::SetDelegatePass(vtkRenderPass* pass)
 {
-  if (this->Impl->Delegate != pass)
+  vtkRenderPass* delegate = pass ? pass : this->Impl->DefaultDelegate.Get();
+  if (this->Impl->Delegate != delegate)
   {
-    this->Impl->Delegate = pass;
+    this->Impl->Delegate = delegate;
     this->Modified();
   }
+}
+
+bool vtkPenumbraShadowPass::GetDrawsWithRenderer()
+{
+  return this->Impl->Delegate == this->Impl->DefaultDelegate;
 }
 
 vtkRenderPass* vtkPenumbraShadowPass::GetDelegatePass()
@@ -1031,7 +1171,22 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     vtkErrorMacro("vtkPenumbraShadowPass needs a delegate pass and an OpenGL render window");
     return;
   }
+  if (ren->GetSelector())
+  {
+    // A hardware-selection (picking) render draws ids, not shading: no shadow work, and
+    // the selection shaders get none of ours.
+    impl.Delegate->Render(s);
+    this->NumberOfRenderedProps = impl.Delegate->GetNumberOfRenderedProps();
+    return;
+  }
 
+  // VTK creates its automatic headlight when it first loads the lights
+  // (vtkOpenGLRenderer::UpdateLights(), in the delegate): created here with the same rule,
+  // so that the first frame is shadowed too.
+  if (ren->GetAutomaticLightCreation() && CountLightsOn(ren) == 0)
+  {
+    ren->CreateLight();
+  }
   // Light positions must be final (headlights follow the camera) before shadows are cast.
   this->UpdateLightGeometry(ren);
   impl.CollectLights(ren);
@@ -1055,10 +1210,19 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     }
   }
   impl.ExtractionMs = 1000.0 * (Now() - t);
+  // A scene without casters, or without a lit surface to receive (2D annotations, volumes,
+  // unlit props), gets no shadow work at all: it is drawn as without shadows.
+  impl.Idle.clear();
+  if (anyShadowed && geometryOk)
+  {
+    impl.Idle = !impl.CasterBox() ? "nothing casts shadows"
+      : !impl.AnyReceiver()       ? "no lit surface receives shadows"
+                                  : "";
+  }
 
   int w = 0, h = 0, x = 0, y = 0;
   ren->GetTiledSizeAndOrigin(&w, &h, &x, &y);
-  if (anyShadowed && geometryOk && w > 0 && h > 0)
+  if (anyShadowed && geometryOk && impl.Idle.empty() && w > 0 && h > 0)
   {
     std::vector<double> viewKey = impl.ViewKey(s, this);
     std::vector<double> lightsKey = impl.LightsKey();
@@ -1159,6 +1323,8 @@ bool vtkPenumbraShadowPass::PreReplaceShaderValues(
     const int layer = IsTranslucentReceiver(prop) ? 1 : 0;
     vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Dec",
       std::string("//VTK::Light::Dec\n") + LayerTags[layer] + "\n", false);
+    vtkShaderProgram::Substitute(fragmentShader, "//VTK::UniformFlow::Impl",
+      std::string("//VTK::UniformFlow::Impl\n") + SurfaceTag + "\n", false);
     vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Impl",
       std::string(ReceiveTag) + "\n//VTK::Light::Impl", false);
   }
@@ -1166,7 +1332,7 @@ bool vtkPenumbraShadowPass::PreReplaceShaderValues(
 }
 
 bool vtkPenumbraShadowPass::PostReplaceShaderValues(
-  std::string&, std::string&, std::string& fragmentShader, vtkAbstractMapper*, vtkProp*)
+  std::string&, std::string&, std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
 {
   int layer = 0;
   while (layer < 2 && fragmentShader.find(LayerTags[layer]) == std::string::npos)
@@ -1178,24 +1344,29 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
     return true;
   }
   const std::string tag = LayerTags[layer];
+  // Only surfaces drawn as triangles receive: lines and points are lit as VTK lights them
+  // (vtkPenumbraMapperDraws.h), and so is every light this shader does not shade with.
+  const bool surface = penumbra_draws::DrawsSurface(mapper, prop);
+  const bool position = penumbra_draws::HasViewPosition(fragmentShader);
   // After VTK's light uniforms: rename each shadowed light's colour to colour x visibility.
   // A macro naming itself is not expanded again, so `lightColorN` inside it is the uniform.
   std::string dec = vtkPenumbraVisibilityDec;
   std::string lookups, visibilities;
   const Internals& impl = *this->Impl;
-  for (size_t i = 0; i < impl.Injected.size(); ++i)
+  for (size_t i = 0; surface && i < impl.Injected.size(); ++i)
   {
     const std::string color = "lightColor" + std::to_string(i);
-    if (impl.Injected[i].empty() ||
-      fragmentShader.find("uniform vec3 " + color + ";") == std::string::npos)
+    if (impl.Injected[i].empty() || !penumbra_draws::LightsWith(fragmentShader, i))
     {
       continue; // light i is unshadowed, or this shader does not light with it
     }
     if (vtkPenumbraFrame::ShaderLookup* lookup = impl.InjectedLookup(i))
     {
-      // Evaluated where VTK's lighting reads the colour, inside main(), where vertexVC is.
-      // Computed once before VTK's lighting (which reads the colour twice), where vertexVC
-      // is.
+      if (!position)
+      {
+        continue; // no surface to look up: no view sample either (unshadowed)
+      }
+      // Evaluated once before VTK's lighting (which reads the colour twice).
       const std::string suffix = LookupSuffix(i);
       lookups += lookup->GetSource(suffix);
       visibilities += "  float penumbraVisibility" + suffix + " = penumbraReceive" + suffix +
@@ -1208,20 +1379,29 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
     dec += "#define " + color + " (" + color + " * penumbraShadow(texelFetch(" + sampler +
       ", penumbraTexel(), 0).r))\n";
   }
+  std::string surfaceCall;
   if (!lookups.empty())
   {
-    dec = vtkPenumbraViewSamplesPass::GetSurfaceDeclarations() + lookups + dec;
-    visibilities = "  vec3 penumbraP;\n  vec3 penumbraN;\n  penumbraSurface(vertexVC, penumbraP, "
-                   "penumbraN);\n" +
-      visibilities;
+    dec = lookups + dec;
+    surfaceCall = vtkPenumbraViewSamplesPass::GetSurfaceCall();
     // The lookups' facing rules are in double precision, like the reference's.
     if (fragmentShader.find("GL_ARB_gpu_shader_fp64") == std::string::npos)
     {
       vtkShaderProgram::Substitute(fragmentShader, "//VTK::System::Dec",
         "//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n", false);
     }
+    // A template without VTK's uniform-flow tag computes the surface before the lookups.
+    if (fragmentShader.find(SurfaceTag) == std::string::npos)
+    {
+      visibilities = surfaceCall + visibilities;
+    }
   }
-  vtkShaderProgram::Substitute(fragmentShader, tag, dec, false);
+  if (!lookups.empty())
+  {
+    vtkPenumbraViewSamplesPass::AddSurfaceDeclarations(fragmentShader, tag, dec);
+  }
+  vtkShaderProgram::Substitute(fragmentShader, tag, surface ? dec : "", false);
+  vtkShaderProgram::Substitute(fragmentShader, SurfaceTag, surfaceCall, false);
   vtkShaderProgram::Substitute(fragmentShader, ReceiveTag, visibilities, false);
   return true;
 }
@@ -1315,8 +1495,7 @@ vtkPenumbraShadowPass* vtkPenumbraShadowPass::GetInstalled(vtkRenderer* renderer
   {
     return vtkPenumbraShadowPass::SafeDownCast(info->Get(INSTALLED()));
   }
-  auto* camera = renderer ? vtkCameraPass::SafeDownCast(renderer->GetPass()) : nullptr;
-  return camera ? vtkPenumbraShadowPass::SafeDownCast(camera->GetDelegatePass()) : nullptr;
+  return renderer ? FindShadowPass(renderer->GetPass()) : nullptr;
 }
 
 void vtkPenumbraShadowPass::SetInstalled(vtkRenderer* renderer, vtkPenumbraShadowPass* pass)

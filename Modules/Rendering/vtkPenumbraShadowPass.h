@@ -61,8 +61,10 @@ public:
 
   /**
    * The shadow pass `renderer` draws with: the one recorded with SetInstalled(), else the
-   * one vtkPenumbraTechniques installs (the renderer's vtkCameraPass delegating to it);
-   * nullptr otherwise.
+   * first one in the renderer's composition of passes (looked for through VTK's camera,
+   * sequence, render-steps, image-processing and translucency passes: the composition
+   * vtkPenumbraTechniques installs, and the drop-in vtkPenumbraShadowMapPass in
+   * `CameraPass -> Sequence[baker, shadows]`); nullptr otherwise.
    */
   static vtkPenumbraShadowPass* GetInstalled(vtkRenderer* renderer);
 
@@ -128,12 +130,21 @@ public:
 
   ///@{
   /**
-   * The pass that draws the shaded scene. Default: a sequence of vtkLightsPass,
-   * vtkOpaquePass, vtkTranslucentPass, vtkVolumetricPass and vtkOverlayPass.
+   * The pass that draws the shaded scene. Default (and after SetDelegatePass(nullptr)):
+   * the renderer's own drawing, as VTK draws without a pass (vtkRenderer::UpdateLights and
+   * UpdateGeometry: opaque props with hidden-line removal or SSAO when the renderer asks,
+   * translucent ones with order-independent transparency or depth peeling as the renderer
+   * is set, FXAA, volumes, overlays), inside the vtkCameraPass this pass stands in. A pass
+   * of the user's own (vtkOutlineGlowPass, vtkSSAOPass ...) is composed by making it the
+   * delegate: its props are then drawn with shadows (vtkPenumbraTechniques does this when
+   * the renderer already has a pass).
    */
   void SetDelegatePass(vtkRenderPass* pass);
   vtkRenderPass* GetDelegatePass();
   ///@}
+
+  /** Whether the delegate is the renderer's own drawing (no pass of the user's composed). */
+  bool GetDrawsWithRenderer();
 
   vtkPenumbraSceneGeometry* GetGeometry();
   vtkPenumbraViewSamplesPass* GetViewSamplesPass();

@@ -1,6 +1,11 @@
 #include "vtkPenumbraTechniques.h"
 
 #include "vtkCameraPass.h"
+#include "vtkActor.h"
+#include "vtkPenumbraMapperDraws.h"
+#include "vtkProperty.h"
+#include "vtkInformation.h"
+#include "vtkInformationObjectBaseKey.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkNew.h"
@@ -229,9 +234,33 @@ private:
   const OptionTable& Table;
 };
 
+// The renderer's pass that Penumbra last put on it (its information): what Apply() finds
+// there again is its own; anything else is the user's.
+vtkInformationObjectBaseKey* PenumbraTop()
+{
+  static vtkInformationObjectBaseKey* key =
+    new vtkInformationObjectBaseKey("PENUMBRA_TOP_PASS", "vtkPenumbraTechniques");
+  return key;
+}
+
+// The pass the renderer draws with apart from Penumbra: none, or the user's own, which
+// Penumbra's shadow pass wraps (its delegate) while shadows are on.
+vtkRenderPass* UserPass(vtkRenderer* ren)
+{
+  vtkRenderPass* top = ren->GetPass();
+  vtkInformation* info = ren->GetInformation();
+  if (!top || !info->Has(PenumbraTop()) || info->Get(PenumbraTop()) != top)
+  {
+    return top;
+  }
+  auto* shadows = vtkPenumbraShadowPass::SafeDownCast(top);
+  return shadows && !shadows->GetDrawsWithRenderer() ? shadows->GetDelegatePass() : nullptr;
+}
+
 // A pass dropped while it still holds GL objects leaks them (VTK's shadow baker even reports
-// it as an error), so the outgoing pass releases its resources first.
-void InstallPass(vtkRenderer* ren, vtkRenderPass* pass)
+// it as an error), so the outgoing pass releases its resources first. `ours`: Penumbra's
+// composition (recorded), or the user's pass given back.
+void InstallPass(vtkRenderer* ren, vtkRenderPass* pass, bool ours)
 {
   vtkRenderPass* old = ren->GetPass();
   if (old && old != pass && ren->GetRenderWindow())
@@ -239,16 +268,41 @@ void InstallPass(vtkRenderer* ren, vtkRenderPass* pass)
     old->ReleaseGraphicsResources(ren->GetRenderWindow());
   }
   ren->SetPass(pass);
+  if (ours && pass)
+  {
+    ren->GetInformation()->Set(PenumbraTop(), pass);
+  }
+  else
+  {
+    ren->GetInformation()->Remove(PenumbraTop());
+  }
 }
 
-// The Penumbra composition every technique of ours uses: camera pass -> shadow pass.
+// Shadows with `technique`, composed with what the renderer draws with. The renderer's own
+// drawing: camera pass -> shadow pass. A pass of the user's (vtkOutlineGlowPass,
+// vtkSSAOPass, a render-steps pass ...): the shadow pass stands before it and it draws the
+// shadowed scene (its own camera pass included), so nothing of it is lost. A composition
+// that already holds a Penumbra shadow pass (the drop-in vtkPenumbraShadowMapPass in
+// `CameraPass -> Sequence[baker, shadows]`): its technique is replaced where it stands.
 void InstallShadowPass(vtkRenderer* ren, vtkPenumbraShadowTechnique* technique)
 {
+  vtkRenderPass* user = UserPass(ren);
+  if (vtkPenumbraShadowPass* placed = user ? vtkPenumbraShadowPass::GetInstalled(ren) : nullptr)
+  {
+    placed->SetTechnique(technique);
+    return;
+  }
   vtkNew<vtkPenumbraShadowPass> shadows;
   shadows->SetTechnique(technique);
+  if (user)
+  {
+    shadows->SetDelegatePass(user);
+    InstallPass(ren, shadows, true);
+    return;
+  }
   vtkNew<vtkCameraPass> camera;
   camera->SetDelegatePass(shadows);
-  InstallPass(ren, camera);
+  InstallPass(ren, camera, true);
 }
 
 struct Technique
@@ -259,9 +313,17 @@ struct Technique
   std::function<void(vtkRenderer*, const Options&)> Install;
 };
 
+// No shadows: the renderer draws as it did before Penumbra, with the user's own pass if it
+// had one; a user's composition holding a Penumbra pass keeps it, without a technique.
 void InstallNone(vtkRenderer* ren, const Options&)
 {
-  InstallPass(ren, nullptr);
+  vtkRenderPass* user = UserPass(ren);
+  if (vtkPenumbraShadowPass* placed = user ? vtkPenumbraShadowPass::GetInstalled(ren) : nullptr)
+  {
+    placed->SetTechnique(nullptr);
+    return;
+  }
+  InstallPass(ren, user, false);
 }
 
 // VTK's vtkShadowMapPass with one addition: it says, once per light, which lights it leaves
@@ -300,7 +362,28 @@ public:
     this->Superclass::Render(s);
   }
 
+  // VTK 9.1's pass injects its lookup into every shader of every prop and fails to compile
+  // it where the shader has no view position (lines without normals, unlit props; the next
+  // frame then crashes in the mapper). Its receivers here are lit surfaces only, the props
+  // VTK's pass is written for: the others are drawn unshadowed.
+  bool PreReplaceShaderValues(std::string& vs, std::string& gs, std::string& fs,
+    vtkAbstractMapper* mapper, vtkProp* prop) override
+  {
+    return !Receives(mapper, prop) || this->Superclass::PreReplaceShaderValues(vs, gs, fs, mapper, prop);
+  }
+  bool PostReplaceShaderValues(std::string& vs, std::string& gs, std::string& fs,
+    vtkAbstractMapper* mapper, vtkProp* prop) override
+  {
+    return !Receives(mapper, prop) || this->Superclass::PostReplaceShaderValues(vs, gs, fs, mapper, prop);
+  }
+
 private:
+  static bool Receives(vtkAbstractMapper* mapper, vtkProp* prop)
+  {
+    auto* actor = vtkActor::SafeDownCast(prop);
+    return actor && actor->GetProperty()->GetLighting() &&
+      penumbra_draws::DrawsSurface(mapper, prop);
+  }
   std::set<vtkLight*> Told;
 };
 vtkStandardNewMacro(CheckedShadowMapPass);
@@ -313,6 +396,13 @@ const OptionTable VTKShadowMapOptions = {
 void InstallVTKShadowMap(vtkRenderer* ren, const Options& opts)
 {
   // The composition of VTK's own TestShadowMapPass: bake the maps, then shade with them.
+  // It draws the opaque props itself, so it cannot stand before a pass of the user's.
+  if (vtkRenderPass* user = UserPass(ren))
+  {
+    throw OptionError(std::string("the renderer draws with its own ") + user->GetClassName() +
+      ", which VTK's vtkShadowMapPass cannot be composed with (it draws the opaque props "
+      "itself); use a Penumbra technique, e.g. shadowmap");
+  }
   vtkNew<CheckedShadowMapPass> shadows;
   shadows->GetShadowMapBakerPass()->SetResolution(opts.Integer("resolution"));
   vtkNew<vtkRenderPassCollection> passes;
@@ -322,7 +412,7 @@ void InstallVTKShadowMap(vtkRenderer* ren, const Options& opts)
   sequence->SetPasses(passes);
   vtkNew<vtkCameraPass> camera;
   camera->SetDelegatePass(sequence);
-  InstallPass(ren, camera);
+  InstallPass(ren, camera, true);
 }
 
 // Light samples per axis for area/linear lights: 0 keeps the light's own k; otherwise one of

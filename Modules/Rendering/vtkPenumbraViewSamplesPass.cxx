@@ -16,6 +16,7 @@
 #include "vtkOpenGLPolyDataMapper.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLState.h"
+#include "vtkPenumbraMapperDraws.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraViewSamples.h"
@@ -24,6 +25,7 @@
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
+#include "vtkSkybox.h"
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
 #include "vtkTranslucentPass.h"
@@ -34,6 +36,7 @@
 #include "vtkPenumbraViewSamplesImpl.h"
 
 #include <algorithm>
+#include <string>
 #include <cmath>
 #include <map>
 #include <vector>
@@ -64,6 +67,9 @@ private:
   vtkOpenGLState* State;
   GLint PackAlignment = 4;
 };
+
+// Where the fragment's surface is computed (GetSurfaceCall()), in uniform control flow.
+const char* const SurfaceTag = "//PENUMBRA::Samples::Surface";
 
 // Prop index of a primitive-target texel (x, y: primitive id halves, z: prop, w: valid).
 inline int SamplePropIndex(const float* t)
@@ -211,6 +217,10 @@ struct vtkPenumbraViewSamplesPass::Internals
   float CameraRebased[3] = { 0, 0, 0 };
   float ViewDirection[3] = { 0, 0, -1 };
   int Parallel = 0;
+  // Samples per pixel of the framebuffer last drawn into, and their offsets from the pixel
+  // centre (see penumbraCoveredOffset() in vtkPenumbraSurfaceDec.glsl).
+  int SampleCount = 0;
+  float SampleOffsets[32] = {};
   // Normalized device coordinates -> rebased world (homogeneous, row-major), in double: a
   // pixel centre's camera ray for rebuilding positions from triangles.
   double NDCToRebased[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
@@ -403,15 +413,36 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
   ostate->vtkglClearDepth(1.0);
   ostate->vtkglClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
-  this->PreRender(s);
+  // Props whose drawing does not go through the shader hooks would write their colours
+  // into the sample targets: they only occlude. Drawn first, depth only, so that the
+  // samples behind them fail the depth test and their pixels keep "no sample"; a skybox is
+  // behind everything and occludes nothing. In the translucent layer they are left out.
+  std::vector<vtkProp*> hooked, occluding;
+  for (int i = 0; i < s->GetPropArrayCount(); ++i)
+  {
+    vtkProp* prop = s->GetPropArray()[i];
+    if (penumbra_draws::DrawsThroughHooks(prop))
+    {
+      hooked.push_back(prop);
+    }
+    else if (!vtkSkybox::SafeDownCast(prop))
+    {
+      occluding.push_back(prop);
+    }
+  }
+  vtkRenderState hookedState(ren);
+  hookedState.SetPropArrayAndCount(hooked.data(), static_cast<int>(hooked.size()));
+  hookedState.SetFrameBuffer(s->GetFrameBuffer());
+
+  this->PreRender(&hookedState);
   if (this->Translucent)
   {
     // vtkOpenGLActor turns depth writes off for translucent geometry unless told otherwise;
     // the nearest surface per pixel needs them (the override is removed afterwards).
     std::vector<vtkActor*> overridden;
-    for (int i = 0; i < s->GetPropArrayCount(); ++i)
+    for (vtkProp* prop : hooked)
     {
-      auto* actor = vtkActor::SafeDownCast(s->GetPropArray()[i]);
+      auto* actor = vtkActor::SafeDownCast(prop);
       if (actor && actor->GetVisibility() && actor->HasTranslucentPolygonalGeometry())
       {
         if (!actor->GetPropertyKeys())
@@ -425,7 +456,7 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
         }
       }
     }
-    impl.TranslucentPass->Render(s);
+    impl.TranslucentPass->Render(&hookedState);
     this->NumberOfRenderedProps = impl.TranslucentPass->GetNumberOfRenderedProps();
     for (vtkActor* actor : overridden)
     {
@@ -434,10 +465,19 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
   }
   else
   {
-    impl.Opaque->Render(s);
+    if (!occluding.empty())
+    {
+      vtkRenderState occludingState(ren);
+      occludingState.SetPropArrayAndCount(occluding.data(), static_cast<int>(occluding.size()));
+      occludingState.SetFrameBuffer(s->GetFrameBuffer());
+      vtkOpenGLState::ScopedglColorMask colorMaskSaver(ostate);
+      ostate->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      impl.Opaque->Render(&occludingState);
+    }
+    impl.Opaque->Render(&hookedState);
     this->NumberOfRenderedProps = impl.Opaque->GetNumberOfRenderedProps();
   }
-  this->PostRender(s);
+  this->PostRender(&hookedState);
 
   // What the samples were rendered with (the samples' metadata, see GetSamples()).
   impl.Geometry->GetOrigin(impl.Origin);
@@ -670,38 +710,53 @@ bool vtkPenumbraViewSamplesPass::PreReplaceShaderValues(
 {
   if (vtkOpenGLPolyDataMapper::SafeDownCast(mapper))
   {
-    // Our code goes after VTK's lighting, where vertexVC and the outputs exist.
+    // Our outputs are written last in main(), after VTK's lighting, texturing (which
+    // multiplies the colour output), its discard of fragments with alpha <= 0 (an alpha
+    // cut-out gives no sample) and its coincident-topology depth: at the end of main(), the
+    // last function of VTK's shader templates.
     vtkShaderProgram::Substitute(
       fragmentShader, "//VTK::Light::Dec", "//VTK::Light::Dec\n//PENUMBRA::Samples::Dec\n", false);
-    vtkShaderProgram::Substitute(fragmentShader, "//VTK::Light::Impl",
-      "//VTK::Light::Impl\n//PENUMBRA::Samples::Impl\n", false);
+    vtkShaderProgram::Substitute(fragmentShader, "//VTK::UniformFlow::Impl",
+      std::string("//VTK::UniformFlow::Impl\n") + SurfaceTag + "\n", false);
+    const size_t endOfMain = fragmentShader.rfind('}');
+    if (endOfMain != std::string::npos)
+    {
+      fragmentShader.insert(endOfMain, "//PENUMBRA::Samples::Impl\n");
+    }
   }
   return true;
 }
 
 bool vtkPenumbraViewSamplesPass::PostReplaceShaderValues(
-  std::string&, std::string&, std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp*)
+  std::string&, std::string&, std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp* prop)
 {
   if (!vtkOpenGLPolyDataMapper::SafeDownCast(mapper))
   {
     return true;
   }
-  const bool hasPosition = fragmentShader.find("vec4 vertexVC") != std::string::npos;
-  if (hasPosition)
+  // Samples are the lit surfaces drawn as triangles (see vtkPenumbraMapperDraws.h).
+  if (penumbra_draws::HasViewPosition(fragmentShader) &&
+    penumbra_draws::DrawsSurface(mapper, prop))
   {
-    std::string dec = std::string(vtkPenumbraSurfaceDec) + vtkPenumbraViewSamplesDec;
+    std::string dec = vtkPenumbraViewSamplesDec;
     if (fragmentShader.find("uniform int PrimitiveIDOffset") == std::string::npos)
     {
       dec += "uniform int PrimitiveIDOffset;\n";
     }
-    vtkShaderProgram::Substitute(fragmentShader, "//PENUMBRA::Samples::Dec", dec, false);
-    vtkShaderProgram::Substitute(
-      fragmentShader, "//PENUMBRA::Samples::Impl", vtkPenumbraViewSamplesImpl, false);
+    AddSurfaceDeclarations(fragmentShader, "//PENUMBRA::Samples::Dec", dec);
+    // A template without VTK's uniform-flow tag computes the surface where it writes it.
+    const bool uniformFlow = fragmentShader.find(SurfaceTag) != std::string::npos;
+    vtkShaderProgram::Substitute(fragmentShader, SurfaceTag, GetSurfaceCall(), false);
+    vtkShaderProgram::Substitute(fragmentShader, "//PENUMBRA::Samples::Impl",
+      uniformFlow ? std::string(vtkPenumbraViewSamplesImpl)
+                  : GetSurfaceCall() + std::string(vtkPenumbraViewSamplesImpl),
+      false);
   }
   else
   {
-    // Unlit props: occlude, but give no sample.
+    // Unlit props, lines and points: occlude, but give no sample.
     vtkShaderProgram::Substitute(fragmentShader, "//PENUMBRA::Samples::Dec", "", false);
+    vtkShaderProgram::Substitute(fragmentShader, SurfaceTag, "", false);
     vtkShaderProgram::Substitute(fragmentShader, "//PENUMBRA::Samples::Impl",
       "  gl_FragData[0] = vec4(0.0);\n  gl_FragData[1] = vec4(0.0, 0.0, 0.0, -1.0);\n"
       "  gl_FragData[2] = vec4(0.0, 0.0, -1.0, 0.0);\n",
@@ -775,11 +830,53 @@ void vtkPenumbraViewSamplesPass::SetSurfaceUniforms(vtkShaderProgram* program)
   program->SetUniform3f("penumbraCameraRebased", impl.CameraRebased);
   program->SetUniform3f("penumbraViewDirection", impl.ViewDirection);
   program->SetUniformi("penumbraParallel", impl.Parallel);
+  if (program->IsUniformUsed("penumbraSampleCount"))
+  {
+    // The sample layout of the framebuffer this draw renders into (the window's, or a
+    // translucency pass's own).
+    GLint samples = 0;
+    glGetIntegerv(GL_SAMPLES, &samples);
+    samples = std::max(1, std::min(static_cast<int>(samples), 16));
+    if (samples != impl.SampleCount)
+    {
+      impl.SampleCount = samples;
+      for (int i = 0; i < samples && samples > 1; ++i)
+      {
+        GLfloat position[2] = { 0.5f, 0.5f };
+        glGetMultisamplefv(GL_SAMPLE_POSITION, static_cast<GLuint>(i), position);
+        impl.SampleOffsets[2 * i] = position[0] - 0.5f;
+        impl.SampleOffsets[2 * i + 1] = position[1] - 0.5f;
+      }
+    }
+    program->SetUniformi("penumbraSampleCount", impl.SampleCount);
+    program->SetUniform2fv("penumbraSampleOffsets", 16,
+      reinterpret_cast<const float(*)[2]>(impl.SampleOffsets));
+  }
 }
 
 const char* vtkPenumbraViewSamplesPass::GetSurfaceDeclarations()
 {
   return vtkPenumbraSurfaceDec;
+}
+
+void vtkPenumbraViewSamplesPass::AddSurfaceDeclarations(
+  std::string& fragmentShader, const std::string& tag, const std::string& more)
+{
+  // The coverage mask (gl_SampleMaskIn) comes with GLSL 4.00 or gpu_shader5; #extension lines must
+  // precede the code, so they go where VTK puts its version.
+  if (fragmentShader.find("GL_ARB_gpu_shader5") == std::string::npos)
+  {
+    vtkShaderProgram::Substitute(fragmentShader, "//VTK::System::Dec",
+      "//VTK::System::Dec\n#extension GL_ARB_gpu_shader5 : enable\n", false);
+  }
+  vtkShaderProgram::Substitute(fragmentShader, tag, vtkPenumbraSurfaceDec + more, false);
+}
+
+const char* vtkPenumbraViewSamplesPass::GetSurfaceCall()
+{
+  // Where VTK keeps control flow uniform (//VTK::UniformFlow::Impl): the facet normal comes
+  // from screen-space derivatives, undefined after a discard (clipping planes, alpha).
+  return "  vec3 penumbraP;\n  vec3 penumbraN;\n  penumbraSurface(vertexVC, penumbraP, penumbraN);\n";
 }
 
 void vtkPenumbraViewSamplesPass::ReleaseGraphicsResources(vtkWindow* w)

@@ -35,6 +35,7 @@
 #include "vtkPenumbraRenderingModule.h" // For export macro
 
 #include <memory> // For std::unique_ptr
+#include <string> // For AddSurfaceDeclarations
 
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
@@ -144,6 +145,20 @@ public:
   static const char* GetSurfaceDeclarations();
   void SetSurfaceUniforms(vtkShaderProgram* program);
   ///@}
+
+  /**
+   * Replaces `tag` in a fragment shader by GetSurfaceDeclarations() followed by `more`, and
+   * enables the extension they read the coverage mask with (where VTK declares its version).
+   */
+  static void AddSurfaceDeclarations(
+    std::string& fragmentShader, const std::string& tag, const std::string& more);
+
+  /**
+   * The statements that declare `vec3 penumbraP, penumbraN` and fill them with
+   * penumbraSurface(vertexVC, ...): placed where the mapper's control flow is still uniform
+   * (VTK's //VTK::UniformFlow::Impl), as screen-space derivatives need.
+   */
+  static const char* GetSurfaceCall();
 
   /**
    * Takes the camera of `renderer` for SetSurfaceUniforms() without rendering (Render()

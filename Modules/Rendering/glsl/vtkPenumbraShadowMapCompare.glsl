@@ -99,6 +99,14 @@ float penumbraCompare(vec3 p, vec3 normal)
       toLight = toLightDirection;
     }
   }
+  if (slotMode == 0 && any(greaterThan(abs(st), vec2(1.0))))
+  {
+    // Outside the map: no receiver it was fitted for lies there (every view sample is
+    // inside the fit, with a margin). Only a multisampled window's partly covered edge
+    // pixels look up such points, which have no view sample of their own: unshadowed, as
+    // the visibility textures leave pixels without a sample.
+    return 1.0;
+  }
   if (areaMode != 0)
   {
     // Area and linear lights: every tap is compared at its texel's centre with the

@@ -50,6 +50,11 @@ def enable_shadows(renderer, technique="auto", **options):
     options as in a scene file's technique block, e.g. ``resolution=4096, filter="pcf"`` for
     `shadowmap`. Raises ValueError naming the unknown technique or the option and its
     problem; the renderer is then left as it was.
+
+    A renderer that already draws with a pass of its own (vtkOutlineGlowPass, vtkSSAOPass, a
+    render-steps pass ...) keeps it: the shadows are composed with it (it draws the shadowed
+    scene). One that holds a Penumbra pass in a composition of its own (the drop-in
+    vtkPenumbraShadowMapPass) gets the technique there.
     """
     import json
 
@@ -99,8 +104,10 @@ enable_shadows.__doc__ += _techniques_doc()
 
 def disable_shadows(renderer):
     """Removes the shadows enable_shadows() (or vtkPenumbraTechniques) installed: `renderer`
-    draws with VTK's default passes again."""
-    renderer.SetPass(None)
+    draws as it did before, with VTK's default drawing or the pass of its own it had (which
+    the shadows were composed with)."""
+    if not vtkPenumbraTechniques().Apply(renderer, "none", ""):
+        raise ValueError("cannot remove the shadows")
 
 
 def shadow_pass(renderer):
