@@ -2372,3 +2372,9 @@ void vtkPenumbraGearsShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfAssignments: " << this->NumberOfAssignments << "\n";
   os << indent << "NumberOfNecessaryAssignments: " << this->NumberOfNecessaryAssignments << "\n";
 }
+
+//------------------------------------------------------------------------------
+const char* vtkPenumbraGearsShadows::GetTechniqueNameFor(vtkLight* light)
+{
+  return vtkPenumbraAreaLight::SafeDownCast(light) ? this->GetTechniqueName() : "raytraced";
+}

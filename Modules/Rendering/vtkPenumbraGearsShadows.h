@@ -247,6 +247,9 @@ public:
   /// Area and linear lights are what GEARS is for.
   bool HandlesAreaLights() override { return true; }
 
+  /** Hard lights are ray traced at every sample, as `raytraced` does. */
+  const char* GetTechniqueNameFor(vtkLight* light) override;
+
   ///@{
   /**
    * Statistics of the last area-light call (Wang et al. 2014, Tables 5 and 6), summed over both

@@ -308,3 +308,9 @@ void vtkPenumbraRayTracedShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AdaptiveBlock: " << this->AdaptiveBlock << "\n";
   os << indent << "AdaptiveTolerance: " << this->AdaptiveTolerance << "\n";
 }
+
+//------------------------------------------------------------------------------
+const char* vtkPenumbraRayTracedShadows::GetTechniqueNameFor(vtkLight* light)
+{
+  return vtkPenumbraAreaLight::SafeDownCast(light) ? this->GetTechniqueName() : "raytraced";
+}

@@ -79,6 +79,8 @@ public:
   {
     return this->AdaptiveBlock > 1 ? "adaptive-soft" : "raytraced";
   }
+  /** `adaptive-soft` traces hard lights at every sample, as `raytraced`. */
+  const char* GetTechniqueNameFor(vtkLight* light) override;
 
   /**
    * The ray tracer (exposed for its statistics and epsilon settings).

@@ -2991,3 +2991,11 @@ void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MapTimeMs: " << this->MapTimeMs << "\n";
   os << indent << "LookupTimeMs: " << this->LookupTimeMs << "\n";
 }
+
+//------------------------------------------------------------------------------
+const char* vtkPenumbraShadowMapShadows::GetTechniqueNameFor(vtkLight* light)
+{
+  return this->AreaLightMode != AREA_NONE && !vtkPenumbraAreaLight::SafeDownCast(light)
+    ? "shadowmap"
+    : this->GetTechniqueName();
+}

@@ -119,6 +119,9 @@ public:
     return this->ResolutionMode == RESOLUTION_ESTIMATED ? "resm" : "shadowmap";
   }
 
+  /** `pcss` and `single-sample-soft` shadow hard lights as `shadowmap`. */
+  const char* GetTechniqueNameFor(vtkLight* light) override;
+
   enum AreaLightModes
   {
     AREA_NONE = 0,         ///< area and linear lights are rejected (hard-shadow technique)

@@ -797,8 +797,8 @@ vtkPenumbraShadowTechnique* vtkPenumbraShadowPass::Internals::Choose(
     const std::string refused =
       chosen ? chosen->GetTechniqueName() : this->Technique->GetTechniqueName();
     chosen = this->Fallback;
-    report.Why = refused + " cannot shadow it (hard shadows only); shadowed by " +
-      chosen->GetTechniqueName() + " instead (soft shadows)";
+    report.Why = refused + " cannot shadow it; shadowed by " +
+      chosen->GetTechniqueNameFor(light) + " instead";
     if (this->Warned.insert({ light, chosen }).second)
     {
       vtkWarningWithObjectMacro(
@@ -1000,7 +1000,7 @@ vtkPenumbraShadowTechnique* vtkPenumbraShadowPass::GetLightTechnique(int index)
 const char* vtkPenumbraShadowPass::GetLightTechniqueName(int index)
 {
   vtkPenumbraShadowTechnique* t = this->GetLightTechnique(index);
-  return t ? t->GetTechniqueName() : "";
+  return t ? t->GetTechniqueNameFor(this->GetLight(index)) : "";
 }
 
 int vtkPenumbraShadowPass::GetNumberOfSkippedLights()
@@ -1035,7 +1035,7 @@ std::string vtkPenumbraShadowPass::GetExplanation()
     out << "light " << i << " (" << LightKind(impl.Lights[i]) << "): ";
     if (r.Technique)
     {
-      out << r.Technique->GetTechniqueName() << " - " << r.Why << "\n";
+      out << r.Technique->GetTechniqueNameFor(impl.Lights[i]) << " - " << r.Why << "\n";
     }
     else
     {
@@ -1496,6 +1496,11 @@ vtkPenumbraShadowPass* vtkPenumbraShadowPass::GetInstalled(vtkRenderer* renderer
     return vtkPenumbraShadowPass::SafeDownCast(info->Get(INSTALLED()));
   }
   return renderer ? FindShadowPass(renderer->GetPass()) : nullptr;
+}
+
+vtkPenumbraShadowPass* vtkPenumbraShadowPass::FindIn(vtkRenderPass* pass)
+{
+  return FindShadowPass(pass);
 }
 
 void vtkPenumbraShadowPass::SetInstalled(vtkRenderer* renderer, vtkPenumbraShadowPass* pass)

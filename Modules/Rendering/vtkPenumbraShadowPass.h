@@ -69,6 +69,12 @@ public:
   static vtkPenumbraShadowPass* GetInstalled(vtkRenderer* renderer);
 
   /**
+   * The first shadow pass in the composition of passes `pass` (itself included), looked for
+   * as GetInstalled() does; nullptr when there is none.
+   */
+  static vtkPenumbraShadowPass* FindIn(vtkRenderPass* pass);
+
+  /**
    * Records `pass` (nullptr: none) as the shadow pass `renderer` draws with, for
    * applications that wrap it in passes of their own, which GetInstalled() cannot look
    * through (ParaView puts it under IceT's compositing pass). Kept in the renderer's

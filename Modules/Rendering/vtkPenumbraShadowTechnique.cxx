@@ -48,6 +48,11 @@ int vtkPenumbraShadowTechnique::ComputeFrameLights(
   return done;
 }
 
+const char* vtkPenumbraShadowTechnique::GetTechniqueNameFor(vtkLight*)
+{
+  return this->GetTechniqueName();
+}
+
 const char* vtkPenumbraShadowTechnique::GetTechniqueName()
 {
   // The registry's names (vtkPenumbraTechniques), so messages use the names users type.

@@ -124,6 +124,14 @@ public:
   virtual const char* GetTechniqueName();
 
   /**
+   * The registry's name of what this technique does for `light`: GetTechniqueName(), except
+   * for soft-shadow techniques, which shadow hard lights with the hard technique they are
+   * built on (`pcss` a sun as `shadowmap`, `adaptive-soft` a point light as `raytraced`).
+   * Explanations and the benchmark report lights under it.
+   */
+  virtual const char* GetTechniqueNameFor(vtkLight* light);
+
+  /**
    * Wall-clock time of the last ComputeVisibility call, in milliseconds.
    */
   vtkGetMacro(LastTimeMs, double);

@@ -1148,3 +1148,9 @@ void vtkPenumbraSoftShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfMaps: " << this->NumberOfMaps << "\n";
   os << indent << "NumberOfSkins: " << this->NumberOfSkins << "\n";
 }
+
+//------------------------------------------------------------------------------
+const char* vtkPenumbraSoftShadowMapShadows::GetTechniqueNameFor(vtkLight* light)
+{
+  return vtkPenumbraAreaLight::SafeDownCast(light) ? "soft-shadowmap" : "shadowmap";
+}

@@ -69,6 +69,8 @@ public:
 
   bool HandlesAreaLights() override { return true; }
   const char* GetTechniqueName() override { return "soft-shadowmap"; }
+  /** Hard lights get `shadowmap`'s hard shadows. */
+  const char* GetTechniqueNameFor(vtkLight* light) override;
 
   ///@{
   /**

@@ -287,7 +287,7 @@ void InstallPass(vtkRenderer* ren, vtkRenderPass* pass, bool ours)
 void InstallShadowPass(vtkRenderer* ren, vtkPenumbraShadowTechnique* technique)
 {
   vtkRenderPass* user = UserPass(ren);
-  if (vtkPenumbraShadowPass* placed = user ? vtkPenumbraShadowPass::GetInstalled(ren) : nullptr)
+  if (vtkPenumbraShadowPass* placed = vtkPenumbraShadowPass::FindIn(user))
   {
     placed->SetTechnique(technique);
     return;
@@ -318,7 +318,7 @@ struct Technique
 void InstallNone(vtkRenderer* ren, const Options&)
 {
   vtkRenderPass* user = UserPass(ren);
-  if (vtkPenumbraShadowPass* placed = user ? vtkPenumbraShadowPass::GetInstalled(ren) : nullptr)
+  if (vtkPenumbraShadowPass* placed = vtkPenumbraShadowPass::FindIn(user))
   {
     placed->SetTechnique(nullptr);
     return;

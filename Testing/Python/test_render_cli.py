@@ -164,7 +164,7 @@ class RenderCliTest(unittest.TestCase):
             for scene, technique, fragment in (
                     ("mixed_lights.json", "conservative",
                      "penumbra-render: warning: Light 2 (area light, 8x8 samples): conservative "
-                     "cannot shadow it (hard shadows only); shadowed by gears instead"),
+                     "cannot shadow it; shadowed by gears instead"),
                     ("room_point_light.json", "vtk-shadowmap",
                      "penumbra-render: warning: Light 0 gets no shadow from vtk-shadowmap: VTK's "
                      "vtkShadowMapPass shadows only directional lights and spot lights")):

@@ -1,0 +1,208 @@
+"""Shadows added to an existing VTK pipeline with the two lines the README promises: the
+renderer's own pass is kept, the drop-in pass is found, the first frame is shadowed, picking
+still works, and a scene with nothing to shadow gets no shadow work."""
+
+import unittest
+
+import penumbra
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkCamera, vtkHardwareSelector, vtkLight,
+                                         vtkPolyDataMapper, vtkRenderWindow, vtkRenderer,
+                                         vtkWindowToImageFilter)
+from vtkmodules.vtkRenderingOpenGL2 import (vtkCameraPass, vtkOutlineGlowPass,
+                                            vtkRenderPassCollection, vtkRenderStepsPass,
+                                            vtkSequencePass)
+
+SIZE = 96
+
+
+def actor_of(source, color=(0.8, 0.8, 0.8)):
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(source.GetOutputPort())
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(*color)
+    actor._source = source  # keep the pipeline alive with the actor
+    return actor
+
+
+def ball_over_ground(sun=True):
+    """A sphere over a ground plane, seen obliquely; a sun (or VTK's automatic headlight)."""
+    renderer = vtkRenderer()
+    ground = vtkPlaneSource()
+    ground.SetOrigin(-4, -4, 0)
+    ground.SetPoint1(4, -4, 0)
+    ground.SetPoint2(-4, 4, 0)
+    ball = vtkSphereSource()
+    ball.SetCenter(0, 0, 1.2)
+    ball.SetThetaResolution(24)
+    ball.SetPhiResolution(12)
+    renderer.AddActor(actor_of(ground))
+    renderer.AddActor(actor_of(ball, (1.0, 0.5, 0.2)))
+    if sun:
+        light = vtkLight()
+        light.SetLightTypeToSceneLight()
+        light.SetPositional(False)
+        light.SetPosition(-1, -0.6, 1.4)
+        light.SetFocalPoint(0, 0, 0)
+        renderer.AddLight(light)
+    camera = renderer.GetActiveCamera()
+    camera.SetPosition(2, -9, 6)
+    camera.SetFocalPoint(0, 0, 0.5)
+    camera.SetViewUp(0, 0, 1)
+    return renderer
+
+
+def window_for(renderer):
+    window = vtkRenderWindow()
+    window.SetSize(SIZE, SIZE)
+    window.SetMultiSamples(0)
+    window.AddRenderer(renderer)
+    return window
+
+
+def pixels(window):
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.SetInputBufferTypeToRGB()
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    image = grab.GetOutput()
+    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(SIZE, SIZE, 3).astype(int)
+
+
+def shadowed(renderer, light=0):
+    vis = penumbra.visibility(renderer, light)
+    return 0 if vis is None else int(((vis >= 0) & (vis < 0.5)).sum())
+
+
+class PipelineTest(unittest.TestCase):
+    def test_first_frame_under_the_automatic_headlight(self):
+        # No light added: VTK creates a headlight at the first render. That frame is shadowed
+        # (the headlight's own shadows hide behind the objects, but its light gets shadow
+        # work and visibility() answers after one render).
+        renderer = ball_over_ground(sun=False)
+        window = window_for(renderer)
+        penumbra.enable_shadows(renderer, "raytraced")
+        window.Render()
+        self.assertEqual(renderer.GetLights().GetNumberOfItems(), 1)
+        self.assertEqual(penumbra.shadow_pass(renderer).GetNumberOfLights(), 1)
+        self.assertIsNotNone(penumbra.visibility(renderer, 0))
+        first = pixels(window)
+        window.Render()
+        self.assertEqual(int((abs(first - pixels(window)) > 2).sum()), 0)
+
+    def test_a_users_pass_is_kept(self):
+        # A renderer drawing with vtkOutlineGlowPass keeps its glow: the shadow pass is
+        # composed before it, and removing the shadows gives the user's pass back.
+        renderer = ball_over_ground()
+        steps = vtkRenderStepsPass()
+        glow = vtkOutlineGlowPass()
+        glow.SetDelegatePass(steps)
+        renderer.SetPass(glow)
+        window = window_for(renderer)
+        window.Render()
+        plain = pixels(window)
+        shadows = penumbra.enable_shadows(renderer, "raytraced")
+        self.assertIsNotNone(shadows)
+        self.assertIs(shadows.GetDelegatePass(), glow)
+        window.Render()
+        self.assertGreater(shadowed(renderer), 50)
+        glowing = pixels(window)
+        # The glow draws outlines on black: few lit pixels, not a flat copy of the scene.
+        self.assertLess(int((glowing.sum(axis=2) > 30).sum()), SIZE * SIZE // 3)
+        self.assertGreater(int((glowing.sum(axis=2) > 30).sum()), 20)
+        penumbra.enable_shadows(renderer, "shadowmap")  # another technique: still composed
+        self.assertIs(penumbra.shadow_pass(renderer).GetDelegatePass(), glow)
+        penumbra.disable_shadows(renderer)
+        self.assertIs(renderer.GetPass(), glow)
+        window.Render()
+        self.assertEqual(int((abs(plain - pixels(window)) > 2).sum()), 0)
+        with self.assertRaises(ValueError) as caught:
+            penumbra.enable_shadows(renderer, "vtk-shadowmap")
+        self.assertIn("vtkOutlineGlowPass", str(caught.exception))
+        self.assertIs(renderer.GetPass(), glow)
+
+    def test_drop_in_pass_is_found(self):
+        # VTK's own composition, CameraPass -> Sequence[baker, shadows], with the drop-in pass.
+        renderer = ball_over_ground()
+        shadows = penumbra.vtkPenumbraShadowMapPass()
+        passes = vtkRenderPassCollection()
+        passes.AddItem(shadows.GetShadowMapBakerPass())
+        passes.AddItem(shadows)
+        sequence = vtkSequencePass()
+        sequence.SetPasses(passes)
+        camera = vtkCameraPass()
+        camera.SetDelegatePass(sequence)
+        renderer.SetPass(camera)
+        window = window_for(renderer)
+        window.Render()
+        self.assertIs(penumbra.shadow_pass(renderer), shadows)
+        self.assertGreater(shadowed(renderer), 50)
+        # A technique given by name goes into the user's composition, which stays.
+        penumbra.enable_shadows(renderer, "raytraced")
+        self.assertIs(renderer.GetPass(), camera)
+        self.assertEqual(shadows.GetTechnique().GetTechniqueName(), "raytraced")
+        window.Render()
+        self.assertGreater(shadowed(renderer), 50)
+
+    def test_picking_gets_no_shadow_work(self):
+        renderer = ball_over_ground()
+        window = window_for(renderer)
+        penumbra.enable_shadows(renderer, "raytraced")
+        window.Render()
+        selector = vtkHardwareSelector()
+        selector.SetRenderer(renderer)
+        selector.SetArea(0, 0, SIZE - 1, SIZE - 1)
+        selection = selector.Select()
+        self.assertGreaterEqual(selection.GetNumberOfNodes(), 2)  # ground and ball picked
+        window.Render()
+        self.assertGreater(shadowed(renderer), 50)
+
+    def test_nothing_to_shadow(self):
+        # Unlit props receive no light, so no shadow: no shadow work, the frame is drawn as
+        # without shadows.
+        renderer = ball_over_ground()
+        actors = renderer.GetActors()
+        actors.InitTraversal()
+        for _ in range(actors.GetNumberOfItems()):
+            actors.GetNextActor().GetProperty().LightingOff()
+        window = window_for(renderer)
+        window.Render()
+        plain = pixels(window)
+        shadows = penumbra.enable_shadows(renderer, "raytraced")
+        window.Render()
+        self.assertIsNone(penumbra.visibility(renderer, 0))
+        self.assertIn("no lit surface receives shadows", shadows.GetExplanation())
+        self.assertEqual(int((abs(plain - pixels(window)) > 2).sum()), 0)
+
+    def test_techniques_named_for_what_they_do(self):
+        # A soft-shadow technique shadows a sun with the hard technique it is built on, and a
+        # light a technique refuses is explained in one sentence naming what shadowed it.
+        renderer = ball_over_ground()
+        window = window_for(renderer)
+        for technique, name in (("pcss", "shadowmap"), ("single-sample-soft", "shadowmap"),
+                                ("soft-shadowmap", "shadowmap"), ("adaptive-soft", "raytraced"),
+                                ("shadowmap", "shadowmap")):
+            with self.subTest(technique=technique):
+                shadows = penumbra.enable_shadows(renderer, technique)
+                window.Render()
+                self.assertEqual(shadows.GetLightTechniqueName(0), name)
+        point = vtkLight()
+        point.SetLightTypeToSceneLight()
+        point.SetPositional(True)
+        point.SetConeAngle(180)
+        point.SetPosition(1, 1, 4)
+        renderer.RemoveAllLights()
+        renderer.AddLight(point)
+        shadows = penumbra.enable_shadows(renderer, "rmsm")
+        window.Render()
+        explanation = shadows.GetExplanation()
+        self.assertIn("light 0 (point light): raytraced - rmsm cannot shadow it; shadowed by "
+                      "raytraced instead", explanation)
+        self.assertNotIn("soft", explanation)
+
+
+if __name__ == "__main__":
+    unittest.main()
