@@ -371,18 +371,6 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
   this->UpdateLightGeometry(ren);
   this->UpdateLights(ren);
 
-  impl.PropIndex.clear();
-  impl.KeysIndex.clear();
-  for (int i = 0; i < impl.Geometry->GetNumberOfProps(); ++i)
-  {
-    vtkProp* p = impl.Geometry->GetProp(i);
-    impl.PropIndex[p] = i;
-    if (p->GetPropertyKeys())
-    {
-      impl.KeysIndex[p->GetPropertyKeys()] = i;
-    }
-  }
-
   this->UpdateView(ren);
   impl.Width = w;
   impl.Height = h;
@@ -435,6 +423,19 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
   hookedState.SetFrameBuffer(s->GetFrameBuffer());
 
   this->PreRender(&hookedState);
+  // After PreRender(), which gives every drawn prop its property keys (a LOD actor draws
+  // through a device actor that shares them).
+  impl.PropIndex.clear();
+  impl.KeysIndex.clear();
+  for (int i = 0; i < impl.Geometry->GetNumberOfProps(); ++i)
+  {
+    vtkProp* p = impl.Geometry->GetProp(i);
+    impl.PropIndex[p] = i;
+    if (p->GetPropertyKeys())
+    {
+      impl.KeysIndex[p->GetPropertyKeys()] = i;
+    }
+  }
   if (this->Translucent)
   {
     // vtkOpenGLActor turns depth writes off for translucent geometry unless told otherwise;
