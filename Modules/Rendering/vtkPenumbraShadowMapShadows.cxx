@@ -1,6 +1,7 @@
 #include "vtkPenumbraShadowMapShadows.h"
 
 #include "vtkCamera.h"
+#include "vtkMatrix4x4.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
@@ -1133,6 +1134,35 @@ private:
 };
 }
 
+namespace
+{
+// Whether the camera of `renderer` sees the whole box of the scene's triangles: its eight
+// corners project inside the view volume (FIT_TO_AUTO).
+bool SceneInView(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry)
+{
+  double bounds[6];
+  geometry->GetBounds(bounds);
+  vtkCamera* camera = renderer ? renderer->GetActiveCamera() : nullptr;
+  if (!camera || !vtkMath::AreBoundsInitialized(bounds))
+  {
+    return false;
+  }
+  vtkMatrix4x4* m =
+    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1, 1);
+  for (int c = 0; c < 8; ++c)
+  {
+    const double p[4] = { bounds[c & 1], bounds[2 + ((c >> 1) & 1)], bounds[4 + (c >> 2)], 1 };
+    double q[4];
+    m->MultiplyPoint(p, q);
+    if (!(q[3] > 0) || std::abs(q[0]) > q[3] || std::abs(q[1]) > q[3] || std::abs(q[2]) > q[3])
+    {
+      return false;
+    }
+  }
+  return true;
+}
+}
+
 struct vtkPenumbraShadowMapShadows::Internals
 {
   // Half width of the PCF kernel (0 without PCF): the taps of the box filter.
@@ -1207,9 +1237,12 @@ struct vtkPenumbraShadowMapShadows::Internals
     vtkLight* light, vtkPenumbraSceneGeometry* geometry, const double shift[3], double samples,
     double pending);
   // Whether the maps are fitted to the scene (SetFitTo()), not to the view.
-  static bool FitsScene(vtkPenumbraShadowMapShadows* self)
+  static bool FitsScene(
+    vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry)
   {
-    return self->FitTo == FIT_TO_SCENE && self->ResolutionMode == RESOLUTION_FIXED;
+    return self->ResolutionMode == RESOLUTION_FIXED &&
+      (self->FitTo == FIT_TO_SCENE ||
+        (self->FitTo == FIT_TO_AUTO && SceneInView(renderer, geometry)));
   }
   void FitViews(
     const LightSetup& setup, const ReceiverExtent& e, int slotMode, int size, LightMaps* maps);
@@ -1608,7 +1641,7 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
     ReceiverExtent extent;
     extent.CollectPlane = this->FitRectangle != FIT_AXIS;
     extent.Square = this->FitRectangle == FIT_SQUARE;
-    if (Internals::FitsScene(this))
+    if (Internals::FitsScene(this, renderer, geometry))
     {
       ExtentFromScene(setup, slotMode, geometry, impl.Chunks, extent);
     }
@@ -1764,7 +1797,7 @@ std::vector<double> vtkPenumbraShadowMapShadows::Internals::MapKey(
   key.push_back(static_cast<double>(geometry->GetFlagsTime()));
   key.insert(key.end(), origin, origin + 3);
   key.push_back(static_cast<double>(self->GetMTime()));
-  if (FitsScene(self))
+  if (FitsScene(self, renderer, geometry))
   {
     return key; // nothing of the view
   }
@@ -2554,7 +2587,7 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
       ReceiverExtent extent;
       extent.CollectPlane = self->FitRectangle != FIT_AXIS;
       extent.Square = self->FitRectangle == FIT_SQUARE;
-      if (FitsScene(self))
+      if (FitsScene(self, frame->GetRenderer(), geometry))
       {
         ExtentFromScene(setup, this->SlotMode(self, setup), geometry, this->Chunks, extent);
       }

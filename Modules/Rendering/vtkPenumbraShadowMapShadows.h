@@ -411,21 +411,25 @@ public:
 
   enum FitTargets
   {
-    FIT_TO_VIEW = 0, ///< the receivers the view samples see (default)
-    FIT_TO_SCENE = 1 ///< every surface of the scene: kept while only the camera moves
+    FIT_TO_VIEW = 0,  ///< the receivers the view samples see
+    FIT_TO_SCENE = 1, ///< every surface of the scene: kept while only the camera moves
+    FIT_TO_AUTO = 2   ///< the scene while the camera sees all of it, else the view (default)
   };
 
   ///@{
   /**
-   * What the maps cover. FIT_TO_VIEW (default): the receivers the view samples see (their
-   * tile boxes, Brabec 2003, ch. 4.2), the densest map for the view, fitted and rendered
-   * again whenever the camera moves. FIT_TO_SCENE: every triangle of the scene, as VTK's
-   * vtkShadowMapPass fits its maps: coarser texels on what is seen, but the maps depend only
-   * on the lights and the scene, so a frame where only the camera moved renders none (and
-   * the lookup in the receivers' shaders needs no view samples for them). RESM
+   * What the maps cover. FIT_TO_VIEW: the receivers the view samples see (their tile boxes,
+   * Brabec 2003, ch. 4.2), the densest map for the view, fitted and rendered again whenever
+   * the camera moves. FIT_TO_SCENE: every triangle of the scene, as VTK's vtkShadowMapPass
+   * fits its maps: coarser texels on what is seen, but the maps depend only on the lights
+   * and the scene, so a frame where only the camera moved renders none (and the lookup in
+   * the receivers' shaders needs no view samples for them). FIT_TO_AUTO (default): the scene
+   * while the camera sees the whole scene box (the visible receivers are then the scene, so
+   * the view fit would cover about as much and cost a G-buffer and a fit per camera move),
+   * else the view (a part of a larger scene is seen: its denser map matters). RESM
    * (RESOLUTION_ESTIMATED) sizes its maps from the view samples and always fits to the view.
    */
-  vtkSetClampMacro(FitTo, int, FIT_TO_VIEW, FIT_TO_SCENE);
+  vtkSetClampMacro(FitTo, int, FIT_TO_VIEW, FIT_TO_AUTO);
   vtkGetMacro(FitTo, int);
   ///@}
 
@@ -490,7 +494,7 @@ protected:
   int DepthMode = DEPTH_LINEAR;
   int PointMode = POINT_CUBE;
   int FitRectangle = FIT_AXIS;
-  int FitTo = FIT_TO_VIEW;
+  int FitTo = FIT_TO_AUTO;
   int Lookup = LOOKUP_GPU;
   int AreaLightMode = AREA_NONE;
   int SearchTaps = 4;

@@ -543,11 +543,12 @@ const OptionTable ShadowMapOptions = {
     "rectangle around the hull of the receivers' tile boxes (Brabec 2003, ch. 4.2.2: fewer "
     "texels for the same density, but longer ones along one side of a square map), "
     "\"square\" the one whose longer side is shortest (the square map's coarser texel side)" },
-  { "fit", OptionType::Choice, "view", 0, 0, { "view", "scene" }, "",
+  { "fit", OptionType::Choice, "auto", 0, 0, { "auto", "view", "scene" }, "",
     "what the maps cover: \"view\", the receivers the view samples see (densest, fitted and "
-    "rendered again when the camera moves), or \"scene\", every triangle of the scene as "
-    "VTK's shadow pass fits (coarser, but kept while only the camera moves); resm always fits "
-    "the view" },
+    "rendered again when the camera moves), \"scene\", every triangle of the scene as VTK's "
+    "shadow pass fits (coarser, but kept while only the camera moves), or \"auto\", the scene "
+    "while the camera sees all of it (the view would be as large) and the view otherwise; "
+    "resm always fits the view" },
   { "lookup", OptionType::Choice, "gpu", 0, 0, { "gpu", "cpu", "gbuffer" }, "",
     "\"gpu\": compared on the GPU (a `texelFetch` of the depth and a test per tap), the maps "
     "never leave the GPU; lights with one "
@@ -584,8 +585,9 @@ void ReadShadowMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* tech
   const int lookups[] = { vtkPenumbraShadowMapShadows::LOOKUP_GPU,
     vtkPenumbraShadowMapShadows::LOOKUP_CPU, vtkPenumbraShadowMapShadows::LOOKUP_GBUFFER };
   technique->SetLookup(lookups[opts.Choice("lookup")]);
-  technique->SetFitTo(opts.Choice("fit") == 1 ? vtkPenumbraShadowMapShadows::FIT_TO_SCENE
-                                              : vtkPenumbraShadowMapShadows::FIT_TO_VIEW);
+  const int fits[] = { vtkPenumbraShadowMapShadows::FIT_TO_AUTO,
+    vtkPenumbraShadowMapShadows::FIT_TO_VIEW, vtkPenumbraShadowMapShadows::FIT_TO_SCENE };
+  technique->SetFitTo(fits[opts.Choice("fit")]);
 }
 
 void InstallShadowMap(vtkRenderer* ren, const Options& opts)

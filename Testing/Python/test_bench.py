@@ -66,15 +66,20 @@ class BenchTest(unittest.TestCase):
         # makes every timed frame render the view samples again (a still camera keeps them).
         with tempfile.TemporaryDirectory() as out:
             code, _, stderr = run_bench(out, "--scenes", "default", "--techniques",
-                                        "none,shadowmap,raytraced", "--still-frames",
-                                        "--moving-camera", "--frames", "2")
+                                        "none,shadowmap,shadowmap:fit=view,raytraced",
+                                        "--still-frames", "--moving-camera", "--frames", "2")
             self.assertEqual(code, 0, stderr)
-            rows = {r["technique"]: r for r in read_csv(out, "results.csv")}
+            rows = {(r["technique"], r["setting"]): r for r in read_csv(out, "results.csv")}
+            rows = {name if setting == "default" else name + ":" + setting: r
+                    for (name, setting), r in rows.items()}
             for name in ("none", "shadowmap", "raytraced"):
                 self.assertGreater(float(rows[name]["still_ms"]), 0.0)
                 self.assertGreater(float(rows[name]["still_ratio_to_no_shadow"]), 0.0)
-            for name in ("shadowmap", "raytraced"):
+            for name in ("shadowmap:fit=view", "raytraced"):
                 self.assertGreater(float(rows[name]["samples_ms"]), 0.0)
+            # The camera sees the whole city: shadowmap's default fit is the scene's, whose
+            # maps need no view samples while only the camera moves.
+            self.assertEqual(float(rows["shadowmap"]["samples_ms"]), 0.0)
             self.assertEqual(float(rows["raytraced"]["mismatch_rate"]), 0.0)
             with open(os.path.join(out, "results.md")) as f:
                 self.assertIn("the camera moving before every frame", f.read())
