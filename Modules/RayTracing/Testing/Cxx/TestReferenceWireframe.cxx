@@ -1,0 +1,157 @@
+// A wireframe square drawn 2 pixels wide over a plane, under a light straight above: the exact
+// tracer shadows thin lines (the tubes' footprint, sample for sample), not a filled square;
+// the same square as a surface shadows the filled square. Tubes belong to no drawn triangle,
+// so samples whose triangle is unknown are shadowed by them too.
+#include "vtkCellArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkLight.h"
+#include "vtkPenumbraReference.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkProperty.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+
+#include "PenumbraReferenceScenes.h"
+#include "PenumbraTestMacros.h"
+
+using namespace penumbra_test;
+
+namespace
+{
+constexpr int Res = 64; // samples over [-4, 4]^2: centres 1/16 from every multiple of 1/8
+constexpr double Lo = -4.0;
+constexpr double Hi = 4.0;
+constexpr double Pi = 3.14159265358979323846;
+
+// The square [-2, 2]^2 at height 1 as one polygon.
+vtkSmartPointer<vtkActor> AddSquare(vtkRenderer* renderer)
+{
+  vtkNew<vtkPoints> points;
+  points->InsertNextPoint(-2, -2, 1);
+  points->InsertNextPoint(2, -2, 1);
+  points->InsertNextPoint(2, 2, 1);
+  points->InsertNextPoint(-2, 2, 1);
+  vtkNew<vtkCellArray> polys;
+  const vtkIdType ids[4] = { 0, 1, 2, 3 };
+  polys->InsertNextCell(4, ids);
+  vtkNew<vtkPolyData> square;
+  square->SetPoints(points);
+  square->SetPolys(polys);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(square);
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  renderer->AddActor(actor);
+  return actor;
+}
+
+// Whether the tubes along the square's edges shadow ground point c straight below: within
+// half a tube's width of an edge, along the edge's length (the caps are flat). A hexagonal
+// tube of circumradius R is between sqrt(3) R and 2 R wide; `ambiguous` flags a sample in
+// between.
+bool InTubes(const double c[2], double halfWidthMin, double halfWidthMax, bool& ambiguous)
+{
+  bool inside = false;
+  for (int axis = 0; axis < 2; ++axis)
+  {
+    const double along = c[1 - axis];
+    if (!(std::fabs(along) < 2.0))
+    {
+      continue;
+    }
+    for (double edge : { -2.0, 2.0 })
+    {
+      const double d = std::fabs(c[axis] - edge);
+      ambiguous = ambiguous || (d >= halfWidthMin && d <= halfWidthMax);
+      inside = inside || d < halfWidthMin;
+    }
+  }
+  return inside;
+}
+
+int Shadowed(
+  vtkPenumbraReference* reference, vtkPenumbraViewSamples* samples, vtkLight* sun, vtkIdType& count)
+{
+  vtkNew<vtkFloatArray> vis;
+  CHECK(reference->ComputeVisibility(samples, sun, vis));
+  count = 0;
+  for (vtkIdType s = 0; s < vis->GetNumberOfTuples(); ++s)
+  {
+    count += vis->GetValue(s) == 0.0f ? 1 : 0;
+  }
+  return EXIT_SUCCESS;
+}
+} // namespace
+
+int TestReferenceWireframe(int, char*[])
+{
+  vtkNew<vtkRenderer> renderer;
+  auto ground = AddRectangle(renderer, -4, 4, -4, 4, 0);
+  auto square = AddSquare(renderer);
+  square->GetProperty()->SetRepresentationToWireframe();
+  square->GetProperty()->SetLineWidth(2.0);
+  vtkNew<vtkPenumbraSceneGeometry> geometry;
+  geometry->SetPixelSize(0.125); // tubes 0.25 wide
+  CHECK(geometry->Update(renderer));
+  CHECK(geometry->GetPropTriangleCount(1) == 4 * 20);
+  const double zero[3] = { 0, 0, 0 };
+  vtkNew<vtkPenumbraViewSamples> samples;
+  FillGroundSamples(samples, geometry, geometry->GetPropIndex(ground), zero, Res, Lo, Hi);
+
+  vtkNew<vtkLight> sun;
+  sun->SetPositional(false);
+  sun->SetPosition(0, 0, 1);
+  sun->SetFocalPoint(0, 0, 0);
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(geometry);
+  vtkNew<vtkFloatArray> vis;
+  CHECK(reference->ComputeVisibility(samples, sun, vis));
+
+  const double r = Pi * 0.25 / 6.0; // the tubes' circumradius
+  bool ambiguous = false;
+  vtkIdType expected = 0, shadowed = 0, bad = 0;
+  for (int j = 0; j < Res; ++j)
+  {
+    for (int i = 0; i < Res; ++i)
+    {
+      double c[2];
+      PixelCentre(i, j, Res, Lo, Hi, c);
+      const bool shadow = InTubes(c, 0.5 * std::sqrt(3.0) * r, r, ambiguous);
+      const float v = vis->GetValue(j * Res + i);
+      expected += shadow ? 1 : 0;
+      shadowed += v == 0.0f ? 1 : 0;
+      bad += (shadow ? v != 0.0f : v != 1.0f) ? 1 : 0;
+    }
+  }
+  std::cout << "wireframe: shadowed " << shadowed << ", tube footprint " << expected << "\n";
+  CHECK(!ambiguous);
+  CHECK(expected == 4 * 2 * 32 - 4); // two sample rows per edge, inner corners counted once
+  CHECK(bad == 0 && shadowed == expected);
+  CHECK(reference->GetNumberOfTies() == 0);
+
+  // Samples whose triangle is unknown (-1) are shadowed by tubes all the same: a tube
+  // belongs to no drawn triangle, so it is nobody's own triangle.
+  vtkIdTypeArray* triangles = samples->GetTriangleIds();
+  for (vtkIdType s = 0; s < triangles->GetNumberOfTuples(); ++s)
+  {
+    triangles->SetValue(s, -1);
+  }
+  triangles->Modified();
+  vtkIdType unknownOwn = 0;
+  RUN(Shadowed(reference, samples, sun, unknownOwn));
+  CHECK(unknownOwn == expected);
+
+  // The same square as a surface shadows the filled square: 32 x 32 samples.
+  square->GetProperty()->SetRepresentationToSurface();
+  CHECK(geometry->Update(renderer));
+  FillGroundSamples(samples, geometry, geometry->GetPropIndex(ground), zero, Res, Lo, Hi);
+  vtkIdType filled = 0;
+  RUN(Shadowed(reference, samples, sun, filled));
+  std::cout << "surface: shadowed " << filled << "\n";
+  CHECK(filled == 32 * 32);
+  return EXIT_SUCCESS;
+}
