@@ -53,6 +53,8 @@ struct TriangleList
     unsigned char role);
   void Add(const double* a, const double* b, const double* c, vtkIdType cell, vtkIdType owner,
     unsigned char role);
+  /// Makes room for `count` triangles in all, so appending does not reallocate.
+  void Reserve(vtkIdType count);
   /// Appends `other`; its non-negative owners are shifted by `ownerShift`.
   void Append(const TriangleList& other, vtkIdType ownerShift);
   void Clear();
@@ -103,15 +105,15 @@ void AppendBaryPolygon(const Vec3 v[3], const BaryPolygon& polygon, vtkIdType ce
   unsigned char role, TriangleList& out);
 
 /**
- * A line drawn `diameter` wide from a to b: a hexagonal prism with caps (20 triangles,
- * caster-only, owner -1) whose mean width equals `diameter` (circumradius pi d / 6), so
- * that its shadow is as wide as a `diameter`-wide band on average over light directions
- * (between 0.91 and 1.05 times). Zero-length segments and zero or non-finite diameters add
- * nothing.
+ * A line drawn `diameter` wide from a to b: a triangular prism with caps (8 triangles,
+ * caster-only, owner -1) whose mean width equals `diameter` (circumradius pi d / (3 sqrt 3)),
+ * so that its shadow is as wide as a `diameter`-wide band on average over light directions
+ * (between 0.91 and 1.05 times, like a hexagonal prism's). Zero-length segments and zero or
+ * non-finite diameters add nothing.
  */
 void AppendTube(const Vec3& a, const Vec3& b, double diameter, vtkIdType cell, TriangleList& out);
 
-/// Circumradius of the tube's hexagon for a drawn width `diameter`.
+/// Circumradius of the tube's triangle for a drawn width `diameter`.
 double TubeCircumradius(double diameter);
 
 /**

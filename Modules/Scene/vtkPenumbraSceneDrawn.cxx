@@ -320,6 +320,13 @@ void Extractor::Surface(PrimitiveCounts* counts)
   vtkCellArray* strips = this->Poly->GetStrips();
   const bool edges = this->Style.EdgeVisibility && this->Style.EdgeWidth > 0.0;
   this->Result.UsesWidth = this->Result.UsesWidth || this->Style.EdgeVisibility;
+  const vtkIdType triangles = polys->GetNumberOfConnectivityIds() - 2 * polys->GetNumberOfCells() +
+    strips->GetNumberOfConnectivityIds() - 2 * strips->GetNumberOfCells();
+  this->Drawn.Reserve(this->Drawn.Size() + triangles);
+  if (edges)
+  {
+    this->Casters.Reserve(this->Casters.Size() + 2 * 3 * triangles);
+  }
 
   // Polygons: fan (p0, p_i, p_i+1), as vtkOpenGLIndexBufferObject::AppendTriangleIndexBuffer.
   // That function leaves out fan triangles with two coincident points (equal coordinates in
@@ -493,6 +500,7 @@ void Extractor::EmitSegments(std::vector<Segment>& segments)
   {
     this->Result.UsesWidth = true;
   }
+  this->Casters.Reserve(this->Casters.Size() + 8 * static_cast<vtkIdType>(segments.size()));
   for (const Segment& s : segments)
   {
     this->Use(s[0]);
@@ -519,6 +527,7 @@ void Extractor::EmitPoints(std::vector<std::array<vtkIdType, 2>>& points)
   {
     this->Result.UsesWidth = true;
   }
+  this->Casters.Reserve(this->Casters.Size() + 8 * static_cast<vtkIdType>(points.size()));
   for (const auto& p : points)
   {
     this->Use(p[0]);

@@ -597,8 +597,16 @@ bool vtkPenumbraSceneGeometry::Internals::Extract(
     e.Note = e.Note.empty() ? fine : e.Note + "; " + fine;
   }
   e.UsesWidth = outcome.UsesWidth;
-  e.Triangles = std::move(drawn);
-  e.Triangles.Append(casters, 0); // caster owners already index the drawn triangles
+  // Caster owners already index the drawn triangles, which come first.
+  if (drawn.Size() == 0)
+  {
+    e.Triangles = std::move(casters);
+  }
+  else
+  {
+    e.Triangles = std::move(drawn);
+    e.Triangles.Append(casters, 0);
+  }
 
   const std::vector<double>& world = e.Triangles.World;
   if (!world.empty())

@@ -50,9 +50,9 @@ vtkSmartPointer<vtkActor> AddSquare(vtkRenderer* renderer)
 }
 
 // Whether the tubes along the square's edges shadow ground point c straight below: within
-// half a tube's width of an edge, along the edge's length (the caps are flat). A hexagonal
-// tube of circumradius R is between sqrt(3) R and 2 R wide; `ambiguous` flags a sample in
-// between.
+// half a tube's width of an edge, along the edge's length (the caps are flat). A tube whose
+// triangle has circumradius R is between 1.5 R and sqrt(3) R wide; `ambiguous` flags a
+// sample in between.
 bool InTubes(const double c[2], double halfWidthMin, double halfWidthMax, bool& ambiguous)
 {
   bool inside = false;
@@ -97,7 +97,7 @@ int TestReferenceWireframe(int, char*[])
   vtkNew<vtkPenumbraSceneGeometry> geometry;
   geometry->SetPixelSize(0.125); // tubes 0.25 wide
   CHECK(geometry->Update(renderer));
-  CHECK(geometry->GetPropTriangleCount(1) == 4 * 20);
+  CHECK(geometry->GetPropTriangleCount(1) == 4 * 8);
   const double zero[3] = { 0, 0, 0 };
   vtkNew<vtkPenumbraViewSamples> samples;
   FillGroundSamples(samples, geometry, geometry->GetPropIndex(ground), zero, Res, Lo, Hi);
@@ -111,7 +111,7 @@ int TestReferenceWireframe(int, char*[])
   vtkNew<vtkFloatArray> vis;
   CHECK(reference->ComputeVisibility(samples, sun, vis));
 
-  const double r = Pi * 0.25 / 6.0; // the tubes' circumradius
+  const double r = Pi * 0.25 / (3.0 * std::sqrt(3.0)); // the tubes' circumradius
   bool ambiguous = false;
   vtkIdType expected = 0, shadowed = 0, bad = 0;
   for (int j = 0; j < Res; ++j)
@@ -120,7 +120,7 @@ int TestReferenceWireframe(int, char*[])
     {
       double c[2];
       PixelCentre(i, j, Res, Lo, Hi, c);
-      const bool shadow = InTubes(c, 0.5 * std::sqrt(3.0) * r, r, ambiguous);
+      const bool shadow = InTubes(c, 0.75 * r, 0.5 * std::sqrt(3.0) * r, ambiguous);
       const float v = vis->GetValue(j * Res + i);
       expected += shadow ? 1 : 0;
       shadowed += v == 0.0f ? 1 : 0;

@@ -98,8 +98,8 @@ vtkSmartPointer<vtkPolyData> UnitSquare()
   return poly;
 }
 
-// Wireframe: the square's four edges as tubes (20 caster-only triangles each, owned by no
-// drawn triangle) whose hexagons have circumradius pi d / 6; no solid triangle.
+// Wireframe: the square's four edges as tubes (8 caster-only triangles each, owned by no
+// drawn triangle) whose triangles have circumradius pi d / (3 sqrt 3); no solid triangle.
 int TestWireframeSquare()
 {
   auto actor = MakeActor(UnitSquare());
@@ -111,11 +111,11 @@ int TestWireframeSquare()
   g->SetPixelSize(0.01);
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfCastingNotes() == 0);
-  CHECK(g->GetNumberOfTriangles() == 4 * 20);
-  CHECK(CountFlags(g, 0, Flags::CASTS_SHADOWS) == 80);
+  CHECK(g->GetNumberOfTriangles() == 4 * 8);
+  CHECK(CountFlags(g, 0, Flags::CASTS_SHADOWS) == 32);
   CHECK(g->MapPrimitiveId(0, 0) == -1);
   // Each tube lies on one edge: its vertices at r from the edge, within the edge's length.
-  const double r = Pi * 0.02 / 6.0;
+  const double r = Pi * 0.02 / (3.0 * std::sqrt(3.0));
   const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 } };
   int edgesMet = 0;
   for (vtkIdType tube = 0; tube < 4; ++tube)
@@ -123,7 +123,7 @@ int TestWireframeSquare()
     for (int edge = 0; edge < 4; ++edge)
     {
       bool onEdge = true;
-      for (vtkIdType t = 20 * tube; t < 20 * (tube + 1); ++t)
+      for (vtkIdType t = 8 * tube; t < 8 * (tube + 1); ++t)
       {
         for (int v = 0; v < 3; ++v)
         {
@@ -202,8 +202,8 @@ int TestPointsAndLineCells()
   vtkNew<vtkRenderer> second;
   second->AddActor(cells);
   CHECK(g->Update(second) == 1);
-  CHECK(g->GetNumberOfTriangles() == 2 * 20 + 3 * 8);
-  CHECK(g->GetCellIds()->GetValue(0) == 2 && g->GetCellIds()->GetValue(40) == 0);
+  CHECK(g->GetNumberOfTriangles() == 2 * 8 + 3 * 8);
+  CHECK(g->GetCellIds()->GetValue(0) == 2 && g->GetCellIds()->GetValue(16) == 0);
   // No pixel size: lines and points cast nothing, and the prop says so.
   g->SetPixelSize(0.0);
   CHECK(g->Update(second) == 1);
@@ -247,7 +247,8 @@ int TestPixelSize()
   double x[3];
   WorldVertex(g, 0, 0, x);
   const double start[3] = { 0, 0, 0 }, end[3] = { 1, 0, 0 };
-  CHECK(std::fabs(SegmentDistance(x, start, end) - Pi * 0.3 / 6.0) < 1e-12); // 3 px x 0.1
+  const double tube = Pi / (3.0 * std::sqrt(3.0)); // circumradius per unit of width
+  CHECK(std::fabs(SegmentDistance(x, start, end) - 0.3 * tube) < 1e-12); // 3 px x 0.1
   const vtkMTimeType geometryTime = g->GetGeometryTime();
 
   camera->Azimuth(30);
@@ -261,7 +262,7 @@ int TestPixelSize()
   CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1);
   CHECK(g->GetGeometryTime() > geometryTime);
   WorldVertex(g, 0, 0, x);
-  CHECK(std::fabs(SegmentDistance(x, start, end) - Pi * 0.15 / 6.0) < 1e-12);
+  CHECK(std::fabs(SegmentDistance(x, start, end) - 0.15 * tube) < 1e-12);
 
   window->SetSize(200, 50); // half the pixels: twice the pixel size
   CHECK(g->Update(renderer) == 1);
@@ -315,7 +316,7 @@ int TestClippingPlanes()
   // A plane keeping everything changes nothing; one keeping nothing leaves nothing cast.
   plane->SetOrigin(10, 0, 0);
   CHECK(g->Update(renderer) == 1);
-  CHECK(g->GetPropTriangleCount(1) == 1 + 20 && g->GetFlags()->GetValue(first) == 3);
+  CHECK(g->GetPropTriangleCount(1) == 1 + 8 && g->GetFlags()->GetValue(first) == 3);
   plane->SetOrigin(-10, 0, 0);
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetPropTriangleCount(1) == 1 && !g->IsOccluder(first));
