@@ -498,7 +498,7 @@ void Extractor::EmitSegments(std::vector<Segment>& segments)
     segments.end());
   if (!segments.empty())
   {
-    this->Result.UsesWidth = true;
+    this->Result.UsesWidth = this->Result.PointsOrLines = true;
   }
   this->Casters.Reserve(this->Casters.Size() + 8 * static_cast<vtkIdType>(segments.size()));
   for (const Segment& s : segments)
@@ -525,7 +525,7 @@ void Extractor::EmitPoints(std::vector<std::array<vtkIdType, 2>>& points)
     points.end());
   if (!points.empty())
   {
-    this->Result.UsesWidth = true;
+    this->Result.UsesWidth = this->Result.PointsOrLines = true;
   }
   this->Casters.Reserve(this->Casters.Size() + 8 * static_cast<vtkIdType>(points.size()));
   for (const auto& p : points)

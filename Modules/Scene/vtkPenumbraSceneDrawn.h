@@ -73,7 +73,8 @@ struct Outcome
 {
   vtkIdType BadPoints = 0;      // distinct points with NaN/inf world coordinates that are drawn
   vtkIdType BadTCoords = 0;     // cut triangles with NaN/inf texture coordinates
-  bool UsesWidth = false;       // lines or points are drawn: the result depends on the widths
+  bool UsesWidth = false;       // lines, points or edges drawn: the result depends on widths
+  bool PointsOrLines = false;   // some fragments are drawn by point or line primitives
   long long Budget = 1ll << 22; // texture cells the cut-outs may still examine
   vtkIdType TooFine = 0;        // textured triangles cast whole because the budget ran out
 };

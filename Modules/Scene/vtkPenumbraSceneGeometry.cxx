@@ -525,6 +525,36 @@ vtkIdType vtkPenumbraSceneGeometry::MapPrimitiveId(int propIndex, vtkIdType prim
 }
 
 //------------------------------------------------------------------------------
+vtkIdType vtkPenumbraSceneGeometry::GetFirstSurfacePrimitive(int propIndex)
+{
+  if (propIndex < 0 || propIndex >= this->GetNumberOfProps())
+  {
+    return -1;
+  }
+  const PropEntry& e = *this->Impl->Props[propIndex];
+  switch (e.What)
+  {
+    case penumbra_scene::Kind::Image:
+      return 0;
+    case penumbra_scene::Kind::Splats:
+      return VTK_ID_MAX;
+    case penumbra_scene::Kind::Unsupported:
+      return -1;
+    default:
+      break;
+  }
+  if (!e.Surface)
+  {
+    return VTK_ID_MAX; // wireframe and points representations draw lines and points only
+  }
+  if (e.Mappable)
+  {
+    return e.Counts.VertPrimitives + e.Counts.LinePrimitives;
+  }
+  return e.PointsOrLines ? -1 : 0;
+}
+
+//------------------------------------------------------------------------------
 vtkMTimeType vtkPenumbraSceneGeometry::GetGeometryTime()
 {
   return this->Impl->GeometryTime.GetMTime();

@@ -296,6 +296,19 @@ public:
   vtkIdType MapPrimitiveId(int propIndex, vtkIdType primitiveId);
 
   /**
+   * The first primitive id (gl_PrimitiveID + PrimitiveIDOffset, as for MapPrimitiveId) that
+   * VTK 9.1 draws as a triangle for prop `propIndex`: the primitives below it are points and
+   * lines, whose fragments are not surfaces (they receive no shadows). The vertex and line
+   * primitive count for a polydata drawn as a surface; 0 when the prop draws triangles only
+   * (surfaces without vertex or line cells, image slices); VTK_ID_MAX when it draws no
+   * triangle (wireframe and points representations, splats); -1 when it cannot be told
+   * (composite data or glyphs that draw points or lines besides triangles, unknown props).
+   * Vertices shown with VertexVisibility are drawn after the strips with the strips' offset,
+   * so they cannot be told apart by primitive id.
+   */
+  vtkIdType GetFirstSurfacePrimitive(int propIndex);
+
+  /**
    * Changes only when the triangles change: positions, topology, the set of visible props or
    * Origin (not when only flags change). 0 before any triangle was published.
    */

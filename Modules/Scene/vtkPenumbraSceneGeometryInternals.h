@@ -76,6 +76,7 @@ struct PropEntry
   std::vector<const void*> DrawIds; // objects they name (texture, glyph sources)
   double Widths[3] = { 0, 0, 0 };   // world line, point and edge widths extracted with
   bool UsesWidth = false;           // lines or points drawn: the widths matter
+  bool PointsOrLines = false;       // some of its fragments come from points or lines
 
   Kind What = Kind::Polygonal;
   TriangleList Triangles; // the drawn triangles first, then the caster-only ones

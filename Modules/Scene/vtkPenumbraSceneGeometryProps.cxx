@@ -597,6 +597,7 @@ bool vtkPenumbraSceneGeometry::Internals::Extract(
     e.Note = e.Note.empty() ? fine : e.Note + "; " + fine;
   }
   e.UsesWidth = outcome.UsesWidth;
+  e.PointsOrLines = outcome.PointsOrLines;
   // Caster owners already index the drawn triangles, which come first.
   if (drawn.Size() == 0)
   {

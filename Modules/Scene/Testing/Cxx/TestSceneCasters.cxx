@@ -15,11 +15,14 @@
 #include "vtkImageSlice.h"
 #include "vtkImageSliceMapper.h"
 #include "vtkMath.h"
+#include "vtkObjectFactory.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
 #include "vtkPointGaussianMapper.h"
+#include "vtkProp3D.h"
+#include "vtkPropCollection.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
@@ -114,6 +117,7 @@ int TestWireframeSquare()
   CHECK(g->GetNumberOfTriangles() == 4 * 8);
   CHECK(CountFlags(g, 0, Flags::CASTS_SHADOWS) == 32);
   CHECK(g->MapPrimitiveId(0, 0) == -1);
+  CHECK(g->GetFirstSurfacePrimitive(0) == VTK_ID_MAX); // lines only: no surface fragment
   // Each tube lies on one edge: its vertices at r from the edge, within the edge's length.
   const double r = Pi * 0.02 / (3.0 * std::sqrt(3.0));
   const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 } };
@@ -148,6 +152,7 @@ int TestWireframeSquare()
   CHECK(g->GetNumberOfTriangles() == 2 && CountFlags(g, 0, 3) == 2);
   CHECK(g->GetOwners()->GetValue(0) == 0 && g->GetOwners()->GetValue(1) == 1);
   CHECK(g->MapPrimitiveId(0, 1) == 1);
+  CHECK(g->GetFirstSurfacePrimitive(0) == 0);
   // Surface with edges: each real edge gains a flat strip half the line width wide (VTK
   // draws at least 1.1 pixels), in the square's plane, owned by the fan triangle drawing it.
   actor->GetProperty()->EdgeVisibilityOn();
@@ -310,6 +315,7 @@ int TestClippingPlanes()
   }
   // The drawn triangle is still where VTK draws it, after the line's one segment primitive.
   CHECK(g->MapPrimitiveId(1, 1) == first && g->MapPrimitiveId(1, 0) == -1);
+  CHECK(g->GetFirstSurfacePrimitive(1) == 1 && g->GetFirstSurfacePrimitive(2) == -1);
   vtkNew<vtkDoubleArray> casters;
   g->GetCasterWorldTriangles(casters);
   CHECK(casters->GetNumberOfTuples() == 2 + pieces);
@@ -504,6 +510,7 @@ int TestGlyphs()
   CHECK(g->GetNumberOfTriangles() == 2 * 12);
   CHECK(CountFlags(g, 0, 3) == 24);
   CHECK(g->MapPrimitiveId(0, 0) == -1);
+  CHECK(g->GetFirstSurfacePrimitive(0) == 0); // a box source: triangles only
   double lo[2][3], hi[2][3];
   for (int k = 0; k < 2; ++k)
   {
@@ -563,6 +570,7 @@ int TestSplats()
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfTriangles() == 16);
   CHECK(CountFlags(g, 0, Flags::CASTS_SHADOWS) == 16);
+  CHECK(g->GetFirstSurfacePrimitive(0) == VTK_ID_MAX);
   const double k = std::sqrt(Pi / (4.0 * std::sqrt(3.0)));
   const double scale = splats->GetTriangleScale();
   for (int s = 0; s < 2; ++s)
@@ -583,8 +591,27 @@ int TestSplats()
   return EXIT_SUCCESS;
 }
 
+// A composite 3D prop (like vtkAxesActor): it draws its part actors with their own matrices
+// and lists them with GetActors(); without parts it draws nothing we know of.
+class CompositeProp : public vtkProp3D
+{
+public:
+  static CompositeProp* New() { VTK_STANDARD_NEW_BODY(CompositeProp); }
+  vtkTypeMacro(CompositeProp, vtkProp3D);
+  void GetActors(vtkPropCollection* collection) override
+  {
+    if (this->Part)
+    {
+      collection->AddItem(this->Part);
+    }
+  }
+  double* GetBounds() override { return this->Part ? this->Part->GetBounds() : nullptr; }
+  vtkSmartPointer<vtkActor> Part;
+};
+
 // Volumes cast nothing and say so; skyboxes and 2D props are passed over silently; an image
-// slice casts its slice quad and says its transparent pixels are not cut out.
+// slice casts its slice quad and says its transparent pixels are not cut out; a composite
+// prop casts its parts, and one without parts says it casts nothing.
 int TestNotes()
 {
   vtkNew<vtkVolume> volume;
@@ -605,19 +632,31 @@ int TestNotes()
   renderer->AddViewProp(hiddenVolume);
   renderer->AddViewProp(skybox);
   renderer->AddViewProp(slice);
+  vtkNew<CompositeProp> composite;
+  composite->Part = MakeActor(UnitSquare());
+  composite->Part->SetPosition(0, 0, 7);
+  vtkNew<CompositeProp> empty;
+  renderer->AddViewProp(composite);
+  renderer->AddViewProp(empty);
   vtkNew<vtkPenumbraSceneGeometry> g;
   CHECK(g->Update(renderer) == 1);
-  CHECK(g->GetNumberOfCastingNotes() == 2);
+  CHECK(g->GetNumberOfCastingNotes() == 3);
   CHECK(g->GetCastingNoteProp(0) == volume.GetPointer());
+  CHECK(g->GetCastingNoteProp(2) == empty.GetPointer());
   CHECK(std::string(g->GetCastingNote(0)) == "vtkVolume 'ct' (prop 0): volumes cast no shadows");
   CHECK(g->GetCastingNoteProp(1) == slice.GetPointer());
-  CHECK(g->GetCastingNote(2) == nullptr && g->GetCastingNoteProp(-1) == nullptr);
-  CHECK(g->GetNumberOfProps() == 1 && g->GetProp(0) == slice.GetPointer());
-  CHECK(g->GetNumberOfTriangles() == 2 && CountFlags(g, 0, 3) == 2);
+  CHECK(g->GetCastingNote(3) == nullptr && g->GetCastingNoteProp(-1) == nullptr);
+  CHECK(g->GetNumberOfProps() == 2 && g->GetProp(0) == slice.GetPointer());
+  CHECK(g->GetProp(1) == composite->Part.GetPointer());
+  CHECK(g->GetNumberOfTriangles() == 4 && CountFlags(g, 0, 3) == 2 && CountFlags(g, 1, 3) == 2);
+  double w[3];
+  WorldVertex(g, 2, 0, w);
+  CHECK(w[2] == 7.0); // the part's own matrix
+  CHECK(g->GetFirstSurfacePrimitive(0) == 0);
   double bounds[6];
   g->GetBounds(bounds);
   CHECK(bounds[0] == 0 && bounds[1] == 3 && bounds[2] == 0 && bounds[3] == 2);
-  CHECK(bounds[4] == 2 && bounds[5] == 2);
+  CHECK(bounds[4] == 2 && bounds[5] == 7);
   return EXIT_SUCCESS;
 }
 } // namespace

@@ -1,12 +1,15 @@
-// A wireframe square drawn 2 pixels wide over a plane, under a light straight above: the exact
-// tracer shadows thin lines (the tubes' footprint, sample for sample), not a filled square;
-// the same square as a surface shadows the filled square. Tubes belong to no drawn triangle,
-// so samples whose triangle is unknown are shadowed by them too.
+// What is drawn, cast through the exact tracer. A wireframe square drawn 2 pixels wide over a
+// plane, under a light straight above, shadows thin lines (the tubes' footprint, sample for
+// sample), not a filled square; the same square as a surface shadows the filled square. Tubes
+// belong to no drawn triangle, so samples whose triangle is unknown are shadowed by them too.
+// The pieces a clipping plane leaves of a triangle never shadow that triangle's samples, and
+// do shadow the others'.
 #include "vtkCellArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkLight.h"
 #include "vtkPenumbraReference.h"
+#include "vtkPlane.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
@@ -73,6 +76,16 @@ bool InTubes(const double c[2], double halfWidthMin, double halfWidthMax, bool& 
   return inside;
 }
 
+// A directional light straight above.
+vtkSmartPointer<vtkLight> OverheadSun()
+{
+  auto sun = vtkSmartPointer<vtkLight>::New();
+  sun->SetPositional(false);
+  sun->SetPosition(0, 0, 1);
+  sun->SetFocalPoint(0, 0, 0);
+  return sun;
+}
+
 int Shadowed(
   vtkPenumbraReference* reference, vtkPenumbraViewSamples* samples, vtkLight* sun, vtkIdType& count)
 {
@@ -85,9 +98,7 @@ int Shadowed(
   }
   return EXIT_SUCCESS;
 }
-} // namespace
-
-int TestReferenceWireframe(int, char*[])
+int Wireframe()
 {
   vtkNew<vtkRenderer> renderer;
   auto ground = AddRectangle(renderer, -4, 4, -4, 4, 0);
@@ -102,10 +113,7 @@ int TestReferenceWireframe(int, char*[])
   vtkNew<vtkPenumbraViewSamples> samples;
   FillGroundSamples(samples, geometry, geometry->GetPropIndex(ground), zero, Res, Lo, Hi);
 
-  vtkNew<vtkLight> sun;
-  sun->SetPositional(false);
-  sun->SetPosition(0, 0, 1);
-  sun->SetFocalPoint(0, 0, 0);
+  vtkSmartPointer<vtkLight> sun = OverheadSun();
   vtkNew<vtkPenumbraReference> reference;
   reference->SetGeometry(geometry);
   vtkNew<vtkFloatArray> vis;
@@ -153,5 +161,59 @@ int TestReferenceWireframe(int, char*[])
   RUN(Shadowed(reference, samples, sun, filled));
   std::cout << "surface: shadowed " << filled << "\n";
   CHECK(filled == 32 * 32);
+  return EXIT_SUCCESS;
+}
+
+// Samples just below a square cut in half by a clipping plane (its two drawn triangles keep
+// receiving, their pieces cast), under a light straight above: each sample's ray meets the
+// piece above it at a distance far beyond the tie band. A sample labelled with the drawn
+// triangle that owns that piece is lit (its own pieces never block); labelled with the other
+// triangle, it is shadowed.
+int OwnPieces()
+{
+  vtkNew<vtkRenderer> renderer;
+  auto square = AddRectangle(renderer, -1, 1, -1, 1, 0);
+  vtkNew<vtkPlane> plane;
+  plane->SetOrigin(0.3, 0, 0);
+  plane->SetNormal(-1, 0, 0); // keeps x <= 0.3
+  square->GetMapper()->AddClippingPlane(plane);
+  vtkNew<vtkPenumbraSceneGeometry> geometry;
+  CHECK(geometry->Update(renderer));
+  CHECK(
+    geometry->GetPropTriangleCount(0) > 2 && !geometry->IsOccluder(0) && !geometry->IsOccluder(1));
+
+  // Below the kept half of triangle 0 (vtkPlaneSource: 0 = (-1,-1) (1,-1) (1,1)), and below
+  // the clipped-away part (x > 0.3), where nothing casts.
+  const double points[3][2] = { { 0.2, -0.6 }, { -0.5, -0.8 }, { 0.6, -0.2 } };
+  const double down = 1e-3; // beyond the tie band (16 x 1e-5 x the scene diagonal)
+  vtkNew<vtkPenumbraViewSamples> samples;
+  samples->SetSize(3, 2);
+  samples->SetOrigin(geometry->GetOrigin());
+  samples->SetCameraPosition(0, 0, 100);
+  const double up[3] = { 0, 0, 1 };
+  for (int k = 0; k < 3; ++k)
+  {
+    const double p[3] = { points[k][0], points[k][1], -down };
+    CHECK(FindTriangleXY(geometry, 0, p[0], p[1]) == 0);
+    samples->SetSample(k, p, up, 0, 0);     // labelled with its own triangle
+    samples->SetSample(3 + k, p, up, 0, 1); // labelled with the other one
+  }
+  vtkSmartPointer<vtkLight> sun = OverheadSun();
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(geometry);
+  vtkNew<vtkFloatArray> vis;
+  CHECK(reference->ComputeVisibility(samples, sun, vis));
+  CHECK(vis->GetValue(0) == 1.0f && vis->GetValue(1) == 1.0f); // own pieces never block
+  CHECK(vis->GetValue(3) == 0.0f && vis->GetValue(4) == 0.0f); // another triangle's do
+  CHECK(vis->GetValue(2) == 1.0f && vis->GetValue(5) == 1.0f); // clipped away: lit
+  CHECK(reference->GetNumberOfTies() == 0);
+  return EXIT_SUCCESS;
+}
+} // namespace
+
+int TestReferenceCasters(int, char*[])
+{
+  RUN(Wireframe());
+  RUN(OwnPieces());
   return EXIT_SUCCESS;
 }
