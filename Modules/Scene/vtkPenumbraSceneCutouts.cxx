@@ -107,9 +107,10 @@ void ScalarAlpha::Compute(vtkMapper* mapper, vtkDataSet* data)
   }
   vtkSmartPointer<vtkUnsignedCharArray> colors =
     MapColors(lut, scalars, mapper->GetColorMode(), component);
-  if (!colors || colors->GetNumberOfComponents() != 4)
+  const vtkIdType expected = cellFlag == 1 ? data->GetNumberOfCells() : data->GetNumberOfPoints();
+  if (!colors || colors->GetNumberOfComponents() != 4 || colors->GetNumberOfTuples() != expected)
   {
-    return;
+    return; // not one colour per point (cell): not what the mapper can draw either
   }
   const vtkIdType n = colors->GetNumberOfTuples();
   const unsigned char* rgba = colors->GetPointer(0);

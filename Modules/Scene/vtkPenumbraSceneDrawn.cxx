@@ -568,14 +568,17 @@ void Extractor::Run(PrimitiveCounts* counts)
   }
   this->TransformPoints();
   this->Alpha.Compute(this->Style.ColourMapper, this->Poly);
+  const vtkIdType nPoints = this->Poly->GetNumberOfPoints();
   vtkDataArray* tcoords = this->Poly->GetPointData()->GetTCoords();
-  if (tcoords && (tcoords->GetNumberOfComponents() == 1 || tcoords->GetNumberOfComponents() == 2))
+  if (tcoords && tcoords->GetNumberOfTuples() >= nPoints &&
+    (tcoords->GetNumberOfComponents() == 1 || tcoords->GetNumberOfComponents() == 2))
   {
     this->TCoords = tcoords;
   }
   // vtkOpenGLPolyDataMapper::BuildIBO: one-component unsigned char edge flags only.
   vtkDataArray* flags = this->Poly->GetPointData()->GetAttribute(vtkDataSetAttributes::EDGEFLAG);
-  this->EdgeFlags = flags && flags->GetNumberOfComponents() == 1
+  this->EdgeFlags =
+    flags && flags->GetNumberOfComponents() == 1 && flags->GetNumberOfTuples() >= nPoints
     ? vtkUnsignedCharArray::SafeDownCast(flags)
     : nullptr;
 
