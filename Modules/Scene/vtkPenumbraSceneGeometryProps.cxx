@@ -165,6 +165,21 @@ vtkDataObject* UpdatedInput(vtkAbstractMapper* mapper, bool update)
   return mapper->GetInputDataObject(0, 0);
 }
 
+// Whether world widths are the same for casting: an orbit about the focal point recomputes
+// the camera distance, and with it the pixel size, to within a few ulps; a millionth of the
+// width is no visible change, a zoom or resize is.
+bool SameWidths(const double a[3], const double b[3])
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    if (!(std::fabs(a[k] - b[k]) <= 1e-6 * std::max(std::fabs(a[k]), std::fabs(b[k]))))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 // An entry for `leaf` drawn by `mapper` from `data` with `matrix`, before extraction.
 PropEntry Candidate(const PathKey& key, vtkProp* leaf, vtkAbstractMapper* mapper,
   vtkDataObject* data, const double matrix[16])
@@ -287,7 +302,7 @@ bool vtkPenumbraSceneGeometry::Internals::Place(PropEntry&& candidate, const Set
       old.MapperMTime == candidate.MapperMTime &&
       std::equal(candidate.Matrix, candidate.Matrix + 16, old.Matrix) &&
       old.DrawKey == settings.Key && old.DrawIds == settings.Ids &&
-      (!old.UsesWidth || std::equal(candidate.Widths, candidate.Widths + 3, old.Widths));
+      (!old.UsesWidth || SameWidths(candidate.Widths, old.Widths));
     entry = std::move(old);
     previous.erase(found);
   }

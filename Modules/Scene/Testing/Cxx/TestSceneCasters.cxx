@@ -273,6 +273,25 @@ int TestPixelSize()
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1);
   CHECK(std::fabs(g->GetPixelSize() - 0.1) < 1e-15);
+
+  // Perspective: orbiting keeps the distance to the focal point (up to rounding), dollying
+  // halves it and the pixel size with it.
+  camera->ParallelProjectionOff();
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1);
+  const double perspectiveSize = g->GetPixelSize();
+  for (int step = 0; step < 5; ++step)
+  {
+    camera->Azimuth(37);
+    camera->Elevation(13);
+    camera->OrthogonalizeViewUp();
+    CHECK(g->Update(renderer) == 1);
+    CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 0);
+  }
+  camera->Dolly(2.0);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1);
+  CHECK(std::fabs(g->GetPixelSize() - 0.5 * perspectiveSize) < 1e-12 * perspectiveSize);
   return EXIT_SUCCESS;
 }
 
