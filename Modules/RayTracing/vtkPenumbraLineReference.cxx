@@ -336,7 +336,7 @@ struct vtkPenumbraLineReference::Internals
     this->Query(query, 1e-9 * band.Scale,
       [&](const ExactTriangle& tri)
       {
-        if (tri.Id == own)
+        if (penumbra_rules::IsOwnCaster(tri.Id, own))
         {
           return;
         }
@@ -427,7 +427,8 @@ int vtkPenumbraLineReference::EnsureHierarchy()
   {
     ExactTriangle tri;
     if (geometry->IsOccluder(t) &&
-      penumbra_rules::MakeExactTriangle(vertices->GetPointer(9 * t), t, tri))
+      penumbra_rules::MakeExactTriangle(
+        vertices->GetPointer(9 * t), penumbra_rules::CasterOwner(geometry, t), tri))
     {
       impl.Triangles.push_back(tri);
     }

@@ -23,7 +23,7 @@
  * Rules: those of vtkPenumbraReference (the sampled reference), so that the two agree as
  * the sample count grows:
  * - triangles rounded to float32 as the tracer's copy is (penumbra_rules::MakeExactTriangle),
- *   casters only; the sample's own triangle never blocks;
+ *   casters only; the sample's own triangle (and the caster pieces it owns) never blocks;
  * - tangent plane: light points with N.(x - p) <= 0 count as blocked (the light side of
  *   the receiver only); the light emits to both sides of its own line, as in the tracer;
  * - the ray ends at distance * (1 - RelativeEpsilon), so an emitter's own surface never

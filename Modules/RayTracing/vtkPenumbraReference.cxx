@@ -36,7 +36,6 @@ vtkCxxSetObjectMacro(vtkPenumbraReference, Geometry, vtkPenumbraSceneGeometry);
 
 namespace
 {
-constexpr unsigned int NoPrimitive = RTC_INVALID_GEOMETRY_ID;
 constexpr int MaxConvergedSamplesPerAxis = 256;
 
 using penumbra::Clock;
@@ -47,14 +46,16 @@ using penumbra::ElapsedMs;
 struct RayContext
 {
   RTCIntersectContext Embree;
-  unsigned int OwnPrimitive;
+  const vtkIdType* Owners; // per Embree primitive: its owner triangle
+  vtkIdType OwnTriangle;   // the sample's triangle, -1 unknown
   float TieLimit;
   bool SawTie;
 };
 
-// Decides which candidate hits block. The receiver's own triangle never does (no acne bias
-// needed for it); a hit in the tie band is remembered and skipped, so a blocker farther away
-// can still decide the ray and only a ray with nothing else in the way reports a tie.
+// Decides which candidate hits block. The casters the receiver's own triangle owns never do
+// (penumbra_rules::IsOwnCaster: no acne bias needed for them); a hit in the tie band is
+// remembered and skipped, so a blocker farther away can still decide the ray and only a ray
+// with nothing else in the way reports a tie.
 void OcclusionFilter(const RTCFilterFunctionNArguments* args)
 {
   auto* ctx = reinterpret_cast<RayContext*>(args->context);
@@ -64,7 +65,8 @@ void OcclusionFilter(const RTCFilterFunctionNArguments* args)
     {
       continue;
     }
-    if (RTCHitN_primID(args->hit, args->N, i) == ctx->OwnPrimitive)
+    if (penumbra_rules::IsOwnCaster(
+          ctx->Owners[RTCHitN_primID(args->hit, args->N, i)], ctx->OwnTriangle))
     {
       args->valid[i] = 0;
       continue;
@@ -206,17 +208,17 @@ struct vtkPenumbraReference::Internals : penumbra_embree::Objects
   vtkIdType BuiltTriangles = 0;
 
   std::vector<vtkIdType> PrimitiveToTriangle;
-  std::vector<unsigned int> TriangleToPrimitive;
+  std::vector<vtkIdType> PrimitiveOwner; // the owner triangle of each primitive (GetOwners)
   double Diagonal = 1.0;
 
   vtkNew<vtkUnsignedCharArray> Ties;
 
-  // One view sample's shadow rays: origin, scale-relative epsilons and own primitive.
+  // One view sample's shadow rays: origin, scale-relative epsilons and own triangle.
   struct SampleRay
   {
     float Origin[3];
     float TNear, TieLimit;
-    unsigned int Own;
+    vtkIdType Own;
   };
 
   SampleRay MakeRay(const double p[3], vtkIdType tri, double epsilon, double tieFactor) const
@@ -230,9 +232,7 @@ struct vtkPenumbraReference::Internals : penumbra_embree::Objects
       penumbra_rules::SampleBand(p, this->Diagonal, epsilon, tieFactor);
     ray.TNear = static_cast<float>(band.TNear);
     ray.TieLimit = static_cast<float>(band.TieLimit);
-    const vtkIdType count = static_cast<vtkIdType>(this->TriangleToPrimitive.size());
-    ray.Own =
-      tri >= 0 && tri < count ? this->TriangleToPrimitive[static_cast<size_t>(tri)] : NoPrimitive;
+    ray.Own = tri >= 0 ? tri : -1;
     return ray;
   }
 
@@ -262,7 +262,7 @@ struct vtkPenumbraReference::Internals : penumbra_embree::Objects
   }
 
   bool Occluded(const float origin[3], const float direction[3], float tnear, float tfar,
-    unsigned int own, float tieLimit, bool& tie) const
+    vtkIdType own, float tieLimit, bool& tie) const
   {
     RTCRay ray;
     ray.org_x = origin[0];
@@ -280,7 +280,8 @@ struct vtkPenumbraReference::Internals : penumbra_embree::Objects
     RayContext ctx;
     rtcInitIntersectContext(&ctx.Embree);
     ctx.Embree.filter = OcclusionFilter;
-    ctx.OwnPrimitive = own;
+    ctx.Owners = this->PrimitiveOwner.data();
+    ctx.OwnTriangle = own;
     ctx.TieLimit = tieLimit;
     ctx.SawTie = false;
     rtcOccluded1(this->Scene, &ctx.Embree, &ray);
@@ -865,7 +866,7 @@ int vtkPenumbraReference::EnsureScene()
 
   // Casters only; zero-area triangles cover no solid angle and are skipped.
   impl.PrimitiveToTriangle.clear();
-  impl.TriangleToPrimitive.assign(static_cast<size_t>(nTriangles), NoPrimitive);
+  impl.PrimitiveOwner.clear();
   const double* v = nTriangles ? vertices->GetPointer(0) : nullptr;
   for (vtkIdType t = 0; t < nTriangles; ++t)
   {
@@ -873,9 +874,8 @@ int vtkPenumbraReference::EnsureScene()
     {
       continue;
     }
-    impl.TriangleToPrimitive[static_cast<size_t>(t)] =
-      static_cast<unsigned int>(impl.PrimitiveToTriangle.size());
     impl.PrimitiveToTriangle.push_back(t);
+    impl.PrimitiveOwner.push_back(penumbra_rules::CasterOwner(geometry, t));
   }
 
   impl.Scene = rtcNewScene(impl.Device);

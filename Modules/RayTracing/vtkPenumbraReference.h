@@ -29,7 +29,8 @@
  * - Lights that are switched off or have zero intensity: no ray work; every valid sample
  *   gets 1 (the shading multiplies a zero light anyway, so no shadow is the cheap and
  *   harmless answer), and for masks all bits are set.
- * - Self-intersection: the sample's own triangle (its triangle id) is never a blocker, and
+ * - Self-intersection: the sample's own triangle (its triangle id), and the caster pieces it
+ *   owns (vtkPenumbraSceneGeometry::GetOwners(), penumbra_rules::IsOwnCaster), never block, and
  *   hits closer than tnear = RelativeEpsilon * max(|p|, D) are ignored, where |p| is the
  *   sample's distance to the geometry origin and D the diagonal of the geometry's bounds
  *   (scale-relative, no absolute length). Rays to a point/spot/area light sample end at

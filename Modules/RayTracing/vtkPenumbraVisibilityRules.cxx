@@ -1,5 +1,6 @@
 #include "vtkPenumbraVisibilityRules.h"
 
+#include "vtkIdTypeArray.h"
 #include "vtkLight.h"
 #include "vtkMath.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -32,6 +33,12 @@ double SceneDiagonal(vtkPenumbraSceneGeometry* geometry)
       (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
   }
   return std::isfinite(diagonal) && diagonal > 0.0 ? diagonal : 1.0;
+}
+
+vtkIdType CasterOwner(vtkPenumbraSceneGeometry* geometry, vtkIdType t)
+{
+  vtkIdTypeArray* owners = geometry->GetOwners();
+  return owners && t >= 0 && t < owners->GetNumberOfTuples() ? owners->GetValue(t) : t;
 }
 
 RayBand SampleBand(const double p[3], double diagonal, double epsilon, double tieFactor)

@@ -67,12 +67,30 @@ struct ExactTriangle
   double N[3];    // unit normal
   double M[3][3]; // unit in-plane normals of the edges (k, k+1), pointing inside
   double MD[3];   // M[k] . V[k]
-  vtkIdType Id;   // global triangle index (own-triangle exclusion)
+  vtkIdType Id;   // the drawn triangle that owns it (own-triangle exclusion, see IsOwnCaster)
 };
 
 /**
- * Fills `triangle` from nine coordinates; false when it has no area after rounding (the
- * tracer cannot hit it either).
+ * The one own-triangle rule: a caster never blocks the view samples of the drawn triangle
+ * that owns it, `casterOwner` = vtkPenumbraSceneGeometry::GetOwners() (the triangle itself,
+ * or the drawn triangle a caster piece was cut from). A sample whose triangle is unknown
+ * (`sampleTriangle` -1) and casters that belong to no drawn triangle (owner -1: tubes, point
+ * solids, splats) exclude nothing.
+ */
+inline bool IsOwnCaster(vtkIdType casterOwner, vtkIdType sampleTriangle)
+{
+  return sampleTriangle >= 0 && casterOwner == sampleTriangle;
+}
+
+/**
+ * The owner of triangle `t` of `geometry` (GetOwners()), `t` itself when the geometry has no
+ * owner array of the right size.
+ */
+VTKPENUMBRARAYTRACING_EXPORT vtkIdType CasterOwner(vtkPenumbraSceneGeometry* geometry, vtkIdType t);
+
+/**
+ * Fills `triangle` from nine coordinates, `id` its owner (IsOwnCaster); false when it has no
+ * area after rounding (the tracer cannot hit it either).
  */
 VTKPENUMBRARAYTRACING_EXPORT bool MakeExactTriangle(
   const double* v9, vtkIdType id, ExactTriangle& triangle);

@@ -465,7 +465,6 @@ struct vtkPenumbraConservativeShadows::Internals
     const double depth = q.Depth;
     const size_t texel = q.Texel;
     const double margin = 1e-6 * (1.0 + std::fabs(depth));
-    const vtkIdType own = f.In->Triangles[s];
 
     // The reference's ray: same direction, same scale-relative epsilons; made when the
     // first exact test needs it (most samples are decided by the first layer's depth).
@@ -499,9 +498,9 @@ struct vtkPenumbraConservativeShadows::Internals
     for (size_t k = 0; k < nearTriangles.size() && rayOk && nearClear; ++k)
     {
       const vtkIdType blocker = nearTriangles[k];
-      const Hit hit = nearTestable && blocker != own
-        ? TestBlocker(shadowRay(), blocker, tv, scratch)
-        : (blocker == own ? Hit::Miss : Hit::Unknown);
+      const bool ownCaster = f.In->OwnCaster(blocker, s);
+      const Hit hit = nearTestable && !ownCaster ? TestBlocker(shadowRay(), blocker, tv, scratch)
+                                                 : (ownCaster ? Hit::Miss : Hit::Unknown);
       if (hit == Hit::Clear)
       {
         vis[s] = 0.0f;
@@ -520,13 +519,13 @@ struct vtkPenumbraConservativeShadows::Internals
         break;
       }
       const vtkIdType blocker = static_cast<vtkIdType>(id) - 1;
-      if (blocker == own)
-      {
-        continue;
-      }
       if (blocker >= nTriangles)
       {
         break;
+      }
+      if (f.In->OwnCaster(blocker, s))
+      {
+        continue;
       }
       const Hit hit = TestBlocker(shadowRay(), blocker, tv, scratch);
       if (hit == Hit::Clear)
@@ -557,8 +556,8 @@ struct vtkPenumbraConservativeShadows::Internals
     //     a. empty, or z_k > sample depth + margin -> lit: every triangle not yet seen is
     //        deeper than the sample, and the shadow ray projects to this one texel, so
     //        only seen triangles could block it;
-    //     b. the sample's own triangle -> skip it (the reference never lets it block;
-    //        replaces the paper's inexact "own id -> lit" rule);
+    //     b. the sample's own triangle, or a caster piece it owns -> skip it (the reference
+    //        never lets it block; replaces the paper's inexact "own id -> lit" rule);
     //     c. exact double-precision ray-triangle test with margins beyond the tie band
     //        and float rounding: clear hit -> shadowed (the conservative depth alone
     //        never shadows, "fully covered" or not: the paper's fully-covered rule is

@@ -568,9 +568,9 @@ struct MaskBuilder
       return;
     }
     const Caster& tri = this->Casters[index];
-    if (tri.Id == this->R->Own)
+    if (penumbra_rules::IsOwnCaster(tri.Id, this->R->Own))
     {
-      return; // the reference never lets a sample's own triangle block it
+      return; // the reference never lets a sample's own triangle (or its pieces) block it
     }
     TriangleCone t;
     if (!this->Planes(tri, t))
@@ -1057,7 +1057,8 @@ struct vtkPenumbraGearsShadows::Internals
     for (vtkIdType t = 0; v && t < n; ++t)
     {
       Caster c;
-      if (geometry->IsOccluder(t) && penumbra_rules::MakeExactTriangle(v + 9 * t, t, c))
+      if (geometry->IsOccluder(t) &&
+        penumbra_rules::MakeExactTriangle(v + 9 * t, penumbra_rules::CasterOwner(geometry, t), c))
       {
         this->Casters.push_back(c);
         Sphere b;
@@ -1105,7 +1106,7 @@ struct vtkPenumbraGearsShadows::Internals
   }
   // The casters' tree (vtkPenumbraGearsTree.h), and the casters stored in its leaf order, so
   // that a leaf's triangles are Casters[First, First + Count) and a walk reads memory in
-  // order (the caster index is internal: Caster::Id names the triangle).
+  // order (the caster index is internal: Caster::Id names the owner of the triangle).
   void SortCastersByTree()
   {
     const size_t n = this->Casters.size();

@@ -275,6 +275,10 @@ bool FrameInputs::Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry
   this->Triangles = n ? triArray->GetPointer(0) : nullptr;
   this->NumberOfTriangles = nTriangles;
   this->TriangleVertices = nTriangles > 0 ? vertexArray->GetPointer(0) : nullptr;
+  vtkIdTypeArray* owners = geometry->GetOwners();
+  this->Owners = nTriangles > 0 && owners && owners->GetNumberOfTuples() == nTriangles
+    ? owners->GetPointer(0)
+    : nullptr;
   return true;
 }
 

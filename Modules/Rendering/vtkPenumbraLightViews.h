@@ -117,6 +117,7 @@ struct FrameInputs
   const int* Props = nullptr;
   const vtkIdType* Triangles = nullptr;
   vtkIdType NumberOfTriangles = 0;
+  const vtkIdType* Owners = nullptr;        // per triangle: its owner (GetOwners()), null: itself
   const double* TriangleVertices = nullptr; // 9 per triangle, rebased
   double GeometryOrigin[3] = { 0, 0, 0 };
   double Shift[3] = { 0, 0, 0 }; // samples' frame -> geometry's frame
@@ -133,6 +134,12 @@ struct FrameInputs
   bool Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility, std::string& error,
     bool allowArea = false);
+
+  /// Whether caster triangle `t` never blocks sample `s` (penumbra_rules::IsOwnCaster).
+  bool OwnCaster(vtkIdType t, vtkIdType s) const
+  {
+    return penumbra_rules::IsOwnCaster(this->Owners ? this->Owners[t] : t, this->Triangles[s]);
+  }
 };
 
 /**

@@ -645,7 +645,6 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
   const std::vector<std::uint32_t>& nodes = lists.Nodes;
   std::vector<unsigned char>& active = lists.Active;
   const double* vertices = ctx.In->TriangleVertices;
-  const vtkIdType* own = ctx.In->Triangles;
   unsigned char* state = ctx.State;
   const penumbra_conservative::CpuMapStats stats = penumbra_conservative::RasterizeConservative(
     view, size, vertices, casters, active.data(), nearTriangles,
@@ -663,7 +662,7 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
         {
           continue;
         }
-        if (own[s] != id && !Behind(triangleDepth, ctx.Depth[s]))
+        if (!ctx.In->OwnCaster(id, s) && !Behind(triangleDepth, ctx.Depth[s]))
         {
           if (!made)
           {
@@ -1142,7 +1141,6 @@ vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<v
   penumbra_light_views::ExactTriangles& exact)
 {
   const double* vertices = ctx.In->TriangleVertices;
-  const vtkIdType* own = ctx.In->Triangles;
   unsigned char* state = ctx.State;
   const int bands = static_cast<int>(grid.BandStart.size()) - 1;
   std::atomic<vtkIdType> tests(0);
@@ -1189,7 +1187,8 @@ vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<v
               {
                 const vtkIdType s = static_cast<vtkIdType>(lists.Nodes[2 * j]);
                 const penumbra_light_views::ShadowRay& ray = grid.Rays[j];
-                if (state[s] == Shadowed || own[s] == id || Behind(grid.Lower[i], ctx.Depth[s]) ||
+                if (state[s] == Shadowed || ctx.In->OwnCaster(id, s) ||
+                  Behind(grid.Lower[i], ctx.Depth[s]) ||
                   !grid.MayBlock(i, point + 2 * s, ctx.Depth[s], ray))
                 {
                   continue;
@@ -1244,7 +1243,7 @@ vtkIdType TestNearTriangles(const TestContext& ctx, const vtkIdType* listed, vtk
             ctx.State[s] = Unknown;
             break;
           }
-          if (nearTriangles[k] != ctx.In->Triangles[s])
+          if (!ctx.In->OwnCaster(nearTriangles[k], s))
           {
             ctx.Test(s, made[k] ? &triangles[k] : nullptr);
             ++local;

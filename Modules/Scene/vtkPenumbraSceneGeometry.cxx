@@ -1,475 +1,30 @@
-#include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraSceneGeometryInternals.h"
 
-#include "vtkPenumbraShadowKeys.h"
-
-#include "vtkAbstractArray.h"
-#include "vtkActor.h"
-#include "vtkAssemblyNode.h"
 #include "vtkAssemblyPath.h"
-#include "vtkCellArray.h"
-#include "vtkCellData.h"
-#include "vtkCompositeDataDisplayAttributes.h"
-#include "vtkCompositeDataSet.h"
-#include "vtkDataObjectTree.h"
-#include "vtkDataObjectTreeIterator.h"
-#include "vtkDataSet.h"
-#include "vtkDataSetMapper.h"
-#include "vtkDataSetSurfaceFilter.h"
-#include "vtkDoubleArray.h"
-#include "vtkIdTypeArray.h"
+#include "vtkCamera.h"
 #include "vtkInformation.h"
 #include "vtkInformationStringKey.h"
-#include "vtkIntArray.h"
-#include "vtkMapper.h"
-#include "vtkMath.h"
-#include "vtkMatrix4x4.h"
-#include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPointData.h"
-#include "vtkPoints.h"
-#include "vtkPolyData.h"
-#include "vtkProp.h"
-#include "vtkPropCollection.h"
-#include "vtkProperty.h"
 #include "vtkRenderer.h"
-#include "vtkSmartPointer.h"
-#include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
+#include <iterator>
 #include <map>
-#include <set>
-#include <sstream>
 #include <string>
-#include <unordered_map>
 #include <vector>
-
-namespace
-{
-vtkPenumbraSceneGeometry::DisplayAttributesAccessor DisplayAttributes = nullptr;
-}
 
 vtkStandardNewMacro(vtkPenumbraSceneGeometry);
 vtkInformationKeyMacro(vtkPenumbraSceneGeometry, NAME, String);
 
+vtkPenumbraSceneGeometry::DisplayAttributesAccessor
+  vtkPenumbraSceneGeometry::Internals::DisplayAttributes = nullptr;
+
 namespace
 {
-// Everything kept about one extracted prop (an actor, or one assembly path to a part actor).
-// Triangles are stored in absolute world coordinates so that the global arrays can be rebuilt
-// for a new Origin without re-extracting.
-struct PropEntry
-{
-  // Identity: the props of the assembly path, root first (a single prop for a plain actor).
-  std::vector<vtkProp*> Path;
-  vtkSmartPointer<vtkProp> Leaf;
-  std::vector<vtkSmartPointer<vtkProp>> PathRefs; // keep the path's props alive with the key
-
-  // What the extraction depended on; all unchanged means the triangles are still right.
-  vtkSmartPointer<vtkMapper> Mapper;
-  vtkSmartPointer<vtkDataObject> Data;
-  vtkMTimeType DataMTime = 0;
-  vtkMTimeType MapperMTime = 0;
-  double Matrix[16];
-  vtkSmartPointer<vtkCompositeDataDisplayAttributes> Attributes; // block visibilities, if any
-  vtkMTimeType AttributesMTime = 0;
-
-  std::vector<double> World;      // 9 per triangle, absolute world coordinates
-  std::vector<vtkIdType> CellIds; // per triangle
-  vtkIdType Degenerate = 0;
-  double Bounds[6];
-
-  // VTK 9.1 primitive numbering of the polydata the mapper draws (see MapPrimitiveId).
-  bool Mappable = false;          // false for composite inputs
-  vtkIdType VertPrimitives = 0;   // verts: one point primitive per point id
-  vtkIdType LinePrimitives = 0;   // lines: one segment per consecutive point pair
-  vtkIdType PolyTriangles = 0;    // our fan triangles of polygons (all of them)
-  vtkIdType PolyConservative = 0; // connectivity - 2 * cells: VTK's map-less estimate
-  vtkIdType StripTriangles = 0;
-  std::vector<vtkIdType> DrawnPolyToLocal; // only when VTK skips some fan triangles
-  vtkIdType DrawnPolyTriangles = 0;
-  vtkSmartPointer<vtkPolyData> Drawn; // the single polydata drawn, to re-check colouring
-
-  // Re-evaluated by every Update (cheap, and not part of the geometry).
-  unsigned char Flags = 0;
-  bool Surface = true;
-  bool ExactCellMap = false;
-  bool GeometryChanged = false; // by the current Update
-};
-
-using PathKey = std::vector<vtkProp*>;
-
-void TransformPoint(const double m[16], const double p[3], double out[3])
-{
-  const double w = m[12] * p[0] + m[13] * p[1] + m[14] * p[2] + m[15];
-  for (int r = 0; r < 3; ++r)
-  {
-    out[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
-  }
-  // Affine matrices (the usual case) have w == 1 exactly; dividing then changes nothing.
-  if (w != 1.0)
-  {
-    out[0] /= w;
-    out[1] /= w;
-    out[2] /= w;
-  }
-}
-
-bool IsFinite3(const double p[3])
-{
-  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-}
-
-// Zero area up to rounding: the sine of the largest angle between two edges is below 1e-12.
-bool IsDegenerate(const double* a, const double* b, const double* c)
-{
-  double e1[3], e2[3], e3[3], n[3];
-  for (int k = 0; k < 3; ++k)
-  {
-    e1[k] = b[k] - a[k];
-    e2[k] = c[k] - a[k];
-    e3[k] = c[k] - b[k];
-  }
-  vtkMath::Cross(e1, e2, n);
-  const double l1 = vtkMath::Dot(e1, e1), l2 = vtkMath::Dot(e2, e2), l3 = vtkMath::Dot(e3, e3);
-  const double longest = std::max(l1, std::max(l2, l3));
-  return longest == 0.0 || vtkMath::Norm(n) <= 1e-12 * longest;
-}
-
-bool SamePoint(vtkPoints* pts, vtkIdType a, vtkIdType b)
-{
-  if (a == b)
-  {
-    return true;
-  }
-  double pa[3], pb[3];
-  pts->GetPoint(a, pa);
-  pts->GetPoint(b, pb);
-  return pa[0] == pb[0] && pa[1] == pb[1] && pa[2] == pb[2];
-}
-
-std::string PropLabel(vtkProp* leaf, int propNumber, const std::vector<vtkProp*>& path)
-{
-  std::ostringstream s;
-  const char* name = vtkPenumbraSceneGeometry::GetPropName(leaf);
-  if (!name && !path.empty())
-  {
-    name = vtkPenumbraSceneGeometry::GetPropName(path.front());
-  }
-  if (name)
-  {
-    s << leaf->GetClassName() << " '" << name << "'";
-  }
-  else
-  {
-    s << "unnamed " << leaf->GetClassName();
-  }
-  s << " (prop " << propNumber;
-  if (path.size() > 1)
-  {
-    s << ", assembly part at depth " << path.size() - 1;
-  }
-  s << ")";
-  return s.str();
-}
-
-// HaveCellScalars || HaveCellNormals as vtkOpenGLPolyDataMapper::BuildBufferObjects (VTK 9.1)
-// decides them: only then does the mapper build its full vtkOpenGLCellToVTKCellMap, whose
-// strip offset differs from the map-less estimate when polygons contain skipped triangles.
-bool UsesExactCellMap(vtkMapper* mapper, vtkActor* actor, vtkPolyData* poly)
-{
-  bool cellScalars = false;
-  if (mapper->GetScalarVisibility() &&
-    mapper->GetScalarMode() != VTK_SCALAR_MODE_USE_POINT_FIELD_DATA)
-  {
-    int cellFlag = 0;
-    vtkAbstractArray* scalars = vtkAbstractMapper::GetAbstractScalars(poly, mapper->GetScalarMode(),
-      mapper->GetArrayAccessMode(), mapper->GetArrayId(), mapper->GetArrayName(), cellFlag);
-    cellScalars = scalars && scalars->GetNumberOfTuples() > 0 && cellFlag != 0;
-  }
-  vtkDataArray* pointNormals = actor->GetProperty()->GetInterpolation() != VTK_FLAT
-    ? poly->GetPointData()->GetNormals()
-    : nullptr;
-  const bool cellNormals = !pointNormals && poly->GetCellData()->GetNormals();
-  return cellScalars || cellNormals;
-}
-} // namespace
-
-struct vtkPenumbraSceneGeometry::Internals
-{
-  std::string ErrorMessage;
-  vtkNew<vtkDoubleArray> Vertices;
-  vtkNew<vtkIntArray> PropIndices;
-  vtkNew<vtkIdTypeArray> CellIds;
-  vtkNew<vtkUnsignedCharArray> Flags;
-
-  std::map<PathKey, PropEntry> Cache; // every prop seen by the last Update, visible or not
-  std::vector<PropEntry*> Props;      // the extracted list, in order
-  std::vector<vtkIdType> Offsets;     // first global triangle of each prop
-  std::unordered_map<vtkProp*, int> IndexOfLeaf;
-
-  vtkTimeStamp GeometryTime;
-  vtkTimeStamp FlagsTime;
-  int ExtractedLastUpdate = 0;
-  vtkIdType Degenerate = 0;
-  double Bounds[6];
-
-  bool HaveOrigin = false;
-  double OriginExtent = 0.0; // the extent the current Origin was chosen for
-
-  // Signature of the last published content, to tell real changes from no-ops.
-  std::vector<std::pair<PathKey, vtkIdType>> PublishedLayout;
-  std::vector<unsigned char> PublishedPropFlags;
-
-  vtkNew<vtkDataSetSurfaceFilter> Surface;
-  vtkSmartPointer<vtkPropCollection> ShadowOnly;
-
-  Internals() { vtkMath::UninitializeBounds(this->Bounds); }
-
-  // Extracts one polydata's triangles (polygons fanned, then strips, as VTK draws them).
-  // Returns the number of points with non-finite world coordinates used by triangles.
-  vtkIdType AppendPolyData(
-    vtkPolyData* poly, const double m[16], vtkIdType cellIdBase, PropEntry& e, bool track);
-
-  // Appends the visible polydata leaves below `block` (depth first), advancing cellBase
-  // past hidden ones too; returns the number of NaN/inf points met.
-  vtkIdType AppendBlocks(
-    vtkDataObject* block, bool parentVisible, PropEntry& e, vtkIdType& cellBase);
-  // Re-extracts an entry from its mapper's input. Returns false with `message` on bad input.
-  bool Extract(PropEntry& e, const std::string& label, std::string& message);
-
-  void ChooseOrigin(double origin[3]);
-  void Publish(double origin[3], bool geometryChanged);
-  void Clear();
-};
-
-//------------------------------------------------------------------------------
-vtkIdType vtkPenumbraSceneGeometry::Internals::AppendPolyData(
-  vtkPolyData* poly, const double m[16], vtkIdType cellIdBase, PropEntry& e, bool track)
-{
-  vtkPoints* pts = poly->GetPoints();
-  vtkCellArray* polys = poly->GetPolys();
-  vtkCellArray* strips = poly->GetStrips();
-  const vtkIdType nVerts = poly->GetVerts()->GetNumberOfCells();
-  const vtkIdType nLines = poly->GetLines()->GetNumberOfCells();
-  const vtkIdType nPolys = polys->GetNumberOfCells();
-
-  if (track)
-  {
-    // VTK 9.1 vtkOpenGLCellToVTKCellMap::BuildPrimitiveOffsetsIfNeeded (surface
-    // representation): verts count one primitive per connectivity id, lines one per
-    // connectivity id minus one per cell.
-    vtkCellArray* verts = poly->GetVerts();
-    vtkCellArray* lines = poly->GetLines();
-    e.VertPrimitives = verts->GetNumberOfConnectivityIds();
-    e.LinePrimitives = lines->GetNumberOfConnectivityIds() - lines->GetNumberOfCells();
-    e.PolyConservative = polys->GetNumberOfConnectivityIds() - 2 * nPolys;
-  }
-  if (!pts || pts->GetNumberOfPoints() == 0 || (nPolys == 0 && strips->GetNumberOfCells() == 0))
-  {
-    return 0;
-  }
-
-  // Transform every point once; the triangles then copy them.
-  const vtkIdType nPts = pts->GetNumberOfPoints();
-  std::vector<double> world(3 * static_cast<size_t>(nPts));
-  std::vector<char> bad(static_cast<size_t>(nPts), 0);
-  for (vtkIdType i = 0; i < nPts; ++i)
-  {
-    double p[3];
-    pts->GetPoint(i, p);
-    TransformPoint(m, p, &world[3 * i]);
-    bad[i] = IsFinite3(&world[3 * i]) ? 0 : 1;
-  }
-  std::set<vtkIdType> badUsed;
-
-  auto emit = [&](vtkIdType a, vtkIdType b, vtkIdType c, vtkIdType cellId)
-  {
-    for (vtkIdType id : { a, b, c })
-    {
-      if (bad[id])
-      {
-        badUsed.insert(id);
-      }
-      const double* w = &world[3 * id];
-      e.World.insert(e.World.end(), w, w + 3);
-    }
-    e.CellIds.push_back(cellId);
-    if (IsDegenerate(&world[3 * a], &world[3 * b], &world[3 * c]))
-    {
-      ++e.Degenerate;
-    }
-  };
-
-  // Polygons: fan (p0, p_i, p_i+1), as vtkOpenGLIndexBufferObject::AppendTriangleIndexBuffer.
-  // That function leaves out fan triangles with two coincident points (equal coordinates in
-  // the points' own precision); we keep them but record which GL primitive is which.
-  const vtkIdType polyBase = static_cast<vtkIdType>(e.CellIds.size());
-  std::vector<vtkIdType> skipped;
-  vtkIdType npts = 0;
-  const vtkIdType* ids = nullptr;
-  vtkIdType cell = 0;
-  for (polys->InitTraversal(); polys->GetNextCell(npts, ids); ++cell)
-  {
-    for (vtkIdType i = 1; i + 1 < npts; ++i)
-    {
-      if (track &&
-        (SamePoint(pts, ids[0], ids[i]) || SamePoint(pts, ids[0], ids[i + 1]) ||
-          SamePoint(pts, ids[i], ids[i + 1])))
-      {
-        skipped.push_back(static_cast<vtkIdType>(e.CellIds.size()) - polyBase);
-      }
-      emit(ids[0], ids[i], ids[i + 1], cellIdBase + nVerts + nLines + cell);
-    }
-  }
-  const vtkIdType polyTriangles = static_cast<vtkIdType>(e.CellIds.size()) - polyBase;
-
-  // Strips: triangle j is (p_j, p_j+1+j%2, p_j+1+(j+1)%2), keeping a consistent winding,
-  // as vtkOpenGLIndexBufferObject::AppendStripIndexBuffer (surface); none are skipped.
-  const vtkIdType stripBase = static_cast<vtkIdType>(e.CellIds.size());
-  cell = 0;
-  for (strips->InitTraversal(); strips->GetNextCell(npts, ids); ++cell)
-  {
-    for (vtkIdType j = 0; j + 2 < npts; ++j)
-    {
-      emit(ids[j], ids[j + 1 + j % 2], ids[j + 1 + (j + 1) % 2],
-        cellIdBase + nVerts + nLines + nPolys + cell);
-    }
-  }
-
-  if (track)
-  {
-    e.PolyTriangles = polyTriangles;
-    e.StripTriangles = static_cast<vtkIdType>(e.CellIds.size()) - stripBase;
-    e.DrawnPolyTriangles = polyTriangles - static_cast<vtkIdType>(skipped.size());
-    e.DrawnPolyToLocal.clear();
-    if (!skipped.empty())
-    {
-      e.DrawnPolyToLocal.reserve(static_cast<size_t>(e.DrawnPolyTriangles));
-      size_t s = 0;
-      for (vtkIdType t = 0; t < polyTriangles; ++t)
-      {
-        if (s < skipped.size() && skipped[s] == t)
-        {
-          ++s;
-          continue;
-        }
-        e.DrawnPolyToLocal.push_back(t);
-      }
-    }
-  }
-  return static_cast<vtkIdType>(badUsed.size());
-}
-
-//------------------------------------------------------------------------------
-bool vtkPenumbraSceneGeometry::Internals::Extract(
-  PropEntry& e, const std::string& label, std::string& message)
-{
-  e.World.clear();
-  e.CellIds.clear();
-  e.Degenerate = 0;
-  e.Mappable = false;
-  e.VertPrimitives = e.LinePrimitives = e.PolyTriangles = e.PolyConservative = 0;
-  e.StripTriangles = e.DrawnPolyTriangles = 0;
-  e.DrawnPolyToLocal.clear();
-  e.Drawn = nullptr;
-
-  for (double v : e.Matrix)
-  {
-    if (!std::isfinite(v))
-    {
-      message = label + ": the prop matrix has NaN/inf entries";
-      return false;
-    }
-  }
-
-  vtkIdType badPoints = 0;
-  vtkDataObject* data = e.Data;
-  if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
-  {
-    // Composite inputs are drawn by vtkCompositePolyDataMapper2, which draws only the visible
-    // polydata leaves. Cell ids continue from block to block in depth-first order, counting
-    // every polydata leaf, hidden ones included.
-    vtkIdType cellBase = 0;
-    badPoints = this->AppendBlocks(composite, true, e, cellBase);
-  }
-  else if (auto* poly = vtkPolyData::SafeDownCast(data))
-  {
-    badPoints = this->AppendPolyData(poly, e.Matrix, 0, e, true);
-    e.Mappable = true;
-    e.Drawn = poly;
-  }
-  else if (auto* dataSet = vtkDataSet::SafeDownCast(data))
-  {
-    // vtkDataSetMapper draws the output of a default vtkDataSetSurfaceFilter: running the same
-    // filter gives the same cells in the same order.
-    this->Surface->SetInputData(dataSet);
-    this->Surface->Update();
-    vtkNew<vtkPolyData> surface;
-    surface->ShallowCopy(this->Surface->GetOutput());
-    this->Surface->SetInputData(nullptr);
-    badPoints = this->AppendPolyData(surface, e.Matrix, 0, e, true);
-    e.Mappable = true;
-    e.Drawn = surface;
-  }
-
-  if (badPoints > 0)
-  {
-    message = label + ": " + std::to_string(badPoints) + (badPoints == 1 ? " point" : " points") +
-      " with NaN/inf coordinates";
-    e.World.clear();
-    e.CellIds.clear();
-    return false;
-  }
-
-  vtkMath::UninitializeBounds(e.Bounds);
-  if (!e.World.empty())
-  {
-    e.Bounds[0] = e.Bounds[2] = e.Bounds[4] = VTK_DOUBLE_MAX;
-    e.Bounds[1] = e.Bounds[3] = e.Bounds[5] = VTK_DOUBLE_MIN;
-    for (size_t i = 0; i < e.World.size(); i += 3)
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        e.Bounds[2 * c] = std::min(e.Bounds[2 * c], e.World[i + c]);
-        e.Bounds[2 * c + 1] = std::max(e.Bounds[2 * c + 1], e.World[i + c]);
-      }
-    }
-  }
-  return true;
-}
-
-//------------------------------------------------------------------------------
-vtkIdType vtkPenumbraSceneGeometry::Internals::AppendBlocks(
-  vtkDataObject* block, bool parentVisible, PropEntry& e, vtkIdType& cellBase)
-{
-  // A block's own visibility if set, else its parent's (vtkCompositePolyDataMapper2's rule).
-  vtkCompositeDataDisplayAttributes* attributes = e.Attributes;
-  const bool visible = attributes && attributes->HasBlockVisibility(block)
-    ? attributes->GetBlockVisibility(block)
-    : parentVisible;
-  vtkIdType badPoints = 0;
-  if (auto* poly = vtkPolyData::SafeDownCast(block))
-  {
-    if (visible)
-    {
-      badPoints += this->AppendPolyData(poly, e.Matrix, cellBase, e, false);
-    }
-    cellBase += poly->GetNumberOfCells();
-  }
-  else if (auto* tree = vtkDataObjectTree::SafeDownCast(block))
-  {
-    vtkSmartPointer<vtkDataObjectTreeIterator> it;
-    it.TakeReference(tree->NewTreeIterator());
-    it->TraverseSubTreeOff();
-    it->VisitOnlyLeavesOff();
-    it->SkipEmptyNodesOn();
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-    {
-      badPoints += this->AppendBlocks(it->GetCurrentDataObject(), visible, e, cellBase);
-    }
-  }
-  return badPoints;
+using penumbra_scene::PathKey;
+using penumbra_scene::PropEntry;
+using penumbra_scene::TriangleList;
 }
 
 //------------------------------------------------------------------------------
@@ -523,7 +78,7 @@ void vtkPenumbraSceneGeometry::Internals::Publish(double origin[3], bool geometr
   layout.reserve(this->Props.size());
   for (PropEntry* e : this->Props)
   {
-    layout.emplace_back(e->Path, static_cast<vtkIdType>(e->CellIds.size()));
+    layout.emplace_back(e->Path, e->Triangles.Size());
     propFlags.push_back(e->Flags);
   }
   if (layout != this->PublishedLayout)
@@ -540,7 +95,7 @@ void vtkPenumbraSceneGeometry::Internals::Publish(double origin[3], bool geometr
   {
     PropEntry& e = *this->Props[p];
     this->Offsets[p] = total;
-    total += static_cast<vtkIdType>(e.CellIds.size());
+    total += e.Triangles.Size();
     this->IndexOfLeaf.emplace(e.Leaf.GetPointer(), static_cast<int>(p));
     if (vtkMath::AreBoundsInitialized(e.Bounds))
     {
@@ -568,24 +123,28 @@ void vtkPenumbraSceneGeometry::Internals::Publish(double origin[3], bool geometr
     this->Vertices->SetNumberOfTuples(total);
     this->PropIndices->SetNumberOfTuples(total);
     this->CellIds->SetNumberOfTuples(total);
+    this->Owners->SetNumberOfTuples(total);
     double* v = this->Vertices->GetPointer(0);
     this->Degenerate = 0;
     for (size_t p = 0; p < this->Props.size(); ++p)
     {
-      PropEntry& e = *this->Props[p];
+      const TriangleList& tl = this->Props[p]->Triangles;
       const vtkIdType offset = this->Offsets[p];
-      const vtkIdType n = static_cast<vtkIdType>(e.CellIds.size());
+      const vtkIdType n = tl.Size();
       for (vtkIdType t = 0; t < n; ++t)
       {
         for (int k = 0; k < 9; ++k)
         {
-          v[9 * (offset + t) + k] = e.World[9 * t + k] - origin[k % 3];
+          v[9 * (offset + t) + k] = tl.World[9 * t + k] - origin[k % 3];
         }
         this->PropIndices->SetValue(offset + t, static_cast<int>(p));
-        this->CellIds->SetValue(offset + t, e.CellIds[t]);
+        this->CellIds->SetValue(offset + t, tl.CellIds[t]);
+        const vtkIdType owner = tl.Owners[t];
+        this->Owners->SetValue(offset + t, owner >= 0 ? offset + owner : -1);
       }
-      this->Degenerate += e.Degenerate;
+      this->Degenerate += tl.Degenerate;
     }
+    this->Owners->Modified();
     this->Vertices->Modified();
     this->GeometryTime.Modified();
   }
@@ -594,11 +153,14 @@ void vtkPenumbraSceneGeometry::Internals::Publish(double origin[3], bool geometr
     this->Flags->SetNumberOfTuples(total);
     for (size_t p = 0; p < this->Props.size(); ++p)
     {
+      // What each triangle does, masked by what its prop's shadow keys allow.
+      const PropEntry& e = *this->Props[p];
       const vtkIdType offset = this->Offsets[p];
-      const vtkIdType n = static_cast<vtkIdType>(this->Props[p]->CellIds.size());
+      const vtkIdType n = e.Triangles.Size();
       for (vtkIdType t = 0; t < n; ++t)
       {
-        this->Flags->SetValue(offset + t, this->Props[p]->Flags);
+        this->Flags->SetValue(
+          offset + t, static_cast<unsigned char>(e.Triangles.Roles[t] & e.Flags));
       }
     }
     this->Flags->Modified();
@@ -620,6 +182,7 @@ void vtkPenumbraSceneGeometry::Internals::Clear()
   this->Vertices->SetNumberOfTuples(0);
   this->PropIndices->SetNumberOfTuples(0);
   this->CellIds->SetNumberOfTuples(0);
+  this->Owners->SetNumberOfTuples(0);
   this->Flags->SetNumberOfTuples(0);
   this->Degenerate = 0;
   vtkMath::UninitializeBounds(this->Bounds);
@@ -639,6 +202,7 @@ vtkPenumbraSceneGeometry::vtkPenumbraSceneGeometry()
   this->Impl->Vertices->SetNumberOfComponents(9);
   this->Impl->PropIndices->SetName("PropIndices");
   this->Impl->CellIds->SetName("CellIds");
+  this->Impl->Owners->SetName("Owners");
   this->Impl->Flags->SetName("Flags");
 }
 
@@ -646,11 +210,38 @@ vtkPenumbraSceneGeometry::vtkPenumbraSceneGeometry()
 vtkPenumbraSceneGeometry::~vtkPenumbraSceneGeometry() = default;
 
 //------------------------------------------------------------------------------
+double vtkPenumbraSceneGeometry::ComputePixelSize(vtkCamera* camera, int width, int height)
+{
+  if (!camera || width <= 0 || height <= 0)
+  {
+    return 0.0;
+  }
+  if (camera->GetParallelProjection())
+  {
+    return 2.0 * camera->GetParallelScale() / height;
+  }
+  const double halfAngle = vtkMath::RadiansFromDegrees(0.5 * camera->GetViewAngle());
+  const int pixels = camera->GetUseHorizontalViewAngle() ? width : height;
+  return 2.0 * camera->GetDistance() * std::tan(halfAngle) / pixels;
+}
+
+//------------------------------------------------------------------------------
 int vtkPenumbraSceneGeometry::Update(vtkRenderer* renderer)
 {
   std::vector<vtkProp*> props;
   if (renderer)
   {
+    int width = 0, height = 0;
+    if (renderer->GetRenderWindow() && renderer->IsActiveCameraCreated())
+    {
+      renderer->GetTiledSize(&width, &height);
+      const double size =
+        vtkPenumbraSceneGeometry::ComputePixelSize(renderer->GetActiveCamera(), width, height);
+      if (size > 0.0 && std::isfinite(size))
+      {
+        this->PixelSize = size;
+      }
+    }
     vtkPropCollection* collection = renderer->GetViewProps();
     vtkCollectionSimpleIterator it;
     collection->InitTraversal(it);
@@ -678,11 +269,16 @@ int vtkPenumbraSceneGeometry::Update(vtkProp** props, int count)
   impl.ErrorMessage.clear();
   impl.ExtractedLastUpdate = 0;
   impl.Props.clear();
+  impl.Notes.clear();
+  impl.PixelSize = this->PixelSize;
+  for (auto& texture : impl.Textures)
+  {
+    texture.second.Used = false;
+  }
 
   std::map<PathKey, PropEntry> previous;
   previous.swap(impl.Cache);
   std::string error;
-
   for (int i = 0; i < count && error.empty(); ++i)
   {
     vtkProp* prop = props ? props[i] : nullptr;
@@ -693,120 +289,16 @@ int vtkPenumbraSceneGeometry::Update(vtkProp** props, int count)
     prop->InitPathTraversal();
     while (vtkAssemblyPath* path = prop->GetNextPath())
     {
-      PathKey key;
-      bool visible = true, casts = true, receives = true;
-      vtkCollectionSimpleIterator pit;
-      path->InitTraversal(pit);
-      while (vtkAssemblyNode* node = path->GetNextNode(pit))
+      if (!impl.VisitPath(i, path, previous, error))
       {
-        vtkProp* p = node->GetViewProp();
-        key.push_back(p);
-        visible = visible && p->GetVisibility();
-        // A flag set on an assembly applies to all its parts.
-        casts = casts && vtkPenumbraShadowKeys::CastsShadows(p);
-        receives = receives && vtkPenumbraShadowKeys::ReceivesShadows(p);
-      }
-      auto* actor = vtkActor::SafeDownCast(path->GetLastNode()->GetViewProp());
-      if (!actor)
-      {
-        continue; // volumes, 2D actors, images: no surface triangles
-      }
-
-      // Keep the entry of an invisible prop (unchanged) so that showing it again is free.
-      auto found = previous.find(key);
-      if (!visible)
-      {
-        if (found != previous.end())
-        {
-          impl.Cache.emplace(key, std::move(found->second));
-          previous.erase(found);
-        }
-        continue;
-      }
-
-      vtkMapper* mapper = actor->GetMapper();
-      if (!mapper || mapper->GetNumberOfInputConnections(0) < 1)
-      {
-        continue;
-      }
-      // Bring the input up to date the way the mapper's render would (Static: not at all).
-      if (!mapper->GetStatic())
-      {
-        mapper->Update();
-      }
-      vtkDataObject* data = mapper->GetInputDataObject(0, 0);
-      if (!data)
-      {
-        continue;
-      }
-
-      // The world matrix: a plain actor's own, an assembly part's concatenated path matrix.
-      double matrix[16];
-      vtkMatrix4x4* m = key.size() > 1 ? path->GetLastNode()->GetMatrix() : actor->GetMatrix();
-      if (m)
-      {
-        vtkMatrix4x4::DeepCopy(matrix, m);
-      }
-      else
-      {
-        vtkMatrix4x4::Identity(matrix);
-      }
-
-      vtkCompositeDataDisplayAttributes* attributes =
-        DisplayAttributes && vtkCompositeDataSet::SafeDownCast(data) ? DisplayAttributes(mapper)
-                                                                     : nullptr;
-      PropEntry entry;
-      bool reuse = false;
-      if (found != previous.end())
-      {
-        PropEntry& old = found->second;
-        reuse = old.Mapper == mapper && old.Data == data && old.DataMTime == data->GetMTime() &&
-          old.Attributes == attributes &&
-          old.AttributesMTime == (attributes ? attributes->GetMTime() : 0) &&
-          old.MapperMTime == mapper->GetMTime() && std::equal(matrix, matrix + 16, old.Matrix);
-        entry = std::move(old);
-        previous.erase(found);
-      }
-      if (!reuse)
-      {
-        const std::vector<double> oldWorld = std::move(entry.World);
-        const std::vector<vtkIdType> oldCells = std::move(entry.CellIds);
-        entry.Path = key;
-        entry.Leaf = actor;
-        entry.PathRefs.assign(key.begin(), key.end());
-        entry.Mapper = mapper;
-        entry.Data = data;
-        entry.DataMTime = data->GetMTime();
-        entry.MapperMTime = mapper->GetMTime();
-        entry.Attributes = attributes;
-        entry.AttributesMTime = attributes ? attributes->GetMTime() : 0;
-        std::copy(matrix, matrix + 16, entry.Matrix);
-        ++impl.ExtractedLastUpdate;
-        if (!impl.Extract(entry, PropLabel(actor, i, key), error))
-        {
-          break; // not cached: the next Update looks at it again
-        }
-        entry.GeometryChanged = entry.World != oldWorld || entry.CellIds != oldCells;
-      }
-      else
-      {
-        entry.GeometryChanged = false;
-      }
-
-      entry.Flags =
-        static_cast<unsigned char>((casts ? CASTS_SHADOWS : 0) | (receives ? RECEIVES_SHADOWS : 0));
-      entry.Surface = actor->GetProperty()->GetRepresentation() == VTK_SURFACE;
-      // Only a prop with both skipped fan triangles and strips depends on the cell map.
-      entry.ExactCellMap = entry.Mappable && entry.Drawn && entry.StripTriangles > 0 &&
-        entry.DrawnPolyTriangles != entry.PolyConservative &&
-        UsesExactCellMap(mapper, actor, entry.Drawn);
-
-      auto inserted = impl.Cache.emplace(key, std::move(entry));
-      if (inserted.second)
-      {
-        impl.Props.push_back(&inserted.first->second);
+        break;
       }
     }
+  }
+  // Textures no prop uses any more are forgotten.
+  for (auto it = impl.Textures.begin(); it != impl.Textures.end();)
+  {
+    it = it->second.Used ? std::next(it) : impl.Textures.erase(it);
   }
 
   if (!error.empty())
@@ -829,7 +321,7 @@ int vtkPenumbraSceneGeometry::Update(vtkProp** props, int count)
 //------------------------------------------------------------------------------
 void vtkPenumbraSceneGeometry::SetDisplayAttributesAccessor(DisplayAttributesAccessor accessor)
 {
-  DisplayAttributes = accessor;
+  Internals::DisplayAttributes = accessor;
 }
 
 //------------------------------------------------------------------------------
@@ -851,19 +343,28 @@ vtkPropCollection* vtkPenumbraSceneGeometry::GetShadowOnlyProps()
 //------------------------------------------------------------------------------
 void vtkPenumbraSceneGeometry::GetCasterWorldTriangles(vtkDoubleArray* world)
 {
+  auto casts = [](const PropEntry* e, vtkIdType t)
+  { return (e->Triangles.Roles[static_cast<size_t>(t)] & e->Flags & CASTS_SHADOWS) != 0; };
   vtkIdType count = 0;
   for (const PropEntry* e : this->Impl->Props)
   {
-    count += (e->Flags & CASTS_SHADOWS) ? static_cast<vtkIdType>(e->CellIds.size()) : 0;
+    for (vtkIdType t = 0; t < e->Triangles.Size(); ++t)
+    {
+      count += casts(e, t) ? 1 : 0;
+    }
   }
   world->SetNumberOfComponents(9);
   world->SetNumberOfTuples(count);
   double* out = world->GetPointer(0);
   for (const PropEntry* e : this->Impl->Props)
   {
-    if (e->Flags & CASTS_SHADOWS)
+    for (vtkIdType t = 0; t < e->Triangles.Size(); ++t)
     {
-      out = std::copy(e->World.begin(), e->World.end(), out);
+      if (casts(e, t))
+      {
+        const double* w = e->Triangles.World.data() + 9 * t;
+        out = std::copy(w, w + 9, out);
+      }
     }
   }
   world->Modified();
@@ -897,6 +398,12 @@ vtkIntArray* vtkPenumbraSceneGeometry::GetPropIndices()
 vtkIdTypeArray* vtkPenumbraSceneGeometry::GetCellIds()
 {
   return this->Impl->CellIds;
+}
+
+//------------------------------------------------------------------------------
+vtkIdTypeArray* vtkPenumbraSceneGeometry::GetOwners()
+{
+  return this->Impl->Owners;
 }
 
 //------------------------------------------------------------------------------
@@ -938,7 +445,7 @@ vtkIdType vtkPenumbraSceneGeometry::GetPropTriangleCount(int index)
   {
     return 0;
   }
-  return static_cast<vtkIdType>(this->Impl->Props[index]->CellIds.size());
+  return this->Impl->Props[index]->Triangles.Size();
 }
 
 //------------------------------------------------------------------------------
@@ -946,6 +453,28 @@ int vtkPenumbraSceneGeometry::GetPropIndex(vtkProp* prop)
 {
   auto it = this->Impl->IndexOfLeaf.find(prop);
   return it == this->Impl->IndexOfLeaf.end() ? -1 : it->second;
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraSceneGeometry::GetNumberOfCastingNotes()
+{
+  return static_cast<int>(this->Impl->Notes.size());
+}
+
+//------------------------------------------------------------------------------
+vtkProp* vtkPenumbraSceneGeometry::GetCastingNoteProp(int index)
+{
+  return index >= 0 && index < this->GetNumberOfCastingNotes()
+    ? this->Impl->Notes[static_cast<size_t>(index)].first.GetPointer()
+    : nullptr;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkPenumbraSceneGeometry::GetCastingNote(int index)
+{
+  return index >= 0 && index < this->GetNumberOfCastingNotes()
+    ? this->Impl->Notes[static_cast<size_t>(index)].second.c_str()
+    : nullptr;
 }
 
 //------------------------------------------------------------------------------
@@ -963,6 +492,7 @@ vtkIdType vtkPenumbraSceneGeometry::MapPrimitiveId(int propIndex, vtkIdType prim
   // - vtkOpenGLIndexBufferObject::AppendTriangleIndexBuffer fans each polygon (0, i, i+1) and
   //   leaves out fan triangles with two coincident points; AppendStripIndexBuffer emits
   //   every strip triangle.
+  // The prop's caster-only triangles follow its drawn ones: no primitive maps to them.
   if (propIndex < 0 || propIndex >= this->GetNumberOfProps() || primitiveId < 0)
   {
     return -1;
@@ -972,25 +502,56 @@ vtkIdType vtkPenumbraSceneGeometry::MapPrimitiveId(int propIndex, vtkIdType prim
   {
     return -1;
   }
+  const penumbra_scene::PrimitiveCounts& c = e.Counts;
   const vtkIdType offset = this->Impl->Offsets[propIndex];
-  const vtkIdType trisStart = e.VertPrimitives + e.LinePrimitives;
+  const vtkIdType trisStart = c.VertPrimitives + c.LinePrimitives;
   if (primitiveId < trisStart)
   {
     return -1; // a point or line primitive
   }
   const vtkIdType q = primitiveId - trisStart;
-  if (q < e.DrawnPolyTriangles)
+  if (q < c.DrawnPolyTriangles)
   {
-    return offset + (e.DrawnPolyToLocal.empty() ? q : e.DrawnPolyToLocal[q]);
+    return offset + (c.DrawnPolyToLocal.empty() ? q : c.DrawnPolyToLocal[q]);
   }
   const vtkIdType stripsStart =
-    trisStart + (e.ExactCellMap ? e.DrawnPolyTriangles : e.PolyConservative);
+    trisStart + (e.ExactCellMap ? c.DrawnPolyTriangles : c.PolyConservative);
   const vtkIdType s = primitiveId - stripsStart;
-  if (s < 0 || s >= e.StripTriangles)
+  if (s < 0 || s >= c.StripTriangles)
   {
     return -1;
   }
-  return offset + e.PolyTriangles + s;
+  return offset + c.PolyTriangles + s;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkPenumbraSceneGeometry::GetFirstSurfacePrimitive(int propIndex)
+{
+  if (propIndex < 0 || propIndex >= this->GetNumberOfProps())
+  {
+    return -1;
+  }
+  const PropEntry& e = *this->Impl->Props[propIndex];
+  switch (e.What)
+  {
+    case penumbra_scene::Kind::Image:
+      return 0;
+    case penumbra_scene::Kind::Splats:
+      return VTK_ID_MAX;
+    case penumbra_scene::Kind::Unsupported:
+      return -1;
+    default:
+      break;
+  }
+  if (!e.Surface)
+  {
+    return VTK_ID_MAX; // wireframe and points representations draw lines and points only
+  }
+  if (e.Mappable)
+  {
+    return e.Counts.VertPrimitives + e.Counts.LinePrimitives;
+  }
+  return e.PointsOrLines ? -1 : 0;
 }
 
 //------------------------------------------------------------------------------
@@ -1078,6 +639,8 @@ void vtkPenumbraSceneGeometry::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfProps: " << this->GetNumberOfProps() << "\n";
   os << indent << "NumberOfTriangles: " << this->GetNumberOfTriangles() << "\n";
   os << indent << "NumberOfDegenerateTriangles: " << this->Impl->Degenerate << "\n";
+  os << indent << "PixelSize: " << this->PixelSize << "\n";
+  os << indent << "NumberOfCastingNotes: " << this->GetNumberOfCastingNotes() << "\n";
   os << indent << "NumberOfPropsExtractedLastUpdate: " << this->Impl->ExtractedLastUpdate << "\n";
   os << indent << "GeometryTime: " << this->GetGeometryTime() << "\n";
   os << indent << "FlagsTime: " << this->GetFlagsTime() << "\n";

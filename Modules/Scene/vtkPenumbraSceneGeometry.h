@@ -4,21 +4,55 @@
  *          techniques and the exact reference.
  *
  * Update() walks the renderer's view props (all of them, not only those inside the camera
- * frustum: a prop off screen still casts shadows into the view), extracts every triangle of
- * every visible vtkActor (vtkAssembly parts included, with their path matrices), applies the
- * prop's full matrix in double precision and stores the result relative to a rebasing Origin.
+ * frustum: a prop off screen still casts shadows into the view) and turns what each visible
+ * prop draws into world-space triangles, with the prop's full matrix applied in double
+ * precision, stored relative to a rebasing Origin.
  *
- * Supported: vtkActor with vtkPolyDataMapper, vtkCompositePolyDataMapper(2) or
- * vtkDataSetMapper (non-polydata inputs go through a default vtkDataSetSurfaceFilter, as
- * vtkDataSetMapper does), composite inputs (polydata leaves in depth-first order, as the
- * composite mappers draw them), vtkAssembly. Polygons with more than three points and
- * triangle strips are triangulated; vertices and lines are ignored. Invisible props, props
- * without mapper or input, volumes and 2D actors are skipped. Hidden blocks of composite data
- * (vtkCompositeDataDisplayAttributes, a block inheriting its parent's visibility unless set,
- * as vtkCompositePolyDataMapper2 draws them) are skipped too, once a display-attributes
- * accessor is registered (SetDisplayAttributesAccessor(): the mapper that holds them is a
- * RenderingOpenGL2 class, which this module must not depend on; Penumbra's Rendering module
- * registers it when loaded).
+ * The rule: every prop casts what VTK 9.1 draws of it, and only that (the table per prop
+ * kind is docs/prop-contract-casting.md). Surfaces are drawn triangles; what is drawn but is
+ * not a surface triangle becomes caster-only triangles:
+ * - vtkActor with vtkPolyDataMapper, vtkCompositePolyDataMapper(2) or vtkDataSetMapper
+ *   (non-polydata inputs go through a default vtkDataSetSurfaceFilter, as vtkDataSetMapper
+ *   does), composite inputs (polydata leaves in depth-first order, as the composite mappers
+ *   draw them), vtkAssembly parts (with their path matrices). Polygons are fanned and strips
+ *   triangulated as VTK draws them. Line cells, the edges of a wireframe representation and
+ *   of strips cast tubes LineWidth pixels wide; vertex cells and every point of the points
+ *   representation cast small solids PointSize pixels wide (RenderLinesAsTubes and
+ *   RenderPointsAsSpheres draw the same widths); a surface drawn with EdgeVisibility casts
+ *   the flat strips VTK grows beyond its polygons' edges, and VertexVisibility adds its
+ *   points. A wireframe or points representation casts no solid triangles. A pixel's world
+ *   size is taken at the camera's focal point (SetPixelSize()), so orbiting the camera does
+ *   not change what is cast; zooming or resizing re-extracts only the props that draw lines
+ *   or points.
+ * - Alpha: VTK discards fragments whose final alpha is 0. A prop with Opacity 0 casts
+ *   nothing; a triangle whose scalar colours have alpha 0 at all its corners (or whose cell
+ *   colour has) casts nothing; an actor texture with texels of alpha 0 (RGBA or
+ *   luminance-alpha, through its lookup table otherwise) cuts its triangles exactly to the
+ *   drawn region of texture space (nearest: the texel squares with alpha > 0; linear: the
+ *   texel-centre cells with a corner of alpha > 0; wrap modes and the texture transform as
+ *   VTK applies them; 1D and 2D texture coordinates). Translucent surfaces (alpha > 0) cast
+ *   like opaque ones.
+ * - Clipping planes (mapper->GetClippingPlanes(), the first 6 as VTK): triangles are cut
+ *   exactly, lines along their length, points by their centre.
+ * - vtkGlyph3DMapper instances with the mapper's own placement, cast and receive like any
+ *   triangles; vtkPointGaussianMapper splats cast a solid covering each splat's drawn disc
+ *   and receive nothing; vtkImageSlice (vtkImageSliceMapper) casts its displayed slice quad.
+ * - Casts nothing: vtkVolume, vtkSkybox (drawn behind everything), 2D actors, invisible props,
+ *   props without mapper or input. A composite 3D prop (vtkAxesActor, a widget
+ *   representation, ...) casts the actors its GetActors() gives, with their own matrices.
+ * A visible 3D prop that is drawn but casts nothing or less than it draws gets a casting note
+ * (GetCastingNote()). Hidden blocks of composite data (vtkCompositeDataDisplayAttributes, a
+ * block inheriting its parent's visibility unless set, as vtkCompositePolyDataMapper2 draws
+ * them) are skipped too, once a display-attributes accessor is registered
+ * (SetDisplayAttributesAccessor(): the mapper that holds them is a RenderingOpenGL2 class,
+ * which this module must not depend on; Penumbra's Rendering module registers it when
+ * loaded).
+ *
+ * Per prop the drawn triangles come first, in the order the G-buffer's primitive ids count
+ * them, then the prop's caster-only triangles (tubes, point solids, splats, and the pieces
+ * of drawn triangles that cast only in part: such a triangle keeps RECEIVES_SHADOWS and
+ * loses CASTS_SHADOWS, and its pieces cast). GetOwners() names, per triangle, the drawn
+ * triangle whose view samples it must never shadow.
  *
  * Triangle order follows what VTK 9.1's vtkOpenGLPolyDataMapper draws, so that a G-buffer
  * pass can turn `gl_PrimitiveID + PrimitiveIDOffset` into a global triangle index with
@@ -34,16 +68,19 @@
  * Origin keep millimetres in float32, whatever the georeferenced coordinates (1e6..1e7 m).
  *
  * Caching: each prop's input is first brought up to date (mapper->Update(), unless the
- * mapper is Static). A prop whose input data object, data MTime, mapper MTime and matrix
- * values did not change since the previous Update() is not re-extracted;
+ * mapper is Static). A prop whose input data object, data MTime, mapper MTime, matrix values
+ * and drawing settings (representation, widths in pixels, edges, opacity zero or not,
+ * texture, clipping planes) did not change since the previous Update(), and, if it draws
+ * lines or points, whose world line and point widths did not change, is not re-extracted;
  * GetNumberOfPropsExtractedLastUpdate() tells how many were. Hidden props keep their cached
  * triangles, so showing them again costs nothing; colour, material and flag changes never
  * re-extract. GetGeometryTime() changes only when the published triangles change (positions,
  * topology, the visible prop set, or Origin), GetFlagsTime() when the per-triangle flags do.
  *
- * Bad input (NaN or infinite coordinates) makes Update() return 0 with a message naming the
- * prop (GetErrorMessage(), also reported with vtkErrorMacro) and empties the geometry so
- * nothing renders silently wrong. A scene without triangles is not an error.
+ * Bad input (NaN or infinite coordinates of drawn points, glyph placements, splat sizes or
+ * texture coordinates) makes Update() return 0 with a message naming the prop
+ * (GetErrorMessage(), also reported with vtkErrorMacro) and empties the geometry so nothing
+ * renders silently wrong. A scene without triangles is not an error.
  */
 
 #ifndef vtkPenumbraSceneGeometry_h
@@ -54,6 +91,7 @@
 
 #include <memory> // For std::unique_ptr
 
+class vtkCamera;
 class vtkCompositeDataDisplayAttributes;
 class vtkDoubleArray;
 class vtkIdTypeArray;
@@ -84,8 +122,30 @@ public:
   /**
    * Extracts the triangles of the renderer's view props (renderer->GetViewProps()). Returns
    * 1 on success, 0 on error (see GetErrorMessage()); on error the geometry is emptied.
+   * First sets PixelSize from the renderer's active camera and tiled viewport height
+   * (ComputePixelSize()) when the renderer has a camera and a window of non-zero size;
+   * otherwise the PixelSize set last is used.
    */
   int Update(vtkRenderer* renderer);
+
+  ///@{
+  /**
+   * World length (scene units, e.g. metres) of one pixel at the camera's focal point: the
+   * scale that turns LineWidth and PointSize (pixels) into the world width of caster tubes
+   * and point solids. Update(props, count) uses the value set here; Update(renderer)
+   * computes it first. Default 0: lines and points cast nothing (and say so in a note).
+   */
+  vtkSetMacro(PixelSize, double);
+  vtkGetMacro(PixelSize, double);
+  ///@}
+
+  /**
+   * The world size of one pixel at the focal point of `camera` for a viewport of `width` x
+   * `height` pixels: 2 d tan(ViewAngle / 2) / height with d the camera-focal point distance
+   * (width instead of height with UseHorizontalViewAngle), or 2 ParallelScale / height for a
+   * parallel projection. 0 for a null camera or an empty viewport.
+   */
+  static double ComputePixelSize(vtkCamera* camera, int width, int height);
 
   ///@{
   /**
@@ -149,13 +209,25 @@ public:
    * Per triangle: id of the VTK cell it comes from in the prop's polydata (verts, lines,
    * polys, strips numbered in that order, as vtkPolyData does; after surface extraction for
    * non-polydata; for composite data each polydata leaf's ids continue after the previous
-   * leaf's, in depth-first order).
+   * leaf's, in depth-first order). For glyph instances and splats: the input point id.
+   * Tubes, point solids and cut pieces carry the cell they were made from.
    */
   vtkIdTypeArray* GetCellIds();
 
   /**
+   * Per triangle: the global index of the drawn triangle it belongs to, whose view samples
+   * it must never shadow (the one own-triangle exclusion of the tracer and the techniques):
+   * the triangle itself for a drawn triangle, the drawn triangle a caster piece was cut from
+   * (clipping planes, alpha cut-outs, a surface's edge strips), -1 for shapes that belong to
+   * no drawn triangle (tubes, point solids, splats: lines and points receive no shadows).
+   * A sample whose triangle is unknown (-1) excludes nothing.
+   */
+  vtkIdTypeArray* GetOwners();
+
+  /**
    * Per triangle: bit 0 (CASTS_SHADOWS, value 1) = casts shadows, bit 1 (RECEIVES_SHADOWS,
-   * value 2) = receives shadows, from vtkPenumbraShadowKeys.
+   * value 2) = receives shadows: what the triangle does (a drawn triangle receives and casts
+   * unless cut, a caster-only triangle only casts) masked by vtkPenumbraShadowKeys.
    */
   vtkUnsignedCharArray* GetFlags();
 
@@ -171,8 +243,8 @@ public:
 
   ///@{
   /**
-   * Range of a prop's triangles in the global triangle list: they are contiguous. -1 / 0 for
-   * an invalid index.
+   * Range of a prop's triangles in the global triangle list: they are contiguous, the drawn
+   * ones first, then the caster-only ones. -1 / 0 for an invalid index.
    */
   vtkIdType GetPropTriangleOffset(int index);
   vtkIdType GetPropTriangleCount(int index);
@@ -184,14 +256,28 @@ public:
    */
   int GetPropIndex(vtkProp* prop);
 
+  ///@{
+  /**
+   * Casting notes of the last Update(): one per visible 3D prop that is drawn but casts
+   * nothing or less (or other) than it draws, e.g. a volume, an unsupported glyph setting,
+   * an image slice cast solid, an unknown prop class. GetCastingNote() names the prop like
+   * the error messages (`vtkVolume 'ct' (prop 2): volumes cast no shadows`).
+   */
+  int GetNumberOfCastingNotes();
+  vtkProp* GetCastingNoteProp(int index);
+  const char* GetCastingNote(int index);
+  ///@}
+
   /**
    * Global triangle index of the triangle that VTK 9.1's vtkOpenGLPolyDataMapper draws as
    * `primitiveId` (= gl_PrimitiveID + the mapper's PrimitiveIDOffset uniform) for prop
    * `propIndex`; -1 if that primitive is not one of our triangles (a vertex or line
    * primitive), is out of range, if the prop is not drawn as a surface (wireframe / points
-   * representation), or if its input is composite: vtkCompositePolyDataMapper2 orders its
-   * blocks by polydata pointer (std::map<vtkPolyData*, ...>) and groups them by array
-   * layout, so its numbering cannot be reproduced.
+   * representation), is not drawn by a polydata mapper (glyphs, splats, image slices:
+   * instanced or drawn by other mappers), or if its input is composite:
+   * vtkCompositePolyDataMapper2 orders its blocks by polydata pointer (std::map<vtkPolyData*,
+   * ...>) and groups them by array layout, so its numbering cannot be reproduced. A prop's
+   * caster-only triangles follow its drawn ones: no primitive id maps to them.
    *
    * The rule mirrored (VTK 9.1, surface representation, checked by rendering):
    * - vtkOpenGLPolyDataMapper::RenderPieceDraw draws the cell arrays in the order verts,
@@ -208,6 +294,19 @@ public:
    *   drawn triangles); Update() evaluates which case applies for every prop.
    */
   vtkIdType MapPrimitiveId(int propIndex, vtkIdType primitiveId);
+
+  /**
+   * The first primitive id (gl_PrimitiveID + PrimitiveIDOffset, as for MapPrimitiveId) that
+   * VTK 9.1 draws as a triangle for prop `propIndex`: the primitives below it are points and
+   * lines, whose fragments are not surfaces (they receive no shadows). The vertex and line
+   * primitive count for a polydata drawn as a surface; 0 when the prop draws triangles only
+   * (surfaces without vertex or line cells, image slices); VTK_ID_MAX when it draws no
+   * triangle (wireframe and points representations, splats); -1 when it cannot be told
+   * (composite data or glyphs that draw points or lines besides triangles, unknown props).
+   * Vertices shown with VertexVisibility are drawn after the strips with the strips' offset,
+   * so they cannot be told apart by primitive id.
+   */
+  vtkIdType GetFirstSurfacePrimitive(int propIndex);
 
   /**
    * Changes only when the triangles change: positions, topology, the set of visible props or
@@ -227,9 +326,9 @@ public:
   int GetNumberOfPropsExtractedLastUpdate();
 
   /**
-   * The triangles flagged CASTS_SHADOWS, in absolute world coordinates exactly as extracted
-   * (double, before rebasing: no Origin round trip), 9 components per triangle, in the order
-   * of the global list. `world` is resized to fit.
+   * The triangles flagged CASTS_SHADOWS (caster-only ones included), in absolute world
+   * coordinates exactly as extracted (double, before rebasing: no Origin round trip), 9
+   * components per triangle, in the order of the global list. `world` is resized to fit.
    */
   void GetCasterWorldTriangles(vtkDoubleArray* world);
 
@@ -267,6 +366,7 @@ protected:
   ~vtkPenumbraSceneGeometry() override;
 
   double Origin[3];
+  double PixelSize = 0.0;
 
 private:
   vtkPenumbraSceneGeometry(const vtkPenumbraSceneGeometry&) = delete;

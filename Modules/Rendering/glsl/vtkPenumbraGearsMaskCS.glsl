@@ -397,7 +397,7 @@ void visit(uint index)
       }
     }
   }
-  if (int(casterData[cb + 24]) == own)
+  if (own >= 0 && int(casterData[cb + 24]) == own) // penumbra_rules::IsOwnCaster
   {
     return;
   }

@@ -40,57 +40,11 @@
 #include <vector>
 
 #include "PenumbraTestMacros.h"
+#include "SceneGeometryTestUtilities.h"
 
 namespace
 {
-// A polydata with double-precision points (float would lose georeferenced detail).
-vtkSmartPointer<vtkPolyData> MakePolyData(std::initializer_list<double> xyz)
-{
-  auto poly = vtkSmartPointer<vtkPolyData>::New();
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  const std::vector<double> v(xyz);
-  for (size_t i = 0; i + 2 < v.size(); i += 3)
-  {
-    points->InsertNextPoint(v[i], v[i + 1], v[i + 2]);
-  }
-  poly->SetPoints(points);
-  poly->SetVerts(vtkNew<vtkCellArray>());
-  poly->SetLines(vtkNew<vtkCellArray>());
-  poly->SetPolys(vtkNew<vtkCellArray>());
-  poly->SetStrips(vtkNew<vtkCellArray>());
-  return poly;
-}
-
-void AddCell(vtkCellArray* cells, std::initializer_list<vtkIdType> ids)
-{
-  const std::vector<vtkIdType> v(ids);
-  cells->InsertNextCell(static_cast<vtkIdType>(v.size()), v.data());
-}
-
-vtkSmartPointer<vtkActor> MakeActor(vtkDataObject* data)
-{
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputDataObject(data);
-  auto actor = vtkSmartPointer<vtkActor>::New();
-  actor->SetMapper(mapper);
-  return actor;
-}
-
-// World position of vertex `v` (0..2) of triangle `t`.
-void WorldVertex(vtkPenumbraSceneGeometry* g, vtkIdType t, int v, double out[3])
-{
-  const double* o = g->GetOrigin();
-  for (int c = 0; c < 3; ++c)
-  {
-    out[c] = g->GetVertices()->GetComponent(t, 3 * v + c) + o[c];
-  }
-}
-
-bool Near(const double a[3], double x, double y, double z, double tol)
-{
-  return std::fabs(a[0] - x) <= tol && std::fabs(a[1] - y) <= tol && std::fabs(a[2] - z) <= tol;
-}
+using namespace penumbra_scene_test;
 
 // Position + orientation + scale + origin + UserMatrix against hand-computed coordinates.
 int TestTransform()
@@ -501,7 +455,7 @@ int TestBadInputAndEmpty()
   AddCell(good->GetPolys(), { 0, 1, 2 });
   auto bad = MakePolyData({ 0, 0, 0, nan, 0, 0, 0, inf, 0, 7, 7, nan });
   AddCell(bad->GetPolys(), { 0, 1, 2 });
-  AddCell(bad->GetVerts(), { 3 }); // not in a triangle: not counted
+  AddCell(bad->GetVerts(), { 3 }); // drawn as a point: counted too
   vtkNew<vtkRenderer> renderer;
   renderer->AddActor(MakeActor(good));
   auto badActor = MakeActor(bad);
@@ -513,7 +467,7 @@ int TestBadInputAndEmpty()
   g->AddObserver(vtkCommand::ErrorEvent, observer);
   CHECK(g->Update(renderer) == 0);
   const std::string message = g->GetErrorMessage();
-  CHECK(message == "vtkActor 'tower' (prop 1): 2 points with NaN/inf coordinates");
+  CHECK(message == "vtkActor 'tower' (prop 1): 3 points with NaN/inf coordinates");
   CHECK(observer->GetError());
   CHECK(observer->GetErrorMessage().find("'tower' (prop 1)") != std::string::npos);
   CHECK(g->GetNumberOfTriangles() == 0 && g->GetNumberOfProps() == 0);
@@ -521,6 +475,7 @@ int TestBadInputAndEmpty()
   // Fixed: success again, and the message is cleared.
   bad->GetPoints()->SetPoint(1, 1, 0, 0);
   bad->GetPoints()->SetPoint(2, 0, 1, 0);
+  bad->GetPoints()->SetPoint(3, 7, 7, 0);
   bad->GetPoints()->Modified();
   CHECK(g->Update(renderer) == 1);
   CHECK(std::string(g->GetErrorMessage()).empty());
