@@ -36,6 +36,16 @@ bool DrawsSurface(vtkAbstractMapper* mapper, vtkProp* prop)
   {
     return false;
   }
+  // Imposters draw points as triangles: splats (vtkPointGaussianMapper's helper), spheres
+  // and sticks (molecules). Their triangles are no surface.
+  for (const char* imposter : { "vtkOpenGLPointGaussianMapperHelper", "vtkOpenGLSphereMapper",
+         "vtkOpenGLStickMapper" })
+  {
+    if (mapper->IsA(imposter))
+    {
+      return false;
+    }
+  }
   // vtkOpenGLPolyDataMapper::GetOpenGLMode(representation, primitive) == GL_TRIANGLES.
   const int type = bound->PrimitiveType;
   return actor->GetProperty()->GetRepresentation() == VTK_SURFACE &&

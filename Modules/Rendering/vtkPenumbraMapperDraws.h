@@ -31,7 +31,9 @@ namespace penumbra_draws
  * Whether the draw `mapper` is building or issuing right now (inside a render-pass hook of a
  * vtkOpenGLPolyDataMapper and its subclasses) rasterizes triangles: VTK 9.1's
  * GetOpenGLMode() of the prop's representation and the primitive being drawn is
- * GL_TRIANGLES and it is not the vertex-visibility draw. False for any other mapper.
+ * GL_TRIANGLES and it is not the vertex-visibility draw. False for any other mapper, and for
+ * the imposter mappers that draw points as triangles (point-gaussian splats, sphere and stick
+ * mappers).
  */
 bool DrawsSurface(vtkAbstractMapper* mapper, vtkProp* prop);
 

@@ -68,6 +68,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace
@@ -564,6 +565,23 @@ struct vtkPenumbraShadowPass::Internals
       }
     }
     return this->HasCasters ? this->Casters.data() : nullptr;
+  }
+
+  // Props drawn that cast nothing or less than they draw (the geometry's casting notes),
+  // said once per prop, note and technique.
+  std::set<std::tuple<vtkProp*, std::string, vtkPenumbraShadowTechnique*>> Noted;
+  void SayCastingNotes(vtkPenumbraShadowPass* pass)
+  {
+    vtkPenumbraSceneGeometry* g = this->Geometry;
+    for (int i = 0; i < g->GetNumberOfCastingNotes(); ++i)
+    {
+      const std::string note = g->GetCastingNote(i);
+      if (this->Noted.insert({ g->GetCastingNoteProp(i), note, this->Technique }).second)
+      {
+        vtkWarningWithObjectMacro(pass, << note << " (in every technique; the frame is shadowed with "
+                                        << this->Technique->GetTechniqueName() << ")");
+      }
+    }
   }
 
   // Why the last frame needed no shadow work although lights shine ("" when it did).
@@ -1208,6 +1226,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     {
       vtkErrorMacro("Shadows disabled for this frame: " << impl.Geometry->GetErrorMessage());
     }
+    impl.SayCastingNotes(this);
   }
   impl.ExtractionMs = 1000.0 * (Now() - t);
   // A scene without casters, or without a lit surface to receive (2D annotations, volumes,

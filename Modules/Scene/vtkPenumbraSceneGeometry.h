@@ -9,7 +9,7 @@
  * precision, stored relative to a rebasing Origin.
  *
  * The rule: every prop casts what VTK 9.1 draws of it, and only that (the table per prop
- * kind is docs/prop-contract-casting.md). Surfaces are drawn triangles; what is drawn but is
+ * kind is docs/prop-contract.md). Surfaces are drawn triangles; what is drawn but is
  * not a surface triangle becomes caster-only triangles:
  * - vtkActor with vtkPolyDataMapper, vtkCompositePolyDataMapper(2) or vtkDataSetMapper
  *   (non-polydata inputs go through a default vtkDataSetSurfaceFilter, as vtkDataSetMapper

@@ -4,12 +4,12 @@ still works, and a scene with nothing to shadow gets no shadow work."""
 
 import unittest
 
+import feature_matrix
 import penumbra
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkCamera, vtkHardwareSelector, vtkLight,
-                                         vtkPolyDataMapper, vtkRenderWindow, vtkRenderer,
-                                         vtkWindowToImageFilter)
+from vtkmodules.vtkFiltersSources import vtkPlaneSource
+from vtkmodules.vtkRenderingCore import (vtkHardwareSelector, vtkLight, vtkRenderWindow,
+                                         vtkRenderer, vtkWindowToImageFilter)
 from vtkmodules.vtkRenderingOpenGL2 import (vtkCameraPass, vtkOutlineGlowPass,
                                             vtkRenderPassCollection, vtkRenderStepsPass,
                                             vtkSequencePass)
@@ -18,39 +18,15 @@ SIZE = 96
 
 
 def actor_of(source, color=(0.8, 0.8, 0.8)):
-    mapper = vtkPolyDataMapper()
-    mapper.SetInputConnection(source.GetOutputPort())
-    actor = vtkActor()
-    actor.SetMapper(mapper)
-    actor.GetProperty().SetColor(*color)
-    actor._source = source  # keep the pipeline alive with the actor
-    return actor
+    return feature_matrix.polydata_actor(source, color)
 
 
 def ball_over_ground(sun=True):
     """A sphere over a ground plane, seen obliquely; a sun (or VTK's automatic headlight)."""
     renderer = vtkRenderer()
-    ground = vtkPlaneSource()
-    ground.SetOrigin(-4, -4, 0)
-    ground.SetPoint1(4, -4, 0)
-    ground.SetPoint2(-4, 4, 0)
-    ball = vtkSphereSource()
-    ball.SetCenter(0, 0, 1.2)
-    ball.SetThetaResolution(24)
-    ball.SetPhiResolution(12)
-    renderer.AddActor(actor_of(ground))
-    renderer.AddActor(actor_of(ball, (1.0, 0.5, 0.2)))
-    if sun:
-        light = vtkLight()
-        light.SetLightTypeToSceneLight()
-        light.SetPositional(False)
-        light.SetPosition(-1, -0.6, 1.4)
-        light.SetFocalPoint(0, 0, 0)
-        renderer.AddLight(light)
-    camera = renderer.GetActiveCamera()
-    camera.SetPosition(2, -9, 6)
-    camera.SetFocalPoint(0, 0, 0.5)
-    camera.SetViewUp(0, 0, 1)
+    feature_matrix.build("surface", renderer)
+    if not sun:
+        renderer.RemoveAllLights()
     return renderer
 
 
@@ -216,6 +192,31 @@ class PipelineTest(unittest.TestCase):
                     differ = int((abs(plain - pixels(window)).max(axis=2) > 8).sum())
                     self.assertLessEqual(differ, 0 if name == "plane" else 30,
                                          "%d pixels differ" % differ)
+
+    def test_props_that_cast_nothing_are_named_once(self):
+        # A volume is drawn but casts no shadow: the pass says so once per prop and
+        # technique, naming both.
+        import feature_matrix
+        from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+        log = vtkStringOutputWindow()
+        previous = vtkOutputWindow.GetInstance()
+        vtkOutputWindow.SetInstance(log)
+        try:
+            renderer = vtkRenderer()
+            feature_matrix.build("volume", renderer)
+            window = window_for(renderer)
+            penumbra.enable_shadows(renderer, "raytraced")
+            window.Render()
+            window.Render()
+            penumbra.enable_shadows(renderer, "shadowmap")
+            window.Render()
+        finally:
+            vtkOutputWindow.SetInstance(previous)
+        said = [line for line in log.GetOutput().splitlines() if "volumes cast no shadows" in line]
+        self.assertEqual(len(said), 2, log.GetOutput())
+        self.assertIn("vtkVolume (prop 1): volumes cast no shadows", said[0])
+        self.assertIn("raytraced", said[0])
+        self.assertIn("shadowmap", said[1])
 
     def test_techniques_named_for_what_they_do(self):
         # A soft-shadow technique shadows a sun with the hard technique it is built on, and a
