@@ -102,7 +102,18 @@ public:
     vtkRenderer* ren = s->GetRenderer();
     this->UpdateLightGeometry(ren);
     this->UpdateLights(ren);
+    // VTK's own shadows (vtkRenderer::UseShadows) are what the shadow pass replaces: not
+    // drawn twice.
+    const bool vtkShadows = ren->GetUseShadows() != 0;
+    if (vtkShadows)
+    {
+      ren->UseShadowsOff();
+    }
     this->UpdateGeometry(ren, s->GetFrameBuffer());
+    if (vtkShadows)
+    {
+      ren->UseShadowsOn();
+    }
     this->NumberOfRenderedProps = ren->GetNumberOfPropsRendered();
   }
 

@@ -21,7 +21,11 @@ bool vtkPenumbraShadowPass::PreReplaceShaderValues(
 {
   // Translucent props read the translucent layer's visibility: the opaque samples hold the
   // surface behind them.
-  if (!this->Impl->Injected.empty() && vtkOpenGLPolyDataMapper::SafeDownCast(mapper) &&
+  // A prop can hold this pass twice in its keys (an actor drawn by itself and as the part of
+  // an assembly, which lends the part its own keys): the code goes in once.
+  const bool placed = fragmentShader.find(LayerTags[0]) != std::string::npos ||
+    fragmentShader.find(LayerTags[1]) != std::string::npos;
+  if (!placed && !this->Impl->Injected.empty() && vtkOpenGLPolyDataMapper::SafeDownCast(mapper) &&
     vtkPenumbraShadowKeys::ReceivesShadows(prop))
   {
     const int layer = IsTranslucentReceiver(prop) ? 1 : 0;

@@ -5,6 +5,10 @@
 #include "vtkPenumbraMapperDraws.h"
 #include "vtkProperty.h"
 #include "vtkInformation.h"
+#include "vtkRenderPassCollection.h"
+#include "vtkSequencePass.h"
+#include "vtkShadowMapBakerPass.h"
+#include "vtkShadowMapPass.h"
 #include "vtkInformationObjectBaseKey.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
@@ -278,6 +282,102 @@ void InstallPass(vtkRenderer* ren, vtkRenderPass* pass, bool ours)
   }
 }
 
+// VTK's own shadow passes (vtkShadowMapBakerPass, vtkShadowMapPass) in a composition of the
+// user's, replaced by a Penumbra shadow pass where they stand (the canonical
+// CameraPass -> Sequence[baker, shadows], or a camera pass delegating to the shadow pass), so
+// the scene is not shadowed twice; the replaced passes are kept on the renderer and put back
+// when the shadows are removed.
+class ReplacedVTKShadows : public vtkObject
+{
+public:
+  static ReplacedVTKShadows* New();
+  vtkTypeMacro(ReplacedVTKShadows, vtkObject);
+  struct Slot
+  {
+    vtkSmartPointer<vtkRenderPassCollection> Collection; // or
+    vtkSmartPointer<vtkCameraPass> Camera;
+    int Index = -1;
+    vtkSmartPointer<vtkRenderPass> Original;
+  };
+  std::vector<Slot> Slots;
+
+  // Replaces VTK's shadow passes under `pass` by `ours`; true when there were any.
+  bool Replace(vtkRenderPass* pass, vtkPenumbraShadowPass* ours, int depth = 0)
+  {
+    bool any = false;
+    if (auto* camera = vtkCameraPass::SafeDownCast(pass))
+    {
+      if (vtkShadowMapPass::SafeDownCast(camera->GetDelegatePass()))
+      {
+        this->Slots.push_back({ nullptr, camera, -1, camera->GetDelegatePass() });
+        camera->SetDelegatePass(ours);
+        return true;
+      }
+      return depth < 16 && this->Replace(camera->GetDelegatePass(), ours, depth + 1);
+    }
+    auto* sequence = vtkSequencePass::SafeDownCast(pass);
+    vtkRenderPassCollection* passes = sequence ? sequence->GetPasses() : nullptr;
+    for (int i = 0; passes && i < passes->GetNumberOfItems(); ++i)
+    {
+      auto* item = vtkRenderPass::SafeDownCast(passes->GetItemAsObject(i));
+      vtkRenderPass* replacement = vtkShadowMapPass::SafeDownCast(item) ? ours
+        : vtkShadowMapBakerPass::SafeDownCast(item) ? ours->GetShadowMapBakerPass()
+                                                     : nullptr;
+      if (replacement)
+      {
+        this->Slots.push_back({ passes, nullptr, i, item });
+        passes->ReplaceItem(i, replacement);
+        any = true;
+      }
+      else if (depth < 16)
+      {
+        any = this->Replace(item, ours, depth + 1) || any;
+      }
+    }
+    return any;
+  }
+
+  // Puts VTK's passes back.
+  void Restore()
+  {
+    for (auto& slot : this->Slots)
+    {
+      if (slot.Camera)
+      {
+        slot.Camera->SetDelegatePass(slot.Original);
+      }
+      else
+      {
+        slot.Collection->ReplaceItem(slot.Index, slot.Original);
+      }
+    }
+    this->Slots.clear();
+  }
+
+protected:
+  ReplacedVTKShadows() = default;
+  ~ReplacedVTKShadows() override = default;
+};
+vtkStandardNewMacro(ReplacedVTKShadows);
+
+vtkInformationObjectBaseKey* ReplacedKey()
+{
+  static vtkInformationObjectBaseKey* key =
+    new vtkInformationObjectBaseKey("PENUMBRA_REPLACED_VTK_SHADOWS", "vtkPenumbraTechniques");
+  return key;
+}
+
+// Gives the user's composition its VTK shadow passes back, if Penumbra replaced them.
+void RestoreVTKShadows(vtkRenderer* ren)
+{
+  vtkInformation* info = ren->GetInformation();
+  if (auto* replaced = ReplacedVTKShadows::SafeDownCast(info->Get(ReplacedKey())))
+  {
+    replaced->Restore();
+    info->Remove(ReplacedKey());
+  }
+}
+
 // Shadows with `technique`, composed with what the renderer draws with. The renderer's own
 // drawing: camera pass -> shadow pass. A pass of the user's (vtkOutlineGlowPass,
 // vtkSSAOPass, a render-steps pass ...): the shadow pass stands before it and it draws the
@@ -294,6 +394,12 @@ void InstallShadowPass(vtkRenderer* ren, vtkPenumbraShadowTechnique* technique)
   }
   vtkNew<vtkPenumbraShadowPass> shadows;
   shadows->SetTechnique(technique);
+  vtkNew<ReplacedVTKShadows> replaced;
+  if (user && replaced->Replace(user, shadows))
+  {
+    ren->GetInformation()->Set(ReplacedKey(), replaced);
+    return;
+  }
   if (user)
   {
     shadows->SetDelegatePass(user);
@@ -317,6 +423,7 @@ struct Technique
 // had one; a user's composition holding a Penumbra pass keeps it, without a technique.
 void InstallNone(vtkRenderer* ren, const Options&)
 {
+  RestoreVTKShadows(ren);
   vtkRenderPass* user = UserPass(ren);
   if (vtkPenumbraShadowPass* placed = vtkPenumbraShadowPass::FindIn(user))
   {
@@ -366,10 +473,13 @@ public:
   // it where the shader has no view position (lines without normals, unlit props; the next
   // frame then crashes in the mapper). Its receivers here are lit surfaces only, the props
   // VTK's pass is written for: the others are drawn unshadowed.
+  // VTK injects again when a prop holds the pass twice in its keys (an actor drawn by itself
+  // and as an assembly part): once is enough.
   bool PreReplaceShaderValues(std::string& vs, std::string& gs, std::string& fs,
     vtkAbstractMapper* mapper, vtkProp* prop) override
   {
-    return !Receives(mapper, prop) || this->Superclass::PreReplaceShaderValues(vs, gs, fs, mapper, prop);
+    return !Receives(mapper, prop) || fs.find("calcShadow") != std::string::npos ||
+      this->Superclass::PreReplaceShaderValues(vs, gs, fs, mapper, prop);
   }
   bool PostReplaceShaderValues(std::string& vs, std::string& gs, std::string& fs,
     vtkAbstractMapper* mapper, vtkProp* prop) override
@@ -388,6 +498,22 @@ private:
 };
 vtkStandardNewMacro(CheckedShadowMapPass);
 
+// VTK's baker, injecting its depth output once per shader even when a prop holds the pass
+// twice in its keys (VTK 9.1 redeclares its uniforms and the next frame crashes).
+class CheckedShadowMapBakerPass : public vtkShadowMapBakerPass
+{
+public:
+  static CheckedShadowMapBakerPass* New();
+  vtkTypeMacro(CheckedShadowMapBakerPass, vtkShadowMapBakerPass);
+  bool PreReplaceShaderValues(std::string& vs, std::string& gs, std::string& fs,
+    vtkAbstractMapper* mapper, vtkProp* prop) override
+  {
+    return fs.find("uniform float depthC;") != std::string::npos ||
+      this->Superclass::PreReplaceShaderValues(vs, gs, fs, mapper, prop);
+  }
+};
+vtkStandardNewMacro(CheckedShadowMapBakerPass);
+
 const OptionTable VTKShadowMapOptions = {
   { "resolution", OptionType::Integer, 1024, 16, 16384, {}, "texels",
     "shadow map texels per side" },
@@ -396,14 +522,25 @@ const OptionTable VTKShadowMapOptions = {
 void InstallVTKShadowMap(vtkRenderer* ren, const Options& opts)
 {
   // The composition of VTK's own TestShadowMapPass: bake the maps, then shade with them.
-  // It draws the opaque props itself, so it cannot stand before a pass of the user's.
-  if (vtkRenderPass* user = UserPass(ren))
+  // It draws the opaque props itself, so it cannot stand before a pass of the user's; a
+  // composition of the user's with VTK's shadow passes gets them back.
+  RestoreVTKShadows(ren);
+  vtkRenderPass* user = UserPass(ren);
+  vtkNew<ReplacedVTKShadows> probe; // whether the user's composition has VTK's passes
+  vtkNew<vtkPenumbraShadowPass> scratch;
+  if (user && probe->Replace(user, scratch))
+  {
+    probe->Restore(); // it has: they are VTK's shadow map already
+    return;
+  }
+  if (user)
   {
     throw OptionError(std::string("the renderer draws with its own ") + user->GetClassName() +
       ", which VTK's vtkShadowMapPass cannot be composed with (it draws the opaque props "
       "itself); use a Penumbra technique, e.g. shadowmap");
   }
   vtkNew<CheckedShadowMapPass> shadows;
+  shadows->SetShadowMapBakerPass(vtkNew<CheckedShadowMapBakerPass>());
   shadows->GetShadowMapBakerPass()->SetResolution(opts.Integer("resolution"));
   vtkNew<vtkRenderPassCollection> passes;
   passes->AddItem(shadows->GetShadowMapBakerPass());

@@ -21,6 +21,7 @@
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkProp.h"
+#include "vtkProperty.h"
 #include "vtkRenderState.h"
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
@@ -709,7 +710,10 @@ void vtkPenumbraViewSamplesPass::Internals::ReadFallbacks(
 bool vtkPenumbraViewSamplesPass::PreReplaceShaderValues(
   std::string&, std::string&, std::string& fragmentShader, vtkAbstractMapper* mapper, vtkProp*)
 {
-  if (vtkOpenGLPolyDataMapper::SafeDownCast(mapper))
+  // Once, even when the prop holds this pass twice in its keys (an actor drawn by itself and
+  // as the part of an assembly, which lends the part its own keys).
+  if (vtkOpenGLPolyDataMapper::SafeDownCast(mapper) &&
+    fragmentShader.find("//PENUMBRA::Samples::Dec") == std::string::npos)
   {
     // Our outputs are written last in main(), after VTK's lighting, texturing (which
     // multiplies the colour output), its discard of fragments with alpha <= 0 (an alpha
@@ -777,6 +781,17 @@ bool vtkPenumbraViewSamplesPass::SetShaderParameters(
   if (impl.FBO)
   {
     impl.FBO->ActivateDrawBuffers(3);
+  }
+  // The samples replace the mapper's colour output, so the compiler drops VTK's colour code
+  // and with it `ambientIntensityBF`, whose use is how VTK decides to set the back-face
+  // uniforms; but the back-face opacity still decides VTK's discard of alpha-0 fragments
+  // (unset, it is 0 and every back face is discarded).
+  auto* actor = vtkActor::SafeDownCast(prop);
+  if (actor && actor->GetBackfaceProperty() && program->IsUniformUsed("opacityUniformBF") &&
+    !program->IsUniformUsed("ambientIntensityBF"))
+  {
+    program->SetUniformf(
+      "opacityUniformBF", static_cast<float>(actor->GetBackfaceProperty()->GetOpacity()));
   }
   if (program->IsUniformUsed("penumbraVCToRebased"))
   {

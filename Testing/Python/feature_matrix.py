@@ -263,6 +263,36 @@ def row_assembly():
     return [parts]
 
 
+def row_assembly_and_alone():
+    """One actor drawn twice: by itself and as the part of an assembly (which lends it its
+    own property keys while it draws the part)."""
+    part = polydata_actor(sphere(0.5, (0, 0, 0)))
+    parts = vtkAssembly()
+    parts.AddPart(part)
+    parts.SetPosition(0.6, 0, 1.5)
+    part.SetPosition(-0.6, 0, 1.5)
+    return [parts, part]
+
+
+def row_backface_property():
+    """An open bowl, its inside (back faces) drawn with a property of its own."""
+    from vtkmodules.vtkFiltersCore import vtkClipPolyData
+    from vtkmodules.vtkRenderingCore import vtkProperty
+    source = sphere(0.8, res=32)
+    cut = vtkPlane()
+    cut.SetOrigin(0, 0, 1.9)
+    cut.SetNormal(0, 0, 1)
+    clip = vtkClipPolyData()
+    clip.SetInputConnection(source.GetOutputPort())
+    clip.SetClipFunction(cut)
+    clip.InsideOutOn()
+    inside = vtkProperty()
+    inside.SetColor(0.3, 0.5, 0.9)
+    actor = polydata_actor(clip)
+    actor.SetBackfaceProperty(inside)
+    return [_keep(actor, source, cut, clip, inside)]
+
+
 def row_clipped():
     """Half a sphere (32 x 16 facets: its twin is row_surface's 24 x 12, about as large)."""
     s = sphere(res=32)
@@ -428,6 +458,8 @@ ROWS = {
     "LOD actor": (row_lod_actor, True, "solid", None),
     "follower": (row_follower, True, "solid", None),
     "assembly": (row_assembly, True, "solid", None),
+    "assembly part drawn alone too": (row_assembly_and_alone, True, "solid", None),
+    "back-face property": (row_backface_property, True, "solid", None),
     "clipping plane": (row_clipped, True, "part", row_surface),
     "texture": (row_texture, True, "solid", None),
     "alpha cut-out": (row_alpha_cutout, True, "part", row_card_twin),

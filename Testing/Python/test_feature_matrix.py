@@ -91,8 +91,16 @@ class Row:
                                  if layer else np.full((HEIGHT, WIDTH), -1))
         geometry = shadows.GetGeometry()
         self.Ground = geometry.GetPropIndex(self.Renderer.GetActors().GetItemAsObject(0))
-        self.RowProps = [geometry.GetPropIndex(p) for p in self.Props]
-        self.RowProps = [i for i in self.RowProps if i >= 0]
+        # Every extracted entry of the row's props (an actor drawn twice has two).
+        parts = set()
+        for prop in self.Props:
+            parts.add(prop.GetAddressAsString("vtkObject"))
+            if prop.IsA("vtkAssembly"):
+                paths = prop.GetParts()
+                for i in range(paths.GetNumberOfItems()):
+                    parts.add(paths.GetItemAsObject(i).GetAddressAsString("vtkObject"))
+        self.RowProps = [i for i in range(geometry.GetNumberOfProps())
+                         if geometry.GetProp(i).GetAddressAsString("vtkObject") in parts]
         # The reference's ties (first sample layer: the opaque one, as visibility() gives).
         ties = shadows.GetTechnique().GetReference().GetTies()
         self.Ties = vtk_to_numpy(ties)[:WIDTH * HEIGHT].reshape(HEIGHT, WIDTH)

@@ -123,6 +123,33 @@ class PipelineTest(unittest.TestCase):
         window.Render()
         self.assertGreater(shadowed(renderer), 50)
 
+    def test_vtk_shadow_passes_are_replaced_where_they_stand(self):
+        # VTK's own composition with its shadow passes (Rendering/Shadows.py): Penumbra's pass
+        # takes their place (no shadows drawn twice); removing the shadows puts them back.
+        from vtkmodules.vtkRenderingOpenGL2 import vtkShadowMapPass
+        renderer = ball_over_ground()
+        vtk_shadows = vtkShadowMapPass()
+        passes = vtkRenderPassCollection()
+        passes.AddItem(vtk_shadows.GetShadowMapBakerPass())
+        passes.AddItem(vtk_shadows)
+        sequence = vtkSequencePass()
+        sequence.SetPasses(passes)
+        camera = vtkCameraPass()
+        camera.SetDelegatePass(sequence)
+        renderer.SetPass(camera)
+        window = window_for(renderer)
+        ours = penumbra.enable_shadows(renderer, "raytraced")
+        names = [passes.GetItemAsObject(i).GetClassName() for i in range(2)]
+        self.assertEqual(names[1], "vtkPenumbraShadowPass")
+        self.assertIs(passes.GetItemAsObject(1), ours)
+        self.assertIs(renderer.GetPass(), camera)
+        window.Render()
+        self.assertGreater(shadowed(renderer), 50)
+        penumbra.disable_shadows(renderer)
+        self.assertIs(passes.GetItemAsObject(0), vtk_shadows.GetShadowMapBakerPass())
+        self.assertIs(passes.GetItemAsObject(1), vtk_shadows)
+        window.Render()
+
     def test_picking_gets_no_shadow_work(self):
         renderer = ball_over_ground()
         window = window_for(renderer)
