@@ -30,6 +30,21 @@ def ball_over_ground(sun=True):
     return renderer
 
 
+def vtk_shadow_composition(renderer, shadows):
+    """VTK's composition for its shadow pass (or the drop-in): CameraPass -> Sequence[baker,
+    shadows]; returns the camera pass and the sequence's collection."""
+    passes = vtkRenderPassCollection()
+    passes.AddItem(shadows.GetShadowMapBakerPass())
+    passes.AddItem(shadows)
+    sequence = vtkSequencePass()
+    sequence.SetPasses(passes)
+    camera = vtkCameraPass()
+    camera.SetDelegatePass(sequence)
+    renderer.SetPass(camera)
+    camera._sequence = sequence
+    return camera, passes
+
+
 def window_for(renderer):
     window = vtkRenderWindow()
     window.SetSize(SIZE, SIZE)
@@ -104,14 +119,7 @@ class PipelineTest(unittest.TestCase):
         # VTK's own composition, CameraPass -> Sequence[baker, shadows], with the drop-in pass.
         renderer = ball_over_ground()
         shadows = penumbra.vtkPenumbraShadowMapPass()
-        passes = vtkRenderPassCollection()
-        passes.AddItem(shadows.GetShadowMapBakerPass())
-        passes.AddItem(shadows)
-        sequence = vtkSequencePass()
-        sequence.SetPasses(passes)
-        camera = vtkCameraPass()
-        camera.SetDelegatePass(sequence)
-        renderer.SetPass(camera)
+        camera, passes = vtk_shadow_composition(renderer, shadows)
         window = window_for(renderer)
         window.Render()
         self.assertIs(penumbra.shadow_pass(renderer), shadows)
@@ -129,14 +137,7 @@ class PipelineTest(unittest.TestCase):
         from vtkmodules.vtkRenderingOpenGL2 import vtkShadowMapPass
         renderer = ball_over_ground()
         vtk_shadows = vtkShadowMapPass()
-        passes = vtkRenderPassCollection()
-        passes.AddItem(vtk_shadows.GetShadowMapBakerPass())
-        passes.AddItem(vtk_shadows)
-        sequence = vtkSequencePass()
-        sequence.SetPasses(passes)
-        camera = vtkCameraPass()
-        camera.SetDelegatePass(sequence)
-        renderer.SetPass(camera)
+        camera, passes = vtk_shadow_composition(renderer, vtk_shadows)
         window = window_for(renderer)
         ours = penumbra.enable_shadows(renderer, "raytraced")
         names = [passes.GetItemAsObject(i).GetClassName() for i in range(2)]
