@@ -170,7 +170,7 @@ public:
 
   /**
    * How to find a mapper's block visibilities (vtkCompositeDataDisplayAttributes), nullptr
-   * when it has none. One accessor per process; Penumbra::Rendering registers the one for
+   * when it has none. One accessor per process; Penumbra::Shadows registers the one for
    * vtkCompositePolyDataMapper2. Without an accessor every block is extracted.
    */
 #ifndef __VTK_WRAP__

@@ -30,7 +30,7 @@ import shadow_view  # noqa: E402
 shadow_view.load_plugin(globals())
 
 import penumbra  # noqa: E402,F401  (after ParaView: the same VTK, already loaded)
-from penumbra.vtkPenumbraRendering import vtkPenumbraShadowPass  # noqa: E402
+from penumbra.vtkPenumbraShadows import vtkPenumbraShadowPass  # noqa: E402
 from penumbra.vtkPenumbraRayTracing import vtkPenumbraReference  # noqa: E402
 from penumbra.vtkPenumbraScene import vtkPenumbraSceneGeometry  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkFloatArray, vtkIntArray  # noqa: E402

@@ -25,7 +25,8 @@ import shadow_view  # noqa: E402
 shadow_view.load_plugin(globals(), sys.argv[1] if len(sys.argv) > 1 else None)
 
 import penumbra  # noqa: E402  (after ParaView: the same VTK, already loaded)
-from penumbra.vtkPenumbraRendering import vtkPenumbraShadowPass, vtkPenumbraTechniques  # noqa: E402
+from penumbra.vtkPenumbraShadows import vtkPenumbraShadowPass  # noqa: E402
+from penumbra.vtkPenumbraTechniques import vtkPenumbraTechniques  # noqa: E402
 from penumbra.vtkPenumbraRayTracing import vtkPenumbraReference  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkFloatArray  # noqa: E402
 

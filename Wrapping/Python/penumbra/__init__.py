@@ -26,7 +26,11 @@ from .vtkPenumbraScene import *  # noqa: F401,F403
 from .vtkPenumbraSceneIO import *  # noqa: F401,F403
 from .vtkPenumbraRayTracing import *  # noqa: F401,F403
 from .vtkPenumbraAnalysis import *  # noqa: F401,F403
-from .vtkPenumbraRendering import *  # noqa: F401,F403
+from .vtkPenumbraShadows import *  # noqa: F401,F403
+from .vtkPenumbraShadowMaps import *  # noqa: F401,F403
+from .vtkPenumbraExactShadows import *  # noqa: F401,F403
+from .vtkPenumbraGears import *  # noqa: F401,F403
+from .vtkPenumbraTechniques import *  # noqa: F401,F403
 
 
 def load_scene(path):
