@@ -215,7 +215,8 @@ int CheckTortureScenes()
   // Every torture scene with a hard light (the area-light ones belong to soft techniques).
   const char* scenes[] = { "thin_occluders.json", "grazing_light.json", "zenith_light.json",
     "coplanar_contact.json", "bad_triangles.json", "georef_1e6.json", "georef_1e7.json",
-    "depth_range.json", "point_light_in_room.json", "point_light_on_surface.json" };
+    "depth_range.json", "point_light_in_room.json", "point_light_on_surface.json",
+    "wall_gaps.json" };
   for (const char* scene : scenes)
   {
     vtkNew<vtkPenumbraSceneReader> reader;

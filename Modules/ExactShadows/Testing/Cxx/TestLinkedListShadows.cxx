@@ -347,7 +347,7 @@ int CheckTortureScenes()
 {
   const char* scenes[] = { "thin_occluders.json", "grazing_light.json", "zenith_light.json",
     "coplanar_contact.json", "bad_triangles.json", "georef_1e7.json", "depth_range.json",
-    "point_light_in_room.json", "point_light_on_surface.json" };
+    "point_light_in_room.json", "point_light_on_surface.json", "wall_gaps.json" };
   for (const char* scene : scenes)
   {
     vtkNew<vtkPenumbraSceneReader> reader;

@@ -437,7 +437,7 @@ int CheckScenes()
   }
   const char* scenes[] = { "thin_occluders.json", "grazing_light.json", "coplanar_contact.json",
     "bad_triangles.json", "georef_1e7.json", "point_light_in_room.json",
-    "point_light_on_surface.json", "zenith_light.json", "depth_range.json" };
+    "point_light_on_surface.json", "zenith_light.json", "depth_range.json", "wall_gaps.json" };
   for (const char* scene : scenes)
   {
     for (const char* options :
