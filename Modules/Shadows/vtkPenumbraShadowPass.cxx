@@ -675,6 +675,13 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
         [internals] { internals->RenderPreparedSamples(); });
       impl.HasFrame = true;
       impl.ComputeVisibility(this);
+      if (impl.HasTranslucentLayer)
+      {
+        // Translucent props take the nearest translucent surface's visibility in every
+        // fragment of the pixel (the contract): a lookup in their own shaders would shadow
+        // the surfaces behind it by it. The lookups are written into textures instead.
+        impl.BakeShaderLookups();
+      }
       win->WaitForCompletion();
       impl.TechniqueMs = 1000.0 * (Now() - t) - impl.SamplesMs;
       impl.LastViewKey.swap(viewKey);
@@ -719,6 +726,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     }
   }
   this->PreRender(s);
+  impl.SamplesPass->IndexProps(); // the receivers' lookups ask GivesSamples() while drawing
   impl.Delegate->Render(s);
   this->NumberOfRenderedProps = impl.Delegate->GetNumberOfRenderedProps();
   this->PostRender(s);

@@ -77,8 +77,8 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
       // Evaluated once before VTK's lighting (which reads the colour twice).
       const std::string suffix = LookupSuffix(i);
       lookups += lookup->GetSource(suffix);
-      visibilities += "  float penumbraVisibility" + suffix + " = penumbraReceive" + suffix +
-        "(penumbraP, penumbraN);\n";
+      visibilities += "  float penumbraVisibility" + suffix + " = penumbraReceiver == 1 ? " +
+        "penumbraReceive" + suffix + "(penumbraP, penumbraN) : 1.0;\n";
       dec += "#define " + color + " (" + color + " * penumbraVisibility" + suffix + ")\n";
       continue;
     }
@@ -90,7 +90,10 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
   std::string surfaceCall;
   if (!lookups.empty())
   {
-    dec = lookups + dec;
+    // Props without view samples (vtkPenumbraViewSamplesPass::GivesSamples()) are lit
+    // unshadowed, as the visibility textures give them: set per draw, since props share
+    // shaders.
+    dec = "uniform int penumbraReceiver;\n" + lookups + dec;
     surfaceCall = vtkPenumbraViewSamplesPass::GetSurfaceCall();
     // The lookups' facing rules are in double precision, like the reference's.
     if (fragmentShader.find("GL_ARB_gpu_shader_fp64") == std::string::npos)
@@ -115,7 +118,7 @@ bool vtkPenumbraShadowPass::PostReplaceShaderValues(
 }
 
 bool vtkPenumbraShadowPass::SetShaderParameters(
-  vtkShaderProgram* program, vtkAbstractMapper*, vtkProp*, vtkOpenGLVertexArrayObject*)
+  vtkShaderProgram* program, vtkAbstractMapper*, vtkProp* prop, vtkOpenGLVertexArrayObject*)
 {
   Internals& impl = *this->Impl;
   if (impl.Injected.empty())
@@ -125,6 +128,10 @@ bool vtkPenumbraShadowPass::SetShaderParameters(
   if (program->IsUniformUsed("penumbraVCToRebased"))
   {
     impl.SamplesPass->SetSurfaceUniforms(program);
+    if (program->IsUniformUsed("penumbraReceiver"))
+    {
+      program->SetUniformi("penumbraReceiver", impl.SamplesPass->GivesSamples(prop) ? 1 : 0);
+    }
     for (size_t i = 0; i < impl.Injected.size(); ++i)
     {
       if (vtkPenumbraFrame::ShaderLookup* lookup = impl.InjectedLookup(i))

@@ -426,17 +426,7 @@ void vtkPenumbraViewSamplesPass::Render(const vtkRenderState* s)
   this->PreRender(&hookedState);
   // After PreRender(), which gives every drawn prop its property keys (a LOD actor draws
   // through a device actor that shares them).
-  impl.PropIndex.clear();
-  impl.KeysIndex.clear();
-  for (int i = 0; i < impl.Geometry->GetNumberOfProps(); ++i)
-  {
-    vtkProp* p = impl.Geometry->GetProp(i);
-    impl.PropIndex[p] = i;
-    if (p->GetPropertyKeys())
-    {
-      impl.KeysIndex[p->GetPropertyKeys()] = i;
-    }
-  }
+  this->IndexProps();
   if (this->Translucent)
   {
     // vtkOpenGLActor turns depth writes off for translucent geometry unless told otherwise;
@@ -795,14 +785,34 @@ bool vtkPenumbraViewSamplesPass::SetShaderParameters(
   }
   if (program->IsUniformUsed("penumbraVCToRebased"))
   {
-    const int index = impl.FindPropIndex(prop);
     this->SetSurfaceUniforms(program);
     // Props that do not receive shadows give no sample: they are lit unshadowed and get no
     // shadow work (they still occlude the samples behind them).
-    const bool sampled = index >= 0 && vtkPenumbraShadowKeys::ReceivesShadows(prop);
-    program->SetUniformf("penumbraPropIndex", sampled ? static_cast<float>(index) : -1.0f);
+    program->SetUniformf("penumbraPropIndex",
+      this->GivesSamples(prop) ? static_cast<float>(impl.FindPropIndex(prop)) : -1.0f);
   }
   return true;
+}
+
+void vtkPenumbraViewSamplesPass::IndexProps()
+{
+  Internals& impl = *this->Impl;
+  impl.PropIndex.clear();
+  impl.KeysIndex.clear();
+  for (int i = 0; impl.Geometry && i < impl.Geometry->GetNumberOfProps(); ++i)
+  {
+    vtkProp* p = impl.Geometry->GetProp(i);
+    impl.PropIndex[p] = i;
+    if (p->GetPropertyKeys())
+    {
+      impl.KeysIndex[p->GetPropertyKeys()] = i;
+    }
+  }
+}
+
+bool vtkPenumbraViewSamplesPass::GivesSamples(vtkProp* prop)
+{
+  return this->Impl->FindPropIndex(prop) >= 0 && vtkPenumbraShadowKeys::ReceivesShadows(prop);
 }
 
 //------------------------------------------------------------------------------

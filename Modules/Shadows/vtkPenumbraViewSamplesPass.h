@@ -147,6 +147,22 @@ public:
   ///@}
 
   /**
+   * Whether `prop`, drawn through the hooks, gets view samples: it is a prop of the scene
+   * geometry (by pointer, or by the property keys a device actor shares) that receives
+   * shadows. The one rule for who receives: props that do not are drawn unshadowed by every
+   * technique, the receivers' shader lookups included.
+   */
+  bool GivesSamples(vtkProp* prop);
+
+  /**
+   * Indexes the geometry's props by pointer and by their current property keys, for
+   * GivesSamples() and the samples' prop indices. Render() calls it after PreRender() has
+   * given every drawn prop its keys; a pass that draws with these rules on a frame whose
+   * samples are not rendered calls it after its own PreRender().
+   */
+  void IndexProps();
+
+  /**
    * Replaces `tag` in a fragment shader by GetSurfaceDeclarations() followed by `more`, and
    * enables the extension they read the coverage mask with (where VTK declares its version).
    */

@@ -181,6 +181,45 @@ class PipelineTest(unittest.TestCase):
         self.assertIn("no lit surface receives shadows", shadows.GetExplanation())
         self.assertEqual(int((abs(plain - pixels(window)) > 2).sum()), 0)
 
+    def test_translucent_receivers_under_the_shader_lookup(self):
+        # A translucent tube (front and back walls blend in every pixel) and an outline under
+        # VTK's headlight: nothing is visibly shadowed. shadowmap's lookup in the receivers'
+        # own shaders shadowed the tube's far wall by its near one (1,209 pixels darker than
+        # plain VTK at 200 x 200, with visibility() reporting none); the translucent layer
+        # takes the nearest surface's visibility in every fragment, as for every technique.
+        from vtkmodules.vtkFiltersCore import vtkTubeFilter
+        from vtkmodules.vtkFiltersSources import vtkLineSource, vtkOutlineSource
+        renderer = vtkRenderer()
+        line = vtkLineSource()
+        line.SetPoint1(1, 0, 0)
+        line.SetPoint2(0, 1, 0)
+        tube = vtkTubeFilter()
+        tube.SetInputConnection(line.GetOutputPort())
+        tube.SetRadius(0.05)
+        tube.SetNumberOfSides(30)
+        glass = actor_of(tube)
+        glass.GetProperty().SetOpacity(0.5)
+        renderer.AddActor(glass)
+        outline = vtkOutlineSource()
+        outline.SetBounds(-0.2, 1.2, -0.2, 1.2, -0.3, 0.3)
+        renderer.AddActor(actor_of(outline, (1, 1, 0)))
+        renderer.ResetCamera()
+        renderer.GetActiveCamera().Azimuth(20)
+        renderer.GetActiveCamera().Elevation(20)
+        renderer.ResetCameraClippingRange()
+        window = window_for(renderer)
+        window.Render()
+        plain = pixels(window)
+        for technique in ("shadowmap", "raytraced"):
+            penumbra.enable_shadows(renderer, technique)
+            window.Render()
+            vis = penumbra.visibility(renderer, 0, translucent=True)
+            self.assertGreater(int((vis >= 0).sum()), 100, technique)
+            self.assertEqual(int(((vis >= 0) & (vis < 1)).sum()), 0, technique)
+            differ = int((abs(plain - pixels(window)).max(axis=2) > 2).sum())
+            self.assertEqual(differ, 0, "%s: %d pixels differ from plain VTK" % (technique, differ))
+            penumbra.disable_shadows(renderer)
+
     def test_multisampled_edges(self):
         # A multisampled window (VTK's default: 8 samples) shades partly covered edge pixels
         # at a pixel centre that can lie outside the primitive. The shader lookups take the
