@@ -3,9 +3,9 @@
 
 #include "vtkCameraPass.h"
 #include "vtkDepthPeelingPass.h"
+#include "vtkHardwareSelector.h"
 #include "vtkImageProcessingPass.h"
 #include "vtkOrderIndependentTranslucentPass.h"
-#include "vtkHardwareSelector.h"
 #include "vtkRenderStepsPass.h"
 
 #include "vtkActor.h"
@@ -197,7 +197,6 @@ double Now()
 {
   return vtkTimerLog::GetUniversalTime();
 }
-
 
 // What VTK draws in its translucent pass, for a receiver: the props whose nearest
 // translucent surface gets its own view samples and visibility.
@@ -806,4 +805,3 @@ void vtkPenumbraShadowPass::SetInstalled(vtkRenderer* renderer, vtkPenumbraShado
     renderer->GetInformation()->Remove(INSTALLED());
   }
 }
-

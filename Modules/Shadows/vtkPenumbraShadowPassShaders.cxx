@@ -168,4 +168,3 @@ bool vtkPenumbraShadowPass::SetShaderParameters(
   }
   return true;
 }
-

@@ -37,9 +37,9 @@
 #include "vtkPenumbraViewSamplesImpl.h"
 
 #include <algorithm>
-#include <string>
 #include <cmath>
 #include <map>
+#include <string>
 #include <vector>
 
 namespace
@@ -730,8 +730,7 @@ bool vtkPenumbraViewSamplesPass::PostReplaceShaderValues(
     return true;
   }
   // Samples are the lit surfaces drawn as triangles (see vtkPenumbraMapperDraws.h).
-  if (penumbra_draws::HasViewPosition(fragmentShader) &&
-    penumbra_draws::DrawsSurface(mapper, prop))
+  if (penumbra_draws::HasViewPosition(fragmentShader) && penumbra_draws::DrawsSurface(mapper, prop))
   {
     std::string dec = vtkPenumbraViewSamplesDec;
     if (fragmentShader.find("uniform int PrimitiveIDOffset") == std::string::npos)
@@ -875,8 +874,8 @@ void vtkPenumbraViewSamplesPass::SetSurfaceUniforms(vtkShaderProgram* program)
       }
     }
     program->SetUniformi("penumbraSampleCount", impl.SampleCount);
-    program->SetUniform2fv("penumbraSampleOffsets", 16,
-      reinterpret_cast<const float(*)[2]>(impl.SampleOffsets));
+    program->SetUniform2fv(
+      "penumbraSampleOffsets", 16, reinterpret_cast<const float(*)[2]>(impl.SampleOffsets));
   }
 }
 
@@ -902,7 +901,8 @@ const char* vtkPenumbraViewSamplesPass::GetSurfaceCall()
 {
   // Where VTK keeps control flow uniform (//VTK::UniformFlow::Impl): the facet normal comes
   // from screen-space derivatives, undefined after a discard (clipping planes, alpha).
-  return "  vec3 penumbraP;\n  vec3 penumbraN;\n  penumbraSurface(vertexVC, penumbraP, penumbraN);\n";
+  return "  vec3 penumbraP;\n  vec3 penumbraN;\n  penumbraSurface(vertexVC, penumbraP, "
+         "penumbraN);\n";
 }
 
 void vtkPenumbraViewSamplesPass::ReleaseGraphicsResources(vtkWindow* w)

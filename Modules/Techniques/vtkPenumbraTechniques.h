@@ -4,17 +4,19 @@
  *
  * Every way Penumbra can draw shadows is registered here under a short name, with a
  * documented set of options. Applications, the scene files' "technique" block, the
- * `penumbra-render --technique` switch and the benchmark all go through Apply(), so a new
- * technique becomes available everywhere by registering it in this one place.
+ * `penumbra-render --technique` switch and the benchmark all go through Apply(), so a
+ * technique is available everywhere once its family lists it.
  *
- * Registered techniques: `none`, `auto` (the default of scene files, the CLI, the examples and
- * the Python helper: per light, the technique the project's measurements favour, see
- * vtkPenumbraAutoShadows), `vtk-shadowmap`, `raytraced`, `conservative`, `shadowmap`, `resm`,
- * `volumes`, `gears`, `pcss` and `soft-shadowmap` (the full list: GetTechniqueName()). Each
- * has one option table (name, type, default, range or choices, unit, one-line doc) in
- * vtkPenumbraTechniques.cxx; Apply() validates against it, and the
- * option accessors below, `penumbra-render --list-techniques`, the option section of
- * Data/Scenes/SCHEMA.md (GetOptionsMarkdown()) and the Python docstrings are produced from it.
+ * Registered techniques (the full list: GetTechniqueName()): `none`, `auto` (the default of
+ * scene files, the CLI, the examples and the Python helper: per light, the technique the
+ * project's measurements favour, see vtkPenumbraAutoShadows) and `vtk-shadowmap` (VTK's own
+ * pass, the peer) are the registry's own; then each family's techniques, described beside
+ * their classes (penumbra_exact_shadows::Techniques(), penumbra_shadow_maps::Techniques(),
+ * penumbra_gears::Techniques(); see vtkPenumbraTechniqueOptions.h). Each has one option
+ * table (name, type, default, range or choices, unit, one-line doc); Apply() validates
+ * against it, and the option accessors below, `penumbra-render --list-techniques`, the
+ * option section of Data/Scenes/SCHEMA.md (GetOptionsMarkdown()) and the Python docstrings
+ * are produced from it.
  *
  * Options are JSON text (an object); unknown options and out-of-range values are rejected
  * with a message naming the option.
