@@ -3,7 +3,7 @@
 // place of the paper's per-sample rasterizer) as a GL 4.3 compute shader:
 // one invocation per view sample of one side of the light plane, in cell order, so the
 // invocations of a work group mostly share one cell list. It is a port of MaskBuilder::Start
-// and MaskBuilder::Visit of vtkPenumbraGearsShadows.cxx in double precision with the same
+// and MaskBuilder::Visit of vtkPenumbraGearsMasks.cxx in double precision with the same
 // margins; where the CPU path needs its per-light-sample bookkeeping (a ray on a triangle
 // edge, a bit too close to call against Embree's float32 ray, a float32 rounding the CPU
 // takes exactly) the sample is flagged and the CPU path redoes it, so the result stays bit
@@ -17,7 +17,7 @@ layout(local_size_x = GEARS_LOCAL_SIZE) in;
 
 const int K = GEARS_K;         // light samples per row (<= 32: one uint per row)
 const int ROWS = GEARS_ROWS;   // rows (1 for a linear light)
-const int STRIDE = 29;         // doubles per caster, see vtkPenumbraGearsShadows.cxx
+const int STRIDE = 29;         // doubles per caster, see vtkPenumbraGearsShadowsInternals.h
 const uint FLAGGED = 0xFFFFFFFFu;
 
 layout(std430, binding = 0) readonly buffer CasterBuffer { double casterData[]; };
