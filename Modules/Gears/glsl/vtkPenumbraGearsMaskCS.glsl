@@ -3,7 +3,7 @@
 // place of the paper's per-sample rasterizer) as a GL 4.3 compute shader:
 // one invocation per view sample of one side of the light plane, in cell order, so the
 // invocations of a work group mostly share one cell list. It is a port of MaskBuilder::Start
-// and MaskBuilder::Visit of vtkPenumbraGearsShadows.cxx in double precision with the same
+// and MaskBuilder::Visit of vtkPenumbraGearsMasks.cxx in double precision with the same
 // margins; where the CPU path needs its per-light-sample bookkeeping (a ray on a triangle
 // edge, a bit too close to call against Embree's float32 ray, a float32 rounding the CPU
 // takes exactly) the sample is flagged and the CPU path redoes it, so the result stays bit
@@ -17,7 +17,7 @@ layout(local_size_x = GEARS_LOCAL_SIZE) in;
 
 const int K = GEARS_K;         // light samples per row (<= 32: one uint per row)
 const int ROWS = GEARS_ROWS;   // rows (1 for a linear light)
-const int STRIDE = 29;         // doubles per caster, see vtkPenumbraGearsShadows.cxx
+const int STRIDE = 29;         // doubles per caster, see vtkPenumbraGearsShadowsInternals.h
 const uint FLAGGED = 0xFFFFFFFFu;
 
 layout(std430, binding = 0) readonly buffer CasterBuffer { double casterData[]; };
@@ -372,14 +372,10 @@ bool start()
   return any;
 }
 
-// MaskBuilder::Visit(): one potential blocker.
-void visit(uint index)
+// MaskBuilder::Visit()'s cone test: true when the caster's bounding sphere at `cb` lies
+// outside the cone from P around the light.
+bool outsideCone(int cb)
 {
-  if (zNear[index] > sampleZ + uFarSlack)
-  {
-    return;
-  }
-  int cb = int(index) * STRIDE;
   if (coneValid)
   {
     dvec3 v = casterVector(cb, 25) - P;
@@ -393,19 +389,24 @@ void visit(uint index)
       double cosSum = coneCos * cosB - coneSin * sinB;
       if (cosSum > 0.0LF && cosA < cosSum - 1e-12LF)
       {
-        return;
+        return true;
       }
     }
   }
-  if (own >= 0 && int(casterData[cb + 24]) == own) // penumbra_rules::IsOwnCaster
-  {
-    return;
-  }
+  return false;
+}
+
+// MaskBuilder::Visit()'s caster plane: the plane's distance over the light (planeF), the side
+// of P (sgn) and the tolerances of the edge and plane tests; false when the whole light lies
+// on P's side of the plane, or the plane is too close to P to block.
+bool casterPlane(int cb, out Affine planeF, out double sgn, out double deltaEdge,
+  out double deltaPlane, out bool certainPossible, out double sureEdge, out double surePlane)
+{
   dvec3 n = casterVector(cb, 9);
   dvec3 v0 = casterVector(cb, 0);
   double h = dot(n, P) - dot(n, v0);
-  Affine planeF = along(n, dot(n, uCentre) - dot(n, v0));
-  double sgn = h >= 0.0LF ? 1.0LF : -1.0LF;
+  planeF = along(n, dot(n, uCentre) - dot(n, v0));
+  sgn = h >= 0.0LF ? 1.0LF : -1.0LF;
   double dMax = reach;
   double sideMin = 1.0e300LF;
   double crossMin = 1.0e300LF;
@@ -423,19 +424,25 @@ void visit(uint index)
   double cosMin = max(absH, crossAbs) / dMax;
   if (absH > err && sideMin > 2.0LF * err)
   {
-    return;
+    return false;
   }
   if (absH + err < cosMin * (tieLimit - err))
   {
-    return;
+    return false;
   }
-  double deltaEdge = min(2.0LF * err * dMax / max(absH, 1e-300LF), 4.0LF * dMax);
-  double deltaPlane = 2.0LF * err;
-  bool certainPossible = absH > tieLimit + 2.0LF * err && cosMin > 2e-6LF;
-  double sureEdge = deltaEdge + 1e-9LF * dMax;
-  double surePlane = uEpsilon * dMax + 2.0LF * err + 1e-9LF * dMax;
+  deltaEdge = min(2.0LF * err * dMax / max(absH, 1e-300LF), 4.0LF * dMax);
+  deltaPlane = 2.0LF * err;
+  certainPossible = absH > tieLimit + 2.0LF * err && cosMin > 2e-6LF;
+  sureEdge = deltaEdge + 1e-9LF * dMax;
+  surePlane = uEpsilon * dMax + 2.0LF * err + 1e-9LF * dMax;
+  return true;
+}
 
-  Affine edges[3];
+// MaskBuilder::Visit()'s edge planes: the planes through P and the caster's edges, facing
+// into the triangle's cone from P (none when P lies too close to the triangle's plane for
+// the cone to be well-defined, `cone` false). Returns how many there are.
+int edgePlanes(int cb, out bool cone, out Affine edges[3])
+{
   int nEdges = 0;
   dvec3 a[3];
   for (int i = 0; i < 3; ++i)
@@ -449,7 +456,7 @@ void visit(uint index)
   }
   double det = dot(cr[0], a[2]);
   double mag2 = dot(a[0], a[0]) * dot(a[1], a[1]) * dot(a[2], a[2]);
-  bool cone = det * det > 1e-24LF * mag2;
+  cone = det * det > 1e-24LF * mag2;
   for (int e = 0; cone && e < 3; ++e)
   {
     double len = length(cr[e]);
@@ -460,38 +467,15 @@ void visit(uint index)
     dvec3 m = (det > 0.0LF ? cr[e] : -cr[e]) / len;
     edges[nEdges++] = along(m, dot(m, uCentre) - dot(m, P));
   }
-  bool certainCone = certainPossible && cone && nEdges == 3;
+  return nEdges;
+}
 
-  Affine beyond = Affine(-sgn * planeF.base, -sgn * planeF.di, -sgn * planeF.dj);
-  int jLo = 0, jHi = ROWS - 1;
-  narrow(beyond.base + max(0.0LF, double(K - 1) * beyond.di), beyond.dj, deltaPlane, ROWS, true,
-    jLo, jHi);
-  for (int e = 0; e < nEdges && jLo <= jHi; ++e)
-  {
-    narrow(edges[e].base + max(0.0LF, double(K - 1) * edges[e].di), edges[e].dj, deltaEdge, ROWS,
-      true, jLo, jHi);
-  }
-  if (jLo > jHi)
-  {
-    return;
-  }
-  Bound loose[4];
-  int nLoose = 1 + nEdges;
-  loose[0] = makeBound(beyond, deltaPlane, true);
-  for (int e = 0; e < nEdges; ++e)
-  {
-    loose[e + 1] = makeBound(edges[e], deltaEdge, true);
-  }
-  Bound sure[4];
-  if (certainCone)
-  {
-    sure[0] = makeBound(beyond, -surePlane, false);
-    for (int e = 0; e < 3; ++e)
-    {
-      sure[e + 1] = makeBound(edges[e], -sureEdge, false);
-    }
-  }
-  bool hitAny = false;
+// MaskBuilder::Visit()'s rows jLo..jHi: the open candidate light samples between the loose
+// bounds, blocked at once inside the sure ones (certainCone), else by the exact segment test.
+// False when a test cannot decide (the sample is flagged for the CPU).
+bool maskRows(int cb, int jLo, int jHi, Bound loose[4], int nLoose, bool certainCone,
+  Bound sure[4], inout bool hitAny)
+{
   for (int j = jLo; j <= jHi; ++j)
   {
     uint openBits = candidate[j] & ~blocked[j];
@@ -543,9 +527,76 @@ void visit(uint index)
         // On an edge (the CPU path pairs it with the neighbour sharing the edge) or too
         // close to call (the CPU path asks Embree): the CPU redoes the whole sample.
         flagged = true;
-        return;
+        return false;
       }
     }
+  }
+  return true;
+}
+
+// MaskBuilder::Visit(): one potential blocker.
+void visit(uint index)
+{
+  if (zNear[index] > sampleZ + uFarSlack)
+  {
+    return;
+  }
+  int cb = int(index) * STRIDE;
+  if (outsideCone(cb))
+  {
+    return;
+  }
+  if (own >= 0 && int(casterData[cb + 24]) == own) // penumbra_rules::IsOwnCaster
+  {
+    return;
+  }
+  Affine planeF;
+  double sgn, deltaEdge, deltaPlane, sureEdge, surePlane;
+  bool certainPossible;
+  if (!casterPlane(
+        cb, planeF, sgn, deltaEdge, deltaPlane, certainPossible, sureEdge, surePlane))
+  {
+    return;
+  }
+
+  Affine edges[3];
+  bool cone;
+  int nEdges = edgePlanes(cb, cone, edges);
+  bool certainCone = certainPossible && cone && nEdges == 3;
+
+  Affine beyond = Affine(-sgn * planeF.base, -sgn * planeF.di, -sgn * planeF.dj);
+  int jLo = 0, jHi = ROWS - 1;
+  narrow(beyond.base + max(0.0LF, double(K - 1) * beyond.di), beyond.dj, deltaPlane, ROWS, true,
+    jLo, jHi);
+  for (int e = 0; e < nEdges && jLo <= jHi; ++e)
+  {
+    narrow(edges[e].base + max(0.0LF, double(K - 1) * edges[e].di), edges[e].dj, deltaEdge, ROWS,
+      true, jLo, jHi);
+  }
+  if (jLo > jHi)
+  {
+    return;
+  }
+  Bound loose[4];
+  int nLoose = 1 + nEdges;
+  loose[0] = makeBound(beyond, deltaPlane, true);
+  for (int e = 0; e < nEdges; ++e)
+  {
+    loose[e + 1] = makeBound(edges[e], deltaEdge, true);
+  }
+  Bound sure[4];
+  if (certainCone)
+  {
+    sure[0] = makeBound(beyond, -surePlane, false);
+    for (int e = 0; e < 3; ++e)
+    {
+      sure[e + 1] = makeBound(edges[e], -sureEdge, false);
+    }
+  }
+  bool hitAny = false;
+  if (!maskRows(cb, jLo, jHi, loose, nLoose, certainCone, sure, hitAny))
+  {
+    return;
   }
   if (hitAny)
   {

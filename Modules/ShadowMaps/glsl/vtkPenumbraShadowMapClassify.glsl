@@ -2,7 +2,7 @@
 // penumbra_light_views::ClassifyFacing), in double precision like the reference:
 // -1 no surface, 0 facing away or outside a spot cone (shadowed), 1 lit without a map
 // (light off, no casters), 2 pending (the map decides). lightKind, lightOff and anyCaster
-// are compiled as constants (LookupVariant in vtkPenumbraShadowMapShadows.cxx).
+// are compiled as constants (LookupVariant in vtkPenumbraShadowMapShadowsInternals.h).
 uniform sampler2D samplePositions; // xyz rebased, w = 1 where a surface was seen
 uniform sampler2D sampleNormals;   // xyz facet normal toward the camera, w = prop (-1: none)
 uniform int lightKind;     // 0 directional, 1 point, 2 spot, 3 area or linear light (as a spot)

@@ -7,7 +7,7 @@
 // fraction of its cost on llvmpipe. The same projection, slot choice and bias as the
 // CPU lookup of vtkPenumbraShadowMapShadows, in float. The lookup programs compile slotMode,
 // perspective, radius, bilinear and areaMode as constants (LookupVariant in
-// vtkPenumbraShadowMapShadows.cxx): the branches a light does not take cost nothing.
+// vtkPenumbraShadowMapShadowsInternals.h): the branches a light does not take cost nothing.
 uniform int slotMode;      // 0 one view, 1 cube faces, 2 paraboloid hemispheres
 uniform int slot;          // the slot this draw looks up
 uniform mat4 lightMatrix;  // perspective/orthographic views (rows of View)

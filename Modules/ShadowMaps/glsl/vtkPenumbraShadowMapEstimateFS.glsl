@@ -9,7 +9,7 @@
 // d(s,t)/dx, d(s,t)/dy). Each fragment reduces a tile x tile block to the largest need of
 // the samples on every `step`-th row and column (the analysis at a lower resolution, as
 // Brabec et al. 2000 fit theirs; the neighbours stay the adjacent pixels).
-// The CPU twin is EstimateSamples() in vtkPenumbraShadowMapShadows.cxx.
+// The CPU twin is EstimateSamples() in vtkPenumbraShadowMapFit.cxx.
 // Out 0: largest need along s, along t, number of estimated samples, 0.
 in vec2 texCoord;
 
