@@ -698,7 +698,15 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     impl.SetInjected({});
   }
 
-  t = Now();
+  this->RenderShaded(s, win);
+}
+
+// The scene drawn by the renderer's own drawing (or the user's pass), each shadowed light's
+// colour scaled in the receivers' shaders by its visibility textures or its shader lookup.
+void vtkPenumbraShadowPass::RenderShaded(const vtkRenderState* s, vtkOpenGLRenderWindow* win)
+{
+  Internals& impl = *this->Impl;
+  const double t = Now();
   // What the receivers' shaders read: each light's visibility textures, or what its shader
   // lookup reads.
   std::vector<vtkTextureObject*> textures;

@@ -47,6 +47,7 @@ class vtkFloatArray;
 class vtkLight;
 class vtkPenumbraFrame;
 class vtkPenumbraSceneGeometry;
+class vtkOpenGLRenderWindow;
 class vtkPenumbraShadowTechnique;
 class vtkPenumbraViewSamples;
 class vtkPenumbraViewSamplesPass;
@@ -277,6 +278,8 @@ protected:
 private:
   vtkPenumbraShadowPass(const vtkPenumbraShadowPass&) = delete;
   void operator=(const vtkPenumbraShadowPass&) = delete;
+
+  void RenderShaded(const vtkRenderState* s, vtkOpenGLRenderWindow* win);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;
