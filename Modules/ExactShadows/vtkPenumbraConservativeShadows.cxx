@@ -629,6 +629,50 @@ struct vtkPenumbraConservativeShadows::Internals
         viewShadowed += localShadowed;
       });
   }
+
+  // The per-view phase of Classify: each view's maps (UpdateMaps), then its samples
+  // (ClassifyView); their lit and shadowed samples are added to `lit` and `shadowed`, the
+  // times to `mapMs` and `classifyMs`.
+  void MapAndClassifyViews(vtkPenumbraConservativeShadows& self, const FrameContext& frame,
+    const std::vector<View>& views, LightMaps& cached, std::atomic<vtkIdType>& lit,
+    std::atomic<vtkIdType>& shadowed, double& mapMs, double& classifyMs)
+  {
+    std::atomic<vtkIdType> viewLit(0), viewShadowed(0);
+
+    for (size_t vi = 0; vi < views.size(); ++vi)
+    {
+      const View& view = views[vi];
+      const auto renderStart = Clock::now();
+      ViewMaps& maps = cached.Views[vi];
+      this->UpdateMaps(self, frame, view, cached, maps);
+      mapMs += ElapsedMs(renderStart);
+
+      const auto classifyStart = Clock::now();
+      ClassifyView(frame, view, static_cast<signed char>(vi), maps, this->Casters.Exact, viewLit,
+        viewShadowed);
+      classifyMs += ElapsedMs(classifyStart);
+    }
+    lit += viewLit.load();
+    shadowed += viewShadowed.load();
+  }
+
+  // The last phase of Classify: the uncertain samples into UncertainList, with state 1 (the
+  // others 0). Only pass A's pending samples can be other than Decided (0) here.
+  void ListUncertain(unsigned char* state)
+  {
+    std::vector<vtkIdType>& uncertainList = this->UncertainList;
+    uncertainList.clear();
+    for (vtkIdType s : this->PendingList)
+    {
+      // Samples still pending here had no view (cannot happen with full coverage) and are
+      // uncertain too, so nothing is ever left undecided.
+      state[s] = (state[s] == Uncertain || state[s] == Pending) ? 1 : 0;
+      if (state[s])
+      {
+        uncertainList.push_back(s);
+      }
+    }
+  }
 };
 
 //------------------------------------------------------------------------------
@@ -797,40 +841,12 @@ int vtkPenumbraConservativeShadows::Classify(vtkRenderer* renderer,
     frame.State = state;
     frame.SampleView = &sampleView;
     frame.Pending = &pending;
-    std::atomic<vtkIdType> viewLit(0), viewShadowed(0);
-
-    for (size_t vi = 0; vi < views.size(); ++vi)
-    {
-      const View& view = views[vi];
-      const auto renderStart = Clock::now();
-      Internals::ViewMaps& maps = cached.Views[vi];
-      impl.UpdateMaps(*this, frame, view, cached, maps);
-      mapMs += ElapsedMs(renderStart);
-
-      const auto classifyStart = Clock::now();
-      Internals::ClassifyView(
-        frame, view, static_cast<signed char>(vi), maps, impl.Casters.Exact, viewLit, viewShadowed);
-      classifyMs += ElapsedMs(classifyStart);
-    }
-    lit += viewLit.load();
-    shadowed += viewShadowed.load();
+    impl.MapAndClassifyViews(*this, frame, views, cached, lit, shadowed, mapMs, classifyMs);
   }
 
   // ---- The uncertain samples, for the caller to resolve.
-  // Only pass A's pending samples can be other than Decided (0) here.
-  std::vector<vtkIdType>& uncertainList = impl.UncertainList;
-  uncertainList.clear();
-  for (vtkIdType s : pending)
-  {
-    // Samples still pending here had no view (cannot happen with full coverage) and are
-    // uncertain too, so nothing is ever left undecided.
-    state[s] = (state[s] == Uncertain || state[s] == Pending) ? 1 : 0;
-    if (state[s])
-    {
-      uncertainList.push_back(s);
-    }
-  }
-  const vtkIdType uncertain = static_cast<vtkIdType>(uncertainList.size());
+  impl.ListUncertain(state);
+  const vtkIdType uncertain = static_cast<vtkIdType>(impl.UncertainList.size());
   this->MapTimeMs = uploadMs + mapMs;
   this->ClassifyTimeMs = classifyMs;
   this->NumberOfLitSamples = lit.load();

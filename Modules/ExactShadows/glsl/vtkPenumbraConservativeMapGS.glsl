@@ -80,9 +80,10 @@ int clipPolygon(inout vec4 p[12], int n, vec4 plane)
   return m;
 }
 
-void main()
+// Step 1: the input triangle into `poly`, clipped to the view's side planes; returns its vertex
+// count (below 3: nothing left to draw).
+int clipToSides(out vec4 poly[12])
 {
-  vec4 poly[12];
   for (int i = 0; i < 3; ++i)
   {
     poly[i] = clipVS[i];
@@ -97,7 +98,7 @@ void main()
     vec3 d = vec3(dot(side[k], clipVS[0]), dot(side[k], clipVS[1]), dot(side[k], clipVS[2]));
     if (all(lessThan(d, vec3(0.0))))
     {
-      return;
+      return 0;
     }
     allInside = allInside && all(greaterThanEqual(d, vec3(0.0)));
   }
@@ -109,44 +110,44 @@ void main()
       n = clipPolygon(poly, n, side[k]);
     }
   }
-  if (n < 3)
-  {
-    return;
-  }
-  sId = idVS[0];
-  if (perspective == 1)
-  {
-    bool tip = false;
-    for (int i = 0; i < n; ++i)
-    {
-      tip = tip || poly[i].w < nearW;
-    }
-    if (tip)
-    {
-      sNear = 1;
-      sCount = 0;
-      sPlane = vec4(0.0);
-      for (int i = 0; i < 9; ++i)
-      {
-        sPoly[i] = vec2(0.0);
-      }
-      sBound = vec2(0.0);
-      emitAt(vec2(-2.0, -2.0));
-      emitAt(vec2(mapSize.x + 2.0, -2.0));
-      emitAt(vec2(-2.0, mapSize.y + 2.0));
-      emitAt(vec2(mapSize.x + 2.0, mapSize.y + 2.0));
-      EndPrimitive();
-      return;
-    }
-  }
-  sNear = 0;
+  return n;
+}
 
-  // Texel coordinates and the depth quantity, which is affine in texel space: the linear
-  // depth z for orthographic views, q = 1 / w for perspective ones.
-  vec2 t[9];
-  float q[9];
-  float qmin = 1e30;
-  float qmax = -1e30;
+// Step 2 (perspective views): a polygon reaching the tip region is drawn as a full-map quad at
+// depth 0; true when it was.
+bool emitTipQuad(vec4 poly[12], int n)
+{
+  bool tip = false;
+  for (int i = 0; i < n; ++i)
+  {
+    tip = tip || poly[i].w < nearW;
+  }
+  if (tip)
+  {
+    sNear = 1;
+    sCount = 0;
+    sPlane = vec4(0.0);
+    for (int i = 0; i < 9; ++i)
+    {
+      sPoly[i] = vec2(0.0);
+    }
+    sBound = vec2(0.0);
+    emitAt(vec2(-2.0, -2.0));
+    emitAt(vec2(mapSize.x + 2.0, -2.0));
+    emitAt(vec2(-2.0, mapSize.y + 2.0));
+    emitAt(vec2(mapSize.x + 2.0, mapSize.y + 2.0));
+    EndPrimitive();
+  }
+  return tip;
+}
+
+// Texel coordinates and the depth quantity, which is affine in texel space: the linear
+// depth z for orthographic views, q = 1 / w for perspective ones.
+void projectToMap(vec4 poly[12], int n, out vec2 t[9], out float q[9], out float qmin,
+  out float qmax)
+{
+  qmin = 1e30;
+  qmax = -1e30;
   for (int i = 0; i < n; ++i)
   {
     t[i] = (poly[i].xy / poly[i].w * 0.5 + 0.5) * mapSize;
@@ -159,9 +160,12 @@ void main()
     sPoly[i] = i < n ? t[i] : t[0];
   }
   sCount = n;
+}
 
-  // Depth plane from the best-shaped fan triangle; only trusted when well conditioned, the
-  // vertex extreme alone is always conservative (Hertel et al. 2009, §4.1).
+// Depth plane from the best-shaped fan triangle; only trusted when well conditioned, the
+// vertex extreme alone is always conservative (Hertel et al. 2009, §4.1).
+void fitDepthPlane(vec2 t[9], float q[9], int n, float qmin, float qmax)
+{
   int best = 1;
   float bestArea = 0.0;
   for (int i = 1; i + 1 < n; ++i)
@@ -190,11 +194,14 @@ void main()
   }
   sBound = vec2(perspective == 1 ? qmax : qmin,
     0.02 * (qmax - qmin) + 1e-6 * max(abs(qmax), abs(qmin)));
+}
 
-  // Box: the polygon's bounds grown by the texel diagonal, cut to the map plus a margin.
-  float l = length(vec2(1.0));
-  vec2 lo = t[0];
-  vec2 hi = t[0];
+// Box: the polygon's bounds grown by the texel diagonal `l`, cut to the map plus a margin;
+// false when nothing of it is left.
+bool growBox(vec2 t[9], int n, float l, out vec2 lo, out vec2 hi)
+{
+  lo = t[0];
+  hi = t[0];
   for (int i = 1; i < n; ++i)
   {
     lo = min(lo, t[i]);
@@ -202,78 +209,115 @@ void main()
   }
   lo = max(lo - vec2(l), vec2(-2.0));
   hi = min(hi + vec2(l), mapSize + vec2(2.0));
-  if (lo.x >= hi.x || lo.y >= hi.y)
+  return !(lo.x >= hi.x || lo.y >= hi.y);
+}
+
+// Step 3: T' of Hertel et al. 2009, §4.1, for the (possibly clipped, always convex) polygon:
+// vertex i is where the lines of edges i-1 and i, each moved out by l, meet. Nearly parallel
+// neighbouring edges (spikes, duplicate clip vertices) fall back to the box: false then.
+bool enlarge(vec2 t[9], int n, float l, out vec4 tp[12])
+{
+  float area = 0.0;
+  for (int i = 0; i < n; ++i)
+  {
+    vec2 a = t[i];
+    vec2 b = t[(i + 1) % n];
+    area += a.x * b.y - a.y * b.x;
+  }
+  float s = area > 0.0 ? 1.0 : -1.0;
+  vec2 nrm[9];
+  float c[9];
+  bool ok = area != 0.0;
+  for (int i = 0; i < n; ++i)
+  {
+    vec2 e = t[(i + 1) % n] - t[i];
+    float len = length(e);
+    ok = ok && len > 0.0;
+    nrm[i] = len > 0.0 ? s * vec2(e.y, -e.x) / len : vec2(0.0);
+    c[i] = dot(nrm[i], t[i]) + l;
+  }
+  for (int i = 0; i < n && ok; ++i)
+  {
+    int h = (i + n - 1) % n;
+    vec2 na = nrm[h];
+    vec2 nb = nrm[i];
+    float d = na.x * nb.y - na.y * nb.x;
+    ok = abs(d) > 1e-3;
+    vec2 v = ok ? vec2(c[h] * nb.y - c[i] * na.y, na.x * c[i] - nb.x * c[h]) / d : vec2(0.0);
+    ok = ok && all(lessThan(abs(v), vec2(1e6)));
+    tp[i] = vec4(v, 0.0, 1.0);
+  }
+  return ok;
+}
+
+// T' cut to the grown box (the spikes at acute vertices, which the paper accepts), drawn as
+// a strip.
+void emitCut(vec4 tp[12], int n, vec2 lo, vec2 hi)
+{
+  int m = n;
+  m = clipPolygon(tp, m, vec4(1.0, 0.0, 0.0, -lo.x));
+  m = clipPolygon(tp, m, vec4(-1.0, 0.0, 0.0, hi.x));
+  m = clipPolygon(tp, m, vec4(0.0, 1.0, 0.0, -lo.y));
+  m = clipPolygon(tp, m, vec4(0.0, -1.0, 0.0, hi.y));
+  if (m < 3)
+  {
+    return;
+  }
+  // Convex polygon as a strip: 0, 1, m-1, 2, m-2, ...
+  int a = 1;
+  int b = m - 1;
+  emitAt(tp[0].xy);
+  for (int k = 1; k < m; ++k)
+  {
+    if ((k & 1) == 1)
+    {
+      emitAt(tp[a].xy);
+      ++a;
+    }
+    else
+    {
+      emitAt(tp[b].xy);
+      --b;
+    }
+  }
+  EndPrimitive();
+}
+
+void main()
+{
+  vec4 poly[12];
+  int n = clipToSides(poly);
+  if (n < 3)
+  {
+    return;
+  }
+  sId = idVS[0];
+  if (perspective == 1 && emitTipQuad(poly, n))
+  {
+    return;
+  }
+  sNear = 0;
+
+  vec2 t[9];
+  float q[9];
+  float qmin;
+  float qmax;
+  projectToMap(poly, n, t, q, qmin, qmax);
+  fitDepthPlane(t, q, n, qmin, qmax);
+
+  float l = length(vec2(1.0));
+  vec2 lo;
+  vec2 hi;
+  if (!growBox(t, n, l, lo, hi))
   {
     return;
   }
 
+  vec4 tp[12];
+  if (enlarge(t, n, l, tp))
   {
-    // T' of Hertel et al. 2009, §4.1, for the (possibly clipped, always convex) polygon: vertex i
-    // is where the lines of edges i-1 and i, each moved out by l, meet. Nearly parallel
-    // neighbouring edges (spikes, duplicate clip vertices) fall back to the box.
-    float area = 0.0;
-    for (int i = 0; i < n; ++i)
-    {
-      vec2 a = t[i];
-      vec2 b = t[(i + 1) % n];
-      area += a.x * b.y - a.y * b.x;
-    }
-    float s = area > 0.0 ? 1.0 : -1.0;
-    vec2 nrm[9];
-    float c[9];
-    bool ok = area != 0.0;
-    for (int i = 0; i < n; ++i)
-    {
-      vec2 e = t[(i + 1) % n] - t[i];
-      float len = length(e);
-      ok = ok && len > 0.0;
-      nrm[i] = len > 0.0 ? s * vec2(e.y, -e.x) / len : vec2(0.0);
-      c[i] = dot(nrm[i], t[i]) + l;
-    }
-    vec4 tp[12];
-    for (int i = 0; i < n && ok; ++i)
-    {
-      int h = (i + n - 1) % n;
-      vec2 na = nrm[h];
-      vec2 nb = nrm[i];
-      float d = na.x * nb.y - na.y * nb.x;
-      ok = abs(d) > 1e-3;
-      vec2 v = ok ? vec2(c[h] * nb.y - c[i] * na.y, na.x * c[i] - nb.x * c[h]) / d : vec2(0.0);
-      ok = ok && all(lessThan(abs(v), vec2(1e6)));
-      tp[i] = vec4(v, 0.0, 1.0);
-    }
-    if (ok)
-    {
-      // Cut to the grown box (the spikes at acute vertices, which the paper accepts).
-      int m = n;
-      m = clipPolygon(tp, m, vec4(1.0, 0.0, 0.0, -lo.x));
-      m = clipPolygon(tp, m, vec4(-1.0, 0.0, 0.0, hi.x));
-      m = clipPolygon(tp, m, vec4(0.0, 1.0, 0.0, -lo.y));
-      m = clipPolygon(tp, m, vec4(0.0, -1.0, 0.0, hi.y));
-      if (m < 3)
-      {
-        return;
-      }
-      // Convex polygon as a strip: 0, 1, m-1, 2, m-2, ...
-      int a = 1;
-      int b = m - 1;
-      emitAt(tp[0].xy);
-      for (int k = 1; k < m; ++k)
-      {
-        if ((k & 1) == 1)
-        {
-          emitAt(tp[a].xy);
-          ++a;
-        }
-        else
-        {
-          emitAt(tp[b].xy);
-          --b;
-        }
-      }
-      EndPrimitive();
-      return;
-    }
+    emitCut(tp, n, lo, hi);
+    return;
   }
   emitAt(lo);
   emitAt(vec2(hi.x, lo.y));

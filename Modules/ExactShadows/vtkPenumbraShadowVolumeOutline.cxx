@@ -1,0 +1,328 @@
+// vtkPenumbraShadowVolumeShadows: the edge resolve, the volumes' outline from the camera and the
+// samples near it (or not countable) traced exactly.
+
+#include "vtkFloatArray.h"
+#include "vtkPenumbraReference.h"
+#include "vtkPenumbraShadowVolumeInternals.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace penumbra_shadow_volume
+{
+// From volume triangles (as drawn: light caps first does not matter) and segments that
+// are always on the outline, with their points' identities (VolumeStream) over a mesh of
+// `meshPoints` points. Points are numbered in order of first use.
+void VolumeOutline::Build(
+  const VolumeStream& triangles, const VolumeStream& forced, size_t meshPoints)
+{
+  this->Clear();
+  std::vector<int> number(2 * meshPoints, -1);
+  auto point = [&](const VolumeStream& from, size_t vertex)
+  {
+    int& n = number[static_cast<size_t>(from.Id[vertex])];
+    if (n < 0)
+    {
+      n = static_cast<int>(this->Points.size());
+      const float* v = from.V.data() + 4 * vertex;
+      this->Points.push_back({ v[0], v[1], v[2], v[3] });
+    }
+    return n;
+  };
+  const size_t nt = triangles.Id.size() / 3;
+  this->Faces.resize(nt);
+  for (size_t t = 0; t < nt; ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      this->Faces[t][static_cast<size_t>(k)] = point(triangles, 3 * t + static_cast<size_t>(k));
+    }
+  }
+  // The face edges (first, second, incidence) in lexicographic order: bucketed by their
+  // first point (a counting sort), then each small bucket sorted.
+  std::vector<int> bucket(this->Points.size() + 1, 0);
+  for (const auto& f : this->Faces)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      ++bucket[static_cast<size_t>(std::min(f[static_cast<size_t>(k)], f[(k + 1) % 3])) + 1];
+    }
+  }
+  std::partial_sum(bucket.begin(), bucket.end(), bucket.begin());
+  std::vector<std::array<int, 3>> entries(3 * nt);
+  std::vector<int> next(bucket.begin(), bucket.end() - 1);
+  for (size_t t = 0; t < nt; ++t)
+  {
+    const auto& f = this->Faces[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      const int a = f[static_cast<size_t>(k)], b = f[static_cast<size_t>((k + 1) % 3)];
+      entries[static_cast<size_t>(next[static_cast<size_t>(std::min(a, b))]++)] = { std::min(a, b),
+        std::max(a, b), 2 * static_cast<int>(t) + (a < b) };
+    }
+  }
+  for (size_t p = 0; p + 1 < bucket.size(); ++p)
+  {
+    std::sort(entries.begin() + bucket[p], entries.begin() + bucket[p + 1]);
+  }
+  for (size_t i = 0; i < entries.size(); ++i)
+  {
+    if (i == 0 || entries[i][0] != entries[i - 1][0] || entries[i][1] != entries[i - 1][1])
+    {
+      this->Edges.push_back({ entries[i][0], entries[i][1] });
+      this->EdgeStart.push_back(static_cast<int>(i));
+    }
+    this->Incidences.push_back(entries[i][2]);
+  }
+  this->EdgeStart.push_back(static_cast<int>(entries.size()));
+  for (size_t i = 0; i + 1 < forced.Id.size(); i += 2)
+  {
+    this->Forced.push_back({ point(forced, i), point(forced, i + 1) });
+  }
+}
+
+// Marks in `pixels` (width x height, one view) every pixel whose centre lies within Reach
+// of an outline edge projected with `projection` (rebased world -> clip, VTK's camera).
+void VolumeOutline::Mark(
+  const double projection[4][4], int width, int height, std::vector<unsigned char>& pixels)
+{
+  pixels.assign(static_cast<size_t>(width) * static_cast<size_t>(height), 0);
+  this->Projected.resize(this->Points.size());
+  for (size_t i = 0; i < this->Points.size(); ++i)
+  {
+    const auto& p = this->Points[i];
+    for (int r : { 0, 1, 3 })
+    {
+      this->Projected[i][r == 3 ? 2 : r] = projection[r][0] * p[0] + projection[r][1] * p[1] +
+        projection[r][2] * p[2] + projection[r][3] * p[3];
+    }
+  }
+  // The sign of det(x y w) of a face: its screen winding for any signs of w.
+  this->FaceSide.resize(this->Faces.size());
+  for (size_t t = 0; t < this->Faces.size(); ++t)
+  {
+    const auto& a = this->Projected[static_cast<size_t>(this->Faces[t][0])];
+    const auto& b = this->Projected[static_cast<size_t>(this->Faces[t][1])];
+    const auto& c = this->Projected[static_cast<size_t>(this->Faces[t][2])];
+    const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+      a[2] * (b[0] * c[1] - b[1] * c[0]);
+    this->FaceSide[t] = det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+  }
+  for (size_t e = 0; e < this->Edges.size(); ++e)
+  {
+    // Faces on the left of first -> second minus those on the right, per winding: the
+    // count is continuous across the edge only if both balance (and no face is edge-on).
+    int front = 0, back = 0;
+    bool onEdge = false;
+    for (int i = this->EdgeStart[e]; i < this->EdgeStart[e + 1]; ++i)
+    {
+      const int side =
+        this->FaceSide[static_cast<size_t>(this->Incidences[static_cast<size_t>(i)] / 2)];
+      const int forward = this->Incidences[static_cast<size_t>(i)] % 2 ? 1 : -1;
+      onEdge = onEdge || side == 0;
+      (side > 0 ? front : back) += forward;
+    }
+    if (onEdge || front != 0 || back != 0)
+    {
+      this->MarkSegment(this->Edges[e][0], this->Edges[e][1], width, height, pixels);
+    }
+  }
+  for (const auto& f : this->Forced)
+  {
+    this->MarkSegment(f[0], f[1], width, height, pixels);
+  }
+}
+
+// The segment between two points, clipped in homogeneous coordinates to the view widened
+// by two pixels (which also keeps w > 0), then every pixel centre within Reach of it.
+void VolumeOutline::MarkSegment(
+  int i0, int i1, int width, int height, std::vector<unsigned char>& pixels) const
+{
+  const auto& p = this->Projected[static_cast<size_t>(i0)];
+  const auto& q = this->Projected[static_cast<size_t>(i1)];
+  double t0 = 0.0, t1 = 1.0;
+  const double kx = 1.0 + 4.0 / width, ky = 1.0 + 4.0 / height;
+  // Planes k w + x >= 0, k w - x >= 0, the same for y.
+  const double planes[4][2] = { { kx, 1.0 }, { kx, -1.0 }, { ky, 1.0 }, { ky, -1.0 } };
+  for (int k = 0; k < 4; ++k)
+  {
+    const int axis = k / 2;
+    const double d0 = planes[k][0] * p[2] + planes[k][1] * p[static_cast<size_t>(axis)];
+    const double d1 = planes[k][0] * q[2] + planes[k][1] * q[static_cast<size_t>(axis)];
+    if (d0 < 0.0 && d1 < 0.0)
+    {
+      return;
+    }
+    if (d0 < 0.0)
+    {
+      t0 = std::max(t0, d0 / (d0 - d1));
+    }
+    else if (d1 < 0.0)
+    {
+      t1 = std::min(t1, d0 / (d0 - d1));
+    }
+  }
+  if (!(t0 <= t1))
+  {
+    return;
+  }
+  double end[2][2];
+  for (int e = 0; e < 2; ++e)
+  {
+    const double t = e == 0 ? t0 : t1;
+    const double w = p[2] + t * (q[2] - p[2]);
+    if (!(w > 0.0))
+    {
+      return; // through the eye: nothing of it is on the view
+    }
+    end[e][0] = 0.5 * ((p[0] + t * (q[0] - p[0])) / w + 1.0) * width;
+    end[e][1] = 0.5 * ((p[1] + t * (q[1] - p[1])) / w + 1.0) * height;
+  }
+  const double r = Reach;
+  const double ylo = std::min(end[0][1], end[1][1]), yhi = std::max(end[0][1], end[1][1]);
+  const int rowFirst = std::max(0, static_cast<int>(std::ceil(ylo - r - 0.5)));
+  const int rowLast = std::min(height - 1, static_cast<int>(std::floor(yhi + r - 0.5)));
+  const double dy = end[1][1] - end[0][1];
+  for (int y = rowFirst; y <= rowLast; ++y)
+  {
+    // The part of the segment within Reach of the row's centre line, in x.
+    double ta = 0.0, tb = 1.0;
+    if (std::fabs(dy) > 1e-12)
+    {
+      ta = (y + 0.5 - r - end[0][1]) / dy;
+      tb = (y + 0.5 + r - end[0][1]) / dy;
+      if (ta > tb)
+      {
+        std::swap(ta, tb);
+      }
+      ta = std::max(ta, 0.0);
+      tb = std::min(tb, 1.0);
+      if (ta > tb)
+      {
+        continue;
+      }
+    }
+    const double xa = end[0][0] + ta * (end[1][0] - end[0][0]);
+    const double xb = end[0][0] + tb * (end[1][0] - end[0][0]);
+    const int first = std::max(0, static_cast<int>(std::ceil(std::min(xa, xb) - r - 0.5)));
+    const int last = std::min(width - 1, static_cast<int>(std::floor(std::max(xa, xb) + r - 0.5)));
+    for (int x = first; x <= last; ++x)
+    {
+      pixels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)] = 1;
+    }
+  }
+}
+}
+
+using namespace penumbra_shadow_volume;
+
+namespace
+{
+// Below this cosine between the sample normal and the light direction a sample is traced
+// (see the edge resolve): about 0.06 degrees from grazing.
+constexpr double GrazingCosine = 1e-3;
+
+// Which pending samples (`state`) to trace: those the stencil could not count (see
+// SampleLayout) and, with the edge resolve (`outline` given: one view's pixels within reach of
+// the volumes' outline, see VolumeOutline), those whose answer may hang on the rasterizer's
+// rounding: on the outline, next to a neighbour with another result or next to a pixel that
+// is not counted (background, facing away: outlines and terminators), or grazed by the
+// light. The outline alone covers every snapping error; the neighbour test stays for the
+// depth side of the count (a receiver meeting a volume face within float depth rounding).
+// Returns the number of samples marked in `mask`.
+vtkIdType MarkTraced(const SampleLayout& layout, const penumbra_light_views::FrameInputs& in,
+  const VolumeLight& light, const std::vector<unsigned char>& state, const float* vis,
+  const unsigned char* outline, unsigned char* mask)
+{
+  const vtkIdType perLayer = static_cast<vtkIdType>(layout.Width) * layout.Height;
+  vtkIdType traced = 0;
+  for (vtkIdType s = 0; s < in.NumberOfSamples; ++s)
+  {
+    mask[s] = 0;
+    if (state[static_cast<size_t>(s)] != Pending)
+    {
+      continue;
+    }
+    const vtkIdType pixel = layout.Pixel[static_cast<size_t>(s)];
+    const bool resolve = outline != nullptr;
+    bool edge = pixel < 0 || (resolve && outline[pixel % perLayer]);
+    const vtkIdType layerStart = pixel - pixel % perLayer;
+    const int x = static_cast<int>(pixel % perLayer % layout.Width);
+    const int y = static_cast<int>(pixel % perLayer / layout.Width);
+    for (int dy = -1; dy <= 1 && resolve && !edge; ++dy)
+    {
+      for (int dx = -1; dx <= 1 && !edge; ++dx)
+      {
+        const int nx = x + dx, ny = y + dy;
+        if (nx < 0 || ny < 0 || nx >= layout.Width || ny >= layout.Height)
+        {
+          continue;
+        }
+        const vtkIdType t = layout.SampleAt[static_cast<size_t>(
+          layerStart + static_cast<vtkIdType>(ny) * layout.Width + nx)];
+        // A background neighbour: an outline. A facing-away one: the light's terminator,
+        // where the sample's own caster has a silhouette edge and its side quads start.
+        edge = t < 0 || state[static_cast<size_t>(t)] != Pending || vis[t] != vis[s];
+      }
+    }
+    if (resolve && !edge)
+    {
+      // A light grazing the surface (the N.L ~ 0 case): the shadow boundary then slides
+      // along the surface with every rounding of the sample (the G-buffer's float position
+      // vs. the exact plane the stencil tests), so only a ray decides it as the reference
+      // does.
+      const float* nn = in.Normals + 3 * s;
+      double l[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        l[c] = light.Directional
+          ? light.Direction[c]
+          : light.Position[c] - (static_cast<double>(in.Positions[3 * s + c]) + in.Shift[c]);
+      }
+      const double len = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+      const double cosine = (nn[0] * l[0] + nn[1] * l[1] + nn[2] * l[2]) / len;
+      edge = !(cosine > GrazingCosine);
+    }
+    mask[s] = edge ? 1 : 0;
+    traced += edge;
+  }
+  return traced;
+}
+}
+
+// ---- Samples the stencil could not count, and the edge resolve (see MarkTraced), traced
+// exactly. False when tracing failed (the visibility is then emptied).
+bool vtkPenumbraShadowVolumeShadows::Internals::TraceUncertain(
+  vtkPenumbraShadowVolumeShadows& self, const Group& g, const Job& job)
+{
+  const SampleLayout& layout = this->Layout;
+  if (!self.Resolve && layout.Unplaced <= 0)
+  {
+    return true;
+  }
+  const vtkIdType n = g.N;
+  const auto resolveStart = Clock::now();
+  this->Mask->SetNumberOfComponents(1);
+  this->Mask->SetNumberOfTuples(n);
+  if (self.Resolve)
+  {
+    job.Volumes->Outline.Mark(this->Projection, layout.Width, layout.Height, this->OutlinePixels);
+  }
+  const vtkIdType traced = MarkTraced(layout, *g.In, job.VL, job.State, job.Vis,
+    self.Resolve ? this->OutlinePixels.data() : nullptr, n ? this->Mask->GetPointer(0) : nullptr);
+  if (traced > 0)
+  {
+    self.Reference->SetGeometry(g.Geometry);
+    if (!self.Reference->ComputeVisibility(g.Samples, job.Light, job.Visibility, this->Mask))
+    {
+      vtkErrorWithObjectMacro(&self, << "shadow volumes: tracing the edge samples failed: "
+                                     << self.Reference->GetErrorMessage());
+      job.Visibility->SetNumberOfTuples(0);
+      return false;
+    }
+  }
+  self.NumberOfResolvedSamples += traced;
+  self.ResolveTimeMs += ElapsedMs(resolveStart);
+  return true;
+}
