@@ -1,7 +1,8 @@
 """The shape of the code: files of one subject and functions of one phase. No C++ source file
 over 1,200 lines and no function body over 150 lines, in C++ or GLSL, anywhere under
-Modules, CLI and Wrapping; and no layer including a header of a layer above it (the module
-dependencies of vtk.module files point down only)."""
+Modules, CLI and Wrapping; the module dependencies of the vtk.module files point down the
+layers only (no technique family uses another); and the contract (Modules/Shadows) names no
+technique."""
 
 import os
 import re
@@ -99,6 +100,50 @@ class CodeShapeTest(unittest.TestCase):
                 long.append("%s:%d %d lines (%s)" % (os.path.relpath(path, SOURCE_DIR), start,
                                                       length, head))
         self.assertEqual(long, [], "function bodies over %d lines" % MAX_FUNCTION_LINES)
+
+    def test_layers_point_down(self):
+        # name -> its dependencies on Penumbra modules (DEPENDS and PRIVATE_DEPENDS).
+        deps = {}
+        for folder in sorted(os.listdir(os.path.join(SOURCE_DIR, "Modules"))):
+            path = os.path.join(SOURCE_DIR, "Modules", folder, "vtk.module")
+            if not os.path.exists(path):
+                continue
+            section, uses = None, set()
+            with open(path) as f:
+                for line in f:
+                    word = line.strip()
+                    if line[:1].isalpha():
+                        section = word
+                    elif (section in ("DEPENDS", "PRIVATE_DEPENDS")
+                          and word.startswith("Penumbra::")):
+                        uses.add(word[len("Penumbra::"):])
+            deps[folder] = uses
+        layer = {"Scene": 0, "Sources": 0, "SceneIO": 1, "RayTracing": 1, "Headless": 1,
+                 "Analysis": 2, "Shadows": 2, "ShadowMaps": 3, "ExactShadows": 3, "Gears": 3,
+                 "Techniques": 4}
+        self.assertEqual(set(deps), set(layer), "a module without a layer, or a layer gone")
+        upward = ["%s -> %s" % (m, d) for m, uses in deps.items() for d in sorted(uses)
+                  if layer[d] >= layer[m]]
+        self.assertEqual(upward, [], "dependencies that do not point down")
+
+    def test_the_contract_names_no_technique(self):
+        techniques = []
+        for family in ("ShadowMaps", "ExactShadows", "Gears", "Techniques"):
+            for name in os.listdir(os.path.join(SOURCE_DIR, "Modules", family)):
+                if name.endswith("Shadows.h"):
+                    techniques.append(name[:-2])
+        self.assertIn("vtkPenumbraGearsShadows", techniques)
+        named = []
+        for path in sources((".cxx", ".h")):
+            # Its tests may use any technique (through the registry).
+            relative = os.path.relpath(path, os.path.join(SOURCE_DIR, "Modules", "Shadows"))
+            if relative.startswith("..") or relative.startswith("Testing"):
+                continue
+            with open(path, encoding="utf-8") as f:
+                text = strip_comments_and_strings(f.read())
+            named += ["%s: %s" % (os.path.basename(path), t) for t in techniques
+                      if re.search(r"\b%s\b" % t, text)]
+        self.assertEqual(named, [], "the contract names technique classes")
 
     def test_the_checker_finds_a_long_function(self):
         # The checker itself: a function of 151 lines is found, one of 150 is not.
