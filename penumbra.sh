@@ -51,7 +51,7 @@ setup() {
   install_packages "${packages[@]}"
 }
 
-# ---- ParaView (issue 21). Debian 12's paraview-dev is unusable without python3-paraview (its
+# ---- ParaView. Debian 12's paraview-dev is unusable without python3-paraview (its
 # CMake files name the Python modules, pvpython and the wrapping hierarchy files it ships), and
 # python3-paraview conflicts with python3-vtk9, which libvtk9-dev and the default build need:
 # both own /usr/lib/python3/dist-packages/vtkmodules. So python3-paraview is never installed:

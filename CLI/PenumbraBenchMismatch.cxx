@@ -1,6 +1,6 @@
 // penumbra-bench --mismatch-lists: where a hard-shadow technique disagrees with the exact
 // reference, sample by sample, and what is around each such sample, so that the cause of a
-// mismatch rate can be read off instead of guessed (issue 17: shadow boundaries, creases and
+// mismatch rate can be read off instead of guessed (shadow boundaries, creases and
 // contacts, the level rmsm looked the sample up at).
 
 #include "PenumbraBench.h"
