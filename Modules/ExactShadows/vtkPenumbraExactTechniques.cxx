@@ -1,6 +1,6 @@
-// The exact family's techniques as the registry lists them: raytraced, adaptive-soft, conservative,
-// llsm, llsm-hybrid, volumes: each technique's options live here, beside the classes they
-// configure.
+// The exact family's techniques as the registry lists them (raytraced, adaptive-soft,
+// conservative, llsm, llsm-hybrid, volumes): each one's option table and factory, beside the
+// classes they configure.
 #include "vtkPenumbraExactTechniques.h"
 
 #include "vtkPenumbraConservativeShadows.h"

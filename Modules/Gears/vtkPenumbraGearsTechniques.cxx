@@ -1,4 +1,4 @@
-// GEARS as the registry lists it: each technique's options live here, beside the classes they
+// GEARS as the registry lists it: its option table and factory, beside the class they
 // configure.
 #include "vtkPenumbraGearsTechniques.h"
 

@@ -1,6 +1,6 @@
-// The shadow-map family's techniques as the registry lists them: shadowmap, resm, rmsm, pcss,
-// single-sample-soft, soft-shadowmap: each technique's options live here, beside the classes they
-// configure.
+// The shadow-map family's techniques as the registry lists them (shadowmap, resm, rmsm, pcss,
+// single-sample-soft, soft-shadowmap): each one's option table and factory, beside the classes
+// they configure.
 #include "vtkPenumbraShadowMapTechniques.h"
 
 #include "vtkPenumbraResolutionMatchedShadows.h"
