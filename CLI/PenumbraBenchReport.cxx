@@ -107,25 +107,24 @@ void WriteMarkdown(const std::string& path, const std::vector<Row>& rows,
       out << "- " << line << "\n";
     }
   }
-  bool gears = false;
+  bool listed = false;
   for (const Row& r : rows)
   {
-    if (r.GearsStats.empty())
+    if (r.Statistics.empty())
     {
       continue;
     }
-    if (!gears)
+    if (!listed)
     {
-      out << "\nGEARS statistics of the last frame and the last light it handled (Wang et al. "
-             "2014, Tables 5-6): busy cells / cells, triangles per busy cell (max, mean), "
-             "global-list "
-             "triangles, assignments and the share that block at least one light sample, light "
-             "samples the reference traced, phase times, and the number of view samples whose "
-             "visibility differs from the ray tracer at the same k in the same run.\n\n";
-      gears = true;
+      out << "\nEach technique's statistics of the last frame (vtkPenumbraStatistics: counts, "
+             "shares and phase times in ms; the figures other than map sizes describe the last "
+             "light the technique handled). On area lights, differs_from_raytraced counts the "
+             "view samples whose visibility differs from the ray tracer at the same number of "
+             "light samples in the same run (GEARS: Wang et al. 2014, Tables 5-6 analogues).\n\n";
+      listed = true;
     }
-    out << "- " << r.Scene << " " << r.Setting << " light " << r.Light << ": " << r.GearsStats
-        << "\n";
+    out << "- " << r.Scene << " " << r.Technique << " " << r.Setting << " light " << r.Light << ": "
+        << r.Statistics << "\n";
   }
   if (!failures.empty())
   {

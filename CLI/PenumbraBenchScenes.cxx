@@ -16,18 +16,15 @@
 #include "vtkLightCollection.h"
 #include "vtkNew.h"
 #include "vtkPenumbraAreaLight.h"
-#include "vtkPenumbraGearsShadows.h"
 #include "vtkPenumbraImageIO.h"
 #include "vtkPenumbraLineReference.h"
-#include "vtkPenumbraLinkedListShadows.h"
 #include "vtkPenumbraMetrics.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraResolutionMatchedShadows.h"
 #include "vtkPenumbraSceneReader.h"
-#include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowTechnique.h"
-#include "vtkPenumbraShadowVolumeShadows.h"
+#include "vtkPenumbraStatistics.h"
 #include "vtkPenumbraTechniques.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPenumbraVisibilityRules.h"
@@ -286,45 +283,48 @@ std::string ComputeReference(SceneContext& ctx)
   return "";
 }
 
-// GEARS grid statistics of the last frame (Wang et al. 2014, Tables 5-6 analogues), and how
-// many samples differ from the ray tracer at the same k.
-std::string GearsStatistics(vtkPenumbraGearsShadows* gears, vtkPenumbraShadowPass* pass,
-  const Measured& ctx, const TechniqueSpec& spec)
+// How many samples of light `m` the pass's visibility gives differently from the ray tracer
+// at the same number of light samples in this run (soft techniques that sample the light as
+// the reference does, GEARS: Wang et al. 2014, Tables 5-6 analogues), or -1 when the ray
+// tracer did not run at that setting.
+vtkIdType DifferencesFromTraced(
+  vtkPenumbraShadowPass* pass, const Measured& m, const TechniqueSpec& spec)
 {
-  std::ostringstream stats;
-  stats << gears->GetNumberOfOccupiedCells() << " / " << gears->GetNumberOfCells()
-        << " cells, triangles per cell max " << gears->GetMaxTrianglesPerCell() << " mean "
-        << Fixed(gears->GetAverageTrianglesPerCell(), 1) << ", global "
-        << gears->GetNumberOfGlobalTriangles() << ", assignments "
-        << gears->GetNumberOfAssignments() << " of which blocking "
-        << Fixed(100.0 * gears->GetBlockingShare(), 1) << " %, " << gears->GetNumberOfTracedRays()
-        << " undecided light samples in " << gears->GetNumberOfSamplesWithTracedRays()
-        << " view samples traced by the reference; grid " << Fixed(gears->GetGridTimeMs(), 1)
-        << " ms, masks " << Fixed(gears->GetMaskTimeMs(), 1) << " ms, trace "
-        << Fixed(gears->GetTraceTimeMs(), 1) << " ms";
-  if (gears->GetLastPath() == vtkPenumbraGearsShadows::PATH_GPU)
+  auto traced = m.TracedAtK.find(SamplesKey(spec.Setting));
+  vtkFloatArray* mine = pass->GetVisibility(m.LightIndex);
+  if (traced == m.TracedAtK.end() || !mine ||
+    mine->GetNumberOfTuples() != traced->second->GetNumberOfTuples())
   {
-    stats << "; masks by the compute shader, " << gears->GetNumberOfFlaggedSamples()
-          << " view samples redone on the CPU";
+    return -1;
   }
-  auto traced = ctx.TracedAtK.find(SamplesKey(spec.Setting));
-  vtkFloatArray* mine = pass->GetVisibility(ctx.LightIndex);
-  if (traced != ctx.TracedAtK.end() && mine &&
-    mine->GetNumberOfTuples() == traced->second->GetNumberOfTuples())
+  vtkIdType differ = 0;
+  for (vtkIdType i = 0; i < mine->GetNumberOfTuples(); ++i)
   {
-    vtkIdType differ = 0;
-    for (vtkIdType i = 0; i < mine->GetNumberOfTuples(); ++i)
-    {
-      differ += mine->GetValue(i) != traced->second->GetValue(i);
-    }
-    stats << "; differs from raytraced " << SamplesKey(spec.Setting) << " in " << differ
-          << " samples";
+    differ += mine->GetValue(i) != traced->second->GetValue(i);
   }
-  return stats.str();
+  return differ;
 }
 
-// The pass's phases and technique statistics of the last frame into `row`; returns a copy of
-// its visibility of light `m`, or nullptr for passes that expose none.
+// The map size a shadow-map technique reports, "W×H (need w×h)", or "".
+std::string MapSizeOf(vtkPenumbraStatistics* stats)
+{
+  if (!stats->Has("map_width"))
+  {
+    return "";
+  }
+  std::string size = std::to_string(std::lround(stats->Get("map_width"))) + "×" +
+    std::to_string(std::lround(stats->Get("map_height")));
+  if (stats->Has("needed_width"))
+  {
+    size += " (need " + std::to_string(std::lround(stats->Get("needed_width"))) + "×" +
+      std::to_string(std::lround(stats->Get("needed_height"))) + ")";
+  }
+  return size;
+}
+
+// The pass's phases and the technique's statistics of the last frame into `row` (read from
+// the statistics table, whatever the technique); returns a copy of its visibility of light
+// `m`, or nullptr for passes that expose none.
 vtkSmartPointer<vtkFloatArray> ReadPass(
   SceneContext& ctx, Measured& m, const TechniqueSpec& spec, Row& row)
 {
@@ -338,63 +338,32 @@ vtkSmartPointer<vtkFloatArray> ReadPass(
   row.TechniqueMs = pass->GetTechniqueTimeMs();
   row.ShadingMs = pass->GetShadingTimeMs();
   row.LightTechnique = pass->GetLightTechniqueName(m.LightIndex);
-  if (vtkPenumbraShadowTechnique* technique = pass->GetLightTechnique(m.LightIndex))
+  vtkNew<vtkPenumbraStatistics> stats;
+  if (pass->GetLightTechnique(m.LightIndex) && pass->GetLightStatistics(m.LightIndex, stats))
   {
     // The share of the last light the technique handled in the last frame (the measured
     // light in single-light scenes).
-    row.UncertainShare = technique->GetUncertainFraction();
-    if (auto* volumes = vtkPenumbraShadowVolumeShadows::SafeDownCast(technique))
+    if (stats->Has("uncertain_share"))
     {
-      row.FillFragments = volumes->GetNumberOfFillFragments();
+      row.UncertainShare = stats->Get("uncertain_share");
     }
-    int size[2];
-    double need[2];
-    auto* maps = vtkPenumbraShadowMapShadows::SafeDownCast(technique);
-    if (maps && maps->GetMapSize(pass->GetLight(m.LightIndex), size, need))
+    if (stats->Has("fill_fragments") && stats->Get("fill_fragments") >= 0)
     {
-      row.MapSize = std::to_string(size[0]) + "×" + std::to_string(size[1]);
-      if (need[0] > 0.0 || need[1] > 0.0)
+      row.FillFragments = std::llround(stats->Get("fill_fragments"));
+    }
+    row.MapSize = MapSizeOf(stats);
+    if (m.Area)
+    {
+      const vtkIdType differ = DifferencesFromTraced(pass, m, spec);
+      if (differ >= 0)
       {
-        row.MapSize += " (need " + std::to_string(std::lround(need[0])) + "×" +
-          std::to_string(std::lround(need[1])) + ")";
+        stats->Set("differs_from_raytraced", static_cast<double>(differ));
       }
     }
-    if (auto* llsm = vtkPenumbraLinkedListShadows::SafeDownCast(technique))
-    {
-      std::cerr << "\n"
-                << ctx.Label << " " << spec.Name << " " << spec.Setting << ": listed "
-                << Fixed(100.0 * llsm->GetListedFraction(), 1) << " %, lists max "
-                << llsm->GetMaxListLength() << " mean " << Fixed(llsm->GetMeanListLength(), 2)
-                << ", " << llsm->GetNumberOfTests() << " tests, "
-                << llsm->GetNumberOfTracedSamples() << " traced; classify "
-                << Fixed(llsm->GetClassifyTimeMs(), 1) << " ms, lists "
-                << Fixed(llsm->GetListTimeMs(), 1) << " ms, raster "
-                << Fixed(llsm->GetRasterTimeMs(), 1) << " ms, trace "
-                << Fixed(llsm->GetTraceTimeMs(), 1) << " ms\n";
-    }
-    if (auto* rmsm = vtkPenumbraResolutionMatchedShadows::SafeDownCast(technique))
-    {
-      std::cerr << "\n"
-                << ctx.Label << " " << spec.Label()
-                << " (last light of the last frame): " << rmsm->GetNumberOfRequestedPages()
-                << " pages requested (levels " << rmsm->GetRequestedLevels()[0] << "-"
-                << rmsm->GetRequestedLevels()[1] << "), " << rmsm->GetNumberOfRefinedPages()
-                << " refined at edges, " << rmsm->GetNumberOfRenderedPages() << " rendered in "
-                << rmsm->GetNumberOfSuperpages() << " superpages, "
-                << rmsm->GetNumberOfResidentPages() << " resident, coarser share "
-                << Fixed(rmsm->GetCoarserShare(), 4) << "; requests "
-                << Fixed(rmsm->GetRequestTimeMs(), 1) << " ms, pages "
-                << Fixed(rmsm->GetPageTimeMs(), 1) << " ms, lookup "
-                << Fixed(rmsm->GetLookupTimeMs(), 1) << " ms\n";
-    }
-    auto* gears = vtkPenumbraGearsShadows::SafeDownCast(technique);
-    if (gears && gears->GetLastLightWasArea() && m.Area)
-    {
-      row.GearsStats = GearsStatistics(gears, pass, m, spec);
-      std::cerr << "\n"
-                << ctx.Label << " gears " << spec.Setting << " light " << m.LightIndex << ": "
-                << row.GearsStats << "\n";
-    }
+    row.Statistics = stats->Format();
+    std::cerr << "\n"
+              << ctx.Label << " " << spec.Label() << " light " << m.LightIndex << ": "
+              << row.Statistics << "\n";
   }
   auto estimate = vtkSmartPointer<vtkFloatArray>::New();
   if (vtkFloatArray* v = pass->GetVisibility(m.LightIndex))

@@ -35,9 +35,9 @@ struct Row
   double RatioToNoShadow = 0;
   // --still-frames: median frame when nothing changes (the pass reuses its visibility).
   double StillMs = -1, StillRatio = -1;
-  // GEARS (analogues of Wang et al. 2014, Tables 5-6): per-cell loads and the share of assigned
-  // triangles that actually block; empty for other techniques.
-  std::string GearsStats;
+  // The technique's statistics of the last frame for this light (vtkPenumbraStatistics,
+  // "name value, ..."), with "differs_from_raytraced" on area lights; empty for VTK's pass.
+  std::string Statistics;
 };
 
 // The rows so far, and what could not be measured. A technique that refuses a scene or

@@ -1,4 +1,5 @@
 #include "vtkPenumbraConservativeShadows.h"
+#include "vtkPenumbraStatistics.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
@@ -888,4 +889,21 @@ void vtkPenumbraConservativeShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TraceTimeMs: " << this->TraceTimeMs << "\n";
   os << indent << "NumberOfUploads: " << this->NumberOfUploads << "\n";
   os << indent << "NumberOfViews: " << this->NumberOfViews << "\n";
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraConservativeShadows::GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats)
+{
+  this->Superclass::GetStatistics(light, stats);
+  stats->Set("lit_samples", static_cast<double>(this->NumberOfLitSamples));
+  stats->Set("shadowed_samples", static_cast<double>(this->NumberOfShadowedSamples));
+  stats->Set("uncertain_samples", static_cast<double>(this->NumberOfUncertainSamples));
+  stats->Set("rays", static_cast<double>(this->NumberOfRays));
+  stats->Set("views", this->NumberOfViews);
+  stats->Set("map_builds", this->NumberOfMapBuilds);
+  stats->Set("texel_writes", static_cast<double>(this->NumberOfTexelWrites));
+  stats->Set("uploads", this->NumberOfUploads);
+  stats->Set("map_ms", this->MapTimeMs);
+  stats->Set("classify_ms", this->ClassifyTimeMs);
+  stats->Set("trace_ms", this->TraceTimeMs);
 }

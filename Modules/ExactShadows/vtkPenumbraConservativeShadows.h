@@ -58,8 +58,10 @@
 
 class vtkPenumbraReference;
 class vtkUnsignedCharArray;
+class vtkPenumbraStatistics;
 
-class VTKPENUMBRAEXACTSHADOWS_EXPORT vtkPenumbraConservativeShadows : public vtkPenumbraShadowTechnique
+class VTKPENUMBRAEXACTSHADOWS_EXPORT vtkPenumbraConservativeShadows
+  : public vtkPenumbraShadowTechnique
 {
 public:
   static vtkPenumbraConservativeShadows* New();
@@ -67,6 +69,11 @@ public:
 
   const char* GetTechniqueName() override { return "conservative"; }
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Appends the last frame's counts and phase times (vtkPenumbraShadowTechnique::GetStatistics()).
+   */
+  void GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats) override;
 
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;

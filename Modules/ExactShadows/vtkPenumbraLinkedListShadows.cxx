@@ -1,5 +1,6 @@
 #include "vtkPenumbraLinkedListShadows.h"
 #include "vtkPenumbraLinkedListInternals.h"
+#include "vtkPenumbraStatistics.h"
 
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
@@ -291,4 +292,27 @@ void vtkPenumbraLinkedListShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ListTimeMs: " << this->ListTimeMs << "\n";
   os << indent << "RasterTimeMs: " << this->RasterTimeMs << "\n";
   os << indent << "TraceTimeMs: " << this->TraceTimeMs << "\n";
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraLinkedListShadows::GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats)
+{
+  this->Superclass::GetStatistics(light, stats);
+  stats->Set("valid_samples", static_cast<double>(this->NumberOfValidSamples));
+  stats->Set("listed_samples", static_cast<double>(this->NumberOfListedSamples));
+  stats->Set("listed_share", this->GetListedFraction());
+  stats->Set("max_list_length", static_cast<double>(this->MaxListLength));
+  stats->Set("mean_list_length", this->MeanListLength);
+  stats->Set("tests", static_cast<double>(this->NumberOfTests));
+  stats->Set("traced_samples", static_cast<double>(this->NumberOfTracedSamples));
+  stats->Set("passes", this->NumberOfPasses);
+  stats->Set("sparse_passes", this->NumberOfSparsePasses);
+  stats->Set("overflows", this->NumberOfOverflows);
+  stats->Set("views", this->NumberOfViews);
+  stats->Set("culled_casters", static_cast<double>(this->NumberOfCulledCasters));
+  stats->Set("rasterized_casters", static_cast<double>(this->NumberOfRasterizedCasters));
+  stats->Set("classify_ms", this->ClassifyTimeMs);
+  stats->Set("list_ms", this->ListTimeMs);
+  stats->Set("raster_ms", this->RasterTimeMs);
+  stats->Set("trace_ms", this->TraceTimeMs);
 }

@@ -77,13 +77,20 @@
 class vtkIdTypeArray;
 class vtkPenumbraConservativeShadows;
 class vtkPenumbraReference;
+class vtkPenumbraStatistics;
 
-class VTKPENUMBRAEXACTSHADOWS_EXPORT vtkPenumbraLinkedListShadows : public vtkPenumbraShadowTechnique
+class VTKPENUMBRAEXACTSHADOWS_EXPORT vtkPenumbraLinkedListShadows
+  : public vtkPenumbraShadowTechnique
 {
 public:
   static vtkPenumbraLinkedListShadows* New();
   vtkTypeMacro(vtkPenumbraLinkedListShadows, vtkPenumbraShadowTechnique);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Appends the last frame's counts and phase times (vtkPenumbraShadowTechnique::GetStatistics()).
+   */
+  void GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats) override;
 
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;

@@ -1,4 +1,5 @@
 #include "vtkPenumbraRayTracedShadows.h"
+#include "vtkPenumbraStatistics.h"
 
 #include "vtkFloatArray.h"
 #include "vtkIntArray.h"
@@ -313,4 +314,15 @@ void vtkPenumbraRayTracedShadows::PrintSelf(ostream& os, vtkIndent indent)
 const char* vtkPenumbraRayTracedShadows::GetTechniqueNameFor(vtkLight* light)
 {
   return vtkPenumbraAreaLight::SafeDownCast(light) ? this->GetTechniqueName() : "raytraced";
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraRayTracedShadows::GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats)
+{
+  this->Superclass::GetStatistics(light, stats);
+  vtkPenumbraReference* r = this->Reference;
+  stats->Set("rays", static_cast<double>(r->GetNumberOfRays()));
+  stats->Set("ties", static_cast<double>(r->GetNumberOfTies()));
+  stats->Set("scene_builds", r->GetNumberOfBuilds());
+  stats->Set("scene_build_ms", r->GetLastBuildTimeMs());
 }

@@ -30,6 +30,7 @@
 #include "vtkPenumbraShadowTechnique.h"
 
 class vtkPenumbraReference;
+class vtkPenumbraStatistics;
 
 class VTKPENUMBRAEXACTSHADOWS_EXPORT vtkPenumbraRayTracedShadows : public vtkPenumbraShadowTechnique
 {
@@ -37,6 +38,11 @@ public:
   static vtkPenumbraRayTracedShadows* New();
   vtkTypeMacro(vtkPenumbraRayTracedShadows, vtkPenumbraShadowTechnique);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Appends the last frame's counts and phase times (vtkPenumbraShadowTechnique::GetStatistics()).
+   */
+  void GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats) override;
 
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;

@@ -1,5 +1,6 @@
 #include "vtkPenumbraShadowVolumeShadows.h"
 #include "vtkPenumbraShadowVolumeInternals.h"
+#include "vtkPenumbraStatistics.h"
 
 #include "vtkCamera.h"
 #include "vtkCollection.h"
@@ -439,4 +440,32 @@ void vtkPenumbraShadowVolumeShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LightsPerMask: " << this->LightsPerMask << "\n";
   os << indent << "NumberOfMasks: " << this->NumberOfMasks << "\n";
   os << indent << "NumberOfResolvedSamples: " << this->NumberOfResolvedSamples << "\n";
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraShadowVolumeShadows::GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats)
+{
+  this->Superclass::GetStatistics(light, stats);
+  stats->Set("masks", this->NumberOfMasks);
+  stats->Set("caster_triangles", static_cast<double>(this->NumberOfCasterTriangles));
+  stats->Set("complex_faces", static_cast<double>(this->NumberOfComplexFaces));
+  stats->Set("boundary_edges", static_cast<double>(this->NumberOfBoundaryEdges));
+  stats->Set("closed_components", static_cast<double>(this->NumberOfClosedComponents));
+  stats->Set("open_components", static_cast<double>(this->NumberOfOpenComponents));
+  stats->Set("per_triangle_volumes", static_cast<double>(this->NumberOfPerTriangleVolumes));
+  stats->Set("silhouette_edges", static_cast<double>(this->NumberOfSilhouetteEdges));
+  stats->Set("volume_triangles", static_cast<double>(this->NumberOfVolumeTriangles));
+  stats->Set("culled_volumes", static_cast<double>(this->NumberOfCulledVolumes));
+  stats->Set("passed_fragments", static_cast<double>(this->NumberOfPassedFragments));
+  stats->Set("fill_fragments", static_cast<double>(this->NumberOfFillFragments));
+  stats->Set("resolved_samples", static_cast<double>(this->NumberOfResolvedSamples));
+  stats->Set("zpass", this->UsedZPass ? 1.0 : 0.0);
+  stats->Set("connectivity_builds", this->NumberOfConnectivityBuilds);
+  stats->Set("volume_builds", this->NumberOfVolumeBuilds);
+  stats->Set("depth_computations", this->NumberOfDepthComputations);
+  stats->Set("connectivity_ms", this->ConnectivityTimeMs);
+  stats->Set("volume_ms", this->VolumeTimeMs);
+  stats->Set("stencil_ms", this->StencilTimeMs);
+  stats->Set("sample_depth_ms", this->SampleDepthTimeMs);
+  stats->Set("resolve_ms", this->ResolveTimeMs);
 }

@@ -96,8 +96,10 @@
 #include <memory> // For std::unique_ptr
 
 class vtkPenumbraReference;
+class vtkPenumbraStatistics;
 
-class VTKPENUMBRAEXACTSHADOWS_EXPORT vtkPenumbraShadowVolumeShadows : public vtkPenumbraShadowTechnique
+class VTKPENUMBRAEXACTSHADOWS_EXPORT vtkPenumbraShadowVolumeShadows
+  : public vtkPenumbraShadowTechnique
 {
 public:
   static vtkPenumbraShadowVolumeShadows* New();
@@ -105,6 +107,11 @@ public:
 
   const char* GetTechniqueName() override { return "volumes"; }
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Appends the last frame's counts and phase times (vtkPenumbraShadowTechnique::GetStatistics()).
+   */
+  void GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats) override;
 
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;

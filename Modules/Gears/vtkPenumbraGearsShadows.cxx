@@ -5,6 +5,7 @@
 #include "vtkPenumbraGearsShadowsInternals.h"
 
 #include "vtkObjectFactory.h"
+#include "vtkPenumbraStatistics.h"
 
 vtkStandardNewMacro(vtkPenumbraGearsShadows);
 
@@ -463,4 +464,34 @@ void vtkPenumbraGearsShadows::PrintSelf(ostream& os, vtkIndent indent)
 const char* vtkPenumbraGearsShadows::GetTechniqueNameFor(vtkLight* light)
 {
   return vtkPenumbraAreaLight::SafeDownCast(light) ? this->GetTechniqueName() : "raytraced";
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraGearsShadows::GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats)
+{
+  this->Superclass::GetStatistics(light, stats);
+  if (!this->LastLightWasArea)
+  {
+    return; // a hard light was traced at its point: no grid, masks or light samples
+  }
+  stats->Set("gpu_masks", this->LastPath == PATH_GPU ? 1.0 : 0.0);
+  stats->Set("cells", static_cast<double>(this->NumberOfCells));
+  stats->Set("occupied_cells", static_cast<double>(this->NumberOfOccupiedCells));
+  stats->Set("grid_resolution", this->EffectiveGridResolution);
+  stats->Set("max_triangles_per_cell", static_cast<double>(this->MaxTrianglesPerCell));
+  stats->Set("mean_triangles_per_cell", this->AverageTrianglesPerCell);
+  stats->Set("global_triangles", static_cast<double>(this->NumberOfGlobalTriangles));
+  stats->Set("assignments", static_cast<double>(this->NumberOfAssignments));
+  stats->Set("necessary_assignments", static_cast<double>(this->NumberOfNecessaryAssignments));
+  stats->Set("blocking_share", this->GetBlockingShare());
+  stats->Set("uncertain_samples", static_cast<double>(this->NumberOfUncertainSamples));
+  stats->Set("traced_cell_samples", static_cast<double>(this->NumberOfTracedCellSamples));
+  stats->Set("tree_samples", static_cast<double>(this->NumberOfTreeSamples));
+  stats->Set("traced_rays", static_cast<double>(this->NumberOfTracedRays));
+  stats->Set("samples_with_traced_rays", static_cast<double>(this->NumberOfSamplesWithTracedRays));
+  stats->Set("segment_tests", static_cast<double>(this->NumberOfSegmentTests));
+  stats->Set("flagged_samples", static_cast<double>(this->NumberOfFlaggedSamples));
+  stats->Set("grid_ms", this->GridTimeMs);
+  stats->Set("mask_ms", this->MaskTimeMs);
+  stats->Set("trace_ms", this->TraceTimeMs);
 }

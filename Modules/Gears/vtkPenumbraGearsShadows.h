@@ -87,6 +87,7 @@
 class vtkPenumbraReference;
 class vtkTypeUInt32Array;
 class vtkUnsignedCharArray;
+class vtkPenumbraStatistics;
 
 class VTKPENUMBRAGEARS_EXPORT vtkPenumbraGearsShadows : public vtkPenumbraShadowTechnique
 {
@@ -94,6 +95,11 @@ public:
   static vtkPenumbraGearsShadows* New();
   vtkTypeMacro(vtkPenumbraGearsShadows, vtkPenumbraShadowTechnique);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Appends the last frame's counts and phase times (vtkPenumbraShadowTechnique::GetStatistics()).
+   */
+  void GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats) override;
 
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;

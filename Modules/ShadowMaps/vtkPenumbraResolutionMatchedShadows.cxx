@@ -7,6 +7,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPenumbraResolutionMatchedFS.h"
 #include "vtkPenumbraShadowMapClassify.h"
+#include "vtkPenumbraStatistics.h"
 
 vtkStandardNewMacro(vtkPenumbraResolutionMatchedShadows);
 
@@ -437,4 +438,22 @@ void vtkPenumbraResolutionMatchedShadows::PrintSelf(ostream& os, vtkIndent inden
   os << indent << "NumberOfSuperpages: " << this->NumberOfSuperpages << "\n";
   os << indent << "NumberOfResidentPages: " << this->NumberOfResidentPages << "\n";
   os << indent << "CoarserShare: " << this->CoarserShare << "\n";
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraResolutionMatchedShadows::GetStatistics(
+  vtkLight* light, vtkPenumbraStatistics* stats)
+{
+  this->Superclass::GetStatistics(light, stats);
+  stats->Set("requested_pages", this->NumberOfRequestedPages);
+  stats->Set("coarsest_level", this->RequestedLevels[0]);
+  stats->Set("finest_level", this->RequestedLevels[1]);
+  stats->Set("refined_pages", this->NumberOfRefinedPages);
+  stats->Set("rendered_pages", this->NumberOfRenderedPages);
+  stats->Set("superpages", this->NumberOfSuperpages);
+  stats->Set("resident_pages", this->NumberOfResidentPages);
+  stats->Set("coarser_share", this->CoarserShare);
+  stats->Set("request_ms", this->RequestTimeMs);
+  stats->Set("page_ms", this->PageTimeMs);
+  stats->Set("lookup_ms", this->LookupTimeMs);
 }

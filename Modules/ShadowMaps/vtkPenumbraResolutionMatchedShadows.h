@@ -71,6 +71,7 @@
 #include <memory> // For std::unique_ptr
 
 class vtkIntArray;
+class vtkPenumbraStatistics;
 
 class VTKPENUMBRASHADOWMAPS_EXPORT vtkPenumbraResolutionMatchedShadows
   : public vtkPenumbraShadowTechnique
@@ -79,6 +80,11 @@ public:
   static vtkPenumbraResolutionMatchedShadows* New();
   vtkTypeMacro(vtkPenumbraResolutionMatchedShadows, vtkPenumbraShadowTechnique);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Appends the last frame's counts and phase times (vtkPenumbraShadowTechnique::GetStatistics()).
+   */
+  void GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats) override;
 
   /**
    * Not supported: the technique answers on the GPU-resident frame only (ComputeFrame());

@@ -4,6 +4,7 @@
 #include "vtkPenumbraShadowMapShadowsInternals.h"
 
 #include "vtkObjectFactory.h"
+#include "vtkPenumbraStatistics.h"
 
 vtkStandardNewMacro(vtkPenumbraShadowMapShadows);
 
@@ -445,4 +446,27 @@ const char* vtkPenumbraShadowMapShadows::GetTechniqueNameFor(vtkLight* light)
   return this->AreaLightMode != AREA_NONE && !vtkPenumbraAreaLight::SafeDownCast(light)
     ? "shadowmap"
     : this->GetTechniqueName();
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraShadowMapShadows::GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats)
+{
+  this->Superclass::GetStatistics(light, stats);
+  stats->Set("map_renders", this->NumberOfMapRenders);
+  stats->Set("views", this->NumberOfViews);
+  stats->Set("uploads", this->NumberOfUploads);
+  stats->Set("map_ms", this->MapTimeMs);
+  stats->Set("lookup_ms", this->LookupTimeMs);
+  int size[2];
+  double need[2];
+  if (light && this->GetMapSize(light, size, need))
+  {
+    stats->Set("map_width", size[0]);
+    stats->Set("map_height", size[1]);
+    if (need[0] > 0.0 || need[1] > 0.0)
+    {
+      stats->Set("needed_width", need[0]);
+      stats->Set("needed_height", need[1]);
+    }
+  }
 }

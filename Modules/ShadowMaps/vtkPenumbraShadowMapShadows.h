@@ -79,6 +79,7 @@
 #include "vtkPenumbraShadowTechnique.h"
 
 #include <memory> // For std::unique_ptr
+class vtkPenumbraStatistics;
 
 class VTKPENUMBRASHADOWMAPS_EXPORT vtkPenumbraShadowMapShadows : public vtkPenumbraShadowTechnique
 {
@@ -86,6 +87,11 @@ public:
   static vtkPenumbraShadowMapShadows* New();
   vtkTypeMacro(vtkPenumbraShadowMapShadows, vtkPenumbraShadowTechnique);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Appends the last frame's counts and phase times (vtkPenumbraShadowTechnique::GetStatistics()).
+   */
+  void GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats) override;
 
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;

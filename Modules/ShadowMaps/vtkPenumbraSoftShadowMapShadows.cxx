@@ -1,4 +1,5 @@
 #include "vtkPenumbraSoftShadowMapShadows.h"
+#include "vtkPenumbraStatistics.h"
 
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
@@ -1153,4 +1154,16 @@ void vtkPenumbraSoftShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
 const char* vtkPenumbraSoftShadowMapShadows::GetTechniqueNameFor(vtkLight* light)
 {
   return vtkPenumbraAreaLight::SafeDownCast(light) ? "soft-shadowmap" : "shadowmap";
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraSoftShadowMapShadows::GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats)
+{
+  this->Superclass::GetStatistics(light, stats);
+  stats->Set("builds", this->NumberOfBuilds);
+  stats->Set("maps", this->NumberOfMaps);
+  stats->Set("skins", static_cast<double>(this->NumberOfSkins));
+  stats->Set("map_ms", this->MapTimeMs);
+  stats->Set("skin_ms", this->SkinTimeMs);
+  stats->Set("lookup_ms", this->LookupTimeMs);
 }

@@ -53,6 +53,7 @@
 #include "vtkPenumbraShadowTechnique.h"
 
 #include <memory> // For std::unique_ptr
+class vtkPenumbraStatistics;
 
 class VTKPENUMBRASHADOWMAPS_EXPORT vtkPenumbraSoftShadowMapShadows
   : public vtkPenumbraShadowTechnique
@@ -61,6 +62,11 @@ public:
   static vtkPenumbraSoftShadowMapShadows* New();
   vtkTypeMacro(vtkPenumbraSoftShadowMapShadows, vtkPenumbraShadowTechnique);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Appends the last frame's counts and phase times (vtkPenumbraShadowTechnique::GetStatistics()).
+   */
+  void GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats) override;
 
   int ComputeVisibility(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
     vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility) override;

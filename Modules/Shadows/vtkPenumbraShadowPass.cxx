@@ -36,6 +36,7 @@
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraShadowTechnique.h"
+#include "vtkPenumbraStatistics.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPenumbraViewSamplesPass.h"
 #include "vtkPenumbraVisibilityRules.h"
@@ -461,6 +462,9 @@ std::string vtkPenumbraShadowPass::GetExplanation()
     if (r.Technique)
     {
       out << r.Technique->GetTechniqueNameFor(impl.Lights[i]) << " - " << r.Why << "\n";
+      vtkNew<vtkPenumbraStatistics> stats;
+      r.Technique->GetStatistics(impl.Lights[i], stats);
+      out << "  figures: " << stats->Format() << "\n";
     }
     else
     {
@@ -471,6 +475,29 @@ std::string vtkPenumbraShadowPass::GetExplanation()
   out << "skipped lights: " << this->GetNumberOfSkippedLights()
       << "; lights off: " << impl.LightsOff << " (no shadow work)\n";
   return out.str();
+}
+
+bool vtkPenumbraShadowPass::GetLightStatistics(int index, vtkPenumbraStatistics* stats)
+{
+  if (!stats)
+  {
+    return false;
+  }
+  stats->Clear();
+  const Internals& impl = *this->Impl;
+  if (!impl.HasFrame || index < 0 || static_cast<size_t>(index) >= impl.Lights.size())
+  {
+    return false;
+  }
+  stats->Set("extraction_ms", impl.ExtractionMs);
+  stats->Set("samples_ms", impl.SamplesMs);
+  stats->Set("technique_ms", impl.TechniqueMs);
+  stats->Set("shading_ms", impl.ShadingMs);
+  if (vtkPenumbraShadowTechnique* technique = this->GetLightTechnique(index))
+  {
+    technique->GetStatistics(this->GetLight(index), stats);
+  }
+  return true;
 }
 
 void vtkPenumbraShadowPass::SetDelegatePass(vtkRenderPass* pass)

@@ -49,6 +49,7 @@ class vtkPenumbraFrame;
 class vtkPenumbraSceneGeometry;
 class vtkOpenGLRenderWindow;
 class vtkPenumbraShadowTechnique;
+class vtkPenumbraStatistics;
 class vtkPenumbraViewSamples;
 class vtkPenumbraViewSamplesPass;
 class vtkInformationObjectBaseKey;
@@ -141,10 +142,20 @@ public:
 
   /**
    * Per light of the last computed frame, the technique chosen and why, or why the light
-   * was skipped; then the number of skipped lights and of lights off. One line per light
-   * (`penumbra-render --explain` prints it).
+   * was skipped, and under a chosen technique a "figures:" line with its statistics
+   * (vtkPenumbraShadowTechnique::GetStatistics()); then the number of skipped lights and of
+   * lights off (`penumbra-render --explain` prints it).
    */
   std::string GetExplanation();
+
+  /**
+   * The last computed frame's figures for light `index` as a name -> value table, into
+   * `stats` (cleared first): the pass's phase times ("extraction_ms", "samples_ms",
+   * "technique_ms", "shading_ms") and the statistics of the light's technique
+   * (vtkPenumbraShadowTechnique::GetStatistics()). Returns false, with `stats` left empty,
+   * when there is no computed frame or no such light.
+   */
+  bool GetLightStatistics(int index, vtkPenumbraStatistics* stats);
 
   ///@{
   /**

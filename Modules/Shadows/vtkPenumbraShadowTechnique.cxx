@@ -7,6 +7,7 @@
 #include "vtkNew.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraFrame.h"
+#include "vtkPenumbraStatistics.h"
 #include "vtkPenumbraViewSamples.h"
 
 bool vtkPenumbraShadowTechnique::CanShadow(vtkLight* light)
@@ -44,6 +45,16 @@ int vtkPenumbraShadowTechnique::ComputeFrameLights(
     }
   }
   return done;
+}
+
+void vtkPenumbraShadowTechnique::GetStatistics(vtkLight*, vtkPenumbraStatistics* stats)
+{
+  stats->Set("time_ms", this->LastTimeMs);
+  const double uncertain = this->GetUncertainFraction();
+  if (uncertain >= 0.0)
+  {
+    stats->Set("uncertain_share", uncertain);
+  }
 }
 
 const char* vtkPenumbraShadowTechnique::GetTechniqueNameFor(vtkLight*)

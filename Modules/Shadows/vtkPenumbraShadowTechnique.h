@@ -22,7 +22,7 @@
 
 #include "vtkObject.h"
 #include "vtkPenumbraShadowsModule.h" // For export macro
-#include "vtkSmartPointer.h"            // For FrameResults
+#include "vtkSmartPointer.h"          // For FrameResults
 
 #include <functional> // For ComputeFrameLights
 #include <string>     // For SelectTechnique
@@ -34,6 +34,7 @@ class vtkLight;
 class vtkLightCollection;
 class vtkPenumbraFrame;
 class vtkPenumbraSceneGeometry;
+class vtkPenumbraStatistics;
 class vtkPenumbraViewSamples;
 class vtkRenderer;
 class vtkWindow;
@@ -135,6 +136,17 @@ public:
    * Wall-clock time of the last ComputeVisibility call, in milliseconds.
    */
   vtkGetMacro(LastTimeMs, double);
+
+  /**
+   * Appends this technique's counts and phase times of its last frame to `stats` (a name ->
+   * value table, see vtkPenumbraStatistics for the naming). `light` is the light asked about,
+   * for figures a technique keeps per light (a shadow map's size); the other figures describe
+   * the last light the technique shadowed. The default sets "time_ms" (GetLastTimeMs()) and,
+   * for techniques with an exact fallback, "uncertain_share" (GetUncertainFraction());
+   * techniques call it first and add their own. vtkPenumbraShadowPass::GetLightStatistics()
+   * collects it with the pass's phase times.
+   */
+  virtual void GetStatistics(vtkLight* light, vtkPenumbraStatistics* stats);
 
 protected:
   vtkPenumbraShadowTechnique() = default;

@@ -139,6 +139,11 @@ class PackageTest(unittest.TestCase):
         win.Render()
         self.assertEqual(shadows.GetLightTechniqueName(0), "raytraced")
         self.assertIn("light 0 (directional light): raytraced - hard light", shadows.GetExplanation())
+        figures = penumbra.statistics(ren, light=0)
+        self.assertGreater(figures["rays"], 0)  # raytraced's own count, by name
+        self.assertGreaterEqual(figures["technique_ms"], 0.0)
+        with self.assertRaises(IndexError):
+            penumbra.statistics(ren, light=1)
         sx, sy = pixel(-1.0, 0.0)
         self.assertEqual(penumbra.visibility(ren, light=0)[sy][sx], 0.0)
         with self.assertRaisesRegex(ValueError, "quality: expected one of"):

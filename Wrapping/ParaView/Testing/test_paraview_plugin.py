@@ -139,6 +139,9 @@ for technique, max_fraction in (("raytraced", 0.0), ("conservative", 0.0), ("vol
     view.UpdatePropertyInformation()
     installed = view.GetProperty("InstalledShadowTechnique").GetData()
     check(installed == technique, "%s: installed (%s)" % (technique, installed))
+    report = view.GetProperty("ShadowReport").GetData()
+    check(("): %s - " % technique) in report and "figures: time_ms " in report,
+          "%s: the view reports the technique and its statistics (%r)" % (technique, report))
     shadow_pass = installed_pass(view)
     check(shadow_pass is not None, "%s: the view draws through a Penumbra shadow pass" % technique)
     if shadow_pass is not None:

@@ -143,6 +143,25 @@ def visibility(renderer, light=0, translucent=False):
     return vtk_to_numpy(values).reshape(samples.GetHeight(), samples.GetWidth()).copy()
 
 
+def statistics(renderer, light=0):
+    """The last frame's figures for light `light` as a dict name -> value: the pass's phase
+    times (``extraction_ms``, ``samples_ms``, ``technique_ms``, ``shading_ms``) and the
+    counts and phase times of the technique that shadowed it (vtkPenumbraStatistics; for
+    example ``rays`` for raytraced, ``cells`` and ``traced_rays`` for gears). Empty when there
+    is no Penumbra pass or no computed frame; raises IndexError for a light that does not
+    exist.
+    """
+    shadows = shadow_pass(renderer)
+    if shadows is None:
+        return {}
+    if not 0 <= light < shadows.GetNumberOfLights():
+        raise IndexError("light %d: the last frame had %d switched-on lights"
+                         % (light, shadows.GetNumberOfLights()))
+    table = vtkPenumbraStatistics()
+    shadows.GetLightStatistics(light, table)
+    return {table.GetName(i): table.GetValue(i) for i in range(table.GetNumberOfEntries())}
+
+
 def compare_images(image, baseline, threshold=None, fail_percent=None, diff=None):
     """Compares the image file `image` with the baseline file `baseline` the way OpenImageIO's
     ``idiff -fail threshold -failpercent fail_percent`` does (vtkPenumbraImageCompare: a pixel

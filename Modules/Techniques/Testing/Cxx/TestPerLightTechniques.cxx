@@ -14,6 +14,7 @@
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraSceneReader.h"
 #include "vtkPenumbraShadowPass.h"
+#include "vtkPenumbraStatistics.h"
 #include "vtkPenumbraTechniques.h"
 #include "vtkPlaneSource.h"
 #include "vtkPolyDataMapper.h"
@@ -21,6 +22,7 @@
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -261,6 +263,19 @@ int TestSkippedLights()
   {
     CHECK(text.find(line) != std::string::npos);
   }
+
+  // Statistics as data: each light's technique reports its figures by name, whatever its
+  // class, under the pass's phase times; the explanation prints them.
+  vtkNew<vtkPenumbraStatistics> stats;
+  CHECK(pass->GetLightStatistics(Sun, stats));
+  CHECK(stats->Has("technique_ms") && stats->Get("time_ms") >= 0.0);
+  CHECK(stats->Get("rays") > 0.0); // raytraced: one shadow ray per lit-facing sample
+  CHECK(pass->GetLightStatistics(Area, stats));
+  CHECK(stats->Get("cells") > 0.0 && stats->Get("grid_ms") >= 0.0); // GEARS' grid
+  CHECK(!stats->Has("rays") && std::isnan(stats->Get("rays")));
+  CHECK(!pass->GetLightStatistics(3, stats) || !stats->Has("time_ms")); // skipped: no figures
+  CHECK(!pass->GetLightStatistics(99, stats) && stats->GetNumberOfEntries() == 0);
+  CHECK(text.find("  figures: time_ms ") != std::string::npos);
 
   // A technique that works on the GPU reads no samples back, so with the area light off (its
   // fallback, GEARS, would read them) only the black light is skipped; the spot light is

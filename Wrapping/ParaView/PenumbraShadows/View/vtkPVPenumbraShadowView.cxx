@@ -332,6 +332,13 @@ const char* vtkPVPenumbraShadowView::GetShadowTechniqueHelp()
   return this->Help.c_str();
 }
 
+const char* vtkPVPenumbraShadowView::GetShadowReport()
+{
+  auto* pass = vtkPenumbraShadowPass::SafeDownCast(this->Impl->Pass);
+  this->Report = pass ? pass->GetExplanation() : std::string();
+  return this->Report.c_str();
+}
+
 void vtkPVPenumbraShadowView::SetLODRenderingThreshold(double)
 {
   this->Superclass::SetLODRenderingThreshold(std::numeric_limits<double>::max());

@@ -106,6 +106,13 @@ public:
   const char* GetInstalledTechnique() { return this->InstalledTechnique.c_str(); }
 
   /**
+   * What the last frame did, per light: the technique that shadowed it and why, and its
+   * statistics (counts and phase times, whatever the technique;
+   * vtkPenumbraShadowPass::GetExplanation()). Empty without a Penumbra pass.
+   */
+  const char* GetShadowReport();
+
+  /**
    * Ignored: the view never renders a decimated LOD mesh (see the class description).
    */
   void SetLODRenderingThreshold(double) override;
@@ -149,6 +156,7 @@ private:
   std::string Technique;
   std::string Options;
   std::string InstalledTechnique;
+  std::string Report; // GetShadowReport()'s text
   bool Tried = false;
   std::string TriedTechnique;
   std::string TriedOptions;

@@ -1,0 +1,100 @@
+#include "vtkPenumbraStatistics.h"
+
+#include "vtkObjectFactory.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+vtkStandardNewMacro(vtkPenumbraStatistics);
+
+void vtkPenumbraStatistics::Clear()
+{
+  this->Entries.clear();
+}
+
+void vtkPenumbraStatistics::Set(const char* name, double value)
+{
+  const std::string key = name ? name : "";
+  for (Entry& e : this->Entries)
+  {
+    if (e.Name == key)
+    {
+      e.Value = value;
+      return;
+    }
+  }
+  this->Entries.push_back({ key, value });
+}
+
+int vtkPenumbraStatistics::GetNumberOfEntries()
+{
+  return static_cast<int>(this->Entries.size());
+}
+
+const char* vtkPenumbraStatistics::GetName(int index)
+{
+  return index >= 0 && index < this->GetNumberOfEntries()
+    ? this->Entries[static_cast<size_t>(index)].Name.c_str()
+    : "";
+}
+
+double vtkPenumbraStatistics::GetValue(int index)
+{
+  return index >= 0 && index < this->GetNumberOfEntries()
+    ? this->Entries[static_cast<size_t>(index)].Value
+    : std::numeric_limits<double>::quiet_NaN();
+}
+
+bool vtkPenumbraStatistics::Has(const char* name)
+{
+  for (const Entry& e : this->Entries)
+  {
+    if (name && e.Name == name)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+double vtkPenumbraStatistics::Get(const char* name)
+{
+  for (const Entry& e : this->Entries)
+  {
+    if (name && e.Name == name)
+    {
+      return e.Value;
+    }
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string vtkPenumbraStatistics::Format(const char* separator)
+{
+  std::ostringstream out;
+  for (size_t i = 0; i < this->Entries.size(); ++i)
+  {
+    const double v = this->Entries[i].Value;
+    out << (i ? separator : "") << this->Entries[i].Name << " ";
+    if (std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e15)
+    {
+      out << static_cast<long long>(v);
+    }
+    else
+    {
+      out.precision(4);
+      out << v;
+    }
+  }
+  return out.str();
+}
+
+void vtkPenumbraStatistics::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  for (const Entry& e : this->Entries)
+  {
+    os << indent << e.Name << ": " << e.Value << "\n";
+  }
+}
