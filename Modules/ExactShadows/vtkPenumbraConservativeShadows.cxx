@@ -578,7 +578,7 @@ struct vtkPenumbraConservativeShadows::Internals
     const std::vector<vtkIdType>& pending = *f.Pending;
     // Samples are projected a batch at a time and their texels' first two layers fetched
     // ahead (prefetch) before any is decided: the map lookups miss the cache (a 1024^2 layer
-    // is 8 MB), and waiting for each in turn was most of the classification's time.
+    // is 8 MB), and waiting for each in turn would be most of the classification's time.
     constexpr vtkIdType Batch = 32;
     vtkSMPTools::For(0, static_cast<vtkIdType>(pending.size()),
       [&](vtkIdType begin, vtkIdType end)

@@ -35,8 +35,8 @@
  *
  * Area lights are rejected (error, the pass renders that light unshadowed).
  *
- * Cost on the CPU-only llvmpipe target (README has the figures): the CPU builder is 3-80x
- * faster than the geometry-shader one, but Embree traces a coherent shadow ray per view
+ * Cost on the CPU-only llvmpipe target: the CPU builder is much faster than the
+ * geometry-shader one (docs/benchmarks.md), but Embree traces a coherent shadow ray per view
  * sample in about the time the classifier needs for a map lookup per sample, so the hybrid
  * does not beat vtkPenumbraRayTracedShadows here; its split pays where a hardware rasterizer
  * builds the map and rays are expensive.
@@ -109,7 +109,8 @@ public:
    *   a point light's apex region are tested exactly per sample instead of filling the map.
    * - MAP_GPU: the geometry-shader program described above (one draw per layer, read back).
    * Both give maps the same classification rules use, so both are exact; they differ in
-   * cost. Measured on llvmpipe (2 cores), city scene 1280x720, 1024^2: see README.
+   * cost: on llvmpipe the geometry shader runs on the CPU cores too, and MAP_CPU is the
+   * faster (see the class description).
    */
   enum MapBuilders
   {

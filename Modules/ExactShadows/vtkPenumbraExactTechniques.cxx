@@ -44,7 +44,7 @@ const OptionTable ConservativeOptions = {
     "neighbouring triangles, but cost more than the rays they save on llvmpipe" },
   { "map", OptionType::Choice, "cpu", 0, 0, { "cpu", "gpu" }, "",
     "who builds the map: \"cpu\", exact conservative rasterization in double precision with "
-    "vtkSMPTools (several times faster on llvmpipe), or \"gpu\", a geometry-shader program with "
+    "vtkSMPTools (the faster on llvmpipe), or \"gpu\", a geometry-shader program with "
     "one draw per layer, read back; both are exact" },
 };
 
@@ -66,7 +66,7 @@ const OptionTable LinkedListOptions = {
     "node-pool size: at most this many samples are listed per pass, the others in further "
     "passes (none is dropped); 0: one node per sample, one pass" },
   { "lists", OptionType::Choice, "cpu", 0, 0, { "cpu", "gpu" }, "",
-    "who builds the per-texel lists: \"cpu\", a sort by texel (measured faster on Mesa "
+    "who builds the per-texel lists: \"cpu\", a sort by texel (the faster on Mesa "
     "llvmpipe), or \"gpu\", Ferko 2014's construction in a GL 4.3 compute shader (node pool, "
     "atomic counter, atomic head exchange; an overflowing pool lists the rest in another "
     "pass); the same lists and visibility, and the CPU builds them (with an error) where "

@@ -182,9 +182,9 @@ public:
 
   /**
    * Where step 4 (the masks) runs.
-   * - PATH_AUTO (default): the path measured faster on the target platform, currently
-   *   PATH_CPU (see README: on Mesa llvmpipe the compute shader runs on the same CPU cores
-   *   without the CPU path's 64-bit rows and early rejects being any cheaper).
+   * - PATH_AUTO (default): PATH_CPU. On Mesa llvmpipe, the project's target, the compute
+   *   shader runs on the same CPU cores as the CPU path and is not cheaper than its 64-bit
+   *   rows and early rejects (docs/gears.md).
    * - PATH_CPU: vtkSMPTools over the busy cells.
    * - PATH_GPU: the GL 4.3 compute shader; needs the renderer's OpenGL window (4.3 context)
    *   and at most 32 light samples per row. When it cannot run, a warning says why (once

@@ -22,10 +22,10 @@ const OptionTable GearsOptions = {
   { "dense", OptionType::Choice, "trace", 0, 0, { "trace", "tree" }, "",
     "the samples of a cell above trace_threshold: \"trace\" ray traces them whole, \"tree\" "
     "masks them from a walk of a bounding volume hierarchy over the casters that skips nodes "
-    "whose light samples are blocked already (measured slower on llvmpipe's 2 cores); only "
+    "whose light samples are blocked already (slower than \"trace\" on llvmpipe); only "
     "speed depends on it" },
   { "path", OptionType::Choice, "auto", 0, 0, { "auto", "cpu", "gpu" }, "",
-    "where the per-sample masks are built: \"auto\" (the path measured faster, the CPU on Mesa "
+    "where the per-sample masks are built: \"auto\" (the CPU, the faster path on Mesa "
     "llvmpipe), \"cpu\" (vtkSMPTools) or \"gpu\" (a GL 4.3 compute shader, k <= 32); the same "
     "visibility bit for bit, and the CPU answers where the compute path cannot run" },
 };

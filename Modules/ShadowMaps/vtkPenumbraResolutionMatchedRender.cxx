@@ -101,7 +101,6 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
     // Only the cells' rectangles cleared, before the batch's draws (the previous batch's copies
     // waited for its draws: nothing pending writes the scratch). A clear of the whole 1024^2
     // scratch makes llvmpipe process every tile of it; a scissored clear is a quad drawn.
-    // grazing_light, moving light: about 2-3 % of the frame.
     const GLfloat one = 1.0f;
     if (glClearTexSubImage)
     {

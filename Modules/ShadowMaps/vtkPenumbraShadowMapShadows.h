@@ -377,7 +377,7 @@ public:
   /**
    * Where the per-sample depth comparison runs (see the class description). Both give the
    * same answers up to float rounding of the projection; the GPU lookup avoids reading the
-   * maps back, which dominates at high resolutions (README has the figures). LOOKUP_GPU
+   * maps back, which dominates at high resolutions. LOOKUP_GPU
    * compares a light with one map (directional, spot) inside the receivers' own fragment
    * shaders while they are shaded, as VTK's vtkShadowMapPass does, and runs the full-screen
    * G-buffer pass only when the visibility is asked for (vtkPenumbraFrame::ShaderLookup);

@@ -176,7 +176,7 @@ public:
    * umbra, and whose samples all lie on the corners' plane (same prop, same facet normal),
    * takes that value without a lookup per sample; every other block is looked up sample by
    * sample. 1 looks up every sample. Default 4, clamped to [1, 16]. A shadow or gap narrower
-   * than a block that falls between its corners is missed (measured in docs/benchmarks.md).
+   * than a block that falls between its corners is missed (docs/benchmarks.md has its error).
    */
   vtkSetClampMacro(Block, int, 1, 16);
   vtkGetMacro(Block, int);

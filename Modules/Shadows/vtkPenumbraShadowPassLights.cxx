@@ -172,9 +172,9 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
     return false;
   };
   // The last frame's witness first: one sample that may be shadowed is the whole answer,
-  // and in a still or slowly changing frame it still is one; else the scan (up to every
-  // sample: 3 ms a frame on the isosurface bench scene, whose spot light finds its first
-  // witness late in pixel order).
+  // and in a still or slowly changing frame it still is one; else the scan, which visits
+  // every sample up to the first witness and so costs most where that comes late in pixel
+  // order.
   if (witness >= 0 && witness < count && shadowable(witness))
   {
     return "";

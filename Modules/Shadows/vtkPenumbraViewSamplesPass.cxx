@@ -202,8 +202,8 @@ struct vtkPenumbraViewSamplesPass::Internals
     auto byKeys = keys ? this->KeysIndex.find(keys) : this->KeysIndex.end();
     return byKeys != this->KeysIndex.end() ? byKeys->second : -1;
   }
-  // Read-back buffers, kept between frames: allocating the 48 bytes per pixel afresh each
-  // frame (44 MB at 1280 x 720) cost 40-80 ms of page faults per frame on the test machine.
+  // Read-back buffers, kept between frames: 48 bytes per pixel allocated afresh each frame
+  // would be paged in again every frame, a cost that grows with the window.
   std::vector<float> ReadBuffers[3];
   std::vector<unsigned char> Fallback; // per sample: keeps the G-buffer's position
   vtkIdType NumberOfFallbacks = 0;

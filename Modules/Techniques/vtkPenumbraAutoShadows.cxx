@@ -37,7 +37,7 @@ vtkPenumbraShadowTechnique* vtkPenumbraAutoShadows::SelectTechnique(
                                            : 0;
     const int used = k > 0 ? k : area->GetSamplesPerAxis();
     const std::string fast = this->Quality == QUALITY_FAST && this->SamplesPerAxis == 0
-      ? "; quality=fast: k = 4, the cheapest measured setting"
+      ? "; quality=fast: k = 4, fewer light samples for less time"
       : "";
     // Both are exact and give the same visibility at the same k; only the time differs.
     if (used <= 4)
@@ -48,9 +48,7 @@ vtkPenumbraShadowTechnique* vtkPenumbraAutoShadows::SelectTechnique(
       }
       impl.Traced->SetSamplesPerAxis(k);
       why = "soft light at k = " + std::to_string(used) +
-        ": exact; at k <= 4 the ray tracer was as fast as gears or faster (docs/gears.md: "
-        "city 79 vs 76 ms, area_light 226 vs 1046 ms)" +
-        fast;
+        ": exact; at k <= 4 the ray tracer is as fast as gears or faster (docs/gears.md)" + fast;
       return impl.Traced;
     }
     if (!impl.Gears)
@@ -59,8 +57,8 @@ vtkPenumbraShadowTechnique* vtkPenumbraAutoShadows::SelectTechnique(
     }
     impl.Gears->SetSamplesPerAxis(k);
     why = "soft light at k = " + std::to_string(used) +
-      ": exact, the same visibility as raytraced at that k and 2.5-25x faster on the city "
-      "for k >= 8 (docs/gears.md)" +
+      ": exact, the same visibility as raytraced at that k and faster on the city for "
+      "k >= 8 (docs/gears.md)" +
       fast;
     return impl.Gears;
   }
@@ -70,9 +68,8 @@ vtkPenumbraShadowTechnique* vtkPenumbraAutoShadows::SelectTechnique(
   }
   static const char* const names[] = { "exact", "balanced", "fast" };
   why = std::string("hard light, quality=") + names[this->Quality] +
-    ": the fastest hard-shadow technique measured, and exact: 1.4-2.5x the unshadowed frame "
-    "against 1.8-3.4x for conservative, 2.9-5.6x for volumes and 1.7-3.2x for shadowmap "
-    "(docs/benchmarks.md)";
+    ": exact, and the fastest exact hard-shadow technique on the bench scenes "
+    "(docs/results.md)";
   return impl.Traced;
 }
 

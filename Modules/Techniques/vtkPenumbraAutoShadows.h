@@ -8,33 +8,28 @@
  * chosen for, all in one frame):
  *
  * - point, spot and directional lights: `raytraced` (vtkPenumbraRayTracedShadows), exact.
- *   It was the fastest exact hard-shadow technique in every measurement on the project's
- *   machine (docs/benchmarks.md, "The frame on the GPU", 2026-11-25, 1280 x 720: still
- *   camera 1.4-1.9x the unshadowed frame on the city against 1.8x for `conservative` and
- *   2.9x for `volumes`, 2.5x against 3.4x and 5.6x on the isosurface; and in the scale sweep,
- *   docs/benchmarks-scale-sweep.md, up to 1e7 triangles). Every quality picks it: the
- *   inexact candidate, `shadowmap` (Brabec, "Shadow Techniques for Interactive and Real-Time
- *   Applications", PhD thesis, 2003, ch. 4-6; mismatch about 2.5e-4 at 2048²), was slower
- *   than `raytraced` in every one of those measurements (still, moving light, moving camera,
- *   1e4-1e7 triangles; within 4 % at best), so choosing it would be both slower and wrong.
- *   It reads nothing back to the CPU, which may pay off where the rasterizer is a GPU
- *   rather than the CPU cores the ray tracer also needs: that needs measurements there.
+ *   It is the fastest exact hard-shadow technique on the bench scenes and in the scale sweep
+ *   (docs/results.md; docs/benchmarks-scale-sweep.md). Every quality picks it: the inexact
+ *   candidate, `shadowmap` (Brabec, "Shadow Techniques for Interactive and Real-Time
+ *   Applications", PhD thesis, 2003, ch. 4-6), saves little or no time over it there, which
+ *   does not pay for its mismatch. A shadow map reads nothing back to the CPU, which may pay
+ *   off where the rasterizer is a GPU rather than the CPU cores the ray tracer also needs;
+ *   this rule has not been measured on such a machine.
  * - area and linear lights with k >= 8 light samples per axis: `gears`
  *   (vtkPenumbraGearsShadows; Wang, Wang, Shi, Popescu, "GEARS: A General and Efficient
  *   Algorithm for Rendering Shadows", Computer Graphics Forum 33(6), 2014) at the light's
- *   own k: exact, bit for bit the visibility of `raytraced` at the same k, and 2.5x (k = 8)
- *   to 25x (k = 32) faster on the city (docs/gears.md). With k <= 4, `raytraced`: as fast or
- *   faster there (city 79 vs 76 ms, the two-light area_light scene 226 vs 1046 ms). Where the
- *   measurements disagree with this rule (gears slower at k = 8 on the dense bunny, carotid
- *   and 1 M-triangle isosurface and on area_light, docs/benchmarks.md) the answer is the same,
- *   only slower: a cost model calibrated per scene is what would decide those.
- *   QUALITY_FAST uses k = 4 (unless SamplesPerAxis says otherwise), the cheapest measured
- *   point: MAE 0.0044 against the converged estimate where k = 8 gives 0.0016 and 50 against
- *   72 ms a frame on the city at 1280 x 720 (docs/benchmarks.md, GEARS). Fewer light
- *   samples is the one measured trade of error for time.
+ *   own k: exact, bit for bit the visibility of `raytraced` at the same k, and on the city
+ *   faster than it from k = 8 on, the more so the larger k (docs/gears.md). With k <= 4,
+ *   `raytraced`, as fast as gears or faster at so few light samples (docs/gears.md).
+ *   Either way the answer is exact; on scenes where the other one is faster (dense meshes
+ *   at k = 8, docs/benchmarks.md) the choice only costs time: a cost model calibrated per
+ *   scene is what would decide those.
+ *   QUALITY_FAST uses k = 4 (unless SamplesPerAxis says otherwise): fewer light samples is
+ *   the one trade of error for time among exact techniques (a coarser estimate of the same
+ *   penumbra, at a fraction of the cost; docs/results.md has both at samples=4 and 8).
  *
- * A time budget (`budget_ms`) is not offered: the measurements above are from one machine
- * and no cost model calibrated from them is stored yet, so a budget could not be honoured.
+ * A time budget (`budget_ms`) is not offered: the rule above is fixed, not a cost model
+ * calibrated on the machine at hand, so a budget could not be honoured.
  */
 
 #ifndef vtkPenumbraAutoShadows_h
@@ -57,7 +52,7 @@ public:
   enum Qualities
   {
     QUALITY_EXACT = 0,    ///< exact techniques only
-    QUALITY_BALANCED = 1, ///< the best measured error for the time (default)
+    QUALITY_BALANCED = 1, ///< exact techniques, the faster per light (default; as EXACT)
     QUALITY_FAST = 2      ///< fewer light samples for soft lights, not exact
   };
 

@@ -360,11 +360,11 @@ void InstallVTKShadowMap(vtkRenderer* ren, const Options& opts)
   InstallPass(ren, camera, true);
 }
 
-// Per light, the technique the measurements favour (vtkPenumbraAutoShadows says which and
-// why, citing docs/benchmarks.md and docs/gears.md).
+// Per light, an exact technique chosen by light type (vtkPenumbraAutoShadows says which and
+// why).
 const OptionTable AutoOptions = {
   { "quality", OptionType::Choice, "balanced", 0, 0, { "balanced", "exact", "fast" }, "",
-    "\"balanced\" and \"exact\": the exact technique measured fastest for each light; "
+    "\"balanced\" and \"exact\": the faster exact technique for each light's type; "
     "\"fast\": area and linear lights at 4 x 4 light samples" },
   SamplesOption(),
 };
@@ -389,8 +389,8 @@ const std::vector<Technique>& Registry()
     std::vector<Technique> all = {
       { "none", "plain VTK rendering without shadows", {}, InstallNone },
       Installed({ "auto",
-        "per light, the technique measured best for it: raytraced for hard lights, gears for "
-        "area and linear lights (exact); quality=fast uses 4 x 4 light samples",
+        "per light, an exact technique chosen by its type: raytraced for hard lights, gears "
+        "for area and linear lights; quality=fast uses 4 x 4 light samples",
         AutoOptions, CreateAuto }),
       { "vtk-shadowmap",
         "VTK's vtkShadowMapPass (exponential shadow map; directional lights and spot lights "

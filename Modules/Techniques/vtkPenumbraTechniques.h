@@ -7,11 +7,13 @@
  * `penumbra-render --technique` switch and the benchmark all go through Apply(), so a
  * technique is available everywhere once its family lists it.
  *
- * Registered techniques (the full list: GetTechniqueName()): `none`, `auto` (the default of
- * scene files, the CLI, the examples and the Python helper: per light, the technique the
- * project's measurements favour, see vtkPenumbraAutoShadows) and `vtk-shadowmap` (VTK's own
- * pass, the peer) are the registry's own; then each family's techniques, described beside
- * their classes (penumbra_exact_shadows::Techniques(), penumbra_shadow_maps::Techniques(),
+ * The registered techniques are not listed here: `penumbra-render --list-techniques` prints
+ * every one with its options (GetTechniqueName() and the option accessors below), and
+ * docs/architecture.md ("Registry name -> folder and class") says where each lives. This
+ * file defines three of them, `none`, `auto` (the default of scene files, the CLI, the
+ * examples and the Python helper; see vtkPenumbraAutoShadows) and `vtk-shadowmap` (VTK's own
+ * pass, the peer); every other one comes from its family's list, described beside its
+ * classes (penumbra_exact_shadows::Techniques(), penumbra_shadow_maps::Techniques(),
  * penumbra_gears::Techniques(); see vtkPenumbraTechniqueOptions.h). Each has one option
  * table (name, type, default, range or choices, unit, one-line doc); Apply() validates
  * against it, and the option accessors below, `penumbra-render --list-techniques`, the

@@ -31,7 +31,7 @@ WIDTH, HEIGHT = 160, 120
 # this share of the shadow candidates (samples lit or shadowed in either answer).
 EXACT = ("auto", "raytraced", "conservative", "llsm", "llsm-hybrid", "volumes", "gears")
 # Approximate techniques miss casters thinner than their texels: one-pixel lines and points
-# are the worst case. Measured maxima over the rows (2026-11-28): resm 0.33 (its texels are
+# are the worst case. Measured maxima over the rows: resm 0.33 (its texels are
 # sized to a pixel), soft-shadowmap 0.16, the 2048-texel maps 0.04.
 APPROXIMATE_BOUNDS = {"resm": 0.4, "soft-shadowmap": 0.2}
 APPROXIMATE_BOUND = 0.08

@@ -241,5 +241,5 @@ if failures:
 else:
     print("all checks passed")
 # sys.exit() with a shadow view alive: ParaView destroys its views after Embree's state at
-# exit; this once aborted (or hung) in Embree, so the exit status checks that it no longer does.
+# exit, so an exit that aborts (or hangs) in Embree fails this test through its exit status.
 sys.exit(1 if failures else 0)

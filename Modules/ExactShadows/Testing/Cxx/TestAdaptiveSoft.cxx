@@ -136,7 +136,7 @@ int TestAdaptiveSoft(int, char*[])
     CHECK(techniques->Apply(renderer, "adaptive-soft", "{\"tolerance\": 2}") == 0);
     CHECK(techniques->Apply(renderer, "adaptive-soft", "{\"block\": 2, \"tolerance\": 1}") == 1);
   }
-  // Measured on 2026-11-25 (llvmpipe): area_light 0.0030 / 0.0021 per light, traced 0.28;
+  // Measured on llvmpipe: area_light 0.0030 / 0.0021 per light, traced 0.28;
   // linear_light (block 4) 0.0008, traced 0.34. Bound: twice the largest plus 2e-3.
   Run area, linear, loose, strict;
   RUN(Compare("area_light.json", "{\"samples\": 4}", 8, 0.0080, area));

@@ -73,7 +73,7 @@ int TestPly()
   CHECK(Problem(Write("ascii.ply", PlyHeader("ascii", 3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"))
           .empty());
 
-  // The case: a binary PLY cut short right after its header.
+  // A binary PLY cut short right after its header.
   CHECK(Contains(Problem(Write("cut.ply", PlyHeader("binary_little_endian", 3, 1))),
     "binary PLY ends inside element \"vertex\": the header promises 3 records of 12 bytes (36 "
     "bytes), only 0 bytes are left"));
@@ -127,7 +127,7 @@ int TestObj()
   CHECK(Problem(Write("good.obj",
                   "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf -3 -2 -1\n"))
           .empty());
-  // The case: a face that indexes a missing vertex rendered without a word.
+  // A face that indexes a missing vertex, which VTK's reader renders without a word.
   CHECK(Contains(Problem(Write("missing.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n")),
     "OBJ line 4: vertex 4 does not exist (the file has 3)"));
   CHECK(Contains(Problem(Write("vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/2 2/1 3/1\n")),

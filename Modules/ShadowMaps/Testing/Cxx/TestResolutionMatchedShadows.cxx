@@ -170,7 +170,7 @@ int CheckPlaneAndBox()
 }
 
 // The default city with its sun and with a spot light, at 256 x 192: within twice
-// shadowmap's mismatch at 2048^2 plus one sample in 10^4 (measured 2026-11-25: 0.00065
+// shadowmap's mismatch at 2048^2 plus one sample in 10^4 (measured: 0.00065
 // against 0.00033 with the sun, 10 against 5 of about 15,000 samples; at 1280 x 720 the
 // bench compares them, docs/benchmarks.md).
 int CheckDefaultScene()
@@ -230,7 +230,7 @@ int CheckAtlasFull()
 }
 
 // The 2 x 2 filter on the plane-and-box scene: visibility ramps at the shadow's edges (values
-// strictly between 0 and 1, none outside; 6 samples at 256 x 192 on 2026-11-25, the texels
+// strictly between 0 and 1, none outside; 6 samples at 256 x 192 when measured, the texels
 // being finer than the pixels there), the mismatch within the nearest lookup's plus 1e-3.
 int CheckBilinear()
 {
@@ -378,7 +378,7 @@ int MismatchesAtBoundaries(vtkRenderer* renderer, int width, int height, int& mi
 // request finer pages (some are rendered, and looked up at a level finer than the
 // coarsest requested), every remaining mismatch lies next to a boundary of the exact answer
 // (none at creases or contacts away from one), and there are less than half as many as
-// without refinement (measured 2026-11-26 at 320 x 240: 2 against 16).
+// without refinement (measured at 320 x 240: 2 against 16).
 int CheckEdgeRefinement()
 {
   const int width = 320, height = 240;
@@ -431,7 +431,7 @@ int CheckEdgeRefinement()
 // straddle walls and the ground, whose footprints differ by orders of magnitude, and blocks
 // whose first sample faces away hold samples that face the light. Each block takes the
 // finest level of its surfaces and is analysed at its first pending sample, so the mismatch
-// stays within 1.2 times that of analysing every sample (measured 2026-11-26 at 480 x 360:
+// stays within 1.2 times that of analysing every sample (measured at 480 x 360:
 // 5 against 9 mismatching samples; with a block's level from its first sample alone, 43).
 int CheckGrazingAnalysis()
 {

@@ -649,7 +649,7 @@ int CheckGrazingLight()
   return EXIT_SUCCESS;
 }
 
-// The same scene in an 800 x 400 window (the wide case) and a 400 x 400 one: the
+// The same scene in an 800 x 400 window (a wide one) and a 400 x 400 one: the
 // rates agree, so the wide aspect neither stretches the map nor shifts the lookup (VTK's
 // pass distorts non-square windows).
 int CheckNonSquare()

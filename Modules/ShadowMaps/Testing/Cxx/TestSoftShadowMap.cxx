@@ -161,7 +161,7 @@ int CheckStraightEdge()
   CHECK(reference.Count > 5000 && reference.Penumbra > 500);
   CHECK(reference.Max < 1e-4);
 
-  // Bounds: over the penumbra samples the mean error and the largest (measured 2026-11-26,
+  // Bounds: over the penumbra samples the mean error and the largest (measured on
   // llvmpipe). The maps cover the whole 12 x 12 m plane by default (fit "scene"): 0.006-0.010
   // and 0.015-0.022, bounded at 0.02 and 0.05; fitted to the view: 0.004-0.0055 and
   // 0.010-0.012, bounded at 0.01 and 0.03. What remains is about one map texel at the

@@ -1,8 +1,8 @@
 // The approximate techniques on every torture scene, each light against the exact reference
 // on the same view samples (128 x 96): the mismatch rate of hard lights and the mean absolute
 // error of area and linear lights stay within the bounds stated below. The bounds are the
-// errors measured on 2026-11-25 (Mesa llvmpipe) with headroom for driver rounding: twice the
-// measured value plus 1e-3 (hard) or 5e-3 (soft). A biased or leaking map, a wrong fit or a
+// errors measured on Mesa llvmpipe (beside each row) with headroom for driver rounding: twice
+// the measured value plus 1e-3 (hard) or 5e-3 (soft). A biased or leaking map, a wrong fit or a
 // broken estimate exceeds them. Lights a technique cannot shadow are left to the pass's exact
 // fallback and are not scored; lights the pass skips (no caster reaches them) neither.
 #include "vtkFloatArray.h"

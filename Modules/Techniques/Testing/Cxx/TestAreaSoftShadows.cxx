@@ -270,7 +270,7 @@ int CheckZeroSizeLight(const char* technique)
 
 int TestAreaSoftShadows(int, char*[])
 {
-  // The straight-edge bounds: twice the MAE measured on 2026-11-26 (Mesa llvmpipe) plus
+  // The straight-edge bounds: twice the MAE measured on Mesa llvmpipe plus
   // 0.005 (pcss 0.0078 and 0.0037, single-sample-soft 0.0004 and 0.0003).
   const double edgeBounds[2] = { 0.021, 0.0058 };
   for (int t = 0; t < 2; ++t)

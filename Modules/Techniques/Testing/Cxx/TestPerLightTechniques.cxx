@@ -180,8 +180,8 @@ int TestAuto()
     CHECK(shadowed);
   }
 
-  // quality=exact and quality=fast choose the same techniques (shadow maps were slower than
-  // the ray tracer in every measurement); fast gives soft lights k = 4, `samples` any k.
+  // quality=exact and quality=fast choose the same techniques (hard lights get raytraced at
+  // every quality, see vtkPenumbraAutoShadows); fast gives soft lights k = 4, `samples` any k.
   std::vector<vtkSmartPointer<vtkFloatArray>> exact, fast, fine, gears8;
   std::vector<std::string> exactNames, fastNames, fineNames, gears8Names;
   RUN(RenderWith("auto", R"({"quality": "exact"})", exact, exactNames, none));
