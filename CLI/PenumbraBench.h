@@ -48,8 +48,9 @@ struct Options
     "shadowmap:resolution=1024", "shadowmap:resolution=4096",
     "shadowmap:resolution=2048;filter=pcf", "shadowmap:resolution=2048;filter=bilinear", "resm",
     "rmsm", "volumes", "volumes:silhouettes=gpu", "volumes:measure_fill=true", "pcss",
-    "adaptive-soft:samples=4", "adaptive-soft:samples=8", "raytraced:samples=4", "gears:samples=4",
-    "raytraced:samples=8", "gears:samples=8", "raytraced:samples=16", "gears:samples=16" };
+    "single-sample-soft", "soft-shadowmap", "adaptive-soft:samples=4", "adaptive-soft:samples=8",
+    "raytraced:samples=4", "gears:samples=4", "raytraced:samples=8", "gears:samples=8",
+    "raytraced:samples=16", "gears:samples=16" };
   // The parsed TechniqueTexts, with `none` first if it was not asked for (every point is
   // compared with the unshadowed frame).
   std::vector<TechniqueSpec> Techniques;

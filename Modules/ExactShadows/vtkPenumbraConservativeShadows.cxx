@@ -877,6 +877,7 @@ double vtkPenumbraConservativeShadows::GetUncertainFraction()
 void vtkPenumbraConservativeShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "Layers: " << this->Layers << "\n";
   os << indent << "Resolution: " << this->Resolution << "\n";
   os << indent << "MapBuilder: " << (this->MapBuilder == MAP_GPU ? "gpu" : "cpu") << "\n";
   os << indent << "NumberOfTexelWrites: " << this->NumberOfTexelWrites << "\n";

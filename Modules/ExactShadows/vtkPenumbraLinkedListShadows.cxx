@@ -271,6 +271,11 @@ double vtkPenumbraLinkedListShadows::GetUncertainFraction()
 void vtkPenumbraLinkedListShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  if (this->Classifier)
+  {
+    os << indent << "Classifier: resolution " << this->Classifier->GetResolution() << ", layers "
+       << this->Classifier->GetLayers() << "\n";
+  }
   os << indent << "Resolution: " << this->Resolution << "\n";
   os << indent << "ListCapacity: " << this->ListCapacity << "\n";
   os << indent << "Hybrid: " << (this->Hybrid ? "on" : "off") << "\n";

@@ -421,6 +421,7 @@ double vtkPenumbraShadowVolumeShadows::GetUncertainFraction()
 void vtkPenumbraShadowVolumeShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "MeasureFill: " << this->MeasureFill << "\n";
   os << indent << "Method: " << this->Method << "\n";
   os << indent << "Cull: " << this->Cull << "\n";
   os << indent << "Silhouettes: " << this->Silhouettes << "\n";

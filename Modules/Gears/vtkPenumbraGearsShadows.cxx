@@ -447,6 +447,7 @@ void vtkPenumbraGearsShadows::Internals::StoreStatistics(
 void vtkPenumbraGearsShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "DenseCells: " << this->DenseCells << "\n";
   os << indent << "SamplesPerAxis: " << this->SamplesPerAxis << "\n";
   os << indent << "GridResolution: " << this->GridResolution << "\n";
   os << indent << "CameraDistanceFactor: " << this->CameraDistanceFactor << "\n";

@@ -427,6 +427,10 @@ void vtkPenumbraResolutionMatchedShadows::Internals::Release(vtkWindow* window)
 void vtkPenumbraResolutionMatchedShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "Filter: " << this->Filter << "\n";
+  os << indent << "Footprint: " << this->Footprint << "\n";
+  os << indent << "LODBias: " << this->LODBias << "\n";
+  os << indent << "AnalysisStep: " << this->AnalysisStep << "\n";
   os << indent << "MaxResolution: " << this->MaxResolution << "\n";
   os << indent << "AtlasSize: " << this->AtlasSize << "\n";
   os << indent << "Cached: " << this->Cached << "\n";

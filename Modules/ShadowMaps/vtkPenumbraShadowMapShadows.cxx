@@ -411,6 +411,18 @@ bool vtkPenumbraShadowMapShadows::GetMapFootprint(vtkLight* light, double sides[
 void vtkPenumbraShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "FitTo: " << this->FitTo << "\n";
+  os << indent << "Lookup: " << this->Lookup << "\n";
+  os << indent << "AreaLightMode: " << this->AreaLightMode << "\n";
+  os << indent << "SearchTaps: " << this->SearchTaps << "\n";
+  os << indent << "FilterTaps: " << this->FilterTaps << "\n";
+  os << indent << "SearchDepth: " << this->SearchDepth << "\n";
+  os << indent << "MaxRadius: " << this->MaxRadius << "\n";
+  os << indent << "AdaptiveBlock: " << this->AdaptiveBlock << "\n";
+  os << indent << "Physical: " << this->Physical << "\n";
+  os << indent << "RScale: " << this->RScale << "\n";
+  os << indent << "RBias: " << this->RBias << "\n";
+  os << indent << "RShrink: " << this->RShrink << "\n";
   os << indent << "Resolution: " << this->Resolution << "\n";
   os << indent << "ResolutionMode: " << this->ResolutionMode << "\n";
   os << indent << "MaxResolution: " << this->MaxResolution << "\n";

@@ -69,6 +69,9 @@ void ReadMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* technique)
   const int fits[] = { vtkPenumbraShadowMapShadows::FIT_AXIS,
     vtkPenumbraShadowMapShadows::FIT_MINIMUM, vtkPenumbraShadowMapShadows::FIT_SQUARE };
   technique->SetFitRectangle(fits[opts.Choice("fit_rectangle")]);
+  const int fitTo[] = { vtkPenumbraShadowMapShadows::FIT_TO_AUTO,
+    vtkPenumbraShadowMapShadows::FIT_TO_VIEW, vtkPenumbraShadowMapShadows::FIT_TO_SCENE };
+  technique->SetFitTo(fitTo[opts.Choice("fit")]);
 }
 
 // shadowmap's and resm's: the map options, the filter and where the lookup runs.
@@ -82,9 +85,6 @@ void ReadShadowMapOptions(const Options& opts, vtkPenumbraShadowMapShadows* tech
   const int lookups[] = { vtkPenumbraShadowMapShadows::LOOKUP_GPU,
     vtkPenumbraShadowMapShadows::LOOKUP_CPU, vtkPenumbraShadowMapShadows::LOOKUP_GBUFFER };
   technique->SetLookup(lookups[opts.Choice("lookup")]);
-  const int fits[] = { vtkPenumbraShadowMapShadows::FIT_TO_AUTO,
-    vtkPenumbraShadowMapShadows::FIT_TO_VIEW, vtkPenumbraShadowMapShadows::FIT_TO_SCENE };
-  technique->SetFitTo(fits[opts.Choice("fit")]);
 }
 
 vtkSmartPointer<vtkPenumbraShadowTechnique> CreateShadowMap(const Options& opts)

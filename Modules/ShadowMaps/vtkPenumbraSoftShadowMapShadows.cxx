@@ -1140,6 +1140,9 @@ int vtkPenumbraSoftShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
 void vtkPenumbraSoftShadowMapShadows::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "Elements: " << this->Elements << "\n";
+  os << indent << "Fit: " << this->Fit << "\n";
+  os << indent << "Block: " << this->Block << "\n";
   os << indent << "NumberOfLineSamples: " << this->NumberOfLineSamples << "\n";
   os << indent << "GridSamples: " << this->GridSamples << "\n";
   os << indent << "Resolution: " << this->Resolution << "\n";
