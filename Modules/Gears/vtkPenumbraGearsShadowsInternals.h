@@ -409,7 +409,7 @@ struct vtkPenumbraGearsShadows::Internals
   }
 
   // The phases of ComputeVisibility, in the order it runs them (defined below it).
-  bool ReadSamples(vtkPenumbraViewSamples* samples, CallState& call);
+  std::string ReadSamples(vtkPenumbraViewSamples* samples, CallState& call);
   bool SetUpLight(vtkPenumbraGearsShadows* self, vtkPenumbraAreaLight* area,
     vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, CallState& call);
   void SetUpOutputs(vtkPenumbraGearsShadows* self, vtkFloatArray* visibility, CallState& call);

@@ -471,18 +471,16 @@ int vtkPenumbraLineReference::ComputeVisibility(
   {
     return this->Fail("no scene geometry: call SetGeometry() first");
   }
+  const std::string sampleProblem = samples->CheckArrays();
+  if (!sampleProblem.empty())
+  {
+    return this->Fail(sampleProblem);
+  }
   const vtkIdType count = samples->GetNumberOfSamples();
   vtkFloatArray* pos = samples->GetPositions();
   vtkFloatArray* nrm = samples->GetNormals();
   vtkIntArray* props = samples->GetPropIndices();
   vtkIdTypeArray* tris = samples->GetTriangleIds();
-  if (!pos || !nrm || !props || !tris || pos->GetNumberOfComponents() != 3 ||
-    nrm->GetNumberOfComponents() != 3 || pos->GetNumberOfTuples() != count ||
-    nrm->GetNumberOfTuples() != count || props->GetNumberOfTuples() != count ||
-    tris->GetNumberOfTuples() != count)
-  {
-    return this->Fail("view sample arrays are missing or do not match the sample count");
-  }
   if (!this->EnsureHierarchy())
   {
     return 0;

@@ -27,7 +27,6 @@
 #include <limits>
 #include <mutex>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -448,36 +447,18 @@ std::string CheckSamples(vtkPenumbraViewSamples* samples, SampleInput& in)
   {
     return "no view samples (null vtkPenumbraViewSamples)";
   }
+  const std::string problem = samples->CheckArrays();
+  if (!problem.empty())
+  {
+    return problem;
+  }
   const vtkIdType n = samples->GetNumberOfSamples();
   vtkFloatArray* pos = samples->GetPositions();
   vtkFloatArray* nrm = samples->GetNormals();
   vtkIntArray* props = samples->GetPropIndices();
   vtkIdTypeArray* tris = samples->GetTriangleIds();
-  if (!pos || !nrm || !props || !tris)
-  {
-    return "view samples lack one of the position, normal, prop or triangle arrays";
-  }
-  if (pos->GetNumberOfComponents() != 3 || nrm->GetNumberOfComponents() != 3 ||
-    props->GetNumberOfComponents() != 1 || tris->GetNumberOfComponents() != 1)
-  {
-    return "view sample arrays have the wrong number of components (3, 3, 1, 1 expected)";
-  }
-  if (pos->GetNumberOfTuples() != n || nrm->GetNumberOfTuples() != n ||
-    props->GetNumberOfTuples() != n || tris->GetNumberOfTuples() != n)
-  {
-    std::ostringstream msg;
-    msg << "view sample arrays do not match the " << samples->GetWidth() << " x "
-        << samples->GetHeight() << " size: positions " << pos->GetNumberOfTuples() << ", normals "
-        << nrm->GetNumberOfTuples() << ", prop indices " << props->GetNumberOfTuples()
-        << ", triangle ids " << tris->GetNumberOfTuples();
-    return msg.str();
-  }
   double origin[3];
   samples->GetOrigin(origin);
-  if (!Finite3(origin))
-  {
-    return "view samples have a non-finite origin";
-  }
   in.Count = n;
   in.Positions = n ? pos->GetPointer(0) : nullptr;
   in.Normals = n ? nrm->GetPointer(0) : nullptr;
