@@ -191,11 +191,7 @@ struct vtkPenumbraLineReference::Internals
   std::vector<int> Order;               // leaf ranges index this
   std::vector<Node> Nodes;
   double Diagonal = 1.0;
-  bool Built = false;
-  vtkMTimeType BuiltGeometryTime = 0;
-  vtkMTimeType BuiltFlagsTime = 0;
-  vtkIdType BuiltTriangles = 0;
-  double BuiltOrigin[3] = { 0, 0, 0 };
+  penumbra::CastersStamp Built; // what the hierarchy was built from
   vtkNew<vtkUnsignedCharArray> Ties;
 
   void Bounds(int first, int count, double lo[3], double hi[3]) const
@@ -401,16 +397,11 @@ int vtkPenumbraLineReference::EnsureHierarchy()
 {
   Internals& impl = *this->Impl;
   vtkPenumbraSceneGeometry* geometry = this->Geometry;
-  double origin[3];
-  geometry->GetOrigin(origin);
-  const vtkIdType n = geometry->GetNumberOfTriangles();
-  if (impl.Built && impl.BuiltGeometryTime == geometry->GetGeometryTime() &&
-    impl.BuiltFlagsTime == geometry->GetFlagsTime() && impl.BuiltTriangles == n &&
-    origin[0] == impl.BuiltOrigin[0] && origin[1] == impl.BuiltOrigin[1] &&
-    origin[2] == impl.BuiltOrigin[2])
+  if (!impl.Built.Changed(geometry))
   {
     return 1;
   }
+  const vtkIdType n = geometry->GetNumberOfTriangles();
   vtkDoubleArray* vertices = geometry->GetVertices();
   if (n > 0 &&
     (!vertices || vertices->GetNumberOfComponents() != 9 || vertices->GetNumberOfTuples() != n))
@@ -435,14 +426,7 @@ int vtkPenumbraLineReference::EnsureHierarchy()
   }
   impl.Build();
   impl.Diagonal = penumbra_rules::SceneDiagonal(geometry);
-  impl.Built = true;
-  impl.BuiltGeometryTime = geometry->GetGeometryTime();
-  impl.BuiltFlagsTime = geometry->GetFlagsTime();
-  impl.BuiltTriangles = n;
-  for (int c = 0; c < 3; ++c)
-  {
-    impl.BuiltOrigin[c] = origin[c];
-  }
+  impl.Built.Remember(geometry);
   ++this->NumberOfBuilds;
   return 1;
 }

@@ -200,11 +200,7 @@ struct vtkPenumbraReference::Internals : penumbra_embree::Objects
   std::string Error;
 
   // What the current scene was built from.
-  bool Built = false;
-  vtkMTimeType BuiltGeometryTime = 0;
-  vtkMTimeType BuiltFlagsTime = 0;
-  double BuiltOrigin[3] = { 0, 0, 0 };
-  vtkIdType BuiltTriangles = 0;
+  penumbra::CastersStamp Built; // what the Embree scene was built from
 
   std::vector<vtkIdType> PrimitiveToTriangle;
   std::vector<vtkIdType> PrimitiveOwner; // the owner triangle of each primitive (GetOwners)
@@ -797,16 +793,11 @@ int vtkPenumbraReference::EnsureScene()
 {
   Internals& impl = *this->Impl;
   vtkPenumbraSceneGeometry* geometry = this->Geometry;
-  double origin[3];
-  geometry->GetOrigin(origin);
-  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
-  if (impl.Built && impl.Scene && impl.BuiltGeometryTime == geometry->GetGeometryTime() &&
-    impl.BuiltFlagsTime == geometry->GetFlagsTime() && impl.BuiltTriangles == nTriangles &&
-    origin[0] == impl.BuiltOrigin[0] && origin[1] == impl.BuiltOrigin[1] &&
-    origin[2] == impl.BuiltOrigin[2])
+  if (impl.Scene && !impl.Built.Changed(geometry))
   {
     return 1;
   }
+  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
   const auto start = Clock::now();
 
   vtkDoubleArray* vertices = geometry->GetVertices();
@@ -842,7 +833,7 @@ int vtkPenumbraReference::EnsureScene()
     rtcReleaseScene(impl.Scene);
     impl.Scene = nullptr;
   }
-  impl.Built = false;
+  impl.Built.Forget();
   impl.DeviceError.clear();
 
   // Casters only; zero-area triangles cover no solid angle and are skipped.
@@ -904,14 +895,7 @@ int vtkPenumbraReference::EnsureScene()
 
   impl.Diagonal = penumbra_rules::SceneDiagonal(geometry);
 
-  impl.Built = true;
-  impl.BuiltGeometryTime = geometry->GetGeometryTime();
-  impl.BuiltFlagsTime = geometry->GetFlagsTime();
-  impl.BuiltTriangles = nTriangles;
-  for (int c = 0; c < 3; ++c)
-  {
-    impl.BuiltOrigin[c] = origin[c];
-  }
+  impl.Built.Remember(geometry);
   ++this->NumberOfBuilds;
   this->LastBuildTimeMs = ElapsedMs(start);
   return 1;

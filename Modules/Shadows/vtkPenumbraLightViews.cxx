@@ -692,15 +692,9 @@ const penumbra_rules::ExactTriangle* ExactTriangles::Get(
 //------------------------------------------------------------------------------
 bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
 {
-  double origin[3];
-  geometry->GetOrigin(origin);
-  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
-  const bool current = this->Current && this->Geometry == geometry &&
-    this->GeometryTime == geometry->GetGeometryTime() &&
-    this->FlagsTime == geometry->GetFlagsTime() && this->Triangles == nTriangles &&
-    std::equal(origin, origin + 3, this->Origin);
-  if (!current)
+  if (this->Current.Changed(geometry))
   {
+    const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
     std::vector<float> xyz;
     std::vector<vtkIdType> casters;
     double* bounds = this->Bounds;
@@ -728,13 +722,8 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
     this->Vertices.swap(xyz);
     this->TriangleIds.swap(casters);
     this->Exact.Reset(this->TriangleIds);
-    this->Current = true;
+    this->Current.Remember(geometry);
     this->OnGPU = false;
-    this->Geometry = geometry;
-    this->GeometryTime = geometry->GetGeometryTime();
-    this->FlagsTime = geometry->GetFlagsTime();
-    this->Triangles = nTriangles;
-    std::copy(origin, origin + 3, this->Origin);
   }
   if (!upload || this->OnGPU)
   {

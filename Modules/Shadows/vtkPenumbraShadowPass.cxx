@@ -245,9 +245,8 @@ std::vector<double> vtkPenumbraShadowPass::Internals::ViewKey(
   {
     key.insert(key.end(), &m->Element[0][0], &m->Element[0][0] + 16);
   }
-  key.push_back(static_cast<double>(this->Geometry->GetGeometryTime()));
-  key.push_back(static_cast<double>(this->Geometry->GetFlagsTime()));
-  // What of the props the view samples show beyond their triangles (which GeometryTime
+  key.push_back(static_cast<double>(this->Geometry->GetCastersTime()));
+  // What of the props the view samples show beyond their triangles (which the casters time
   // covers): which props are drawn, which are translucent receivers (the second layer), and
   // whether they are lit and how they are drawn (unlit props give no samples).
   for (int i = 0; i < s->GetPropArrayCount(); ++i)
