@@ -39,9 +39,6 @@ class vtkRenderState;
 
 namespace penumbra_shadow_pass
 {
-// Wall-clock seconds, for the phase times.
-double Now();
-
 // Whether VTK draws `prop` in its translucent pass as a receiver: the props whose nearest
 // translucent surface gets its own view samples and visibility.
 bool IsTranslucentReceiver(vtkProp* prop);
