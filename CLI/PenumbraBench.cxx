@@ -6,6 +6,7 @@
 #include "vtkContextView.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraImageIO.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraTechniques.h"
@@ -19,8 +20,8 @@
 
 namespace penumbra_bench
 {
-using penumbra_cli::Clock;
-using penumbra_cli::MsSince;
+using penumbra::Clock;
+using penumbra::ElapsedMs;
 
 const double Palette[PaletteSize][3] = { { 0.1, 0.1, 0.1 }, { 0.85, 0.33, 0.1 },
   { 0.0, 0.45, 0.74 }, { 0.47, 0.67, 0.19 }, { 0.49, 0.18, 0.56 }, { 0.93, 0.69, 0.13 },
@@ -118,7 +119,7 @@ FrameTimes TimeFrames(vtkRenderWindow* win, int warmup, int frames, double budge
     const auto t0 = Clock::now();
     win->Render();
     win->WaitForCompletion();
-    const double ms = MsSince(t0);
+    const double ms = ElapsedMs(t0);
     if (f >= warmup)
     {
       result.Ms.push_back(ms);

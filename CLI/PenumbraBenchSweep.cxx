@@ -33,6 +33,7 @@
 #include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkPen.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraImageIO.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraTechniques.h"
@@ -223,10 +224,10 @@ void MeasureSweepRow(const SweepScene& scene, const Options& o, SweepRow& row)
   row.RssBeforeMB = peak ? StatusMB("VmRSS") : -1.0;
   if (row.Moves == SweepRow::Still)
   {
-    const auto t0 = penumbra_cli::Clock::now();
+    const auto t0 = penumbra::Clock::now();
     scene.Window->Render();
     scene.Window->WaitForCompletion();
-    row.FirstFrameMs = penumbra_cli::MsSince(t0);
+    row.FirstFrameMs = penumbra::ElapsedMs(t0);
     if (row.FirstFrameMs > 1000.0 * o.BudgetSeconds)
     {
       row.PeakRssMB = peak ? StatusMB("VmHWM") : -1.0;

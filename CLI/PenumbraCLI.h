@@ -3,7 +3,6 @@
 #ifndef PenumbraCLI_h
 #define PenumbraCLI_h
 
-#include "vtkPenumbraDiagnostics.h" // For penumbra::Clock, penumbra::ElapsedMs
 #include "vtkSmartPointer.h"
 
 #include <string>
@@ -16,9 +15,6 @@ class vtkRenderer;
 
 namespace penumbra_cli
 {
-using Clock = penumbra::Clock;
-constexpr auto MsSince = penumbra::ElapsedMs;
-
 // Records VTK errors raised while rendering (shader compile failures, GL errors) so a run
 // fails instead of producing a silently wrong image. VTK's own printing is kept off stderr.
 class ErrorLog

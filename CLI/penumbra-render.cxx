@@ -17,6 +17,7 @@
 #include "vtkCommand.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraImageCompare.h"
 #include "vtkPenumbraImageIO.h"
 #include "vtkPenumbraSceneReader.h"
@@ -38,8 +39,8 @@
 
 namespace
 {
-using penumbra_cli::Clock;
-using penumbra_cli::MsSince;
+using penumbra::Clock;
+using penumbra::ElapsedMs;
 
 int Usage(const char* why)
 {
@@ -308,7 +309,7 @@ int main(int argc, char* argv[])
     std::cerr << "penumbra-render: " << reader->GetErrorMessage() << "\n";
     return 2;
   }
-  const double loadMs = MsSince(t0);
+  const double loadMs = ElapsedMs(t0);
 
   const auto t1 = Clock::now();
   vtkRenderer* ren = reader->GetRenderer();
@@ -317,7 +318,7 @@ int main(int argc, char* argv[])
   {
     return 2;
   }
-  const double setupMs = MsSince(t1);
+  const double setupMs = ElapsedMs(t1);
 
   const auto t2 = Clock::now();
   penumbra_cli::ErrorLog errors;
@@ -332,7 +333,7 @@ int main(int argc, char* argv[])
   }
   win->Render();
   win->WaitForCompletion(); // glFinish: time the work, not its submission
-  const double firstMs = MsSince(t2);
+  const double firstMs = ElapsedMs(t2);
   if (errors.Raised())
   {
     std::cerr << "penumbra-render: rendering failed: " << errors.FirstError() << "\n";
@@ -342,7 +343,7 @@ int main(int argc, char* argv[])
   const auto t3 = Clock::now();
   win->Render();
   win->WaitForCompletion(); // glFinish: time the work, not its submission
-  const double frameMs = MsSince(t3);
+  const double frameMs = ElapsedMs(t3);
 
   const auto t4 = Clock::now();
   vtkSmartPointer<vtkImageData> image = penumbra_cli::GrabRGB(win);
@@ -355,7 +356,7 @@ int main(int argc, char* argv[])
               << "\n";
     return 3;
   }
-  const double writeMs = MsSince(t4);
+  const double writeMs = ElapsedMs(t4);
 
   int* size = win->GetSize();
   std::cout << "scene      " << reader->GetSceneLabel() << " (" << reader->GetNumberOfObjects()
@@ -365,7 +366,7 @@ int main(int argc, char* argv[])
   std::printf("first      %9.1f ms  (context, upload, shader compile, shadows, frame)\n", firstMs);
   std::printf("frame      %9.1f ms  (second frame, steady state)\n", frameMs);
   std::printf("write      %9.1f ms  (read back, encode)\n", writeMs);
-  std::printf("total      %9.1f ms\n", MsSince(t0));
+  std::printf("total      %9.1f ms\n", ElapsedMs(t0));
   std::cout << "wrote      " << args.OutPath << "\n";
   if (args.Explain)
   {

@@ -265,10 +265,8 @@ struct vtkPenumbraConservativeShadows::Internals
   {
     std::vector<double> key = { view.Perspective ? 1.0 : 0.0, view.Far, view.NearW, view.TanHalf,
       static_cast<double>(f.Size), static_cast<double>(f.Layers), f.Gpu ? 1.0 : 0.0,
-      static_cast<double>(f.Geometry->GetGeometryTime()),
-      static_cast<double>(f.Geometry->GetFlagsTime()) };
+      static_cast<double>(f.Geometry->GetCastersTime()) };
     key.insert(key.end(), &view.Row[0][0], &view.Row[0][0] + 16);
-    key.insert(key.end(), f.In->GeometryOrigin, f.In->GeometryOrigin + 3);
     return key;
   }
 

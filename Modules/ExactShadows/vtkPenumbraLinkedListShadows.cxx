@@ -120,8 +120,7 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   vtkIdType rows = 0;
   if (!views.empty())
   {
-    impl.Clusters.Update(impl.Casters.TriangleIds, in.TriangleVertices,
-      std::max(geometry->GetGeometryTime(), geometry->GetFlagsTime()));
+    impl.Clusters.Update(impl.Casters.TriangleIds, in.TriangleVertices, geometry->GetCastersTime());
   }
   impl.ChooseListPath(this, renderer, n);
   for (size_t vi = 0; vi < views.size(); ++vi)

@@ -5,10 +5,10 @@
 #include "vtkIntArray.h"
 #include "vtkObjectFactory.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkSMPTools.h"
-#include "vtkTimerLog.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
@@ -184,7 +184,7 @@ vtkPenumbraRayTracedShadows::~vtkPenumbraRayTracedShadows()
 int vtkPenumbraRayTracedShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraSceneGeometry* geometry,
   vtkPenumbraViewSamples* samples, vtkLight* light, vtkFloatArray* visibility)
 {
-  const double start = vtkTimerLog::GetUniversalTime();
+  const auto start = penumbra::Clock::now();
   this->TracedFraction = -1.0;
   // SetGeometry rebuilds the acceleration structure only when the geometry changed.
   this->Reference->SetGeometry(geometry);
@@ -205,7 +205,7 @@ int vtkPenumbraRayTracedShadows::ComputeVisibility(vtkRenderer*, vtkPenumbraScen
       ? this->ComputeAdaptive(samples, light, visibility)
       : this->Reference->ComputeVisibility(samples, light, visibility);
   }
-  this->LastTimeMs = 1000.0 * (vtkTimerLog::GetUniversalTime() - start);
+  this->LastTimeMs = penumbra::ElapsedMs(start);
   return ok;
 }
 

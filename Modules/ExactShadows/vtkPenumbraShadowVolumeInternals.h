@@ -17,6 +17,7 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraLightViews.h"
+#include "vtkPenumbraSceneGeometry.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkWeakPointer.h"
 #include "vtk_glew.h"
@@ -230,11 +231,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
 
   // Connectivity cache.
   penumbra_shadow_volume::Connectivity Mesh;
-  bool HaveMesh = false;
-  vtkPenumbraSceneGeometry* Geometry = nullptr;
-  vtkMTimeType GeometryTime = 0;
-  vtkMTimeType FlagsTime = 0;
-  double Origin[3] = { 0, 0, 0 };
+  penumbra::CastersStamp MeshBuilt;
+  double Origin[3] = { 0, 0, 0 }; // the geometry's Origin the mesh was built in
   bool BuiltWithSilhouettes = true;
 
   // Volume cache, one entry per light (several lights render every frame): rebuilt when the

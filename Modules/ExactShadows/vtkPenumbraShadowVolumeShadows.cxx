@@ -117,20 +117,11 @@ void vtkPenumbraShadowVolumeShadows::Internals::UpdateConnectivity(
   vtkPenumbraSceneGeometry* geometry = g.Geometry;
   const auto connectivityStart = Clock::now();
   {
-    double origin[3];
-    geometry->GetOrigin(origin);
-    if (!this->HaveMesh || this->Geometry != geometry ||
-      this->GeometryTime != geometry->GetGeometryTime() ||
-      this->FlagsTime != geometry->GetFlagsTime() ||
-      !std::equal(origin, origin + 3, this->Origin) ||
-      this->BuiltWithSilhouettes != self.Silhouettes)
+    if (this->MeshBuilt.Changed(geometry) || this->BuiltWithSilhouettes != self.Silhouettes)
     {
       this->Mesh.Build(geometry, self.Silhouettes);
-      this->HaveMesh = true;
-      this->Geometry = geometry;
-      this->GeometryTime = geometry->GetGeometryTime();
-      this->FlagsTime = geometry->GetFlagsTime();
-      std::copy(origin, origin + 3, this->Origin);
+      this->MeshBuilt.Remember(geometry);
+      geometry->GetOrigin(this->Origin);
       this->BuiltWithSilhouettes = self.Silhouettes;
       this->Volumes.clear();
       this->PointsUploaded = false;

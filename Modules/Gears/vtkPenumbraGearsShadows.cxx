@@ -94,9 +94,10 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
   }
   Internals& impl = *this->Impl;
   CallState call;
-  if (!impl.ReadSamples(samples, call))
+  const std::string sampleProblem = impl.ReadSamples(samples, call);
+  if (!sampleProblem.empty())
   {
-    PENUMBRA_FAIL("view sample arrays are missing or do not match the sample count");
+    PENUMBRA_FAIL(sampleProblem);
   }
   impl.UpdateCasters(geometry, this->DenseCells == DENSE_TREE);
   if (!impl.SetUpLight(this, area, geometry, samples, call))
@@ -125,28 +126,27 @@ int vtkPenumbraGearsShadows::ComputeVisibility(vtkRenderer* renderer,
 }
 
 //------------------------------------------------------------------------------
-// Input check: the view samples' arrays, all of one length.
-bool vtkPenumbraGearsShadows::Internals::ReadSamples(
+// Input check: the view samples' arrays (vtkPenumbraViewSamples::CheckArrays()); "" when
+// they are usable, and then read into `call`.
+std::string vtkPenumbraGearsShadows::Internals::ReadSamples(
   vtkPenumbraViewSamples* samples, CallState& call)
 {
+  const std::string problem = samples->CheckArrays();
+  if (!problem.empty())
+  {
+    return problem;
+  }
   const vtkIdType n = samples->GetNumberOfSamples();
   vtkFloatArray* posArray = samples->GetPositions();
   vtkFloatArray* nrmArray = samples->GetNormals();
   vtkIntArray* propArray = samples->GetPropIndices();
   vtkIdTypeArray* triArray = samples->GetTriangleIds();
-  if (!posArray || !nrmArray || !propArray || !triArray || posArray->GetNumberOfComponents() != 3 ||
-    nrmArray->GetNumberOfComponents() != 3 || posArray->GetNumberOfTuples() != n ||
-    nrmArray->GetNumberOfTuples() != n || propArray->GetNumberOfTuples() != n ||
-    triArray->GetNumberOfTuples() != n)
-  {
-    return false;
-  }
   call.N = n;
   call.Pos = n ? posArray->GetPointer(0) : nullptr;
   call.Nrm = n ? nrmArray->GetPointer(0) : nullptr;
   call.Props = n ? propArray->GetPointer(0) : nullptr;
   call.Tris = n ? triArray->GetPointer(0) : nullptr;
-  return true;
+  return std::string();
 }
 
 //------------------------------------------------------------------------------

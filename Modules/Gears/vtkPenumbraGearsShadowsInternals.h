@@ -278,10 +278,7 @@ struct vtkPenumbraGearsShadows::Internals
   // Casters, rebuilt when the geometry changes (same rule as the reference's scene).
   std::vector<Caster> Casters;
   std::vector<Sphere> Bounds;
-  vtkMTimeType GeometryTime = 0;
-  vtkMTimeType FlagsTime = 0;
-  double Origin[3] = { 0, 0, 0 };
-  vtkIdType Triangles = -1;
+  penumbra::CastersStamp CastersBuilt;
   double Diagonal = 1.0;
 
   // Per-frame working arrays sized by the samples (tens of MB at 1280 x 720), kept between
@@ -320,16 +317,12 @@ struct vtkPenumbraGearsShadows::Internals
   // only the DENSE_TREE walk needs it, and on a 1 M-triangle mesh it costs a frame's grid.
   void UpdateCasters(vtkPenumbraSceneGeometry* geometry, bool withTree)
   {
-    double origin[3];
-    geometry->GetOrigin(origin);
-    const vtkIdType n = geometry->GetNumberOfTriangles();
-    if (n == this->Triangles && geometry->GetGeometryTime() == this->GeometryTime &&
-      geometry->GetFlagsTime() == this->FlagsTime && origin[0] == this->Origin[0] &&
-      origin[1] == this->Origin[1] && origin[2] == this->Origin[2] &&
+    if (!this->CastersBuilt.Changed(geometry) &&
       (!withTree || !this->Tree.Nodes.empty() || this->Casters.empty()))
     {
       return;
     }
+    const vtkIdType n = geometry->GetNumberOfTriangles();
     this->Casters.clear();
     this->Bounds.clear();
     vtkDoubleArray* vertices = geometry->GetVertices();
@@ -379,10 +372,7 @@ struct vtkPenumbraGearsShadows::Internals
     }
     ++this->CasterVersion;
     this->Diagonal = penumbra_rules::SceneDiagonal(geometry);
-    this->Triangles = n;
-    this->GeometryTime = geometry->GetGeometryTime();
-    this->FlagsTime = geometry->GetFlagsTime();
-    std::copy(origin, origin + 3, this->Origin);
+    this->CastersBuilt.Remember(geometry);
   }
   // The casters' tree (vtkPenumbraGearsTree.h), and the casters stored in its leaf order, so
   // that a leaf's triangles are Casters[First, First + Count) and a walk reads memory in
@@ -409,7 +399,7 @@ struct vtkPenumbraGearsShadows::Internals
   }
 
   // The phases of ComputeVisibility, in the order it runs them (defined below it).
-  bool ReadSamples(vtkPenumbraViewSamples* samples, CallState& call);
+  std::string ReadSamples(vtkPenumbraViewSamples* samples, CallState& call);
   bool SetUpLight(vtkPenumbraGearsShadows* self, vtkPenumbraAreaLight* area,
     vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, CallState& call);
   void SetUpOutputs(vtkPenumbraGearsShadows* self, vtkFloatArray* visibility, CallState& call);

@@ -191,11 +191,7 @@ struct vtkPenumbraLineReference::Internals
   std::vector<int> Order;               // leaf ranges index this
   std::vector<Node> Nodes;
   double Diagonal = 1.0;
-  bool Built = false;
-  vtkMTimeType BuiltGeometryTime = 0;
-  vtkMTimeType BuiltFlagsTime = 0;
-  vtkIdType BuiltTriangles = 0;
-  double BuiltOrigin[3] = { 0, 0, 0 };
+  penumbra::CastersStamp Built; // what the hierarchy was built from
   vtkNew<vtkUnsignedCharArray> Ties;
 
   void Bounds(int first, int count, double lo[3], double hi[3]) const
@@ -401,16 +397,11 @@ int vtkPenumbraLineReference::EnsureHierarchy()
 {
   Internals& impl = *this->Impl;
   vtkPenumbraSceneGeometry* geometry = this->Geometry;
-  double origin[3];
-  geometry->GetOrigin(origin);
-  const vtkIdType n = geometry->GetNumberOfTriangles();
-  if (impl.Built && impl.BuiltGeometryTime == geometry->GetGeometryTime() &&
-    impl.BuiltFlagsTime == geometry->GetFlagsTime() && impl.BuiltTriangles == n &&
-    origin[0] == impl.BuiltOrigin[0] && origin[1] == impl.BuiltOrigin[1] &&
-    origin[2] == impl.BuiltOrigin[2])
+  if (!impl.Built.Changed(geometry))
   {
     return 1;
   }
+  const vtkIdType n = geometry->GetNumberOfTriangles();
   vtkDoubleArray* vertices = geometry->GetVertices();
   if (n > 0 &&
     (!vertices || vertices->GetNumberOfComponents() != 9 || vertices->GetNumberOfTuples() != n))
@@ -435,14 +426,7 @@ int vtkPenumbraLineReference::EnsureHierarchy()
   }
   impl.Build();
   impl.Diagonal = penumbra_rules::SceneDiagonal(geometry);
-  impl.Built = true;
-  impl.BuiltGeometryTime = geometry->GetGeometryTime();
-  impl.BuiltFlagsTime = geometry->GetFlagsTime();
-  impl.BuiltTriangles = n;
-  for (int c = 0; c < 3; ++c)
-  {
-    impl.BuiltOrigin[c] = origin[c];
-  }
+  impl.Built.Remember(geometry);
   ++this->NumberOfBuilds;
   return 1;
 }
@@ -471,18 +455,16 @@ int vtkPenumbraLineReference::ComputeVisibility(
   {
     return this->Fail("no scene geometry: call SetGeometry() first");
   }
+  const std::string sampleProblem = samples->CheckArrays();
+  if (!sampleProblem.empty())
+  {
+    return this->Fail(sampleProblem);
+  }
   const vtkIdType count = samples->GetNumberOfSamples();
   vtkFloatArray* pos = samples->GetPositions();
   vtkFloatArray* nrm = samples->GetNormals();
   vtkIntArray* props = samples->GetPropIndices();
   vtkIdTypeArray* tris = samples->GetTriangleIds();
-  if (!pos || !nrm || !props || !tris || pos->GetNumberOfComponents() != 3 ||
-    nrm->GetNumberOfComponents() != 3 || pos->GetNumberOfTuples() != count ||
-    nrm->GetNumberOfTuples() != count || props->GetNumberOfTuples() != count ||
-    tris->GetNumberOfTuples() != count)
-  {
-    return this->Fail("view sample arrays are missing or do not match the sample count");
-  }
   if (!this->EnsureHierarchy())
   {
     return 0;

@@ -65,8 +65,8 @@ public:
   ///@{
   /**
    * The scene triangles; the hierarchy is built by the next Compute call and reused while
-   * the geometry (its GetGeometryTime(), GetFlagsTime(), triangle count and Origin) does not
-   * change. Default null.
+   * the geometry object and its GetCastersTime() (which its triangles, flags and Origin move)
+   * do not change. Default null.
    */
   virtual void SetGeometry(vtkPenumbraSceneGeometry* geometry);
   vtkGetObjectMacro(Geometry, vtkPenumbraSceneGeometry);

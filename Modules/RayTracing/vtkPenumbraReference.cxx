@@ -27,7 +27,6 @@
 #include <limits>
 #include <mutex>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -201,11 +200,7 @@ struct vtkPenumbraReference::Internals : penumbra_embree::Objects
   std::string Error;
 
   // What the current scene was built from.
-  bool Built = false;
-  vtkMTimeType BuiltGeometryTime = 0;
-  vtkMTimeType BuiltFlagsTime = 0;
-  double BuiltOrigin[3] = { 0, 0, 0 };
-  vtkIdType BuiltTriangles = 0;
+  penumbra::CastersStamp Built; // what the Embree scene was built from
 
   std::vector<vtkIdType> PrimitiveToTriangle;
   std::vector<vtkIdType> PrimitiveOwner; // the owner triangle of each primitive (GetOwners)
@@ -448,36 +443,18 @@ std::string CheckSamples(vtkPenumbraViewSamples* samples, SampleInput& in)
   {
     return "no view samples (null vtkPenumbraViewSamples)";
   }
+  const std::string problem = samples->CheckArrays();
+  if (!problem.empty())
+  {
+    return problem;
+  }
   const vtkIdType n = samples->GetNumberOfSamples();
   vtkFloatArray* pos = samples->GetPositions();
   vtkFloatArray* nrm = samples->GetNormals();
   vtkIntArray* props = samples->GetPropIndices();
   vtkIdTypeArray* tris = samples->GetTriangleIds();
-  if (!pos || !nrm || !props || !tris)
-  {
-    return "view samples lack one of the position, normal, prop or triangle arrays";
-  }
-  if (pos->GetNumberOfComponents() != 3 || nrm->GetNumberOfComponents() != 3 ||
-    props->GetNumberOfComponents() != 1 || tris->GetNumberOfComponents() != 1)
-  {
-    return "view sample arrays have the wrong number of components (3, 3, 1, 1 expected)";
-  }
-  if (pos->GetNumberOfTuples() != n || nrm->GetNumberOfTuples() != n ||
-    props->GetNumberOfTuples() != n || tris->GetNumberOfTuples() != n)
-  {
-    std::ostringstream msg;
-    msg << "view sample arrays do not match the " << samples->GetWidth() << " x "
-        << samples->GetHeight() << " size: positions " << pos->GetNumberOfTuples() << ", normals "
-        << nrm->GetNumberOfTuples() << ", prop indices " << props->GetNumberOfTuples()
-        << ", triangle ids " << tris->GetNumberOfTuples();
-    return msg.str();
-  }
   double origin[3];
   samples->GetOrigin(origin);
-  if (!Finite3(origin))
-  {
-    return "view samples have a non-finite origin";
-  }
   in.Count = n;
   in.Positions = n ? pos->GetPointer(0) : nullptr;
   in.Normals = n ? nrm->GetPointer(0) : nullptr;
@@ -816,16 +793,11 @@ int vtkPenumbraReference::EnsureScene()
 {
   Internals& impl = *this->Impl;
   vtkPenumbraSceneGeometry* geometry = this->Geometry;
-  double origin[3];
-  geometry->GetOrigin(origin);
-  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
-  if (impl.Built && impl.Scene && impl.BuiltGeometryTime == geometry->GetGeometryTime() &&
-    impl.BuiltFlagsTime == geometry->GetFlagsTime() && impl.BuiltTriangles == nTriangles &&
-    origin[0] == impl.BuiltOrigin[0] && origin[1] == impl.BuiltOrigin[1] &&
-    origin[2] == impl.BuiltOrigin[2])
+  if (impl.Scene && !impl.Built.Changed(geometry))
   {
     return 1;
   }
+  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
   const auto start = Clock::now();
 
   vtkDoubleArray* vertices = geometry->GetVertices();
@@ -861,7 +833,7 @@ int vtkPenumbraReference::EnsureScene()
     rtcReleaseScene(impl.Scene);
     impl.Scene = nullptr;
   }
-  impl.Built = false;
+  impl.Built.Forget();
   impl.DeviceError.clear();
 
   // Casters only; zero-area triangles cover no solid angle and are skipped.
@@ -923,14 +895,7 @@ int vtkPenumbraReference::EnsureScene()
 
   impl.Diagonal = penumbra_rules::SceneDiagonal(geometry);
 
-  impl.Built = true;
-  impl.BuiltGeometryTime = geometry->GetGeometryTime();
-  impl.BuiltFlagsTime = geometry->GetFlagsTime();
-  impl.BuiltTriangles = nTriangles;
-  for (int c = 0; c < 3; ++c)
-  {
-    impl.BuiltOrigin[c] = origin[c];
-  }
+  impl.Built.Remember(geometry);
   ++this->NumberOfBuilds;
   this->LastBuildTimeMs = ElapsedMs(start);
   return 1;

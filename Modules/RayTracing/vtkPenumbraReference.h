@@ -50,8 +50,9 @@
  * bit masks (bit j = light sample j counts as lit), ComputeConvergedVisibility() the same
  * rule on a denser grid of cell centres as the converged (k -> infinity) estimate.
  *
- * Caching: the Embree scene is rebuilt only when the geometry object, its GetGeometryTime(),
- * its GetFlagsTime() or its Origin changed since the last build (see GetNumberOfBuilds()).
+ * Caching: the Embree scene is rebuilt only when the geometry object or its
+ * GetCastersTime() (which its triangles, flags and Origin move) changed since the last build
+ * (see GetNumberOfBuilds()).
  * The geometry must be Update()d by the caller; this class never touches the renderer.
  *
  * Bad input (no samples, no light, inconsistent array sizes, an invalid area light, no

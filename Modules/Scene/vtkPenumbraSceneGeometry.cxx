@@ -567,6 +567,12 @@ vtkMTimeType vtkPenumbraSceneGeometry::GetFlagsTime()
 }
 
 //------------------------------------------------------------------------------
+vtkMTimeType vtkPenumbraSceneGeometry::GetCastersTime()
+{
+  return std::max(this->GetGeometryTime(), this->GetFlagsTime());
+}
+
+//------------------------------------------------------------------------------
 int vtkPenumbraSceneGeometry::GetNumberOfPropsExtractedLastUpdate()
 {
   return this->Impl->ExtractedLastUpdate;
@@ -644,5 +650,6 @@ void vtkPenumbraSceneGeometry::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfPropsExtractedLastUpdate: " << this->Impl->ExtractedLastUpdate << "\n";
   os << indent << "GeometryTime: " << this->GetGeometryTime() << "\n";
   os << indent << "FlagsTime: " << this->GetFlagsTime() << "\n";
+  os << indent << "CastersTime: " << this->GetCastersTime() << "\n";
   os << indent << "ErrorMessage: " << this->Impl->ErrorMessage << "\n";
 }

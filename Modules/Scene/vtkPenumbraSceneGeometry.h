@@ -321,6 +321,15 @@ public:
   vtkMTimeType GetFlagsTime();
 
   /**
+   * The later of GetGeometryTime() and GetFlagsTime(): the one stamp a cache of the casters
+   * (an acceleration structure, a caster list, a shadow map's key) compares. VTK time stamps
+   * come from one global counter, so it changes whenever either of the two does, and two
+   * geometries share a value only while neither has published anything (0). It covers Origin
+   * and the number of triangles too: Update() moves GetGeometryTime() whenever either changes.
+   */
+  vtkMTimeType GetCastersTime();
+
+  /**
    * How many props the last Update() (re)extracted from their data: 0 when nothing changed.
    */
   int GetNumberOfPropsExtractedLastUpdate();
@@ -375,5 +384,32 @@ private:
   struct Internals;
   std::unique_ptr<Internals> Impl;
 };
+
+namespace penumbra
+{
+/**
+ * What a cache of the casters was built from: which geometry, at which GetCastersTime().
+ * Changed() is true before the first Remember(), after Forget() (a build that failed
+ * halfway), and once that geometry moved on or another one is given.
+ */
+struct CastersStamp
+{
+  bool Changed(vtkPenumbraSceneGeometry* geometry) const
+  {
+    return !this->Valid || geometry != this->Geometry || geometry->GetCastersTime() != this->Time;
+  }
+  void Remember(vtkPenumbraSceneGeometry* geometry)
+  {
+    this->Valid = true;
+    this->Geometry = geometry;
+    this->Time = geometry->GetCastersTime();
+  }
+  void Forget() { this->Valid = false; }
+
+  bool Valid = false;
+  vtkPenumbraSceneGeometry* Geometry = nullptr; // identity only, never dereferenced
+  vtkMTimeType Time = 0;
+};
+}
 
 #endif

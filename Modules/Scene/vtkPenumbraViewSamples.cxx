@@ -8,6 +8,8 @@
 #include "vtkObjectFactory.h"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 
 vtkStandardNewMacro(vtkPenumbraViewSamples);
 
@@ -123,6 +125,37 @@ vtkIntArray* vtkPenumbraViewSamples::GetPropIndices()
 vtkIdTypeArray* vtkPenumbraViewSamples::GetTriangleIds()
 {
   return this->Impl->TriangleIds;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkPenumbraViewSamples::CheckArrays()
+{
+  // The arrays are made by the constructor and never replaced, so none is null.
+  const Internals& impl = *this->Impl;
+  const vtkIdType n = this->GetNumberOfSamples();
+  if (impl.Positions->GetNumberOfComponents() != 3 || impl.Normals->GetNumberOfComponents() != 3 ||
+    impl.PropIndices->GetNumberOfComponents() != 1 ||
+    impl.TriangleIds->GetNumberOfComponents() != 1)
+  {
+    return "view sample arrays have the wrong number of components (3, 3, 1, 1 expected)";
+  }
+  if (impl.Positions->GetNumberOfTuples() != n || impl.Normals->GetNumberOfTuples() != n ||
+    impl.PropIndices->GetNumberOfTuples() != n || impl.TriangleIds->GetNumberOfTuples() != n)
+  {
+    std::ostringstream msg;
+    msg << "view sample arrays do not match the " << impl.Width << " x " << impl.Height
+        << " size: positions " << impl.Positions->GetNumberOfTuples() << ", normals "
+        << impl.Normals->GetNumberOfTuples() << ", prop indices "
+        << impl.PropIndices->GetNumberOfTuples() << ", triangle ids "
+        << impl.TriangleIds->GetNumberOfTuples();
+    return msg.str();
+  }
+  if (!std::isfinite(this->Origin[0]) || !std::isfinite(this->Origin[1]) ||
+    !std::isfinite(this->Origin[2]))
+  {
+    return "view samples have a non-finite origin";
+  }
+  return std::string();
 }
 
 //------------------------------------------------------------------------------

@@ -18,6 +18,7 @@
 #include "vtkPenumbraSceneModule.h" // For export macro
 
 #include <memory> // For std::unique_ptr
+#include <string> // For std::string
 
 class vtkFloatArray;
 class vtkIdTypeArray;
@@ -90,6 +91,15 @@ public:
   vtkSetVector3Macro(CameraPosition, double);
   vtkGetVector3Macro(CameraPosition, double);
   ///@}
+
+  /**
+   * Why the arrays cannot be read as GetNumberOfSamples() samples, or "" when they can:
+   * positions and normals of 3 components, prop indices and triangle ids of 1, each with
+   * GetNumberOfSamples() tuples, and a finite Origin. The arrays are public, so a producer may
+   * have resized or reshaped them: every consumer checks with this before reading them
+   * through raw pointers.
+   */
+  std::string CheckArrays();
 
   /**
    * True when the sample index is in range and the sample sees a surface (prop index >= 0).

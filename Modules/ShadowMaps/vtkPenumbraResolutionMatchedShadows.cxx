@@ -328,8 +328,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::FitMap(
   std::vector<double> key(&this->Cur->Map.Row[0][0], &this->Cur->Map.Row[0][0] + 16);
   key.push_back(this->Cur->Map.Far);
   key.push_back(static_cast<double>(reinterpret_cast<std::uintptr_t>(light)));
-  key.push_back(static_cast<double>(geometry->GetGeometryTime()));
-  key.push_back(static_cast<double>(geometry->GetFlagsTime()));
+  key.push_back(static_cast<double>(geometry->GetCastersTime()));
   key.push_back(static_cast<double>(self->GetMTime()));
   key.push_back(this->Levels.Base);
   key.push_back(this->Levels.Finest);

@@ -55,11 +55,8 @@ void vtkPenumbraShadowMapShadows::Internals::BindCasters(vtkPenumbraShadowMapSha
 {
   if (maps.Paraboloid)
   {
-    double origin[3];
-    geometry->GetOrigin(origin);
     std::vector<double> paraboloidKey = { setup.Position[0], setup.Position[1], setup.Position[2],
-      static_cast<double>(geometry->GetGeometryTime()),
-      static_cast<double>(geometry->GetFlagsTime()), origin[0], origin[1], origin[2] };
+      static_cast<double>(geometry->GetCastersTime()) };
     if (paraboloidKey != this->ParaboloidKey || !this->ParaboloidArray)
     {
       this->BuildParaboloidCasters(setup.Position);

@@ -251,17 +251,14 @@ std::vector<double> vtkPenumbraShadowMapShadows::Internals::MapKey(
   vtkPenumbraSceneGeometry* geometry, const double shift[3], double samples, double pending)
 {
   std::vector<double> key;
-  double lp[3], lf[3], origin[3];
+  double lp[3], lf[3];
   light->GetTransformedPosition(lp);
   light->GetTransformedFocalPoint(lf);
-  geometry->GetOrigin(origin);
   key.insert(key.end(), lp, lp + 3);
   key.insert(key.end(), lf, lf + 3);
   key.push_back(light->GetPositional());
   key.push_back(light->GetConeAngle());
-  key.push_back(static_cast<double>(geometry->GetGeometryTime()));
-  key.push_back(static_cast<double>(geometry->GetFlagsTime()));
-  key.insert(key.end(), origin, origin + 3);
+  key.push_back(static_cast<double>(geometry->GetCastersTime()));
   key.push_back(static_cast<double>(self->GetMTime()));
   if (FitsScene(self, renderer, geometry))
   {

@@ -1057,13 +1057,10 @@ std::vector<double> vtkPenumbraSoftShadowMapShadows::Internals::MapKey(
   vtkPenumbraSoftShadowMapShadows* self, vtkPenumbraAreaLight* area,
   vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples, bool sceneFit)
 {
-  double origin[3];
-  geometry->GetOrigin(origin);
   vtkMatrix4x4* transform = area->GetTransformMatrix();
   return { static_cast<double>(area->GetMTime()),
     transform ? static_cast<double>(transform->GetMTime()) : 0.0,
-    static_cast<double>(geometry->GetGeometryTime()), static_cast<double>(geometry->GetFlagsTime()),
-    origin[0], origin[1], origin[2], static_cast<double>(self->Resolution),
+    static_cast<double>(geometry->GetCastersTime()), static_cast<double>(self->Resolution),
     static_cast<double>(self->NumberOfLineSamples), static_cast<double>(self->GridSamples),
     static_cast<double>(self->Elements), self->Threshold, self->Bias,
     static_cast<double>(self->Fit), sceneFit ? 0.0 : static_cast<double>(samples->GetMTime()) };

@@ -6,6 +6,7 @@
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLState.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraLightViews.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -15,7 +16,6 @@
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
-#include "vtkTimerLog.h"
 #include "vtkWeakPointer.h"
 #include "vtk_glew.h"
 
@@ -48,10 +48,8 @@ vtkFloatArray* Pooled(std::vector<vtkSmartPointer<vtkFloatArray>>& pool, size_t 
   return pool[i];
 }
 
-double Now()
-{
-  return vtkTimerLog::GetUniversalTime();
-}
+using penumbra::Clock;
+using penumbra::ElapsedMs;
 }
 
 struct vtkPenumbraFrame::Internals
@@ -310,7 +308,7 @@ vtkPenumbraViewSamples* vtkPenumbraFrame::GetSamples()
   }
   if (!impl.SamplesRead)
   {
-    const double t = Now();
+    const auto t = Clock::now();
     if (!impl.Stacked)
     {
       impl.Stacked = vtkSmartPointer<vtkPenumbraViewSamples>::New();
@@ -319,7 +317,7 @@ vtkPenumbraViewSamples* vtkPenumbraFrame::GetSamples()
     impl.Layers[0]->ReadSamples(impl.Stacked, 0);
     impl.Layers[1]->ReadSamples(impl.Stacked, impl.Height);
     impl.SamplesRead = true;
-    this->TransferTimeMs += 1000.0 * (Now() - t);
+    this->TransferTimeMs += ElapsedMs(t);
   }
   return impl.Stacked;
 }
@@ -503,7 +501,7 @@ vtkFloatArray* vtkPenumbraFrame::GetVisibility(int layer, int index)
   {
     return out;
   }
-  const double t = Now();
+  const auto t = Clock::now();
   if (l->State == Answer::CPU)
   {
     const vtkIdType n = static_cast<vtkIdType>(impl.Width) * impl.Height;
@@ -525,7 +523,7 @@ vtkFloatArray* vtkPenumbraFrame::GetVisibility(int layer, int index)
     impl.ReadTexture(layer, index, out);
   }
   impl.Fresh[layer][i] = 1;
-  this->TransferTimeMs += 1000.0 * (Now() - t);
+  this->TransferTimeMs += ElapsedMs(t);
   return out;
 }
 
@@ -601,7 +599,7 @@ void vtkPenumbraFrame::AddShadowedLight(vtkLight* light, int index)
 void vtkPenumbraFrame::Finish()
 {
   Internals& impl = *this->Impl;
-  const double t0 = Now();
+  const auto t0 = Clock::now();
   const vtkIdType n = static_cast<vtkIdType>(impl.Width) * impl.Height;
   // Goniometric diagram (Brabec 2003, §8.3.1): the shadow mask is scaled by the light's
   // relative intensity toward each sample. Done here, after any technique, so every
@@ -657,7 +655,7 @@ void vtkPenumbraFrame::Finish()
       impl.Ready[layer][i] = 1;
     }
   }
-  this->TransferTimeMs += 1000.0 * (Now() - t0);
+  this->TransferTimeMs += ElapsedMs(t0);
 }
 
 void vtkPenumbraFrame::Release(vtkWindow* window)

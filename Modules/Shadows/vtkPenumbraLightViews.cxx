@@ -227,19 +227,17 @@ bool FrameInputs::Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry
     error = "an OpenGL render window is required";
     return false;
   }
+  const std::string sampleProblem = samples->CheckArrays();
+  if (!sampleProblem.empty())
+  {
+    error = sampleProblem;
+    return false;
+  }
   const vtkIdType n = samples->GetNumberOfSamples();
   vtkFloatArray* posArray = samples->GetPositions();
   vtkFloatArray* nrmArray = samples->GetNormals();
   vtkIntArray* propArray = samples->GetPropIndices();
   vtkIdTypeArray* triArray = samples->GetTriangleIds();
-  if (n < 0 || !posArray || !nrmArray || !propArray || !triArray ||
-    posArray->GetNumberOfComponents() != 3 || nrmArray->GetNumberOfComponents() != 3 ||
-    posArray->GetNumberOfTuples() != n || nrmArray->GetNumberOfTuples() != n ||
-    propArray->GetNumberOfTuples() != n || triArray->GetNumberOfTuples() != n)
-  {
-    error = "view sample arrays are missing or do not match the sample count " + std::to_string(n);
-    return false;
-  }
   const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
   vtkDoubleArray* vertexArray = geometry->GetVertices();
   vtkUnsignedCharArray* flagArray = geometry->GetFlags();
@@ -255,9 +253,9 @@ bool FrameInputs::Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry
   double samplesOrigin[3];
   geometry->GetOrigin(this->GeometryOrigin);
   samples->GetOrigin(samplesOrigin);
-  if (!Finite3(this->GeometryOrigin) || !Finite3(samplesOrigin))
+  if (!Finite3(this->GeometryOrigin))
   {
-    error = "geometry or samples have a non-finite origin";
+    error = "scene geometry has a non-finite origin";
     return false;
   }
   for (int c = 0; c < 3; ++c)
@@ -694,15 +692,9 @@ const penumbra_rules::ExactTriangle* ExactTriangles::Get(
 //------------------------------------------------------------------------------
 bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
 {
-  double origin[3];
-  geometry->GetOrigin(origin);
-  const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
-  const bool current = this->Current && this->Geometry == geometry &&
-    this->GeometryTime == geometry->GetGeometryTime() &&
-    this->FlagsTime == geometry->GetFlagsTime() && this->Triangles == nTriangles &&
-    std::equal(origin, origin + 3, this->Origin);
-  if (!current)
+  if (this->Current.Changed(geometry))
   {
+    const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
     std::vector<float> xyz;
     std::vector<vtkIdType> casters;
     double* bounds = this->Bounds;
@@ -730,13 +722,8 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
     this->Vertices.swap(xyz);
     this->TriangleIds.swap(casters);
     this->Exact.Reset(this->TriangleIds);
-    this->Current = true;
+    this->Current.Remember(geometry);
     this->OnGPU = false;
-    this->Geometry = geometry;
-    this->GeometryTime = geometry->GetGeometryTime();
-    this->FlagsTime = geometry->GetFlagsTime();
-    this->Triangles = nTriangles;
-    std::copy(origin, origin + 3, this->Origin);
   }
   if (!upload || this->OnGPU)
   {

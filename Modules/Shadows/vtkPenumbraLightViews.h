@@ -15,6 +15,7 @@
 #define vtkPenumbraLightViews_h
 
 #include "vtkOpenGLState.h"             // For the scoped state savers
+#include "vtkPenumbraSceneGeometry.h"   // For penumbra::CastersStamp
 #include "vtkPenumbraVisibilityRules.h" // For penumbra_rules::Hit
 #include "vtkType.h"
 #include "vtk_glew.h"
@@ -31,7 +32,6 @@ class vtkOpenGLRenderWindow;
 class vtkRenderer;
 class vtkOpenGLFramebufferObject;
 class vtkTextureObject;
-class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
 class vtkShaderProgram;
 
@@ -366,13 +366,8 @@ struct CasterBuffers
   void Forget();
 
 private:
-  bool Current = false; // the CPU lists match Geometry
-  bool OnGPU = false;   // the GL buffers match the CPU lists
-  vtkPenumbraSceneGeometry* Geometry = nullptr;
-  vtkMTimeType GeometryTime = 0;
-  vtkMTimeType FlagsTime = 0;
-  vtkIdType Triangles = -1;
-  double Origin[3] = { 0, 0, 0 };
+  penumbra::CastersStamp Current; // what the CPU lists were made from
+  bool OnGPU = false;             // the GL buffers match the CPU lists
 };
 
 /**

@@ -31,6 +31,7 @@
 #include "vtkOpenGLState.h"
 #include "vtkOverlayPass.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraMapperDraws.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -49,7 +50,6 @@
 #include "vtkShaderProgram.h"
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
-#include "vtkTimerLog.h"
 #include "vtkTranslucentPass.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkVolumetricPass.h"
@@ -194,11 +194,6 @@ vtkPenumbraShadowPass* FindShadowPass(vtkRenderPass* pass, int depth = 0)
 
 namespace penumbra_shadow_pass
 {
-double Now()
-{
-  return vtkTimerLog::GetUniversalTime();
-}
-
 // What VTK draws in its translucent pass, for a receiver: the props whose nearest
 // translucent surface gets its own view samples and visibility.
 bool IsTranslucentReceiver(vtkProp* prop)
@@ -228,6 +223,8 @@ std::string LightKind(vtkLight* light)
 }
 
 using namespace penumbra_shadow_pass;
+using penumbra::Clock;
+using penumbra::ElapsedMs;
 
 // What the view samples depend on: by value where VTK modifies objects without changing them
 // (cameras, props), by MTime where a time is the only witness (geometry, flags, settings).
@@ -246,9 +243,8 @@ std::vector<double> vtkPenumbraShadowPass::Internals::ViewKey(
   {
     key.insert(key.end(), &m->Element[0][0], &m->Element[0][0] + 16);
   }
-  key.push_back(static_cast<double>(this->Geometry->GetGeometryTime()));
-  key.push_back(static_cast<double>(this->Geometry->GetFlagsTime()));
-  // What of the props the view samples show beyond their triangles (which GeometryTime
+  key.push_back(static_cast<double>(this->Geometry->GetCastersTime()));
+  // What of the props the view samples show beyond their triangles (which the casters time
   // covers): which props are drawn, which are translucent receivers (the second layer), and
   // whether they are lit and how they are drawn (unlit props give no samples).
   for (int i = 0; i < s->GetPropArrayCount(); ++i)
@@ -324,7 +320,7 @@ void vtkPenumbraShadowPass::Internals::RenderPreparedSamples()
   }
   // Also called after Render() (a read-back), when another window's context may be current.
   this->SampleRenderer->GetRenderWindow()->MakeCurrent();
-  const double t = Now();
+  const auto t = Clock::now();
   std::vector<vtkProp*> props;
   for (const auto& prop : this->SampleProps)
   {
@@ -334,7 +330,7 @@ void vtkPenumbraShadowPass::Internals::RenderPreparedSamples()
   state.SetPropArrayAndCount(props.data(), static_cast<int>(props.size()));
   this->RenderSamples(&state);
   this->LastSampled = true;
-  this->SamplesMs += 1000.0 * (Now() - t);
+  this->SamplesMs += ElapsedMs(t);
 }
 
 void vtkPenumbraShadowPass::Internals::RenderSamples(const vtkRenderState* s)
@@ -651,7 +647,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   impl.ExtractionMs = impl.SamplesMs = impl.TechniqueMs = 0.0;
   impl.LastReused = false;
   impl.LastSampled = false;
-  double t = Now();
+  auto t = Clock::now();
   bool geometryOk = false;
   if (anyShadowed)
   {
@@ -662,7 +658,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     }
     impl.SayCastingNotes(this);
   }
-  impl.ExtractionMs = 1000.0 * (Now() - t);
+  impl.ExtractionMs = ElapsedMs(t);
   // A scene without casters, or without a lit surface to receive (2D annotations, volumes,
   // unlit props), gets no shadow work at all: it is drawn as without shadows.
   impl.Idle.clear();
@@ -693,7 +689,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
       {
         impl.PrepareSamples(s);
       }
-      t = Now();
+      t = Clock::now();
       Internals* internals = &impl;
       impl.Frame->Begin(ren, impl.Geometry, impl.SamplesPass,
         impl.HasTranslucentLayer ? impl.TranslucentSamplesPass.Get() : nullptr,
@@ -709,7 +705,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
         impl.BakeShaderLookups();
       }
       win->WaitForCompletion();
-      impl.TechniqueMs = 1000.0 * (Now() - t) - impl.SamplesMs;
+      impl.TechniqueMs = ElapsedMs(t) - impl.SamplesMs;
       impl.LastViewKey.swap(viewKey);
       impl.LastLightsKey.swap(lightsKey);
     }
@@ -733,7 +729,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
 void vtkPenumbraShadowPass::RenderShaded(const vtkRenderState* s, vtkOpenGLRenderWindow* win)
 {
   Internals& impl = *this->Impl;
-  const double t = Now();
+  const auto t = Clock::now();
   // What the receivers' shaders read: each light's visibility textures, or what its shader
   // lookup reads.
   std::vector<vtkTextureObject*> textures;
@@ -773,7 +769,7 @@ void vtkPenumbraShadowPass::RenderShaded(const vtkRenderState* s, vtkOpenGLRende
     lookup->Deactivate();
   }
   win->WaitForCompletion();
-  impl.ShadingMs = 1000.0 * (Now() - t);
+  impl.ShadingMs = ElapsedMs(t);
 }
 
 void vtkPenumbraShadowPass::ReleaseGraphicsResources(vtkWindow* w)

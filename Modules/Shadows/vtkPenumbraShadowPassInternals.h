@@ -39,9 +39,6 @@ class vtkRenderState;
 
 namespace penumbra_shadow_pass
 {
-// Wall-clock seconds, for the phase times.
-double Now();
-
 // Whether VTK draws `prop` in its translucent pass as a receiver: the props whose nearest
 // translucent surface gets its own view samples and visibility.
 bool IsTranslucentReceiver(vtkProp* prop);
@@ -177,14 +174,12 @@ struct vtkPenumbraShadowPass::Internals
   // casters. Kept while the geometry and its flags are unchanged.
   std::array<double, 6> Casters{};
   bool HasCasters = false;
-  std::vector<double> CastersKey;
+  penumbra::CastersStamp CasterBoxMade;
   const double* CasterBox()
   {
-    const std::vector<double> key = { static_cast<double>(this->Geometry->GetGeometryTime()),
-      static_cast<double>(this->Geometry->GetFlagsTime()) };
-    if (key != this->CastersKey)
+    if (this->CasterBoxMade.Changed(this->Geometry))
     {
-      this->CastersKey = key;
+      this->CasterBoxMade.Remember(this->Geometry);
       this->HasCasters = false;
       double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
       vtkDoubleArray* vertices = this->Geometry->GetVertices();
@@ -232,7 +227,8 @@ struct vtkPenumbraShadowPass::Internals
       const std::string note = g->GetCastingNote(i);
       if (this->Noted.insert({ g->GetCastingNoteProp(i), note, this->Technique }).second)
       {
-        vtkWarningWithObjectMacro(pass, << note << " (in every technique; the frame is shadowed with "
+        vtkWarningWithObjectMacro(pass, << note
+                                        << " (in every technique; the frame is shadowed with "
                                         << this->Technique->GetTechniqueName() << ")");
       }
     }
@@ -244,16 +240,14 @@ struct vtkPenumbraShadowPass::Internals
   // Whether some extracted triangle receives shadows on a prop that is lit (an unlit prop
   // receives no light, so no shadow). Kept while the geometry and its flags are unchanged.
   bool Receivers = false;
-  std::vector<double> ReceiversKey;
+  penumbra::CastersStamp ReceiversFound;
   bool AnyReceiver()
   {
-    const std::vector<double> key = { static_cast<double>(this->Geometry->GetGeometryTime()),
-      static_cast<double>(this->Geometry->GetFlagsTime()) };
-    if (key == this->ReceiversKey)
+    if (!this->ReceiversFound.Changed(this->Geometry))
     {
       return this->Receivers;
     }
-    this->ReceiversKey = key;
+    this->ReceiversFound.Remember(this->Geometry);
     this->Receivers = false;
     vtkPenumbraSceneGeometry* g = this->Geometry;
     for (int p = 0; p < g->GetNumberOfProps() && !this->Receivers; ++p)

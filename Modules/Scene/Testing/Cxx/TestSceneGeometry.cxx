@@ -31,6 +31,7 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <initializer_list>
@@ -267,11 +268,20 @@ int TestFlagsAndCache()
   CHECK(g->GetNumberOfTriangles() == sphereTris + 2);
   vtkMTimeType geometryTime = g->GetGeometryTime();
   vtkMTimeType flagsTime = g->GetFlagsTime();
+  // The casters' stamp: the later of the two, what the caches of the techniques remember.
+  CHECK(g->GetCastersTime() == std::max(geometryTime, flagsTime));
+  penumbra::CastersStamp stamp;
+  CHECK(stamp.Changed(g)); // nothing remembered yet
+  stamp.Remember(g);
+  CHECK(!stamp.Changed(g));
+  vtkNew<vtkPenumbraSceneGeometry> empty;
+  CHECK(stamp.Changed(empty)); // another geometry
 
   // Nothing changed: nothing extracted, nothing republished.
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 0);
   CHECK(g->GetGeometryTime() == geometryTime && g->GetFlagsTime() == flagsTime);
+  CHECK(!stamp.Changed(g));
 
   // A colour change is not a geometry change.
   b->GetProperty()->SetColor(1, 0, 0);
@@ -285,6 +295,8 @@ int TestFlagsAndCache()
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 0);
   CHECK(g->GetGeometryTime() == geometryTime && g->GetFlagsTime() > flagsTime);
+  CHECK(g->GetCastersTime() == g->GetFlagsTime() && stamp.Changed(g));
+  stamp.Remember(g);
   CHECK(g->GetFlags()->GetValue(0) == vtkPenumbraSceneGeometry::RECEIVES_SHADOWS);
   CHECK(g->GetFlags()->GetValue(sphereTris) == vtkPenumbraSceneGeometry::CASTS_SHADOWS);
   flagsTime = g->GetFlagsTime();
@@ -295,6 +307,10 @@ int TestFlagsAndCache()
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1);
   CHECK(g->GetGeometryTime() > geometryTime);
+  CHECK(stamp.Changed(g) && g->GetCastersTime() > stamp.Time);
+  stamp.Remember(g);
+  stamp.Forget(); // a build that failed halfway
+  CHECK(stamp.Changed(g));
   CHECK(g->GetOrigin()[0] == origin[0] && g->GetOrigin()[1] == origin[1]);
   double w[3];
   WorldVertex(g, sphereTris, 0, w);
@@ -377,11 +393,13 @@ int TestGeoreferenced()
   other->SetPosition(10, 0, 0);
   CHECK(g->Update(renderer) == 1);
   CHECK(o[0] == before[0] && o[1] == before[1] && o[2] == before[2]);
-  // Moving the whole scene far away does.
+  // Moving the whole scene far away does, and a new origin is new geometry for the casters.
+  const vtkMTimeType castersTime = g->GetCastersTime();
   actor->SetPosition(5000, 0, 0);
   other->SetPosition(5000, 0, 0);
   CHECK(g->Update(renderer) == 1);
   CHECK(std::fabs(o[0] - (x0 + 5000)) < 100);
+  CHECK(g->GetCastersTime() > castersTime);
   return EXIT_SUCCESS;
 }
 

@@ -1,5 +1,6 @@
-// View samples: allocation, invalid-by-default samples, row-major bottom-up indexing, and
-// positions relative to the rebasing origin keeping millimetres at city coordinates.
+// View samples: allocation, invalid-by-default samples, row-major bottom-up indexing, the
+// check of the arrays every consumer makes, and positions relative to the rebasing origin
+// keeping millimetres at city coordinates.
 #include "vtkCommand.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
@@ -11,6 +12,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
+#include <string>
 
 #include "PenumbraTestMacros.h"
 
@@ -18,6 +21,7 @@ int TestViewSamples(int, char*[])
 {
   vtkNew<vtkPenumbraViewSamples> samples;
   CHECK(samples->GetNumberOfSamples() == 0 && samples->GetNumberOfValidSamples() == 0);
+  CHECK(samples->CheckArrays().empty()); // 0 x 0 is usable: nothing to read
   CHECK(!samples->IsValid(0));
 
   samples->SetSize(4, 3);
@@ -38,6 +42,31 @@ int TestViewSamples(int, char*[])
   CHECK(samples->GetSampleIndex(0, 0) == 0 && samples->GetSampleIndex(3, 0) == 3);
   CHECK(samples->GetSampleIndex(1, 2) == 9 && samples->GetSampleIndex(4, 0) == -1);
   CHECK(samples->GetSampleIndex(0, 3) == -1 && samples->GetSampleIndex(-1, 0) == -1);
+
+  // The arrays as every consumer checks them: usable as SetSize() makes them, and each way a
+  // producer can spoil them (the arrays are public) is named.
+  CHECK(samples->CheckArrays().empty());
+  auto says = [&](const char* text)
+  { return samples->CheckArrays().find(text) != std::string::npos; };
+  samples->GetPositions()->SetNumberOfTuples(0); // emptied: no positions at all
+  CHECK(says("do not match the 4 x 3 size") && says("positions 0, normals 12"));
+  samples->SetSize(4, 3);
+  samples->GetTriangleIds()->SetNumberOfTuples(13);
+  CHECK(says("prop indices 12, triangle ids 13"));
+  samples->SetSize(4, 3);
+  samples->GetNormals()->SetNumberOfComponents(2);
+  CHECK(says("wrong number of components (3, 3, 1, 1 expected)"));
+  samples->GetNormals()->SetNumberOfComponents(3);
+  samples->GetPropIndices()->SetNumberOfComponents(3);
+  CHECK(says("wrong number of components"));
+  samples->GetPropIndices()->SetNumberOfComponents(1);
+  CHECK(samples->CheckArrays().empty());
+  samples->SetOrigin(0.0, std::numeric_limits<double>::quiet_NaN(), 0.0);
+  CHECK(samples->CheckArrays() == "view samples have a non-finite origin");
+  samples->SetOrigin(0.0, 0.0, std::numeric_limits<double>::infinity());
+  CHECK(says("non-finite origin"));
+  samples->SetOrigin(0.0, 0.0, 0.0);
+  CHECK(samples->CheckArrays().empty());
 
   // A sample at city coordinates: stored relative to the origin, the millimetre survives.
   samples->SetOrigin(3450000.0, 5430000.0, 0.0);
