@@ -10,6 +10,7 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVSynchronizedRenderer.h"
+#include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraShadowPass.h"
@@ -28,7 +29,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <climits>
 #include <cstdint>
 #include <cstring>
@@ -83,8 +83,7 @@ struct vtkPVPenumbraShadowView::Internals
   vtkNew<vtkPolyData> Remote; // the other ranks' casters, world coordinates
   vtkNew<vtkActor> RemoteActor;
   vtkNew<vtkPropCollection> ShadowOnly;
-  bool Gathered = false;
-  vtkMTimeType SentGeometryTime = 0, SentFlagsTime = 0;
+  penumbra::CastersStamp Sent; // the local casters last sent to the other ranks
   double GatherMs = 0.0;
   vtkIdType RemoteTriangles = 0, BytesReceived = 0;
   int Gathers = 0;
@@ -415,15 +414,14 @@ void vtkPVPenumbraShadowView::GatherCasters()
     }
     return;
   }
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = penumbra::Clock::now();
   // A rank whose extraction fails (NaN coordinates: reported by the geometry) sends nothing
   // but still takes part, so no rank waits for it.
   if (!impl.Local->Update(this->GetRenderer()))
   {
     impl.LocalCasters->SetNumberOfTuples(0);
   }
-  int changed = !impl.Gathered || impl.Local->GetGeometryTime() != impl.SentGeometryTime ||
-    impl.Local->GetFlagsTime() != impl.SentFlagsTime;
+  int changed = impl.Sent.Changed(impl.Local);
   int anyChanged = 0;
   controller->AllReduce(&changed, &anyChanged, 1, vtkCommunicator::MAX_OP);
   if (anyChanged)
@@ -435,11 +433,8 @@ void vtkPVPenumbraShadowView::GatherCasters()
                     "(2^31 coordinates); shadows from other ranks are left out");
       impl.Remote->Initialize();
     }
-    impl.Gathered = true;
-    impl.SentGeometryTime = impl.Local->GetGeometryTime();
-    impl.SentFlagsTime = impl.Local->GetFlagsTime();
-    impl.GatherMs =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    impl.Sent.Remember(impl.Local);
+    impl.GatherMs = penumbra::ElapsedMs(start);
     ++impl.Gathers;
   }
   pass->GetGeometry()->SetShadowOnlyProps(impl.ShadowOnly);
