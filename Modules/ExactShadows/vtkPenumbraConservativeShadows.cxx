@@ -28,10 +28,12 @@
 #include "vtkWeakPointer.h"
 #include "vtk_glew.h"
 
+#include "vtkPenumbraCasterBuffers.h"
 #include "vtkPenumbraConservativeMapCPU.h"
 #include "vtkPenumbraConservativeMapFS.h"
 #include "vtkPenumbraConservativeMapGS.h"
 #include "vtkPenumbraConservativeMapVS.h"
+#include "vtkPenumbraGLPassState.h"
 #include "vtkPenumbraLightViews.h"
 
 #include <algorithm>
@@ -102,7 +104,7 @@ struct vtkPenumbraConservativeShadows::Internals
 {
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
   // The caster triangles on the GPU (shared upload code, rebuilt only when the geometry changes).
-  penumbra_light_views::CasterBuffers Casters;
+  penumbra_casters::CasterBuffers Casters;
   std::vector<GLuint> ViewIndices;
   std::vector<vtkIdType> PendingList;   // the samples pass A left pending (reused per call)
   std::vector<vtkIdType> UncertainList; // the call's uncertain samples, ascending
@@ -377,7 +379,7 @@ struct vtkPenumbraConservativeShadows::Internals
     // Depth is written explicitly and clamped in the shader; clamping is on as a second
     // line of defence (perspective window z loses precision far from the light). Colour (the id
     // layers) is written.
-    penumbra_light_views::MapRenderState renderState(win->GetState(), this->FBO, size, true);
+    penumbra_gl::MapRenderState renderState(win->GetState(), this->FBO, size, true);
 
     vtkShaderProgram* program = win->GetShaderCache()->ReadyShaderProgram(
       vtkPenumbraConservativeMapVS, vtkPenumbraConservativeMapFS, vtkPenumbraConservativeMapGS);
@@ -443,7 +445,7 @@ struct vtkPenumbraConservativeShadows::Internals
   // Rules 3a-3c (and the apex region's triangles) for one projected sample of the view;
   // leaves it Uncertain when none decides it.
   static void DecideSample(const FrameContext& f, const ViewMaps& maps,
-    penumbra_light_views::ExactTriangles& exact, const Projected& q,
+    penumbra_casters::ExactTriangles& exact, const Projected& q,
     penumbra_rules::ExactTriangle& scratch, vtkIdType& localLit, vtkIdType& localShadowed)
   {
     const std::vector<vtkIdType>& nearTriangles = maps.Near;
@@ -544,8 +546,8 @@ struct vtkPenumbraConservativeShadows::Internals
   // Classifies the pending samples of view `viewIndex` with its maps: lit, shadowed or
   // uncertain. `exact` holds the casters' exact triangles (kept between frames).
   static void ClassifyView(const FrameContext& f, const View& view, signed char viewIndex,
-    const ViewMaps& maps, penumbra_light_views::ExactTriangles& exact,
-    std::atomic<vtkIdType>& viewLit, std::atomic<vtkIdType>& viewShadowed)
+    const ViewMaps& maps, penumbra_casters::ExactTriangles& exact, std::atomic<vtkIdType>& viewLit,
+    std::atomic<vtkIdType>& viewShadowed)
   {
     // The classification of Hertel et al. 2009, §4.2, with its rules made exact:
     //  1. facing away from the light / outside the spot cone -> shadowed (Classify's pass A);

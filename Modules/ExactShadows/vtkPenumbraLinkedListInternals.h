@@ -18,6 +18,7 @@
 #include "vtkPenumbraVisibilityRules.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "vtkPenumbraCasterBuffers.h"
 #include "vtkPenumbraLightViews.h"
 #include "vtkPenumbraLinkedListCompute.h"
 
@@ -186,7 +187,7 @@ struct Lists
 
 // Defined in vtkPenumbraLinkedListTests.cxx.
 vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
-  const std::vector<vtkIdType>& casters, Lists& lists, penumbra_light_views::ExactTriangles& exact,
+  const std::vector<vtkIdType>& casters, Lists& lists, penumbra_casters::ExactTriangles& exact,
   std::vector<vtkIdType>& nearTriangles);
 
 // Passes with few listed samples for their casters (fewer than SparseFactor per caster, as the
@@ -253,14 +254,14 @@ struct CasterGrid
 
 vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<vtkIdType>& casters,
   const Lists& lists, const CasterGrid& grid, const float* point,
-  penumbra_light_views::ExactTriangles& exact);
+  penumbra_casters::ExactTriangles& exact);
 vtkIdType TestNearTriangles(const TestContext& ctx, const vtkIdType* listed, vtkIdType count,
   const std::vector<vtkIdType>& nearTriangles);
 }
 
 struct vtkPenumbraLinkedListShadows::Internals
 {
-  penumbra_light_views::CasterBuffers Casters; // CPU lists only, never uploaded
+  penumbra_casters::CasterBuffers Casters; // CPU lists only, never uploaded
   vtkNew<vtkUnsignedCharArray> State;
   std::vector<double> Depth;       // per sample
   std::vector<vtkIdType> Texel;    // per sample, its texel in its view

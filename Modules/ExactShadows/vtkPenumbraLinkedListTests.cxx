@@ -4,6 +4,7 @@
 #include "vtkPenumbraLinkedListInternals.h"
 
 #include "vtkMath.h"
+#include "vtkPenumbraCasterBuffers.h"
 #include "vtkPenumbraConservativeMapCPU.h"
 #include "vtkSMPTools.h"
 
@@ -143,7 +144,7 @@ namespace penumbra_llsm
 // all shadowed drops out. Returns the number of exact tests; the apex region's triangles go
 // to `nearTriangles`.
 vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
-  const std::vector<vtkIdType>& casters, Lists& lists, penumbra_light_views::ExactTriangles& exact,
+  const std::vector<vtkIdType>& casters, Lists& lists, penumbra_casters::ExactTriangles& exact,
   std::vector<vtkIdType>& nearTriangles)
 {
   const std::vector<std::uint32_t>& nodes = lists.Nodes;
@@ -475,7 +476,7 @@ vtkIdType CasterGrid::Build(const View& view, int size, const TestContext& ctx,
 // exact tests.
 vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<vtkIdType>& casters,
   const Lists& lists, const CasterGrid& grid, const float* point,
-  penumbra_light_views::ExactTriangles& exact)
+  penumbra_casters::ExactTriangles& exact)
 {
   const double* vertices = ctx.In->TriangleVertices;
   unsigned char* state = ctx.State;

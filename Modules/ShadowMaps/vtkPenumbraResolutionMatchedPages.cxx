@@ -1,6 +1,7 @@
 // Resolution-matched shadow maps' pages (Lefohn et al. 2007, §3.2-3.3): the requests of the
 // frame's samples, their refinement at shadow edges, the atlas's allocation and the page
 // table.
+#include "vtkPenumbraGLPassState.h"
 #include "vtkPenumbraResolutionMatchedShadowsInternals.h"
 
 namespace
@@ -136,7 +137,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::KeyPass(vtkPenumbraFrame* f
     // At full size the G-buffer's depth test leaves the background out (see
     // vtkPenumbraFrame::BindVisibilityTarget()); its keys and levels are cleared to 0.
     const bool full = w == frame->GetWidth() && h == frame->GetHeight();
-    penumbra_light_views::QuadPassState pass(win->GetState(), this->RequestFBO,
+    penumbra_gl::QuadPassState pass(win->GetState(), this->RequestFBO,
       { targets[2 * layer].Get(), targets[2 * layer + 1].Get() }, w, h,
       full ? gbuffer->GetDepthTexture() : nullptr);
     if (full)

@@ -2,6 +2,7 @@
 // binned into superpages, rendered into the scratch and copied into their atlas slots.
 #include "vtkPenumbraResolutionMatchedShadowsInternals.h"
 
+#include "vtkPenumbraGLPassState.h"
 #include "vtkPenumbraShadowMapFS.h"
 #include "vtkPenumbraShadowMapVS.h"
 
@@ -58,8 +59,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
   }
   std::sort(pages.begin(), pages.end());
   vtkOpenGLState* ostate = win->GetState();
-  penumbra_light_views::MapRenderState renderState(
-    ostate, this->MapFBO, ScratchSide, ScratchSide, false);
+  penumbra_gl::MapRenderState renderState(ostate, this->MapFBO, ScratchSide, ScratchSide, false);
   vtkOpenGLState::ScopedglScissor scissor(ostate);
   this->MapFBO->AddDepthAttachment(this->Scratch);
   ostate->vtkglDrawBuffer(GL_NONE);

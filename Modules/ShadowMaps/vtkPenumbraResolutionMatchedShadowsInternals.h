@@ -22,6 +22,7 @@
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraCasterBuffers.h"
 #include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraLightViews.h"
@@ -177,7 +178,7 @@ using namespace penumbra_rmsm;
 struct vtkPenumbraResolutionMatchedShadows::Internals
 {
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
-  penumbra_light_views::CasterBuffers Casters;
+  penumbra_casters::CasterBuffers Casters;
 
   // The levels of every light's virtual map, the lights' pages and the light at hand.
   Pyramid Levels;

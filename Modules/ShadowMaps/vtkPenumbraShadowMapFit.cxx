@@ -3,6 +3,7 @@
 // choice of the maps' size.
 #include "vtkPenumbraShadowMapShadowsInternals.h"
 
+#include "vtkPenumbraGLPassState.h"
 #include "vtkPenumbraShadowMapEstimateFS.h"
 #include "vtkPenumbraShadowMapExtentFS.h"
 #include "vtkPenumbraShadowMapTilesFS.h"
@@ -963,7 +964,7 @@ bool vtkPenumbraShadowMapShadows::Internals::TilePass(vtkPenumbraFrame* frame,
   for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
   {
     vtkPenumbraViewSamplesPass* gbuffer = frame->GetLayer(layer);
-    penumbra_light_views::QuadPassState pass(win->GetState(), this->ExtentFBO, targets, tw, th);
+    penumbra_gl::QuadPassState pass(win->GetState(), this->ExtentFBO, targets, tw, th);
     win->GetShaderCache()->ReadyShaderProgram(program);
     gbuffer->GetPositionTexture()->Activate();
     gbuffer->GetNormalTexture()->Activate();

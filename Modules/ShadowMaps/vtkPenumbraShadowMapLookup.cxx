@@ -2,6 +2,7 @@
 // G-buffer and in the receivers' shaders, with the soft (PCSS, area) modes' uniforms.
 #include "vtkPenumbraShadowMapShadowsInternals.h"
 
+#include "vtkPenumbraGLPassState.h"
 #include "vtkPenumbraShadowMapClassify.h"
 #include "vtkPenumbraShadowMapCompare.h"
 #include "vtkPenumbraShadowMapFrameFS.h"
@@ -240,7 +241,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupList(vtkPenumbraShadowMapShad
   {
     vtkOpenGLState* ostate = win->GetState();
     vtkOpenGLState::ScopedglClearColor clearColor(ostate);
-    penumbra_light_views::QuadPassState pass(
+    penumbra_gl::QuadPassState pass(
       ostate, this->LookupFBO, { this->ListVisibility.Get() }, listWidth, listHeight);
     ostate->vtkglClearColor(1.0, 1.0, 1.0, 1.0);
     ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
@@ -587,7 +588,7 @@ bool vtkPenumbraShadowMapShadows::Internals::LookupFrame(vtkPenumbraShadowMapSha
       {
         this->CoarseValues->Allocate2D(cw, ch, 4, VTK_FLOAT);
       }
-      penumbra_light_views::QuadPassState pass(
+      penumbra_gl::QuadPassState pass(
         win->GetState(), this->CoarseFBO, { this->CoarseValues.Get() }, cw, ch);
       this->DrawLookup(self, frame, layer, setup, maps, slots, quad, 1, block);
     }

@@ -2,6 +2,7 @@
 // ones clipped and tessellated per hemisphere), the slots and the midpoint layer.
 #include "vtkPenumbraShadowMapShadowsInternals.h"
 
+#include "vtkPenumbraGLPassState.h"
 #include "vtkPenumbraShadowMapFS.h"
 #include "vtkPenumbraShadowMapMidpointFS.h"
 #include "vtkPenumbraShadowMapParaboloidFS.h"
@@ -259,8 +260,7 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
   this->AllocateMaps(win, maps->Width, maps->Height);
   const bool midpoint = self->DepthMode == DEPTH_MIDPOINT;
   vtkOpenGLState* ostate = win->GetState();
-  penumbra_light_views::MapRenderState renderState(
-    ostate, this->FBO, maps->Width, maps->Height, false);
+  penumbra_gl::MapRenderState renderState(ostate, this->FBO, maps->Width, maps->Height, false);
   this->BindCasters(self, program, geometry, setup, *maps);
   if (self->Lookup == LOOKUP_GPU && midpoint && !this->MidpointQuad)
   {

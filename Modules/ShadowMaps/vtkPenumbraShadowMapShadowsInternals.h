@@ -25,6 +25,7 @@
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraCasterBuffers.h"
 #include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraGoniometricLight.h"
@@ -281,7 +282,7 @@ struct vtkPenumbraShadowMapShadows::Internals
   }
 
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
-  penumbra_light_views::CasterBuffers Casters;
+  penumbra_casters::CasterBuffers Casters;
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   vtkSmartPointer<vtkTextureObject> DepthTextures[2]; // first layer, second (midpoint) layer
   int MapSize[2] = { 0, 0 };

@@ -11,7 +11,9 @@
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraCasterBuffers.h"
 #include "vtkPenumbraDiagnostics.h"
+#include "vtkPenumbraGLPassState.h"
 #include "vtkPenumbraLightViews.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowMapShadows.h"
@@ -457,9 +459,9 @@ bool OnePlane(const penumbra_light_views::FrameInputs& in, const vtkIdType c[4],
 struct vtkPenumbraSoftShadowMapShadows::Internals
 {
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
-  penumbra_light_views::CasterBuffers Casters;
-  penumbra_light_views::CasterBuffers Surfaces; // every triangle, for the skins
-  bool NeedSurfaces = false;                    // some triangles do not cast
+  penumbra_casters::CasterBuffers Casters;
+  penumbra_casters::CasterBuffers Surfaces; // every triangle, for the skins
+  bool NeedSurfaces = false;                // some triangles do not cast
 
   Internals() { this->Surfaces.AllSurfaces = true; }
 
@@ -820,7 +822,7 @@ bool vtkPenumbraSoftShadowMapShadows::Internals::RenderMaps(
     this->MapSize = res;
   }
   vtkOpenGLState* ostate = win->GetState();
-  penumbra_light_views::MapRenderState state(ostate, this->FBO, res, false);
+  penumbra_gl::MapRenderState state(ostate, this->FBO, res, false);
   this->FBO->AddDepthAttachment(this->DepthTexture);
   ostate->vtkglDrawBuffer(GL_NONE);
   ostate->vtkglReadBuffer(GL_NONE);

@@ -7,6 +7,7 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLState.h"
 #include "vtkPenumbraDiagnostics.h"
+#include "vtkPenumbraGLPassState.h"
 #include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraLightViews.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -176,7 +177,7 @@ struct vtkPenumbraFrame::Internals
     }
     vtkOpenGLState* ostate = this->Window->GetState();
     vtkOpenGLState::ScopedglClearColor clearColor(ostate);
-    penumbra_light_views::QuadPassState pass(
+    penumbra_gl::QuadPassState pass(
       ostate, this->Framebuffer(), { this->Textures[layer][t].Get() }, this->Width, this->Height);
     ostate->vtkglClearColor(-1.0, -1.0, -1.0, -1.0);
     ostate->vtkglClear(GL_COLOR_BUFFER_BIT);
@@ -205,7 +206,7 @@ struct vtkPenumbraFrame::Internals
 //------------------------------------------------------------------------------
 struct vtkPenumbraFrame::VisibilityTarget::State
 {
-  penumbra_light_views::QuadPassState Pass;
+  penumbra_gl::QuadPassState Pass;
 
   State(vtkOpenGLState* gl, vtkOpenGLFramebufferObject* fbo, vtkTextureObject* target, int w, int h,
     vtkTextureObject* depth)

@@ -1,9 +1,10 @@
 /**
  * @file    vtkPenumbraLightViews.h
- * @brief   Private machinery shared by the shadow-map based techniques
- *          (vtkPenumbraConservativeShadows, vtkPenumbraShadowMapShadows): the light reduced
- *          to the reference's conventions, the light cameras, the per-sample facing / cone
- *          pass, and the cached upload of the caster triangles.
+ * @brief   A light as the map-based techniques see it from the view samples: the light
+ *          reduced to the reference's conventions, the frame's inputs, the per-sample facing
+ *          / cone pass, the light cameras fitted to the samples, the samples' shadow rays and
+ *          the light's uniforms. The casters are in vtkPenumbraCasterBuffers.h, the GL state
+ *          of the techniques' passes in vtkPenumbraGLPassState.h.
  *
  * Not wrapped and not installed: both techniques must make the same decisions as
  * vtkPenumbraReference for facing-away samples and spot cones, so that their errors measure
@@ -14,15 +15,10 @@
 #ifndef vtkPenumbraLightViews_h
 #define vtkPenumbraLightViews_h
 
-#include "vtkOpenGLState.h"             // For the scoped state savers
-#include "vtkPenumbraSceneGeometry.h"   // For penumbra::CastersStamp
 #include "vtkPenumbraVisibilityRules.h" // For penumbra_rules::Hit
 #include "vtkType.h"
 #include "vtk_glew.h"
 
-#include <atomic>
-#include <cstdint>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,8 +26,6 @@ class vtkFloatArray;
 class vtkLight;
 class vtkOpenGLRenderWindow;
 class vtkRenderer;
-class vtkOpenGLFramebufferObject;
-class vtkTextureObject;
 class vtkPenumbraViewSamples;
 class vtkShaderProgram;
 
@@ -231,144 +225,6 @@ penumbra_rules::Hit TestShadowRay(
  * after rounding is left to the tracer too (Unknown).
  */
 penumbra_rules::Hit TestShadowRay(const ShadowRay& ray, const double* tri, vtkIdType id);
-
-/**
- * The GL state every pass of the techniques into its own framebuffer saves and sets: the
- * framebuffer bindings (pushed, `fbo` bound), blending, depth test and function, depth and
- * colour masks, scissor, culling and viewport; blending, scissor and culling off, viewport
- * width x height. Everything is restored when the object goes out of scope.
- */
-class ScopedPassState
-{
-public:
-  ScopedPassState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int width, int height);
-  ~ScopedPassState();
-  ScopedPassState(const ScopedPassState&) = delete;
-  ScopedPassState& operator=(const ScopedPassState&) = delete;
-
-protected:
-  vtkOpenGLState* State;
-
-private:
-  vtkOpenGLState::ScopedglEnableDisable Blend;
-  vtkOpenGLState::ScopedglEnableDisable DepthTest;
-  vtkOpenGLState::ScopedglEnableDisable Scissor;
-  vtkOpenGLState::ScopedglEnableDisable Cull;
-  vtkOpenGLState::ScopedglViewport Viewport;
-  vtkOpenGLState::ScopedglDepthFunc DepthFunc;
-  vtkOpenGLState::ScopedglDepthMask DepthMask;
-  vtkOpenGLState::ScopedglColorMask ColorMask;
-};
-
-/**
- * GL state for drawing a light view into `fbo` (size x size): depth test LESS with writes,
- * colour writes as asked, both windings drawn (open meshes have no back faces), and
- * GL_DEPTH_CLAMP so that casters before the near plane are clamped, not clipped (Brabec 2003,
- * ch. 4.1.2; Hertel et al. 2009, §3). Restored when the object goes out of scope.
- */
-class MapRenderState : public ScopedPassState
-{
-public:
-  MapRenderState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int size, bool colorWrites)
-    : MapRenderState(state, fbo, size, size, colorWrites)
-  {
-  }
-  MapRenderState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo, int width, int height,
-    bool colorWrites);
-  ~MapRenderState();
-
-private:
-  bool HadClamp = false;
-};
-
-/**
- * GL state for a full-viewport pass into colour targets (a vtkOpenGLQuadHelper draw):
- * `targets` as colour attachments 0.. (all drawn, all channels written), no depth attachment
- * unless `depth` is given, which is then tested GREATER without writes (a quad at depth 1
- * passes only where that depth buffer holds a surface). Restored when the object goes out
- * of scope.
- */
-class QuadPassState : public ScopedPassState
-{
-public:
-  QuadPassState(vtkOpenGLState* state, vtkOpenGLFramebufferObject* fbo,
-    const std::vector<vtkTextureObject*>& targets, int width, int height,
-    vtkTextureObject* depth = nullptr);
-};
-
-/**
- * The caster triangles (IsOccluder, the reference's rule) of a scene geometry: their ids and
- * bounds on the CPU, and on request as GL vertex buffers (positions, 3 floats rebased, and
- * triangle ids, one uint per vertex). Rebuilt only when the geometry, its flags or its
- * origin change; uploaded only when asked and not yet on the GPU.
- */
-/**
- * The exact triangles of the casters (the reference's double-precision form,
- * penumbra_rules::MakeExactTriangle), each made the first time a test needs it and kept while
- * the caster list does not change: a caster meets many samples, views and frames. Safe to
- * use from several threads. Lists of more than MaxCached casters (200 bytes each) make them
- * per test instead.
- */
-class ExactTriangles
-{
-public:
-  static constexpr size_t MaxCached = size_t(1) << 20;
-
-  /** Forgets the triangles made so far; `casters` (ascending ids) is the new list. */
-  void Reset(const std::vector<vtkIdType>& casters);
-
-  /**
-   * Caster `id`'s exact triangle from the geometry's `vertices` (9 per triangle), null when
-   * it has no area; `scratch` holds it when another thread is making the cached one (or
-   * nothing is cached).
-   */
-  const penumbra_rules::ExactTriangle* Get(
-    vtkIdType id, const double* vertices, penumbra_rules::ExactTriangle& scratch);
-
-private:
-  std::vector<std::int32_t> SlotOf; // per triangle id: its slot, -1 when not a caster
-  std::vector<penumbra_rules::ExactTriangle> Exact;
-  // per slot: 0 not yet, 1 being made, 2 made, 3 no area
-  std::unique_ptr<std::atomic<unsigned char>[]> Made;
-};
-
-struct CasterBuffers
-{
-  GLuint VertexArray = 0;
-  GLuint Positions = 0;
-  GLuint Ids = 0;
-  GLuint Indices = 0;
-  GLsizei VertexCount = 0;            // 3 per caster
-  std::vector<float> Vertices;        // CPU copy of Positions
-  std::vector<vtkIdType> TriangleIds; // the casters, ascending
-  double Bounds[6] = { 1, -1, 1, -1, 1, -1 };
-  ExactTriangles Exact; // the casters' exact triangles, reset with the list
-  // Every triangle instead of the casters only (soft shadow maps find the receivers behind
-  // a silhouette with them); set before the first Update.
-  bool AllSurfaces = false;
-
-  /**
-   * Brings the caster list up to date and, with `upload` (context current), the GL buffers;
-   * true when it uploaded.
-   */
-  bool Update(vtkPenumbraSceneGeometry* geometry, bool upload = true);
-
-  /**
-   * Binds the caster vertex array with the positions as `program`'s `vertexRebased`
-   * attribute (context current, buffers uploaded).
-   */
-  void Bind(vtkShaderProgram* program);
-
-  /** Frees the GL objects (context current) and forgets what was uploaded. */
-  void Release();
-
-  /** Forgets the GL objects without freeing them (their context is gone). */
-  void Forget();
-
-private:
-  penumbra::CastersStamp Current; // what the CPU lists were made from
-  bool OnGPU = false;             // the GL buffers match the CPU lists
-};
 
 /**
  * The uniforms of the per-sample facing rules (vtkPenumbraShadowMapClassify.glsl) from the
