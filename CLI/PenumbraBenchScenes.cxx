@@ -347,7 +347,7 @@ vtkSmartPointer<vtkFloatArray> ReadPass(
     {
       row.UncertainShare = stats->Get("uncertain_share");
     }
-    if (stats->Has("fill_fragments") && stats->Get("fill_fragments") >= 0)
+    if (stats->Has("fill_fragments"))
     {
       row.FillFragments = std::llround(stats->Get("fill_fragments"));
     }

@@ -449,7 +449,10 @@ void vtkPenumbraShadowVolumeShadows::GetStatistics(vtkLight* light, vtkPenumbraS
   stats->Set("volume_triangles", static_cast<double>(this->NumberOfVolumeTriangles));
   stats->Set("culled_volumes", static_cast<double>(this->NumberOfCulledVolumes));
   stats->Set("passed_fragments", static_cast<double>(this->NumberOfPassedFragments));
-  stats->Set("fill_fragments", static_cast<double>(this->NumberOfFillFragments));
+  if (this->NumberOfFillFragments >= 0) // measured only with MeasureFill
+  {
+    stats->Set("fill_fragments", static_cast<double>(this->NumberOfFillFragments));
+  }
   stats->Set("resolved_samples", static_cast<double>(this->NumberOfResolvedSamples));
   stats->Set("zpass", this->UsedZPass ? 1.0 : 0.0);
   stats->Set("connectivity_builds", this->NumberOfConnectivityBuilds);

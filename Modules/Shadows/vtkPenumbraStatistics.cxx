@@ -13,18 +13,27 @@ void vtkPenumbraStatistics::Clear()
   this->Entries.clear();
 }
 
-void vtkPenumbraStatistics::Set(const char* name, double value)
+vtkPenumbraStatistics::Entry* vtkPenumbraStatistics::Find(const char* name)
 {
   const std::string key = name ? name : "";
   for (Entry& e : this->Entries)
   {
     if (e.Name == key)
     {
-      e.Value = value;
-      return;
+      return &e;
     }
   }
-  this->Entries.push_back({ key, value });
+  return nullptr;
+}
+
+void vtkPenumbraStatistics::Set(const char* name, double value)
+{
+  if (Entry* e = this->Find(name))
+  {
+    e->Value = value;
+    return;
+  }
+  this->Entries.push_back({ name ? name : "", value });
 }
 
 int vtkPenumbraStatistics::GetNumberOfEntries()
@@ -48,26 +57,13 @@ double vtkPenumbraStatistics::GetValue(int index)
 
 bool vtkPenumbraStatistics::Has(const char* name)
 {
-  for (const Entry& e : this->Entries)
-  {
-    if (name && e.Name == name)
-    {
-      return true;
-    }
-  }
-  return false;
+  return this->Find(name) != nullptr;
 }
 
 double vtkPenumbraStatistics::Get(const char* name)
 {
-  for (const Entry& e : this->Entries)
-  {
-    if (name && e.Name == name)
-    {
-      return e.Value;
-    }
-  }
-  return std::numeric_limits<double>::quiet_NaN();
+  const Entry* e = this->Find(name);
+  return e ? e->Value : std::numeric_limits<double>::quiet_NaN();
 }
 
 std::string vtkPenumbraStatistics::Format(const char* separator)

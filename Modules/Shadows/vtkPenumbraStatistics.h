@@ -76,6 +76,7 @@ private:
     double Value;
   };
   std::vector<Entry> Entries;
+  Entry* Find(const char* name); // nullptr when `name` is not set
 
   vtkPenumbraStatistics(const vtkPenumbraStatistics&) = delete;
   void operator=(const vtkPenumbraStatistics&) = delete;
