@@ -41,7 +41,8 @@ struct TechniqueSpec
 // Everything the command line sets; each default is the member initialiser.
 struct Options
 {
-  std::vector<std::string> SceneNames = { "default", "isosurface", "city_area_light" };
+  std::vector<std::string> SceneNames = { "default", "isosurface", "city_area_light",
+    "sphere_light" };
   std::vector<std::string> TechniqueTexts = { "none", "auto", "vtk-shadowmap:resolution=1024",
     "vtk-shadowmap:resolution=2048", "vtk-shadowmap:resolution=4096", "raytraced",
     "conservative:resolution=1024", "conservative:resolution=2048", "llsm", "llsm-hybrid",

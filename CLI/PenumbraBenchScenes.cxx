@@ -22,6 +22,7 @@
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraResolutionMatchedShadows.h"
 #include "vtkPenumbraSceneReader.h"
+#include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraShadowPass.h"
 #include "vtkPenumbraShadowTechnique.h"
 #include "vtkPenumbraStatistics.h"
@@ -89,7 +90,10 @@ std::string KindOf(vtkLight* light)
 {
   if (auto* area = vtkPenumbraAreaLight::SafeDownCast(light))
   {
-    return area->GetShape() == vtkPenumbraAreaLight::Line ? "linear" : "area";
+    const int shape = area->GetShape();
+    return shape == vtkPenumbraAreaLight::Line
+      ? "linear"
+      : (shape == vtkPenumbraAreaLight::Disc ? "disc" : "area");
   }
   if (!light->GetPositional())
   {
@@ -216,9 +220,11 @@ struct SceneContext
   // One per light that is on and emits, each scored on its own.
   struct Measured
   {
-    vtkLight* Light = nullptr;
-    int LightIndex = -1;                  // in VTK's shader numbering
-    vtkPenumbraAreaLight* Area = nullptr; // Light, if it is an area or linear light
+    vtkLight* Light = nullptr;                  // as shadowed: a sphere light's disc
+    vtkLight* Source = nullptr;                 // the renderer's light
+    vtkSmartPointer<vtkPenumbraAreaLight> Disc; // a sphere light's disc, as the pass makes it
+    int LightIndex = -1;                        // in VTK's shader numbering
+    vtkPenumbraAreaLight* Area = nullptr;       // Light, if it is an area or linear light
     vtkNew<vtkFloatArray> Reference;
     vtkNew<vtkUnsignedCharArray> Ties; // hard lights: near-ties, excluded from the comparison
     // The ray tracer's visibility per setting ("samples=16"), so a GEARS point at the same k
@@ -249,9 +255,16 @@ std::string ComputeReference(SceneContext& ctx)
   for (const auto& l : lights)
   {
     auto m = std::make_unique<Measured>();
-    m->Light = l.first;
+    m->Light = m->Source = l.first;
     m->LightIndex = l.second;
     m->Area = vtkPenumbraAreaLight::SafeDownCast(l.first);
+    const double radius = vtkPenumbraShadowKeys::GetLightRadius(l.first);
+    if (!m->Area && radius > 0.0 && l.first->GetPositional())
+    {
+      m->Disc = vtkSmartPointer<vtkPenumbraAreaLight>::New();
+      m->Disc->SetFromLightRadius(l.first, radius);
+      m->Light = m->Area = m->Disc;
+    }
     if (m->Area && m->Area->GetShape() == vtkPenumbraAreaLight::Line)
     {
       // A linear light has an exact answer: no sampling error left in the yardstick.
@@ -402,7 +415,7 @@ void ScorePoint(SceneContext& ctx, Measured& m, const TechniqueSpec& spec, const
   if (!estimate || estimate->GetNumberOfTuples() != ctx.Samples->GetNumberOfSamples())
   {
     measurable = vtkSmartPointer<vtkUnsignedCharArray>::New();
-    estimate = RecoverVisibility(ctx.Renderer, ctx.Window, m.Light, ctx.Samples, measurable);
+    estimate = RecoverVisibility(ctx.Renderer, ctx.Window, m.Source, ctx.Samples, measurable);
   }
   const std::string stem =
     o.OutDir + "/" + FileSafe(ctx.Label + "__" + spec.Name + "_" + spec.Setting);
@@ -490,7 +503,7 @@ void MeasurePoint(SceneContext& ctx, const TechniqueSpec& spec, const Options& o
   }
   // --moving-light, --moving-camera: a new light or camera position for every frame, by a
   // negligible amount, restored afterwards.
-  vtkLight* moving = ctx.Lights.front()->Light;
+  vtkLight* moving = ctx.Lights.front()->Source;
   vtkCamera* camera = ctx.Renderer->GetActiveCamera();
   double home[3], eye[3];
   moving->GetPosition(home);

@@ -83,7 +83,8 @@ bool MaskCompute::Compile(int k, int rows, bool keepMasks, Program& program, std
     { &program.FarSlack, "uFarSlack" }, { &program.Flip, "uFlip" },
     { &program.RelativeTolerance, "uRelativeTolerance" }, { &program.WorkOffset, "uWorkOffset" },
     { &program.WorkCount, "uWorkCount" }, { &program.GlobalCount, "uGlobalCount" },
-    { &program.HasCasters, "uHasCasters" }, { &program.LoopProbe, "uLoopProbe" } };
+    { &program.HasCasters, "uHasCasters" }, { &program.LoopProbe, "uLoopProbe" },
+    { &program.Emitting, "uEmitting" } };
   for (const auto& u : uniforms)
   {
     *u.first = glGetUniformLocation(id, u.second);
@@ -180,6 +181,7 @@ bool MaskCompute::Run(const ComputeLight& light, const ComputeConstants& constan
     glUniform1ui(program.GlobalCount, static_cast<GLuint>(side.GlobalSize));
     glUniform1i(program.HasCasters, this->CasterCount > 0 ? 1 : 0);
     glUniform1ui(program.LoopProbe, 2u);
+    glUniform1uiv(program.Emitting, light.Rows, light.Emitting);
     const std::size_t perDispatch = static_cast<std::size_t>(MaxGroups) * LocalSize;
     for (std::size_t offset = 0; offset < work; offset += perDispatch)
     {

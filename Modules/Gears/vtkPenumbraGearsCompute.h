@@ -54,6 +54,7 @@ struct ComputeLight
   double V[3] = { 0, 1, 0 };
   double N[3] = { 0, 0, 1 };
   double Su0 = 0, DSu = 0, Sv0 = 0, DSv = 0;
+  std::uint32_t Emitting[32] = {}; // per row: the cells that hold light samples (bit i)
 };
 
 /// Per-call constants of the reference's rays.
@@ -129,7 +130,7 @@ private:
     int Centre = -1, AxisU = -1, AxisV = -1, AxisN = -1, Shift = -1, Su0 = -1, DSu = -1, Sv0 = -1,
         DSv = -1, Epsilon = -1, TieFactor = -1, Diagonal = -1, FarSlack = -1, Flip = -1,
         RelativeTolerance = -1, WorkOffset = -1, WorkCount = -1, GlobalCount = -1, HasCasters = -1,
-        LoopProbe = -1;
+        LoopProbe = -1, Emitting = -1;
   };
   enum Buffer
   {

@@ -32,6 +32,10 @@ bool vtkPenumbraGearsShadows::Internals::MasksOnComputePath(
   cl.DSu = ls.DSu;
   cl.Sv0 = ls.Sv0;
   cl.DSv = ls.DSv;
+  for (int j = 0; j < ls.Rows && j < 32; ++j)
+  {
+    cl.Emitting[j] = static_cast<std::uint32_t>(ls.Emitting[j]);
+  }
   penumbra_gears::ComputeConstants cc;
   std::copy(call.Shift, call.Shift + 3, cc.Shift);
   cc.Epsilon = call.Epsilon;

@@ -153,8 +153,8 @@ struct MaskBuilder
     : L(l)
     , Casters(casters)
     , Epsilon(epsilon)
-    , EdgeOwner(static_cast<size_t>(l.Count))
-    , EdgeIndex(static_cast<size_t>(l.Count))
+    , EdgeOwner(static_cast<size_t>(l.Cells))
+    , EdgeIndex(static_cast<size_t>(l.Cells))
   {
   }
 
@@ -218,7 +218,7 @@ struct MaskBuilder
         this->Blocked[j] = 0;
         this->Unknown[j] = 0;
         this->Pending[j] = 0;
-        this->Facing[j] = this->Candidate[j] = Span(0, this->L.K - 1);
+        this->Facing[j] = this->Candidate[j] = this->L.Emitting[j];
       }
       this->Open = true;
       return true;
@@ -232,10 +232,11 @@ struct MaskBuilder
       int sureLo = 0, sureHi = this->L.K - 1, maybeLo = 0, maybeHi = this->L.K - 1;
       sureFacing.Apply(j, this->L.K, sureLo, sureHi);
       maybeFacing.Apply(j, this->L.K, maybeLo, maybeHi);
-      const std::uint64_t sure = Span(sureLo, sureHi);
+      const std::uint64_t sure = Span(sureLo, sureHi) & this->L.Emitting[j];
       this->Facing[j] = sure;
       this->Candidate[j] = allTraced ? sure : 0;
-      std::uint64_t check = Span(maybeLo, maybeHi) & (allTraced ? ~sure : ~std::uint64_t(0));
+      std::uint64_t check =
+        Span(maybeLo, maybeHi) & this->L.Emitting[j] & (allTraced ? ~sure : ~std::uint64_t(0));
       while (check)
       {
         const int i = __builtin_ctzll(check);
@@ -693,7 +694,7 @@ struct MaskBuilder
       {
         const int i = __builtin_ctzll(open);
         open &= open - 1;
-        undecided.push_back(j * this->L.K + i);
+        undecided.push_back(this->L.SampleIndex(i, j));
       }
     }
   }

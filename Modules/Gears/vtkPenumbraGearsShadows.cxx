@@ -171,20 +171,39 @@ bool vtkPenumbraGearsShadows::Internals::SetUpLight(vtkPenumbraGearsShadows* sel
   LightSamples& ls = call.Light;
   ls.K = used->GetSamplesPerAxis();
   const bool line = used->GetShape() == vtkPenumbraAreaLight::Line;
-  ls.Rows = line ? 1 : ls.K;
+  ls.Rows = used->GetNumberOfRows();
+  ls.Cells = ls.K * ls.Rows;
   ls.Count = used->GetNumberOfSamples();
-  if (ls.K > MaxK || ls.Count != ls.K * ls.Rows)
+  if (ls.K > MaxK)
   {
     return false;
   }
-  ls.Points.resize(3 * static_cast<size_t>(ls.Count));
-  for (int j = 0; j < ls.Count; ++j)
+  // The masks run over the light's grid; the rows' emitting cells and the samples' numbering
+  // come from the light (all cells but a disc's corners).
+  int sampleIndex = 0;
+  for (int j = 0; j < ls.Rows; ++j)
   {
-    double* q = &ls.Points[3 * static_cast<size_t>(j)];
-    used->GetSamplePosition(j, q);
-    for (int c = 0; c < 3; ++c)
+    int first, last;
+    used->GetRowCells(j, first, last);
+    ls.Emitting[j] = first <= last ? Span(first, last) : 0;
+    ls.RowFirst[j] = sampleIndex;
+    sampleIndex += first <= last ? last - first + 1 : 0;
+  }
+  if (sampleIndex != ls.Count)
+  {
+    return false;
+  }
+  ls.Points.resize(3 * static_cast<size_t>(ls.Cells));
+  for (int j = 0; j < ls.Rows; ++j)
+  {
+    for (int i = 0; i < ls.K; ++i)
     {
-      q[c] -= origin[c];
+      double* q = &ls.Points[3 * static_cast<size_t>(j * ls.K + i)];
+      used->GetCellPosition(i, j, q);
+      for (int c = 0; c < 3; ++c)
+      {
+        q[c] -= origin[c];
+      }
     }
   }
   used->GetAxes(ls.U, ls.V, ls.N);
@@ -194,7 +213,8 @@ bool vtkPenumbraGearsShadows::Internals::SetUpLight(vtkPenumbraGearsShadows* sel
     ls.Centre[c] -= origin[c];
   }
   const double width = used->GetWidth();
-  const double height = line ? 0.0 : used->GetHeight();
+  const double height =
+    line ? 0.0 : (used->GetShape() == vtkPenumbraAreaLight::Disc ? width : used->GetHeight());
   ls.DSu = width / ls.K;
   ls.Su0 = (0.5 / ls.K - 0.5) * width;
   ls.DSv = line ? 0.0 : height / ls.K;
@@ -329,7 +349,7 @@ void vtkPenumbraGearsShadows::Internals::ClassifySamples(
           vis[s] = 1.0f; // the reference's rule: nothing to shadow
           for (int j = 0; j < ls.Rows; ++j)
           {
-            rows[j] = Span(0, ls.K - 1);
+            rows[j] = ls.Emitting[j];
           }
           call.WriteMask(s, rows);
           continue;

@@ -95,10 +95,15 @@ struct Affine
 // What the mask loop needs about the light (rebased frame).
 struct LightSamples
 {
-  int K = 1;                  // samples per row
-  int Rows = 1;               // k for a rectangle, 1 for a line
-  int Count = 1;              // K * Rows
-  std::vector<double> Points; // 3 per sample, index = j K + i
+  int K = 1;                  // grid cells per row
+  int Rows = 1;               // k for a rectangle or a disc, 1 for a line
+  int Cells = 1;              // K * Rows grid cells
+  int Count = 1;              // light samples: the cells that emit (all but a disc's corners)
+  std::vector<double> Points; // 3 per grid cell, index = j K + i
+  // Per row: the cells that hold light samples (bit i), and the sample index of the first.
+  // The masks run over the grid; a cell that holds no sample is never lit.
+  std::uint64_t Emitting[MaxK] = {};
+  int RowFirst[MaxK] = {};
   double Centre[3], U[3], V[3], N[3];
   double Su0 = 0, DSu = 0, Sv0 = 0, DSv = 0; // su_i = Su0 + i DSu, sv_j = Sv0 + j DSv
   double HalfU = 0, HalfV = 0;               // largest |su|, |sv| of a sample
@@ -109,6 +114,12 @@ struct LightSamples
     const double gu = vtkMath::Dot(g, this->U);
     const double gv = vtkMath::Dot(g, this->V);
     return { atCentre + this->Su0 * gu + this->Sv0 * gv, this->DSu * gu, this->DSv * gv };
+  }
+  // The light-sample index (vtkPenumbraAreaLight's numbering) of emitting cell (i, j).
+  int SampleIndex(int i, int j) const
+  {
+    const std::uint64_t below = this->Emitting[j] & ((std::uint64_t(1) << i) - 1);
+    return this->RowFirst[j] + __builtin_popcountll(below);
   }
   const double* Corner(int c) const
   {
@@ -207,9 +218,9 @@ struct CallState
     {
       for (int i = 0; i < ls.K; ++i)
       {
-        if (rows[j] >> i & 1u)
+        if ((rows[j] & ls.Emitting[j]) >> i & 1u)
         {
-          const int index = j * ls.K + i;
+          const int index = ls.SampleIndex(i, j);
           out[index / 32] |= 1u << (index % 32);
         }
       }

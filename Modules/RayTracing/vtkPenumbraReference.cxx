@@ -754,31 +754,14 @@ int vtkPenumbraReference::ComputeConvergedVisibility(vtkPenumbraViewSamples* sam
   {
     return this->Fail("invalid area light: " + problem);
   }
-  double u[3], v[3], nrm[3];
-  light->GetAxes(u, v, nrm);
-  double centre[3];
-  light->GetCentre(centre);
-  const bool line = light->GetShape() == vtkPenumbraAreaLight::Line;
-  const int k = samplesPerAxis;
-  const int n = line ? k : k * k;
-  const double width = light->GetWidth();
-  const double height = light->GetHeight();
+  // vtkPenumbraAreaLight's own rule and expressions, so that the light's own k reproduces
+  // its positions bit for bit.
+  vtkNew<vtkDoubleArray> positions;
+  light->GetSamplePositions(samplesPerAxis, positions);
+  const vtkIdType n = positions->GetNumberOfTuples();
   LightRays rays;
   rays.Kind = LightKind::Area;
-  rays.Points.resize(3 * static_cast<size_t>(n));
-  for (int index = 0; index < n; ++index)
-  {
-    // vtkPenumbraAreaLight::GetSamplePosition's expression, term for term, so that the
-    // light's own k reproduces its positions bit for bit.
-    const int i = index % k;
-    const int j = index / k;
-    const double su = ((i + 0.5) / k - 0.5) * width;
-    const double sv = line ? 0.0 : ((j + 0.5) / k - 0.5) * height;
-    for (int c = 0; c < 3; ++c)
-    {
-      rays.Points[3 * static_cast<size_t>(index) + c] = centre[c] + su * u[c] + sv * v[c];
-    }
-  }
+  rays.Points.assign(positions->GetPointer(0), positions->GetPointer(0) + 3 * n);
   rays.Off = !penumbra_rules::LightEmits(light);
   const int ok = this->Run(samples, rays, visibility, nullptr);
   if (ok)

@@ -1,5 +1,6 @@
 #include "vtkPenumbraAreaLight.h"
 
+#include "vtkDoubleArray.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
@@ -26,7 +27,76 @@ vtkPenumbraAreaLight::vtkPenumbraAreaLight()
 
 int vtkPenumbraAreaLight::GetNumberOfSamples()
 {
-  return this->Shape == Line ? this->SamplesPerAxis : this->SamplesPerAxis * this->SamplesPerAxis;
+  if (this->Shape != Disc)
+  {
+    return this->Shape == Line ? this->SamplesPerAxis : this->SamplesPerAxis * this->SamplesPerAxis;
+  }
+  int count = 0;
+  for (int j = 0; j < this->SamplesPerAxis; ++j)
+  {
+    int first, last;
+    count += this->RowCells(this->SamplesPerAxis, j, first, last) ? last - first + 1 : 0;
+  }
+  return count;
+}
+
+int vtkPenumbraAreaLight::GetNumberOfRows()
+{
+  return this->Shape == Line ? 1 : this->SamplesPerAxis;
+}
+
+const char* vtkPenumbraAreaLight::GetShapeAsString()
+{
+  return this->Shape == Line ? "Line" : (this->Shape == Disc ? "Disc" : "Rectangle");
+}
+
+bool vtkPenumbraAreaLight::RowCells(int k, int row, int& first, int& last) const
+{
+  first = 0;
+  last = k - 1;
+  if (row < 0 || row >= (this->Shape == Line ? 1 : k))
+  {
+    first = 1;
+    last = 0;
+    return false;
+  }
+  if (this->Shape != Disc)
+  {
+    return true;
+  }
+  // Cell centres in units of the diameter; kept when inside the disc of radius 1/2. The
+  // kept cells of a row are contiguous and symmetric about the centre column.
+  const double sv = (row + 0.5) / k - 0.5;
+  first = k;
+  last = -1;
+  for (int i = 0; i < k; ++i)
+  {
+    const double su = (i + 0.5) / k - 0.5;
+    if (su * su + sv * sv <= 0.25)
+    {
+      first = std::min(first, i);
+      last = std::max(last, i);
+    }
+  }
+  return first <= last;
+}
+
+bool vtkPenumbraAreaLight::GetRowCells(int row, int& first, int& last)
+{
+  return this->RowCells(this->SamplesPerAxis, row, first, last);
+}
+
+void vtkPenumbraAreaLight::CellPosition(int k, int i, int j, const double centre[3],
+  const double u[3], const double v[3], double position[3]) const
+{
+  const double su = ((i + 0.5) / k - 0.5) * this->Width;
+  const double sv = this->Shape == Line
+    ? 0.0
+    : ((j + 0.5) / k - 0.5) * (this->Shape == Disc ? this->Width : this->Height);
+  for (int c = 0; c < 3; ++c)
+  {
+    position[c] = centre[c] + su * u[c] + sv * v[c];
+  }
 }
 
 void vtkPenumbraAreaLight::GetCentre(double centre[3])
@@ -87,28 +157,96 @@ bool vtkPenumbraAreaLight::GetAxes(double u[3], double v[3], double n[3])
   return true;
 }
 
+bool vtkPenumbraAreaLight::GetCellPosition(int i, int j, double position[3])
+{
+  const int k = this->SamplesPerAxis;
+  double u[3], v[3], n[3];
+  if (i < 0 || i >= k || j < 0 || j >= this->GetNumberOfRows() || !this->GetAxes(u, v, n))
+  {
+    return false;
+  }
+  double centre[3];
+  this->GetCentre(centre);
+  this->CellPosition(k, i, j, centre, u, v, position);
+  return true;
+}
+
 bool vtkPenumbraAreaLight::GetSamplePosition(int index, double position[3])
 {
   const int k = this->SamplesPerAxis;
-  if (index < 0 || index >= this->GetNumberOfSamples())
+  if (index < 0)
   {
     return false;
   }
+  // The sample's cell: rows in order, the kept cells of each.
+  for (int j = 0; j < this->GetNumberOfRows(); ++j)
+  {
+    int first, last;
+    if (!this->RowCells(k, j, first, last))
+    {
+      continue;
+    }
+    if (index <= last - first)
+    {
+      return this->GetCellPosition(first + index, j, position);
+    }
+    index -= last - first + 1;
+  }
+  return false;
+}
+
+bool vtkPenumbraAreaLight::GetSamplePositions(int samplesPerAxis, vtkDoubleArray* positions)
+{
+  if (!positions)
+  {
+    return false;
+  }
+  positions->SetNumberOfComponents(3);
+  positions->SetNumberOfTuples(0);
   double u[3], v[3], n[3];
-  if (!this->GetAxes(u, v, n))
+  if (samplesPerAxis < 1 || samplesPerAxis > 256 || !this->GetAxes(u, v, n))
   {
     return false;
   }
-  const int i = index % k;
-  const int j = index / k;
-  const double su = ((i + 0.5) / k - 0.5) * this->Width;
-  const double sv = this->Shape == Line ? 0.0 : ((j + 0.5) / k - 0.5) * this->Height;
   double centre[3];
   this->GetCentre(centre);
+  const int k = samplesPerAxis;
+  for (int j = 0; j < (this->Shape == Line ? 1 : k); ++j)
+  {
+    int first, last;
+    this->RowCells(k, j, first, last);
+    for (int i = first; i <= last; ++i)
+    {
+      double p[3];
+      this->CellPosition(k, i, j, centre, u, v, p);
+      positions->InsertNextTuple(p);
+    }
+  }
+  return true;
+}
+
+bool vtkPenumbraAreaLight::SetFromLightRadius(vtkLight* light, double radius)
+{
+  if (!light || !light->GetPositional() || !(radius > 0.0) || !std::isfinite(radius))
+  {
+    return false;
+  }
+  this->DeepCopy(light);
+  this->SetPositional(true);
+  this->SetConeAngle(180.0);
+  this->SetShapeToDisc();
+  this->SetWidth(2.0 * radius);
+  // In-plane orientation does not matter for a disc; the world axis least aligned with the
+  // axis keeps the frame well conditioned.
+  double n[3];
   for (int c = 0; c < 3; ++c)
   {
-    position[c] = centre[c] + su * u[c] + sv * v[c];
+    n[c] = std::fabs(light->GetFocalPoint()[c] - light->GetPosition()[c]);
   }
+  const int axis = n[0] <= n[1] && n[0] <= n[2] ? 0 : (n[1] <= n[2] ? 1 : 2);
+  double up[3] = { 0.0, 0.0, 0.0 };
+  up[axis] = 1.0;
+  this->SetUp(up);
   return true;
 }
 
@@ -191,7 +329,7 @@ vtkLight* vtkPenumbraAreaLight::ShallowClone()
 void vtkPenumbraAreaLight::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Shape: " << (this->Shape == Line ? "Line" : "Rectangle") << "\n";
+  os << indent << "Shape: " << this->GetShapeAsString() << "\n";
   os << indent << "Width: " << this->Width << "\n";
   os << indent << "Height: " << this->Height << "\n";
   os << indent << "Up: " << this->Up[0] << " " << this->Up[1] << " " << this->Up[2] << "\n";

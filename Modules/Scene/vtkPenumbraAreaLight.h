@@ -1,6 +1,6 @@
 /**
  * @class   vtkPenumbraAreaLight
- * @brief   Rectangular or linear light source for soft shadows.
+ * @brief   Rectangular, linear or disc-shaped light source for soft shadows.
  *
  * A vtkLight with an extent. The light's Position is the centre of the emitter and
  * FocalPoint - Position its emission direction (the normal of a rectangle). Up fixes the
@@ -15,6 +15,16 @@
  * has k*k samples at the centres of a regular k x k grid of cells, index = j*k + i at
  *   Position + ((i + 0.5)/k - 0.5) * Width * U + ((j + 0.5)/k - 0.5) * Height * V,
  * and a line has k samples at Position + ((i + 0.5)/k - 0.5) * Length * U (Length = Width).
+ * A disc (diameter Width) keeps the cells of the k x k grid over its bounding square whose
+ * centre lies inside the disc, |(su, sv)| <= Width / 2: equal cells, as a rectangle's, so every
+ * technique that samples rectangles samples a disc the same way and the samples converge on
+ * the disc as k grows. Its samples are numbered row by row (j, then i) over the kept cells
+ * only; GetRowCells() tells which cells of a row are kept.
+ *
+ * A sphere light of radius r (vtkPenumbraShadowKeys::SetLightRadius on any positional
+ * vtkLight, or ParaView's light Radius) is shadowed as the disc of diameter 2r through its
+ * centre facing its focal point (SetFromLightRadius): the sphere's outline as seen from the
+ * receivers near its axis.
  *
  * A TransformMatrix (VTK's light transform, e.g. for camera lights) moves the emitter: the
  * centre is GetTransformedPosition(), the frame comes from the transformed position and
@@ -28,6 +38,8 @@
 #include "vtkLight.h"
 #include "vtkPenumbraSceneModule.h" // For export macro
 
+class vtkDoubleArray;
+
 class VTKPENUMBRASCENE_EXPORT vtkPenumbraAreaLight : public vtkLight
 {
 public:
@@ -38,23 +50,26 @@ public:
   enum ShapeType
   {
     Rectangle = 0,
-    Line = 1
+    Line = 1,
+    Disc = 2
   };
 
   ///@{
   /**
-   * Shape of the emitter: Rectangle (default) or Line.
+   * Shape of the emitter: Rectangle (default), Line or Disc.
    */
-  vtkSetClampMacro(Shape, int, Rectangle, Line);
+  vtkSetClampMacro(Shape, int, Rectangle, Disc);
   vtkGetMacro(Shape, int);
   void SetShapeToRectangle() { this->SetShape(Rectangle); }
   void SetShapeToLine() { this->SetShape(Line); }
+  void SetShapeToDisc() { this->SetShape(Disc); }
+  const char* GetShapeAsString();
   ///@}
 
   ///@{
   /**
-   * Extent along U (the length of a Line), in world units (metres in the scene files).
-   * Default 1. Must be positive and finite.
+   * Extent along U (the length of a Line, the diameter of a Disc), in world units (metres in
+   * the scene files). Default 1. Must be positive and finite.
    */
   vtkSetMacro(Width, double);
   vtkGetMacro(Width, double);
@@ -62,7 +77,7 @@ public:
 
   ///@{
   /**
-   * Extent along V, in world units; ignored for a Line. Default 1. Must be positive and
+   * Extent along V, in world units; ignored for a Line and a Disc. Default 1. Must be positive and
    * finite for a Rectangle.
    */
   vtkSetMacro(Height, double);
@@ -88,7 +103,7 @@ public:
   ///@}
 
   /**
-   * k*k for a Rectangle, k for a Line.
+   * k*k for a Rectangle, k for a Line, the cells kept of the k x k grid for a Disc.
    */
   int GetNumberOfSamples();
 
@@ -97,6 +112,41 @@ public:
    * an index out of range.
    */
   bool GetSamplePosition(int index, double position[3]);
+
+  /**
+   * The light sampled with `samplesPerAxis` in place of SamplesPerAxis (in [1, 256]; for
+   * converged references), by the same rule and expressions as GetSamplePosition(): one
+   * tuple of 3 world coordinates per sample, in sample order. Returns false (positions
+   * emptied) for a light without a direction or a count out of range.
+   */
+  bool GetSamplePositions(int samplesPerAxis, vtkDoubleArray* positions);
+
+  /**
+   * The grid rows of the samples: k for a Rectangle and a Disc, 1 for a Line.
+   */
+  int GetNumberOfRows();
+
+  /**
+   * The cells of grid row `row` that hold light samples, columns first..last; false (and
+   * first > last) when the row holds none. All k for a Rectangle or a Line; for a Disc the
+   * cells whose centre lies inside it.
+   */
+  bool GetRowCells(int row, int& first, int& last);
+
+  /**
+   * World position of the centre of grid cell (i, j), i, j in [0, k) (j = 0 for a Line),
+   * whether or not it holds a light sample: GetSamplePosition()'s expression.
+   */
+  bool GetCellPosition(int i, int j, double position[3]);
+
+  /**
+   * Makes this light the disc that stands for `light` with a sphere of radius `radius`:
+   * `light`'s position, focal point, transform, colour and intensity, Shape Disc of diameter
+   * 2 radius facing the focal point (Up: the world axis least aligned with it). `light` must
+   * be positional. Returns false (this light unchanged) for a non-positional light or a
+   * radius that is not positive and finite.
+   */
+  bool SetFromLightRadius(vtkLight* light, double radius);
 
   /**
    * Centre of the emitter in world coordinates: the Position through the TransformMatrix.
@@ -120,6 +170,13 @@ public:
 protected:
   // True without a TransformMatrix or with a rotation + translation.
   bool IsRigid();
+
+  // The one sampling rule: the cells of row `row` of a k x k grid (k x 1 for a Line) that
+  // hold samples, for this light's shape.
+  bool RowCells(int k, int row, int& first, int& last) const;
+  // Centre of cell (i, j) of the k-grid from the frame's centre and axes.
+  void CellPosition(int k, int i, int j, const double centre[3], const double u[3],
+    const double v[3], double position[3]) const;
 
   vtkPenumbraAreaLight();
   ~vtkPenumbraAreaLight() override = default;

@@ -1,7 +1,9 @@
 #include "vtkPenumbraShadowKeys.h"
 
 #include "vtkInformation.h"
+#include "vtkInformationDoubleKey.h"
 #include "vtkInformationIntegerKey.h"
+#include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkProp.h"
@@ -9,6 +11,7 @@
 vtkStandardNewMacro(vtkPenumbraShadowKeys);
 vtkInformationKeyMacro(vtkPenumbraShadowKeys, OCCLUDER, Integer);
 vtkInformationKeyMacro(vtkPenumbraShadowKeys, RECEIVER, Integer);
+vtkInformationKeyMacro(vtkPenumbraShadowKeys, LIGHT_RADIUS, Double);
 
 namespace
 {
@@ -52,4 +55,32 @@ void vtkPenumbraShadowKeys::SetCastsShadows(vtkProp* prop, bool casts)
 void vtkPenumbraShadowKeys::SetReceivesShadows(vtkProp* prop, bool receives)
 {
   SetFlag(prop, RECEIVER(), receives);
+}
+
+double vtkPenumbraShadowKeys::GetLightRadius(vtkLight* light)
+{
+  vtkInformation* info = light ? light->GetInformation() : nullptr;
+  return info && info->Has(LIGHT_RADIUS()) ? info->Get(LIGHT_RADIUS()) : 0.0;
+}
+
+void vtkPenumbraShadowKeys::SetLightRadius(vtkLight* light, double radius)
+{
+  if (!light)
+  {
+    return;
+  }
+  if (!light->GetInformation())
+  {
+    vtkNew<vtkInformation> info;
+    light->SetInformation(info);
+  }
+  if (radius == 0.0)
+  {
+    light->GetInformation()->Remove(LIGHT_RADIUS());
+  }
+  else
+  {
+    light->GetInformation()->Set(LIGHT_RADIUS(), radius);
+  }
+  light->Modified();
 }

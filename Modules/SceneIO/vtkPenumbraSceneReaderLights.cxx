@@ -4,6 +4,7 @@
 
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraGoniometricLight.h"
+#include "vtkPenumbraShadowKeys.h"
 
 #include <algorithm>
 
@@ -51,11 +52,11 @@ vtkSmartPointer<vtkLight> vtkPenumbraSceneReader::Internals::PositionalLight(con
 {
   if (type == "spot")
   {
-    keys({ "position", "focal_point", "cone_angle", "exponent" });
+    keys({ "position", "focal_point", "cone_angle", "exponent", "radius" });
   }
   else
   {
-    keys({ "position" });
+    keys({ "position", "radius" });
   }
   auto pos = ctx.Vector(obj, field, "position", 3, {}, true);
   auto light = vtkSmartPointer<vtkLight>::New();
@@ -83,6 +84,13 @@ vtkSmartPointer<vtkLight> vtkPenumbraSceneReader::Internals::PositionalLight(con
     light->SetFocalPoint(pos[0], pos[1], pos[2] - 1.0);
     light->SetConeAngle(180.0);
   }
+  // A sphere light: shadowed as its disc facing the focal point (straight down for a point).
+  const double radius = ctx.Number(obj, field, "radius", 0.0);
+  if (!(radius >= 0.0) || !std::isfinite(radius))
+  {
+    ctx.Fail(Ctx::Sub(field, "radius"), "light radius must be a finite length >= 0");
+  }
+  vtkPenumbraShadowKeys::SetLightRadius(light, radius);
   return light;
 }
 
@@ -115,7 +123,8 @@ vtkSmartPointer<vtkLight> vtkPenumbraSceneReader::Internals::GoniometricLight(co
   return gonio;
 }
 
-// A rectangular or linear emitter (vtkPenumbraAreaLight): its size, emission direction and axes.
+// A rectangular, linear or disc emitter (vtkPenumbraAreaLight): its size, emission direction and
+// axes.
 vtkSmartPointer<vtkLight> vtkPenumbraSceneReader::Internals::AreaLight(const Ctx& ctx,
   const json& obj, const std::string& field, const std::string& type, const KeyCheck& keys)
 {
@@ -135,6 +144,18 @@ vtkSmartPointer<vtkLight> vtkPenumbraSceneReader::Internals::AreaLight(const Ctx
     area->SetHeight(size[1]);
     auto up = ctx.Vector(obj, field, "up", 3, { 0, 0, 1 });
     area->SetUp(up.data());
+  }
+  else if (type == "disc")
+  {
+    keys({ "position", "focal_point", "normal", "radius", "samples" });
+    pos = ctx.Vector(obj, field, "position", 3, {}, true);
+    const double radius = ctx.Number(obj, field, "radius", 0.0, true);
+    if (!(radius > 0.0) || !std::isfinite(radius))
+    {
+      ctx.Fail(Ctx::Sub(field, "radius"), "disc light radius must be positive");
+    }
+    area->SetShapeToDisc();
+    area->SetWidth(2.0 * radius);
   }
   else
   {
@@ -220,7 +241,7 @@ void vtkPenumbraSceneReader::Internals::BuildLight(const Ctx& ctx, const json& o
   {
     light = this->GoniometricLight(ctx, obj, field, type, keys);
   }
-  else if (type == "area" || type == "linear")
+  else if (type == "area" || type == "linear" || type == "disc")
   {
     light = this->AreaLight(ctx, obj, field, type, keys);
   }
@@ -228,7 +249,7 @@ void vtkPenumbraSceneReader::Internals::BuildLight(const Ctx& ctx, const json& o
   {
     ctx.Fail(Ctx::Sub(field, "type"),
       "unknown light type " + Quote(type) +
-        " (expected directional, spot, point, goniometric, area or linear)");
+        " (expected directional, spot, point, goniometric, area, linear or disc)");
   }
   light->SetLightTypeToSceneLight();
   auto color = ctx.Color(obj, field, "color", { 1, 1, 1 });

@@ -568,6 +568,29 @@ bool vtkPenumbraSoftShadowMapShadows::Internals::UpdateCasters(
 }
 
 //------------------------------------------------------------------------------
+// Point (x, y) of the square [-1/2, 1/2]^2 on the disc of diameter `diameter` (Shirley & Chiu
+// 1997, "A low distortion map between disk and square"): the square's rings become the disc's,
+// so the grid keeps its cells and its outer ring lies on the rim.
+namespace
+{
+void ConcentricDisc(double x, double y, double diameter, double& a, double& b)
+{
+  const double sx = 2.0 * x, sy = 2.0 * y; // [-1, 1]^2
+  if (sx == 0.0 && sy == 0.0)
+  {
+    a = b = 0.0;
+    return;
+  }
+  const double quarter = 0.25 * vtkMath::Pi();
+  const bool wide = std::fabs(sx) > std::fabs(sy);
+  const double r = wide ? sx : sy;
+  const double phi = wide ? quarter * (sy / sx) : 2.0 * quarter - quarter * (sx / sy);
+  a = 0.5 * diameter * r * std::cos(phi);
+  b = 0.5 * diameter * r * std::sin(phi);
+}
+}
+
+//------------------------------------------------------------------------------
 // The light samples (rebased) and the elements that share them: a line's segments between
 // adjacent samples (Brabec 2003, ch. 10.1.2), a rectangle grid's cells (Ying et al.'s
 // polygon variant in ch. 10.1.3) or the cells split in two triangles (ch. 10.1.3).
@@ -578,6 +601,7 @@ void vtkPenumbraSoftShadowMapShadows::Internals::PlaceSamples(
   area->GetCentre(centre);
   area->GetAxes(u, v, n);
   const bool line = area->GetShape() == vtkPenumbraAreaLight::Line;
+  const bool disc = area->GetShape() == vtkPenumbraAreaLight::Disc;
   const int k = line ? self->NumberOfLineSamples : self->GridSamples;
   const int rows = line ? 1 : k;
   this->Now->Maps.resize(static_cast<size_t>(k * rows));
@@ -585,8 +609,13 @@ void vtkPenumbraSoftShadowMapShadows::Internals::PlaceSamples(
   {
     for (int i = 0; i < k; ++i)
     {
-      const double a = (static_cast<double>(i) / (k - 1) - 0.5) * area->GetWidth();
-      const double b = line ? 0.0 : (static_cast<double>(j) / (k - 1) - 0.5) * area->GetHeight();
+      double a = (static_cast<double>(i) / (k - 1) - 0.5) * area->GetWidth();
+      double b = line ? 0.0 : (static_cast<double>(j) / (k - 1) - 0.5) * area->GetHeight();
+      if (disc)
+      {
+        ConcentricDisc(static_cast<double>(i) / (k - 1) - 0.5,
+          static_cast<double>(j) / (k - 1) - 0.5, area->GetWidth(), a, b);
+      }
       SampleMap& m = this->Now->Maps[static_cast<size_t>(j * k + i)];
       for (int c = 0; c < 3; ++c)
       {

@@ -1,14 +1,15 @@
 /**
  * @class   vtkPenumbraSoftShadowMapShadows
- * @brief   Soft shadow maps for linear and rectangular area lights: Brabec, "Shadow
+ * @brief   Soft shadow maps for linear, rectangular and disc area lights: Brabec, "Shadow
  *          Techniques for Interactive and Real-Time Applications", PhD thesis, 2003, ch. 10.
  *
  * Per area or linear light (vtkPenumbraAreaLight):
  * 1. Light samples: a line gets NumberOfLineSamples points evenly spaced from one endpoint
  *    to the other (both included); a rectangle the GridSamples x GridSamples grid whose
- *    outer points are its corners. The light is split into equal elements that share
- *    samples: segments between adjacent line samples (ch. 10.1.2); grid cells (ELEMENTS_CELLS,
- *    Ying et al.'s polygon variant in ch. 10.1.3) or two triangles per cell
+ *    outer points are its corners; a disc that grid through Shirley and Chiu's concentric
+ *    map (its outer ring on the rim, the centre in its middle). The light is split into equal
+ * elements that share samples: segments between adjacent line samples (ch. 10.1.2); grid cells
+ * (ELEMENTS_CELLS, Ying et al.'s polygon variant in ch. 10.1.3) or two triangles per cell
  *    (ELEMENTS_TRIANGLES, ch. 10.1.3).
  * 2. Depth maps: one perspective map per light sample with a square field of view (see
  *    SetFit(): the whole scene, kept while only the camera moves, or the view samples),

@@ -209,7 +209,15 @@ std::string LightKind(vtkLight* light)
   if (auto* area = vtkPenumbraAreaLight::SafeDownCast(light))
   {
     const int k = area->GetSamplesPerAxis();
-    return area->GetShape() == vtkPenumbraAreaLight::Line
+    const int shape = area->GetShape();
+    if (shape == vtkPenumbraAreaLight::Disc)
+    {
+      std::ostringstream name;
+      name << "disc light of diameter " << area->GetWidth() << ", " << area->GetNumberOfSamples()
+           << " samples";
+      return name.str();
+    }
+    return shape == vtkPenumbraAreaLight::Line
       ? "linear light, " + std::to_string(k) + " samples"
       : "area light, " + std::to_string(k) + "x" + std::to_string(k) + " samples";
   }
@@ -637,7 +645,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   }
   // Light positions must be final (headlights follow the camera) before shadows are cast.
   this->UpdateLightGeometry(ren);
-  impl.CollectLights(ren);
+  impl.CollectLights(this, ren);
   bool anyShadowed = false;
   for (auto& light : impl.Lights)
   {

@@ -14,6 +14,7 @@
 #include "vtkActor.h"
 #include "vtkDoubleArray.h"
 #include "vtkLight.h"
+#include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowTechnique.h"
@@ -29,6 +30,7 @@
 #include <array>
 #include <cfloat>
 #include <cmath>
+#include <map>
 #include <set>
 #include <string>
 #include <tuple>
@@ -86,8 +88,20 @@ struct vtkPenumbraShadowPass::Internals
   bool HasTranslucentLayer = false;
   bool HasFrame = false; // Frame holds a frame rendered with shadows
 
-  std::vector<vtkSmartPointer<vtkLight>> Lights; // switched-on, shader order
+  std::vector<vtkSmartPointer<vtkLight>> Lights; // switched-on, shader order, as shadowed
   int LightsOff = 0;                             // switched-off lights of the renderer
+
+  // A positional light with a radius (vtkPenumbraShadowKeys::LIGHT_RADIUS) is shadowed as
+  // its disc (vtkPenumbraAreaLight::SetFromLightRadius), kept while the light is unchanged.
+  struct Standin
+  {
+    vtkSmartPointer<vtkPenumbraAreaLight> Disc;
+    vtkMTimeType LightTime = 0, InfoTime = 0;
+  };
+  std::map<vtkLight*, Standin> Standins;
+  std::set<vtkLight*> WarnedRadius; // lights told their radius is not used (said once)
+  vtkLight* AsShadowed(
+    vtkPenumbraShadowPass* pass, vtkLight* light, std::map<vtkLight*, Standin>& kept);
 
   // The technique for lights the pass's technique cannot shadow (SetFallbackTechnique()).
   vtkSmartPointer<vtkPenumbraShadowTechnique> Fallback;
@@ -155,7 +169,7 @@ struct vtkPenumbraShadowPass::Internals
     this->SetInjected(injected);
   }
 
-  void CollectLights(vtkRenderer* ren);
+  void CollectLights(vtkPenumbraShadowPass* pass, vtkRenderer* ren);
   std::vector<double> ViewKey(const vtkRenderState* s, vtkPenumbraShadowPass* pass);
   std::vector<double> LightsKey();
   void RenderSamples(const vtkRenderState* s);

@@ -1,11 +1,13 @@
 #include "vtkPenumbraShadowPassInternals.h"
 
 #include "vtkFloatArray.h"
+#include "vtkInformation.h"
 #include "vtkIntArray.h"
 #include "vtkLightCollection.h"
 #include "vtkMath.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPenumbraAreaLight.h"
+#include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraVisibilityRules.h"
 #include "vtkRenderer.h"
 #include "vtk_glew.h"
@@ -74,8 +76,11 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
   {
     area->GetCentre(pos);
     const double hw = 0.5 * area->GetWidth();
-    const double hh =
-      area->GetShape() == vtkPenumbraAreaLight::Line ? 0.0 : 0.5 * area->GetHeight();
+    // A disc's bounding square: the corners enclose every emitter point.
+    const int shape = area->GetShape();
+    const double hh = shape == vtkPenumbraAreaLight::Line
+      ? 0.0
+      : 0.5 * (shape == vtkPenumbraAreaLight::Disc ? area->GetWidth() : area->GetHeight());
     for (double a : { -hw, hw })
     {
       for (double b : { -hh, hh })
@@ -205,10 +210,11 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
 
 using namespace penumbra_shadow_pass;
 
-void vtkPenumbraShadowPass::Internals::CollectLights(vtkRenderer* ren)
+void vtkPenumbraShadowPass::Internals::CollectLights(vtkPenumbraShadowPass* pass, vtkRenderer* ren)
 {
   this->Lights.clear();
   this->LightsOff = 0;
+  std::map<vtkLight*, Standin> kept; // stand-ins of this frame's lights only
   vtkLightCollection* lights = ren->GetLights();
   vtkCollectionSimpleIterator it;
   lights->InitTraversal(it);
@@ -216,13 +222,51 @@ void vtkPenumbraShadowPass::Internals::CollectLights(vtkRenderer* ren)
   {
     if (light->GetSwitch())
     {
-      this->Lights.emplace_back(light);
+      this->Lights.emplace_back(this->AsShadowed(pass, light, kept));
     }
     else
     {
       ++this->LightsOff;
     }
   }
+  this->Standins = std::move(kept);
+}
+
+// The light as the techniques shadow it: `light` itself, or for a positional light with a
+// radius its disc (rebuilt only when the light or its information changed). A radius the
+// pass cannot use is said once and the light shadowed as a point.
+vtkLight* vtkPenumbraShadowPass::Internals::AsShadowed(
+  vtkPenumbraShadowPass* pass, vtkLight* light, std::map<vtkLight*, Standin>& kept)
+{
+  const double radius = vtkPenumbraShadowKeys::GetLightRadius(light);
+  if (radius == 0.0 || vtkPenumbraAreaLight::SafeDownCast(light))
+  {
+    return light;
+  }
+  if (!(radius > 0.0) || !std::isfinite(radius) || !light->GetPositional())
+  {
+    if (this->WarnedRadius.insert(light).second)
+    {
+      vtkWarningWithObjectMacro(pass,
+        "Light radius " << radius << " not used: "
+                        << (light->GetPositional()
+                               ? "a radius must be a positive finite length"
+                               : "a directional light's angular size is not supported")
+                        << "; the light casts hard shadows");
+    }
+    return light;
+  }
+  const vtkMTimeType infoTime = light->GetInformation() ? light->GetInformation()->GetMTime() : 0;
+  Standin entry = this->Standins[light];
+  if (!entry.Disc || entry.LightTime != light->GetMTime() || entry.InfoTime != infoTime)
+  {
+    entry.Disc = entry.Disc ? entry.Disc : vtkSmartPointer<vtkPenumbraAreaLight>::New();
+    entry.Disc->SetFromLightRadius(light, radius);
+    entry.LightTime = light->GetMTime();
+    entry.InfoTime = infoTime;
+  }
+  kept[light] = entry;
+  return entry.Disc;
 }
 
 // The technique that shadows light i this frame: the pass's technique's choice, or the
@@ -380,4 +424,3 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
   }
   this->SetInjected(any ? injected : std::vector<std::string>());
 }
-

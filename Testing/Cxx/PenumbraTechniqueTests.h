@@ -127,6 +127,20 @@ inline vtkSmartPointer<vtkRenderer> PlaneScene(
   return renderer;
 }
 
+// Counts the warning events of an observed object (OnWarning as a vtkCallbackCommand's
+// callback, the counter as its client data) and keeps the last one's text.
+struct WarningCounter
+{
+  int Warnings = 0;
+  std::string Last;
+  static void OnWarning(vtkObject*, unsigned long, void* client, void* data)
+  {
+    auto* self = static_cast<WarningCounter*>(client);
+    ++self->Warnings;
+    self->Last = data ? static_cast<const char*>(data) : "";
+  }
+};
+
 // A width x height window without multisampling that renders `renderer`.
 inline vtkSmartPointer<vtkRenderWindow> TestWindow(vtkRenderer* renderer, int width, int height)
 {

@@ -20,6 +20,8 @@ BAD_SCENES = {
     "nan_mesh.json": "objects[0].file: reading",
     "negative_size.json": "lights[0].size: area light size must be positive",
     "zero_size_light.json": "lights[0].length: linear light length must be positive",
+    "negative_light_radius.json": "lights[0].radius: light radius must be a finite length >= 0",
+    "zero_disc_radius.json": "lights[0].radius: disc light radius must be positive",
     "unknown_light.json": 'lights[0].type: unknown light type "sun"',
     "unknown_key.json": "objects[0].colour: unknown key",
     "empty_scene.json": "objects: the scene is empty",
@@ -131,6 +133,42 @@ class SceneFilesTest(unittest.TestCase):
             self.assertAlmostEqual(got, want, places=12)
         self.assertFalse(area.GetSamplePosition(16, pos))
         self.assertEqual(lights.GetItemAsObject(1).GetSwitch(), 0)
+
+    def test_disc_and_sphere_lights(self):
+        text = """{
+          "objects": [{"generator": {"type": "plane"}}],
+          "lights": [
+            {"type": "disc", "position": [1, 2, 5], "focal_point": [1, 2, 0], "radius": 0.5,
+             "samples": 8},
+            {"type": "point", "position": [0, 0, 4], "radius": 0.25},
+            {"type": "spot", "position": [0, 0, 4], "focal_point": [0, 0, 0]}
+          ]
+        }"""
+        reader = penumbra.vtkPenumbraSceneReader()
+        self.assertEqual(reader.ReadFromString(text, "inline", ""), 1, reader.GetErrorMessage())
+        lights = reader.GetRenderer().GetLights()
+        disc = lights.GetItemAsObject(0)
+        self.assertIsInstance(disc, penumbra.vtkPenumbraAreaLight)
+        self.assertEqual(disc.GetShapeAsString(), "Disc")
+        self.assertEqual(disc.GetWidth(), 1.0)
+        # The cells of the 8 x 8 grid whose centre lies inside the disc; every sample on it.
+        self.assertEqual(disc.GetNumberOfSamples(), 52)
+        for j in range(52):
+            p = [0.0, 0.0, 0.0]
+            self.assertTrue(disc.GetSamplePosition(j, p))
+            self.assertLessEqual(math.hypot(p[0] - 1, p[1] - 2), 0.5)
+            self.assertAlmostEqual(p[2], 5.0, places=12)
+        keys = penumbra.vtkPenumbraShadowKeys
+        self.assertEqual(keys.GetLightRadius(lights.GetItemAsObject(1)), 0.25)
+        self.assertEqual(keys.GetLightRadius(lights.GetItemAsObject(2)), 0.0)
+        # The pass's stand-in for the point light: the disc of that radius facing down.
+        stand_in = penumbra.vtkPenumbraAreaLight()
+        self.assertTrue(stand_in.SetFromLightRadius(lights.GetItemAsObject(1), 0.25))
+        self.assertEqual((stand_in.GetShape(), stand_in.GetWidth()), (stand_in.Disc, 0.5))
+        u, v, n = [0.0] * 3, [0.0] * 3, [0.0] * 3
+        self.assertTrue(stand_in.GetAxes(u, v, n))
+        self.assertEqual(n, [0.0, 0.0, -1.0])
+        self.assertFalse(stand_in.SetFromLightRadius(lights.GetItemAsObject(1), 0.0))
 
 
 if __name__ == "__main__":

@@ -55,6 +55,7 @@ uniform uint uWorkCount;
 uniform uint uGlobalCount;
 uniform int uHasCasters;
 uniform uint uLoopProbe; // 2: see the end of main()
+uniform uint uEmitting[ROWS]; // per row: the grid cells that hold light samples (a disc's)
 
 // Per-invocation state (MaskBuilder's members).
 uint facing[ROWS];
@@ -308,7 +309,7 @@ bool start()
     for (int j = 0; j < ROWS; ++j)
     {
       blocked[j] = 0u;
-      facing[j] = span(0, K - 1);
+      facing[j] = uEmitting[j];
       candidate[j] = facing[j];
     }
     return true;
@@ -322,10 +323,10 @@ bool start()
     int sureLo = 0, sureHi = K - 1, maybeLo = 0, maybeHi = K - 1;
     applyBound(sureFacing, j, sureLo, sureHi);
     applyBound(maybeFacing, j, maybeLo, maybeHi);
-    uint sure = span(sureLo, sureHi);
+    uint sure = span(sureLo, sureHi) & uEmitting[j];
     facing[j] = sure;
     candidate[j] = allTraced ? sure : 0u;
-    uint check = span(maybeLo, maybeHi) & (allTraced ? ~sure : 0xFFFFFFFFu);
+    uint check = span(maybeLo, maybeHi) & uEmitting[j] & (allTraced ? ~sure : 0xFFFFFFFFu);
     if (allTraced && check != 0u)
     {
       // Light samples within rounding of the tangent plane: the CPU path evaluates the

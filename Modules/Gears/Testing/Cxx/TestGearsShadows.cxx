@@ -2,7 +2,9 @@
 // Rendering Shadows", Computer Graphics Forum 33(6), 2014) against the exact reference on the same
 // view samples:
 // - k x k masks bit-identical to the reference's ray cast (vtkPenumbraReference::
-//   ComputeAreaMasks) for k = 4, 8, 16 on the area-light scene (rectangle and line lights),
+//   ComputeAreaMasks) for k = 4, 8, 16 on the area-light scene (rectangle and line lights)
+//   and on the sphere-light scene (a point light with a radius, shadowed as its disc: the
+//   masks run over the disc's grid with the corner cells never lit),
 //   visibility identical for every sample outside reference ties, few samples handed back to
 //   the reference, the same answer for every grid resolution;
 // - a 1e-6 m light gives the point-light shadows;
@@ -341,6 +343,24 @@ int CheckCityScene()
   return EXIT_SUCCESS;
 }
 
+// (b') A point light with a radius (vtkPenumbraShadowKeys::LIGHT_RADIUS): the pass shadows
+// it as its disc, whose light samples are the cells of the k x k grid inside it; GEARS masks
+// the grid and must give the reference's masks over the disc's samples, on both paths.
+int CheckSphereLight()
+{
+  vtkNew<vtkPenumbraSceneReader> reader;
+  Frame frame;
+  vtkPenumbraAreaLight* light = nullptr;
+  RUN(CheckSceneLight("sphere_light.json", reader, frame, light, 0.2));
+  CHECK(light->GetShape() == vtkPenumbraAreaLight::Disc && light->GetNumberOfSamples() == 52);
+  for (int k : { 4, 16, 32 })
+  {
+    light->SetSamplesPerAxis(k);
+    RUN(CompareWithReference("sphere_light.json disc", frame, light, 128, 0.2));
+  }
+  return EXIT_SUCCESS;
+}
+
 // (c) A 1e-6 m light: the same shadows as a point light at its centre, and GEARS matches
 // the reference at the light's own k.
 int CheckTinyLight()
@@ -649,6 +669,7 @@ int TestGearsShadows(int, char*[])
   RUN(CheckPenumbraWidth());
   RUN(CheckAreaLightScene());
   RUN(CheckCityScene());
+  RUN(CheckSphereLight());
   RUN(CheckTinyLight());
   RUN(CheckHugeLight());
   return EXIT_SUCCESS;

@@ -1,12 +1,15 @@
 // The exact reference for area lights against closed forms: the penumbra of a straight
 // occluder edge is a linear ramp of width w h / (H - h), sampled exactly as the light's k x k
-// cell centres (staircase, bit masks) and converging with a denser grid; a tiny light gives
-// the point-light answer, a huge one stays in [0, 1]; the tangent-plane rule.
+// cell centres (staircase, bit masks) and converging with a denser grid; under a disc light
+// it is the circular segment's share of the disc, sampled exactly at the disc's cells and
+// converging on the continuous disc; a tiny light gives the point-light answer, a huge one
+// stays in [0, 1]; the tangent-plane rule.
 #include "vtkCubeSource.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkLight.h"
+#include "vtkMath.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPlaneSource.h"
@@ -17,6 +20,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <string>
 
 #include "PenumbraReferenceScenes.h"
 #include "PenumbraTestMacros.h"
@@ -28,15 +32,16 @@ namespace
 // The straight edge of PenumbraReferenceScenes.h (closed-form ramp).
 using namespace penumbra_test::straight_edge;
 
-int EdgePenumbra()
+// The ground at z = 0 and the plate over x < 0 at height h, with LineSamples ground samples
+// along x, and the light centred at height H above the edge, facing down.
+int EdgeScene(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry,
+  vtkPenumbraViewSamples* samples, vtkPenumbraAreaLight* light)
 {
-  vtkNew<vtkRenderer> renderer;
+  light->SetPosition(0, 0, H);
+  light->SetFocalPoint(0, 0, 0);
   auto groundActor = AddRectangle(renderer, -10, 10, -10, 10, 0);
   AddRectangle(renderer, -20, 0, -20, 20, h);
-  vtkNew<vtkPenumbraSceneGeometry> geometry;
   CHECK(geometry->Update(renderer));
-
-  vtkNew<vtkPenumbraViewSamples> samples;
   samples->SetSize(LineSamples, 1);
   samples->SetOrigin(geometry->GetOrigin());
   samples->SetCameraPosition(0, -3, 10);
@@ -47,10 +52,16 @@ int EdgePenumbra()
     const double p[3] = { SampleX(i), 0, 0 };
     samples->SetSample(i, p, up, groundIndex, FindTriangleXY(geometry, groundIndex, p[0], p[1]));
   }
+  return EXIT_SUCCESS;
+}
 
+int EdgePenumbra()
+{
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkPenumbraSceneGeometry> geometry;
+  vtkNew<vtkPenumbraViewSamples> samples;
   vtkNew<vtkPenumbraAreaLight> light;
-  light->SetPosition(0, 0, H);
-  light->SetFocalPoint(0, 0, 0);
+  RUN(EdgeScene(renderer, geometry, samples, light));
   light->SetUp(0, 1, 0);
   light->SetWidth(W);
   light->SetHeight(1.0);
@@ -159,6 +170,70 @@ int EdgePenumbra()
 }
 
 // Tiny light = point light; huge light stays in [0, 1]; timing for the report.
+// A disc light of radius R = W / 2 over the same edge: ground point x sees the light points
+// with su > s = -x (H - h) / h, so its visibility is the share of the disc beyond the chord at
+// s, (R^2 acos(s / R) - s sqrt(R^2 - s^2)) / (pi R^2), and the penumbra spans
+// 2 R h / (H - h) = 0.5, as the square's. At the light's own k the reference counts exactly the
+// disc's cells past the chord; with a denser grid it converges on the continuous disc.
+double DiscShare(double x)
+{
+  const double R = 0.5 * W;
+  const double s = std::min(R, std::max(-R, -x * (H - h) / h));
+  return (R * R * std::acos(s / R) - s * std::sqrt(R * R - s * s)) / (vtkMath::Pi() * R * R);
+}
+
+int DiscPenumbra()
+{
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkPenumbraSceneGeometry> geometry;
+  vtkNew<vtkPenumbraViewSamples> samples;
+  vtkNew<vtkPenumbraAreaLight> light;
+  RUN(EdgeScene(renderer, geometry, samples, light));
+  light->SetShapeToDisc();
+  light->SetWidth(W);
+  light->SetHeight(-1.0); // ignored by a disc
+  light->SetSamplesPerAxis(8);
+  CHECK(std::string(light->GetValidityMessage()).empty());
+  const int n = light->GetNumberOfSamples();
+  CHECK(n == 52);
+  vtkNew<vtkPenumbraReference> reference;
+  reference->SetGeometry(geometry);
+  vtkNew<vtkFloatArray> vis;
+  CHECK(reference->ComputeVisibility(samples, light, vis));
+  vtkNew<vtkFloatArray> converged;
+  CHECK(reference->ComputeConvergedVisibility(samples, light, 128, converged));
+  double worst = 0.0, sum = 0.0;
+  int first = -1, last = -1;
+  for (int i = 0; i < LineSamples; ++i)
+  {
+    const double x = SampleX(i);
+    int past = 0; // the disc's cells past the chord, as seen from x
+    for (int j = 0; j < n; ++j)
+    {
+      double p[3];
+      CHECK(light->GetSamplePosition(j, p));
+      CHECK(std::hypot(p[0], p[1]) <= 0.5 * W + 1e-12);
+      past += -p[0] > -x * (H - h) / h ? 1 : 0; // U = -x here: su = -p[0]
+    }
+    CHECK(vis->GetValue(i) == static_cast<float>(past) / static_cast<float>(n));
+    const double error = std::fabs(converged->GetValue(i) - DiscShare(x));
+    worst = std::max(worst, error);
+    sum += error;
+    if (converged->GetValue(i) > 0.0f && converged->GetValue(i) < 1.0f)
+    {
+      first = first < 0 ? i : first;
+      last = i;
+    }
+  }
+  std::cout << "disc, converged 128 x 128: max |v - segment share| = " << worst << ", mean "
+            << sum / LineSamples << ", penumbra x in [" << SampleX(first) << ", " << SampleX(last)
+            << "] (closed form (-0.25, 0.25))\n";
+  CHECK(worst <= 0.01 && sum / LineSamples <= 0.002);
+  CHECK(SampleX(first) > -0.25 && SampleX(first) < -0.23);
+  CHECK(SampleX(last) < 0.25 && SampleX(last) > 0.23);
+  return EXIT_SUCCESS;
+}
+
 int LightSizeLimits()
 {
   vtkNew<vtkRenderer> renderer;
@@ -278,6 +353,7 @@ int TangentPlane()
 int TestReferenceSoft(int, char*[])
 {
   RUN(EdgePenumbra());
+  RUN(DiscPenumbra());
   RUN(LightSizeLimits());
   RUN(TangentPlane());
   return EXIT_SUCCESS;

@@ -1,6 +1,9 @@
-// Area and linear lights: the fixed sample positions every technique and the reference share,
-// the emitter frame, its TransformMatrix, and the validity checks behind the scene files'
-// errors.
+// Area, linear and disc lights: the fixed sample positions every technique and the reference
+// share (a disc's: the grid cells whose centre lies inside it, numbered row by row, the same
+// through GetSamplePositions for any k), the emitter frame, its TransformMatrix, and the
+// validity checks behind the scene files' errors.
+#include "vtkDoubleArray.h"
+#include "vtkLight.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
@@ -15,8 +18,75 @@
 
 #include "PenumbraTestMacros.h"
 
+namespace
+{
+int CheckDisc()
+{
+  vtkNew<vtkPenumbraAreaLight> disc;
+  disc->SetPosition(1, 2, 3);
+  disc->SetFocalPoint(1, 2, 0);
+  disc->SetShapeToDisc();
+  disc->SetWidth(2.0);
+  CHECK(std::string(disc->GetShapeAsString()) == "Disc" && disc->GetNumberOfRows() == 8);
+  const int expected[] = { 1, 4, 12, 52 }; // k = 1, 2, 4, 8
+  int e = 0;
+  for (int k : { 1, 2, 4, 8, 13, 64 })
+  {
+    disc->SetSamplesPerAxis(k);
+    const int n = disc->GetNumberOfSamples();
+    CHECK(k > 8 || n == expected[e++]);
+    // The kept cells converge on the disc's share of its square, pi / 4.
+    CHECK(k < 13 || std::fabs(static_cast<double>(n) / (k * k) - vtkMath::Pi() / 4) < 0.03);
+    vtkNew<vtkDoubleArray> all;
+    CHECK(disc->GetSamplePositions(k, all) && all->GetNumberOfTuples() == n);
+    int index = 0;
+    for (int j = 0; j < k; ++j)
+    {
+      int first, last;
+      CHECK(disc->GetRowCells(j, first, last));
+      CHECK(first + last == k - 1); // symmetric about the centre column
+      for (int i = first; i <= last; ++i, ++index)
+      {
+        double p[3], q[3];
+        CHECK(disc->GetSamplePosition(index, p) && disc->GetCellPosition(i, j, q));
+        for (int c = 0; c < 3; ++c)
+        {
+          CHECK(p[c] == q[c] && p[c] == all->GetComponent(index, c)); // one rule, bit for bit
+        }
+        CHECK(std::hypot(p[0] - 1, p[1] - 2) <= 1.0 && p[2] == 3.0);
+      }
+    }
+    CHECK(index == n);
+    double p[3];
+    CHECK(!disc->GetSamplePosition(n, p));
+  }
+  // The disc's size is its Width; its Height is not used.
+  disc->SetHeight(0.0);
+  CHECK(std::string(disc->GetValidityMessage()).empty());
+  disc->SetWidth(0.0);
+  CHECK(!std::string(disc->GetValidityMessage()).empty());
+
+  // A sphere light's stand-in: positional lights only, a positive finite radius.
+  vtkNew<vtkLight> point;
+  point->SetPositional(true);
+  point->SetPosition(0, 0, 4);
+  point->SetFocalPoint(0, 0, 0);
+  point->SetIntensity(0.5);
+  vtkNew<vtkPenumbraAreaLight> standIn;
+  CHECK(standIn->SetFromLightRadius(point, 0.25));
+  CHECK(standIn->GetShape() == vtkPenumbraAreaLight::Disc && standIn->GetWidth() == 0.5);
+  CHECK(standIn->GetIntensity() == 0.5 && standIn->GetPosition()[2] == 4.0);
+  CHECK(std::string(standIn->GetValidityMessage()).empty());
+  CHECK(!standIn->SetFromLightRadius(point, -1.0) && !standIn->SetFromLightRadius(point, NAN));
+  point->SetPositional(false);
+  CHECK(!standIn->SetFromLightRadius(point, 0.25));
+  return EXIT_SUCCESS;
+}
+}
+
 int TestAreaLight(int, char*[])
 {
+  RUN(CheckDisc());
   vtkNew<vtkPenumbraAreaLight> light;
   light->SetPosition(1, 2, 10);
   light->SetFocalPoint(1, 2, 0); // emits along -z

@@ -36,17 +36,7 @@ constexpr int Width = 128, Height = 96;
 // Light numbers of mixed_lights.json: a sun, a point light, an area light.
 constexpr int Sun = 0, Point = 1, Area = 2;
 
-struct Counter
-{
-  int Warnings = 0;
-  std::string Last;
-  static void OnWarning(vtkObject*, unsigned long, void* client, void* data)
-  {
-    auto* self = static_cast<Counter*>(client);
-    ++self->Warnings;
-    self->Last = data ? static_cast<const char*>(data) : "";
-  }
-};
+using Counter = WarningCounter;
 
 // Every light's visibility of the last frame, copied.
 std::vector<vtkSmartPointer<vtkFloatArray>> Visibilities(vtkPenumbraShadowPass* pass)
