@@ -200,6 +200,8 @@ case "$cmd" in
     mkdir -p "$paraview_build/Testing/ParaView"
     PENUMBRA_TEST_OUTPUT="$paraview_build/Testing/ParaView" paraview_run env -u DISPLAY \
       "${limit[@]}" pvpython "$here/Wrapping/ParaView/Testing/test_paraview_plugin.py"
+    PENUMBRA_TEST_OUTPUT="$paraview_build/Testing/ParaView" paraview_run env -u DISPLAY \
+      "${limit[@]}" pvpython "$here/Wrapping/ParaView/Testing/test_paraview_light_size.py"
     paraview_mpi_tests
     out="$(realpath -m "${2:-$here/paraview-demo.png}")"
     paraview_run env -u DISPLAY "${limit[@]}" pvbatch --disable-xdisplay-test \
