@@ -213,8 +213,7 @@ bool vtkPenumbraGearsShadows::Internals::SetUpLight(vtkPenumbraGearsShadows* sel
     ls.Centre[c] -= origin[c];
   }
   const double width = used->GetWidth();
-  const double height =
-    line ? 0.0 : (used->GetShape() == vtkPenumbraAreaLight::Disc ? width : used->GetHeight());
+  const double height = used->GetExtentV();
   ls.DSu = width / ls.K;
   ls.Su0 = (0.5 / ls.K - 0.5) * width;
   ls.DSv = line ? 0.0 : height / ls.K;

@@ -40,6 +40,11 @@ int vtkPenumbraAreaLight::GetNumberOfSamples()
   return count;
 }
 
+double vtkPenumbraAreaLight::GetExtentV() const
+{
+  return this->Shape == Line ? 0.0 : (this->Shape == Disc ? this->Width : this->Height);
+}
+
 int vtkPenumbraAreaLight::GetNumberOfRows()
 {
   return this->Shape == Line ? 1 : this->SamplesPerAxis;
@@ -90,9 +95,7 @@ void vtkPenumbraAreaLight::CellPosition(int k, int i, int j, const double centre
   const double u[3], const double v[3], double position[3]) const
 {
   const double su = ((i + 0.5) / k - 0.5) * this->Width;
-  const double sv = this->Shape == Line
-    ? 0.0
-    : ((j + 0.5) / k - 0.5) * (this->Shape == Disc ? this->Width : this->Height);
+  const double sv = this->Shape == Line ? 0.0 : ((j + 0.5) / k - 0.5) * this->GetExtentV();
   for (int c = 0; c < 3; ++c)
   {
     position[c] = centre[c] + su * u[c] + sv * v[c];

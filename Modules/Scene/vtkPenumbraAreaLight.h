@@ -122,6 +122,12 @@ public:
   bool GetSamplePositions(int samplesPerAxis, vtkDoubleArray* positions);
 
   /**
+   * The emitter's extent along V: Height for a Rectangle, the diameter (Width) for a Disc, 0
+   * for a Line. Its extent along U is Width for every shape.
+   */
+  double GetExtentV() const;
+
+  /**
    * The grid rows of the samples: k for a Rectangle and a Disc, 1 for a Line.
    */
   int GetNumberOfRows();

@@ -35,11 +35,15 @@ bool AreaAsSpot(vtkPenumbraAreaLight* area, LightSetup& setup, std::string& erro
   }
   setup.Type = LightSetup::Kind::Spot;
   setup.Area = true;
-  const bool line = area->GetShape() == vtkPenumbraAreaLight::Line;
+  // The blocker search and the filter integrate over a rectangle: a disc is taken as the
+  // square of its area (side sqrt(pi) / 2 times its diameter), whose mean penumbra is the
+  // disc's.
+  const bool disc = area->GetShape() == vtkPenumbraAreaLight::Disc;
+  const double scale = disc ? 0.5 * std::sqrt(vtkMath::Pi()) : 1.0;
   for (int c = 0; c < 3; ++c)
   {
-    setup.HalfU[c] = 0.5 * area->GetWidth() * u[c];
-    setup.HalfV[c] = line ? 0.0 : 0.5 * area->GetHeight() * v[c];
+    setup.HalfU[c] = 0.5 * scale * area->GetWidth() * u[c];
+    setup.HalfV[c] = 0.5 * scale * area->GetExtentV() * v[c];
   }
   std::copy(n, n + 3, setup.Axis);
   setup.Cone = AreaConeDegrees;

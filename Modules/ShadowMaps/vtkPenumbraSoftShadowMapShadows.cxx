@@ -610,7 +610,7 @@ void vtkPenumbraSoftShadowMapShadows::Internals::PlaceSamples(
     for (int i = 0; i < k; ++i)
     {
       double a = (static_cast<double>(i) / (k - 1) - 0.5) * area->GetWidth();
-      double b = line ? 0.0 : (static_cast<double>(j) / (k - 1) - 0.5) * area->GetHeight();
+      double b = (static_cast<double>(j) / (k - 1) - 0.5) * area->GetExtentV();
       if (disc)
       {
         ConcentricDisc(static_cast<double>(i) / (k - 1) - 0.5,

@@ -77,10 +77,7 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
     area->GetCentre(pos);
     const double hw = 0.5 * area->GetWidth();
     // A disc's bounding square: the corners enclose every emitter point.
-    const int shape = area->GetShape();
-    const double hh = shape == vtkPenumbraAreaLight::Line
-      ? 0.0
-      : 0.5 * (shape == vtkPenumbraAreaLight::Disc ? area->GetWidth() : area->GetHeight());
+    const double hh = 0.5 * area->GetExtentV();
     for (double a : { -hw, hw })
     {
       for (double b : { -hh, hh })
