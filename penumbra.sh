@@ -9,7 +9,9 @@
 #                                                 UndefinedBehaviorSanitizer, run the whole suite (CI)
 #   ./penumbra.sh paraview [OUT.png]              set up ParaView 5.11, build Penumbra and its
 #                                                 ParaView plugin against ParaView's VTK, test the
-#                                                 plugin, render paraview-demo.png with pvbatch
+#                                                 plugin (pvpython, pvbatch on MPI ranks, a client
+#                                                 on a 2-rank pvserver), render paraview-demo.png
+#                                                 with pvbatch
 #   ./penumbra.sh paraview-run COMMAND...         run COMMAND (pvpython, pvbatch, paraview) where
 #                                                 ParaView's Python modules are visible, with the
 #                                                 plugin on PV_PLUGIN_PATH
@@ -203,6 +205,11 @@ case "$cmd" in
     PENUMBRA_TEST_OUTPUT="$paraview_build/Testing/ParaView" paraview_run env -u DISPLAY \
       "${limit[@]}" pvpython "$here/Wrapping/ParaView/Testing/test_paraview_light_size.py"
     paraview_mpi_tests
+    # pvpython connected to a headless 2-rank pvserver that the test starts, with and without
+    # the plugin on the server's PV_PLUGIN_PATH.
+    paraview_run env -u DISPLAY "${limit[@]}" pvpython \
+      "$here/Wrapping/ParaView/Testing/test_paraview_client_server.py" \
+      "$paraview_build/Testing/ParaView/client-server"
     out="$(realpath -m "${2:-$here/paraview-demo.png}")"
     paraview_run env -u DISPLAY "${limit[@]}" pvbatch --disable-xdisplay-test \
       "$here/Wrapping/ParaView/paraview-demo.py" "$out"

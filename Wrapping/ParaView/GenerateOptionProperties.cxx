@@ -5,8 +5,10 @@
 //
 //   penumbra-paraview-options TEMPLATE.xml.in OUTPUT.xml
 //
-// The template's line holding PLACEHOLDER is replaced. Each property calls the view's
-// SetShadowOption<Type>("<technique>/<option>", value) through ParaView's `initial_string`.
+// The template's line holding PLACEHOLDER is replaced by the properties, the one holding
+// GROUP_PLACEHOLDER by their names (the "Shadows" property group lists them). Each property
+// calls the view's SetShadowOption<Type>("<technique>/<option>", value) through ParaView's
+// `initial_string`.
 #include "vtkPenumbraTechniques.h"
 
 #include <cctype>
@@ -20,6 +22,7 @@
 namespace
 {
 const char* const PLACEHOLDER = "<!-- @TECHNIQUE_OPTIONS@ -->";
+const char* const GROUP_PLACEHOLDER = "<!-- @TECHNIQUE_OPTION_GROUP@ -->";
 
 std::string Escape(const std::string& text)
 {
@@ -170,27 +173,41 @@ int main(int argc, char* argv[])
     std::cerr << argv[0] << ": cannot read " << argv[1] << "\n";
     return 1;
   }
-  std::ostringstream generated;
+  std::ostringstream generated, members;
   for (int t = 0; t < vtkPenumbraTechniques::GetNumberOfTechniques(); ++t)
   {
     const char* technique = vtkPenumbraTechniques::GetTechniqueName(t);
     for (int o = 0; o < vtkPenumbraTechniques::GetNumberOfOptions(technique); ++o)
     {
       WriteOption(generated, technique, o);
+      members << "        <Property name=\"" << technique << "/"
+              << vtkPenumbraTechniques::GetOptionName(technique, o) << "\" />\n";
     }
   }
   std::ostringstream text;
   std::string line;
-  bool replaced = false;
+  int replaced = 0;
   while (std::getline(in, line))
   {
-    const bool here = line.find(PLACEHOLDER) != std::string::npos;
-    text << (here ? generated.str() : line + "\n");
-    replaced = replaced || here;
+    if (line.find(PLACEHOLDER) != std::string::npos)
+    {
+      text << generated.str();
+      replaced |= 1;
+    }
+    else if (line.find(GROUP_PLACEHOLDER) != std::string::npos)
+    {
+      text << members.str();
+      replaced |= 2;
+    }
+    else
+    {
+      text << line << "\n";
+    }
   }
-  if (!replaced)
+  if (replaced != 3)
   {
-    std::cerr << argv[0] << ": " << argv[1] << " has no " << PLACEHOLDER << " line\n";
+    std::cerr << argv[0] << ": " << argv[1] << " needs a " << PLACEHOLDER << " line and a "
+              << GROUP_PLACEHOLDER << " line\n";
     return 1;
   }
   std::ofstream out(argv[2]);

@@ -50,3 +50,15 @@ def show_split(view, sources):
     display.ColorArrayName = ["POINTS", ""]
     look_at(view, [2.0, -11.0, 9.0], [0.0, 0.0, 0.5])
     return scene
+
+
+def show_ground_box_sphere(view):
+    """A ground plane, a box and a sphere that shadow the ground under an oblique sun, shown
+    in `view` split over the ranks (show_split). Returns the sphere's source."""
+    ground = pvs.Plane(Origin=[-5, -5, 0], Point1=[5, -5, 0], Point2=[-5, 5, 0],
+                       XResolution=24, YResolution=24)
+    box = pvs.Box(XLength=1.5, YLength=1.5, ZLength=1.0, Center=[1.5, 1.0, 1.2])
+    sphere = pvs.Sphere(Center=[-1.0, -1.5, 1.6], Radius=0.9, ThetaResolution=24,
+                        PhiResolution=16)
+    show_split(view, (ground, box, sphere))
+    return sphere

@@ -12,7 +12,9 @@ Checks on every rank (symmetric mode: each rank runs this script and reads its o
 - exact techniques: 0 of the rank's view samples disagree with the exact reference over that
   geometry (ties excluded), and on some rank the other ranks' casters change the answer
   (without them the test would prove nothing);
-- an unchanged frame gathers nothing; a caster that moves is gathered again.
+- an unchanged frame gathers nothing; a caster that moves is gathered again;
+- no error or warning reaches any rank's output window (pvbatch draws into ParaView's
+  offscreen view window, whose GLEW message the view drops).
 On rank 0: the composited image is written to OUTDIR/mpi-TECHNIQUE-npN.png, and when
 OUTDIR/mpi-TECHNIQUE-np1.png exists (a run with -np 1 first) the two images agree pixel
 for pixel within 2 levels (exact techniques; a shadow map on at most 0.5 % of the pixels).
@@ -36,6 +38,10 @@ from penumbra.vtkPenumbraScene import vtkPenumbraSceneGeometry  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkFloatArray, vtkIntArray  # noqa: E402
 from vtkmodules.vtkParallelCore import vtkCommunicator, vtkMultiProcessController  # noqa: E402
 
+from vtkmodules.util.misc import calldata_type  # noqa: E402
+from vtkmodules.util.vtkConstants import VTK_STRING  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow  # noqa: E402
+
 SIZE = [192, 192]
 EXACT = ("raytraced", "conservative", "volumes", "llsm")
 out_dir = sys.argv[1] if len(sys.argv) > 1 else "."
@@ -45,6 +51,16 @@ controller = vtkMultiProcessController.GetGlobalController()
 rank = controller.GetLocalProcessId()
 ranks = controller.GetNumberOfProcesses()
 failures = []
+messages = []
+
+
+@calldata_type(VTK_STRING)
+def on_message(_window, _event, text):
+    messages.append(text)
+
+
+for event in (vtkCommand.ErrorEvent, vtkCommand.WarningEvent):
+    vtkOutputWindow.GetInstance().AddObserver(event, on_message)
 
 
 def all_sum(value, op=vtkCommunicator.SUM_OP):
@@ -70,13 +86,7 @@ def make_view():
     # ParaView applies FXAA after IceT's compositing but not to a single process's render
     # pass: off, so that the -np 1 and -np N images can be compared pixel for pixel.
     view.UseFXAA = 0
-    ground = pvs.Plane(Origin=[-5, -5, 0], Point1=[5, -5, 0], Point2=[-5, 5, 0],
-                       XResolution=24, YResolution=24)
-    box = pvs.Box(XLength=1.5, YLength=1.5, ZLength=1.0, Center=[1.5, 1.0, 1.2])
-    sphere = pvs.Sphere(Center=[-1.0, -1.5, 1.6], Radius=0.9, ThetaResolution=24,
-                        PhiResolution=16)
-    shadow_view.show_split(view, (ground, box, sphere))
-    return view, sphere
+    return view, shadow_view.show_ground_box_sphere(view)
 
 
 def rank_view_check(view, technique):
@@ -195,6 +205,9 @@ if gathers is not None:
     check(gather_stats(view)[0] == gathers + 1, "a moved caster is gathered again",
           everywhere=False)
 rank_view_check(view, techniques[0])
+
+check(not messages, "no error or warning reached the output window (%s)"
+      % [m[:160] for m in messages[:1]])
 
 failed = all_sum(len(failures), vtkCommunicator.MAX_OP)
 if rank == 0:

@@ -124,6 +124,31 @@ check(sorted(names) == sorted(registry), "technique list is the registry's: %s" 
 check(names[0] == vtkPenumbraTechniques.GetDefaultTechnique(),
       "the list starts with the registry's default (%s)" % names[0])
 
+# The Properties panel follows the proxy's property order: the Shadows group (technique,
+# options, every option property) comes before the render view's own properties.
+from paraview import servermanager  # noqa: E402
+order = servermanager.vtkSMOrderedPropertyIterator()
+order.SetProxy(view.SMProxy)
+order.Begin()
+panel_order = []
+while not order.IsAtEnd():
+    if not order.GetProperty().GetInformationOnly():
+        panel_order.append(order.GetKey())
+    order.Next()
+groups = {view.SMProxy.GetPropertyGroup(i).GetXMLLabel(): view.SMProxy.GetPropertyGroup(i)
+          for i in range(view.SMProxy.GetNumberOfPropertyGroups())}
+shadows = groups.get("Shadows")
+members = [shadows.GetProperty(i) for i in range(shadows.GetNumberOfProperties())] \
+    if shadows else []
+check(shadows is not None and view.GetProperty("ShadowTechnique").SMProperty in members and
+      view.GetProperty("shadowmap/resolution").SMProperty in members,
+      "a Shadows property group holds the technique and its options (%d properties)"
+      % len(members))
+check(panel_order[:2] == ["ShadowTechnique", "ShadowOptions"] and
+      len(panel_order) > len(members) and
+      all(view.GetProperty(k).SMProperty in members for k in panel_order[:len(members)]),
+      "the Shadows group comes first in the view's property order (%s)" % panel_order[:3])
+
 view.ShadowTechnique = "none"
 pvs.Render(view)
 unshadowed = mean_luminance(view, "none")
@@ -206,6 +231,21 @@ view.ShadowmapResolution = 3  # outside the table's range: refused, the last tec
 pvs.Render(view)
 check(installed_pass(view).GetTechnique().GetResolution() == 1024,
       "an out-of-range option property is refused and the view keeps its technique")
+# A refused request is undone on the proxy: the properties show what draws.
+check(view.ShadowmapResolution == 256 and view.ShadowOptions == '{"resolution": 1024}',
+      "the refused option property is back to what draws (ShadowmapResolution %d, "
+      "ShadowOptions %r)" % (view.ShadowmapResolution, view.ShadowOptions))
+view.ShadowTechnique = "nonexistent"
+pvs.Render(view)
+check(view.ShadowTechnique == "shadowmap" and
+      installed_pass(view).GetTechnique().GetResolution() == 1024,
+      "a refused technique name is back to the one that draws (%r)" % view.ShadowTechnique)
+view.ShadowTechnique = "pcss"
+view.ShadowOptions = '{"no_such_option": 1}'
+pvs.Render(view)
+check(view.ShadowTechnique == "shadowmap" and view.ShadowOptions == '{"resolution": 1024}',
+      "a technique refused for its options is back to the one that draws (%r, %r)"
+      % (view.ShadowTechnique, view.ShadowOptions))
 
 # Hidden blocks cast no shadows: the same ground and box as blocks of one data set; hiding
 # the box block (BlockSelectors) must take its shadow away with it.

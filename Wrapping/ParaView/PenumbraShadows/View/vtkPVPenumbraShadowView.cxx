@@ -3,14 +3,17 @@
 #include "vtkActor.h"
 #include "vtkCameraPass.h"
 #include "vtkCellArray.h"
+#include "vtkCommand.h"
 #include "vtkCommunicator.h"
 #include "vtkDoubleArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkOutputWindow.h"
 #include "vtkPVSynchronizedRenderer.h"
 #include "vtkPenumbraDiagnostics.h"
+#include "vtkPenumbraHeadlessFactory.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraShadowPass.h"
@@ -24,6 +27,7 @@
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 #include "vtkStringArray.h"
+#include "vtk_glew.h"
 
 #include <nlohmann/json.hpp>
 
@@ -211,13 +215,39 @@ vtkPVPenumbraShadowView::vtkPVPenumbraShadowView()
   , Impl(new Internals)
 {
   this->LODRenderingThreshold = std::numeric_limits<double>::max();
+  if (vtkRenderWindow* window = this->GetRenderWindow())
+  {
+    this->WindowErrorObserver =
+      window->AddObserver(vtkCommand::ErrorEvent, this, &vtkPVPenumbraShadowView::OnWindowError);
+  }
 }
 
 vtkPVPenumbraShadowView::~vtkPVPenumbraShadowView()
 {
+  if (this->WindowErrorObserver && this->GetRenderWindow())
+  {
+    this->GetRenderWindow()->RemoveObserver(this->WindowErrorObserver);
+  }
   if (this->Impl->Pass && this->GetRenderWindow())
   {
     this->Impl->Pass->ReleaseGraphicsResources(this->GetRenderWindow());
+  }
+}
+
+void vtkPVPenumbraShadowView::OnWindowError(vtkObject*, unsigned long, void* text)
+{
+  const char* message = static_cast<const char*>(text);
+  // glewGetErrorString() says "Unknown error" only for GLEW_ERROR_NO_GLX_DISPLAY (GLEW 2.x
+  // has no higher code); GL 3.2 being there shows that glewInit() loaded the GL entry points
+  // before it looked for the GLX display. Only under Penumbra's headless windows, whose EGL or
+  // OSMesa context has no GLX display by design.
+  const bool harmless = message && vtkPenumbraHeadlessFactory::IsInstalled() &&
+    std::strstr(message, "GLEW could not be initialized: Unknown error") != nullptr &&
+    GLEW_VERSION_3_2;
+  if (!harmless)
+  {
+    // What VTK does with an error of an object that nobody observes.
+    vtkOutputWindowDisplayErrorText(message ? message : "");
   }
 }
 
@@ -356,6 +386,14 @@ void vtkPVPenumbraShadowView::UpdateShadowPass()
   this->Tried = true;
   this->TriedTechnique = name;
   this->TriedOptions = options;
+  // Back to what draws (vtkSMPenumbraShadowViewProxy restores a refused request): nothing to
+  // rebuild.
+  if (!this->InstalledTechnique.empty() && name == this->InstalledTechnique &&
+    options == this->InstalledOptions)
+  {
+    this->Refused = false;
+    return;
+  }
   // The registry builds camera pass -> technique pass on a renderer; ParaView brings its own
   // camera pass, so only the delegate is handed over ("none" installs no pass at all, and
   // ParaView then uses its default pass).
@@ -366,8 +404,10 @@ void vtkPVPenumbraShadowView::UpdateShadowPass()
     vtkErrorMacro("Penumbra shadows: technique \""
       << name << "\" with options \"" << options << "\" refused: " << techniques->GetErrorMessage()
       << "; still drawing with \"" << this->InstalledTechnique << "\"");
+    this->Refused = true;
     return;
   }
+  this->Refused = false;
   vtkCameraPass* camera = vtkCameraPass::SafeDownCast(scratch->GetPass());
   vtkRenderPass* pass = camera ? camera->GetDelegatePass() : scratch->GetPass();
   if (this->Impl->Pass && this->Impl->Pass != pass && this->GetRenderWindow())
@@ -381,6 +421,11 @@ void vtkPVPenumbraShadowView::UpdateShadowPass()
   vtkPenumbraShadowPass::SetInstalled(
     this->GetRenderer(), vtkPenumbraShadowPass::SafeDownCast(pass));
   this->InstalledTechnique = name;
+  this->InstalledOptions = options;
+  this->InstalledOptionsText = this->Options;
+  auto values = this->Impl->OptionValues.find(name);
+  this->InstalledOptionValues =
+    values != this->Impl->OptionValues.end() ? values->second.dump() : std::string("{}");
 }
 
 void vtkPVPenumbraShadowView::Render(bool interactive, bool skip_rendering)
@@ -466,4 +511,6 @@ void vtkPVPenumbraShadowView::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ShadowTechnique: " << this->Technique << "\n";
   os << indent << "ShadowOptions: " << this->Options << "\n";
   os << indent << "InstalledTechnique: " << this->InstalledTechnique << "\n";
+  os << indent << "InstalledShadowOptions: " << this->InstalledOptionsText << "\n";
+  os << indent << "ShadowRequestRefused: " << (this->Refused ? "yes" : "no") << "\n";
 }

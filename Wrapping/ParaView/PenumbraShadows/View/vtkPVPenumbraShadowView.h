@@ -12,7 +12,10 @@
  * The technique is installed lazily, at the next render: ParaView pushes ShadowTechnique and
  * ShadowOptions one at a time, and a new technique with the previous technique's options
  * would be refused. A refused technique or option is reported (vtkErrorMacro, with the
- * registry's message naming the option) and the view keeps drawing with its last valid one.
+ * registry's message naming the option) and the view keeps drawing with its last valid one;
+ * GetShadowRequestRefused() then says so, and vtkSMPenumbraShadowViewProxy puts the proxy's
+ * properties back to what draws (GetInstalledTechnique(), GetInstalledShadowOptions(),
+ * GetInstalledOptionValues()).
  *
  * Level of detail: vtkPVLODActor draws a decimated mesh during interaction when the data
  * exceeds the LOD threshold. This view never does (the threshold stays infinite, whatever
@@ -35,6 +38,14 @@
  *
  * Loading the plugin registers Penumbra's headless (EGL) render window when no X display is
  * set (vtkPenumbraHeadlessFactory), so pvpython and pvbatch render without an X server.
+ * pvbatch and pvserver then draw each view into a vtkGenericOpenGLRenderWindow that shares
+ * that window's context (ParaView's vtkOffscreenOpenGLRenderWindow), which runs VTK's
+ * vtkOpenGLRenderWindow::OpenGLInitContext() at every render until it succeeds. It never
+ * does: Debian's GLEW is built for GLX, and glewInit() loads every GL entry point, then returns
+ * GLEW_ERROR_NO_GLX_DISPLAY (glewGetErrorString: "Unknown error") because an EGL context has
+ * no GLX display. Penumbra's own windows treat that code as success; the view observes its
+ * window's errors and drops that one message when the GL part of GLEW did load (GL 3.2
+ * present), passing every other error on to VTK's output window as before.
  */
 
 #ifndef vtkPVPenumbraShadowView_h
@@ -105,6 +116,23 @@ public:
    */
   const char* GetInstalledTechnique() { return this->InstalledTechnique.c_str(); }
 
+  ///@{
+  /**
+   * What the installed technique was installed with: the ShadowOptions text, and its option
+   * properties' values as a JSON object ({"resolution": 2048, ...}). Empty before the first
+   * installation.
+   */
+  const char* GetInstalledShadowOptions() { return this->InstalledOptionsText.c_str(); }
+  const char* GetInstalledOptionValues() { return this->InstalledOptionValues.c_str(); }
+  ///@}
+
+  /**
+   * True when the last render tried a request (technique and options) that the registry
+   * refused; the view still draws with GetInstalledTechnique(). False once a request is
+   * installed, or when the request is what is installed.
+   */
+  bool GetShadowRequestRefused() { return this->Refused; }
+
   /**
    * What the last frame did, per light: the technique that shadowed it and why, and its
    * statistics (counts and phase times, whatever the technique;
@@ -153,9 +181,18 @@ private:
   // description). Collective: every rendering rank calls it for every render.
   void GatherCasters();
 
+  // ErrorEvent observer of the render window: drops the known-harmless GLEW message (see the
+  // class description), passes every other error on.
+  void OnWindowError(vtkObject* window, unsigned long event, void* text);
+  unsigned long WindowErrorObserver = 0;
+
   std::string Technique;
   std::string Options;
   std::string InstalledTechnique;
+  std::string InstalledOptions;      // the composed JSON it was installed with
+  std::string InstalledOptionsText;  // GetInstalledShadowOptions()
+  std::string InstalledOptionValues; // GetInstalledOptionValues()
+  bool Refused = false;
   std::string Report; // GetShadowReport()'s text
   bool Tried = false;
   std::string TriedTechnique;
