@@ -205,6 +205,27 @@ def remote_rendering_checks():
     check(shadowed < unshadowed - 1.0, "the image is darker than without shadows "
           "(%.1f vs %.1f)" % (shadowed, unshadowed))
     check_refusals(view)
+    check_light_size(view)
+
+
+def check_light_size(view):
+    """The light's ShadowRadius reaches the server's ranks: the server's report names the
+    disc, and the soft shadow changes the image."""
+    light = view.AdditionalLights[0]
+    light.Type = "Positional"
+    light.Position = [-3.0, -1.0, 6.0]
+    light.ConeAngle = 90.0  # all directions: a point light
+    view.ShadowTechnique = "gears"
+    pvs.Render(view)
+    hard = mean_luminance(view, "point-light")
+    check("(point light): " in statistics(view)["ShadowReport"], "ShadowRadius 0: a point light")
+    light.ShadowRadius = 0.5
+    pvs.Render(view)
+    report = statistics(view)["ShadowReport"]
+    check("(disc light of diameter 1, 52 samples): gears" in report,
+          "ShadowRadius 0.5 reaches the server: %r" % report[:90])
+    check(mean_luminance(view, "sphere-light") != hard, "the sphere light's image differs")
+    light.ShadowRadius = 0.0
 
 
 def session_with_plugin():
