@@ -1,6 +1,8 @@
 """Run by gui_check.sh in the ParaView GUI (paraview --script=gui_check.py), connected to a
 headless pvserver: replaces the GUI's render view by a PenumbraShadowView, shows a ground and
-a box split over the server's ranks, renders remotely with `raytraced`, leaves no source selected (so the Properties panel shows the view's section) and
+a box split over the server's ranks lit by one sphere light (a positional light with a Shadow
+Radius), renders remotely with `gears` (soft shadows), leaves no source selected (so the
+Properties panel shows the view's section) and
 writes GUI_CHECK_READY (an environment variable: a file path) with its process id and the
 properties it read, for the shell script to take the screenshot.
 """
@@ -25,7 +27,15 @@ display.ColorArrayName = ["POINTS", ""]
 view.CameraPosition = [0.0, -9.0, 9.0]
 view.CameraFocalPoint = [0.0, 0.0, 0.5]
 view.CameraViewUp = [0.0, 0.0, 1.0]
-view.ShadowTechnique = "raytraced"
+view.UseLight = 0  # the light kit off: the sphere light alone
+light = pvs.AddLight(view=view)
+light.Coords = "Scene"
+light.Type = "Positional"
+light.Position = [2.0, -2.0, 7.0]
+light.FocalPoint = [0.0, 0.0, 0.0]
+light.ConeAngle = 90.0
+light.ShadowRadius = 1.0
+view.ShadowTechnique = "gears"
 pvs.Render(view)
 pvs.Render(view)
 pvs.SetActiveSource(None)
@@ -36,3 +46,4 @@ with open(os.environ["GUI_CHECK_READY"], "w") as ready:
     for name in ("ShadowTechnique", "InstalledShadowTechnique", "CasterGathers",
                  "RemoteCasterTriangles"):
         ready.write("%s %s\n" % (name, view.GetProperty(name).GetData()))
+    ready.write("Light %s\n" % view.GetProperty("ShadowReport").GetData().split("\n")[0])

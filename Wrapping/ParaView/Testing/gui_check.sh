@@ -9,7 +9,8 @@
 #   - no "Output Messages" window is shown (the server forwards no error on a correct render),
 #   - the Properties panel shows the "Shadows" group: the header's image
 #     (gui_check_shadows_header.png, cut from a good screenshot) is found in the panel,
-#   - the statistics the GUI's Python read are the server's (a gather happened).
+#   - the statistics the GUI's Python read are the server's (a gather happened),
+#   - the server shadowed the light's Shadow Radius as a disc light (soft shadows).
 # Exit status 0 when all hold. Needs root (./penumbra.sh paraview-run), Xvfb, xdotool and
 # ImageMagick; not run by ./penumbra.sh paraview. Every process it starts is stopped by pid.
 set -euo pipefail
@@ -72,6 +73,8 @@ check "$(python3 -c "print(0 if float('${score:-1}') < 0.05 else 1)")" \
 gathers="$(sed -n 's/^CasterGathers //p' "$out/ready")"
 check "$([ "${gathers:-0}" -ge 1 ] && echo 0 || echo 1)" \
   "the GUI reads the server's gather statistics ($(tr '\n' ' ' <"$out/ready"))"
+disc="$(grep -c "^Light light 0 (disc light of diameter 2, 52 samples): gears" "$out/ready" || true)"
+check "$([ "$disc" = 1 ] && echo 0 || echo 1)" "the server shadows the sphere light as its disc ($(sed -n 's/^Light //p' "$out/ready"))"
 errors="$(grep -c " ERR| " "$out/pvserver.log" || true)" # before the GUI is stopped
 check "$([ "$errors" = 0 ] && echo 0 || echo 1)" "the server logged no error ($errors)"
 echo "screenshot: $out/gui.png"
