@@ -2,6 +2,7 @@
 # One entry point for a fresh Debian 12 machine (no X server needed):
 #
 #   ./penumbra.sh render [SCENE.json [OUT.png]]   set up, build, render a scene with shadows
+#                                                 (default: Data/Scenes/showcase.json to default.png)
 #   ./penumbra.sh test                            set up, build, run the whole test suite
 #   ./penumbra.sh setup                           only install the Debian packages
 #   ./penumbra.sh build                           only configure and build
@@ -164,7 +165,7 @@ case "$cmd" in
   render)
     setup
     build
-    scene="${2:-$here/Data/Scenes/default.json}"
+    scene="${2:-$here/Data/Scenes/showcase.json}"
     out="${3:-$here/default.png}"
     # Headless on purpose: the EGL window needs no X server even where one exists.
     PENUMBRA_HEADLESS=1 "$build/bin/penumbra-render" "$scene" -o "$out"

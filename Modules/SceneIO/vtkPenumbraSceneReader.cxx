@@ -36,9 +36,18 @@ void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, 
   if (root.contains("image"))
   {
     const json& img = root.at("image");
-    ctx.Keys(img, "image", { "width", "height" });
+    ctx.Keys(img, "image", { "width", "height", "antialiasing" });
     this->Width = ctx.Integer(img, "image", "width", 640, 1, 16384);
     this->Height = ctx.Integer(img, "image", "height", 480, 1, 16384);
+    // FXAA composes with the shadow pass on the EGL and OSMesa windows and smooths shadow
+    // edges too (multisampling smooths only the geometry's silhouettes).
+    const std::string antialiasing = ctx.String(img, "image", "antialiasing", "none");
+    if (antialiasing != "none" && antialiasing != "fxaa")
+    {
+      ctx.Fail(Ctx::Sub("image", "antialiasing"),
+        "expected \"none\" or \"fxaa\", got " + Quote(antialiasing));
+    }
+    this->Renderer->SetUseFXAA(antialiasing == "fxaa");
   }
   auto bg = ctx.Color(root, "", "background", { 0.32, 0.34, 0.43 });
   this->Renderer->SetBackground(bg.data());

@@ -49,6 +49,41 @@ class RenderCliTest(unittest.TestCase):
                     self.assertGreater(darker, 0.03 * len(pixels), "too few shadowed pixels")
                     self.assertLess(brighter, 0.002 * len(pixels), "shadowing must not brighten pixels")
 
+    def test_showcase_is_what_users_see_first(self):
+        """`./penumbra.sh render` renders showcase.json: coloured, hard and soft shadows
+        (raytraced for the sun, gears for the sphere light), FXAA on edges and shadow edges."""
+        import json
+        scene = os.path.join(SCENES_DIR, "showcase.json")
+        with tempfile.TemporaryDirectory() as tmp:
+            smooth = os.path.join(tmp, "fxaa.png")
+            code, stdout, stderr = run_render(scene, "-o", smooth, "--size", "320x180",
+                                              "--explain")
+            self.assertEqual(code, 0, stderr)
+            self.assertRegex(stdout, r"light 0 \(directional light\): raytraced")
+            self.assertRegex(stdout, r"light 1 \(disc light of diameter 6, 52 samples\): gears")
+            with open(scene) as f:
+                plain_scene = json.load(f)
+            self.assertEqual(plain_scene["image"]["antialiasing"], "fxaa")
+            plain_scene["image"]["antialiasing"] = "none"
+            plain_path = os.path.join(tmp, "showcase_none.json")  # generators only: no paths
+            plain = os.path.join(tmp, "none.png")
+            with open(plain_path, "w") as f:
+                json.dump(plain_scene, f)
+            code, _, stderr = run_render(plain_path, "-o", plain, "--size", "320x180")
+            self.assertEqual(code, 0, stderr)
+            a, b = read_png(smooth), read_png(plain)
+            sa, sb = a.GetPointData().GetScalars(), b.GetPointData().GetScalars()
+            n = sa.GetNumberOfTuples()
+            colours = {tuple(sa.GetTuple(i)[:3]) for i in range(n)}
+            channels = [[sa.GetTuple(i)[c] for i in range(n)] for c in range(3)]
+            # Coloured: the channels differ (not a grey image).
+            self.assertGreater(sum(abs(r - g) + abs(g - bl) for r, g, bl in zip(*channels)) / n, 10)
+            # FXAA blends edge pixels: a share of the frame changes, the rest does not.
+            changed = sum(1 for i in range(n) if sa.GetTuple(i)[:3] != sb.GetTuple(i)[:3])
+            self.assertGreater(changed, 0.005 * n)
+            self.assertLess(changed, 0.5 * n)
+            self.assertGreater(len(colours), 500)
+
     def test_baseline_check(self):
         scene = os.path.join(SCENES_DIR, "default.json")
         with tempfile.TemporaryDirectory() as tmp:

@@ -22,6 +22,7 @@ BAD_SCENES = {
     "zero_size_light.json": "lights[0].length: linear light length must be positive",
     "negative_light_radius.json": "lights[0].radius: light radius must be a finite length >= 0",
     "zero_disc_radius.json": "lights[0].radius: disc light radius must be positive",
+    "bad_antialiasing.json": 'image.antialiasing: expected "none" or "fxaa", got "msaa"',
     "unknown_light.json": 'lights[0].type: unknown light type "sun"',
     "unknown_key.json": "objects[0].colour: unknown key",
     "empty_scene.json": "objects: the scene is empty",
@@ -104,12 +105,13 @@ class SceneFilesTest(unittest.TestCase):
              "up": [0, 1, 0], "samples": 4},
             {"type": "directional", "direction": [0, 0, -1], "on": false}
           ],
-          "image": {"width": 320, "height": 200},
+          "image": {"width": 320, "height": 200, "antialiasing": "fxaa"},
           "technique": {"name": "none"}
         }"""
         reader = penumbra.vtkPenumbraSceneReader()
         self.assertEqual(reader.ReadFromString(text, "inline", ""), 1, reader.GetErrorMessage())
         self.assertEqual((reader.GetWidth(), reader.GetHeight()), (320, 200))
+        self.assertTrue(reader.GetRenderer().GetUseFXAA())
         a = reader.GetObjectActor(0)
         b = reader.GetObjectActor(1)
         # scale 2, then 90 degrees about z, then translate: (1, 0, 0) -> (10, 2, 0).
