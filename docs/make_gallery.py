@@ -25,25 +25,25 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 # vtk-shadowmap VTK's own pass, in every row.
 SCENES = [
     ("default", "City under a low sun",
-     "long, thin building shadows: the hard-shadow families, exact and map-based",
+     "Long, thin building shadows: the hard-shadow families, exact and map-based",
      ["shadowmap", "resm", "rmsm", "conservative", "llsm-hybrid", "volumes"]),
     ("isosurface", "Isosurface, self-shadowing",
-     "a curved closed surface that shadows itself",
+     "A curved closed surface that shadows itself",
      ["shadowmap", "conservative", "volumes"]),
     ("bunny_area_light", "Scanned mesh under an area light",
-     "a dense scanned mesh under a rectangular light: the soft-shadow families",
+     "A dense scanned mesh under a rectangular light: the soft-shadow families",
      ["gears", "adaptive-soft", "soft-shadowmap", "single-sample-soft", "pcss"]),
     ("room_point_light", "Point light in a room",
-     "an omnidirectional light inside closed walls: cube maps and shadow volumes",
+     "An omnidirectional light inside closed walls: cube maps and shadow volumes",
      ["shadowmap", "llsm", "volumes"]),
     ("torture/grazing_light", "Grazing light",
-     "a light nearly parallel to the receivers: shadow-map aliasing at its worst",
+     "A light nearly parallel to the receivers: shadow-map aliasing at its worst",
      ["shadowmap", "resm", "rmsm", "conservative"]),
     ("torture/georef_1e7", "Huge coordinates",
-     "a city at 1e7 m from the origin: float32 alone cannot hold it",
+     "A city at 1e7 m from the origin: float32 alone cannot hold it",
      ["shadowmap", "conservative", "volumes"]),
 ]
-REDUCED = [("default", "City under a low sun", "the suite's reduced gallery",
+REDUCED = [("default", "City under a low sun", "The suite's reduced gallery",
             ["shadowmap"])]
 PEERS = ["vtk-shadowmap", "raytraced"]
 
