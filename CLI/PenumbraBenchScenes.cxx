@@ -258,11 +258,12 @@ std::string ComputeReference(SceneContext& ctx)
     m->Light = m->Source = l.first;
     m->LightIndex = l.second;
     m->Area = vtkPenumbraAreaLight::SafeDownCast(l.first);
-    const double radius = vtkPenumbraShadowKeys::GetLightRadius(l.first);
-    if (!m->Area && radius > 0.0 && l.first->GetPositional())
+    // A sphere light is measured as the disc the pass shadows (the same function decides).
+    auto disc = vtkSmartPointer<vtkPenumbraAreaLight>::New();
+    if (!m->Area &&
+      disc->SetFromLightRadius(l.first, vtkPenumbraShadowKeys::GetLightRadius(l.first)))
     {
-      m->Disc = vtkSmartPointer<vtkPenumbraAreaLight>::New();
-      m->Disc->SetFromLightRadius(l.first, radius);
+      m->Disc = disc;
       m->Light = m->Area = m->Disc;
     }
     if (m->Area && m->Area->GetShape() == vtkPenumbraAreaLight::Line)

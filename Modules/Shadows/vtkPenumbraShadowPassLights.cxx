@@ -254,7 +254,8 @@ vtkLight* vtkPenumbraShadowPass::Internals::AsShadowed(
     return light;
   }
   const vtkMTimeType infoTime = light->GetInformation() ? light->GetInformation()->GetMTime() : 0;
-  Standin entry = this->Standins[light];
+  const auto known = this->Standins.find(light);
+  Standin entry = known != this->Standins.end() ? known->second : Standin();
   if (!entry.Disc || entry.LightTime != light->GetMTime() || entry.InfoTime != infoTime)
   {
     entry.Disc = entry.Disc ? entry.Disc : vtkSmartPointer<vtkPenumbraAreaLight>::New();
