@@ -57,23 +57,26 @@ class TortureTest(unittest.TestCase):
         self.assertAlmostEqual(fractions[0], fractions[1], delta=0.01)
 
     def test_tiny_area_light_equals_point_light(self):
-        path = os.path.join(TORTURE_DIR, "tiny_area_light.json")
-        _, ren, win, shadow = render_with_pass(path)
-        area = values(shadow.GetVisibility(0))
-        area_light = shadow.GetLight(0)
-        point = vtkLight()
-        point.SetLightTypeToSceneLight()
-        point.SetPositional(True)
-        point.SetConeAngle(180)
-        point.SetPosition(area_light.GetPosition())
-        area_light.SwitchOff()
-        ren.AddLight(point)
-        win.Render()
-        hard = values(shadow.GetVisibility(0))
-        self.assertEqual(len(area), len(hard))
-        differ = sum(1 for a, h in zip(area, hard) if a != h)
-        self.assertEqual(differ, 0)
-        self.assertGreater(sum(1 for h in hard if h == 0.0), 50)
+        # A 1e-6 m rectangle, and a 1e-6 m sphere light (shadowed as its disc).
+        for name in ("tiny_area_light.json", "tiny_sphere_light.json"):
+            with self.subTest(scene=name):
+                _, ren, win, shadow = render_with_pass(os.path.join(TORTURE_DIR, name))
+                area = values(shadow.GetVisibility(0))
+                area_light = shadow.GetLight(0)  # as shadowed: the sphere light's disc
+                self.assertIsInstance(area_light, penumbra.vtkPenumbraAreaLight)
+                point = vtkLight()
+                point.SetLightTypeToSceneLight()
+                point.SetPositional(True)
+                point.SetConeAngle(180)
+                point.SetPosition(area_light.GetPosition())
+                ren.GetLights().GetItemAsObject(0).SwitchOff()  # the scene's own light
+                ren.AddLight(point)
+                win.Render()
+                hard = values(shadow.GetVisibility(0))
+                self.assertEqual(len(area), len(hard))
+                differ = sum(1 for a, h in zip(area, hard) if a != h)
+                self.assertEqual(differ, 0)
+                self.assertGreater(sum(1 for h in hard if h == 0.0), 50)
 
     def test_huge_area_light_is_smooth_and_finite(self):
         reader, _, _, shadow = render_with_pass(os.path.join(TORTURE_DIR, "huge_area_light.json"))
@@ -87,10 +90,10 @@ class TortureTest(unittest.TestCase):
         self.assertGreater(min(ground), 0.5)
         self.assertGreater(sum(1 for v in ground if v < 1.0), 10)
 
-    def test_point_light_in_room_shadows_every_face(self):
-        # The room shell is prop 0; samples on each of its six faces must include shadow.
-        reader, ren, win, shadow = render_with_pass(
-            os.path.join(TORTURE_DIR, "point_light_in_room.json"), size=(160, 120))
+    def face_visibility(self, name):
+        """The room shell's (prop 0) view samples' visibility per face, faces seen by > 20."""
+        reader, ren, win, shadow = render_with_pass(os.path.join(TORTURE_DIR, name),
+                                                    size=(160, 120))
         samples = shadow.GetViewSamples()
         vis = shadow.GetVisibility(0)
         origin = samples.GetOrigin()
@@ -106,11 +109,26 @@ class TortureTest(unittest.TestCase):
             if on_shell:
                 key = (axis, n[axis] > 0)
                 faces.setdefault(key, []).append(vis.GetValue(i))
-        visible = {k: v for k, v in faces.items() if len(v) > 20}
-        self.assertGreaterEqual(len(visible), 4, faces.keys())
+        return {k: v for k, v in faces.items() if len(v) > 20}
+
+    def test_point_light_in_room_shadows_every_face(self):
+        # Samples on each of the room's faces must include shadow.
+        visible = self.face_visibility("point_light_in_room.json")
+        self.assertGreaterEqual(len(visible), 4, visible.keys())
         for face, vals in visible.items():
             self.assertTrue(any(v == 0.0 for v in vals), "no shadow on face %s" % (face,))
             self.assertTrue(any(v == 1.0 for v in vals), "face %s entirely dark" % (face,))
+
+    def test_sphere_light_in_room_has_penumbrae_on_every_face(self):
+        # The disc of a sphere light inside the scene shines both ways: the ceiling is lit
+        # too, and every face seen has lit samples and penumbrae.
+        visible = self.face_visibility("sphere_light_in_room.json")
+        self.assertGreaterEqual(len(visible), 4, visible.keys())
+        self.assertIn((2, False), visible)  # the ceiling
+        for face, vals in visible.items():
+            self.assertTrue(any(v == 1.0 for v in vals), "face %s entirely dark" % (face,))
+            self.assertGreater(sum(1 for v in vals if 0.0 < v < 1.0), 5,
+                               "no penumbra on face %s" % (face,))
 
     def test_bad_triangles_are_survived(self):
         _, _, _, shadow = render_with_pass(os.path.join(TORTURE_DIR, "bad_triangles.json"))
