@@ -89,26 +89,38 @@ void vtkPenumbraSceneGeometry::Internals::Publish(double origin[3], bool geometr
   this->Offsets.assign(this->Props.size(), 0);
   this->IndexOfLeaf.clear();
   vtkIdType total = 0;
+  double before[6];
+  std::copy(this->Bounds, this->Bounds + 6, before);
   vtkMath::UninitializeBounds(this->Bounds);
   bool first = true;
+  auto grow = [&](const double* b)
+  {
+    if (vtkMath::AreBoundsInitialized(b))
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        this->Bounds[2 * c] = first ? b[2 * c] : std::min(this->Bounds[2 * c], b[2 * c]);
+        this->Bounds[2 * c + 1] =
+          first ? b[2 * c + 1] : std::max(this->Bounds[2 * c + 1], b[2 * c + 1]);
+      }
+      first = false;
+    }
+  };
   for (size_t p = 0; p < this->Props.size(); ++p)
   {
     PropEntry& e = *this->Props[p];
     this->Offsets[p] = total;
     total += e.Triangles.Size();
     this->IndexOfLeaf.emplace(e.Leaf.GetPointer(), static_cast<int>(p));
-    if (vtkMath::AreBoundsInitialized(e.Bounds))
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        this->Bounds[2 * c] =
-          first ? e.Bounds[2 * c] : std::min(this->Bounds[2 * c], e.Bounds[2 * c]);
-        this->Bounds[2 * c + 1] =
-          first ? e.Bounds[2 * c + 1] : std::max(this->Bounds[2 * c + 1], e.Bounds[2 * c + 1]);
-      }
-      first = false;
-    }
+    grow(e.Bounds);
   }
+  if (total > 0)
+  {
+    grow(this->SceneBounds);
+  }
+  // The epsilons and scales of the techniques follow the bounds (SetSceneBounds() alone may
+  // move them).
+  geometryChanged = geometryChanged || !std::equal(before, before + 6, this->Bounds);
 
   const double previous[3] = { origin[0], origin[1], origin[2] };
   this->ChooseOrigin(origin);
@@ -599,6 +611,22 @@ bool vtkPenumbraSceneGeometry::IsOccluder(vtkIdType index)
 vtkIdType vtkPenumbraSceneGeometry::GetNumberOfDegenerateTriangles()
 {
   return this->Impl->Degenerate;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraSceneGeometry::SetSceneBounds(const double bounds[6])
+{
+  double b[6];
+  vtkMath::UninitializeBounds(b);
+  if (bounds && vtkMath::AreBoundsInitialized(bounds))
+  {
+    std::copy(bounds, bounds + 6, b);
+  }
+  if (!std::equal(b, b + 6, this->Impl->SceneBounds))
+  {
+    std::copy(b, b + 6, this->Impl->SceneBounds);
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -356,10 +356,20 @@ public:
   bool IsOccluder(vtkIdType index);
 
   /**
-   * World bounds (xmin, xmax, ymin, ymax, zmin, zmax) of all triangles; uninitialized bounds
-   * (vtkMath::UninitializeBounds) when there are none.
+   * World bounds (xmin, xmax, ymin, ymax, zmin, zmax) of all triangles, grown to
+   * SetSceneBounds() when there are any; uninitialized bounds (vtkMath::UninitializeBounds)
+   * when there are none.
    */
   void GetBounds(double bounds[6]);
+
+  /**
+   * Bounds of the whole scene this geometry holds a part of (a distributed render, where
+   * each rank holds its own triangles and only the others' that can shadow them; nullptr or
+   * uninitialized bounds: none). The next Update() grows GetBounds() to them, so the
+   * rebasing origin and the epsilons relative to the scene (penumbra_rules::SceneDiagonal)
+   * are those of the whole scene on every rank, as in a single process.
+   */
+  void SetSceneBounds(const double bounds[6]);
 
   /**
    * Optional prop name used in error messages (`vtkActor 'tower' (prop 3): ...`), stored in

@@ -161,9 +161,14 @@ struct vtkPenumbraSceneGeometry::Internals
   std::vector<unsigned char> PublishedPropFlags;
 
   vtkNew<vtkDataSetSurfaceFilter> Surface;
+  double SceneBounds[6]; // SetSceneBounds(); uninitialized: none
   vtkSmartPointer<vtkPropCollection> ShadowOnly;
 
-  Internals() { vtkMath::UninitializeBounds(this->Bounds); }
+  Internals()
+  {
+    vtkMath::UninitializeBounds(this->Bounds);
+    vtkMath::UninitializeBounds(this->SceneBounds);
+  }
 
   // One path of a view prop: dispatches its leaf. Returns false with `error` on bad input.
   bool VisitPath(int propNumber, vtkAssemblyPath* path, std::map<PathKey, PropEntry>& previous,

@@ -8,11 +8,13 @@ ranks by RedistributeDataSet (each cell on one rank), one oblique directional sc
 192 x 192 pixels, so the box and the sphere shadow ground that another rank draws.
 
 Checks on every rank (symmetric mode: each rank runs this script and reads its own view):
-- the pass's geometry holds every caster triangle of every rank, each once;
-- exact techniques: 0 of the rank's view samples disagree with the exact reference over that
-  geometry (ties excluded), and on some rank the other ranks' casters change the answer
-  (without them the test would prove nothing);
-- an unchanged frame gathers nothing; a caster that moves is gathered again;
+- the pass's geometry holds the rank's own triangles and at most the other ranks' casters
+  (the need-based exchange, the default; with CasterExchange "all", every triangle);
+- exact techniques: 0 of the rank's view samples disagree with the exact reference over
+  every rank's casters (ties excluded), and on some rank the other ranks' casters change the
+  answer (without them the test would prove nothing);
+- an unchanged frame exchanges nothing; a caster that moves is exchanged again; exchanging
+  every caster draws the same image as exchanging the needed ones;
 - no error or warning reaches any rank's output window (pvbatch draws into ParaView's
   offscreen view window, whose GLEW message the view drops).
 On rank 0: the composited image is written to OUTDIR/mpi-TECHNIQUE-npN.png, and when
@@ -52,6 +54,7 @@ rank = controller.GetLocalProcessId()
 ranks = controller.GetNumberOfProcesses()
 failures = []
 messages = []
+stats = {}
 
 
 @calldata_type(VTK_STRING)
@@ -89,6 +92,48 @@ def make_view():
     return view, shadow_view.show_ground_box_sphere(view)
 
 
+def full_geometry(renderer, local):
+    """This rank's props plus every other rank's caster triangles (all of them, as one
+    shadow-only prop): the whole scene, as one process would hold it."""
+    import numpy
+    from vtkmodules.util import numpy_support
+    from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIdTypeArray
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkPropCollection
+    mine = vtkDoubleArray()
+    local.GetCasterWorldTriangles(mine)
+    count, counts = vtkIdTypeArray(), vtkIdTypeArray()
+    count.InsertNextValue(mine.GetNumberOfTuples())
+    controller.AllGather(count, counts)
+    everything = vtkDoubleArray()
+    controller.AllGatherV(mine, everything)
+    xyz = numpy_support.vtk_to_numpy(everything).reshape(-1, 9)
+    sizes = [counts.GetValue(r) for r in range(ranks)]
+    first = sum(sizes[:rank])
+    others = numpy.concatenate((xyz[:first], xyz[first + sizes[rank]:])).reshape(-1, 3)
+    points = vtkPoints()
+    points.SetData(numpy_support.numpy_to_vtk(numpy.ascontiguousarray(others), deep=1))
+    cells = vtkCellArray()
+    n = others.shape[0] // 3
+    cells.SetData(numpy_support.numpy_to_vtkIdTypeArray(numpy.arange(0, 3 * n + 1, 3), deep=1),
+                  numpy_support.numpy_to_vtkIdTypeArray(numpy.arange(3 * n), deep=1))
+    data = vtkPolyData()
+    data.SetPoints(points)
+    data.SetPolys(cells)
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputData(data)
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    props = vtkPropCollection()
+    props.AddItem(actor)
+    full = vtkPenumbraSceneGeometry()
+    full.SetShadowOnlyProps(props)
+    full.Update(renderer)
+    full._keep = (props, actor, mapper, data)
+    return full, int(sum(sizes))
+
+
 def rank_view_check(view, technique):
     """This rank's samples against the exact reference on every rank's casters."""
     renderer = view.GetClientSideObject().GetRenderer()
@@ -99,36 +144,49 @@ def rank_view_check(view, technique):
     local = vtkPenumbraSceneGeometry()
     local.Update(renderer)
     geometry = shadow_pass.GetGeometry()
+    full, casters = full_geometry(renderer, local)
     total = all_sum(local.GetNumberOfTriangles())
-    check(geometry.GetNumberOfTriangles() == total,
-          "%s: every rank's pass holds all %d triangles of all ranks" % (technique, total))
+    held = geometry.GetNumberOfTriangles() - local.GetNumberOfTriangles()
     check(ranks == 1 or local.GetNumberOfTriangles() < total,
           "%s: the data is split over the ranks" % technique)
+    if view.CasterExchange == "all":
+        check(geometry.GetNumberOfTriangles() == total,
+              "%s: every rank's pass holds all %d triangles of all ranks" % (technique, total))
+    else:
+        most = all_sum(held, vtkCommunicator.MAX_OP)
+        check(held <= casters - local.GetNumberOfTriangles(),
+              "%s: every rank's pass holds at most the other ranks' casters (at most %d of "
+              "%d)" % (technique, most, casters), everywhere=True)
+        stats.setdefault("held", {})[technique] = (most, casters)
     if technique not in EXACT:
         return
     samples = shadow_pass.GetViewSamples()
-    light = shadow_pass.GetLight(0)
-    visibility = shadow_pass.GetVisibility(0)
-    reference = vtkPenumbraReference()
-    reference.SetGeometry(geometry)
-    exact = vtkFloatArray()
-    reference.ComputeVisibility(samples, light, exact)
-    ties = reference.GetTies()
-    alone = vtkPenumbraReference()
-    alone.SetGeometry(local)
-    local_only = vtkFloatArray()
-    alone.ComputeVisibility(samples, light, local_only)
+    light_count = shadow_pass.GetNumberOfLights()
     mismatches = needed = 0
-    for i in range(exact.GetNumberOfTuples()):
-        e = exact.GetValue(i)
-        if e < 0.0 or ties.GetValue(i):
+    for index in range(light_count):
+        light = shadow_pass.GetLight(index)
+        visibility = shadow_pass.GetVisibility(index)
+        if light is None or visibility is None:
             continue
-        mismatches += (visibility.GetValue(i) < 0.5) != (e < 0.5)
-        needed += (local_only.GetValue(i) < 0.5) != (e < 0.5)
+        reference = vtkPenumbraReference()
+        reference.SetGeometry(full)
+        exact = vtkFloatArray()
+        reference.ComputeVisibility(samples, light, exact)
+        ties = reference.GetTies()
+        alone = vtkPenumbraReference()
+        alone.SetGeometry(local)
+        local_only = vtkFloatArray()
+        alone.ComputeVisibility(samples, light, local_only)
+        for i in range(exact.GetNumberOfTuples()):
+            e = exact.GetValue(i)
+            if e < 0.0 or ties.GetValue(i):
+                continue
+            mismatches += (visibility.GetValue(i) < 0.5) != (e < 0.5)
+            needed += (local_only.GetValue(i) < 0.5) != (e < 0.5)
     mismatches = all_sum(mismatches)
     check(mismatches == 0,
-          "%s: %d view samples over all ranks disagree with the exact reference" %
-          (technique, mismatches), everywhere=False)
+          "%s: %d view samples over all ranks disagree with the exact reference over all "
+          "ranks' casters" % (technique, mismatches), everywhere=False)
     needed = all_sum(needed)
     check(ranks == 1 or needed > 0,
           "%s: %d samples are shadowed only by other ranks' casters" % (technique, needed),
@@ -186,6 +244,10 @@ for technique in techniques:
           "%s: installed" % technique)
     rank_view_check(view, technique)
     image_check(view, technique)
+if rank == 0 and "held" in stats:
+    for technique, (most, casters) in stats["held"].items():
+        print("      %s: a rank holds at most %d of the %d caster triangles of other ranks"
+              % (technique, most, casters))
 
 # The checks below on the first technique, which is installed again first.
 view.ShadowTechnique = techniques[0]
@@ -194,17 +256,32 @@ gathers = None
 if ranks > 1:
     gathers, ms, remote, received = gather_stats(view)
     if rank == 0:
-        print("      rank 0: %d gathers, last %.2f ms, %d triangles (%d bytes) from other ranks"
-              % (gathers, ms, remote, received))
+        print("      rank 0: %d exchanges, last %.2f ms, %d triangles (%d bytes) from other "
+              "ranks" % (gathers, ms, remote, received))
+        print("      " + view.GetProperty("CasterExchangeReport").GetData().replace(
+            "\n", "\n      "))
     pvs.Render(view)
-    check(gather_stats(view)[0] == gathers, "an unchanged frame gathers no casters",
+    check(gather_stats(view)[0] == gathers, "an unchanged frame exchanges no casters",
           everywhere=False)
 sphere.Center = [-1.0, -1.0, 1.6]
 pvs.Render(view)
 if gathers is not None:
-    check(gather_stats(view)[0] == gathers + 1, "a moved caster is gathered again",
+    check(gather_stats(view)[0] == gathers + 1, "a moved caster is exchanged again",
           everywhere=False)
 rank_view_check(view, techniques[0])
+# Every caster to every rank: the same image as the need-based exchange's.
+if ranks > 1:
+    need_path = os.path.join(out_dir, "mpi-need-np%d.png" % ranks)
+    all_path = os.path.join(out_dir, "mpi-all-np%d.png" % ranks)
+    pvs.SaveScreenshot(need_path, view, ImageResolution=SIZE)
+    view.CasterExchange = "all"
+    pvs.Render(view)
+    rank_view_check(view, techniques[0])
+    pvs.SaveScreenshot(all_path, view, ImageResolution=SIZE)
+    differing = compare_images(need_path, all_path) if rank == 0 else 0
+    check(all_sum(differing) == 0, "%s: exchanging all casters draws the same image as "
+          "exchanging the needed ones" % techniques[0], everywhere=False)
+    view.CasterExchange = "need"
 
 check(not messages, "no error or warning reached the output window (%s)"
       % [m[:160] for m in messages[:1]])

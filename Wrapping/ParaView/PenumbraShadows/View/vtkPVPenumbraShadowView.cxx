@@ -12,6 +12,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkOutputWindow.h"
 #include "vtkPVSynchronizedRenderer.h"
+#include "vtkPenumbraCasterExchange.h"
 #include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraHeadlessFactory.h"
 #include "vtkPenumbraSceneGeometry.h"
@@ -55,25 +56,6 @@ struct RegisterHeadlessWindow
 const RegisterHeadlessWindow registerHeadlessWindow;
 }
 
-namespace
-{
-// A triangle's 9 world coordinates, hashed bit for bit (splitmix64 per coordinate).
-std::uint64_t HashTriangle(const double* t)
-{
-  std::uint64_t h = 0x9e3779b97f4a7c15ull;
-  for (int k = 0; k < 9; ++k)
-  {
-    std::uint64_t z;
-    std::memcpy(&z, t + k, sizeof z);
-    z = (z ^ h) + 0x9e3779b97f4a7c15ull;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    h = z ^ (z >> 31);
-  }
-  return h;
-}
-}
-
 struct vtkPVPenumbraShadowView::Internals
 {
   vtkSmartPointer<vtkRenderPass> Pass;
@@ -81,132 +63,9 @@ struct vtkPVPenumbraShadowView::Internals
   // Per technique, the values its option properties set: {"resolution": 2048, ...}.
   std::map<std::string, nlohmann::json> OptionValues;
 
-  // Caster gathering across ranks (GatherCasters).
-  vtkNew<vtkPenumbraSceneGeometry> Local; // this rank's props only
-  vtkNew<vtkDoubleArray> LocalCasters;
-  vtkNew<vtkPolyData> Remote; // the other ranks' casters, world coordinates
-  vtkNew<vtkActor> RemoteActor;
-  vtkNew<vtkPropCollection> ShadowOnly;
-  penumbra::CastersStamp Sent; // the local casters last sent to the other ranks
-  double GatherMs = 0.0;
-  vtkIdType RemoteTriangles = 0, BytesReceived = 0;
-  int Gathers = 0;
-
-  Internals()
-  {
-    vtkNew<vtkPolyDataMapper> mapper;
-    mapper->SetInputData(this->Remote);
-    this->RemoteActor->SetMapper(mapper);
-    // Drawn by the rank that owns them; here they only cast.
-    vtkPenumbraShadowKeys::SetReceivesShadows(this->RemoteActor, false);
-    vtkPenumbraSceneGeometry::SetPropName(this->RemoteActor, "other ranks' casters");
-    this->ShadowOnly->AddItem(this->RemoteActor);
-  }
-
-  // All ranks' caster triangles in, the other ranks' distinct ones (not already local) out.
-  bool Exchange(vtkMultiProcessController* controller);
-  void BuildRemote(const std::vector<double>& all, const std::vector<vtkIdType>& lengths,
-    const std::vector<vtkIdType>& offsets, int me);
+  // The other ranks' casters (GatherCasters).
+  penumbra::CasterExchange Exchange;
 };
-
-bool vtkPVPenumbraShadowView::Internals::Exchange(vtkMultiProcessController* controller)
-{
-  const int ranks = controller->GetNumberOfProcesses();
-  const int me = controller->GetLocalProcessId();
-  const vtkIdType length = 9 * this->LocalCasters->GetNumberOfTuples();
-  std::vector<vtkIdType> lengths(ranks, 0), offsets(ranks, 0);
-  controller->AllGather(&length, lengths.data(), 1);
-  vtkIdType total = 0;
-  for (int r = 0; r < ranks; ++r)
-  {
-    offsets[r] = total;
-    total += lengths[r];
-  }
-  // MPI counts and displacements are ints.
-  if (total > INT_MAX)
-  {
-    return false;
-  }
-  std::vector<double> all(static_cast<size_t>(total));
-  if (total > 0)
-  {
-    controller->AllGatherV(
-      this->LocalCasters->GetPointer(0), all.data(), length, lengths.data(), offsets.data());
-  }
-  this->BytesReceived = static_cast<vtkIdType>(sizeof(double)) * (total - length);
-  this->BuildRemote(all, lengths, offsets, me);
-  return true;
-}
-
-void vtkPVPenumbraShadowView::Internals::BuildRemote(const std::vector<double>& all,
-  const std::vector<vtkIdType>& lengths, const std::vector<vtkIdType>& offsets, int me)
-{
-  // Each distinct triangle once: replicated data, or boundary cells duplicated by a
-  // redistribution, would otherwise shadow the very samples they are drawn with. Equal
-  // triangles end up next to each other, a local one first: it drops the others; otherwise
-  // the first of them is kept.
-  const vtkIdType count = static_cast<vtkIdType>(all.size() / 9);
-  const vtkIdType localBegin = offsets[me] / 9, localEnd = (offsets[me] + lengths[me]) / 9;
-  auto local = [&](vtkIdType t) { return t >= localBegin && t < localEnd; };
-  std::vector<std::pair<std::uint64_t, vtkIdType>> order(static_cast<size_t>(count));
-  for (vtkIdType t = 0; t < count; ++t)
-  {
-    order[t] = { HashTriangle(all.data() + 9 * t), t };
-  }
-  auto same = [&](vtkIdType a, vtkIdType b)
-  { return std::memcmp(all.data() + 9 * a, all.data() + 9 * b, 9 * sizeof(double)) == 0; };
-  std::sort(order.begin(), order.end(),
-    [&](const auto& a, const auto& b)
-    {
-      if (a.first != b.first)
-      {
-        return a.first < b.first;
-      }
-      const int bytes = std::memcmp(all.data() + 9 * a.second, all.data() + 9 * b.second, 72);
-      return bytes != 0
-        ? bytes < 0
-        : std::make_pair(!local(a.second), a.second) < std::make_pair(!local(b.second), b.second);
-    });
-  std::vector<vtkIdType> kept;
-  for (size_t i = 0; i < order.size(); ++i)
-  {
-    const vtkIdType t = order[i].second;
-    const bool first =
-      i == 0 || order[i - 1].first != order[i].first || !same(order[i - 1].second, t);
-    if (first && !local(t))
-    {
-      kept.push_back(t);
-    }
-  }
-  std::sort(kept.begin(), kept.end()); // the ranks' order, as they extracted them
-
-  vtkNew<vtkDoubleArray> coordinates;
-  coordinates->SetNumberOfComponents(3);
-  coordinates->SetNumberOfTuples(3 * static_cast<vtkIdType>(kept.size()));
-  vtkNew<vtkIdTypeArray> connectivity, cellOffsets;
-  connectivity->SetNumberOfValues(3 * static_cast<vtkIdType>(kept.size()));
-  cellOffsets->SetNumberOfValues(static_cast<vtkIdType>(kept.size()) + 1);
-  double* xyz = coordinates->GetPointer(0);
-  for (size_t k = 0; k < kept.size(); ++k)
-  {
-    std::copy_n(all.data() + 9 * kept[k], 9, xyz + 9 * k);
-    cellOffsets->SetValue(static_cast<vtkIdType>(k), 3 * static_cast<vtkIdType>(k));
-  }
-  cellOffsets->SetValue(
-    static_cast<vtkIdType>(kept.size()), 3 * static_cast<vtkIdType>(kept.size()));
-  for (vtkIdType i = 0; i < connectivity->GetNumberOfValues(); ++i)
-  {
-    connectivity->SetValue(i, i);
-  }
-  vtkNew<vtkPoints> points;
-  points->SetData(coordinates);
-  vtkNew<vtkCellArray> polys;
-  polys->SetData(cellOffsets, connectivity);
-  this->Remote->Initialize();
-  this->Remote->SetPoints(points);
-  this->Remote->SetPolys(polys);
-  this->RemoteTriangles = static_cast<vtkIdType>(kept.size());
-}
 
 vtkStandardNewMacro(vtkPVPenumbraShadowView);
 
@@ -456,53 +315,64 @@ void vtkPVPenumbraShadowView::GatherCasters()
     if (pass)
     {
       pass->GetGeometry()->SetShadowOnlyProps(nullptr);
+      pass->GetGeometry()->SetSceneBounds(nullptr);
     }
     return;
   }
-  const auto start = penumbra::Clock::now();
-  // A rank whose extraction fails (NaN coordinates: reported by the geometry) sends nothing
-  // but still takes part, so no rank waits for it.
-  if (!impl.Local->Update(this->GetRenderer()))
+  std::string error;
+  if (!impl.Exchange.Update(controller, this->GetRenderer(),
+        static_cast<penumbra::CasterExchange::Mode>(this->CasterExchange), error))
   {
-    impl.LocalCasters->SetNumberOfTuples(0);
+    vtkErrorMacro("Penumbra shadows: " << error);
   }
-  int changed = impl.Sent.Changed(impl.Local);
-  int anyChanged = 0;
-  controller->AllReduce(&changed, &anyChanged, 1, vtkCommunicator::MAX_OP);
-  if (anyChanged)
+  pass->GetGeometry()->SetShadowOnlyProps(impl.Exchange.GetShadowOnlyProps());
+  // The origin and the epsilons of the whole scene, as in one process.
+  pass->GetGeometry()->SetSceneBounds(impl.Exchange.GetSceneBounds());
+}
+
+void vtkPVPenumbraShadowView::SetCasterExchange(int mode)
+{
+  const int value = std::min(std::max(mode, 0), 1);
+  if (value != this->CasterExchange)
   {
-    impl.Local->GetCasterWorldTriangles(impl.LocalCasters);
-    if (!impl.Exchange(controller))
-    {
-      vtkErrorMacro("Penumbra shadows: the casters of all ranks exceed one MPI message "
-                    "(2^31 coordinates); shadows from other ranks are left out");
-      impl.Remote->Initialize();
-    }
-    impl.Sent.Remember(impl.Local);
-    impl.GatherMs = penumbra::ElapsedMs(start);
-    ++impl.Gathers;
+    this->CasterExchange = value;
+    this->Modified();
   }
-  pass->GetGeometry()->SetShadowOnlyProps(impl.ShadowOnly);
+}
+
+const char* vtkPVPenumbraShadowView::GetCasterExchangeReport()
+{
+  return this->Impl->Exchange.GetReport().c_str();
+}
+
+vtkIdType vtkPVPenumbraShadowView::GetCasterBytesSent()
+{
+  return this->Impl->Exchange.GetFigures().BytesSent;
+}
+
+vtkIdType vtkPVPenumbraShadowView::GetNumberOfCasterTrianglesSent()
+{
+  return this->Impl->Exchange.GetFigures().TrianglesSent;
 }
 
 double vtkPVPenumbraShadowView::GetLastCasterGatherMs()
 {
-  return this->Impl->GatherMs;
+  return this->Impl->Exchange.GetFigures().TotalMs;
 }
 
 vtkIdType vtkPVPenumbraShadowView::GetNumberOfRemoteCasterTriangles()
 {
-  return this->Impl->RemoteTriangles;
+  return this->Impl->Exchange.GetFigures().TrianglesHeld;
 }
 
 vtkIdType vtkPVPenumbraShadowView::GetCasterBytesReceived()
 {
-  return this->Impl->BytesReceived;
+  return this->Impl->Exchange.GetFigures().BytesReceived;
 }
 
 int vtkPVPenumbraShadowView::GetNumberOfCasterGathers()
 {
-  return this->Impl->Gathers;
+  return this->Impl->Exchange.GetFigures().Exchanges;
 }
 
 void vtkPVPenumbraShadowView::PrintSelf(ostream& os, vtkIndent indent)
@@ -512,5 +382,6 @@ void vtkPVPenumbraShadowView::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ShadowOptions: " << this->Options << "\n";
   os << indent << "InstalledTechnique: " << this->InstalledTechnique << "\n";
   os << indent << "InstalledShadowOptions: " << this->InstalledOptionsText << "\n";
+  os << indent << "CasterExchange: " << (this->CasterExchange == 0 ? "need" : "all") << "\n";
   os << indent << "ShadowRequestRefused: " << (this->Refused ? "yes" : "no") << "\n";
 }

@@ -25,16 +25,17 @@
  *
  * Distributed rendering (pvbatch or pvserver on several MPI ranks, IceT compositing): each
  * rank draws only its own piece of the data, but a shadow on it may be cast by another rank's
- * piece. Before every distributed render the view therefore gathers the casters' triangles
- * of every rank (vtkMultiProcessController::AllGatherV over the global controller, in world
- * coordinates, double precision, bit for bit as each rank extracted them) and hands the
- * other ranks' ones to the shadow pass as shadow-only props
- * (vtkPenumbraSceneGeometry::SetShadowOnlyProps): they cast, they are not drawn. Receivers
- * stay local and IceT composites as it does without shadows. The gather runs again only
- * when some rank's casters changed (one integer all-reduce per frame otherwise), and a
+ * piece. Before every distributed render the view therefore exchanges casters between the
+ * ranks (penumbra::CasterExchange, over the global controller, in world coordinates, double
+ * precision, bit for bit as each rank extracted them) and hands the triangles received to
+ * the shadow pass as shadow-only props (vtkPenumbraSceneGeometry::SetShadowOnlyProps): they
+ * cast, they are not drawn. Receivers stay local and IceT composites as it does without
+ * shadows. CasterExchange chooses what is sent: `need` (the default) sends a peer only the
+ * triangles that can shadow its receivers for the view's lights, with the same exact answer;
+ * `all` sends every caster to every rank. Nothing is sent again until some rank's casters
+ * or receivers, or the lights, change (one integer all-reduce per frame otherwise), and a
  * triangle found on several ranks (data replicated or boundary cells duplicated) is kept
- * once. Every rank then holds all casters: memory grows with the whole scene, not the piece
- * (docs/paraview.md has the measurements and how this scales).
+ * once (docs/paraview.md has the measurements).
  *
  * Loading the plugin registers Penumbra's headless (EGL) render window when no X display is
  * set (vtkPenumbraHeadlessFactory), so pvpython and pvbatch render without an X server.
@@ -147,16 +148,35 @@ public:
 
   ///@{
   /**
-   * The last caster gather on this rank (distributed rendering only): wall time of the
-   * gather and rebuild in ms, caster triangles received from other ranks (duplicates of
-   * triangles already held removed), and bytes received. Zero before a gather; unchanged by
-   * frames that did not need one. GetNumberOfCasterGathers() counts the gathers done.
+   * What distributed rendering sends between the ranks: 0 `need` (default), the casters
+   * that can shadow each peer's receivers; 1 `all`, every caster to every rank. Values out
+   * of range are clamped. Takes effect at the next render (all pairs exchange again).
+   */
+  void SetCasterExchange(int mode);
+  int GetCasterExchange() { return this->CasterExchange; }
+  ///@}
+
+  ///@{
+  /**
+   * The last caster exchange on this rank (distributed rendering only): its wall time in ms,
+   * the other ranks' caster triangles held (duplicates of triangles already held removed),
+   * the bytes received and sent and the triangles sent (summed over the peers). Zero before
+   * an exchange; unchanged by frames that did not need one. GetNumberOfCasterGathers()
+   * counts the exchanges done.
    */
   double GetLastCasterGatherMs();
   vtkIdType GetNumberOfRemoteCasterTriangles();
   vtkIdType GetCasterBytesReceived();
+  vtkIdType GetCasterBytesSent();
+  vtkIdType GetNumberOfCasterTrianglesSent();
   int GetNumberOfCasterGathers();
   ///@}
+
+  /**
+   * Every rank's figures of the last caster exchange, a line each (on the first rank; see
+   * penumbra::CasterExchange::GetReport()). Empty before the first exchange.
+   */
+  const char* GetCasterExchangeReport();
 
 protected:
   vtkPVPenumbraShadowView();
@@ -177,7 +197,7 @@ private:
   bool SetOptionValue(const char* key, const std::string& json);
   std::string ComposeOptions(const std::string& technique);
 
-  // Distributed rendering: gives the pass every other rank's casters (see the class
+  // Distributed rendering: gives the pass the other ranks' casters it needs (see the class
   // description). Collective: every rendering rank calls it for every render.
   void GatherCasters();
 
@@ -193,6 +213,7 @@ private:
   std::string InstalledOptionsText;  // GetInstalledShadowOptions()
   std::string InstalledOptionValues; // GetInstalledOptionValues()
   bool Refused = false;
+  int CasterExchange = 0;
   std::string Report; // GetShadowReport()'s text
   bool Tried = false;
   std::string TriedTechnique;
