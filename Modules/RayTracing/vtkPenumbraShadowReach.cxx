@@ -296,24 +296,25 @@ void SelectTriangles(const double* xyz, vtkIdType count, const std::vector<Regio
   }
 }
 
-std::vector<std::array<double, 6>> ReceiverBoxes(vtkPenumbraSceneGeometry* geometry, int maxBoxes)
+std::vector<std::array<double, 6>> TriangleBoxes(
+  vtkPenumbraSceneGeometry* geometry, unsigned char flags, int maxBoxes)
 {
   std::vector<std::array<double, 6>> boxes;
   vtkDoubleArray* vertices = geometry->GetVertices();
-  vtkUnsignedCharArray* flags = geometry->GetFlags();
+  vtkUnsignedCharArray* triangleFlags = geometry->GetFlags();
   const vtkIdType n = geometry->GetNumberOfTriangles();
-  if (!vertices || !flags || flags->GetNumberOfValues() < n || n == 0)
+  if (!vertices || !triangleFlags || triangleFlags->GetNumberOfValues() < n || n == 0)
   {
     return boxes;
   }
   const double* v = vertices->GetPointer(0);
   const double* origin = geometry->GetOrigin();
-  std::vector<vtkIdType> receivers;
+  std::vector<vtkIdType> chosen;
   for (vtkIdType t = 0; t < n; ++t)
   {
-    if (flags->GetValue(t) & vtkPenumbraSceneGeometry::RECEIVES_SHADOWS)
+    if (triangleFlags->GetValue(t) & flags)
     {
-      receivers.push_back(t);
+      chosen.push_back(t);
     }
   }
   double all[6];
@@ -339,11 +340,11 @@ std::vector<std::array<double, 6>> ReceiverBoxes(vtkPenumbraSceneGeometry* geome
     }
     return b;
   };
-  // Median splits of ranges of `receivers`, the range of the most triangles first.
+  // Median splits of ranges of `chosen`, the range of the most triangles first.
   std::vector<std::pair<size_t, size_t>> ranges;
-  if (!receivers.empty())
+  if (!chosen.empty())
   {
-    ranges.emplace_back(0, receivers.size());
+    ranges.emplace_back(0, chosen.size());
   }
   while (static_cast<int>(ranges.size()) < maxBoxes)
   {
@@ -354,7 +355,7 @@ std::vector<std::array<double, 6>> ReceiverBoxes(vtkPenumbraSceneGeometry* geome
       break;
     }
     const auto [first, last] = *fullest;
-    const auto b = boundsOf(&receivers[first], &receivers[0] + last);
+    const auto b = boundsOf(&chosen[first], &chosen[0] + last);
     int axis = 0;
     for (int c = 1; c < 3; ++c)
     {
@@ -364,16 +365,16 @@ std::vector<std::array<double, 6>> ReceiverBoxes(vtkPenumbraSceneGeometry* geome
       }
     }
     const size_t middle = first + (last - first) / 2;
-    std::nth_element(receivers.begin() + static_cast<std::ptrdiff_t>(first),
-      receivers.begin() + static_cast<std::ptrdiff_t>(middle),
-      receivers.begin() + static_cast<std::ptrdiff_t>(last),
+    std::nth_element(chosen.begin() + static_cast<std::ptrdiff_t>(first),
+      chosen.begin() + static_cast<std::ptrdiff_t>(middle),
+      chosen.begin() + static_cast<std::ptrdiff_t>(last),
       [&](vtkIdType a, vtkIdType c) { return centroid(a, axis) < centroid(c, axis); });
     *fullest = { first, middle };
     ranges.emplace_back(middle, last);
   }
   for (const auto& [first, last] : ranges)
   {
-    auto b = boundsOf(&receivers[first], &receivers[0] + last);
+    auto b = boundsOf(&chosen[first], &chosen[0] + last);
     for (int c = 0; c < 3; ++c)
     {
       b[2 * c] += origin[c] - margin;
@@ -382,5 +383,33 @@ std::vector<std::array<double, 6>> ReceiverBoxes(vtkPenumbraSceneGeometry* geome
     boxes.push_back(b);
   }
   return boxes;
+}
+
+bool SegmentMeetsBox(const double o[3], const double d[3], double tmax, const double box[6])
+{
+  double t0 = 0.0, t1 = tmax;
+  for (int c = 0; c < 3; ++c)
+  {
+    if (d[c] == 0.0)
+    {
+      if (o[c] < box[2 * c] || o[c] > box[2 * c + 1])
+      {
+        return false;
+      }
+      continue;
+    }
+    double a = (box[2 * c] - o[c]) / d[c], b = (box[2 * c + 1] - o[c]) / d[c];
+    if (a > b)
+    {
+      std::swap(a, b);
+    }
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+    if (t0 > t1)
+    {
+      return false;
+    }
+  }
+  return true;
 }
 }

@@ -112,12 +112,19 @@ VTKPENUMBRARAYTRACING_EXPORT void SelectTriangles(const double* xyz, vtkIdType c
 
 /**
  * Up to `maxBoxes` bounds (6 doubles each, world coordinates) that together hold the
- * receiving triangles of `geometry` (RECEIVES_SHADOWS), split at the median triangle of the
- * longest side until there are `maxBoxes` or a box holds one triangle. Each box is grown by
- * Margin() of the geometry's bounds. Empty when nothing receives.
+ * triangles of `geometry` whose flags (vtkPenumbraSceneGeometry::GetFlags()) have a bit of
+ * `flags` (RECEIVES_SHADOWS: the receivers; CASTS_SHADOWS: the casters), split at the median
+ * triangle of the longest side until there are `maxBoxes` or a box holds one triangle. Each
+ * box is grown by Margin() of the geometry's bounds. Empty when no triangle has the flag.
  */
-VTKPENUMBRARAYTRACING_EXPORT std::vector<std::array<double, 6>> ReceiverBoxes(
-  vtkPenumbraSceneGeometry* geometry, int maxBoxes);
+VTKPENUMBRARAYTRACING_EXPORT std::vector<std::array<double, 6>> TriangleBoxes(
+  vtkPenumbraSceneGeometry* geometry, unsigned char flags, int maxBoxes);
+
+/**
+ * Whether the segment o + t d, t in [0, tmax] (tmax may be infinite), meets `box`.
+ */
+VTKPENUMBRARAYTRACING_EXPORT bool SegmentMeetsBox(
+  const double o[3], const double d[3], double tmax, const double box[6]);
 }
 
 #endif

@@ -654,6 +654,7 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
 
   impl.ExtractionMs = impl.SamplesMs = impl.TechniqueMs = 0.0;
   impl.LastReused = false;
+  impl.RemoteResolved = false;
   impl.LastSampled = false;
   auto t = Clock::now();
   bool geometryOk = false;
@@ -686,7 +687,9 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     // The view samples are the same as long as the view is: a light that moves, a technique
     // that changes, reuse them (no G-buffer, no read-back).
     const bool sameView = impl.HasFrame && viewKey == impl.LastViewKey;
-    impl.LastReused = this->ReuseUnchangedFrames && sameView && lightsKey == impl.LastLightsKey;
+    // Another process's casters may have moved: a distributed frame is never reused.
+    impl.LastReused =
+      this->ReuseUnchangedFrames && !impl.Remote && sameView && lightsKey == impl.LastLightsKey;
     if (!impl.LastReused)
     {
       // A new view's samples are rendered when a technique (or a read-back) first asks for
@@ -728,8 +731,24 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     impl.LastViewKey.clear();
     impl.SetInjected({});
   }
+  // Nothing shadowed here: the other processes' rays are answered all the same.
+  impl.ResolveRemote(this, nullptr);
 
   this->RenderShaded(s, win);
+}
+
+void vtkPenumbraShadowPass::SetRemoteShadows(vtkPenumbraRemoteShadows* remote)
+{
+  if (remote != this->Impl->Remote)
+  {
+    this->Impl->Remote = remote;
+    this->Modified();
+  }
+}
+
+vtkPenumbraRemoteShadows* vtkPenumbraShadowPass::GetRemoteShadows()
+{
+  return this->Impl->Remote;
 }
 
 // The scene drawn by the renderer's own drawing (or the user's pass), each shadowed light's

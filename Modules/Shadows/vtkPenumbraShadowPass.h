@@ -46,6 +46,7 @@
 class vtkFloatArray;
 class vtkLight;
 class vtkPenumbraFrame;
+class vtkPenumbraRemoteShadows;
 class vtkPenumbraSceneGeometry;
 class vtkOpenGLRenderWindow;
 class vtkPenumbraShadowTechnique;
@@ -245,6 +246,16 @@ public:
 
   /** True when the last Render() reused the previous frame's visibility. */
   bool GetLastFrameReused();
+
+  ///@{
+  /**
+   * Shadows cast by what this process does not hold (a distributed render; see
+   * vtkPenumbraRemoteShadows): when set, every Render() calls its Resolve() once, after the
+   * techniques and before the answers are uploaded, and no frame is reused. Default nullptr.
+   */
+  void SetRemoteShadows(vtkPenumbraRemoteShadows* remote);
+  vtkPenumbraRemoteShadows* GetRemoteShadows();
+  ///@}
 
   /**
    * True when the last Render(), or a read-back since (GetVisibility(), GetViewSamples()),

@@ -16,6 +16,7 @@
 #include "vtkLight.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraFrame.h"
+#include "vtkPenumbraRemoteShadows.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowTechnique.h"
 #include "vtkPenumbraViewSamples.h"
@@ -181,6 +182,12 @@ struct vtkPenumbraShadowPass::Internals
   vtkWeakPointer<vtkRenderer> SampleRenderer;
   std::vector<vtkSmartPointer<vtkProp>> SampleProps;
   void ComputeVisibility(vtkPenumbraShadowPass* pass);
+  // Distributed renders (SetRemoteShadows()): once a frame, the other processes' shadows on
+  // the lit samples of `frame`'s hard lights (nullptr: nothing shadowed here, but the other
+  // processes' rays are still answered).
+  vtkSmartPointer<vtkPenumbraRemoteShadows> Remote;
+  bool RemoteResolved = false;
+  void ResolveRemote(vtkPenumbraShadowPass* pass, vtkPenumbraFrame* frame);
   vtkPenumbraShadowTechnique* Choose(vtkPenumbraShadowPass* pass, size_t i);
   void SkipUnreachedLights(bool readsSamples);
 

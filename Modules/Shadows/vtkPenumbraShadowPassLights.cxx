@@ -402,6 +402,7 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
     group.first->ComputeFrame(frame);
   }
   frame->ClearActiveLights();
+  this->ResolveRemote(pass, frame);
   frame->Finish();
   std::vector<std::string> injected(this->Lights.size());
   bool any = false;
@@ -421,4 +422,54 @@ void vtkPenumbraShadowPass::Internals::ComputeVisibility(vtkPenumbraShadowPass* 
     }
   }
   this->SetInjected(any ? injected : std::vector<std::string>());
+}
+
+void vtkPenumbraShadowPass::Internals::ResolveRemote(
+  vtkPenumbraShadowPass* pass, vtkPenumbraFrame* frame)
+{
+  if (!this->Remote || this->RemoteResolved)
+  {
+    return;
+  }
+  this->RemoteResolved = true;
+  const std::vector<vtkLight*> lights(this->Lights.begin(), this->Lights.end());
+  std::vector<vtkSmartPointer<vtkFloatArray>> stacked(lights.size());
+  std::vector<vtkFloatArray*> values(lights.size(), nullptr);
+  vtkPenumbraViewSamples* samples = nullptr;
+  for (int k = 0; frame && k < frame->GetNumberOfShadowedLights(); ++k)
+  {
+    const size_t index = static_cast<size_t>(frame->GetLightIndex(k));
+    if (!frame->HasVisibility(k) || index >= lights.size() ||
+      vtkPenumbraAreaLight::SafeDownCast(frame->GetShadowedLight(k)))
+    {
+      continue;
+    }
+    samples = frame->GetSamples();
+    // The layers stacked, as the samples are (vtkPenumbraFrame::GetSamples()).
+    const vtkIdType n = static_cast<vtkIdType>(frame->GetWidth()) * frame->GetHeight();
+    auto all = vtkSmartPointer<vtkFloatArray>::New();
+    all->SetNumberOfTuples(n * frame->GetNumberOfLayers());
+    for (int layer = 0; layer < frame->GetNumberOfLayers(); ++layer)
+    {
+      vtkFloatArray* part = frame->GetVisibility(layer, static_cast<int>(index));
+      std::copy_n(part->GetPointer(0), n, all->GetPointer(layer * n));
+    }
+    stacked[index] = all;
+    values[index] = all;
+  }
+  std::string error;
+  if (!this->Remote->Resolve(this->Geometry, samples, lights, values, error))
+  {
+    vtkErrorWithObjectMacro(
+      pass, "Shadows cast on other processes' pieces are left out: " << error);
+    return;
+  }
+  for (int k = 0; frame && k < frame->GetNumberOfShadowedLights(); ++k)
+  {
+    const size_t index = static_cast<size_t>(frame->GetLightIndex(k));
+    if (index < stacked.size() && stacked[index])
+    {
+      frame->SetVisibility(k, stacked[index]);
+    }
+  }
 }

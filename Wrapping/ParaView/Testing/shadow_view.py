@@ -62,3 +62,32 @@ def show_ground_box_sphere(view):
                         PhiResolution=16)
     show_split(view, (ground, box, sphere))
     return sphere
+
+
+def show_terrain(view, resolution=708):
+    """Rolling hills over [-50, 50]^2 (a plane of `resolution`^2 squares, 2 triangles each:
+    about 1 M triangles by default) shown in `view` split over the ranks (show_split), seen
+    from above and the south. Returns the warped surface."""
+    plane = pvs.Plane(Origin=[-50, -50, 0], Point1=[50, -50, 0], Point2=[-50, 50, 0],
+                      XResolution=resolution, YResolution=resolution)
+    hills = pvs.Calculator(Input=plane, ResultArrayName="height",
+                           Function="3*sin(coordsX*0.21)*cos(coordsY*0.17)"
+                                    "+1.5*sin(coordsX*0.05+coordsY*0.09)")
+    terrain = pvs.WarpByScalar(Input=hills, Scalars=["POINTS", "height"],
+                               Normal=[0, 0, 1], UseNormal=1)
+    show_split(view, (terrain,))
+    pvs.Render(view)  # paraview.simple resets the camera at a view's first render
+    look_at(view, [0.0, -78.0, 62.0], [0.0, -2.0, -3.0])
+    return terrain
+
+
+def add_point_light(view, position):
+    """A point light (all directions) at `position`, scene coordinates."""
+    light = pvs.AddLight(view=view)
+    light.Coords = "Scene"
+    light.Type = "Positional"
+    light.Position = position
+    light.FocalPoint = [position[0], position[1], 0.0]
+    light.ConeAngle = 90.0
+    light.Intensity = 0.45
+    return light

@@ -45,10 +45,14 @@ from vtkmodules.util.vtkConstants import VTK_STRING  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow  # noqa: E402
 
 SIZE = [192, 192]
-EXACT = ("raytraced", "conservative", "volumes", "llsm")
+EXACT = ("raytraced", "conservative", "volumes", "llsm", "llsm-hybrid")
 out_dir = sys.argv[1] if len(sys.argv) > 1 else "."
 techniques = (sys.argv[2] if len(sys.argv) > 2 else "raytraced,conservative,volumes,llsm,shadowmap")
 techniques = techniques.split(",")
+# "small" (default): ground, box and sphere; "terrain": about 1 M triangles of hills under
+# an oblique sun and a point light, where a rank must hold at most a third of the casters.
+scene = sys.argv[3] if len(sys.argv) > 3 else "small"
+prefix = "" if scene == "small" else scene + "-"
 controller = vtkMultiProcessController.GetGlobalController()
 rank = controller.GetLocalProcessId()
 ranks = controller.GetNumberOfProcesses()
@@ -85,9 +89,16 @@ def check(ok, what, everywhere=True):
 
 
 def make_view():
-    view = shadow_view.sun_view(SIZE, [-6.0, -2.0, 6.0])
     # ParaView applies FXAA after IceT's compositing but not to a single process's render
     # pass: off, so that the -np 1 and -np N images can be compared pixel for pixel.
+    if scene == "terrain":
+        view = shadow_view.sun_view(SIZE, [-2.0, -1.0, 1.2])
+        view.AdditionalLights[0].Intensity = 0.7
+        view.UseFXAA = 0
+        terrain = shadow_view.show_terrain(view)
+        shadow_view.add_point_light(view, [10.0, 5.0, 30.0])
+        return view, terrain
+    view = shadow_view.sun_view(SIZE, [-6.0, -2.0, 6.0])
     view.UseFXAA = 0
     return view, shadow_view.show_ground_box_sphere(view)
 
@@ -152,6 +163,9 @@ def rank_view_check(view, technique):
     if view.CasterExchange == "all":
         check(geometry.GetNumberOfTriangles() == total,
               "%s: every rank's pass holds all %d triangles of all ranks" % (technique, total))
+    elif view.CasterExchange == "distributed" or view.CasterMemoryBudget:
+        check(held == 0, "%s (distributed): every rank's pass holds its own triangles only"
+              % technique)
     else:
         most = all_sum(held, vtkCommunicator.MAX_OP)
         check(held <= casters - local.GetNumberOfTriangles(),
@@ -212,9 +226,9 @@ def compare_images(path, reference_path):
 
 
 def image_check(view, technique):
-    path = os.path.join(out_dir, "mpi-%s-np%d.png" % (technique, ranks))
+    path = os.path.join(out_dir, "mpi-%s%s-np%d.png" % (prefix, technique, ranks))
     pvs.SaveScreenshot(path, view, ImageResolution=SIZE)
-    reference_path = os.path.join(out_dir, "mpi-%s-np1.png" % technique)
+    reference_path = os.path.join(out_dir, "mpi-%s%s-np1.png" % (prefix, technique))
     differing = 0
     if rank == 0 and ranks > 1 and os.path.isfile(reference_path):
         differing = compare_images(path, reference_path)
@@ -237,17 +251,27 @@ def gather_stats(view):
 
 view, sphere = make_view()
 for technique in techniques:
-    view.ShadowTechnique = technique
-    pvs.Render(view)
-    view.UpdatePropertyInformation()
-    check(view.GetProperty("InstalledShadowTechnique").GetData() == technique,
-          "%s: installed" % technique)
-    rank_view_check(view, technique)
-    image_check(view, technique)
-if rank == 0 and "held" in stats:
-    for technique, (most, casters) in stats["held"].items():
-        print("      %s: a rank holds at most %d of the %d caster triangles of other ranks"
-              % (technique, most, casters))
+    # Exact techniques also with every rank keeping its own casters and sending rays.
+    for mode in ("need", "distributed") if ranks > 1 and technique in EXACT else ("need",):
+        view.CasterExchange = mode
+        view.ShadowTechnique = technique
+        pvs.Render(view)
+        view.UpdatePropertyInformation()
+        check(view.GetProperty("InstalledShadowTechnique").GetData() == technique,
+              "%s: installed" % technique)
+        rank_view_check(view, technique)
+        image_check(view, technique)
+        if mode == "distributed" and rank == 0:
+            print("      " + view.GetProperty("CasterExchangeReport").GetData().replace(
+                "\n", "\n      "))
+view.CasterExchange = "need"
+for technique, (most, casters) in stats.get("held", {}).items():
+    if rank == 0:
+        print("      %s: a rank holds at most %d of the %d caster triangles (%.1f %%)"
+              % (technique, most, casters, 100.0 * most / max(casters, 1)))
+    if scene == "terrain" and ranks > 1:
+        check(3 * most <= casters, "%s: no rank holds more than a third of the casters for "
+              "other ranks" % technique, everywhere=False)
 
 # The checks below on the first technique, which is installed again first.
 view.ShadowTechnique = techniques[0]
@@ -263,7 +287,10 @@ if ranks > 1:
     pvs.Render(view)
     check(gather_stats(view)[0] == gathers, "an unchanged frame exchanges no casters",
           everywhere=False)
-sphere.Center = [-1.0, -1.0, 1.6]
+if scene == "terrain":
+    sphere.ScaleFactor = 1.2  # the hills grow
+else:
+    sphere.Center = [-1.0, -1.0, 1.6]
 pvs.Render(view)
 if gathers is not None:
     check(gather_stats(view)[0] == gathers + 1, "a moved caster is exchanged again",
@@ -271,8 +298,8 @@ if gathers is not None:
 rank_view_check(view, techniques[0])
 # Every caster to every rank: the same image as the need-based exchange's.
 if ranks > 1:
-    need_path = os.path.join(out_dir, "mpi-need-np%d.png" % ranks)
-    all_path = os.path.join(out_dir, "mpi-all-np%d.png" % ranks)
+    need_path = os.path.join(out_dir, "mpi-%sneed-np%d.png" % (prefix, ranks))
+    all_path = os.path.join(out_dir, "mpi-%sall-np%d.png" % (prefix, ranks))
     pvs.SaveScreenshot(need_path, view, ImageResolution=SIZE)
     view.CasterExchange = "all"
     pvs.Render(view)
@@ -282,6 +309,22 @@ if ranks > 1:
     check(all_sum(differing) == 0, "%s: exchanging all casters draws the same image as "
           "exchanging the needed ones" % techniques[0], everywhere=False)
     view.CasterExchange = "need"
+    # A budget no exchange fits in: the ranks keep their own casters and send rays instead.
+    view.CasterMemoryBudget = 0.001
+    pvs.Render(view)
+    view.UpdatePropertyInformation()
+    # The report of every rank's figures is on rank 0.
+    distributed = rank == 0 and "(distributed)" in view.GetProperty(
+        "CasterExchangeReport").GetData()
+    check(all_sum(distributed) == 1,
+          "a need-based exchange over the memory budget becomes distributed", everywhere=False)
+    budget_path = os.path.join(out_dir, "mpi-%sbudget-np%d.png" % (prefix, ranks))
+    rank_view_check(view, techniques[0])
+    pvs.SaveScreenshot(budget_path, view, ImageResolution=SIZE)
+    differing = compare_images(need_path, budget_path) if rank == 0 else 0
+    check(all_sum(differing) == 0, "%s: the image over the budget equals the need-based one"
+          % techniques[0], everywhere=False)
+    view.CasterMemoryBudget = 0
 
 check(not messages, "no error or warning reached the output window (%s)"
       % [m[:160] for m in messages[:1]])

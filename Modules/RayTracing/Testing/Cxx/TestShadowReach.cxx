@@ -10,6 +10,7 @@
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkLight.h"
+#include "vtkMath.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraShadowKeys.h"
@@ -164,6 +165,14 @@ int CheckRegionTests()
   const double offAxis[6] = { 4.0, 4.5, 0.0, 0.5, 0.0, 0.5 }; // inside the hull's bounds only
   CHECK(cone.MayBlock(onAxis));
   CHECK(!cone.MayBlock(offAxis));
+  // Rays and boxes (the routing of distributed shadow rays).
+  const double o[3] = { 0, 0, 0 }, d[3] = { 1, 1, 0 };
+  const double ahead[6] = { 2, 3, 2, 3, -1, 1 }, behind[6] = { -3, -2, -3, -2, -1, 1 };
+  CHECK(penumbra_reach::SegmentMeetsBox(o, d, vtkMath::Inf(), ahead));
+  CHECK(!penumbra_reach::SegmentMeetsBox(o, d, 1.5, ahead));
+  CHECK(!penumbra_reach::SegmentMeetsBox(o, d, vtkMath::Inf(), behind));
+  const double flat[3] = { 1, 0, 0 }, slab[6] = { 1, 2, 0.5, 1, -1, 1 };
+  CHECK(!penumbra_reach::SegmentMeetsBox(o, flat, vtkMath::Inf(), slab));
   return EXIT_SUCCESS;
 }
 
@@ -194,7 +203,8 @@ int CheckSelection(const Case& c)
   double bounds[6];
   all->GetBounds(bounds);
   std::vector<penumbra_reach::Region> regions;
-  for (const auto& box : penumbra_reach::ReceiverBoxes(own, 4))
+  for (const auto& box :
+    penumbra_reach::TriangleBoxes(own, vtkPenumbraSceneGeometry::RECEIVES_SHADOWS, 4))
   {
     regions.emplace_back(box.data(), reach, bounds);
   }

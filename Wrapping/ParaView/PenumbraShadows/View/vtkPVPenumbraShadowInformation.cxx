@@ -28,6 +28,7 @@ void vtkPVPenumbraShadowInformation::CopyFromObject(vtkObject* object)
   this->RemoteTriangles = view->GetNumberOfRemoteCasterTriangles();
   this->BytesReceived = view->GetCasterBytesReceived();
   this->Gathers = view->GetNumberOfCasterGathers();
+  this->ExchangeReport = view->GetCasterExchangeReport();
 }
 
 void vtkPVPenumbraShadowInformation::CopyToStream(vtkClientServerStream* stream)
@@ -36,7 +37,7 @@ void vtkPVPenumbraShadowInformation::CopyToStream(vtkClientServerStream* stream)
   *stream << vtkClientServerStream::Reply << (this->Valid ? 1 : 0)
           << this->InstalledTechnique.c_str() << this->ShadowReport.c_str() << this->GatherMs
           << this->RemoteTriangles << this->BytesReceived << this->Gathers
-          << vtkClientServerStream::End;
+          << this->ExchangeReport.c_str() << vtkClientServerStream::End;
 }
 
 void vtkPVPenumbraShadowInformation::CopyFromStream(const vtkClientServerStream* stream)
@@ -44,13 +45,16 @@ void vtkPVPenumbraShadowInformation::CopyFromStream(const vtkClientServerStream*
   int valid = 0;
   const char* technique = nullptr;
   const char* report = nullptr;
+  const char* exchange = nullptr;
   this->Valid = stream->GetArgument(0, 0, &valid) && valid != 0 &&
     stream->GetArgument(0, 1, &technique) && stream->GetArgument(0, 2, &report) &&
     stream->GetArgument(0, 3, &this->GatherMs) &&
     stream->GetArgument(0, 4, &this->RemoteTriangles) &&
-    stream->GetArgument(0, 5, &this->BytesReceived) && stream->GetArgument(0, 6, &this->Gathers);
+    stream->GetArgument(0, 5, &this->BytesReceived) && stream->GetArgument(0, 6, &this->Gathers) &&
+    stream->GetArgument(0, 7, &exchange);
   this->InstalledTechnique = technique ? technique : "";
   this->ShadowReport = report ? report : "";
+  this->ExchangeReport = exchange ? exchange : "";
 }
 
 void vtkPVPenumbraShadowInformation::AddInformation(vtkPVInformation* other)
@@ -65,6 +69,7 @@ void vtkPVPenumbraShadowInformation::AddInformation(vtkPVInformation* other)
     this->RemoteTriangles = info->RemoteTriangles;
     this->BytesReceived = info->BytesReceived;
     this->Gathers = info->Gathers;
+    this->ExchangeReport = info->ExchangeReport;
   }
 }
 

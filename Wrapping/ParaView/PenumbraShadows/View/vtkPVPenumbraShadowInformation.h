@@ -57,6 +57,7 @@ public:
   vtkIdType GetNumberOfRemoteCasterTriangles() const { return this->RemoteTriangles; }
   vtkIdType GetCasterBytesReceived() const { return this->BytesReceived; }
   int GetNumberOfCasterGathers() const { return this->Gathers; }
+  const char* GetCasterExchangeReport() const { return this->ExchangeReport.c_str(); }
   ///@}
 
 protected:
@@ -74,6 +75,7 @@ private:
   vtkIdType RemoteTriangles = 0;
   vtkIdType BytesReceived = 0;
   int Gathers = 0;
+  std::string ExchangeReport;
 };
 
 #endif

@@ -15,6 +15,7 @@
 #include "vtkPenumbraCasterExchange.h"
 #include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraHeadlessFactory.h"
+#include "vtkPenumbraRayQueries.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraShadowPass.h"
@@ -35,6 +36,7 @@
 #include <algorithm>
 #include <array>
 #include <climits>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -63,8 +65,10 @@ struct vtkPVPenumbraShadowView::Internals
   // Per technique, the values its option properties set: {"resolution": 2048, ...}.
   std::map<std::string, nlohmann::json> OptionValues;
 
-  // The other ranks' casters (GatherCasters).
+  // The other ranks' casters (GatherCasters), or their answers to this rank's rays.
   penumbra::CasterExchange Exchange;
+  vtkNew<vtkPenumbraRayQueries> Queries;
+  std::string ExchangeReport;
 };
 
 vtkStandardNewMacro(vtkPVPenumbraShadowView);
@@ -316,23 +320,35 @@ void vtkPVPenumbraShadowView::GatherCasters()
     {
       pass->GetGeometry()->SetShadowOnlyProps(nullptr);
       pass->GetGeometry()->SetSceneBounds(nullptr);
+      pass->SetRemoteShadows(nullptr);
     }
     return;
   }
   std::string error;
   if (!impl.Exchange.Update(controller, this->GetRenderer(),
-        static_cast<penumbra::CasterExchange::Mode>(this->CasterExchange), error))
+        static_cast<penumbra::CasterExchange::Mode>(this->CasterExchange),
+        this->CasterMemoryBudget * 1048576.0, error))
   {
     vtkErrorMacro("Penumbra shadows: " << error);
   }
   pass->GetGeometry()->SetShadowOnlyProps(impl.Exchange.GetShadowOnlyProps());
   // The origin and the epsilons of the whole scene, as in one process.
   pass->GetGeometry()->SetSceneBounds(impl.Exchange.GetSceneBounds());
+  // Without the other ranks' casters, their shadows come back as answers to rays.
+  if (impl.Exchange.GetEffectiveMode() == penumbra::CasterExchange::Distributed)
+  {
+    impl.Queries->SetCasterBoxes(controller, impl.Exchange.GetCasterBoxes());
+    pass->SetRemoteShadows(impl.Queries);
+  }
+  else
+  {
+    pass->SetRemoteShadows(nullptr);
+  }
 }
 
 void vtkPVPenumbraShadowView::SetCasterExchange(int mode)
 {
-  const int value = std::min(std::max(mode, 0), 1);
+  const int value = std::min(std::max(mode, 0), 2);
   if (value != this->CasterExchange)
   {
     this->CasterExchange = value;
@@ -340,9 +356,46 @@ void vtkPVPenumbraShadowView::SetCasterExchange(int mode)
   }
 }
 
+vtkIdType vtkPVPenumbraShadowView::GetNumberOfRaysSent()
+{
+  return this->RayQueriesActive() ? this->Impl->Queries->GetFigures().RaysSent : 0;
+}
+
+vtkIdType vtkPVPenumbraShadowView::GetRayBytesSent()
+{
+  return this->RayQueriesActive() ? this->Impl->Queries->GetFigures().BytesSent : 0;
+}
+
+vtkIdType vtkPVPenumbraShadowView::GetRayBytesReceived()
+{
+  return this->RayQueriesActive() ? this->Impl->Queries->GetFigures().BytesReceived : 0;
+}
+
+bool vtkPVPenumbraShadowView::RayQueriesActive()
+{
+  auto* pass = vtkPenumbraShadowPass::SafeDownCast(this->Impl->Pass);
+  return pass && pass->GetRemoteShadows() == this->Impl->Queries.GetPointer();
+}
+
+void vtkPVPenumbraShadowView::SetCasterMemoryBudget(double megabytes)
+{
+  const double value = std::isfinite(megabytes) && megabytes > 0.0 ? megabytes : 0.0;
+  if (value != this->CasterMemoryBudget)
+  {
+    this->CasterMemoryBudget = value;
+    this->Modified();
+  }
+}
+
 const char* vtkPVPenumbraShadowView::GetCasterExchangeReport()
 {
-  return this->Impl->Exchange.GetReport().c_str();
+  Internals& impl = *this->Impl;
+  impl.ExchangeReport = impl.Exchange.GetReport();
+  if (this->RayQueriesActive())
+  {
+    impl.ExchangeReport += impl.Queries->GetReport();
+  }
+  return impl.ExchangeReport.c_str();
 }
 
 vtkIdType vtkPVPenumbraShadowView::GetCasterBytesSent()
@@ -382,6 +435,8 @@ void vtkPVPenumbraShadowView::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ShadowOptions: " << this->Options << "\n";
   os << indent << "InstalledTechnique: " << this->InstalledTechnique << "\n";
   os << indent << "InstalledShadowOptions: " << this->InstalledOptionsText << "\n";
-  os << indent << "CasterExchange: " << (this->CasterExchange == 0 ? "need" : "all") << "\n";
+  const char* modes[] = { "need", "all", "distributed" };
+  os << indent << "CasterExchange: " << modes[this->CasterExchange] << "\n";
+  os << indent << "CasterMemoryBudget: " << this->CasterMemoryBudget << " MiB\n";
   os << indent << "ShadowRequestRefused: " << (this->Refused ? "yes" : "no") << "\n";
 }

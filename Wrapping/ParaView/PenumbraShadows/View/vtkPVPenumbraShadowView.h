@@ -149,11 +149,24 @@ public:
   ///@{
   /**
    * What distributed rendering sends between the ranks: 0 `need` (default), the casters
-   * that can shadow each peer's receivers; 1 `all`, every caster to every rank. Values out
-   * of range are clamped. Takes effect at the next render (all pairs exchange again).
+   * that can shadow each peer's receivers; 1 `all`, every caster to every rank; 2
+   * `distributed`, no casters: each rank keeps its own, and the shadow rays of its hard
+   * lights that its casters leave lit go to the ranks whose casters they may cross
+   * (vtkPenumbraRayQueries; area lights are then shadowed by the rank's own casters only).
+   * Values out of range are clamped. Takes effect at the next render.
    */
   void SetCasterExchange(int mode);
   int GetCasterExchange() { return this->CasterExchange; }
+  ///@}
+
+  ///@{
+  /**
+   * Memory budget per rank for the other ranks' casters, in MiB (0, the default: none).
+   * When the need-based exchange would make some rank hold more (about 333 bytes a
+   * triangle), that exchange is made `distributed` instead, on every rank.
+   */
+  void SetCasterMemoryBudget(double megabytes);
+  double GetCasterMemoryBudget() { return this->CasterMemoryBudget; }
   ///@}
 
   ///@{
@@ -170,6 +183,17 @@ public:
   vtkIdType GetCasterBytesSent();
   vtkIdType GetNumberOfCasterTrianglesSent();
   int GetNumberOfCasterGathers();
+  ///@}
+
+  ///@{
+  /**
+   * Distributed ray queries (CasterExchange `distributed`) in the last frame on this rank:
+   * rays sent to other ranks (summed over them) and bytes sent and received (queries and
+   * answers). Zero in the other modes.
+   */
+  vtkIdType GetNumberOfRaysSent();
+  vtkIdType GetRayBytesSent();
+  vtkIdType GetRayBytesReceived();
   ///@}
 
   /**
@@ -201,6 +225,9 @@ private:
   // description). Collective: every rendering rank calls it for every render.
   void GatherCasters();
 
+  // Whether the pass sends this rank's rays to the others (the distributed mode).
+  bool RayQueriesActive();
+
   // ErrorEvent observer of the render window: drops the known-harmless GLEW message (see the
   // class description), passes every other error on.
   void OnWindowError(vtkObject* window, unsigned long event, void* text);
@@ -214,6 +241,7 @@ private:
   std::string InstalledOptionValues; // GetInstalledOptionValues()
   bool Refused = false;
   int CasterExchange = 0;
+  double CasterMemoryBudget = 0.0;
   std::string Report; // GetShadowReport()'s text
   bool Tried = false;
   std::string TriedTechnique;

@@ -8,6 +8,7 @@
 #include "vtkMath.h"
 #include "vtkMultiProcessController.h"
 #include "vtkPenumbraDiagnostics.h"
+#include "vtkPenumbraRankMessages.h"
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -27,11 +28,16 @@ namespace
 {
 constexpr int Tag = 78311; // the exchange's point-to-point messages
 
-// A rank's record in the need-based exchange: [its casters or receivers changed, its lights
-// changed, number of boxes, bounds of its casters (6), bounds of all its triangles (6),
-// MaxBoxes boxes around its receivers (6 each)].
-constexpr int BoxesAt = 15;
-constexpr int RecordSize = BoxesAt + 6 * CasterExchange::MaxBoxes;
+// A rank's record: [its casters or receivers changed, its lights changed, number of receiver
+// boxes, number of caster boxes, bounds of its casters (6), bounds of all its triangles (6),
+// MaxBoxes boxes around its receivers, MaxBoxes around its casters (6 each)].
+constexpr int ReceiversAt = 16;
+constexpr int CastersAt = ReceiversAt + 6 * CasterExchange::MaxBoxes;
+constexpr int RecordSize = CastersAt + 6 * CasterExchange::MaxBoxes;
+
+// What the pass holds per triangle received (measured, docs/paraview.md): the received copy
+// (72 bytes), the shadow-only prop (104) and the pass's geometry (157).
+constexpr double BytesPerHeldTriangle = 333.0;
 
 // Grows `b` (uninitialized: empty) to `other` (uninitialized: nothing).
 void Grow(double b[6], const double other[6])
@@ -99,8 +105,8 @@ vtkPropCollection* CasterExchange::GetShadowOnlyProps()
   return this->ShadowOnly;
 }
 
-bool CasterExchange::Update(
-  vtkMultiProcessController* controller, vtkRenderer* renderer, Mode mode, std::string& error)
+bool CasterExchange::Update(vtkMultiProcessController* controller, vtkRenderer* renderer, Mode mode,
+  double budget, std::string& error)
 {
   const auto start = Clock::now();
   const int ranks = controller->GetNumberOfProcesses();
@@ -111,7 +117,8 @@ bool CasterExchange::Update(
   const bool extracted = this->Local->Update(renderer) != 0;
   std::vector<penumbra_reach::LightReach> lights = penumbra_reach::DescribeLights(renderer);
   const bool lightsChanged = lights != this->Lights;
-  const bool mine = this->Sent.Changed(this->Local) || mode != this->LastMode;
+  const bool mine =
+    this->Sent.Changed(this->Local) || mode != this->LastMode || budget != this->LastBudget;
   const double extractMs = ElapsedMs(start);
   const auto reduce = Clock::now();
   int changed = (mine || lightsChanged) ? 1 : 0, anyChanged = 0;
@@ -140,15 +147,17 @@ bool CasterExchange::Update(
   bool ok = true;
   if (mode == All)
   {
+    this->Effective = All;
+    this->CasterBoxes.clear();
     ok = this->ExchangeAll(controller, error);
   }
   else
   {
-    ok = this->ExchangeNeeded(controller, lightsChanged, mine);
+    ok = this->ExchangeNeeded(controller, mode, lightsChanged, mine, budget);
   }
   const auto rebuild = Clock::now();
   this->BuildRemote();
-  if (mode == All)
+  if (this->Effective == All)
   {
     // Every frame that changes anything sends everything again: nothing to keep.
     this->Received.assign(this->Received.size(), std::vector<double>());
@@ -156,6 +165,7 @@ bool CasterExchange::Update(
   this->Last.RebuildMs = ElapsedMs(rebuild);
   this->Sent.Remember(this->Local);
   this->LastMode = mode;
+  this->LastBudget = budget;
   ++this->Last.Exchanges;
   this->Last.TotalMs = ElapsedMs(start);
   this->Gather(controller);
@@ -210,47 +220,111 @@ bool CasterExchange::ExchangeAll(vtkMultiProcessController* controller, std::str
 }
 
 bool CasterExchange::ExchangeNeeded(
-  vtkMultiProcessController* controller, bool lightsChanged, bool mine)
+  vtkMultiProcessController* controller, Mode mode, bool lightsChanged, bool mine, double budget)
 {
   const auto start = Clock::now();
   const int ranks = controller->GetNumberOfProcesses();
   std::vector<double> record(RecordSize, 0.0), records(static_cast<size_t>(RecordSize) * ranks);
   record[0] = mine ? 1.0 : 0.0;
   record[1] = lightsChanged ? 1.0 : 0.0;
-  const auto boxes = penumbra_reach::ReceiverBoxes(this->Local, MaxBoxes);
-  record[2] = static_cast<double>(boxes.size());
+  const auto receivers = penumbra_reach::TriangleBoxes(
+    this->Local, vtkPenumbraSceneGeometry::RECEIVES_SHADOWS, MaxBoxes);
+  const auto casters =
+    penumbra_reach::TriangleBoxes(this->Local, vtkPenumbraSceneGeometry::CASTS_SHADOWS, MaxBoxes);
+  record[2] = static_cast<double>(receivers.size());
+  record[3] = static_cast<double>(casters.size());
   TriangleBounds(
-    this->LocalCasters->GetPointer(0), this->LocalCasters->GetNumberOfTuples(), record.data() + 3);
-  this->Local->GetBounds(record.data() + 9);
-  for (size_t b = 0; b < boxes.size(); ++b)
+    this->LocalCasters->GetPointer(0), this->LocalCasters->GetNumberOfTuples(), record.data() + 4);
+  this->Local->GetBounds(record.data() + 10);
+  for (size_t b = 0; b < receivers.size(); ++b)
   {
-    std::copy(boxes[b].begin(), boxes[b].end(), record.begin() + BoxesAt + 6 * b);
+    std::copy(receivers[b].begin(), receivers[b].end(), record.begin() + ReceiversAt + 6 * b);
+  }
+  for (size_t b = 0; b < casters.size(); ++b)
+  {
+    std::copy(casters[b].begin(), casters[b].end(), record.begin() + CastersAt + 6 * b);
   }
   controller->AllGather(record.data(), records.data(), RecordSize);
-  // The casters of every rank lie in these bounds (they set a directional light's sweep);
-  // the scene's are those of every triangle (vtkPenumbraSceneGeometry::SetSceneBounds).
-  double casters[6];
-  vtkMath::UninitializeBounds(casters);
+  // The casters of every rank lie in `bounds` (they set a directional light's sweep); the
+  // scene's bounds are those of every triangle (vtkPenumbraSceneGeometry::SetSceneBounds).
+  double bounds[6];
+  vtkMath::UninitializeBounds(bounds);
   vtkMath::UninitializeBounds(this->SceneBounds);
+  this->CasterBoxes.assign(static_cast<size_t>(ranks), {});
   bool anyLights = false;
   for (int r = 0; r < ranks; ++r)
   {
     const double* rec = records.data() + static_cast<size_t>(RecordSize) * r;
     anyLights = anyLights || rec[1] != 0.0;
-    Grow(casters, rec + 3);
-    Grow(this->SceneBounds, rec + 9);
-  }
-  // A pair exchanges again when either side changed or the lights did; both sides decide
-  // this from the same records.
-  std::vector<char> exchange(static_cast<size_t>(ranks), 0);
-  for (int q = 0; q < ranks; ++q)
-  {
-    exchange[q] =
-      q != this->Me && (anyLights || mine || records[static_cast<size_t>(RecordSize) * q] != 0.0);
+    Grow(bounds, rec + 4);
+    Grow(this->SceneBounds, rec + 10);
+    for (int b = 0; b < static_cast<int>(rec[3]); ++b)
+    {
+      std::array<double, 6> box;
+      std::copy_n(rec + CastersAt + 6 * b, 6, box.begin());
+      this->CasterBoxes[r].push_back(box);
+    }
   }
   this->Last.BoundsMs += ElapsedMs(start);
-  this->Transfer(controller, exchange, records, casters);
+  if (mode == Distributed)
+  {
+    this->Effective = Distributed;
+    this->Received.assign(this->Received.size(), std::vector<double>());
+    return true;
+  }
+  // A pair exchanges again when either side changed or the lights did (both sides decide
+  // this from the same records), and every pair after a frame that held nothing.
+  const bool all = this->Effective != Need;
+  std::vector<std::vector<double>> outgoing(static_cast<size_t>(ranks));
+  std::vector<char> exchange(static_cast<size_t>(ranks), 0);
+  const auto select = Clock::now();
+  for (int q = 0; q < ranks; ++q)
+  {
+    exchange[q] = q != this->Me &&
+      (all || anyLights || mine || records[static_cast<size_t>(RecordSize) * q] != 0.0);
+    if (exchange[q])
+    {
+      outgoing[q] = this->Select(records.data() + static_cast<size_t>(RecordSize) * q, bounds);
+    }
+  }
+  this->Last.SelectMs = ElapsedMs(select);
+  if (budget > 0.0 && this->OverBudget(controller, outgoing, exchange, budget))
+  {
+    this->Effective = Distributed;
+    this->Received.assign(this->Received.size(), std::vector<double>());
+    return true;
+  }
+  this->Effective = Need;
+  this->Transfer(controller, exchange, outgoing);
   return true;
+}
+
+bool CasterExchange::OverBudget(vtkMultiProcessController* controller,
+  const std::vector<std::vector<double>>& outgoing, const std::vector<char>& exchange,
+  double budget) const
+{
+  // What each rank sends each (-1: nothing new, the receiver keeps what it holds).
+  const int ranks = controller->GetNumberOfProcesses();
+  std::vector<long long> counts(static_cast<size_t>(ranks), -1), all(counts.size() * ranks);
+  for (int q = 0; q < ranks; ++q)
+  {
+    if (exchange[q])
+    {
+      counts[q] = static_cast<long long>(outgoing[q].size() / 9);
+    }
+  }
+  controller->AllGather(counts.data(), all.data(), ranks);
+  double held = 0.0;
+  for (int r = 0; r < ranks; ++r)
+  {
+    const long long in = all[static_cast<size_t>(r) * ranks + this->Me];
+    held +=
+      static_cast<double>(in >= 0 ? in : static_cast<long long>(this->Received[r].size() / 9));
+  }
+  double most = 0.0;
+  const double bytes = held * BytesPerHeldTriangle;
+  controller->AllReduce(&bytes, &most, 1, vtkCommunicator::MAX_OP);
+  return most > budget;
 }
 
 std::vector<double> CasterExchange::Select(const double* record, const double* casterBounds) const
@@ -266,7 +340,7 @@ std::vector<double> CasterExchange::Select(const double* record, const double* c
   {
     for (const auto& light : this->Lights)
     {
-      regions.emplace_back(record + BoxesAt + 6 * b, light, casterBounds);
+      regions.emplace_back(record + ReceiversAt + 6 * b, light, casterBounds);
     }
   }
   std::vector<vtkIdType> selected;
@@ -282,62 +356,23 @@ std::vector<double> CasterExchange::Select(const double* record, const double* c
 }
 
 void CasterExchange::Transfer(vtkMultiProcessController* controller,
-  const std::vector<char>& exchange, const std::vector<double>& records, const double* casters)
+  const std::vector<char>& exchange, const std::vector<std::vector<double>>& outgoing)
 {
-  const int ranks = controller->GetNumberOfProcesses();
+  const auto start = Clock::now();
   int peers = 0;
-  // Round k pairs this rank with (k - me) mod P (a perfect matching each round, each pair
-  // once); the lower rank of a pair sends first, so blocking sends never wait in a cycle.
-  for (int k = 0; k < ranks; ++k)
-  {
-    const int q = ((k - this->Me) % ranks + ranks) % ranks;
-    if (!exchange[q])
+  ForEachPeer(
+    controller, [&](int q) { return exchange[q] != 0; },
+    [&](int q)
     {
-      continue;
-    }
-    ++peers;
-    const auto select = Clock::now();
-    const std::vector<double> mine =
-      this->Select(records.data() + static_cast<size_t>(RecordSize) * q, casters);
-    this->Last.SelectMs += ElapsedMs(select);
-    const auto transfer = Clock::now();
-    const long long sendCount = static_cast<long long>(mine.size());
-    auto send = [&]
-    {
-      controller->Send(&sendCount, 1, q, Tag);
-      if (sendCount > 0)
-      {
-        controller->Send(mine.data(), sendCount, q, Tag);
-      }
-    };
-    std::vector<double>& theirs = this->Received[q];
-    auto receive = [&]
-    {
-      long long count = 0;
-      controller->Receive(&count, 1, q, Tag);
-      theirs.assign(static_cast<size_t>(count), 0.0);
-      if (count > 0)
-      {
-        controller->Receive(theirs.data(), count, q, Tag);
-      }
-    };
-    if (this->Me < q)
-    {
-      send();
-      receive();
-    }
-    else
-    {
-      receive();
-      send();
-    }
-    this->Last.TrianglesSent += sendCount / 9;
-    this->Last.TrianglesReceived += static_cast<vtkIdType>(theirs.size() / 9);
-    this->Last.BytesSent += static_cast<vtkIdType>(sizeof(double) * mine.size() + 8);
-    this->Last.BytesReceived += static_cast<vtkIdType>(sizeof(double) * theirs.size() + 8);
-    this->Last.TransferMs += ElapsedMs(transfer);
-  }
+      ++peers;
+      const auto bytes = ExchangeVectors(controller, q, outgoing[q], this->Received[q], Tag);
+      this->Last.TrianglesSent += static_cast<vtkIdType>(outgoing[q].size() / 9);
+      this->Last.TrianglesReceived += static_cast<vtkIdType>(this->Received[q].size() / 9);
+      this->Last.BytesSent += bytes.first;
+      this->Last.BytesReceived += bytes.second;
+    });
   this->Last.Peers = peers;
+  this->Last.TransferMs = ElapsedMs(start);
 }
 
 void CasterExchange::BuildRemote()
@@ -432,34 +467,11 @@ void CasterExchange::Gather(vtkMultiProcessController* controller)
     static_cast<double>(f.BytesSent), static_cast<double>(f.BytesReceived),
     static_cast<double>(f.Peers), f.ExtractMs, f.BoundsMs, f.SelectMs, f.TransferMs, f.RebuildMs,
     f.TotalMs };
-  const int ranks = controller->GetNumberOfProcesses();
-  std::vector<double> all(mine.size() * static_cast<size_t>(ranks));
-  controller->Gather(mine.data(), all.data(), static_cast<vtkIdType>(mine.size()), 0);
-  this->Report.clear();
-  if (this->Me != 0)
-  {
-    return;
-  }
-  std::ostringstream text;
-  text << "caster exchange " << f.Exchanges << " (" << (this->LastMode == All ? "all" : "need")
-       << "), per rank: own casters, other ranks' triangles held, sent, bytes sent, bytes "
-          "received, peers,"
-          " extract/bounds/select/transfer/rebuild/total ms\n";
-  for (int r = 0; r < ranks; ++r)
-  {
-    const double* v = all.data() + mine.size() * static_cast<size_t>(r);
-    text << "rank " << r;
-    for (int i = 0; i < 6; ++i)
-    {
-      text << " " << static_cast<long long>(v[i]);
-    }
-    text << std::fixed << std::setprecision(1);
-    for (int i = 6; i < 12; ++i)
-    {
-      text << " " << v[i];
-    }
-    text << std::defaultfloat << "\n";
-  }
-  this->Report = text.str();
+  const char* names[] = { "need", "all", "distributed" };
+  std::ostringstream header;
+  header << "caster exchange " << f.Exchanges << " (" << names[this->Effective]
+         << "), per rank: own casters, other ranks' triangles held, sent, bytes sent, bytes "
+            "received, peers, extract/bounds/select/transfer/rebuild/total ms";
+  this->Report = RankReport(controller, header.str(), mine, 6);
 }
 }

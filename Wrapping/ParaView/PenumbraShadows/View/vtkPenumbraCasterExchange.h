@@ -39,6 +39,7 @@
 #include "vtkPenumbraShadowReach.h"   // For penumbra_reach::LightReach
 #include "vtkType.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -56,8 +57,9 @@ class CasterExchange
 public:
   enum Mode
   {
-    Need = 0, // the casters that can shadow a peer's receivers
-    All = 1   // every caster to every rank
+    Need = 0,       // the casters that can shadow a peer's receivers
+    All = 1,        // every caster to every rank
+    Distributed = 2 // no caster: each rank keeps its own (the others' rays are sent instead)
   };
   static constexpr int MaxBoxes = 8;
 
@@ -86,12 +88,29 @@ public:
   ~CasterExchange();
 
   /**
-   * Collective over `controller` (every rank calls it with the same mode). Returns false with
-   * `error` when the casters could not be exchanged (they are then left out); the rank still
-   * takes part, so no rank waits for it.
+   * Collective over `controller` (every rank calls it with the same mode and budget).
+   * `budget`: bytes a rank may hold of other ranks' casters in Need mode (0: no limit); an
+   * exchange that would exceed it on some rank is made Distributed on every rank. Returns
+   * false with `error` when the casters could not be exchanged (they are then left out); the
+   * rank still takes part, so no rank waits for it.
    */
-  bool Update(
-    vtkMultiProcessController* controller, vtkRenderer* renderer, Mode mode, std::string& error);
+  bool Update(vtkMultiProcessController* controller, vtkRenderer* renderer, Mode mode,
+    double budget, std::string& error);
+
+  /**
+   * What the last exchange did: `mode`, or Distributed when Need would have made some rank
+   * hold more than `budget` bytes of other ranks' casters.
+   */
+  Mode GetEffectiveMode() const { return this->Effective; }
+
+  /**
+   * Need and Distributed: per rank, up to MaxBoxes boxes around its casters (as of the last
+   * exchange; empty in All mode), where the rays of distributed queries are sent.
+   */
+  const std::vector<std::vector<std::array<double, 6>>>& GetCasterBoxes() const
+  {
+    return this->CasterBoxes;
+  }
 
   /**
    * Whether the last Update() exchanged anything (false: no rank's casters, receivers or
@@ -123,10 +142,14 @@ private:
   CasterExchange& operator=(const CasterExchange&) = delete;
 
   bool ExchangeAll(vtkMultiProcessController* controller, std::string& error);
-  bool ExchangeNeeded(vtkMultiProcessController* controller, bool lightsChanged, bool mine);
+  bool ExchangeNeeded(
+    vtkMultiProcessController* controller, Mode mode, bool lightsChanged, bool mine, double budget);
+  bool OverBudget(vtkMultiProcessController* controller,
+    const std::vector<std::vector<double>>& outgoing, const std::vector<char>& exchange,
+    double budget) const;
   std::vector<double> Select(const double* record, const double* casterBounds) const;
   void Transfer(vtkMultiProcessController* controller, const std::vector<char>& exchange,
-    const std::vector<double>& records, const double* casterBounds);
+    const std::vector<std::vector<double>>& outgoing);
   void BuildRemote();
   void Gather(vtkMultiProcessController* controller);
 
@@ -140,7 +163,10 @@ private:
   CastersStamp Sent;
   std::vector<penumbra_reach::LightReach> Lights;
   double SceneBounds[6];
+  std::vector<std::vector<std::array<double, 6>>> CasterBoxes;
   int LastMode = -1;
+  double LastBudget = 0.0;
+  Mode Effective = Distributed; // nothing held yet
   bool ExchangedLast = false;
   Figures Last;
   std::string Report;

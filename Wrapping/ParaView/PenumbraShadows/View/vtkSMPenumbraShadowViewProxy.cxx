@@ -22,7 +22,8 @@ namespace
 // The information properties that describe the last frame, and so must come from the
 // process that drew it.
 const char* const StatisticsProperties[] = { "InstalledShadowTechnique", "ShadowReport",
-  "CasterGathers", "CasterGatherMs", "RemoteCasterTriangles", "CasterBytesReceived" };
+  "CasterGathers", "CasterGatherMs", "RemoteCasterTriangles", "CasterBytesReceived",
+  "CasterExchangeReport" };
 
 // The names of the properties the group labelled `label` lists, and whether it exists.
 bool GroupMembers(vtkPVXMLElement* element, const char* label, std::set<std::string>& names)
@@ -143,6 +144,7 @@ void vtkSMPenumbraShadowViewProxy::UpdateStatisticsFromRenderServer(vtkSMPropert
   vtkSMPropertyHelper(this, "CasterGatherMs").Set(info->GetLastCasterGatherMs());
   vtkSMPropertyHelper(this, "RemoteCasterTriangles").Set(info->GetNumberOfRemoteCasterTriangles());
   vtkSMPropertyHelper(this, "CasterBytesReceived").Set(info->GetCasterBytesReceived());
+  vtkSMPropertyHelper(this, "CasterExchangeReport").Set(info->GetCasterExchangeReport());
 }
 
 void vtkSMPenumbraShadowViewProxy::PostRender(bool interactive)

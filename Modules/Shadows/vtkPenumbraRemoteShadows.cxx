@@ -1,0 +1,3 @@
+#include "vtkPenumbraRemoteShadows.h"
+
+// The interface only: vtkPenumbraRayQueries (the ParaView view) implements it.

@@ -1,0 +1,64 @@
+/**
+ * @class   vtkPenumbraRemoteShadows
+ * @brief   Shadows cast by geometry this process does not hold: the hook through which a
+ *          distributed render asks the other processes about the view samples' shadow rays.
+ *
+ * In a distributed render (MPI ranks, each holding only its own piece of the data), a rank's
+ * technique decides its samples against the casters it holds. A sample it finds shadowed is
+ * shadowed; one it finds lit may still be shadowed by another rank's piece. When a
+ * vtkPenumbraRemoteShadows is set (vtkPenumbraShadowPass::SetRemoteShadows()), the pass calls
+ * Resolve() exactly once in every frame it renders, after the techniques answered and before
+ * the answers are uploaded, on every rank, whatever the rank has to shadow (a rank without
+ * visible receivers passes no samples but still answers the others). The implementation
+ * sends the lit samples' rays to the processes whose casters they may cross, answers theirs
+ * with its own casters, and turns the samples that any of them blocks to shadowed.
+ *
+ * Only hard lights (directional, point, spot: not vtkPenumbraAreaLight, whose answers are
+ * fractions) are resolved; the pass does not reuse a frame while a hook is set, since another
+ * process's casters may have changed.
+ */
+
+#ifndef vtkPenumbraRemoteShadows_h
+#define vtkPenumbraRemoteShadows_h
+
+#include "vtkObject.h"
+#include "vtkPenumbraShadowsModule.h" // For export macro
+
+#include <string> // For Resolve's error
+#include <vector> // For Resolve's arguments
+
+class vtkFloatArray;
+class vtkLight;
+class vtkPenumbraSceneGeometry;
+class vtkPenumbraViewSamples;
+
+class VTKPENUMBRASHADOWS_EXPORT vtkPenumbraRemoteShadows : public vtkObject
+{
+public:
+  vtkTypeMacro(vtkPenumbraRemoteShadows, vtkObject);
+
+#ifndef __VTK_WRAP__
+  /**
+   * `lights`: the pass's switched-on lights as it shadows them, in its order (the same on
+   * every process). `visibilities[i]`: this process's answer for light i, one value per
+   * sample of `samples` (stacked layers), or nullptr when the light got no shadow work here;
+   * `samples` is nullptr when nothing was shadowed. `geometry`: the casters this process
+   * holds. Lowers to 0 the values of the samples whose shadow ray another process's casters
+   * block; false (with `error`) when that could not be decided (the values are then left as
+   * they were).
+   */
+  virtual bool Resolve(vtkPenumbraSceneGeometry* geometry, vtkPenumbraViewSamples* samples,
+    const std::vector<vtkLight*>& lights, const std::vector<vtkFloatArray*>& visibilities,
+    std::string& error) = 0;
+#endif
+
+protected:
+  vtkPenumbraRemoteShadows() = default;
+  ~vtkPenumbraRemoteShadows() override = default;
+
+private:
+  vtkPenumbraRemoteShadows(const vtkPenumbraRemoteShadows&) = delete;
+  void operator=(const vtkPenumbraRemoteShadows&) = delete;
+};
+
+#endif
