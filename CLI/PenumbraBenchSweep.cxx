@@ -79,7 +79,10 @@ struct SweepRow
   double FirstFrameMs = -1;
   double TechniqueMs = -1, SamplesMs = -1; // medians over the timed frames; -1: no Penumbra pass
   double RssBeforeMB = -1, PeakRssMB = -1; // -1: not available on this system
-  std::string NotMeasured;                 // why; empty when measured
+  // (PeakRssMB - none's PeakRssMB at the same count and camera) per caster triangle, in
+  // bytes: what the shadows cost in memory on top of plain VTK. NaN: not available.
+  double BytesPerTriangleOverNone = NAN;
+  std::string NotMeasured; // why; empty when measured
   bool OverBudget = false;
   double RatioToNone = -1, Exponent = NAN, ExponentMinusNone = NAN;
   // The slope between the series' two largest counts: the growth where fixed per-pixel
@@ -337,6 +340,11 @@ void Summarize(std::vector<SweepRow>& rows)
     {
       r.RatioToNone = r.MedianMs / none->MedianMs;
     }
+    if (none && &r != none && r.PeakRssMB >= 0 && none->PeakRssMB >= 0 && r.Triangles > 0)
+    {
+      r.BytesPerTriangleOverNone =
+        (r.PeakRssMB - none->PeakRssMB) * 1024.0 * 1024.0 / static_cast<double>(r.Triangles);
+    }
     r.Exponent = Exponent(rows, r.Series());
     r.ExponentLastTwo = Exponent(rows, r.Series(), true);
     r.ExponentMinusNone =
@@ -358,8 +366,9 @@ void WriteSweepCSV(const std::string& path, const std::vector<SweepRow>& rows, c
 {
   std::ofstream out(path);
   out << "triangles,technique,setting,camera,width,height,frames,median_ms,min_ms,ratio_to_none,"
-         "first_frame_ms,technique_ms,samples_ms,rss_before_mb,peak_rss_mb,exponent,exponent_minus_"
-         "none,exponent_last_two,status\n";
+         "first_frame_ms,technique_ms,samples_ms,rss_before_mb,peak_rss_mb,bytes_per_triangle_over_"
+         "none,"
+         "exponent,exponent_minus_none,exponent_last_two,status\n";
   for (const SweepRow& r : rows)
   {
     const double e = r.Exponent, d = r.ExponentMinusNone, l = r.ExponentLastTwo;
@@ -369,8 +378,9 @@ void WriteSweepCSV(const std::string& path, const std::vector<SweepRow>& rows, c
         << Optional(r.RatioToNone, 3) << "," << Optional(r.FirstFrameMs, 3) << ","
         << Optional(r.TechniqueMs, 3) << "," << Optional(r.SamplesMs, 3) << ","
         << Optional(r.RssBeforeMB, 0) << "," << Optional(r.PeakRssMB, 0) << ","
-        << (std::isnan(e) ? "" : Fixed(e, 3)) << "," << (std::isnan(d) ? "" : Fixed(d, 3)) << ","
-        << (std::isnan(l) ? "" : Fixed(l, 3)) << ",\""
+        << (std::isnan(r.BytesPerTriangleOverNone) ? "" : Fixed(r.BytesPerTriangleOverNone, 1))
+        << "," << (std::isnan(e) ? "" : Fixed(e, 3)) << "," << (std::isnan(d) ? "" : Fixed(d, 3))
+        << "," << (std::isnan(l) ? "" : Fixed(l, 3)) << ",\""
         << (r.NotMeasured.empty() ? "measured" : "not measured: " + r.NotMeasured) << "\"\n";
   }
 }
@@ -397,13 +407,18 @@ void WriteSweepMarkdown(
          "freed heap memory to the system (malloc_trim) and resetting the peak to the resident "
          "set just before the row (writing 5 to /proc/self/clear_refs); it includes everything "
          "resident then (VTK, the sphere, the GL driver — llvmpipe's buffers and textures are "
-         "process memory), shown as *RSS before*. A row whose timed frames would exceed "
+         "process memory), shown as *RSS before*. *B/tri over none*: (peak RSS − the none row's "
+         "peak RSS at the same count and camera) × 2^20 / caster triangles, what the shadows "
+         "cost in memory per triangle on top of plain VTK; memory an earlier technique of the "
+         "same count left resident is in it too (compare *RSS before*), so run one technique "
+         "per process (--techniques none,T) to measure one technique alone. A row whose timed "
+         "frames would exceed "
       << o.BudgetSeconds
       << " s (judged from the last warm-up frame), or whose first frame alone does, is not "
          "measured, nor are the larger counts of its series.\n\n"
       << "| triangles | technique | camera | median ms | × none | first frame ms | technique ms | "
-         "samples ms | RSS before MB | peak RSS MB | note |\n"
-      << "|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
+         "samples ms | RSS before MB | peak RSS MB | B/tri over none | note |\n"
+      << "|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
   for (const SweepRow& r : rows)
   {
     out << "| " << r.Triangles << " | " << r.Technique.Label() << " | " << r.Camera() << " | "
@@ -411,7 +426,8 @@ void WriteSweepMarkdown(
         << Dash(Optional(r.FirstFrameMs, 0)) << " | " << Dash(Optional(r.TechniqueMs, 1)) << " | "
         << Dash(Optional(r.SamplesMs, 1)) << " | " << Dash(Optional(r.RssBeforeMB, 0)) << " | "
         << Dash(Optional(r.PeakRssMB, 0)) << " | "
-        << (r.NotMeasured.empty() ? "" : "not measured: " + r.NotMeasured) << " |\n";
+        << (std::isnan(r.BytesPerTriangleOverNone) ? "–" : Fixed(r.BytesPerTriangleOverNone, 0))
+        << " | " << (r.NotMeasured.empty() ? "" : "not measured: " + r.NotMeasured) << " |\n";
   }
   out << "\nCost exponent: least-squares slope of log(median frame ms) against log(caster "
          "triangles) over the measured counts (1: linear growth). A technique whose exponent "

@@ -11,10 +11,28 @@
 namespace penumbra_casters
 {
 //------------------------------------------------------------------------------
+ExactTriangles::~ExactTriangles()
+{
+  this->Free();
+}
+
+//------------------------------------------------------------------------------
+void ExactTriangles::Free()
+{
+  for (size_t b = 0; b < this->NumberOfBlocks; ++b)
+  {
+    delete[] this->Blocks[b].load(std::memory_order_relaxed);
+  }
+  this->Blocks.reset();
+  this->NumberOfBlocks = 0;
+}
+
+//------------------------------------------------------------------------------
 void ExactTriangles::Reset(const std::vector<vtkIdType>& casters)
 {
   this->SlotOf.clear();
-  this->Exact.clear();
+  this->SlotOf.shrink_to_fit();
+  this->Free();
   this->Made.reset();
   if (casters.empty() || casters.size() > MaxCached)
   {
@@ -25,12 +43,38 @@ void ExactTriangles::Reset(const std::vector<vtkIdType>& casters)
   {
     this->SlotOf[static_cast<size_t>(casters[i])] = static_cast<std::int32_t>(i);
   }
-  this->Exact.resize(casters.size());
+  this->NumberOfBlocks = (casters.size() + BlockSize - 1) / BlockSize;
+  this->Blocks.reset(new std::atomic<penumbra_rules::ExactTriangle*>[this->NumberOfBlocks]);
+  for (size_t b = 0; b < this->NumberOfBlocks; ++b)
+  {
+    this->Blocks[b].store(nullptr, std::memory_order_relaxed);
+  }
   this->Made.reset(new std::atomic<unsigned char>[casters.size()]);
   for (size_t i = 0; i < casters.size(); ++i)
   {
     this->Made[i].store(0, std::memory_order_relaxed);
   }
+}
+
+//------------------------------------------------------------------------------
+penumbra_rules::ExactTriangle& ExactTriangles::Slot(size_t slot)
+{
+  std::atomic<penumbra_rules::ExactTriangle*>& block = this->Blocks[slot / BlockSize];
+  penumbra_rules::ExactTriangle* triangles = block.load(std::memory_order_acquire);
+  if (!triangles)
+  {
+    // Two threads may allocate the same block: the first to publish it wins.
+    auto* made = new penumbra_rules::ExactTriangle[BlockSize];
+    if (block.compare_exchange_strong(triangles, made, std::memory_order_acq_rel))
+    {
+      triangles = made;
+    }
+    else
+    {
+      delete[] made;
+    }
+  }
+  return triangles[slot % BlockSize];
 }
 
 //------------------------------------------------------------------------------
@@ -45,14 +89,14 @@ const penumbra_rules::ExactTriangle* ExactTriangles::Get(
     unsigned char state = made.load(std::memory_order_acquire);
     if (state == 0 && made.compare_exchange_strong(state, 1, std::memory_order_acq_rel))
     {
-      penumbra_rules::ExactTriangle& t = this->Exact[static_cast<size_t>(slot)];
+      penumbra_rules::ExactTriangle& t = this->Slot(static_cast<size_t>(slot));
       const bool area = penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, t);
       made.store(area ? 2 : 3, std::memory_order_release);
       return area ? &t : nullptr;
     }
     if (state == 2)
     {
-      return &this->Exact[static_cast<size_t>(slot)];
+      return &this->Slot(static_cast<size_t>(slot));
     }
     if (state == 3)
     {
@@ -68,28 +112,43 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
   if (this->Current.Changed(geometry))
   {
     const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
-    std::vector<float> xyz;
+    vtkDoubleArray* vertexArray = geometry->GetVertices();
+    const double* v = nTriangles && vertexArray ? vertexArray->GetPointer(0) : nullptr;
+    // The lists are sized exactly (the casters first, then their positions): grown by
+    // push_back they would hold up to twice their size, at 36 bytes a caster.
+    this->Vertices.clear();
+    this->Vertices.shrink_to_fit();
+    this->TriangleIds.clear();
+    this->TriangleIds.shrink_to_fit();
+    // The reference's rule: casters with area (a zero-area triangle blocks no ray).
+    auto listed = [&](vtkIdType t) { return this->AllSurfaces || geometry->IsOccluder(t); };
+    vtkIdType count = 0;
+    for (vtkIdType t = 0; v && t < nTriangles; ++t)
+    {
+      count += listed(t) ? 1 : 0;
+    }
     std::vector<vtkIdType> casters;
+    casters.reserve(static_cast<size_t>(count));
+    for (vtkIdType t = 0; v && t < nTriangles; ++t)
+    {
+      if (listed(t))
+      {
+        casters.push_back(t);
+      }
+    }
+    std::vector<float> xyz(9 * casters.size());
     double* bounds = this->Bounds;
     bounds[0] = bounds[2] = bounds[4] = std::numeric_limits<double>::max();
     bounds[1] = bounds[3] = bounds[5] = -std::numeric_limits<double>::max();
-    vtkDoubleArray* vertexArray = geometry->GetVertices();
-    const double* v = nTriangles && vertexArray ? vertexArray->GetPointer(0) : nullptr;
-    for (vtkIdType t = 0; v && t < nTriangles; ++t)
+    for (size_t i = 0; i < casters.size(); ++i)
     {
-      // The reference's rule: casters with area (a zero-area triangle blocks no ray).
-      if (!this->AllSurfaces && !geometry->IsOccluder(t))
-      {
-        continue;
-      }
-      const double* p = v + 9 * t;
+      const double* p = v + 9 * casters[i];
       for (int c = 0; c < 9; ++c)
       {
-        xyz.push_back(static_cast<float>(p[c]));
+        xyz[9 * i + c] = static_cast<float>(p[c]);
         bounds[2 * (c % 3)] = std::min(bounds[2 * (c % 3)], p[c]);
         bounds[2 * (c % 3) + 1] = std::max(bounds[2 * (c % 3) + 1], p[c]);
       }
-      casters.push_back(t);
     }
     this->VertexCount = static_cast<GLsizei>(xyz.size() / 3);
     this->Vertices.swap(xyz);

@@ -28,13 +28,20 @@ namespace penumbra_casters
  * The exact triangles of the casters (the reference's double-precision form,
  * penumbra_rules::MakeExactTriangle), each made the first time a test needs it and kept while
  * the caster list does not change: a caster meets many samples, views and frames. Safe to
- * use from several threads. Lists of more than MaxCached casters (200 bytes each) make them
- * per test instead.
+ * use from several threads. The cache is allocated in blocks of BlockSize casters on first
+ * use, so it costs memory (200 bytes a triangle) only for the casters tests reach, not for
+ * the whole list. Lists of more than MaxCached casters make them per test instead.
  */
 class ExactTriangles
 {
 public:
   static constexpr size_t MaxCached = size_t(1) << 20;
+  static constexpr size_t BlockSize = 1024;
+
+  ExactTriangles() = default;
+  ~ExactTriangles();
+  ExactTriangles(const ExactTriangles&) = delete;
+  ExactTriangles& operator=(const ExactTriangles&) = delete;
 
   /** Forgets the triangles made so far; `casters` (ascending ids) is the new list. */
   void Reset(const std::vector<vtkIdType>& casters);
@@ -48,8 +55,13 @@ public:
     vtkIdType id, const double* vertices, penumbra_rules::ExactTriangle& scratch);
 
 private:
+  // The cached triangle of `slot`, its block allocated on the first call for that block.
+  penumbra_rules::ExactTriangle& Slot(size_t slot);
+  void Free();
+
   std::vector<std::int32_t> SlotOf; // per triangle id: its slot, -1 when not a caster
-  std::vector<penumbra_rules::ExactTriangle> Exact;
+  size_t NumberOfBlocks = 0;
+  std::unique_ptr<std::atomic<penumbra_rules::ExactTriangle*>[]> Blocks; // null: not yet
   // per slot: 0 not yet, 1 being made, 2 made, 3 no area
   std::unique_ptr<std::atomic<unsigned char>[]> Made;
 };

@@ -219,14 +219,25 @@ class BenchTest(unittest.TestCase):
                 if row["technique"] == "none":
                     self.assertEqual(row["technique_ms"], "")  # no Penumbra pass, no phases
                     self.assertEqual(float(row["exponent_minus_none"]), 0.0)
+                    self.assertEqual(row["bytes_per_triangle_over_none"], "")
                 else:
                     self.assertGreaterEqual(float(row["technique_ms"]), 0.0)
                     self.assertGreater(float(row["ratio_to_none"]), 0.0)
+                    # The memory over the unshadowed row of the same count and camera, per
+                    # caster triangle (the shadow map's own textures make it positive).
+                    none_peak = [float(r["peak_rss_mb"]) for r in rows
+                                 if r["technique"] == "none" and r["camera"] == row["camera"]
+                                 and r["triangles"] == row["triangles"]][0]
+                    self.assertAlmostEqual(
+                        float(row["bytes_per_triangle_over_none"]),
+                        (float(row["peak_rss_mb"]) - none_peak) * 2**20 / triangles,
+                        delta=2**20 / triangles + 0.1)  # the CSV rounds both peaks to 1 MB
             series = {(t, c) for t in ("none", "shadowmap") for c in ("still", "moving")}
             self.assertEqual(asked, {2000: series, 20000: series})
             self.assertIn("| triangles | technique | camera |", stdout)
             self.assertIn("Cost exponent", stdout)
             self.assertIn("VmHWM", stdout)
+            self.assertIn("B/tri over none", stdout)
             with open(os.path.join(out, "sweep.png"), "rb") as f:
                 png = f.read()
             self.assertTrue(png.startswith(b"\x89PNG"))
