@@ -11,8 +11,8 @@
 #   ./penumbra.sh paraview [OUT.png]              set up ParaView 5.11, build Penumbra and its
 #                                                 ParaView plugin against ParaView's VTK, test the
 #                                                 plugin (pvpython, pvbatch on MPI ranks, a client
-#                                                 on a 2-rank pvserver), render paraview-demo.png
-#                                                 with pvbatch
+#                                                 on a 2- and a 4-rank pvserver), render
+#                                                 paraview-demo.png with pvbatch
 #   ./penumbra.sh paraview-run COMMAND...         run COMMAND (pvpython, pvbatch, paraview) where
 #                                                 ParaView's Python modules are visible, with the
 #                                                 plugin on PV_PLUGIN_PATH
@@ -214,10 +214,12 @@ case "$cmd" in
       "${limit[@]}" pvpython "$here/Wrapping/ParaView/Testing/test_paraview_light_size.py"
     paraview_mpi_tests
     # pvpython connected to a headless 2-rank pvserver that the test starts, with and without
-    # the plugin on the server's PV_PLUGIN_PATH.
-    paraview_run env -u DISPLAY "${limit[@]}" pvpython \
+    # the plugin on the server's PV_PLUGIN_PATH; then 20 times to a 4-rank pvserver, whose
+    # image must equal the 4-rank pvbatch image of the MPI tests.
+    paraview_run env -u DISPLAY timeout -s KILL 1800 pvpython \
       "$here/Wrapping/ParaView/Testing/test_paraview_client_server.py" \
-      "$paraview_build/Testing/ParaView/client-server"
+      "$paraview_build/Testing/ParaView/client-server" \
+      "$paraview_build/Testing/ParaView/mpi/mpi-raytraced-np4.png" 20
     out="$(realpath -m "${2:-$here/paraview-demo.png}")"
     paraview_run env -u DISPLAY "${limit[@]}" pvbatch --disable-xdisplay-test \
       "$here/Wrapping/ParaView/paraview-demo.py" "$out"

@@ -91,3 +91,23 @@ def add_point_light(view, position):
     light.ConeAngle = 90.0
     light.Intensity = 0.45
     return light
+
+
+def compare_images(path, reference_path, tolerance=2):
+    """The number of pixels whose colour differs by more than `tolerance` levels in some
+    channel between two PNG images of one size; -1 when their sizes differ."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    images = []
+    for p in (path, reference_path):
+        reader = vtkPNGReader()
+        reader.SetFileName(p)
+        reader.Update()
+        images.append(reader.GetOutput().GetPointData().GetScalars())
+    a, b = images
+    if a.GetNumberOfTuples() != b.GetNumberOfTuples():
+        return -1
+    differing = 0
+    for i in range(a.GetNumberOfTuples()):
+        ta, tb = a.GetTuple(i), b.GetTuple(i)
+        differing += max(abs(ta[c] - tb[c]) for c in range(3)) > tolerance
+    return differing

@@ -1,7 +1,7 @@
 """The PenumbraShadows plugin in client/server mode: pvpython connected to a headless
 `mpirun -np 2 pvserver`, which this script starts (twice) on a free port.
 
-    pvpython test_paraview_client_server.py [OUTDIR]
+    pvpython test_paraview_client_server.py [OUTDIR [PVBATCH_IMAGE [REPEATS]]]
 
 Needs no DISPLAY (both the client and the server draw with Penumbra's EGL window),
 penumbra_paraview on PYTHONPATH and the plugin in the first folder of PV_PLUGIN_PATH;
@@ -21,6 +21,9 @@ OMPI_ALLOW_RUN_AS_ROOT_CONFIRM (set here for the server) and --oversubscribe.
    - a refused technique, and a technique with a refused option, put ShadowTechnique and
      ShadowOptions back to what draws.
 2. A server without the plugin: load_plugin loads it there, and the view draws with it.
+3. With PVBATCH_IMAGE (test_paraview_mpi.py's mpi-raytraced-np4.png): the same scene on a
+   4-rank pvserver draws the same image, pixel for pixel, REPEATS times (default 1), each
+   with a new server, none of them hanging.
 
 Exit status 0 when every check passed. OUTDIR (default .) receives the server logs and
 images.
@@ -72,11 +75,11 @@ def free_port():
 
 
 class Server:
-    """`mpirun -np 2 pvserver` on a free port, without DISPLAY, with or without the plugin on
-    its PV_PLUGIN_PATH; its output goes to OUTDIR/NAME.log. Stopped (TERM, then KILL) by pid
+    """`mpirun -np RANKS pvserver` on a free port, without DISPLAY, with or without the plugin
+    on its PV_PLUGIN_PATH; its output goes to OUTDIR/NAME.log. Stopped (TERM, then KILL) by pid
     on exit."""
 
-    def __init__(self, name, with_plugin):
+    def __init__(self, name, with_plugin, ranks=2):
         self.log_path = os.path.join(out_dir, name + ".log")
         self.port = free_port()
         # pvpython initialised MPI as a singleton: its OMPI_/PMIX_ variables would make the
@@ -88,7 +91,7 @@ class Server:
             env.pop("PV_PLUGIN_PATH", None)
         # --disable-xdisplay-test: without it a server with no X display reports that it
         # cannot render, and ParaView renders everything on the client instead.
-        command = ["timeout", "-s", "KILL", "600", "mpirun", "--oversubscribe", "-np", "2",
+        command = ["timeout", "-s", "KILL", "600", "mpirun", "--oversubscribe", "-np", str(ranks),
                    "pvserver", "--disable-xdisplay-test", "--server-port=%d" % self.port]
         self.log = open(self.log_path, "w")
         self.process = subprocess.Popen(command, env=env, stdout=self.log,
@@ -132,8 +135,11 @@ class Server:
 
 
 def make_view():
+    """The scene, view and light of test_paraview_mpi.py's small scene, rendered on the
+    server (FXAA off there too, so the images compare pixel for pixel)."""
     view = shadow_view.sun_view([192, 192], [-6.0, -2.0, 6.0])
     view.RemoteRenderThreshold = 0.0  # always render on the server
+    view.UseFXAA = 0
     shadow_view.show_ground_box_sphere(view)
     return view
 
@@ -256,9 +262,31 @@ def session_without_plugin():
         loaded_plugin_checks()
 
 
+def session_four_ranks(reference, run):
+    """pvpython on a 4-rank pvserver draws the image pvbatch draws on 4 ranks."""
+    with Server("pvserver-4-ranks", with_plugin=True, ranks=4):
+        penumbra_paraview.load_plugin(ns=globals())
+        view = make_view()
+        view.ShadowTechnique = "raytraced"
+        pvs.Render(view)
+        path = os.path.join(out_dir, "client-server-4-ranks-%d.png" % run)
+        pvs.SaveScreenshot(path, view, ImageResolution=[192, 192])
+        stats = statistics(view)
+        differing = shadow_view.compare_images(path, reference)
+        check(differing == 0 and stats["RemoteCasterTriangles"] > 0,
+              "4-rank pvserver, run %d: the image equals pvbatch's on 4 ranks (%d pixels "
+              "differ; rank 0 holds %d triangles of the others)"
+              % (run, differing, stats["RemoteCasterTriangles"]))
+
+
 os.makedirs(out_dir, exist_ok=True)
 session_with_plugin()
 session_without_plugin()
+# With pvbatch's 4-rank image of the same scene (test_paraview_mpi.py), the same image from a
+# 4-rank pvserver, REPEATS times.
+if len(sys.argv) > 2:
+    for run in range(int(sys.argv[3]) if len(sys.argv) > 3 else 1):
+        session_four_ranks(os.path.abspath(sys.argv[2]), run + 1)
 print("%d check(s) failed" % len(failures) if failures else "all checks passed")
 sys.stdout.flush()
 sys.exit(1 if failures else 0)

@@ -207,31 +207,13 @@ def rank_view_check(view, technique):
           everywhere=False)
 
 
-def compare_images(path, reference_path):
-    from vtkmodules.vtkIOImage import vtkPNGReader
-    images = []
-    for p in (path, reference_path):
-        reader = vtkPNGReader()
-        reader.SetFileName(p)
-        reader.Update()
-        images.append(reader.GetOutput().GetPointData().GetScalars())
-    a, b = images
-    if a.GetNumberOfTuples() != b.GetNumberOfTuples():
-        return -1
-    differing = 0
-    for i in range(a.GetNumberOfTuples()):
-        ta, tb = a.GetTuple(i), b.GetTuple(i)
-        differing += max(abs(ta[c] - tb[c]) for c in range(3)) > 2
-    return differing
-
-
 def image_check(view, technique):
     path = os.path.join(out_dir, "mpi-%s%s-np%d.png" % (prefix, technique, ranks))
     pvs.SaveScreenshot(path, view, ImageResolution=SIZE)
     reference_path = os.path.join(out_dir, "mpi-%s%s-np1.png" % (prefix, technique))
     differing = 0
     if rank == 0 and ranks > 1 and os.path.isfile(reference_path):
-        differing = compare_images(path, reference_path)
+        differing = shadow_view.compare_images(path, reference_path)
         print("      %s: %d pixels differ from the -np 1 image" % (technique, differing))
     # A shadow map is fitted to the receivers each rank sees: its texels, and so its errors
     # along shadow edges, differ from one process's; exact techniques may not differ at all.
@@ -305,7 +287,7 @@ if ranks > 1:
     pvs.Render(view)
     rank_view_check(view, techniques[0])
     pvs.SaveScreenshot(all_path, view, ImageResolution=SIZE)
-    differing = compare_images(need_path, all_path) if rank == 0 else 0
+    differing = shadow_view.compare_images(need_path, all_path) if rank == 0 else 0
     check(all_sum(differing) == 0, "%s: exchanging all casters draws the same image as "
           "exchanging the needed ones" % techniques[0], everywhere=False)
     view.CasterExchange = "need"
@@ -321,7 +303,7 @@ if ranks > 1:
     budget_path = os.path.join(out_dir, "mpi-%sbudget-np%d.png" % (prefix, ranks))
     rank_view_check(view, techniques[0])
     pvs.SaveScreenshot(budget_path, view, ImageResolution=SIZE)
-    differing = compare_images(need_path, budget_path) if rank == 0 else 0
+    differing = shadow_view.compare_images(need_path, budget_path) if rank == 0 else 0
     check(all_sum(differing) == 0, "%s: the image over the budget equals the need-based one"
           % techniques[0], everywhere=False)
     view.CasterMemoryBudget = 0

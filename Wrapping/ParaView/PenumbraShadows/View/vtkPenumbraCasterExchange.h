@@ -1,7 +1,8 @@
 /**
  * @file   vtkPenumbraCasterExchange.h
  * @brief  Shadow casters across MPI ranks: each rank gets the other ranks' triangles that can
- *         shadow its own receivers (need-based, the default) or all of them (all-gather).
+ *         shadow its own receivers (need-based, the default), all of them (all-gather), or
+ *         none (distributed: the rays travel instead, vtkPenumbraRayQueries).
  *
  * In a distributed render each rank draws its own piece, but a shadow on it may be cast by
  * another rank's piece. Before each render every rendering rank calls Update() (collective):
@@ -11,15 +12,18 @@
  *    (penumbra_reach::DescribeLights).
  * 2. One integer all-reduce: did any rank's casters, receivers or the lights change? If none
  *    did, nothing else is sent (a static frame costs 4 bytes a rank).
- * 3. Need mode: one all-gather of a fixed-size record per rank (whether it changed, the bounds
- *    of its casters and of all its triangles, up to MaxBoxes boxes around its receivers: 504
- *    bytes). Rank r then sends
- *    peer q exactly the triangles of r that may block a shadow ray from q's boxes to a light
- *    (penumbra_reach::Region: the box swept towards a directional light, its hull with a
- *    point light or an area light's extent), in pairwise rounds of blocking sends (round k
- *    pairs r with (k - r) mod P, so no send waits on a cycle). Only the pairs where r or q
- *    changed, or the lights did, exchange again; a peer's triangles are kept until then.
- *    All mode: the previous behaviour, every rank's casters to every rank (AllGatherV).
+ * 3. Need and distributed modes: one all-gather of a fixed-size record per rank (whether it
+ *    changed, the bounds of its casters and of all its triangles, up to MaxBoxes boxes
+ *    around its receivers and as many around its casters: 896 bytes). In need mode rank r
+ *    then sends peer q exactly the triangles of r that may block a shadow ray from q's
+ *    receiver boxes to a light (penumbra_reach::Region: the box swept towards a directional
+ *    light, its hull with a point light or an area light's extent), in pairwise rounds
+ *    (penumbra::ForEachPeer). Only the pairs where r or q changed, or the lights did,
+ *    exchange again; a peer's triangles are kept until then. With a budget, the counts are
+ *    all-gathered first, and an exchange that would make some rank hold more than the budget
+ *    becomes distributed on every rank. Distributed mode sends no triangle: the caster boxes
+ *    route the rays of vtkPenumbraRayQueries.
+ *    All mode: every rank's casters to every rank (AllGatherV).
  * 4. The triangles received are handed to the pass as one shadow-only prop
  *    (vtkPenumbraSceneGeometry::SetShadowOnlyProps): they cast, they are never drawn, they
  *    have no view samples. A triangle found on several ranks (replicated data, duplicated
