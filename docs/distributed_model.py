@@ -43,16 +43,39 @@ def fit(points):
     return sum(x * y for x, y in points) / sxx if sxx else 0.0
 
 
+def measured(rows):
+    """The measurements, a row per rank count and mode."""
+    kinds = ("first", "static", "camera", "light", "data")
+    print("| ranks | mode | peak RSS per rank (MiB) | other ranks' triangles held (most, first frame) | "
+          "KiB sent per rank: first / static / camera / light / data | "
+          "frame ms: first / static / camera / light / data |")
+    print("|---:|---|---:|---:|---|---|")
+    keys = sorted({(int(r["ranks"]), r["mode"]) for r in rows},
+                  key=lambda k: (k[0], ("need", "all", "distributed").index(k[1])))
+    for p, m in keys:
+        by = {r["frame"]: r for r in rows if int(r["ranks"]) == p and r["mode"] == m}
+        if not all(k in by for k in kinds):
+            continue
+        print("| %d | %s | %.0f | %.0f | %s | %s |" % (
+            p, m, max(by[k]["max_peak_rss_mib"] for k in kinds), by["first"]["max_held"],
+            " / ".join("%.0f" % (by[k]["max_bytes_sent"] / 1024.0) for k in kinds),
+            " / ".join("%.0f" % by[k]["max_frame_ms"] for k in kinds)))
+    print()
+
+
 def main(path):
     rows = load(path)
+    measured(rows)
     pixels = 512 * 384
     first = {(r["mode"], int(r["ranks"])): r for r in rows if r["frame"] == "first"}
     camera = {(r["mode"], int(r["ranks"])): r for r in rows if r["frame"] == "camera"}
     n = next(iter(first.values()))["triangles"]
+    # Fitted where the pieces tile the ground (RedistributeDataSet cuts x, then y, then z: at
+    # 8 ranks each quadrant is cut into its lower and upper half).
     need = [(n / math.sqrt(p), r["max_held"]) for (m, p), r in first.items()
-            if m == "need" and p > 1]
+            if m == "need" and 1 < p <= 4]
     rays = [(pixels / math.sqrt(p), r["max_rays_sent"]) for (m, p), r in camera.items()
-            if m == "distributed" and p > 1]
+            if m == "distributed" and 1 < p <= 4]
     c_need, c_rays = fit(need), fit(rays)
     one = first.get(("need", 1))
     own_bytes = one["max_peak_rss_mib"] * 1048576.0 / n if one else 600.0
@@ -65,8 +88,16 @@ def main(path):
             continue
         held = first.get(("need", p), {}).get("max_held", float("nan"))
         sent = camera.get(("distributed", p), {}).get("max_rays_sent", float("nan"))
-        print("| %d | %.0f | %.0f | %.0f | %.0f |" % (p, held, c_need * n / math.sqrt(p), sent,
-                                                     c_rays * pixels / math.sqrt(p)))
+        if p <= 4:
+            model = "%.0f" % (c_need * n / math.sqrt(p))
+            ray_model = "%.0f" % (c_rays * pixels / math.sqrt(p))
+        else:
+            # Pieces cut in z too: a valley half holds its hill twin (N / P) and the band of
+            # the quadrant tiling (P / 2 tiles); its rays are not modelled.
+            model = "%.0f (z cut: N/P + band of P/2 tiles)" % (
+                n / p + c_need * n / math.sqrt(p / 2))
+            ray_model = "-"
+        print("| %d | %.0f | %s | %.0f | %s |" % (p, held, model, sent, ray_model))
     print("\n| triangles | ranks | need: held per rank | need: MiB per rank | need: MiB sent on "
           "a change | distributed: MiB per rank | distributed: KiB per frame |")
     print("|---:|---:|---:|---:|---:|---:|---:|")

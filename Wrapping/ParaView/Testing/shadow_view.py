@@ -41,13 +41,16 @@ def sun_view(size, sun_position):
 
 def show_split(view, sources):
     """Triangulates `sources`, appends them into one data set spread over the ranks by
-    RedistributeDataSet (each cell on one rank) and shows it in `view`, uncoloured. The
-    camera looks at the origin from the front and above."""
+    RedistributeDataSet (each cell on one rank) and shows it in `view`, uncoloured, after one
+    render. The camera looks at the origin from the front and above."""
     parts = [pvs.Triangulate(Input=s) for s in sources]
     scene = pvs.RedistributeDataSet(Input=pvs.AppendDatasets(Input=parts))
     scene.BoundaryMode = "Assign to one region"
     display = pvs.Show(scene, view)
     display.ColorArrayName = ["POINTS", ""]
+    # paraview.simple resets the camera at a view's first render in pvbatch, not always in a
+    # client: one render first, so that the camera is this one everywhere.
+    pvs.Render(view)
     look_at(view, [2.0, -11.0, 9.0], [0.0, 0.0, 0.5])
     return scene
 
@@ -76,7 +79,6 @@ def show_terrain(view, resolution=708):
     terrain = pvs.WarpByScalar(Input=hills, Scalars=["POINTS", "height"],
                                Normal=[0, 0, 1], UseNormal=1)
     show_split(view, (terrain,))
-    pvs.Render(view)  # paraview.simple resets the camera at a view's first render
     look_at(view, [0.0, -78.0, 62.0], [0.0, -2.0, -3.0])
     return terrain
 
