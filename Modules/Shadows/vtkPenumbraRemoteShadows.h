@@ -14,8 +14,8 @@
  * with its own casters, and turns the samples that any of them blocks to shadowed.
  *
  * Only hard lights (directional, point, spot: not vtkPenumbraAreaLight, whose answers are
- * fractions) are resolved; the pass does not reuse a frame while a hook is set, since another
- * process's casters may have changed.
+ * fractions) are resolved. A frame is reused (and Resolve() skipped) only when AgreeToReuse()
+ * says so, on every process at once.
  */
 
 #ifndef vtkPenumbraRemoteShadows_h
@@ -51,6 +51,15 @@ public:
     const std::vector<vtkLight*>& lights, const std::vector<vtkFloatArray*>& visibilities,
     std::string& error) = 0;
 #endif
+
+  /**
+   * Called by the pass once in every frame, on every process, before any shadow work:
+   * `mine` is whether this process could reuse its last frame (nothing it depends on changed,
+   * or it has nothing to shadow). Returns true only when every process can and no process's
+   * casters changed since the last frame; the pass then reuses its frame and does not call
+   * Resolve(). Collective.
+   */
+  virtual bool AgreeToReuse(bool mine) = 0;
 
 protected:
   vtkPenumbraRemoteShadows() = default;

@@ -680,16 +680,27 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
 
   int w = 0, h = 0, x = 0, y = 0;
   ren->GetTiledSizeAndOrigin(&w, &h, &x, &y);
-  if (anyShadowed && geometryOk && impl.Idle.empty() && w > 0 && h > 0)
+  const bool active = anyShadowed && geometryOk && impl.Idle.empty() && w > 0 && h > 0;
+  std::vector<double> viewKey, lightsKey;
+  bool sameView = false, unchanged = true; // unchanged: a process with no work has none to redo
+  if (active)
   {
-    std::vector<double> viewKey = impl.ViewKey(s, this);
-    std::vector<double> lightsKey = impl.LightsKey();
+    viewKey = impl.ViewKey(s, this);
+    lightsKey = impl.LightsKey();
     // The view samples are the same as long as the view is: a light that moves, a technique
     // that changes, reuse them (no G-buffer, no read-back).
-    const bool sameView = impl.HasFrame && viewKey == impl.LastViewKey;
-    // Another process's casters may have moved: a distributed frame is never reused.
-    impl.LastReused =
-      this->ReuseUnchangedFrames && !impl.Remote && sameView && lightsKey == impl.LastLightsKey;
+    sameView = impl.HasFrame && viewKey == impl.LastViewKey;
+    unchanged = this->ReuseUnchangedFrames && sameView && lightsKey == impl.LastLightsKey;
+  }
+  // A distributed frame is reused only when every process's is, and no process's casters
+  // moved: all of them then skip Resolve() together.
+  if (impl.Remote)
+  {
+    unchanged = impl.Remote->AgreeToReuse(unchanged);
+  }
+  if (active)
+  {
+    impl.LastReused = unchanged;
     if (!impl.LastReused)
     {
       // A new view's samples are rendered when a technique (or a read-back) first asks for
@@ -732,7 +743,10 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
     impl.SetInjected({});
   }
   // Nothing shadowed here: the other processes' rays are answered all the same.
-  impl.ResolveRemote(this, nullptr);
+  if (!unchanged)
+  {
+    impl.ResolveRemote(this, nullptr);
+  }
 
   this->RenderShaded(s, win);
 }

@@ -243,9 +243,15 @@ for technique in techniques:
               "%s: installed" % technique)
         rank_view_check(view, technique)
         image_check(view, technique)
-        if mode == "distributed" and rank == 0:
-            print("      " + view.GetProperty("CasterExchangeReport").GetData().replace(
-                "\n", "\n      "))
+        if mode == "distributed":
+            if rank == 0:
+                print("      " + view.GetProperty("CasterExchangeReport").GetData().replace(
+                    "\n", "\n      "))
+            pvs.Render(view)
+            view.UpdatePropertyInformation()
+            check(view.GetProperty("RaysSent").GetData() == 0 and
+                  view.GetProperty("RayBytesSent").GetData() == 0,
+                  "%s (distributed): an unchanged frame is reused, no ray sent" % technique)
 view.CasterExchange = "need"
 for technique, (most, casters) in stats.get("held", {}).items():
     if rank == 0:

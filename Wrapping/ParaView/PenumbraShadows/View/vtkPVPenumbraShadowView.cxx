@@ -338,6 +338,7 @@ void vtkPVPenumbraShadowView::GatherCasters()
   if (impl.Exchange.GetEffectiveMode() == penumbra::CasterExchange::Distributed)
   {
     impl.Queries->SetCasterBoxes(controller, impl.Exchange.GetCasterBoxes());
+    impl.Queries->SetCastersChanged(impl.Exchange.GetExchangedLastUpdate());
     pass->SetRemoteShadows(impl.Queries);
   }
   else

@@ -1,5 +1,6 @@
 #include "vtkPenumbraRayQueries.h"
 
+#include "vtkCommunicator.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
@@ -161,6 +162,22 @@ std::vector<unsigned char> vtkPenumbraRayQueries::Trace(vtkPenumbraSceneGeometry
     }
   }
   return bits;
+}
+
+bool vtkPenumbraRayQueries::AgreeToReuse(bool mine)
+{
+  if (!this->Controller)
+  {
+    return false;
+  }
+  int reuse = mine && !this->CastersChanged ? 1 : 0, all = 0;
+  this->Controller->AllReduce(&reuse, &all, 1, vtkCommunicator::MIN_OP);
+  if (all)
+  {
+    // A reused frame sends no ray: its figures are zero.
+    this->Last = Figures();
+  }
+  return all != 0;
 }
 
 bool vtkPenumbraRayQueries::Resolve(vtkPenumbraSceneGeometry* geometry,

@@ -49,6 +49,15 @@ public:
     const std::vector<vtkLight*>& lights, const std::vector<vtkFloatArray*>& visibilities,
     std::string& error) override;
 
+  /**
+   * Whether some rank's casters, receivers or lights changed this frame (the caster
+   * exchange's all-reduce, the same on every rank): such a frame is never reused.
+   */
+  void SetCastersChanged(bool changed) { this->CastersChanged = changed; }
+
+  /** A MIN all-reduce of `mine`, false when SetCastersChanged(true). */
+  bool AgreeToReuse(bool mine) override;
+
   /** This rank's figures of the last frame. */
   struct Figures
   {
@@ -83,6 +92,7 @@ private:
   void Gather();
 
   vtkMultiProcessController* Controller = nullptr;
+  bool CastersChanged = true;
   std::vector<std::vector<std::array<double, 6>>> Boxes;
   vtkNew<vtkPenumbraReference> Tracer;
   Figures Last;
