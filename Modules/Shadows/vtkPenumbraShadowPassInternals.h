@@ -187,6 +187,7 @@ struct vtkPenumbraShadowPass::Internals
   // processes' rays are still answered).
   vtkSmartPointer<vtkPenumbraRemoteShadows> Remote;
   bool RemoteResolved = false;
+  std::set<vtkLight*> WarnedRemote; // area lights told they see only local casters (once)
   void ResolveRemote(vtkPenumbraShadowPass* pass, vtkPenumbraFrame* frame);
   vtkPenumbraShadowTechnique* Choose(vtkPenumbraShadowPass* pass, size_t i);
   void SkipUnreachedLights(bool readsSamples);

@@ -439,9 +439,22 @@ void vtkPenumbraShadowPass::Internals::ResolveRemote(
   for (int k = 0; frame && k < frame->GetNumberOfShadowedLights(); ++k)
   {
     const size_t index = static_cast<size_t>(frame->GetLightIndex(k));
-    if (!frame->HasVisibility(k) || index >= lights.size() ||
-      vtkPenumbraAreaLight::SafeDownCast(frame->GetShadowedLight(k)))
+    if (!frame->HasVisibility(k) || index >= lights.size())
     {
+      continue;
+    }
+    if (vtkPenumbraAreaLight::SafeDownCast(frame->GetShadowedLight(k)))
+    {
+      // Fractions of a light cannot be combined from one bit a ray: said once per light.
+      if (this->WarnedRemote.insert(lights[index]).second)
+      {
+        vtkWarningWithObjectMacro(pass,
+          "Light "
+            << index
+            << " (an area or sphere light) is "
+               "shadowed by this process's own casters only: the other processes' shadows are "
+               "resolved for point, spot and directional lights");
+      }
       continue;
     }
     samples = frame->GetSamples();

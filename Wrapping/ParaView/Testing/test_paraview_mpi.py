@@ -314,6 +314,20 @@ if ranks > 1:
           % techniques[0], everywhere=False)
     view.CasterMemoryBudget = 0
 
+# An area (sphere) light in distributed mode sees each rank's own casters only: said.
+if ranks > 1 and scene == "small":
+    view.CasterExchange = "distributed"
+    view.ShadowTechnique = "raytraced"
+    sun = view.AdditionalLights[0]
+    sun.Type = "Positional"
+    sun.Position = [-6.0, -2.0, 6.0]
+    sun.ConeAngle = 90.0
+    sun.ShadowRadius = 0.5
+    pvs.Render(view)
+    check(any("own casters only" in m for m in messages),
+          "distributed: a sphere light's rank-local shadows are reported")
+    del messages[:]
+
 check(not messages, "no error or warning reached the output window (%s)"
       % [m[:160] for m in messages[:1]])
 
