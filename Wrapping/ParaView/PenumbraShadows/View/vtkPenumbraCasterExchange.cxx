@@ -245,6 +245,10 @@ bool CasterExchange::ExchangeNeeded(
     std::copy(casters[b].begin(), casters[b].end(), record.begin() + CastersAt + 6 * b);
   }
   controller->AllGather(record.data(), records.data(), RecordSize);
+  // The records count as traffic too: this rank's to every other, theirs to it.
+  const vtkIdType recordBytes = static_cast<vtkIdType>(sizeof(double)) * RecordSize;
+  this->Last.BytesSent += recordBytes * (ranks - 1);
+  this->Last.BytesReceived += recordBytes * (ranks - 1);
   // The casters of every rank lie in `bounds` (they set a directional light's sweep); the
   // scene's bounds are those of every triangle (vtkPenumbraSceneGeometry::SetSceneBounds).
   double bounds[6];
