@@ -1,5 +1,6 @@
 """Loading the PenumbraShadows plugin from pvpython, pvbatch or the GUI's Python shell, on the
-client and on the server, whether or not a process has it already.
+client and on the server, whether or not a process has it already; and what its view sent
+between MPI ranks (exchange_report).
 
     from paraview.simple import *
     Connect("localhost", 11111)                  # or no Connect: the built-in session
@@ -59,3 +60,17 @@ def load_plugin(plugin=None, ns=None):
     if not missing and ns is not None:
         simple.LoadPlugins(ns=ns)  # nothing to load; refreshes `ns` as LoadPlugin would
     return missing
+
+
+def exchange_report(view):
+    """What distributed rendering sent between the ranks for `view` (a PenumbraShadowView), as
+    text: a line per rank of the last caster exchange (own casters, other ranks' triangles
+    held, triangles and bytes sent, bytes received, peers, the time of each step) and, with
+    CasterExchange "distributed", of the last frame's ray queries. From the render server's
+    first rank in client/server mode, from this rank under pvbatch --symmetric (rank 0 has
+    every rank's lines); "" before a distributed render.
+
+        print(penumbra_paraview.exchange_report(view))
+    """
+    view.UpdatePropertyInformation()
+    return view.GetProperty("CasterExchangeReport").GetData()

@@ -272,6 +272,11 @@ def session_four_ranks(reference, run):
         path = os.path.join(out_dir, "client-server-4-ranks-%d.png" % run)
         pvs.SaveScreenshot(path, view, ImageResolution=[192, 192])
         stats = statistics(view)
+        report = penumbra_paraview.exchange_report(view)
+        if run == 1:
+            print(report)
+        check(report.count("\nrank ") == 4 and "(need)" in report,
+              "4-rank pvserver: the client reads every rank's exchange figures")
         differing = shadow_view.compare_images(path, reference)
         check(differing == 0 and stats["RemoteCasterTriangles"] > 0,
               "4-rank pvserver, run %d: the image equals pvbatch's on 4 ranks (%d pixels "
