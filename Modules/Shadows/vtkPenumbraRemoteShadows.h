@@ -13,6 +13,9 @@
  * sends the lit samples' rays to the processes whose casters they may cross, answers theirs
  * with its own casters, and turns the samples that any of them blocks to shadowed.
  *
+ * While a hook is set, the pass does not rule out shadow work because of the casters it holds
+ * (a process whose own props cast nothing, or whose samples' rays miss them, still computes
+ * its frame), only because of its samples (none visible, all facing away, outside a cone).
  * Only hard lights (directional, point, spot: not vtkPenumbraAreaLight, whose answers are
  * fractions) are resolved. A frame is reused (and Resolve() skipped) only when AgreeToReuse()
  * says so, on every process at once.

@@ -673,9 +673,10 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   impl.Idle.clear();
   if (anyShadowed && geometryOk)
   {
-    impl.Idle = !impl.CasterBox() ? "nothing casts shadows"
-      : !impl.AnyReceiver()       ? "no lit surface receives shadows"
-                                  : "";
+    // Other processes' casters may shadow this one's receivers (SetRemoteShadows()).
+    impl.Idle = !impl.CasterBox() && !impl.Remote ? "nothing casts shadows"
+      : !impl.AnyReceiver()                       ? "no lit surface receives shadows"
+                                                  : "";
   }
 
   int w = 0, h = 0, x = 0, y = 0;

@@ -321,8 +321,12 @@ void vtkPenumbraShadowPass::Internals::SkipUnreachedLights(bool readsSamples)
       return;
     }
     this->Witness.resize(this->Lights.size(), -1);
-    report.Skipped = NothingToShadow(
-      this->Lights[i], samples, this->CasterBox(), this->SampleBox(samples), this->Witness[i]);
+    // Other processes' casters may lie anywhere (SetRemoteShadows()): only the samples
+    // themselves can rule a light out.
+    const double anywhere[6] = { -DBL_MAX / 4, DBL_MAX / 4, -DBL_MAX / 4, DBL_MAX / 4, -DBL_MAX / 4,
+      DBL_MAX / 4 };
+    report.Skipped = NothingToShadow(this->Lights[i], samples,
+      this->Remote ? anywhere : this->CasterBox(), this->SampleBox(samples), this->Witness[i]);
     if (!report.Skipped.empty())
     {
       report.Technique = nullptr;
