@@ -262,26 +262,31 @@ def session_without_plugin():
         loaded_plugin_checks()
 
 
+def four_rank_checks(reference, run):
+    view = make_view()
+    view.ShadowTechnique = "raytraced"
+    pvs.Render(view)
+    path = os.path.join(out_dir, "client-server-4-ranks-%d.png" % run)
+    pvs.SaveScreenshot(path, view, ImageResolution=[192, 192])
+    stats = statistics(view)
+    report = penumbra_paraview.exchange_report(view)
+    if run == 1:
+        print(report)
+    check(report.count("\nrank ") == 4 and "(need)" in report,
+          "4-rank pvserver: the client reads every rank's exchange figures")
+    differing = shadow_view.compare_images(path, reference)
+    check(differing == 0 and stats["RemoteCasterTriangles"] > 0,
+          "4-rank pvserver, run %d: the image equals pvbatch's on 4 ranks (%d pixels "
+          "differ; rank 0 holds %d triangles of the others)"
+          % (run, differing, stats["RemoteCasterTriangles"]))
+
+
 def session_four_ranks(reference, run):
-    """pvpython on a 4-rank pvserver draws the image pvbatch draws on 4 ranks."""
+    """pvpython on a 4-rank pvserver draws the image pvbatch draws on 4 ranks. The checks'
+    proxies are gone (their function returned) before the session ends."""
     with Server("pvserver-4-ranks", with_plugin=True, ranks=4):
         penumbra_paraview.load_plugin(ns=globals())
-        view = make_view()
-        view.ShadowTechnique = "raytraced"
-        pvs.Render(view)
-        path = os.path.join(out_dir, "client-server-4-ranks-%d.png" % run)
-        pvs.SaveScreenshot(path, view, ImageResolution=[192, 192])
-        stats = statistics(view)
-        report = penumbra_paraview.exchange_report(view)
-        if run == 1:
-            print(report)
-        check(report.count("\nrank ") == 4 and "(need)" in report,
-              "4-rank pvserver: the client reads every rank's exchange figures")
-        differing = shadow_view.compare_images(path, reference)
-        check(differing == 0 and stats["RemoteCasterTriangles"] > 0,
-              "4-rank pvserver, run %d: the image equals pvbatch's on 4 ranks (%d pixels "
-              "differ; rank 0 holds %d triangles of the others)"
-              % (run, differing, stats["RemoteCasterTriangles"]))
+        four_rank_checks(reference, run)
 
 
 os.makedirs(out_dir, exist_ok=True)
