@@ -8,6 +8,7 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPenumbraAreaLight.h"
 #include "vtkPenumbraShadowKeys.h"
+#include "vtkPenumbraShadowReach.h"
 #include "vtkPenumbraVisibilityRules.h"
 #include "vtkRenderer.h"
 #include "vtk_glew.h"
@@ -29,31 +30,10 @@ namespace
 bool RayMeetsBox(
   const double p[3], const double toLight[3], const double* toPoint, const double box[6])
 {
-  double t0 = 0.0, t1 = toPoint ? 1.0 : std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a)
-  {
-    const double d = toPoint ? toPoint[a] - p[a] : toLight[a];
-    if (d == 0.0)
-    {
-      if (p[a] < box[2 * a] || p[a] > box[2 * a + 1])
-      {
-        return false;
-      }
-      continue;
-    }
-    double ta = (box[2 * a] - p[a]) / d, tb = (box[2 * a + 1] - p[a]) / d;
-    if (ta > tb)
-    {
-      std::swap(ta, tb);
-    }
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-    if (t0 > t1)
-    {
-      return false;
-    }
-  }
-  return true;
+  const double d[3] = { toPoint ? toPoint[0] - p[0] : toLight[0],
+    toPoint ? toPoint[1] - p[1] : toLight[1], toPoint ? toPoint[2] - p[2] : toLight[2] };
+  return penumbra_reach::SegmentMeetsBox(
+    p, d, toPoint ? 1.0 : std::numeric_limits<double>::infinity(), box);
 }
 
 // Why a light needs no shadow work this frame, or "" when it may shadow a visible sample:
@@ -69,27 +49,18 @@ std::string NothingToShadow(vtkLight* light, vtkPenumbraViewSamples* samples,
   light->GetTransformedFocalPoint(focal);
   double axis[3] = { focal[0] - pos[0], focal[1] - pos[1], focal[2] - pos[2] };
   const double axisLength = vtkMath::Normalize(axis);
-  std::vector<std::array<double, 3>> points; // positional emitter points (corners)
+  // Positional emitter points: an area light's corners (a disc's bounding square), which
+  // enclose every light sample, or a point light's position; none for a directional light.
+  std::vector<std::array<double, 3>> points;
   auto* area = vtkPenumbraAreaLight::SafeDownCast(light);
-  double u[3], v[3], n[3];
-  if (area && area->GetAxes(u, v, n))
+  penumbra_reach::LightReach reach;
+  std::string unusable; // the technique reports it
+  if (penumbra_reach::DescribeLight(light, reach, unusable))
   {
-    area->GetCentre(pos);
-    const double hw = 0.5 * area->GetWidth();
-    // A disc's bounding square: the corners enclose every emitter point.
-    const double hh = 0.5 * area->GetExtentV();
-    for (double a : { -hw, hw })
+    for (size_t k = 0; k + 2 < reach.Points.size(); k += 3)
     {
-      for (double b : { -hh, hh })
-      {
-        points.push_back({ pos[0] + a * u[0] + b * v[0], pos[1] + a * u[1] + b * v[1],
-          pos[2] + a * u[2] + b * v[2] });
-      }
+      points.push_back({ reach.Points[k], reach.Points[k + 1], reach.Points[k + 2] });
     }
-  }
-  else if (light->GetPositional())
-  {
-    points.push_back({ pos[0], pos[1], pos[2] });
   }
   const bool spot =
     !area && light->GetPositional() && light->GetConeAngle() < 90.0 && axisLength > 0;
