@@ -349,10 +349,17 @@ void vtkPVPenumbraShadowView::GatherCasters()
 
 void vtkPVPenumbraShadowView::SetCasterExchange(int mode)
 {
-  const int value = std::min(std::max(mode, 0), 2);
-  if (value != this->CasterExchange)
+  if (mode < 0 || mode > 2)
   {
-    this->CasterExchange = value;
+    vtkErrorMacro("CasterExchange " << mode
+                                    << " is not 0 (need), 1 (all) or 2 (distributed); "
+                                       "keeping "
+                                    << this->CasterExchange);
+    return;
+  }
+  if (mode != this->CasterExchange)
+  {
+    this->CasterExchange = mode;
     this->Modified();
   }
 }
@@ -380,10 +387,17 @@ bool vtkPVPenumbraShadowView::RayQueriesActive()
 
 void vtkPVPenumbraShadowView::SetCasterMemoryBudget(double megabytes)
 {
-  const double value = std::isfinite(megabytes) && megabytes > 0.0 ? megabytes : 0.0;
-  if (value != this->CasterMemoryBudget)
+  if (!std::isfinite(megabytes) || megabytes < 0.0)
   {
-    this->CasterMemoryBudget = value;
+    vtkErrorMacro("CasterMemoryBudget " << megabytes
+                                        << " MiB is not a finite number >= 0 (0: "
+                                           "no limit); keeping "
+                                        << this->CasterMemoryBudget);
+    return;
+  }
+  if (megabytes != this->CasterMemoryBudget)
+  {
+    this->CasterMemoryBudget = megabytes;
     this->Modified();
   }
 }

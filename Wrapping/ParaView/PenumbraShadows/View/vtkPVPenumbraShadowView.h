@@ -153,7 +153,7 @@ public:
    * `distributed`, no casters: each rank keeps its own, and the shadow rays of its hard
    * lights that its casters leave lit go to the ranks whose casters they may cross
    * (vtkPenumbraRayQueries; area lights are then shadowed by the rank's own casters only).
-   * Values out of range are clamped. Takes effect at the next render.
+   * Other values are refused with an error. Takes effect at the next render.
    */
   void SetCasterExchange(int mode);
   int GetCasterExchange() { return this->CasterExchange; }
@@ -163,7 +163,8 @@ public:
   /**
    * Memory budget per rank for the other ranks' casters, in MiB (0, the default: none).
    * When the need-based exchange would make some rank hold more (about 333 bytes a
-   * triangle), that exchange is made `distributed` instead, on every rank.
+   * triangle), that exchange is made `distributed` instead, on every rank. A negative or
+   * non-finite budget is refused with an error.
    */
   void SetCasterMemoryBudget(double megabytes);
   double GetCasterMemoryBudget() { return this->CasterMemoryBudget; }

@@ -381,6 +381,14 @@ void CasterExchange::Transfer(vtkMultiProcessController* controller,
 
 void CasterExchange::BuildRemote()
 {
+  if (std::all_of(this->Received.begin(), this->Received.end(),
+        [](const std::vector<double>& r) { return r.empty(); }))
+  {
+    // Distributed mode, or nothing needed: no triangle to sort against the local ones.
+    this->Remote->Initialize();
+    this->Last.TrianglesHeld = 0;
+    return;
+  }
   // Every rank's triangles in rank order, this rank's own among them.
   std::vector<const double*> blocks;
   std::vector<vtkIdType> counts;
