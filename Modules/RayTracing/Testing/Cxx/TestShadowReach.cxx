@@ -20,6 +20,8 @@
 #include "vtkPropCollection.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <iostream>
 
@@ -32,12 +34,23 @@ namespace
 {
 constexpr int Res = 48; // samples over this rank's quadrant [-4, 0]^2
 
+// Where the whole scene stands: the origin, then georeferenced (UTM-like) coordinates, where
+// the samples' and the tracer's float32 rounding is largest against the scene.
+double Offset[3] = { 0, 0, 0 };
+
+// Moves a light's position and focal point by Offset.
+void Place(vtkLight* light, double x, double y, double z, double fx, double fy, double fz)
+{
+  light->SetPosition(x + Offset[0], y + Offset[1], z + Offset[2]);
+  light->SetFocalPoint(fx + Offset[0], fy + Offset[1], fz + Offset[2]);
+}
+
 // The quadrants other than [-4, 0]^2 and 64 boxes over [-4, 4]^2, 0.3 to 1.7 high.
 void AddOthers(vtkRenderer* renderer)
 {
-  AddRectangle(renderer, 0, 4, -4, 0, 0);
-  AddRectangle(renderer, -4, 0, 0, 4, 0);
-  AddRectangle(renderer, 0, 4, 0, 4, 0);
+  AddRectangle(renderer, 0, 4, -4, 0, 0, Offset);
+  AddRectangle(renderer, -4, 0, 0, 4, 0, Offset);
+  AddRectangle(renderer, 0, 4, 0, 4, 0, Offset);
   for (int i = 0; i < 8; ++i)
   {
     for (int j = 0; j < 8; ++j)
@@ -45,8 +58,7 @@ void AddOthers(vtkRenderer* renderer)
       const double height = 0.3 + 0.2 * ((3 * i + 5 * j) % 8);
       vtkNew<vtkCubeSource> box;
       box->SetBounds(-3.8 + i, -3.4 + i, -3.8 + j, -3.4 + j, 0.0, height);
-      const double zero[3] = { 0, 0, 0 };
-      AddActor(renderer, box, zero);
+      AddActor(renderer, box, Offset);
     }
   }
 }
@@ -59,8 +71,7 @@ void AddOwn(vtkRenderer* renderer)
   plane->SetPoint1(0, -4, 0);
   plane->SetPoint2(-4, 0, 0);
   plane->SetResolution(8, 8);
-  const double zero[3] = { 0, 0, 0 };
-  AddActor(renderer, plane, zero);
+  AddActor(renderer, plane, Offset);
 }
 
 // `world` (9 coordinates a triangle) as one polydata actor.
@@ -103,33 +114,29 @@ std::vector<Case> Lights()
   };
   vtkNew<vtkLight> sun; // 25 degrees above the horizon, from +x +y
   sun->SetPositional(false);
-  sun->SetPosition(1.5, 1.0, 1.2);
-  sun->SetFocalPoint(0, 0, 0);
+  Place(sun, 1.5, 1.0, 1.2, 0, 0, 0);
   add("low sun", sun, nullptr);
   vtkNew<vtkLight> point;
   point->SetPositional(true);
   point->SetConeAngle(180.0);
-  point->SetPosition(1.0, 1.5, 2.5);
+  Place(point, 1.0, 1.5, 2.5, 1.0, 1.5, 0.0);
   add("point light", point, nullptr);
   vtkNew<vtkPenumbraAreaLight> rectangle;
-  rectangle->SetPosition(2.5, 0.5, 3.0);
-  rectangle->SetFocalPoint(2.5, 0.5, 0.0);
+  Place(rectangle, 2.5, 0.5, 3.0, 2.5, 0.5, 0.0);
   rectangle->SetWidth(1.5);
   rectangle->SetHeight(0.8);
   rectangle->SetSamplesPerAxis(4);
   add("rectangle light", rectangle, nullptr);
   vtkNew<vtkPenumbraAreaLight> line;
   line->SetShapeToLine();
-  line->SetPosition(0.5, 2.5, 2.0);
-  line->SetFocalPoint(0.5, 2.5, 0.0);
+  Place(line, 0.5, 2.5, 2.0, 0.5, 2.5, 0.0);
   line->SetWidth(2.0);
   line->SetSamplesPerAxis(6);
   add("line light", line, nullptr);
   vtkNew<vtkLight> sphere;
   sphere->SetPositional(true);
   sphere->SetConeAngle(180.0);
-  sphere->SetPosition(2.0, 2.0, 2.0);
-  sphere->SetFocalPoint(0.0, 0.0, 0.0);
+  Place(sphere, 2.0, 2.0, 2.0, 0.0, 0.0, 0.0);
   vtkPenumbraShadowKeys::SetLightRadius(sphere, 0.6);
   vtkNew<vtkPenumbraAreaLight> disc;
   disc->SetSamplesPerAxis(4);
@@ -225,8 +232,7 @@ int CheckSelection(const Case& c)
 
   // The same samples (this rank's quadrant) against the three sets of casters.
   vtkNew<vtkPenumbraViewSamples> samples;
-  const double zero[3] = { 0, 0, 0 };
-  FillGroundSamples(samples, all, 0, zero, Res, -4.0, 0.0);
+  FillGroundSamples(samples, all, 0, Offset, Res, -4.0, 0.0);
   vtkNew<vtkFloatArray> exact, near, alone;
   vtkNew<vtkPenumbraReference> reference;
   reference->SetGeometry(all);
@@ -284,11 +290,18 @@ int TestShadowReach(int, char*[])
 {
   RUN(CheckRegionTests());
   RUN(CheckDescribeLights());
-  const auto cases = Lights();
-  CHECK(cases.size() == 5);
-  for (const Case& c : cases)
+  const std::array<double, 3> offsets[] = { { 0, 0, 0 }, { 652000, 4305000, 180 } };
+  for (const auto& offset : offsets)
   {
-    RUN(CheckSelection(c));
+    std::copy(offset.begin(), offset.end(), Offset);
+    std::cout << "scene at (" << Offset[0] << ", " << Offset[1] << ", " << Offset[2] << ")"
+              << std::endl;
+    const auto cases = Lights();
+    CHECK(cases.size() == 5);
+    for (const Case& c : cases)
+    {
+      RUN(CheckSelection(c));
+    }
   }
   return EXIT_SUCCESS;
 }
