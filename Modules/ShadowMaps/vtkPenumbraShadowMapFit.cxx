@@ -750,6 +750,75 @@ namespace penumbra_shadow_maps
 {
 // Whether the camera of `renderer` sees the whole box of the scene's triangles: its eight
 // corners project inside the view volume (FIT_TO_AUTO).
+// The extent of every process's receivers (Used, Box, Lo, Hi, Farthest, SpotTan, Pending:
+// minima and maxima, one reduction; the plane corners: each process's hull, gathered), so
+// that every process fits the same views. Collective.
+void ShareExtent(vtkPenumbraRemoteShadows& processes, ReceiverExtent& e)
+{
+  std::vector<double> v;
+  for (int a = 0; a < 3; ++a)
+  {
+    v.push_back(e.Box[2 * a]);
+    v.push_back(-e.Box[2 * a + 1]);
+    v.push_back(e.Lo[a]);
+    v.push_back(-e.Hi[a]);
+  }
+  for (char used : e.Used)
+  {
+    v.push_back(used ? -1.0 : 0.0);
+  }
+  v.push_back(-e.Farthest);
+  v.push_back(-e.SpotTan);
+  v.push_back(-static_cast<double>(e.Pending));
+  processes.ReduceMinimum(v.data(), static_cast<int>(v.size()));
+  size_t i = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    e.Box[2 * a] = v[i++];
+    e.Box[2 * a + 1] = -v[i++];
+    e.Lo[a] = v[i++];
+    e.Hi[a] = -v[i++];
+  }
+  for (char& used : e.Used)
+  {
+    used = v[i++] < 0.0 ? 1 : 0;
+  }
+  e.Farthest = -v[i++];
+  e.SpotTan = -v[i++];
+  e.Pending = static_cast<vtkIdType>(-v[i++]);
+  if (!e.CollectPlane)
+  {
+    return;
+  }
+  // The hull of the union is the hull of the processes' hulls.
+  std::vector<double> corners;
+  if (!e.Plane.empty())
+  {
+    double lo[2] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max() };
+    double hi[2] = { -lo[0], -lo[1] };
+    for (const PlanePoint& p : e.Plane)
+    {
+      for (int a = 0; a < 2; ++a)
+      {
+        lo[a] = std::min(lo[a], p[a]);
+        hi[a] = std::max(hi[a], p[a]);
+      }
+    }
+    const double size[2] = { hi[0] - lo[0], hi[1] - lo[1] };
+    for (const PlanePoint& p : ConvexHull(ExtremePointFilter(e.Plane, size)))
+    {
+      corners.push_back(p[0]);
+      corners.push_back(p[1]);
+    }
+  }
+  processes.GatherValues(corners);
+  e.Plane.clear();
+  for (size_t c = 0; c + 1 < corners.size(); c += 2)
+  {
+    e.Plane.push_back({ corners[c], corners[c + 1] });
+  }
+}
+
 bool SceneInView(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry)
 {
   double bounds[6];

@@ -204,6 +204,77 @@ void vtkPenumbraShadowMapShadows::Internals::ResolveMidpoint(vtkPenumbraShadowMa
 }
 
 //------------------------------------------------------------------------------
+// A distributed frame's slot (every process drew its own casters into the same view): per
+// texel the nearest depth over the processes, and for midpoint maps the nearest behind it
+// (Brabec 2003, ch. 4.1.1, over the union of the casters). The second layer of a process
+// whose first surface is the nearest overall is its next surface; any other process's first
+// surface is a candidate too, so it is the minimum of those. Two minimum reductions of a
+// map's texels, whatever the number of triangles. On the GPU the layers are read back from
+// and written into their textures; on the CPU they are the slot's map and the second layer.
+void vtkPenumbraShadowMapShadows::Internals::CompositeSlot(vtkPenumbraShadowMapShadows* self,
+  vtkPenumbraRemoteShadows* processes, vtkTextureObject* slotTexture, LightMaps* maps, int slot)
+{
+  const bool gpuLookup = self->Lookup != LOOKUP_CPU;
+  const bool midpoint = self->DepthMode == DEPTH_MIDPOINT;
+  const size_t texels = static_cast<size_t>(maps->Width) * maps->Height;
+  const int layers = midpoint ? 2 : 1;
+  std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
+  this->Composited.resize(static_cast<size_t>(layers) * texels);
+  float* first = this->Composited.data();
+  float* second = first + texels;
+  // The GPU's layers: the slot's compare texture (linear depth) or the scratch layers.
+  auto texture = [&](int layer)
+  { return gpuLookup && !midpoint ? slotTexture : this->DepthTextures[layer].Get(); };
+  for (int layer = 0; layer < layers; ++layer)
+  {
+    float* target = layer == 0 ? first : second;
+    if (!gpuLookup)
+    {
+      const float* source = layer == 0 ? map.data() : this->SecondLayer.data();
+      std::copy_n(source, texels, target);
+      continue;
+    }
+    this->FBO->AddDepthAttachment(texture(layer));
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, maps->Width, maps->Height, GL_DEPTH_COMPONENT, GL_FLOAT, target);
+  }
+  std::vector<float> own;
+  if (midpoint)
+  {
+    own.assign(first, first + texels);
+  }
+  processes->ReduceMinimum(first, texels);
+  if (midpoint)
+  {
+    vtkSMPTools::For(0, static_cast<vtkIdType>(texels),
+      [&](vtkIdType b, vtkIdType e)
+      {
+        for (vtkIdType i = b; i < e; ++i)
+        {
+          second[i] =
+            own[static_cast<size_t>(i)] > first[i] ? own[static_cast<size_t>(i)] : second[i];
+        }
+      });
+    processes->ReduceMinimum(second, texels);
+  }
+  for (int layer = 0; layer < layers; ++layer)
+  {
+    const float* source = layer == 0 ? first : second;
+    if (!gpuLookup)
+    {
+      std::copy_n(source, texels, layer == 0 ? map.data() : this->SecondLayer.data());
+      continue;
+    }
+    vtkTextureObject* target = texture(layer);
+    target->Activate();
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexSubImage2D(
+      GL_TEXTURE_2D, 0, 0, 0, maps->Width, maps->Height, GL_DEPTH_COMPONENT, GL_FLOAT, source);
+    target->Deactivate();
+  }
+}
+
+//------------------------------------------------------------------------------
 // The compare texture a slot's map is drawn into for the GPU lookup: the slot's kept texture
 // while its size still fits, a new one otherwise; null for the CPU lookup.
 vtkTextureObject* vtkPenumbraShadowMapShadows::Internals::SlotTexture(
@@ -230,8 +301,9 @@ vtkTextureObject* vtkPenumbraShadowMapShadows::Internals::SlotTexture(
 // fitted: linear float depth, depth clamping, the midpoint layer on request; the maps stay on
 // the GPU for the GPU lookup and are read back for the CPU one.
 bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShadows* self,
-  vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry, const LightSetup& setup,
-  const ReceiverExtent& extent, const int size[2], LightMaps* maps, std::string& error)
+  vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry,
+  vtkPenumbraRemoteShadows* processes, const LightSetup& setup, const ReceiverExtent& extent,
+  const int size[2], LightMaps* maps, std::string& error)
 {
   const auto mapStart = Clock::now();
   const int slotMode = this->SlotMode(self, setup);
@@ -252,6 +324,12 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
   }
   maps->Textures.resize(static_cast<size_t>(slots));
   vtkShaderProgram* program = this->MapProgram(self, win, setup, paraboloid);
+  if (processes && !processes->AllAgree(program != nullptr))
+  {
+    error = program ? "the shadow map shaders do not compile or link on another process"
+                    : "the shadow map shaders do not compile or link on this OpenGL implementation";
+    return false;
+  }
   if (!program)
   {
     error = "the shadow map shaders do not compile or link on this OpenGL implementation";
@@ -284,6 +362,10 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
     const GLsizei count = this->BindSlot(program, *maps, slot);
     vtkTextureObject* slotTexture = this->SlotTexture(self, win, maps, slot);
     this->DrawSlotLayers(self, ostate, program, count, slotTexture, maps, slot);
+    if (processes)
+    {
+      this->CompositeSlot(self, processes, slotTexture, maps, slot);
+    }
     if (midpoint)
     {
       this->ResolveMidpoint(self, win, program, slotTexture, maps, slot);

@@ -110,7 +110,11 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   }
   const LightSetup& setup = in.Light;
   const vtkIdType n = in.NumberOfSamples;
-  const bool anyCaster = !setup.Off && impl.UpdateCasters(this, in.Window, geometry);
+  // A distributed frame (ComputeFrame()): some process's casters, and the maps all of them
+  // composite, whatever this process's samples.
+  vtkPenumbraRemoteShadows* processes = impl.Processes;
+  bool anyCaster = !setup.Off && impl.UpdateCasters(this, in.Window, geometry);
+  anyCaster = processes ? processes->AnyProcess(anyCaster) : anyCaster;
 
   visibility->SetNumberOfComponents(1);
   visibility->SetNumberOfTuples(n);
@@ -119,7 +123,7 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
   unsigned char* state = impl.State.data();
   const penumbra_light_views::FacingCounts facing = penumbra_light_views::ClassifyFacing(setup, n,
     in.Positions, in.Normals, in.Props, in.Shift, anyCaster, vis, state, Pending, Decided);
-  if (facing.Pending == 0)
+  if (facing.Pending == 0 && !(processes && anyCaster))
   {
     visibility->Modified();
     this->LastTimeMs = ElapsedMs(start);
@@ -128,52 +132,51 @@ int vtkPenumbraShadowMapShadows::ComputeVisibility(vtkRenderer* renderer,
 
   // ---- The maps: kept while everything they depend on is unchanged (see MapKey()).
   const int slotMode = impl.SlotMode(this, setup);
-  std::vector<double> key = impl.MapKey(this, renderer, light, geometry, in.Shift,
+  const bool fitsScene = Internals::FitsScene(this, renderer, geometry, processes);
+  std::vector<double> key = impl.MapKey(this, renderer, light, geometry, fitsScene, in.Shift,
     static_cast<double>(n), static_cast<double>(facing.Pending));
   LightMaps* maps = &penumbra_light_views::LightCacheEntry(impl.Cache, light);
-  if (!maps->Valid || maps->Key != key)
+  auto receivers = [&](ReceiverExtent& extent, std::string&)
   {
-    ReceiverExtent extent;
-    extent.CollectPlane = this->FitRectangle != FIT_AXIS;
-    extent.Square = this->FitRectangle == FIT_SQUARE;
-    if (Internals::FitsScene(this, renderer, geometry))
-    {
-      ExtentFromScene(setup, slotMode, geometry, impl.Chunks, extent);
-    }
-    else if (slotMode == SlotsOne)
+    if (slotMode == SlotsOne)
     {
       // The same tile boxes the GPU frame path fits to, so both lookups use the same maps.
       ExtentFromTiles(setup, TilesFromSamples(in, samples->GetWidth(), samples->GetHeight()),
         TileCount(samples->GetWidth(), samples->GetHeight()), extent);
+      return true;
     }
-    else
+    double axes[3][3];
+    LightAxes(setup, axes);
+    for (vtkIdType s = 0; s < n; ++s)
     {
-      double axes[3][3];
-      LightAxes(setup, axes);
-      for (vtkIdType s = 0; s < n; ++s)
+      if (state[s] == Pending)
       {
-        if (state[s] == Pending)
-        {
-          double p[3];
-          SamplePoint(in, s, p);
-          AddReceiver(setup, axes, slotMode, p, extent);
-        }
+        double p[3];
+        SamplePoint(in, s, p);
+        AddReceiver(setup, axes, slotMode, p, extent);
       }
     }
+    return true;
+  };
+  const int width = samples->GetWidth(), height = samples->GetHeight();
+  auto estimate = [&](const View& view, std::vector<float>& needs, std::string&)
+  {
+    needs = EstimateSamples(in, width, height, state, view, this->AnalysisStep);
+    return true;
+  };
+  {
     std::string error;
-    maps->Key.swap(key);
-    const int width = samples->GetWidth(), height = samples->GetHeight();
-    auto estimate = [&](const View& view, std::vector<float>& needs, std::string&)
-    {
-      needs = EstimateSamples(in, width, height, state, view, this->AnalysisStep);
-      return true;
-    };
-    int size[2];
-    if (!impl.PlanMaps(this, setup, extent, estimate, maps, size, error) ||
-      !impl.RenderMaps(this, in.Window, geometry, setup, extent, size, maps, error))
+    if (!impl.UpdateMaps(this, in.Window, geometry, processes, setup, fitsScene, key, receivers,
+          estimate, maps, error))
     {
       PENUMBRA_FAIL("shadow maps: " << error);
     }
+  }
+  if (facing.Pending == 0)
+  {
+    visibility->Modified();
+    this->LastTimeMs = ElapsedMs(start);
+    return 1;
   }
   this->LastMapSize[0] = maps->Width;
   this->LastMapSize[1] = maps->Height;
@@ -203,7 +206,11 @@ int vtkPenumbraShadowMapShadows::ComputeFrame(vtkPenumbraFrame* frame)
 {
   if (this->Lookup == LOOKUP_CPU)
   {
-    return this->Superclass::ComputeFrame(frame); // the maps are compared on the CPU
+    // The maps are compared on the CPU, light by light through ComputeVisibility().
+    this->Impl->Processes = frame->GetProcesses();
+    const int done = this->Superclass::ComputeFrame(frame);
+    this->Impl->Processes = nullptr;
+    return done;
   }
   return this->ComputeFrameLights(frame, "shadow maps",
     [this, frame](int k, std::string& error)
@@ -225,6 +232,82 @@ bool vtkPenumbraShadowMapShadows::Internals::UpdateCasters(
     ++self->NumberOfUploads;
   }
   return this->Casters.VertexCount > 0;
+}
+
+//------------------------------------------------------------------------------
+// The light's maps, rebuilt when their key changed. In a distributed frame (`processes`)
+// every process rebuilds when any must, fits to the extent of all the processes' receivers
+// (or of the whole scene) and sizes the maps by all their estimates, so that the texels
+// agree; each draws its own casters and RenderMaps() composites them.
+bool vtkPenumbraShadowMapShadows::Internals::UpdateMaps(vtkPenumbraShadowMapShadows* self,
+  vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry,
+  vtkPenumbraRemoteShadows* processes, const LightSetup& setup, bool fitsScene,
+  std::vector<double>& key, const ExtentFiller& receivers,
+  const std::function<bool(const View&, std::vector<float>&, std::string&)>& estimate,
+  LightMaps* maps, std::string& error)
+{
+  const bool rebuild = !maps->Valid || maps->Key != key;
+  if (!(processes ? processes->AnyProcess(rebuild) : rebuild))
+  {
+    return true;
+  }
+  ReceiverExtent extent;
+  extent.CollectPlane = self->FitRectangle != FIT_AXIS;
+  extent.Square = self->FitRectangle == FIT_SQUARE;
+  bool ok = true;
+  if (fitsScene)
+  {
+    ExtentFromScene(setup, this->SlotMode(self, setup), geometry, this->Chunks, extent);
+  }
+  else
+  {
+    ok = receivers(extent, error);
+  }
+  if (processes)
+  {
+    if (!processes->AllAgree(ok))
+    {
+      error = ok ? "another process could not fit this light's maps" : error;
+      maps->Valid = false;
+      return false;
+    }
+    ShareExtent(*processes, extent);
+    if (self->ResolutionMode == RESOLUTION_ESTIMATED)
+    {
+      // RESM keeps its current size within a margin of the need: only where every process
+      // has the same one (else each would choose by its own).
+      const double w = maps->Valid ? maps->Width : 0.0, h = maps->Valid ? maps->Height : 0.0;
+      double sizes[4] = { w, h, -w, -h };
+      processes->ReduceMinimum(sizes, 4);
+      maps->Valid = maps->Valid && sizes[0] == -sizes[2] && sizes[1] == -sizes[3];
+    }
+  }
+  else if (!ok)
+  {
+    return false;
+  }
+  maps->Key.swap(key);
+  auto shared = [&](const View& view, std::vector<float>& needs, std::string& why)
+  {
+    bool done = estimate(view, needs, why);
+    if (!processes)
+    {
+      return done;
+    }
+    // RESM's quantile is taken over every process's needs.
+    std::vector<double> all(needs.begin(), needs.end());
+    processes->GatherValues(all);
+    done = processes->AllAgree(done);
+    needs.clear();
+    for (double v : all)
+    {
+      needs.push_back(static_cast<float>(v));
+    }
+    return done;
+  };
+  int size[2];
+  return this->PlanMaps(self, setup, extent, shared, maps, size, error) &&
+    this->RenderMaps(self, win, geometry, processes, setup, extent, size, maps, error);
 }
 
 //------------------------------------------------------------------------------
@@ -252,7 +335,8 @@ int vtkPenumbraShadowMapShadows::Internals::SoftMode(
 // the view the receivers are fitted to, the window size and the settings.
 std::vector<double> vtkPenumbraShadowMapShadows::Internals::MapKey(
   vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer, vtkLight* light,
-  vtkPenumbraSceneGeometry* geometry, const double shift[3], double samples, double pending)
+  vtkPenumbraSceneGeometry* geometry, bool fitsScene, const double shift[3], double samples,
+  double pending)
 {
   std::vector<double> key;
   double lp[3], lf[3];
@@ -264,7 +348,7 @@ std::vector<double> vtkPenumbraShadowMapShadows::Internals::MapKey(
   key.push_back(light->GetConeAngle());
   key.push_back(static_cast<double>(geometry->GetCastersTime()));
   key.push_back(static_cast<double>(self->GetMTime()));
-  if (FitsScene(self, renderer, geometry))
+  if (fitsScene)
   {
     return key; // nothing of the view
   }
@@ -319,38 +403,28 @@ bool vtkPenumbraShadowMapShadows::Internals::FrameLight(
   {
     return false;
   }
-  const bool anyCaster = !setup.Off && this->UpdateCasters(self, win, geometry);
+  // A distributed frame: some process's casters, and the maps all of them composite.
+  vtkPenumbraRemoteShadows* processes = frame->GetProcesses();
+  bool anyCaster = !setup.Off && this->UpdateCasters(self, win, geometry);
+  anyCaster = processes ? processes->AnyProcess(anyCaster) : anyCaster;
   win->MakeCurrent();
   LightMaps* maps = nullptr;
   if (anyCaster)
   {
     const double noShift[3] = { 0, 0, 0 };
     const double samples = static_cast<double>(frame->GetWidth()) * frame->GetHeight();
-    std::vector<double> key = this->MapKey(
-      self, frame->GetRenderer(), light, geometry, noShift, -samples, frame->GetNumberOfLayers());
+    const bool fitsScene = FitsScene(self, frame->GetRenderer(), geometry, processes);
+    std::vector<double> key = this->MapKey(self, frame->GetRenderer(), light, geometry, fitsScene,
+      noShift, -samples, frame->GetNumberOfLayers());
     maps = &penumbra_light_views::LightCacheEntry(this->Cache, light);
-    if (!maps->Valid || maps->Key != key)
+    auto receivers = [&](ReceiverExtent& extent, std::string& why)
+    { return this->ReduceExtent(self, frame, setup, extent, why); };
+    auto estimate = [&](const View& view, std::vector<float>& needs, std::string& why)
+    { return this->EstimateFrame(frame, setup, view, self->AnalysisStep, needs, why); };
+    if (!this->UpdateMaps(
+          self, win, geometry, processes, setup, fitsScene, key, receivers, estimate, maps, error))
     {
-      ReceiverExtent extent;
-      extent.CollectPlane = self->FitRectangle != FIT_AXIS;
-      extent.Square = self->FitRectangle == FIT_SQUARE;
-      if (FitsScene(self, frame->GetRenderer(), geometry))
-      {
-        ExtentFromScene(setup, this->SlotMode(self, setup), geometry, this->Chunks, extent);
-      }
-      else if (!this->ReduceExtent(self, frame, setup, extent, error))
-      {
-        return false;
-      }
-      maps->Key.swap(key);
-      auto estimate = [&](const View& view, std::vector<float>& needs, std::string& why)
-      { return this->EstimateFrame(frame, setup, view, self->AnalysisStep, needs, why); };
-      int size[2];
-      if (!this->PlanMaps(self, setup, extent, estimate, maps, size, error) ||
-        !this->RenderMaps(self, win, geometry, setup, extent, size, maps, error))
-      {
-        return false;
-      }
+      return false;
     }
     self->LastMapSize[0] = maps->Width;
     self->LastMapSize[1] = maps->Height;

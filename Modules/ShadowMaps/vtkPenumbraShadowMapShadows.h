@@ -104,6 +104,13 @@ public:
    */
   int ComputeFrame(vtkPenumbraFrame* frame) override;
   bool ReadsSamples() override { return this->Lookup == LOOKUP_CPU; }
+  /**
+   * In a distributed render every process draws its own casters into maps fitted to all the
+   * processes' receivers (or the whole scene), and the maps are composited by a minimum per
+   * texel (two for midpoint depth): the image of one process holding every caster, at a
+   * cost per light of the maps' texels, not of the triangles.
+   */
+  bool CompositesAcrossProcesses() override { return true; }
 
   void ReleaseGraphicsResources(vtkWindow* window) override;
 

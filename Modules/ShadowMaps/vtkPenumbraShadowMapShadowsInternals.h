@@ -30,6 +30,7 @@
 #include "vtkPenumbraFrame.h"
 #include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraLightViews.h"
+#include "vtkPenumbraRemoteShadows.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraShadowMapShadows.h"
 #include "vtkPenumbraViewSamples.h"
@@ -259,6 +260,7 @@ TileOutputs TilesFromSamples(const penumbra_light_views::FrameInputs& in, int wi
 std::vector<float> EstimateSamples(const penumbra_light_views::FrameInputs& in, int width,
   int height, const unsigned char* state, const View& view, int step);
 bool SceneInView(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry);
+void ShareExtent(vtkPenumbraRemoteShadows& processes, ReceiverExtent& e);
 
 // Shader sources (vtkPenumbraShadowMapLookup.cxx).
 std::string ComposeShader(const char* source);
@@ -298,6 +300,7 @@ struct vtkPenumbraShadowMapShadows::Internals
   SceneChunks Chunks; // the scene fit's vertex runs (ExtentFromScene)
   std::vector<unsigned char> State;
   std::vector<float> SecondLayer;
+  std::vector<float> Composited; // a distributed frame's slot layers (CompositeSlot())
   // GPU lookup staging (pending-sample list, its positions, normals and answers), kept between
   // frames: allocated afresh they cost more in page faults than the lookup itself.
   std::vector<vtkIdType> List;
@@ -338,16 +341,39 @@ struct vtkPenumbraShadowMapShadows::Internals
   LookupVariant Variant(vtkPenumbraShadowMapShadows* self, const LightSetup& setup, bool anyCaster,
     const LightMaps* maps);
   std::vector<double> MapKey(vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer,
-    vtkLight* light, vtkPenumbraSceneGeometry* geometry, const double shift[3], double samples,
-    double pending);
+    vtkLight* light, vtkPenumbraSceneGeometry* geometry, bool fitsScene, const double shift[3],
+    double samples, double pending);
   // Whether the maps are fitted to the scene (SetFitTo()), not to the view.
-  static bool FitsScene(
-    vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry)
+  // In a distributed frame (`processes`), the whole scene is in view when every process's
+  // piece is.
+  static bool FitsScene(vtkPenumbraShadowMapShadows* self, vtkRenderer* renderer,
+    vtkPenumbraSceneGeometry* geometry, vtkPenumbraRemoteShadows* processes)
   {
-    return self->ResolutionMode == RESOLUTION_FIXED &&
-      (self->FitTo == FIT_TO_SCENE ||
-        (self->FitTo == FIT_TO_AUTO && SceneInView(renderer, geometry)));
+    if (self->ResolutionMode != RESOLUTION_FIXED || self->FitTo == FIT_TO_VIEW)
+    {
+      return false;
+    }
+    if (self->FitTo == FIT_TO_SCENE)
+    {
+      return true;
+    }
+    const bool inView = SceneInView(renderer, geometry);
+    return processes ? processes->AllAgree(inView) : inView;
   }
+  // A light's maps brought up to date: rebuilt when their key changed (on any process of a
+  // distributed frame), fitted to the extent `receivers` fills (or the scene's), sized by
+  // `estimate`, drawn, and composited across the processes.
+  using ExtentFiller = std::function<bool(ReceiverExtent&, std::string&)>;
+  bool UpdateMaps(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
+    vtkPenumbraSceneGeometry* geometry, vtkPenumbraRemoteShadows* processes,
+    const LightSetup& setup, bool fitsScene, std::vector<double>& key,
+    const ExtentFiller& receivers,
+    const std::function<bool(const View&, std::vector<float>&, std::string&)>& estimate,
+    LightMaps* maps, std::string& error);
+  void CompositeSlot(vtkPenumbraShadowMapShadows* self, vtkPenumbraRemoteShadows* processes,
+    vtkTextureObject* slotTexture, LightMaps* maps, int slot);
+  // The CPU lookup's distributed frame (ComputeFrame() sets it around the per-light path).
+  vtkPenumbraRemoteShadows* Processes = nullptr;
   void FitViews(
     const LightSetup& setup, const ReceiverExtent& e, int slotMode, int size, LightMaps* maps);
   using Estimator = std::function<bool(const View&, std::vector<float>&, std::string&)>;
@@ -355,8 +381,9 @@ struct vtkPenumbraShadowMapShadows::Internals
     const ReceiverExtent& extent, const Estimator& estimate, LightMaps* maps, int size[2],
     std::string& error);
   bool RenderMaps(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
-    vtkPenumbraSceneGeometry* geometry, const LightSetup& setup, const ReceiverExtent& extent,
-    const int size[2], LightMaps* maps, std::string& error);
+    vtkPenumbraSceneGeometry* geometry, vtkPenumbraRemoteShadows* processes,
+    const LightSetup& setup, const ReceiverExtent& extent, const int size[2], LightMaps* maps,
+    std::string& error);
   vtkShaderProgram* MapProgram(vtkPenumbraShadowMapShadows* self, vtkOpenGLRenderWindow* win,
     const LightSetup& setup, bool paraboloid);
   void BindCasters(vtkPenumbraShadowMapShadows* self, vtkShaderProgram* program,

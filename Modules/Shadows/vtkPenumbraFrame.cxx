@@ -10,6 +10,7 @@
 #include "vtkPenumbraGLPassState.h"
 #include "vtkPenumbraGoniometricLight.h"
 #include "vtkPenumbraLightViews.h"
+#include "vtkPenumbraRemoteShadows.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkPenumbraViewSamples.h"
 #include "vtkPenumbraViewSamplesPass.h"
@@ -58,6 +59,7 @@ struct vtkPenumbraFrame::Internals
   vtkWeakPointer<vtkRenderer> Renderer;
   vtkWeakPointer<vtkOpenGLRenderWindow> Window;
   vtkWeakPointer<vtkPenumbraSceneGeometry> Geometry;
+  vtkWeakPointer<vtkPenumbraRemoteShadows> Processes;
   vtkPenumbraViewSamplesPass* Layers[2] = { nullptr, nullptr };
   // Renders the layers' samples when they are first asked for (Begin()); empty once done.
   std::function<void()> PendingSamples;
@@ -245,6 +247,16 @@ vtkOpenGLRenderWindow* vtkPenumbraFrame::GetWindow()
 vtkPenumbraSceneGeometry* vtkPenumbraFrame::GetGeometry()
 {
   return this->Impl->Geometry;
+}
+
+vtkPenumbraRemoteShadows* vtkPenumbraFrame::GetProcesses()
+{
+  return this->Impl->Processes;
+}
+
+void vtkPenumbraFrame::SetProcesses(vtkPenumbraRemoteShadows* processes)
+{
+  this->Impl->Processes = processes;
 }
 
 int vtkPenumbraFrame::GetWidth()

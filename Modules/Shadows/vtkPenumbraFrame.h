@@ -41,6 +41,7 @@
 class vtkFloatArray;
 class vtkLight;
 class vtkOpenGLRenderWindow;
+class vtkPenumbraRemoteShadows;
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
 class vtkPenumbraViewSamplesPass;
@@ -59,6 +60,15 @@ public:
   vtkRenderer* GetRenderer();
   vtkOpenGLRenderWindow* GetWindow();
   vtkPenumbraSceneGeometry* GetGeometry();
+
+  /**
+   * In a distributed render whose every process computes this frame, the processes'
+   * collective operations (vtkPenumbraRemoteShadows) for the techniques that
+   * CompositesAcrossProcesses(); null otherwise (a single process, or a frame some process
+   * does not compute: each then shadows with what it holds). Set by vtkPenumbraShadowPass.
+   */
+  vtkPenumbraRemoteShadows* GetProcesses();
+  void SetProcesses(vtkPenumbraRemoteShadows* processes);
 
   /** Viewport size in pixels: every layer has Width x Height samples. */
   int GetWidth();

@@ -19,6 +19,14 @@
  * Only hard lights (directional, point, spot: not vtkPenumbraAreaLight, whose answers are
  * fractions) are resolved. A frame is reused (and Resolve() skipped) only when AgreeToReuse()
  * says so, on every process at once.
+ *
+ * Techniques that combine their own per-process work instead of asking rays (the shadow-map
+ * family, vtkPenumbraShadowTechnique::CompositesAcrossProcesses(): maps fitted to the whole
+ * scene's receivers, each process drawing its own casters, combined by a minimum) use the
+ * collective operations below through vtkPenumbraFrame::GetProcesses(). The pass hands the
+ * hook to a frame only when every process computes that frame, and it neither skips such a
+ * technique's lights because of its own samples nor resolves them by rays, so every process
+ * makes the same calls in the same order. The defaults are those of a single process.
  */
 
 #ifndef vtkPenumbraRemoteShadows_h
@@ -63,6 +71,29 @@ public:
    * Resolve(). Collective.
    */
   virtual bool AgreeToReuse(bool mine) = 0;
+
+  ///@{
+  /**
+   * Collective operations, called in the same order on every process. AllAgree(): true when
+   * `mine` is true on every process. ReduceMinimum(): each value becomes its minimum over the
+   * processes (a maximum is the minimum of the negated values). GatherValues(): every
+   * process's values, concatenated in process order. The defaults are a single process's.
+   */
+  virtual bool AllAgree(bool mine)
+  {
+    return mine;
+  }
+  virtual void ReduceMinimum(double* /*values*/, int /*count*/) {}
+#ifndef __VTK_WRAP__
+  virtual void ReduceMinimum(float* /*values*/, size_t /*count*/) {}
+  virtual void GatherValues(std::vector<double>& /*values*/) {}
+#endif
+  /** True when some process's `mine` is true (AllAgree() of the negation). Collective. */
+  bool AnyProcess(bool mine)
+  {
+    return !this->AllAgree(!mine);
+  }
+  ///@}
 
 protected:
   vtkPenumbraRemoteShadows() = default;

@@ -673,10 +673,12 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   impl.Idle.clear();
   if (anyShadowed && geometryOk)
   {
-    // Other processes' casters may shadow this one's receivers (SetRemoteShadows()).
-    impl.Idle = !impl.CasterBox() && !impl.Remote ? "nothing casts shadows"
-      : !impl.AnyReceiver()                       ? "no lit surface receives shadows"
-                                                  : "";
+    // Other processes' casters may shadow this one's receivers, and its casters theirs
+    // (SetRemoteShadows()): a distributed frame is computed on every process.
+    impl.Idle = impl.Remote ? ""
+      : !impl.CasterBox()   ? "nothing casts shadows"
+      : !impl.AnyReceiver() ? "no lit surface receives shadows"
+                            : "";
   }
 
   int w = 0, h = 0, x = 0, y = 0;
@@ -695,10 +697,15 @@ void vtkPenumbraShadowPass::Render(const vtkRenderState* s)
   }
   // A distributed frame is reused only when every process's is, and no process's casters
   // moved: all of them then skip Resolve() together.
+  // The techniques that composite across processes get their collective operations only
+  // in a frame every process computes (vtkPenumbraFrame::GetProcesses()).
+  bool composing = false;
   if (impl.Remote)
   {
+    composing = impl.Remote->AllAgree(active);
     unchanged = impl.Remote->AgreeToReuse(unchanged);
   }
+  impl.Frame->SetProcesses(composing ? impl.Remote.Get() : nullptr);
   if (active)
   {
     impl.LastReused = unchanged;

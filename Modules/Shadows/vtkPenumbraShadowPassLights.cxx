@@ -282,9 +282,10 @@ void vtkPenumbraShadowPass::Internals::SkipUnreachedLights(bool readsSamples)
   for (size_t i = 0; i < this->Lights.size(); ++i)
   {
     Report& report = this->Reports[i];
-    if (!report.Skipped.empty() || !report.Technique)
+    if (!report.Skipped.empty() || !report.Technique ||
+      (this->Frame->GetProcesses() && report.Technique->CompositesAcrossProcesses()))
     {
-      continue;
+      continue; // (every process makes a compositing technique's collective calls)
     }
     samples = samples ? samples : this->Frame->GetSamples();
     if (!samples)
@@ -417,6 +418,11 @@ void vtkPenumbraShadowPass::Internals::ResolveRemote(
     if (!frame->HasVisibility(k) || index >= lights.size())
     {
       continue;
+    }
+    const Report& report = this->Reports[index];
+    if (frame->GetProcesses() && report.Technique && report.Technique->CompositesAcrossProcesses())
+    {
+      continue; // its technique combined every process's casters itself
     }
     if (vtkPenumbraAreaLight::SafeDownCast(frame->GetShadowedLight(k)))
     {

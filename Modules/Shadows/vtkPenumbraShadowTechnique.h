@@ -119,6 +119,15 @@ public:
   virtual bool ReadsSamples() { return true; }
 
   /**
+   * True when, in a distributed render, this technique combines every process's own casters
+   * itself (through the collective operations of vtkPenumbraFrame::GetProcesses(): the
+   * shadow-map family composites its maps by a minimum) instead of having its lit samples'
+   * rays resolved by the other processes (vtkPenumbraRemoteShadows). The pass then gives its
+   * lights shadow work on every process, whatever that process's samples.
+   */
+  virtual bool CompositesAcrossProcesses() { return false; }
+
+  /**
    * The name this technique is registered under in vtkPenumbraTechniques ("raytraced",
    * "gears", ...), or the class name for a technique that is not registered.
    */

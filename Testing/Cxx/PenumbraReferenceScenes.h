@@ -5,6 +5,7 @@
 #define PenumbraReferenceScenes_h
 
 #include "vtkActor.h"
+#include "vtkCamera.h"
 #include "vtkCommand.h"
 #include "vtkDoubleArray.h"
 #include "vtkNew.h"
@@ -35,6 +36,18 @@ inline vtkSmartPointer<vtkActor> AddActor(
   actor->SetPosition(position[0], position[1], position[2]);
   renderer->AddActor(actor);
   return actor;
+}
+
+// Looks straight down the z axis at the origin from z = 10, in parallel projection showing
+// `halfHeight` either side of the x axis.
+inline void LookFromAbove(vtkRenderer* renderer, double halfHeight)
+{
+  vtkCamera* camera = renderer->GetActiveCamera();
+  camera->ParallelProjectionOn();
+  camera->SetPosition(0, 0, 10);
+  camera->SetFocalPoint(0, 0, 0);
+  camera->SetViewUp(0, 1, 0);
+  camera->SetParallelScale(halfHeight);
 }
 
 // Adds the rectangle [x0, x1] x [y0, y1] at height z (normal +z) as an actor at `position`

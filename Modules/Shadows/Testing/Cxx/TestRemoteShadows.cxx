@@ -93,12 +93,7 @@ struct Scene
     this->Sun->SetPosition(1, 0, 1);
     this->Sun->SetFocalPoint(0, 0, 0);
     this->Renderer->AddLight(this->Sun);
-    vtkCamera* camera = this->Renderer->GetActiveCamera();
-    camera->ParallelProjectionOn();
-    camera->SetPosition(0, 0, 10);
-    camera->SetFocalPoint(0, 0, 0);
-    camera->SetViewUp(0, 1, 0);
-    camera->SetParallelScale(2.0);
+    penumbra_test::LookFromAbove(this->Renderer, 2.0);
     this->Renderer->ResetCameraClippingRange();
     this->Window->SetSize(128, 64);
     this->Window->SetMultiSamples(0);

@@ -172,12 +172,86 @@ bool vtkPenumbraRayQueries::AgreeToReuse(bool mine)
   }
   int reuse = mine && !this->CastersChanged ? 1 : 0, all = 0;
   this->Controller->AllReduce(&reuse, &all, 1, vtkCommunicator::MIN_OP);
-  if (all)
-  {
-    // A reused frame sends no ray: its figures are zero.
-    this->Last = Figures();
-  }
+  // A new frame (a reused one sends nothing: its figures stay zero).
+  this->Last = Figures();
   return all != 0;
+}
+
+vtkMultiProcessController* vtkPenumbraRayQueries::Peers() const
+{
+  return this->Controller && this->Controller->GetNumberOfProcesses() > 1 ? this->Controller
+                                                                          : nullptr;
+}
+
+bool vtkPenumbraRayQueries::AllAgree(bool mine)
+{
+  vtkMultiProcessController* peers = this->Peers();
+  if (!peers)
+  {
+    return mine;
+  }
+  int value = mine ? 1 : 0, all = 0;
+  peers->AllReduce(&value, &all, 1, vtkCommunicator::MIN_OP);
+  return all != 0;
+}
+
+void vtkPenumbraRayQueries::ReduceMinimum(double* values, int count)
+{
+  vtkMultiProcessController* peers = this->Peers();
+  if (!peers || count <= 0)
+  {
+    return;
+  }
+  const auto start = penumbra::Clock::now();
+  const std::vector<double> mine(values, values + count);
+  peers->AllReduce(mine.data(), values, count, vtkCommunicator::MIN_OP);
+  ++this->Last.Reductions;
+  this->Last.ReducedBytes += static_cast<long long>(sizeof(double)) * count;
+  this->Last.ReduceMs += penumbra::ElapsedMs(start);
+}
+
+void vtkPenumbraRayQueries::ReduceMinimum(float* values, size_t count)
+{
+  vtkMultiProcessController* peers = this->Peers();
+  if (!peers || count == 0)
+  {
+    return;
+  }
+  const auto start = penumbra::Clock::now();
+  const std::vector<float> mine(values, values + count);
+  peers->AllReduce(mine.data(), values, static_cast<vtkIdType>(count), vtkCommunicator::MIN_OP);
+  ++this->Last.Reductions;
+  this->Last.ReducedBytes += static_cast<long long>(sizeof(float) * count);
+  this->Last.ReduceMs += penumbra::ElapsedMs(start);
+}
+
+void vtkPenumbraRayQueries::GatherValues(std::vector<double>& values)
+{
+  vtkMultiProcessController* peers = this->Peers();
+  if (!peers)
+  {
+    return;
+  }
+  const auto start = penumbra::Clock::now();
+  const int ranks = peers->GetNumberOfProcesses();
+  vtkIdType length = static_cast<vtkIdType>(values.size());
+  std::vector<vtkIdType> lengths(static_cast<size_t>(ranks), 0), offsets(lengths);
+  peers->AllGather(&length, lengths.data(), 1);
+  vtkIdType total = 0;
+  for (int r = 0; r < ranks; ++r)
+  {
+    offsets[static_cast<size_t>(r)] = total;
+    total += lengths[static_cast<size_t>(r)];
+  }
+  std::vector<double> all(static_cast<size_t>(std::max<vtkIdType>(total, 1)));
+  const double none = 0.0; // a send buffer apart from the receive one
+  peers->AllGatherV(
+    values.empty() ? &none : values.data(), all.data(), length, lengths.data(), offsets.data());
+  all.resize(static_cast<size_t>(total));
+  values.swap(all);
+  ++this->Last.Reductions;
+  this->Last.ReducedBytes += static_cast<long long>(sizeof(double)) * length;
+  this->Last.ReduceMs += penumbra::ElapsedMs(start);
 }
 
 bool vtkPenumbraRayQueries::Resolve(vtkPenumbraSceneGeometry* geometry,
@@ -189,7 +263,6 @@ bool vtkPenumbraRayQueries::Resolve(vtkPenumbraSceneGeometry* geometry,
     error = "no controller";
     return false;
   }
-  this->Last = Figures();
   vtkMultiProcessController* controller = this->Controller;
   const int ranks = controller->GetNumberOfProcesses();
   auto start = penumbra::Clock::now();
@@ -279,10 +352,12 @@ void vtkPenumbraRayQueries::Gather()
   const Figures& f = this->Last;
   const std::vector<double> mine = { static_cast<double>(f.RaysSent),
     static_cast<double>(f.RaysAnswered), static_cast<double>(f.RaysBlocked),
-    static_cast<double>(f.BytesSent), static_cast<double>(f.BytesReceived), f.RouteMs, f.QueryMs,
-    f.TraceMs, f.AnswerMs };
+    static_cast<double>(f.BytesSent), static_cast<double>(f.BytesReceived),
+    static_cast<double>(f.Reductions), static_cast<double>(f.ReducedBytes), f.RouteMs, f.QueryMs,
+    f.TraceMs, f.AnswerMs, f.ReduceMs };
   this->Report = penumbra::RankReport(this->Controller,
-    "ray queries, per rank: rays sent, rays answered, samples shadowed by other ranks, bytes "
-    "sent, bytes received, route/query/trace/answer ms",
-    mine, 5);
+    "ray queries and composited maps, per rank: rays sent, rays answered, samples shadowed by "
+    "other ranks, bytes sent, bytes received, map/fit reductions, bytes reduced, "
+    "route/query/trace/answer/reduce ms",
+    mine, 7);
 }

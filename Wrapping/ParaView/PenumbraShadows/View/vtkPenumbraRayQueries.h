@@ -55,8 +55,23 @@ public:
    */
   void SetCastersChanged(bool changed) { this->CastersChanged = changed; }
 
-  /** A MIN all-reduce of `mine`, false when SetCastersChanged(true). */
+  /**
+   * A MIN all-reduce of `mine`, false when SetCastersChanged(true). Starts the frame's
+   * figures.
+   */
   bool AgreeToReuse(bool mine) override;
+
+  ///@{
+  /**
+   * The collective operations of the techniques that composite across ranks (the shadow
+   * maps): all-reduces and an all-gather over the controller's ranks, counted in the
+   * figures.
+   */
+  bool AllAgree(bool mine) override;
+  void ReduceMinimum(double* values, int count) override;
+  void ReduceMinimum(float* values, size_t count) override;
+  void GatherValues(std::vector<double>& values) override;
+  ///@}
 
   /** This rank's figures of the last frame. */
   struct Figures
@@ -66,7 +81,9 @@ public:
     long long RaysBlocked = 0;  // this rank's samples another rank shadowed
     long long BytesSent = 0;
     long long BytesReceived = 0;
-    double RouteMs = 0.0, QueryMs = 0.0, TraceMs = 0.0, AnswerMs = 0.0;
+    long long Reductions = 0;   // composited maps' and fits' collective operations
+    long long ReducedBytes = 0; // the bytes this rank put into them
+    double RouteMs = 0.0, QueryMs = 0.0, TraceMs = 0.0, AnswerMs = 0.0, ReduceMs = 0.0;
   };
   const Figures& GetFigures() const { return this->Last; }
 
@@ -90,6 +107,9 @@ private:
     const std::vector<float>& rays, const double origin[3], const std::vector<vtkLight*>& lights,
     std::string& error);
   void Gather();
+
+  // The controller when there are other ranks, else null (the single-process defaults).
+  vtkMultiProcessController* Peers() const;
 
   vtkMultiProcessController* Controller = nullptr;
   bool CastersChanged = true;
