@@ -219,9 +219,11 @@ void vtkPenumbraShadowMapShadows::Internals::CompositeSlot(vtkPenumbraShadowMapS
   const size_t texels = static_cast<size_t>(maps->Width) * maps->Height;
   const int layers = midpoint ? 2 : 1;
   std::vector<float>& map = maps->Maps[static_cast<size_t>(slot)];
-  this->Composited.resize(static_cast<size_t>(layers) * texels);
+  // The layers, and for midpoint maps this process's own first layer.
+  this->Composited.resize(static_cast<size_t>(midpoint ? 3 : 1) * texels);
   float* first = this->Composited.data();
   float* second = first + texels;
+  float* own = second + texels;
   // The GPU's layers: the slot's compare texture (linear depth) or the scratch layers.
   auto texture = [&](int layer)
   { return gpuLookup && !midpoint ? slotTexture : this->DepthTextures[layer].Get(); };
@@ -238,10 +240,9 @@ void vtkPenumbraShadowMapShadows::Internals::CompositeSlot(vtkPenumbraShadowMapS
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glReadPixels(0, 0, maps->Width, maps->Height, GL_DEPTH_COMPONENT, GL_FLOAT, target);
   }
-  std::vector<float> own;
   if (midpoint)
   {
-    own.assign(first, first + texels);
+    std::copy_n(first, texels, own);
   }
   processes->ReduceMinimum(first, texels);
   if (midpoint)
@@ -251,8 +252,7 @@ void vtkPenumbraShadowMapShadows::Internals::CompositeSlot(vtkPenumbraShadowMapS
       {
         for (vtkIdType i = b; i < e; ++i)
         {
-          second[i] =
-            own[static_cast<size_t>(i)] > first[i] ? own[static_cast<size_t>(i)] : second[i];
+          second[i] = own[i] > first[i] ? own[i] : second[i];
         }
       });
     processes->ReduceMinimum(second, texels);
@@ -324,15 +324,12 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
   }
   maps->Textures.resize(static_cast<size_t>(slots));
   vtkShaderProgram* program = this->MapProgram(self, win, setup, paraboloid);
-  if (processes && !processes->AllAgree(program != nullptr))
+  // Every process of a distributed frame draws, or none does (the maps are composited).
+  const bool everywhere = processes ? processes->AllAgree(program != nullptr) : program != nullptr;
+  if (!everywhere)
   {
-    error = program ? "the shadow map shaders do not compile or link on another process"
-                    : "the shadow map shaders do not compile or link on this OpenGL implementation";
-    return false;
-  }
-  if (!program)
-  {
-    error = "the shadow map shaders do not compile or link on this OpenGL implementation";
+    error = std::string("the shadow map shaders do not compile or link on ") +
+      (program ? "another process" : "this OpenGL implementation");
     return false;
   }
   this->AllocateMaps(win, maps->Width, maps->Height);

@@ -117,6 +117,15 @@ struct vtkPenumbraShadowPass::Internals
     std::string Why, Skipped;
   };
   std::vector<Report> Reports;
+  // Whether light `index`'s technique combines the processes' casters itself this frame
+  // (vtkPenumbraShadowTechnique::CompositesAcrossProcesses() in a frame with
+  // vtkPenumbraFrame::GetProcesses()): every process then shadows it, and no ray resolves it.
+  bool ComposesAcrossProcesses(size_t index) const
+  {
+    const Report& report = this->Reports[index];
+    return this->Frame->GetProcesses() && report.Technique &&
+      report.Technique->CompositesAcrossProcesses();
+  }
   int NumberOfSkipped = 0;
   std::vector<vtkIdType> Witness; // per light: its last shadowable sample (NothingToShadow)
 

@@ -282,10 +282,9 @@ void vtkPenumbraShadowPass::Internals::SkipUnreachedLights(bool readsSamples)
   for (size_t i = 0; i < this->Lights.size(); ++i)
   {
     Report& report = this->Reports[i];
-    if (!report.Skipped.empty() || !report.Technique ||
-      (this->Frame->GetProcesses() && report.Technique->CompositesAcrossProcesses()))
+    if (!report.Skipped.empty() || !report.Technique || this->ComposesAcrossProcesses(i))
     {
-      continue; // (every process makes a compositing technique's collective calls)
+      continue;
     }
     samples = samples ? samples : this->Frame->GetSamples();
     if (!samples)
@@ -419,10 +418,9 @@ void vtkPenumbraShadowPass::Internals::ResolveRemote(
     {
       continue;
     }
-    const Report& report = this->Reports[index];
-    if (frame->GetProcesses() && report.Technique && report.Technique->CompositesAcrossProcesses())
+    if (this->ComposesAcrossProcesses(index))
     {
-      continue; // its technique combined every process's casters itself
+      continue;
     }
     if (vtkPenumbraAreaLight::SafeDownCast(frame->GetShadowedLight(k)))
     {
