@@ -411,39 +411,60 @@ TileCull MakeTileCull(const std::vector<unsigned char>& tileActive, int tiles)
   return cull;
 }
 
-// The casters' footprints (in parallel, caster order kept, so the result is deterministic)
-// binned to the active tiles they touch by a counting sort: tile t's footprints are
-// binned[start[t] .. start[t + 1]). Triangles near a perspective apex go to nearTriangles.
+// The casters binned to the active tiles their footprints touch by a counting sort (in
+// parallel, caster order kept, so the result is deterministic): tile t's casters are
+// binned[start[t] .. start[t + 1]), as indices into `casters`. No footprint is kept (one is
+// about 260 bytes, a 1e7-triangle scene's would take 2.6 GB): the tiles make them again from
+// the triangle, the same function of the same input. Triangles near a perspective apex go to
+// nearTriangles.
 struct Bins
 {
-  std::vector<Footprint> Footprints;
   std::vector<vtkIdType> Start;
   std::vector<std::uint32_t> Binned;
 };
-Bins BinFootprints(const penumbra_light_views::View& view, int size, const double* vertices,
-  const std::vector<vtkIdType>& casters, const std::vector<unsigned char>& tileActive,
-  const TileCull* cull, std::vector<vtkIdType>& nearTriangles, CpuMapStats& stats)
+
+// The tiles a footprint touches, inclusive.
+struct TileRange
+{
+  std::uint16_t X0 = 1, X1 = 0, Y0 = 1, Y1 = 0;
+};
+
+Bins BinFootprints(const penumbra_light_views::View& view, int size,
+  const penumbra::SceneTriangles& triangles, const penumbra_casters::CasterIds& casters,
+  const std::vector<unsigned char>& tileActive, const TileCull* cull,
+  std::vector<vtkIdType>& nearTriangles, CpuMapStats& stats)
 {
   const int tiles = (size + TileSize - 1) / TileSize;
   Bins bins;
-  bins.Footprints.resize(casters.size());
+  std::vector<TileRange> ranges(casters.size());
   std::vector<unsigned char> status(casters.size(), 0);
   vtkSMPTools::For(0, static_cast<vtkIdType>(casters.size()),
     [&](vtkIdType begin, vtkIdType end)
     {
       for (vtkIdType i = begin; i < end; ++i)
       {
+        Footprint fp; // made from scratch, as the tiles make it again
         const vtkIdType id = casters[static_cast<size_t>(i)];
-        status[static_cast<size_t>(i)] = static_cast<unsigned char>(MakeFootprint(
-          view, size, vertices + 9 * id, id, bins.Footprints[static_cast<size_t>(i)], cull));
+        double v[9];
+        triangles.Get(id, v);
+        const int made = MakeFootprint(view, size, v, id, fp, cull);
+        status[static_cast<size_t>(i)] = static_cast<unsigned char>(made);
+        if (made == 1)
+        {
+          TileRange& r = ranges[static_cast<size_t>(i)];
+          r.X0 = static_cast<std::uint16_t>(fp.X0 / TileSize);
+          r.X1 = static_cast<std::uint16_t>(fp.X1 / TileSize);
+          r.Y0 = static_cast<std::uint16_t>(fp.Y0 / TileSize);
+          r.Y1 = static_cast<std::uint16_t>(fp.Y1 / TileSize);
+        }
       }
     });
   bins.Start.assign(static_cast<size_t>(tiles) * tiles + 1, 0);
-  auto forTiles = [&](const Footprint& fp, auto&& f)
+  auto forTiles = [&](const TileRange& r, auto&& f)
   {
-    for (int ty = fp.Y0 / TileSize; ty <= fp.Y1 / TileSize; ++ty)
+    for (int ty = r.Y0; ty <= r.Y1; ++ty)
     {
-      for (int tx = fp.X0 / TileSize; tx <= fp.X1 / TileSize; ++tx)
+      for (int tx = r.X0; tx <= r.X1; ++tx)
       {
         const size_t tile = static_cast<size_t>(ty) * tiles + tx;
         if (tileActive[tile])
@@ -453,7 +474,7 @@ Bins BinFootprints(const penumbra_light_views::View& view, int size, const doubl
       }
     }
   };
-  for (size_t i = 0; i < bins.Footprints.size(); ++i)
+  for (size_t i = 0; i < casters.size(); ++i)
   {
     if (status[i] == 2)
     {
@@ -465,7 +486,7 @@ Bins BinFootprints(const penumbra_light_views::View& view, int size, const doubl
       continue;
     }
     ++stats.Triangles;
-    forTiles(bins.Footprints[i], [&](size_t tile) { ++bins.Start[tile + 1]; });
+    forTiles(ranges[i], [&](size_t tile) { ++bins.Start[tile + 1]; });
   }
   for (size_t t = 1; t < bins.Start.size(); ++t)
   {
@@ -473,11 +494,11 @@ Bins BinFootprints(const penumbra_light_views::View& view, int size, const doubl
   }
   std::vector<vtkIdType> fill(bins.Start.begin(), bins.Start.end() - 1);
   bins.Binned.resize(static_cast<size_t>(bins.Start.back()));
-  for (size_t i = 0; i < bins.Footprints.size(); ++i)
+  for (size_t i = 0; i < casters.size(); ++i)
   {
     if (status[i] == 1)
     {
-      forTiles(bins.Footprints[i],
+      forTiles(ranges[i],
         [&](size_t tile)
         { bins.Binned[static_cast<size_t>(fill[tile]++)] = static_cast<std::uint32_t>(i); });
     }
@@ -520,9 +541,9 @@ void ActiveColumns(const unsigned char* active, int size, int tx0, int ty0, int 
 // the shorter of its texel span and that row's list: the work follows the texels that hold
 // something (sparse lists), not the footprints' area.
 template <class Visit>
-CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const double* vertices,
-  const std::vector<vtkIdType>& casters, const unsigned char* active,
-  std::vector<vtkIdType>& nearTriangles, Visit&& visit)
+CpuMapStats Rasterize(const penumbra_light_views::View& view, int size,
+  const penumbra::SceneTriangles& triangles, const penumbra_casters::CasterIds& casters,
+  const unsigned char* active, std::vector<vtkIdType>& nearTriangles, Visit&& visit)
 {
   CpuMapStats stats;
   const int tiles = (size + TileSize - 1) / TileSize;
@@ -530,7 +551,7 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
   const std::vector<unsigned char> tileActive = ActiveTiles(active, size, tiles);
   const TileCull cull = active ? MakeTileCull(tileActive, tiles) : TileCull();
   const Bins bins = BinFootprints(
-    view, size, vertices, casters, tileActive, active ? &cull : nullptr, nearTriangles, stats);
+    view, size, triangles, casters, tileActive, active ? &cull : nullptr, nearTriangles, stats);
   const std::vector<vtkIdType>& start = bins.Start;
   std::atomic<vtkIdType> tests(0), writes(0), work(0);
   vtkSMPTools::For(0, static_cast<vtkIdType>(tiles) * tiles,
@@ -573,7 +594,11 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
         for (vtkIdType b = start[static_cast<size_t>(tile)];
              b < start[static_cast<size_t>(tile) + 1]; ++b)
         {
-          const Footprint& fp = bins.Footprints[bins.Binned[static_cast<size_t>(b)]];
+          const vtkIdType id = casters[bins.Binned[static_cast<size_t>(b)]];
+          double v[9];
+          triangles.Get(id, v);
+          Footprint fp;
+          MakeFootprint(view, size, v, id, fp, active ? &cull : nullptr);
           const int xa = std::max(tx0, fp.X0), xb = std::min(tx1, fp.X1);
           for (int y = std::max(ty0, fp.Y0); y <= std::min(ty1, fp.Y1); ++y)
           {
@@ -610,8 +635,8 @@ CpuMapStats Rasterize(const penumbra_light_views::View& view, int size, const do
 
 //------------------------------------------------------------------------------
 CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int size, int layers,
-  const double* vertices, const std::vector<vtkIdType>& casters, std::vector<float>* depth,
-  std::vector<std::uint32_t>* ids, std::vector<vtkIdType>& nearTriangles)
+  const penumbra::SceneTriangles& triangles, const penumbra_casters::CasterIds& casters,
+  std::vector<float>* depth, std::vector<std::uint32_t>* ids, std::vector<vtkIdType>& nearTriangles)
 {
   const size_t texels = static_cast<size_t>(size) * size;
   for (int k = 0; k < layers; ++k)
@@ -621,7 +646,7 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
   }
   // Each texel keeps its `layers` smallest conservative depths, sorted; equal depths keep
   // caster order.
-  return Rasterize(view, size, vertices, casters, nullptr, nearTriangles,
+  return Rasterize(view, size, triangles, casters, nullptr, nearTriangles,
     [&](size_t texel, vtkIdType triangle, float d) -> vtkIdType
     {
       const std::uint32_t id = static_cast<std::uint32_t>(triangle) + 1u;
@@ -645,9 +670,9 @@ CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int siz
 
 //------------------------------------------------------------------------------
 CpuMapStats RasterizeConservative(const penumbra_light_views::View& view, int size,
-  const double* vertices, const std::vector<vtkIdType>& casters, const unsigned char* active,
-  std::vector<vtkIdType>& nearTriangles, const TexelVisitor& visit)
+  const penumbra::SceneTriangles& triangles, const penumbra_casters::CasterIds& casters,
+  const unsigned char* active, std::vector<vtkIdType>& nearTriangles, const TexelVisitor& visit)
 {
-  return Rasterize(view, size, vertices, casters, active, nearTriangles, visit);
+  return Rasterize(view, size, triangles, casters, active, nearTriangles, visit);
 }
 }

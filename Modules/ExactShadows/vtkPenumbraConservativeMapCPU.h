@@ -31,6 +31,8 @@
 #ifndef vtkPenumbraConservativeMapCPU_h
 #define vtkPenumbraConservativeMapCPU_h
 
+#include "vtkPenumbraCasterBuffers.h"  // For penumbra_casters::CasterIds
+#include "vtkPenumbraSceneTriangles.h" // For penumbra::SceneTriangles
 #include "vtkType.h"
 
 #include <cstdint>
@@ -56,13 +58,14 @@ struct CpuMapStats
 /**
  * Builds `layers` map layers of size x size texels for `view`: depth[k][texel] (the view's
  * stored-depth unit, +inf when empty) and ids[k][texel] (triangle id + 1, 0 when empty),
- * sorted by depth per texel. `vertices` holds 9 doubles per triangle (rebased frame),
- * `casters` the ids of the triangles that cast. Triangles reaching the apex region are
- * appended to `nearTriangles` instead.
+ * sorted by depth per texel. `triangles` are the scene's (rebased frame), `casters` the ids of
+ * the triangles that cast. Triangles reaching the apex region are appended to `nearTriangles`
+ * instead.
  */
 CpuMapStats BuildConservativeMap(const penumbra_light_views::View& view, int size, int layers,
-  const double* vertices, const std::vector<vtkIdType>& casters, std::vector<float>* depth,
-  std::vector<std::uint32_t>* ids, std::vector<vtkIdType>& nearTriangles);
+  const penumbra::SceneTriangles& triangles, const penumbra_casters::CasterIds& casters,
+  std::vector<float>* depth, std::vector<std::uint32_t>* ids,
+  std::vector<vtkIdType>& nearTriangles);
 
 /**
  * Called for each texel/triangle pair whose overlap the rasterization cannot rule out, with
@@ -79,8 +82,8 @@ using TexelVisitor = std::function<vtkIdType(size_t texel, vtkIdType triangle, f
  * Triangles reaching the apex region are appended to `nearTriangles` instead.
  */
 CpuMapStats RasterizeConservative(const penumbra_light_views::View& view, int size,
-  const double* vertices, const std::vector<vtkIdType>& casters, const unsigned char* active,
-  std::vector<vtkIdType>& nearTriangles, const TexelVisitor& visit);
+  const penumbra::SceneTriangles& triangles, const penumbra_casters::CasterIds& casters,
+  const unsigned char* active, std::vector<vtkIdType>& nearTriangles, const TexelVisitor& visit);
 }
 
 #endif

@@ -106,8 +106,9 @@ struct vtkPenumbraConservativeShadows::Internals
   // The caster triangles on the GPU (shared upload code, rebuilt only when the geometry changes).
   penumbra_casters::CasterBuffers Casters;
   std::vector<GLuint> ViewIndices;
-  std::vector<vtkIdType> PendingList;   // the samples pass A left pending (reused per call)
-  std::vector<vtkIdType> UncertainList; // the call's uncertain samples, ascending
+  std::vector<std::uint32_t> ViewCasters; // per primitive of a perspective view's draw: its caster
+  std::vector<vtkIdType> PendingList;     // the samples pass A left pending (reused per call)
+  std::vector<vtkIdType> UncertainList;   // the call's uncertain samples, ascending
 
   vtkSmartPointer<vtkOpenGLFramebufferObject> FBO;
   static constexpr int MaxLayers = 4;
@@ -295,7 +296,7 @@ struct vtkPenumbraConservativeShadows::Internals
     if (!f.Gpu)
     {
       const penumbra_conservative::CpuMapStats stats =
-        penumbra_conservative::BuildConservativeMap(view, f.Size, f.Layers, f.In->TriangleVertices,
+        penumbra_conservative::BuildConservativeMap(view, f.Size, f.Layers, *f.In->SceneTriangles,
           this->Casters.TriangleIds, maps.Depth, maps.Ids, maps.Near);
       self.NumberOfTexelWrites += stats.TexelWrites;
     }
@@ -316,13 +317,15 @@ struct vtkPenumbraConservativeShadows::Internals
     // the vertices stay uploaded.
     const double slack = 1.0 + 8.0 / size; // the shader's frustumSlack
     this->ViewIndices.clear();
-    const float* xyz = this->Casters.Vertices.data();
-    for (GLsizei tri = 0; tri < this->Casters.VertexCount / 3; ++tri)
+    this->ViewCasters.clear();
+    for (size_t tri = 0; tri < this->Casters.TriangleIds.size(); ++tri)
     {
       int outside[4] = { 0, 0, 0, 0 };
+      float xyz[9];
+      this->Casters.Float(tri, xyz);
       for (int k = 0; k < 3; ++k)
       {
-        const float* fv = xyz + 9 * static_cast<size_t>(tri) + 3 * k;
+        const float* fv = xyz + 3 * k;
         const double pv[3] = { fv[0], fv[1], fv[2] };
         const double x = view.Dot(0, pv);
         const double y = view.Dot(1, pv);
@@ -336,18 +339,19 @@ struct vtkPenumbraConservativeShadows::Internals
       }
       if (outside[0] < 3 && outside[1] < 3 && outside[2] < 3 && outside[3] < 3)
       {
-        for (GLuint k = 0; k < 3; ++k)
+        for (int k = 0; k < 3; ++k)
         {
-          this->ViewIndices.push_back(3 * static_cast<GLuint>(tri) + k);
+          this->ViewIndices.push_back(this->Casters.Element(tri, k));
         }
+        this->ViewCasters.push_back(static_cast<std::uint32_t>(tri));
       }
     }
   }
 
-  // Binds the caster positions and ids (and a perspective view's indices) for drawing.
+  // Binds the caster positions and elements (a perspective view's own elements instead).
   void BindCasters(vtkShaderProgram* program, bool perspective)
   {
-    glBindVertexArray(this->Casters.VertexArray);
+    this->Casters.Bind(program);
     if (perspective)
     {
       glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, this->Casters.Indices);
@@ -355,21 +359,22 @@ struct vtkPenumbraConservativeShadows::Internals
         static_cast<GLsizeiptr>(this->ViewIndices.size() * sizeof(GLuint)),
         this->ViewIndices.empty() ? nullptr : this->ViewIndices.data(), GL_STREAM_DRAW);
     }
-    const GLint posLoc = glGetAttribLocation(program->GetHandle(), "vertexRebased");
-    const GLint idLoc = glGetAttribLocation(program->GetHandle(), "triangleId");
-    if (posLoc >= 0)
+  }
+
+  // The map stores the drawn primitive's index + 1 (gl_PrimitiveIDIn); the classifier reads
+  // triangle ids + 1. The flag bit (above IdMask) is kept.
+  void PrimitivesToTriangles(std::vector<std::uint32_t>& ids, bool perspective) const
+  {
+    const penumbra_casters::CasterIds& casters = this->Casters.TriangleIds;
+    for (std::uint32_t& id : ids)
     {
-      glBindBuffer(GL_ARRAY_BUFFER, this->Casters.Positions);
-      glEnableVertexAttribArray(static_cast<GLuint>(posLoc));
-      glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+      const std::uint32_t prim = id & IdMask;
+      if (prim != 0)
+      {
+        const size_t caster = perspective ? this->ViewCasters[prim - 1] : prim - 1;
+        id = (id & ~IdMask) | (static_cast<std::uint32_t>(casters[caster]) + 1u);
+      }
     }
-    if (idLoc >= 0)
-    {
-      glBindBuffer(GL_ARRAY_BUFFER, this->Casters.Ids);
-      glEnableVertexAttribArray(static_cast<GLuint>(idLoc));
-      glVertexAttribIPointer(static_cast<GLuint>(idLoc), 1, GL_UNSIGNED_INT, 0, nullptr);
-    }
-    glBindBuffer(GL_ARRAY_BUFFER, 0);
   }
 
   // GPU builder: renders the view's id layers by depth peeling and reads them back.
@@ -423,14 +428,7 @@ struct vtkPenumbraConservativeShadows::Internals
         this->IdTextures[k]->Activate();
         program->SetUniformi(previousNames[k], this->IdTextures[k]->GetTextureUnit());
       }
-      if (view.Perspective)
-      {
-        glDrawElements(GL_TRIANGLES, drawCount, GL_UNSIGNED_INT, nullptr);
-      }
-      else
-      {
-        glDrawArrays(GL_TRIANGLES, 0, drawCount);
-      }
+      glDrawElements(GL_TRIANGLES, drawCount, GL_UNSIGNED_INT, nullptr);
       for (int k = 0; k < layer; ++k)
       {
         this->IdTextures[k]->Deactivate();
@@ -438,6 +436,7 @@ struct vtkPenumbraConservativeShadows::Internals
       this->FBO->ActivateReadBuffer(0);
       glPixelStorei(GL_PACK_ALIGNMENT, 1);
       glReadPixels(0, 0, size, size, GL_RED_INTEGER, GL_UNSIGNED_INT, maps.Ids[layer].data());
+      this->PrimitivesToTriangles(maps.Ids[layer], view.Perspective);
       glReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, maps.Depth[layer].data());
     }
   }
@@ -450,13 +449,14 @@ struct vtkPenumbraConservativeShadows::Internals
   {
     const std::vector<vtkIdType>& nearTriangles = maps.Near;
     const bool nearTestable = nearTriangles.size() <= MaxNearTriangles;
-    const double* tv = f.In->TriangleVertices;
+    const penumbra::SceneTriangles& tv = *f.In->SceneTriangles;
     const vtkIdType nTriangles = f.In->NumberOfTriangles;
     float* vis = f.Vis;
     unsigned char* state = f.State;
     // The exact test of rule 3c (and of the apex region's triangles) against one blocker.
     auto TestBlocker = [&exact](const penumbra_light_views::ShadowRay& ray, vtkIdType blocker,
-                         const double* vertices, penumbra_rules::ExactTriangle& triangle)
+                         const penumbra::SceneTriangles& vertices,
+                         penumbra_rules::ExactTriangle& triangle)
     {
       const penumbra_rules::ExactTriangle* made = exact.Get(blocker, vertices, triangle);
       return made ? penumbra_light_views::TestShadowRay(ray, *made) : Hit::Unknown;

@@ -171,42 +171,55 @@ bool SampleCells::Live(int level, const int range[4], float lower, int px, int p
 }
 
 // Regroups the casters when they changed; true then.
-bool CasterClusters::Update(
-  const std::vector<vtkIdType>& casters, const double* vertices, vtkMTimeType time)
+bool CasterClusters::Update(const penumbra_casters::CasterIds& casters,
+  const penumbra::SceneTriangles* vertices, vtkMTimeType time)
 {
-  if (this->Source == casters.data() && this->SourceSize == casters.size() &&
+  if (this->Source == casters.Key() && this->SourceSize == casters.size() &&
     this->Vertices == vertices && this->Time == time)
   {
     return false;
   }
-  this->Source = casters.data();
+  this->Source = casters.Key();
   this->SourceSize = casters.size();
   this->Vertices = vertices;
   this->Time = time;
   const size_t n = casters.size();
+  // Centroids are made again where needed rather than kept (24 bytes a caster).
+  auto centroid = [&](size_t i, double centre[3])
+  {
+    double p[9];
+    vertices->Get(casters[i], p);
+    for (int c = 0; c < 3; ++c)
+    {
+      centre[c] = (p[c] + p[3 + c] + p[6 + c]) / 3.0;
+    }
+  };
   double lo[3] = { std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
     std::numeric_limits<double>::max() };
   double hi[3] = { -lo[0], -lo[1], -lo[2] };
-  std::vector<double> centre(3 * n);
   for (size_t i = 0; i < n; ++i)
   {
-    const double* p = vertices + 9 * casters[i];
+    double centre[3];
+    centroid(i, centre);
     for (int c = 0; c < 3; ++c)
     {
-      centre[3 * i + c] = (p[c] + p[3 + c] + p[6 + c]) / 3.0;
-      lo[c] = std::min(lo[c], centre[3 * i + c]);
-      hi[c] = std::max(hi[c], centre[3 * i + c]);
+      lo[c] = std::min(lo[c], centre[c]);
+      hi[c] = std::max(hi[c], centre[c]);
     }
   }
-  std::vector<std::pair<std::uint32_t, vtkIdType>> keyed(n);
+  // (Morton code, position in `casters`): sorted, the casters' Morton order with ties in
+  // caster order (ids ascend with the position).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> keyed(n);
   for (size_t i = 0; i < n; ++i)
   {
+    double centre[3];
+    centroid(i, centre);
     std::uint32_t code = 0;
     std::uint32_t q[3];
     for (int c = 0; c < 3; ++c)
     {
       const double extent = hi[c] - lo[c];
-      const double u = extent > 0.0 ? (centre[3 * i + c] - lo[c]) / extent : 0.0;
+      const double u = extent > 0.0 ? (centre[c] - lo[c]) / extent : 0.0;
       q[c] = static_cast<std::uint32_t>(std::min(1023.0, std::max(0.0, u * 1024.0)));
     }
     for (int b = 9; b >= 0; --b)
@@ -214,7 +227,7 @@ bool CasterClusters::Update(
       code =
         (code << 3) | (((q[0] >> b) & 1u) << 2) | (((q[1] >> b) & 1u) << 1) | ((q[2] >> b) & 1u);
     }
-    keyed[i] = { code, casters[i] };
+    keyed[i] = { code, static_cast<std::uint32_t>(i) };
   }
   std::sort(keyed.begin(), keyed.end());
   this->Order.resize(n);
@@ -228,8 +241,9 @@ bool CasterClusters::Update(
     box[1] = box[3] = box[5] = -std::numeric_limits<double>::max();
     for (size_t i = c * run; i < std::min(n, (c + 1) * run); ++i)
     {
-      this->Order[i] = keyed[i].second;
-      const double* p = vertices + 9 * keyed[i].second;
+      this->Order.at(i) = casters[keyed[i].second];
+      double p[9];
+      vertices->Get(this->Order[i], p);
       for (int k = 0; k < 9; ++k)
       {
         box[2 * (k % 3)] = std::min(box[2 * (k % 3)], p[k]);
@@ -243,7 +257,8 @@ bool CasterClusters::Update(
 // The casters of this view and pass that may decide a listed sample, in cluster order
 // (the lists' answers do not depend on the order); returns how many were culled.
 vtkIdType CasterClusters::Cull(const View& view, int size, const SampleCells& cells,
-  const double* vertices, std::vector<unsigned char>& keep, std::vector<vtkIdType>& kept) const
+  const penumbra::SceneTriangles& vertices, std::vector<unsigned char>& keep,
+  penumbra_casters::CasterIds& kept) const
 {
   const vtkIdType n = static_cast<vtkIdType>(this->Order.size());
   const vtkIdType clusters = (n + ClusterSize - 1) / ClusterSize;
@@ -271,10 +286,10 @@ vtkIdType CasterClusters::Cull(const View& view, int size, const SampleCells& ce
         }
         for (vtkIdType i = first; i < last; ++i)
         {
+          double p[9];
+          vertices.Get(this->Order[static_cast<size_t>(i)], p);
           keep[static_cast<size_t>(i)] =
-            !(BoundPoints(
-                view, size, vertices + 9 * this->Order[static_cast<size_t>(i)], 3, box, lower) &&
-              cells.Culled(box, lower));
+            !(BoundPoints(view, size, p, 3, box, lower) && cells.Culled(box, lower));
         }
       }
     });

@@ -140,16 +140,18 @@ constexpr vtkIdType ClusterSize = 32;
 
 struct CasterClusters
 {
-  const vtkIdType* Source = nullptr; // the caster list it was built from
+  const void* Source = nullptr; // the caster list it was built from (CasterIds::Key)
   size_t SourceSize = 0;
-  const double* Vertices = nullptr;
+  const penumbra::SceneTriangles* Vertices = nullptr;
   vtkMTimeType Time = 0;
-  std::vector<vtkIdType> Order; // caster ids, Morton order
-  std::vector<double> Boxes;    // 6 per cluster: x0, x1, y0, y1, z0, z1
+  penumbra_casters::CasterIds Order; // caster ids, Morton order
+  std::vector<double> Boxes;         // 6 per cluster: x0, x1, y0, y1, z0, z1
 
-  bool Update(const std::vector<vtkIdType>& casters, const double* vertices, vtkMTimeType time);
-  vtkIdType Cull(const View& view, int size, const SampleCells& cells, const double* vertices,
-    std::vector<unsigned char>& keep, std::vector<vtkIdType>& kept) const;
+  bool Update(const penumbra_casters::CasterIds& casters, const penumbra::SceneTriangles* vertices,
+    vtkMTimeType time);
+  vtkIdType Cull(const View& view, int size, const SampleCells& cells,
+    const penumbra::SceneTriangles& vertices, std::vector<unsigned char>& keep,
+    penumbra_casters::CasterIds& kept) const;
 };
 
 // Defined in vtkPenumbraLinkedListLists.cxx.
@@ -187,7 +189,7 @@ struct Lists
 
 // Defined in vtkPenumbraLinkedListTests.cxx.
 vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
-  const std::vector<vtkIdType>& casters, Lists& lists, penumbra_casters::ExactTriangles& exact,
+  const penumbra_casters::CasterIds& casters, Lists& lists, penumbra_casters::ExactTriangles& exact,
   std::vector<vtkIdType>& nearTriangles);
 
 // Passes with few listed samples for their casters (fewer than SparseFactor per caster, as the
@@ -202,25 +204,47 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
 // with the same decision as under the rasterizer (Hit::Clear is sticky, Unknown is traced).
 constexpr vtkIdType SparseFactor = 2;
 
+// Rays of a run of nodes: node j's is Rays[j - First].
+struct RayRun
+{
+  const penumbra_light_views::ShadowRay* Rays;
+  size_t First;
+};
+
 struct CasterGrid
 {
   static constexpr int BandRows = 16;
-  std::vector<double> Box;         // per caster: texel box x0, x1, y0, y1
-  std::vector<float> Lower;        // per caster: lowest stored depth
-  std::vector<unsigned char> Kind; // per caster: 0 cannot block, 1 binned, 2 apex region
-  std::vector<double> Edge;        // per caster: 3 unit edge lines (a, b, c), inside >= 0
-  std::vector<double> Plane;       // per caster: depth quantity plane (EdgeLines)
   bool Perspective = false;
-  std::vector<unsigned char> Flat; // per caster: projection without area (no edge test)
-  std::vector<double> Normal;      // per caster: unit normal (double vertices)
-  std::vector<double> Slop;        // per caster: float rounding of its vertices (world)
-  std::vector<double> Scale;       // per caster: texels per world unit at its nearest
-  std::vector<double> TexelMargin; // per caster: MayBlock's margin for any pass ray, or -1
 
-  double MarginBound(size_t i, const double* tri, const penumbra_light_views::LightSetup& light,
-    double errPos) const;
-  bool TexelNear(std::uint32_t i, double x, double y) const;
-  bool MayBlock(std::uint32_t i, const float* point, double depth,
+  // Nothing is kept per caster (the whole description took about 180 bytes a caster): the
+  // band walk makes a binned caster's box (BoxOf) and description (Describe) again from its
+  // triangle, the same values wherever they are made.
+  // One binned caster, described for MayBlock: edge lines and depth plane (EdgeLines), unit
+  // normal, the float rounding of its vertices (world), the texels per world unit at its
+  // nearest, and MayBlock's margin for any of the pass's rays (-1: none). Flat: a projection
+  // without area (no edge test).
+  struct Description
+  {
+    double Edge[9];
+    double Plane[3];
+    double Normal[3];
+    double Slop = 0.0;
+    double Scale = 0.0;
+    double TexelMargin = -1.0;
+    bool Flat = true;
+  };
+  // What Describe needs of the pass.
+  View PassView;
+  int Size = 0;
+  double RowScale = 0.0;
+  double ErrPos = 0.0; // the largest positional slack of the pass's rays
+
+  void Describe(
+    const double tri[9], const penumbra_light_views::LightSetup& light, Description& d) const;
+  static double MarginBound(const Description& d, const double* tri,
+    const penumbra_light_views::LightSetup& light, double errPos);
+  static bool TexelNear(const Description& d, double x, double y);
+  bool MayBlock(const Description& d, const float* point, double depth,
     const penumbra_light_views::ShadowRay& ray) const;
   static constexpr int TileTexels = 16;
   std::vector<std::uint32_t> TileSums; // summed-area table of listed texels per tile
@@ -229,10 +253,16 @@ struct CasterGrid
   std::vector<double> TexelDepth;      // per entry of Texels: its samples' farthest depth
   std::vector<std::uint32_t> RowStart; // per grid row: its first entry in Texels (size + 1)
   std::vector<vtkIdType> BandStart;    // per band of grid rows: first entry (bands + 1)
-  std::vector<std::uint32_t> Entries;  // per band: the casters whose box reaches it
-  std::vector<penumbra_light_views::ShadowRay> Rays; // per node of the pass
+  std::vector<std::uint32_t> Entries;  // per band: the casters (index in the pass's list) whose
+                                       // box reaches it, in caster order
+  std::vector<penumbra_light_views::ShadowRay> Rays; // per node, unless NodesByTexel
+  bool NodesByTexel = false;                         // the lists' nodes in texel order (CPU lists)
 
-  // Grid rows and columns of the texels whose square caster i's box overlaps
+  void MakeRays(const TestContext& ctx, const Lists& lists);
+  RayRun RaysOfBand(const TestContext& ctx, const Lists& lists, int size, int rowLo, int rowHi,
+    std::vector<penumbra_light_views::ShadowRay>& scratch) const;
+
+  // Grid rows and columns of the texels whose square a box [v0, v1] overlaps
   // (x + 1 >= x0 and x <= x1).
   static int First(double v, int size)
   {
@@ -242,19 +272,20 @@ struct CasterGrid
   {
     return std::max(0, std::min(size - 1, static_cast<int>(std::floor(v))));
   }
-  int FirstRow(size_t i, int size) const { return First(this->Box[4 * i + 2], size); }
-  int LastRow(size_t i, int size) const { return Last(this->Box[4 * i + 3], size); }
 
   void CountTiles(int size, const Lists& lists);
-  bool BoxMeetsList(size_t i, int size) const;
+  bool BoxMeetsList(const double box[4], int size) const;
+  void Classify(const View& view, int size, const TestContext& ctx,
+    const penumbra_casters::CasterIds& casters, std::vector<unsigned char>& kinds) const;
+  void BoxOf(const double tri[9], int range[4], float& lower) const;
   vtkIdType Build(const View& view, int size, const TestContext& ctx,
-    const std::vector<vtkIdType>& casters, const Lists& lists,
+    const penumbra_casters::CasterIds& casters, const Lists& lists,
     std::vector<vtkIdType>& nearTriangles);
 };
 
-vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<vtkIdType>& casters,
-  const Lists& lists, const CasterGrid& grid, const float* point,
-  penumbra_casters::ExactTriangles& exact);
+vtkIdType TestListsByBands(int size, const TestContext& ctx,
+  const penumbra_casters::CasterIds& casters, const Lists& lists, const CasterGrid& grid,
+  const float* point, penumbra_casters::ExactTriangles& exact);
 vtkIdType TestNearTriangles(const TestContext& ctx, const vtkIdType* listed, vtkIdType count,
   const std::vector<vtkIdType>& nearTriangles);
 }
@@ -262,6 +293,7 @@ vtkIdType TestNearTriangles(const TestContext& ctx, const vtkIdType* listed, vtk
 struct vtkPenumbraLinkedListShadows::Internals
 {
   penumbra_casters::CasterBuffers Casters; // CPU lists only, never uploaded
+  vtkMTimeType CastersTime = 0;            // the geometry's GetCastersTime() of this call
   vtkNew<vtkUnsignedCharArray> State;
   std::vector<double> Depth;       // per sample
   std::vector<vtkIdType> Texel;    // per sample, its texel in its view
@@ -279,7 +311,7 @@ struct vtkPenumbraLinkedListShadows::Internals
   penumbra_llsm::CasterGrid Bands;        // sparse passes: the casters binned by box
   penumbra_llsm::CasterClusters Clusters; // the casters, grouped for culling
   std::vector<unsigned char> Keep;        // per caster (cluster order): not culled
-  std::vector<vtkIdType> Kept;            // the pass's casters after culling
+  penumbra_casters::CasterIds Kept;       // the pass's casters after culling
 
   // The phases of ComputeVisibility, in the order it runs them (defined below it).
   void ChooseListPath(vtkPenumbraLinkedListShadows* self, vtkRenderer* renderer, vtkIdType n);

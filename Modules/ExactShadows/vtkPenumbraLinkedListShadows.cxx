@@ -61,6 +61,7 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   }
   const vtkIdType n = in.NumberOfSamples;
   impl.Casters.Update(geometry, false);
+  impl.CastersTime = geometry->GetCastersTime();
   const bool anyCaster = !impl.Casters.TriangleIds.empty();
 
   // ---- 1. The samples to decide (Pending): facing the light, or the hybrid's hard ones
@@ -118,10 +119,6 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
     this->Reference->GetRelativeEpsilon(), this->Reference->GetTieFactor(), state,
     impl.Depth.data() };
   vtkIdType rows = 0;
-  if (!views.empty())
-  {
-    impl.Clusters.Update(impl.Casters.TriangleIds, in.TriangleVertices, geometry->GetCastersTime());
-  }
   impl.ChooseListPath(this, renderer, n);
   for (size_t vi = 0; vi < views.size(); ++vi)
   {
@@ -186,7 +183,7 @@ void vtkPenumbraLinkedListShadows::Internals::ListView(vtkPenumbraLinkedListShad
     const vtkIdType count = static_cast<vtkIdType>(this->Grid.Samples.size());
     remaining -= count;
     const auto rasterStart = Clock::now();
-    const std::vector<vtkIdType>* casters = &this->Casters.TriangleIds;
+    const penumbra_casters::CasterIds* casters = &this->Casters.TriangleIds;
     // Sparse lists (the hybrid's hard samples) are tested caster by caster box (CasterGrid),
     // which needs no coarse culling first: its bands skip the casters whose box meets no
     // listed texel, and MayBlock's depth test is per sample. Dense ones, where the per-caster
@@ -194,10 +191,13 @@ void vtkPenumbraLinkedListShadows::Internals::ListView(vtkPenumbraLinkedListShad
     const bool sparse = count < SparseFactor * static_cast<vtkIdType>(casters->size());
     if (self->CullCasters && !sparse)
     {
-      // Only casters that can reach a listed sample are rasterized (see SampleCells).
+      // Only casters that can reach a listed sample are rasterized (see SampleCells). The
+      // clusters are made for the first dense pass (8 bytes a caster; sparse passes do not
+      // cull) and kept while the casters are unchanged.
+      this->Clusters.Update(this->Casters.TriangleIds, ctx.In->SceneTriangles, this->CastersTime);
       this->Cells.Build(size, this->Grid.Samples.data(), count, this->Texel, this->Depth.data());
       self->NumberOfCulledCasters += this->Clusters.Cull(
-        view, size, this->Cells, ctx.In->TriangleVertices, this->Keep, this->Kept);
+        view, size, this->Cells, *ctx.In->SceneTriangles, this->Keep, this->Kept);
       casters = &this->Kept;
     }
     self->NumberOfRasterizedCasters += static_cast<vtkIdType>(casters->size());

@@ -144,12 +144,12 @@ namespace penumbra_llsm
 // all shadowed drops out. Returns the number of exact tests; the apex region's triangles go
 // to `nearTriangles`.
 vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
-  const std::vector<vtkIdType>& casters, Lists& lists, penumbra_casters::ExactTriangles& exact,
+  const penumbra_casters::CasterIds& casters, Lists& lists, penumbra_casters::ExactTriangles& exact,
   std::vector<vtkIdType>& nearTriangles)
 {
   const std::vector<std::uint32_t>& nodes = lists.Nodes;
   std::vector<unsigned char>& active = lists.Active;
-  const double* vertices = ctx.In->TriangleVertices;
+  const penumbra::SceneTriangles& vertices = *ctx.In->SceneTriangles;
   unsigned char* state = ctx.State;
   const penumbra_conservative::CpuMapStats stats = penumbra_conservative::RasterizeConservative(
     view, size, vertices, casters, active.data(), nearTriangles,
@@ -189,10 +189,10 @@ vtkIdType RasterizeLists(const View& view, int size, const TestContext& ctx,
 // come near it (the largest ErrPos; the smallest cosine with its normal: a directional
 // light's one direction, or for a positional light h / d, h the light's distance from the
 // triangle's plane and d its farthest vertex). -1 when the bound is too loose to use.
-double CasterGrid::MarginBound(
-  size_t i, const double* tri, const penumbra_light_views::LightSetup& light, double errPos) const
+double CasterGrid::MarginBound(const Description& d, const double* tri,
+  const penumbra_light_views::LightSetup& light, double errPos)
 {
-  const double* n = this->Normal.data() + 3 * i;
+  const double* n = d.Normal;
   double cosine = 0.0, reach = 0.0;
   if (light.Type == penumbra_light_views::LightSetup::Kind::Directional)
   {
@@ -218,24 +218,24 @@ double CasterGrid::MarginBound(
   {
     return -1.0;
   }
-  const double slack = errPos * (1.0 + 1.0 / cosine) + this->Slop[i];
-  if (!(slack < 1e-3 * reach) || !std::isfinite(slack * this->Scale[i]))
+  const double slack = errPos * (1.0 + 1.0 / cosine) + d.Slop;
+  if (!(slack < 1e-3 * reach) || !std::isfinite(slack * d.Scale))
   {
     return -1.0; // rays that near it may leave the cosine bound
   }
-  return 2.0 * slack * this->Scale[i] + 2e-3;
+  return 2.0 * slack * d.Scale + 2e-3;
 }
 
 // False when no point of texel (x, y) lies within caster i's TexelMargin of its projection:
 // then no sample of the texel passes MayBlock.
-bool CasterGrid::TexelNear(std::uint32_t i, double x, double y) const
+bool CasterGrid::TexelNear(const Description& d, double x, double y)
 {
-  const double m = this->TexelMargin[i];
+  const double m = d.TexelMargin;
   if (m < 0.0)
   {
     return true;
   }
-  const double* e = this->Edge.data() + 9 * i;
+  const double* e = d.Edge;
   for (int k = 0; k < 3; ++k, e += 3)
   {
     if (e[2] + e[0] * (e[0] > 0.0 ? x + 1.0 : x) + e[1] * (e[1] > 0.0 ? y + 1.0 : y) < -m)
@@ -254,26 +254,25 @@ bool CasterGrid::TexelNear(std::uint32_t i, double x, double y) const
 // ray it does not call a miss meets the plane within that of the (float-rounded) triangle;
 // projected into the view, that is within (slack + rounding) x Scale texels of each edge
 // line, doubled here for the projection's own rounding.
-bool CasterGrid::MayBlock(std::uint32_t i, const float* point, double depth,
+bool CasterGrid::MayBlock(const Description& d, const float* point, double depth,
   const penumbra_light_views::ShadowRay& ray) const
 {
-  if (this->Flat[i])
+  if (d.Flat)
   {
     return true;
   }
-  if (PlaneBehind(this->Perspective, this->Plane.data() + 3 * i, point, depth))
+  if (PlaneBehind(this->Perspective, d.Plane, point, depth))
   {
     return false;
   }
-  const double* n = this->Normal.data() + 3 * i;
+  const double* n = d.Normal;
   const double cosine = std::fabs(ray.D[0] * n[0] + ray.D[1] * n[1] + ray.D[2] * n[2]);
   if (!(cosine > 1e-5))
   {
     return true; // grazing: the exact test leaves it to the tracer
   }
-  const double margin =
-    2.0 * (ray.ErrPos * (1.0 + 1.0 / cosine) + this->Slop[i]) * this->Scale[i] + 1e-3;
-  const double* e = this->Edge.data() + 9 * i;
+  const double margin = 2.0 * (ray.ErrPos * (1.0 + 1.0 / cosine) + d.Slop) * d.Scale + 1e-3;
+  const double* e = d.Edge;
   const double x = point[0], y = point[1];
   return e[0] * x + e[1] * y + e[2] >= -margin && e[3] * x + e[4] * y + e[5] >= -margin &&
     e[6] * x + e[7] * y + e[8] >= -margin;
@@ -302,15 +301,15 @@ void CasterGrid::CountTiles(int size, const Lists& lists)
   }
 }
 
-// Whether caster i's box overlaps a tile with a listed texel: if not, the band walk would
+// Whether a caster's `box` overlaps a tile with a listed texel: if not, the band walk would
 // find no listed texel under it (the same First/Last texel bounds), so it is not binned.
-bool CasterGrid::BoxMeetsList(size_t i, int size) const
+bool CasterGrid::BoxMeetsList(const double box[4], int size) const
 {
   const size_t side = static_cast<size_t>(this->Tiles) + 1;
-  const size_t x0 = static_cast<size_t>(First(this->Box[4 * i], size) / TileTexels);
-  const size_t x1 = static_cast<size_t>(Last(this->Box[4 * i + 1], size) / TileTexels) + 1;
-  const size_t y0 = static_cast<size_t>(this->FirstRow(i, size) / TileTexels);
-  const size_t y1 = static_cast<size_t>(this->LastRow(i, size) / TileTexels) + 1;
+  const size_t x0 = static_cast<size_t>(First(box[0], size) / TileTexels);
+  const size_t x1 = static_cast<size_t>(Last(box[1], size) / TileTexels) + 1;
+  const size_t y0 = static_cast<size_t>(First(box[2], size) / TileTexels);
+  const size_t y1 = static_cast<size_t>(Last(box[3], size) / TileTexels) + 1;
   if (x1 <= x0 || y1 <= y0)
   {
     return true; // an empty span: leave it to the band walk
@@ -319,51 +318,22 @@ bool CasterGrid::BoxMeetsList(size_t i, int size) const
   return t[y1 * side + x1] - t[y0 * side + x1] - t[y1 * side + x0] + t[y0 * side + x0] > 0;
 }
 
-// Bins `casters` by band, lists the pass's texels and makes the listed samples' rays; the
-// apex region's casters go to `nearTriangles` (as with the rasterizer). Returns the binned.
-vtkIdType CasterGrid::Build(const View& view, int size, const TestContext& ctx,
-  const std::vector<vtkIdType>& casters, const Lists& lists, std::vector<vtkIdType>& nearTriangles)
+// What each caster is for the pass (0 cannot block, 1 binned, 2 apex region), from its box
+// alone. Nothing else is kept per caster: the binning and the band walk make a binned
+// caster's box and description again from its triangle (BoxOf, Describe).
+void CasterGrid::Classify(const View& view, int size, const TestContext& ctx,
+  const penumbra_casters::CasterIds& casters, std::vector<unsigned char>& kinds) const
 {
-  // Each listed sample's ray, once per pass (node order).
-  this->Rays.resize(lists.Samples.size());
-  vtkSMPTools::For(0, static_cast<vtkIdType>(lists.Samples.size()),
-    [&](vtkIdType begin, vtkIdType end)
-    {
-      for (vtkIdType j = begin; j < end; ++j)
-      {
-        this->Rays[static_cast<size_t>(j)] = ctx.Ray(lists.Samples[static_cast<size_t>(j)]);
-      }
-    });
-  double errPos = 0.0; // the largest positional slack of the pass's rays
-  for (const penumbra_light_views::ShadowRay& ray : this->Rays)
-  {
-    errPos = std::max(errPos, ray.ErrPos);
-  }
-  this->CountTiles(size, lists);
   const size_t n = casters.size();
-  this->TexelMargin.assign(n, -1.0);
-  this->Box.resize(4 * n);
-  this->Lower.resize(n);
-  this->Kind.assign(n, 0);
-  this->Edge.resize(9 * n);
-  this->Plane.resize(3 * n);
-  this->Flat.assign(n, 1);
-  this->Normal.resize(3 * n);
-  this->Slop.resize(n);
-  this->Scale.resize(n);
-  this->Perspective = view.Perspective;
-  auto norm3 = [](const double* r) { return std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]); };
-  const double w3 = view.Perspective ? 1.01 * norm3(view.Row[3]) : 0.0;
-  const double rowScale = 0.5 * size *
-    std::sqrt((norm3(view.Row[0]) + w3) * (norm3(view.Row[0]) + w3) +
-      (norm3(view.Row[1]) + w3) * (norm3(view.Row[1]) + w3));
+  kinds.assign(n, 0);
   vtkSMPTools::For(0, static_cast<vtkIdType>(n),
     [&](vtkIdType begin, vtkIdType end)
     {
       for (vtkIdType i = begin; i < end; ++i)
       {
-        const double* tri = ctx.In->TriangleVertices + 9 * casters[static_cast<size_t>(i)];
-        unsigned char& kind = this->Kind[static_cast<size_t>(i)];
+        double tri[9];
+        ctx.In->Triangle(casters[static_cast<size_t>(i)], tri);
+        unsigned char& kind = kinds[static_cast<size_t>(i)];
         if (view.Perspective)
         {
           const double w[3] = { view.Dot(3, tri), view.Dot(3, tri + 3), view.Dot(3, tri + 6) };
@@ -377,26 +347,106 @@ vtkIdType CasterGrid::Build(const View& view, int size, const TestContext& ctx,
             continue;
           }
         }
-        double* box = this->Box.data() + 4 * i;
-        if (!BoundPoints(view, size, tri, 3, box, this->Lower[static_cast<size_t>(i)]))
+        double box[4];
+        float lower;
+        if (!BoundPoints(view, size, tri, 3, box, lower))
         {
           kind = 2;
         }
         else if (box[1] >= 0.0 && box[3] >= 0.0 && box[0] < size && box[2] < size &&
-          this->BoxMeetsList(static_cast<size_t>(i), size))
+          this->BoxMeetsList(box, size))
         {
           kind = 1;
-          this->Flat[static_cast<size_t>(i)] = !ProjectionBounds(view, rowScale, tri,
-            this->Edge.data() + 9 * i, this->Plane.data() + 3 * i, this->Normal.data() + 3 * i,
-            this->Slop[static_cast<size_t>(i)], this->Scale[static_cast<size_t>(i)], size);
-          if (!this->Flat[static_cast<size_t>(i)])
+        }
+      }
+    });
+}
+
+// A binned caster's texel range (x0, x1, y0, y1) and lowest stored depth, from its triangle.
+void CasterGrid::BoxOf(const double tri[9], int range[4], float& lower) const
+{
+  double box[4];
+  BoundPoints(this->PassView, this->Size, tri, 3, box, lower);
+  range[0] = First(box[0], this->Size);
+  range[1] = Last(box[1], this->Size);
+  range[2] = First(box[2], this->Size);
+  range[3] = Last(box[3], this->Size);
+}
+
+// One binned caster described for MayBlock (see Description), from its triangle.
+void CasterGrid::Describe(
+  const double tri[9], const penumbra_light_views::LightSetup& light, Description& d) const
+{
+  d.Flat = !ProjectionBounds(
+    this->PassView, this->RowScale, tri, d.Edge, d.Plane, d.Normal, d.Slop, d.Scale, this->Size);
+  d.TexelMargin = d.Flat ? -1.0 : MarginBound(d, tri, light, this->ErrPos);
+}
+
+// The listed samples' rays (80 bytes each): the CPU lists hold their nodes in texel order,
+// so a band's nodes are one run and the band walk makes their rays (RaysOfBand); lists in
+// any other order (the GPU's) keep every ray, made here. Either way their largest
+// positional slack is needed first (ErrPos).
+void CasterGrid::MakeRays(const TestContext& ctx, const Lists& lists)
+{
+  this->NodesByTexel = std::is_sorted(lists.NodeTexel.begin(), lists.NodeTexel.end());
+  const size_t nodes = lists.Samples.size();
+  std::vector<penumbra_light_views::ShadowRay>().swap(this->Rays);
+  if (!this->NodesByTexel)
+  {
+    this->Rays.resize(nodes);
+  }
+  constexpr size_t Chunk = 4096;
+  std::vector<double> chunkErr((nodes + Chunk - 1) / Chunk, 0.0);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(chunkErr.size()),
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (size_t c = static_cast<size_t>(begin); c < static_cast<size_t>(end); ++c)
+      {
+        for (size_t j = c * Chunk; j < std::min(nodes, (c + 1) * Chunk); ++j)
+        {
+          const penumbra_light_views::ShadowRay ray = ctx.Ray(lists.Samples[j]);
+          chunkErr[c] = std::max(chunkErr[c], ray.ErrPos);
+          if (!this->NodesByTexel)
           {
-            this->TexelMargin[static_cast<size_t>(i)] =
-              this->MarginBound(static_cast<size_t>(i), tri, ctx.In->Light, errPos);
+            this->Rays[j] = ray;
           }
         }
       }
     });
+  this->ErrPos = 0.0;
+  for (double e : chunkErr)
+  {
+    this->ErrPos = std::max(this->ErrPos, e);
+  }
+}
+
+// Bins `casters` by band, lists the pass's texels and makes the listed samples' rays; the
+// apex region's casters go to `nearTriangles` (as with the rasterizer). Returns the binned.
+vtkIdType CasterGrid::Build(const View& view, int size, const TestContext& ctx,
+  const penumbra_casters::CasterIds& casters, const Lists& lists,
+  std::vector<vtkIdType>& nearTriangles)
+{
+  this->MakeRays(ctx, lists);
+  this->CountTiles(size, lists);
+  this->Perspective = view.Perspective;
+  this->PassView = view;
+  this->Size = size;
+  auto norm3 = [](const double* r) { return std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]); };
+  const double w3 = view.Perspective ? 1.01 * norm3(view.Row[3]) : 0.0;
+  this->RowScale = 0.5 * size *
+    std::sqrt((norm3(view.Row[0]) + w3) * (norm3(view.Row[0]) + w3) +
+      (norm3(view.Row[1]) + w3) * (norm3(view.Row[1]) + w3));
+  std::vector<unsigned char> kinds;
+  this->Classify(view, size, ctx, casters, kinds);
+  vtkIdType binned = 0;
+  for (size_t i = 0; i < casters.size(); ++i)
+  {
+    if (kinds[i] == 2)
+    {
+      nearTriangles.push_back(casters[i]);
+    }
+    binned += kinds[i] == 1 ? 1 : 0;
+  }
   // The pass's texels with a list, ascending (row-major), and where each row's begin.
   this->Texels.clear();
   for (size_t j = 0; j < lists.NodeTexel.size(); ++j)
@@ -430,55 +480,103 @@ vtkIdType CasterGrid::Build(const View& view, int size, const TestContext& ctx,
   {
     this->RowStart[static_cast<size_t>(y) + 1] += this->RowStart[static_cast<size_t>(y)];
   }
-  // Casters per band of BandRows grid rows, by their boxes' rows (a counting sort).
+  // Casters per band of BandRows grid rows, by their boxes' rows: a counting sort in caster
+  // order, counted and then filled per chunk of casters in parallel, each caster's box made
+  // again (BoxOf) rather than kept.
   const int bands = (size + BandRows - 1) / BandRows;
-  this->BandStart.assign(static_cast<size_t>(bands) + 1, 0);
+  const size_t n = casters.size();
+  constexpr size_t Chunk = 65536;
+  const size_t chunks = (n + Chunk - 1) / Chunk;
+  std::vector<vtkIdType> offsets(chunks * static_cast<size_t>(bands), 0);
   auto forBands = [&](size_t i, auto&& f)
   {
-    for (int b = this->FirstRow(i, size) / BandRows; b <= this->LastRow(i, size) / BandRows; ++b)
+    if (kinds[i] != 1)
+    {
+      return;
+    }
+    double tri[9];
+    ctx.In->Triangle(casters[i], tri);
+    int range[4];
+    float lower;
+    this->BoxOf(tri, range, lower);
+    for (int b = range[2] / BandRows; b <= range[3] / BandRows; ++b)
     {
       f(static_cast<size_t>(b));
     }
   };
-  vtkIdType binned = 0;
-  for (size_t i = 0; i < n; ++i)
+  auto forChunks = [&](auto&& f)
   {
-    if (this->Kind[i] == 2)
+    vtkSMPTools::For(0, static_cast<vtkIdType>(chunks),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (size_t c = static_cast<size_t>(begin); c < static_cast<size_t>(end); ++c)
+        {
+          vtkIdType* chunkOffsets = offsets.data() + c * static_cast<size_t>(bands);
+          for (size_t i = c * Chunk; i < std::min(n, (c + 1) * Chunk); ++i)
+          {
+            f(i, chunkOffsets);
+          }
+        }
+      });
+  };
+  forChunks([&](size_t i, vtkIdType* counts) { forBands(i, [&](size_t b) { ++counts[b]; }); });
+  // Counts to positions: band by band, chunk by chunk.
+  this->BandStart.assign(static_cast<size_t>(bands) + 1, 0);
+  vtkIdType position = 0;
+  for (size_t b = 0; b < static_cast<size_t>(bands); ++b)
+  {
+    this->BandStart[b] = position;
+    for (size_t c = 0; c < chunks; ++c)
     {
-      nearTriangles.push_back(casters[i]);
-    }
-    else if (this->Kind[i] == 1)
-    {
-      ++binned;
-      forBands(i, [&](size_t b) { ++this->BandStart[b + 1]; });
+      vtkIdType& slot = offsets[c * static_cast<size_t>(bands) + b];
+      const vtkIdType count = slot;
+      slot = position;
+      position += count;
     }
   }
-  for (size_t b = 1; b < this->BandStart.size(); ++b)
-  {
-    this->BandStart[b] += this->BandStart[b - 1];
-  }
-  std::vector<vtkIdType> fill(this->BandStart.begin(), this->BandStart.end() - 1);
-  this->Entries.resize(static_cast<size_t>(this->BandStart.back()));
-  for (size_t i = 0; i < n; ++i)
-  {
-    if (this->Kind[i] == 1)
+  this->BandStart[static_cast<size_t>(bands)] = position;
+  std::vector<std::uint32_t>().swap(this->Entries); // no copy of the last pass's entries
+  this->Entries.resize(static_cast<size_t>(position));
+  forChunks(
+    [&](size_t i, vtkIdType* next)
     {
       forBands(i,
         [&](size_t b)
-        { this->Entries[static_cast<size_t>(fill[b]++)] = static_cast<std::uint32_t>(i); });
-    }
-  }
+        { this->Entries[static_cast<size_t>(next[b]++)] = static_cast<std::uint32_t>(i); });
+    });
   return binned;
+}
+
+// The rays of the nodes of grid rows [rowLo, rowHi]: the kept ones, or (nodes in texel order)
+// the band's run of nodes, made into `scratch`.
+RayRun CasterGrid::RaysOfBand(const TestContext& ctx, const Lists& lists, int size, int rowLo,
+  int rowHi, std::vector<penumbra_light_views::ShadowRay>& scratch) const
+{
+  if (!this->NodesByTexel)
+  {
+    return { this->Rays.data(), 0 };
+  }
+  const std::uint32_t lo = static_cast<std::uint32_t>(rowLo) * static_cast<std::uint32_t>(size);
+  const std::uint32_t hi = static_cast<std::uint32_t>(rowHi + 1) * static_cast<std::uint32_t>(size);
+  const auto first = std::lower_bound(lists.NodeTexel.begin(), lists.NodeTexel.end(), lo);
+  const auto last = std::lower_bound(first, lists.NodeTexel.end(), hi);
+  const size_t j0 = static_cast<size_t>(first - lists.NodeTexel.begin());
+  scratch.resize(static_cast<size_t>(last - first));
+  for (size_t k = 0; k < scratch.size(); ++k)
+  {
+    scratch[k] = ctx.Ray(lists.Samples[j0 + k]);
+  }
+  return { scratch.data(), j0 };
 }
 
 // The sparse form of RasterizeLists: per band, each binned caster meets the samples of the
 // listed texels its box overlaps (MayBlock first, then the exact test). Returns the number of
 // exact tests.
-vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<vtkIdType>& casters,
-  const Lists& lists, const CasterGrid& grid, const float* point,
-  penumbra_casters::ExactTriangles& exact)
+vtkIdType TestListsByBands(int size, const TestContext& ctx,
+  const penumbra_casters::CasterIds& casters, const Lists& lists, const CasterGrid& grid,
+  const float* point, penumbra_casters::ExactTriangles& exact)
 {
-  const double* vertices = ctx.In->TriangleVertices;
+  const penumbra::SceneTriangles& vertices = *ctx.In->SceneTriangles;
   unsigned char* state = ctx.State;
   const int bands = static_cast<int>(grid.BandStart.size()) - 1;
   std::atomic<vtkIdType> tests(0);
@@ -488,23 +586,28 @@ vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<v
     {
       vtkIdType local = 0;
       penumbra_rules::ExactTriangle scratch;
+      std::vector<penumbra_light_views::ShadowRay> bandRays;
       for (vtkIdType b = begin; b < end; ++b)
       {
         const int rowLo = static_cast<int>(b) * CasterGrid::BandRows;
         const int rowHi = std::min(size - 1, rowLo + CasterGrid::BandRows - 1);
+        const RayRun rays = grid.RaysOfBand(ctx, lists, size, rowLo, rowHi, bandRays);
         for (vtkIdType e = grid.BandStart[static_cast<size_t>(b)];
              e < grid.BandStart[static_cast<size_t>(b) + 1]; ++e)
         {
-          const std::uint32_t i = grid.Entries[static_cast<size_t>(e)];
-          const vtkIdType id = casters[i];
-          const std::uint32_t x0 =
-            static_cast<std::uint32_t>(CasterGrid::First(grid.Box[4 * i], size));
-          const std::uint32_t x1 =
-            static_cast<std::uint32_t>(CasterGrid::Last(grid.Box[4 * i + 1], size));
+          const vtkIdType id = casters[grid.Entries[static_cast<size_t>(e)]];
+          double tri[9];
+          ctx.In->Triangle(id, tri);
+          int range[4];
+          float lower;
+          grid.BoxOf(tri, range, lower);
+          const std::uint32_t x0 = static_cast<std::uint32_t>(range[0]);
+          const std::uint32_t x1 = static_cast<std::uint32_t>(range[1]);
           const penumbra_rules::ExactTriangle* triangle = nullptr;
           bool made = false;
-          for (int y = std::max(rowLo, grid.FirstRow(i, size));
-               y <= std::min(rowHi, grid.LastRow(i, size)); ++y)
+          CasterGrid::Description d;
+          bool described = false;
+          for (int y = std::max(rowLo, range[2]); y <= std::min(rowHi, range[3]); ++y)
           {
             const auto rowBegin = grid.Texels.begin() + grid.RowStart[static_cast<size_t>(y)];
             const auto rowEnd = grid.Texels.begin() + grid.RowStart[static_cast<size_t>(y) + 1];
@@ -517,17 +620,26 @@ vtkIdType TestListsByBands(int size, const TestContext& ctx, const std::vector<v
               // Behind grows with the sample's depth: a caster behind the texel's farthest
               // sample is behind each of its samples (the per-sample test below).
               const size_t k = static_cast<size_t>(it - grid.Texels.begin());
-              if (Behind(grid.Lower[i], grid.TexelDepth[k]) || !grid.TexelNear(i, *it - base, y))
+              if (Behind(lower, grid.TexelDepth[k]))
+              {
+                continue;
+              }
+              if (!described)
+              {
+                grid.Describe(tri, ctx.In->Light, d);
+                described = true;
+              }
+              if (!CasterGrid::TexelNear(d, *it - base, y))
               {
                 continue;
               }
               for (std::uint32_t j = lists.Head[*it]; j != NoNode; j = lists.Nodes[2 * j + 1])
               {
                 const vtkIdType s = static_cast<vtkIdType>(lists.Nodes[2 * j]);
-                const penumbra_light_views::ShadowRay& ray = grid.Rays[j];
+                const penumbra_light_views::ShadowRay& ray = rays.Rays[j - rays.First];
                 if (state[s] == Shadowed || ctx.In->OwnCaster(id, s) ||
-                  Behind(grid.Lower[i], ctx.Depth[s]) ||
-                  !grid.MayBlock(i, point + 2 * s, ctx.Depth[s], ray))
+                  Behind(lower, ctx.Depth[s]) ||
+                  !grid.MayBlock(d, point + 2 * s, ctx.Depth[s], ray))
                 {
                   continue;
                 }
@@ -563,8 +675,9 @@ vtkIdType TestNearTriangles(const TestContext& ctx, const vtkIdType* listed, vtk
   for (size_t k = 0; testable && k < nearTriangles.size(); ++k)
   {
     const vtkIdType id = nearTriangles[k];
-    made[k] =
-      penumbra_rules::MakeExactTriangle(ctx.In->TriangleVertices + 9 * id, id, triangles[k]);
+    double v[9];
+    ctx.In->Triangle(id, v);
+    made[k] = penumbra_rules::MakeExactTriangle(v, id, triangles[k]);
   }
   std::atomic<vtkIdType> tests(0);
   vtkSMPTools::For(0, count,

@@ -70,22 +70,24 @@ void Connectivity::Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes)
 std::vector<std::array<int, 3>> Connectivity::WeldCasters(vtkPenumbraSceneGeometry* geometry)
 {
   const vtkIdType nt = geometry->GetNumberOfTriangles();
-  const double* tv = nt > 0 ? geometry->GetVertices()->GetPointer(0) : nullptr;
+  const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
   // Weld exactly equal coordinates only: anything looser would move geometry and the
   // reference sees the unwelded triangles.
   std::map<Vec3, int, Vec3Less> weld;
   std::vector<std::array<int, 3>> tris;
   for (vtkIdType t = 0; t < nt; ++t)
   {
-    if (!geometry->IsOccluder(t))
+    if (!triangles.IsOccluder(t))
     {
       continue;
     }
     std::array<int, 3> idx;
     Vec3 v[3];
+    double tv[9];
+    triangles.Get(t, tv);
     for (int k = 0; k < 3; ++k)
     {
-      v[k] = { tv[9 * t + 3 * k], tv[9 * t + 3 * k + 1], tv[9 * t + 3 * k + 2] };
+      v[k] = { tv[3 * k], tv[3 * k + 1], tv[3 * k + 2] };
     }
     const Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
     if (!(glm::dot(n, n) > 0.0)) // zero-area: the reference skips them too

@@ -95,7 +95,6 @@ void SampleLayout::ComputeDepths(const penumbra_light_views::FrameInputs& in,
   const double rows[4][4], const double unproject[4][4], const double origin[3], double scale)
 {
   this->DepthStencil.assign(2 * this->SampleAt.size(), 0.0f);
-  const double* tv = in.TriangleVertices;
   const vtkIdType perLayer = static_cast<vtkIdType>(this->Width) * this->Height;
   for (size_t pixel = 0; pixel < this->SampleAt.size(); ++pixel)
   {
@@ -112,7 +111,8 @@ void SampleLayout::ComputeDepths(const penumbra_light_views::FrameInputs& in,
     const vtkIdType t = in.Triangles[s];
     if (t >= 0 && t < in.NumberOfTriangles)
     {
-      const double* a = tv + 9 * t;
+      double a[9];
+      in.Triangle(t, a);
       const Vec3 va = { a[0], a[1], a[2] };
       const Vec3 nrm = glm::cross(Vec3(a[3], a[4], a[5]) - va, Vec3(a[6], a[7], a[8]) - va);
       // Pixel-centre ray in world coordinates, rebased.

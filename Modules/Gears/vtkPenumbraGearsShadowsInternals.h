@@ -333,16 +333,16 @@ struct vtkPenumbraGearsShadows::Internals
     {
       return;
     }
-    const vtkIdType n = geometry->GetNumberOfTriangles();
+    const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
+    const vtkIdType n = triangles.Size();
     this->Casters.clear();
     this->Bounds.clear();
-    vtkDoubleArray* vertices = geometry->GetVertices();
-    const double* v = n && vertices ? vertices->GetPointer(0) : nullptr;
-    for (vtkIdType t = 0; v && t < n; ++t)
+    for (vtkIdType t = 0; t < n; ++t)
     {
       Caster c;
-      if (geometry->IsOccluder(t) &&
-        penumbra_rules::MakeExactTriangle(v + 9 * t, penumbra_rules::CasterOwner(geometry, t), c))
+      double v[9];
+      if (triangles.IsOccluder(t) &&
+        (triangles.Get(t, v), penumbra_rules::MakeExactTriangle(v, triangles.GetOwner(t), c)))
       {
         this->Casters.push_back(c);
         Sphere b;

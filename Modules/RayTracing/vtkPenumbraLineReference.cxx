@@ -401,14 +401,8 @@ int vtkPenumbraLineReference::EnsureHierarchy()
   {
     return 1;
   }
-  const vtkIdType n = geometry->GetNumberOfTriangles();
-  vtkDoubleArray* vertices = geometry->GetVertices();
-  if (n > 0 &&
-    (!vertices || vertices->GetNumberOfComponents() != 9 || vertices->GetNumberOfTuples() != n))
-  {
-    return this->Fail("scene geometry is inconsistent: the vertex array does not match its "
-                      "number of triangles");
-  }
+  const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
+  const vtkIdType n = triangles.Size();
   if (n > std::numeric_limits<int>::max() / 2)
   {
     return this->Fail("scene geometry has too many triangles for the line reference");
@@ -417,9 +411,9 @@ int vtkPenumbraLineReference::EnsureHierarchy()
   for (vtkIdType t = 0; t < n; ++t)
   {
     ExactTriangle tri;
-    if (geometry->IsOccluder(t) &&
-      penumbra_rules::MakeExactTriangle(
-        vertices->GetPointer(9 * t), penumbra_rules::CasterOwner(geometry, t), tri))
+    double v[9];
+    if (triangles.IsOccluder(t) &&
+      (triangles.Get(t, v), penumbra_rules::MakeExactTriangle(v, triangles.GetOwner(t), tri)))
     {
       impl.Triangles.push_back(tri);
     }

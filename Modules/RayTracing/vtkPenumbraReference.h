@@ -30,7 +30,8 @@
  *   gets 1 (the shading multiplies a zero light anyway, so no shadow is the cheap and
  *   harmless answer), and for masks all bits are set.
  * - Self-intersection: the sample's own triangle (its triangle id), and the caster pieces it
- *   owns (vtkPenumbraSceneGeometry::GetOwners(), penumbra_rules::IsOwnCaster), never block, and
+ *   owns (vtkPenumbraSceneGeometry::GetTriangleOwner(), penumbra_rules::IsOwnCaster), never
+ *   block, and
  *   hits closer than tnear = RelativeEpsilon * max(|p|, D) are ignored, where |p| is the
  *   sample's distance to the geometry origin and D the diagonal of the geometry's bounds
  *   (scale-relative, no absolute length). Rays to a point/spot/area light sample end at

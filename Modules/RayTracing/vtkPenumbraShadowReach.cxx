@@ -300,19 +300,17 @@ std::vector<std::array<double, 6>> TriangleBoxes(
   vtkPenumbraSceneGeometry* geometry, unsigned char flags, int maxBoxes)
 {
   std::vector<std::array<double, 6>> boxes;
-  vtkDoubleArray* vertices = geometry->GetVertices();
-  vtkUnsignedCharArray* triangleFlags = geometry->GetFlags();
-  const vtkIdType n = geometry->GetNumberOfTriangles();
-  if (!vertices || !triangleFlags || triangleFlags->GetNumberOfValues() < n || n == 0)
+  const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
+  const vtkIdType n = triangles.Size();
+  if (n == 0)
   {
     return boxes;
   }
-  const double* v = vertices->GetPointer(0);
   const double* origin = geometry->GetOrigin();
   std::vector<vtkIdType> chosen;
   for (vtkIdType t = 0; t < n; ++t)
   {
-    if (triangleFlags->GetValue(t) & flags)
+    if (triangles.GetFlags(t) & flags)
     {
       chosen.push_back(t);
     }
@@ -321,21 +319,24 @@ std::vector<std::array<double, 6>> TriangleBoxes(
   geometry->GetBounds(all);
   const double margin = vtkMath::AreBoundsInitialized(all) ? Margin(all) : 0.0;
   auto centroid = [&](vtkIdType t, int c)
-  { return v[9 * t + c] + v[9 * t + 3 + c] + v[9 * t + 6 + c]; };
+  {
+    double v[9];
+    triangles.Get(t, v);
+    return v[c] + v[3 + c] + v[6 + c];
+  };
   auto boundsOf = [&](const vtkIdType* first, const vtkIdType* last)
   {
     std::array<double, 6> b = { vtkMath::Inf(), -vtkMath::Inf(), vtkMath::Inf(), -vtkMath::Inf(),
       vtkMath::Inf(), -vtkMath::Inf() };
     for (const vtkIdType* t = first; t < last; ++t)
     {
-      for (int k = 0; k < 3; ++k)
+      double v[9];
+      triangles.Get(*t, v);
+      for (int k = 0; k < 9; ++k)
       {
-        for (int c = 0; c < 3; ++c)
-        {
-          const double x = v[9 * *t + 3 * k + c];
-          b[2 * c] = std::min(b[2 * c], x);
-          b[2 * c + 1] = std::max(b[2 * c + 1], x);
-        }
+        const int c = k % 3;
+        b[2 * c] = std::min(b[2 * c], v[k]);
+        b[2 * c + 1] = std::max(b[2 * c + 1], v[k]);
       }
     }
     return b;

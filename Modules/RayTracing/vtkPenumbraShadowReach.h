@@ -112,8 +112,8 @@ VTKPENUMBRARAYTRACING_EXPORT void SelectTriangles(const double* xyz, vtkIdType c
 
 /**
  * Up to `maxBoxes` bounds (6 doubles each, world coordinates) that together hold the
- * triangles of `geometry` whose flags (vtkPenumbraSceneGeometry::GetFlags()) have a bit of
- * `flags` (RECEIVES_SHADOWS: the receivers; CASTS_SHADOWS: the casters), split at the median
+ * triangles of `geometry` whose flags (vtkPenumbraSceneGeometry::GetTriangleFlags()) have a
+ * bit of `flags` (RECEIVES_SHADOWS: the receivers; CASTS_SHADOWS: the casters), split at the median
  * triangle of the longest side until there are `maxBoxes` or a box holds one triangle. Each
  * box is grown by Margin() of the geometry's bounds. Empty when no triangle has the flag.
  */

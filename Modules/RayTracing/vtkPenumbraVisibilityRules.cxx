@@ -37,8 +37,8 @@ double SceneDiagonal(vtkPenumbraSceneGeometry* geometry)
 
 vtkIdType CasterOwner(vtkPenumbraSceneGeometry* geometry, vtkIdType t)
 {
-  vtkIdTypeArray* owners = geometry->GetOwners();
-  return owners && t >= 0 && t < owners->GetNumberOfTuples() ? owners->GetValue(t) : t;
+  const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
+  return t >= 0 && t < triangles.Size() ? triangles.GetOwner(t) : t;
 }
 
 RayBand SampleBand(const double p[3], double diagonal, double epsilon, double tieFactor)

@@ -72,7 +72,7 @@ struct ExactTriangle
 
 /**
  * The one own-triangle rule: a caster never blocks the view samples of the drawn triangle
- * that owns it, `casterOwner` = vtkPenumbraSceneGeometry::GetOwners() (the triangle itself,
+ * that owns it, `casterOwner` = vtkPenumbraSceneGeometry::GetTriangleOwner() (the triangle itself,
  * or the drawn triangle a caster piece was cut from). A sample whose triangle is unknown
  * (`sampleTriangle` -1) and casters that belong to no drawn triangle (owner -1: tubes, point
  * solids, splats) exclude nothing.
@@ -83,7 +83,7 @@ inline bool IsOwnCaster(vtkIdType casterOwner, vtkIdType sampleTriangle)
 }
 
 /**
- * The owner of triangle `t` of `geometry` (GetOwners()), `t` itself when the geometry has no
+ * The owner of triangle `t` of `geometry` (GetTriangleOwner()), `t` itself when `t` is not one
  * owner array of the right size.
  */
 VTKPENUMBRARAYTRACING_EXPORT vtkIdType CasterOwner(vtkPenumbraSceneGeometry* geometry, vtkIdType t);

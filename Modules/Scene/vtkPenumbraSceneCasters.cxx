@@ -13,84 +13,6 @@ constexpr double Pi = 3.14159265358979323846;
 }
 
 //------------------------------------------------------------------------------
-bool IsDegenerate(const double* a, const double* b, const double* c)
-{
-  const Vec3 pa(a[0], a[1], a[2]), pb(b[0], b[1], b[2]), pc(c[0], c[1], c[2]);
-  const Vec3 e1 = pb - pa, e2 = pc - pa, e3 = pc - pb;
-  const double longest = std::max({ glm::dot(e1, e1), glm::dot(e2, e2), glm::dot(e3, e3) });
-  return longest == 0.0 || glm::length(glm::cross(e1, e2)) <= 1e-12 * longest;
-}
-
-//------------------------------------------------------------------------------
-void TriangleList::Add(const double* a, const double* b, const double* c, vtkIdType cell,
-  vtkIdType owner, unsigned char role)
-{
-  this->World.insert(this->World.end(), a, a + 3);
-  this->World.insert(this->World.end(), b, b + 3);
-  this->World.insert(this->World.end(), c, c + 3);
-  this->CellIds.push_back(cell);
-  this->Owners.push_back(owner);
-  this->Roles.push_back(role);
-  if (IsDegenerate(a, b, c))
-  {
-    ++this->Degenerate;
-  }
-}
-
-//------------------------------------------------------------------------------
-void TriangleList::Add(
-  const Vec3& a, const Vec3& b, const Vec3& c, vtkIdType cell, vtkIdType owner, unsigned char role)
-{
-  const double pa[3] = { a.x, a.y, a.z }, pb[3] = { b.x, b.y, b.z }, pc[3] = { c.x, c.y, c.z };
-  this->Add(pa, pb, pc, cell, owner, role);
-}
-
-//------------------------------------------------------------------------------
-void TriangleList::Reserve(vtkIdType count)
-{
-  const size_t n = static_cast<size_t>(count);
-  if (n > this->CellIds.capacity())
-  {
-    // Geometric growth, as push_back would, without the copies of every step.
-    const size_t grown = std::max(n, this->CellIds.capacity() + this->CellIds.capacity() / 2);
-    this->World.reserve(9 * grown);
-    this->CellIds.reserve(grown);
-    this->Owners.reserve(grown);
-    this->Roles.reserve(grown);
-  }
-}
-
-//------------------------------------------------------------------------------
-void TriangleList::Append(const TriangleList& other, vtkIdType ownerShift)
-{
-  this->World.insert(this->World.end(), other.World.begin(), other.World.end());
-  this->CellIds.insert(this->CellIds.end(), other.CellIds.begin(), other.CellIds.end());
-  this->Roles.insert(this->Roles.end(), other.Roles.begin(), other.Roles.end());
-  for (vtkIdType owner : other.Owners)
-  {
-    this->Owners.push_back(owner >= 0 ? owner + ownerShift : owner);
-  }
-  this->Degenerate += other.Degenerate;
-}
-
-//------------------------------------------------------------------------------
-void TriangleList::Clear()
-{
-  this->World.clear();
-  this->CellIds.clear();
-  this->Owners.clear();
-  this->Roles.clear();
-  this->Degenerate = 0;
-}
-
-//------------------------------------------------------------------------------
-bool TriangleList::operator==(const TriangleList& o) const
-{
-  return this->World == o.World && this->CellIds == o.CellIds && this->Owners == o.Owners &&
-    this->Roles == o.Roles;
-}
-
-//------------------------------------------------------------------------------
 bool Inside(const Planes& planes, const Vec3& x)
 {
   for (const Plane& p : planes)
@@ -181,10 +103,18 @@ void PlaneCorners(const Plane& p, const Vec3 v[3], double f[3])
 void AppendBaryPolygon(const Vec3 v[3], const BaryPolygon& polygon, vtkIdType cell, vtkIdType owner,
   unsigned char role, TriangleList& out)
 {
+  if (polygon.size() < 3)
+  {
+    return;
+  }
   auto at = [v](const Bary& b) { return v[0] + b[0] * (v[1] - v[0]) + b[1] * (v[2] - v[0]); };
+  const std::uint32_t first = out.AddPoint(at(polygon[0]));
+  std::uint32_t previous = out.AddPoint(at(polygon[1]));
   for (size_t i = 1; i + 1 < polygon.size(); ++i)
   {
-    out.Add(at(polygon[0]), at(polygon[i]), at(polygon[i + 1]), cell, owner, role);
+    const std::uint32_t next = out.AddPoint(at(polygon[i + 1]));
+    out.AddIndexed(first, previous, next, cell, owner, role);
+    previous = next;
   }
 }
 
@@ -223,21 +153,22 @@ void AppendTube(const Vec3& a, const Vec3& b, double diameter, vtkIdType cell, T
   Vec3 u, v;
   Frame(axis / length, u, v);
   const double r = TubeCircumradius(diameter);
-  Vec3 ring[3];
+  std::uint32_t ra[3], rb[3]; // the ring around a, and around b
   for (int k = 0; k < 3; ++k)
   {
     const double angle = 2.0 * k * Pi / 3.0;
-    ring[k] = r * (std::cos(angle) * u + std::sin(angle) * v);
+    const Vec3 ring = r * (std::cos(angle) * u + std::sin(angle) * v);
+    ra[k] = out.AddPoint(a + ring);
+    rb[k] = out.AddPoint(b + ring);
   }
   for (int k = 0; k < 3; ++k)
   {
-    const Vec3& p = ring[k];
-    const Vec3& q = ring[(k + 1) % 3];
-    out.Add(a + p, a + q, b + q, cell, -1, ROLE_CASTS); // outward: (u, v, axis) right-handed
-    out.Add(a + p, b + q, b + p, cell, -1, ROLE_CASTS);
+    const int j = (k + 1) % 3;
+    out.AddIndexed(ra[k], ra[j], rb[j], cell, -1, ROLE_CASTS); // outward: (u, v, axis) right-handed
+    out.AddIndexed(ra[k], rb[j], rb[k], cell, -1, ROLE_CASTS);
   }
-  out.Add(a + ring[0], a + ring[2], a + ring[1], cell, -1, ROLE_CASTS);
-  out.Add(b + ring[0], b + ring[1], b + ring[2], cell, -1, ROLE_CASTS);
+  out.AddIndexed(ra[0], ra[2], ra[1], cell, -1, ROLE_CASTS);
+  out.AddIndexed(rb[0], rb[1], rb[2], cell, -1, ROLE_CASTS);
 }
 
 //------------------------------------------------------------------------------
@@ -256,18 +187,27 @@ void AppendPointSolid(const Vec3& c, double diameter, vtkIdType cell, TriangleLi
     return;
   }
   const double r = PointSolidCircumradius(diameter);
+  // The six corners: +x, -x, +y, -y, +z, -z.
+  std::uint32_t corner[6];
+  for (int k = 0; k < 6; ++k)
+  {
+    Vec3 offset(0.0);
+    offset[k / 2] = (k % 2) ? -r : r;
+    corner[k] = out.AddPoint(c + offset);
+  }
   for (int s = 0; s < 8; ++s)
   {
-    const double sx = (s & 1) ? -1.0 : 1.0, sy = (s & 2) ? -1.0 : 1.0, sz = (s & 4) ? -1.0 : 1.0;
-    const Vec3 x = c + Vec3(sx * r, 0, 0), y = c + Vec3(0, sy * r, 0), z = c + Vec3(0, 0, sz * r);
+    const std::uint32_t x = corner[(s & 1) ? 1 : 0], y = corner[(s & 2) ? 3 : 2],
+                        z = corner[(s & 4) ? 5 : 4];
     // (x, y, z) faces along (sx, sy, sz) when sx sy sz = 1; swap two corners otherwise.
-    if (sx * sy * sz > 0.0)
+    const bool even = (((s & 1) != 0) + ((s & 2) != 0) + ((s & 4) != 0)) % 2 == 0;
+    if (even)
     {
-      out.Add(x, y, z, cell, -1, ROLE_CASTS);
+      out.AddIndexed(x, y, z, cell, -1, ROLE_CASTS);
     }
     else
     {
-      out.Add(x, z, y, cell, -1, ROLE_CASTS);
+      out.AddIndexed(x, z, y, cell, -1, ROLE_CASTS);
     }
   }
 }
@@ -289,7 +229,9 @@ void AppendEdgeStrip(const Vec3& a, const Vec3& b, const Vec3& inside, const Vec
     out3 = -out3; // away from the polygon
   }
   const Vec3 d = halfWidth * out3;
-  out.Add(a, b, b + d, cell, owner, ROLE_CASTS);
-  out.Add(a, b + d, a + d, cell, owner, ROLE_CASTS);
+  const std::uint32_t pa = out.AddPoint(a), pb = out.AddPoint(b), pbd = out.AddPoint(b + d),
+                      pad = out.AddPoint(a + d);
+  out.AddIndexed(pa, pb, pbd, cell, owner, ROLE_CASTS);
+  out.AddIndexed(pa, pbd, pad, cell, owner, ROLE_CASTS);
 }
 }

@@ -13,6 +13,7 @@
 #ifndef vtkPenumbraSceneCasters_h
 #define vtkPenumbraSceneCasters_h
 
+#include "vtkPenumbraSceneTriangles.h"
 #include "vtkType.h"
 
 #include <glm/vec3.hpp> // glm::dvec3: the double-precision vector of every Penumbra module
@@ -34,35 +35,9 @@ enum Role : unsigned char
   ROLE_BOTH = 3
 };
 
-/**
- * One prop's triangles in absolute world coordinates: the drawn triangles first (in the
- * order a G-buffer's primitive ids count them), then the caster-only ones. Owner is the
- * local index of the drawn triangle a caster piece was cut from (the triangle itself for a
- * drawn triangle), -1 for shapes that belong to no drawn triangle (tubes, point solids).
- */
-struct TriangleList
-{
-  std::vector<double> World; // 9 per triangle
-  std::vector<vtkIdType> CellIds;
-  std::vector<vtkIdType> Owners;
-  std::vector<unsigned char> Roles;
-  vtkIdType Degenerate = 0;
-
-  vtkIdType Size() const { return static_cast<vtkIdType>(this->CellIds.size()); }
-  void Add(const Vec3& a, const Vec3& b, const Vec3& c, vtkIdType cell, vtkIdType owner,
-    unsigned char role);
-  void Add(const double* a, const double* b, const double* c, vtkIdType cell, vtkIdType owner,
-    unsigned char role);
-  /// Makes room for `count` triangles in all, so appending does not reallocate.
-  void Reserve(vtkIdType count);
-  /// Appends `other`; its non-negative owners are shifted by `ownerShift`.
-  void Append(const TriangleList& other, vtkIdType ownerShift);
-  void Clear();
-  bool operator==(const TriangleList& o) const;
-};
-
-/// Zero area up to rounding: the sine of the largest angle between two edges is below 1e-12.
-bool IsDegenerate(const double* a, const double* b, const double* c);
+/// One prop's triangles (stored indexed; see vtkPenumbraSceneTriangles.h).
+using TriangleList = penumbra::TriangleList;
+using penumbra::IsDegenerate;
 
 /// A half-space kept by a clipping plane: N . x + D >= 0 (world coordinates).
 using Plane = std::array<double, 4>;

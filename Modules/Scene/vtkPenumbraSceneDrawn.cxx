@@ -81,6 +81,17 @@ private:
       ++this->Result.BadPoints;
     }
   }
+  // The index in Drawn's points of the polydata's point `id`, added on first use: a point the
+  // mesh's triangles share is stored once.
+  std::uint32_t Pooled(vtkIdType id)
+  {
+    std::uint32_t& index = this->PoolIndex[static_cast<size_t>(id)];
+    if (index == NotPooled)
+    {
+      index = this->Drawn.AddPoint(&this->World[3 * id]);
+    }
+    return index;
+  }
   void TransformPoints();
   void Surface(PrimitiveCounts* counts);
   void AddSurfaceTriangle(vtkIdType a, vtkIdType b, vtkIdType c, vtkIdType cell);
@@ -105,6 +116,8 @@ private:
 
   std::vector<double> World;
   std::vector<char> Bad; // 1: non-finite, 2: non-finite and counted
+  static constexpr std::uint32_t NotPooled = ~std::uint32_t(0);
+  std::vector<std::uint32_t> PoolIndex; // per point: its index in Drawn's points, or NotPooled
   ScalarAlpha Alpha;
   vtkDataArray* TCoords = nullptr;
   vtkUnsignedCharArray* EdgeFlags = nullptr;
@@ -120,6 +133,7 @@ void Extractor::TransformPoints()
   const vtkIdType n = pts ? pts->GetNumberOfPoints() : 0;
   this->World.resize(3 * static_cast<size_t>(n));
   this->Bad.assign(static_cast<size_t>(n), 0);
+  this->PoolIndex.assign(static_cast<size_t>(n), NotPooled);
   for (vtkIdType i = 0; i < n; ++i)
   {
     double p[3];
@@ -292,8 +306,12 @@ void Extractor::EdgeStrips(vtkIdType local, const vtkIdType tri[3], int edges, v
     AppendEdgeStrip(v[k], v[(k + 1) % 3], inside, n, 0.5 * this->Style.EdgeWidth, 0, 0, strip);
     for (vtkIdType t = 0; t < strip.Size(); ++t)
     {
-      const double* w = &strip.World[9 * t];
-      const Vec3 s[3] = { Vec3(w[0], w[1], w[2]), Vec3(w[3], w[4], w[5]), Vec3(w[6], w[7], w[8]) };
+      Vec3 s[3];
+      for (int c = 0; c < 3; ++c)
+      {
+        const double* w = strip.Point(t, c);
+        s[c] = Vec3(w[0], w[1], w[2]);
+      }
       this->AddCasterClipped(s, cell, local);
     }
   }
@@ -307,8 +325,8 @@ void Extractor::AddSurfaceTriangle(vtkIdType a, vtkIdType b, vtkIdType c, vtkIdT
     this->Use(id);
   }
   const vtkIdType local = this->Drawn.Size();
-  this->Drawn.Add(&this->World[3 * a], &this->World[3 * b], &this->World[3 * c],
-    this->CellBase + cell, local, this->Style.SurfaceRole);
+  this->Drawn.AddIndexed(this->Pooled(a), this->Pooled(b), this->Pooled(c), this->CellBase + cell,
+    local, this->Style.SurfaceRole);
   this->CutSurfaceTriangle(local, a, b, c, cell);
 }
 
@@ -322,10 +340,12 @@ void Extractor::Surface(PrimitiveCounts* counts)
   this->Result.UsesWidth = this->Result.UsesWidth || this->Style.EdgeVisibility;
   const vtkIdType triangles = polys->GetNumberOfConnectivityIds() - 2 * polys->GetNumberOfCells() +
     strips->GetNumberOfConnectivityIds() - 2 * strips->GetNumberOfCells();
-  this->Drawn.Reserve(this->Drawn.Size() + triangles);
+  this->Drawn.Reserve(this->Drawn.Size() + triangles,
+    this->Drawn.NumberOfPoints() + static_cast<vtkIdType>(this->PoolIndex.size()));
   if (edges)
   {
-    this->Casters.Reserve(this->Casters.Size() + 2 * 3 * triangles);
+    this->Casters.Reserve(
+      this->Casters.Size() + 2 * 3 * triangles, this->Casters.NumberOfPoints() + 4 * 3 * triangles);
   }
 
   // Polygons: fan (p0, p_i, p_i+1), as vtkOpenGLIndexBufferObject::AppendTriangleIndexBuffer.
@@ -500,7 +520,8 @@ void Extractor::EmitSegments(std::vector<Segment>& segments)
   {
     this->Result.UsesWidth = this->Result.PointsOrLines = true;
   }
-  this->Casters.Reserve(this->Casters.Size() + 8 * static_cast<vtkIdType>(segments.size()));
+  this->Casters.Reserve(this->Casters.Size() + 8 * static_cast<vtkIdType>(segments.size()),
+    this->Casters.NumberOfPoints() + 6 * static_cast<vtkIdType>(segments.size()));
   for (const Segment& s : segments)
   {
     this->Use(s[0]);
@@ -527,7 +548,8 @@ void Extractor::EmitPoints(std::vector<std::array<vtkIdType, 2>>& points)
   {
     this->Result.UsesWidth = this->Result.PointsOrLines = true;
   }
-  this->Casters.Reserve(this->Casters.Size() + 8 * static_cast<vtkIdType>(points.size()));
+  this->Casters.Reserve(this->Casters.Size() + 8 * static_cast<vtkIdType>(points.size()),
+    this->Casters.NumberOfPoints() + 6 * static_cast<vtkIdType>(points.size()));
   for (const auto& p : points)
   {
     this->Use(p[0]);

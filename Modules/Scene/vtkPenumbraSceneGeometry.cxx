@@ -130,52 +130,30 @@ void vtkPenumbraSceneGeometry::Internals::Publish(double origin[3], bool geometr
   }
 
   const bool flagsChanged = geometryChanged || propFlags != this->PublishedPropFlags;
+  std::vector<penumbra::SceneTriangles::Block> blocks;
+  blocks.reserve(this->Props.size());
+  this->Degenerate = 0;
+  for (size_t p = 0; p < this->Props.size(); ++p)
+  {
+    PropEntry& e = *this->Props[p];
+    TriangleList& tl = e.Triangles;
+    // The float32 positions follow the points and the origin; a prop whose triangles and the
+    // origin are unchanged keeps them.
+    if (tl.Rebased.size() != tl.Points.size() + 1 || !std::equal(origin, origin + 3, e.RebasedFor))
+    {
+      tl.Rebase(origin);
+      std::copy(origin, origin + 3, e.RebasedFor);
+    }
+    blocks.push_back({ this->Offsets[p], &tl, e.Flags });
+    this->Degenerate += tl.Degenerate;
+  }
+  this->Triangles.Reset(origin, std::move(blocks));
   if (geometryChanged)
   {
-    this->Vertices->SetNumberOfTuples(total);
-    this->PropIndices->SetNumberOfTuples(total);
-    this->CellIds->SetNumberOfTuples(total);
-    this->Owners->SetNumberOfTuples(total);
-    double* v = this->Vertices->GetPointer(0);
-    this->Degenerate = 0;
-    for (size_t p = 0; p < this->Props.size(); ++p)
-    {
-      const TriangleList& tl = this->Props[p]->Triangles;
-      const vtkIdType offset = this->Offsets[p];
-      const vtkIdType n = tl.Size();
-      for (vtkIdType t = 0; t < n; ++t)
-      {
-        for (int k = 0; k < 9; ++k)
-        {
-          v[9 * (offset + t) + k] = tl.World[9 * t + k] - origin[k % 3];
-        }
-        this->PropIndices->SetValue(offset + t, static_cast<int>(p));
-        this->CellIds->SetValue(offset + t, tl.CellIds[t]);
-        const vtkIdType owner = tl.Owners[t];
-        this->Owners->SetValue(offset + t, owner >= 0 ? offset + owner : -1);
-      }
-      this->Degenerate += tl.Degenerate;
-    }
-    this->Owners->Modified();
-    this->Vertices->Modified();
     this->GeometryTime.Modified();
   }
   if (flagsChanged)
   {
-    this->Flags->SetNumberOfTuples(total);
-    for (size_t p = 0; p < this->Props.size(); ++p)
-    {
-      // What each triangle does, masked by what its prop's shadow keys allow.
-      const PropEntry& e = *this->Props[p];
-      const vtkIdType offset = this->Offsets[p];
-      const vtkIdType n = e.Triangles.Size();
-      for (vtkIdType t = 0; t < n; ++t)
-      {
-        this->Flags->SetValue(
-          offset + t, static_cast<unsigned char>(e.Triangles.Roles[t] & e.Flags));
-      }
-    }
-    this->Flags->Modified();
     this->FlagsTime.Modified();
   }
   this->PublishedLayout.swap(layout);
@@ -191,11 +169,7 @@ void vtkPenumbraSceneGeometry::Internals::Clear()
   this->IndexOfLeaf.clear();
   this->PublishedLayout.clear();
   this->PublishedPropFlags.clear();
-  this->Vertices->SetNumberOfTuples(0);
-  this->PropIndices->SetNumberOfTuples(0);
-  this->CellIds->SetNumberOfTuples(0);
-  this->Owners->SetNumberOfTuples(0);
-  this->Flags->SetNumberOfTuples(0);
+  this->Triangles.Reset(this->Triangles.GetOrigin(), {});
   this->Degenerate = 0;
   vtkMath::UninitializeBounds(this->Bounds);
   if (hadContent)
@@ -210,12 +184,6 @@ vtkPenumbraSceneGeometry::vtkPenumbraSceneGeometry()
   : Impl(new Internals)
 {
   this->Origin[0] = this->Origin[1] = this->Origin[2] = 0.0;
-  this->Impl->Vertices->SetName("Vertices");
-  this->Impl->Vertices->SetNumberOfComponents(9);
-  this->Impl->PropIndices->SetName("PropIndices");
-  this->Impl->CellIds->SetName("CellIds");
-  this->Impl->Owners->SetName("Owners");
-  this->Impl->Flags->SetName("Flags");
 }
 
 //------------------------------------------------------------------------------
@@ -374,8 +342,11 @@ void vtkPenumbraSceneGeometry::GetCasterWorldTriangles(vtkDoubleArray* world)
     {
       if (casts(e, t))
       {
-        const double* w = e->Triangles.World.data() + 9 * t;
-        out = std::copy(w, w + 9, out);
+        for (int k = 0; k < 3; ++k)
+        {
+          const double* w = e->Triangles.Point(t, k);
+          out = std::copy(w, w + 3, out);
+        }
       }
     }
   }
@@ -391,37 +362,60 @@ const char* vtkPenumbraSceneGeometry::GetErrorMessage()
 //------------------------------------------------------------------------------
 vtkIdType vtkPenumbraSceneGeometry::GetNumberOfTriangles()
 {
-  return this->Impl->Vertices->GetNumberOfTuples();
+  return this->Impl->Triangles.Size();
 }
 
 //------------------------------------------------------------------------------
-vtkDoubleArray* vtkPenumbraSceneGeometry::GetVertices()
+const penumbra::SceneTriangles& vtkPenumbraSceneGeometry::GetTriangles()
 {
-  return this->Impl->Vertices;
+  return this->Impl->Triangles;
 }
 
 //------------------------------------------------------------------------------
-vtkIntArray* vtkPenumbraSceneGeometry::GetPropIndices()
+bool vtkPenumbraSceneGeometry::GetTriangle(vtkIdType t, double vertices[9])
 {
-  return this->Impl->PropIndices;
+  if (t < 0 || t >= this->GetNumberOfTriangles())
+  {
+    std::fill(vertices, vertices + 9, 0.0);
+    return false;
+  }
+  this->Impl->Triangles.Get(t, vertices);
+  return true;
 }
 
 //------------------------------------------------------------------------------
-vtkIdTypeArray* vtkPenumbraSceneGeometry::GetCellIds()
+int vtkPenumbraSceneGeometry::GetTriangleFlags(vtkIdType t)
 {
-  return this->Impl->CellIds;
+  return t >= 0 && t < this->GetNumberOfTriangles() ? this->Impl->Triangles.GetFlags(t) : 0;
 }
 
 //------------------------------------------------------------------------------
-vtkIdTypeArray* vtkPenumbraSceneGeometry::GetOwners()
+vtkIdType vtkPenumbraSceneGeometry::GetTriangleOwner(vtkIdType t)
 {
-  return this->Impl->Owners;
+  return t >= 0 && t < this->GetNumberOfTriangles() ? this->Impl->Triangles.GetOwner(t) : -1;
 }
 
 //------------------------------------------------------------------------------
-vtkUnsignedCharArray* vtkPenumbraSceneGeometry::GetFlags()
+vtkIdType vtkPenumbraSceneGeometry::GetTriangleCellId(vtkIdType t)
 {
-  return this->Impl->Flags;
+  return t >= 0 && t < this->GetNumberOfTriangles() ? this->Impl->Triangles.GetCellId(t) : -1;
+}
+
+//------------------------------------------------------------------------------
+int vtkPenumbraSceneGeometry::GetTrianglePropIndex(vtkIdType t)
+{
+  return t >= 0 && t < this->GetNumberOfTriangles() ? this->Impl->Triangles.GetPropIndex(t) : -1;
+}
+
+//------------------------------------------------------------------------------
+size_t vtkPenumbraSceneGeometry::GetTriangleBytes()
+{
+  size_t bytes = 0;
+  for (const PropEntry* e : this->Impl->Props)
+  {
+    bytes += e->Triangles.HeapBytes();
+  }
+  return bytes;
 }
 
 //------------------------------------------------------------------------------
@@ -593,18 +587,8 @@ int vtkPenumbraSceneGeometry::GetNumberOfPropsExtractedLastUpdate()
 //------------------------------------------------------------------------------
 bool vtkPenumbraSceneGeometry::IsOccluder(vtkIdType index)
 {
-  if (index < 0 || index >= this->GetNumberOfTriangles() ||
-    !(this->GetFlags()->GetValue(index) & CASTS_SHADOWS))
-  {
-    return false;
-  }
-  const double* p = this->GetVertices()->GetPointer(9 * index);
-  const double e1[3] = { p[3] - p[0], p[4] - p[1], p[5] - p[2] };
-  const double e2[3] = { p[6] - p[0], p[7] - p[1], p[8] - p[2] };
-  double cross[3];
-  vtkMath::Cross(e1, e2, cross);
-  const double a2 = vtkMath::Dot(cross, cross);
-  return a2 > 0.0 && std::isfinite(a2);
+  return index >= 0 && index < this->GetNumberOfTriangles() &&
+    this->Impl->Triangles.IsOccluder(index);
 }
 
 //------------------------------------------------------------------------------

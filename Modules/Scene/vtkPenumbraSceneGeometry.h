@@ -6,7 +6,9 @@
  * Update() walks the renderer's view props (all of them, not only those inside the camera
  * frustum: a prop off screen still casts shadows into the view) and turns what each visible
  * prop draws into world-space triangles, with the prop's full matrix applied in double
- * precision, stored relative to a rebasing Origin.
+ * precision, read relative to a rebasing Origin. The triangles are stored once, indexed, in
+ * world coordinates (vtkPenumbraSceneTriangles.h: points shared by a mesh's triangles are
+ * stored once; about 31 bytes a triangle for a closed mesh with its float32 copy).
  *
  * The rule: every prop casts what VTK 9.1 draws of it, and only that (the table per prop
  * kind is docs/prop-contract.md). Surfaces are drawn triangles; what is drawn but is
@@ -51,7 +53,7 @@
  * Per prop the drawn triangles come first, in the order the G-buffer's primitive ids count
  * them, then the prop's caster-only triangles (tubes, point solids, splats, and the pieces
  * of drawn triangles that cast only in part: such a triangle keeps RECEIVES_SHADOWS and
- * loses CASTS_SHADOWS, and its pieces cast). GetOwners() names, per triangle, the drawn
+ * loses CASTS_SHADOWS, and its pieces cast). GetTriangleOwner() names, per triangle, the drawn
  * triangle whose view samples it must never shadow.
  *
  * Triangle order follows what VTK 9.1's vtkOpenGLPolyDataMapper draws, so that a G-buffer
@@ -91,17 +93,18 @@
 
 #include <memory> // For std::unique_ptr
 
+#ifndef __VTK_WRAP__
+#include "vtkPenumbraSceneTriangles.h" // For penumbra::SceneTriangles
+#endif
+
 class vtkCamera;
 class vtkCompositeDataDisplayAttributes;
 class vtkDoubleArray;
-class vtkIdTypeArray;
 class vtkInformationStringKey;
-class vtkIntArray;
 class vtkMapper;
 class vtkProp;
 class vtkPropCollection;
 class vtkRenderer;
-class vtkUnsignedCharArray;
 
 class VTKPENUMBRASCENE_EXPORT vtkPenumbraSceneGeometry : public vtkObject
 {
@@ -111,7 +114,7 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**
-   * Bits of GetFlags().
+   * Bits of GetTriangleFlags().
    */
   enum TriangleFlags
   {
@@ -194,42 +197,63 @@ public:
    */
   vtkIdType GetNumberOfTriangles();
 
+#ifndef __VTK_WRAP__
   /**
-   * One tuple of 9 components per triangle: v0 xyz, v1 xyz, v2 xyz, world position minus
-   * Origin, in double precision. Vertex order is VTK's (the triangle's winding is kept).
+   * The published triangles (vtkPenumbraSceneTriangles.h): per prop its points in world
+   * coordinates and its indexed triangles, and by global triangle index the corners relative
+   * to Origin in double precision (Get, GetLocal), their float32 rounding (GetFloat), the
+   * flags, owners, cell ids and prop indices described below. Valid until the next Update().
+   * Triangle order: the props in extraction order, per prop its drawn triangles, then its
+   * caster-only ones.
    */
-  vtkDoubleArray* GetVertices();
+  const penumbra::SceneTriangles& GetTriangles();
+#endif
 
   /**
-   * Per triangle: index of its prop in the extracted prop list (see GetProp()).
+   * Triangle `t`'s corners v0 xyz, v1 xyz, v2 xyz: world position minus Origin, in double
+   * precision, in VTK's vertex order (the triangle's winding is kept). False (and zeros) for
+   * an index out of range. For scripts and tests; C++ loops read GetTriangles().
    */
-  vtkIntArray* GetPropIndices();
+  bool GetTriangle(vtkIdType t, double vertices[9]);
 
   /**
-   * Per triangle: id of the VTK cell it comes from in the prop's polydata (verts, lines,
+   * Triangle `t`'s flags: bit 0 (CASTS_SHADOWS, value 1) = casts shadows, bit 1
+   * (RECEIVES_SHADOWS, value 2) = receives shadows: what the triangle does (a drawn triangle
+   * receives and casts unless cut, a caster-only triangle only casts) masked by
+   * vtkPenumbraShadowKeys. 0 out of range.
+   */
+  int GetTriangleFlags(vtkIdType t);
+
+  /**
+   * The global index of the drawn triangle triangle `t` belongs to, whose view samples it
+   * must never shadow (the one own-triangle exclusion of the tracer and the techniques): the
+   * triangle itself for a drawn triangle, the drawn triangle a caster piece was cut from
+   * (clipping planes, alpha cut-outs, a surface's edge strips), -1 for shapes that belong to
+   * no drawn triangle (tubes, point solids, splats: lines and points receive no shadows) and
+   * out of range. A sample whose triangle is unknown (-1) excludes nothing.
+   */
+  vtkIdType GetTriangleOwner(vtkIdType t);
+
+  /**
+   * The id of the VTK cell triangle `t` comes from in its prop's polydata (verts, lines,
    * polys, strips numbered in that order, as vtkPolyData does; after surface extraction for
    * non-polydata; for composite data each polydata leaf's ids continue after the previous
-   * leaf's, in depth-first order). For glyph instances and splats: the input point id.
-   * Tubes, point solids and cut pieces carry the cell they were made from.
+   * leaf's, in depth-first order). For glyph instances and splats: the input point id. Tubes,
+   * point solids and cut pieces carry the cell they were made from. -1 out of range.
    */
-  vtkIdTypeArray* GetCellIds();
+  vtkIdType GetTriangleCellId(vtkIdType t);
 
   /**
-   * Per triangle: the global index of the drawn triangle it belongs to, whose view samples
-   * it must never shadow (the one own-triangle exclusion of the tracer and the techniques):
-   * the triangle itself for a drawn triangle, the drawn triangle a caster piece was cut from
-   * (clipping planes, alpha cut-outs, a surface's edge strips), -1 for shapes that belong to
-   * no drawn triangle (tubes, point solids, splats: lines and points receive no shadows).
-   * A sample whose triangle is unknown (-1) excludes nothing.
+   * The index of triangle `t`'s prop in the extracted prop list (see GetProp()), -1 out of
+   * range.
    */
-  vtkIdTypeArray* GetOwners();
+  int GetTrianglePropIndex(vtkIdType t);
 
   /**
-   * Per triangle: bit 0 (CASTS_SHADOWS, value 1) = casts shadows, bit 1 (RECEIVES_SHADOWS,
-   * value 2) = receives shadows: what the triangle does (a drawn triangle receives and casts
-   * unless cut, a caster-only triangle only casts) masked by vtkPenumbraShadowKeys.
+   * Bytes the stored triangles hold (points, corners, cell ids, owners, roles, float32
+   * positions), for the memory reports.
    */
-  vtkUnsignedCharArray* GetFlags();
+  size_t GetTriangleBytes();
 
   ///@{
   /**

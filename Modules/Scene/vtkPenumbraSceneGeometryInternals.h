@@ -55,8 +55,8 @@ enum class Kind
 };
 
 // Everything kept about one extracted prop (an actor, or one assembly path to a part actor).
-// Triangles are stored in absolute world coordinates so that the global arrays can be rebuilt
-// for a new Origin without re-extracting.
+// Triangles are stored in absolute world coordinates so that a new Origin needs no
+// re-extraction.
 struct PropEntry
 {
   // Identity: the props of the assembly path, root first (a single prop for a plain actor).
@@ -79,7 +79,8 @@ struct PropEntry
   bool PointsOrLines = false;       // some of its fragments come from points or lines
 
   Kind What = Kind::Polygonal;
-  TriangleList Triangles; // the drawn triangles first, then the caster-only ones
+  TriangleList Triangles;             // the drawn triangles first, then the caster-only ones
+  double RebasedFor[3] = { 0, 0, 0 }; // the origin Triangles.Rebased was made for
   double Bounds[6];
   std::string Note; // what the extraction could not cast as drawn
 
@@ -133,11 +134,7 @@ struct vtkPenumbraSceneGeometry::Internals
   static DisplayAttributesAccessor DisplayAttributes;
 
   std::string ErrorMessage;
-  vtkNew<vtkDoubleArray> Vertices;
-  vtkNew<vtkIntArray> PropIndices;
-  vtkNew<vtkIdTypeArray> CellIds;
-  vtkNew<vtkIdTypeArray> Owners;
-  vtkNew<vtkUnsignedCharArray> Flags;
+  penumbra::SceneTriangles Triangles; // the published view of the props' lists
 
   std::map<PathKey, PropEntry> Cache; // every prop seen by the last Update, visible or not
   std::vector<PropEntry*> Props;      // the extracted list, in order

@@ -308,7 +308,7 @@ bool vtkPenumbraSceneGeometry::Internals::Place(PropEntry&& candidate, const Set
   }
   if (!reuse)
   {
-    const TriangleList before = std::move(entry.Triangles);
+    TriangleList before = std::move(entry.Triangles);
     entry.Path = candidate.Path;
     entry.Leaf = candidate.Leaf;
     entry.PathRefs.assign(candidate.Path.begin(), candidate.Path.end());
@@ -329,6 +329,12 @@ bool vtkPenumbraSceneGeometry::Internals::Place(PropEntry&& candidate, const Set
       return false; // not cached: the next Update looks at it again
     }
     entry.GeometryChanged = !(entry.Triangles == before);
+    if (!entry.GeometryChanged)
+    {
+      // The same triangles: keep the stored ones, whose float32 copy Embree and GL buffers
+      // read in place (nothing that reads them rebuilds while the geometry time stands still).
+      entry.Triangles = std::move(before);
+    }
   }
   else
   {
@@ -624,8 +630,10 @@ bool vtkPenumbraSceneGeometry::Internals::Extract(
     e.Triangles.Append(casters, 0);
   }
 
-  const std::vector<double>& world = e.Triangles.World;
-  if (!world.empty())
+  e.Triangles.ShrinkToFit();
+  // The bounds of the triangles' corners (points no triangle uses are not stored).
+  const std::vector<double>& world = e.Triangles.Points;
+  if (e.Triangles.Size() > 0)
   {
     e.Bounds[0] = e.Bounds[2] = e.Bounds[4] = VTK_DOUBLE_MAX;
     e.Bounds[1] = e.Bounds[3] = e.Bounds[5] = VTK_DOUBLE_MIN;

@@ -245,8 +245,8 @@ void GlyphDataSet(vtkGlyph3DMapper* mapper, vtkDataSet* ds, const double m[16],
     const vtkIdType firstDrawn = drawn.Size(), firstCaster = casters.Size();
     AppendDrawnPolyData(source, world, 0, style, drawn, casters, nullptr, outcome);
     // Cell ids name the input point the instance stands on.
-    std::fill(drawn.CellIds.begin() + firstDrawn, drawn.CellIds.end(), id);
-    std::fill(casters.CellIds.begin() + firstCaster, casters.CellIds.end(), id);
+    drawn.CellIds.Fill(firstDrawn, id);
+    casters.CellIds.Fill(firstCaster, id);
   }
 }
 }

@@ -127,7 +127,7 @@ bool vtkPenumbraResolutionMatchedShadows::Internals::RenderPages(
       program->SetUniformMatrix4x4("lightMatrix", matrix);
       ostate->vtkglViewport(cell.CellX, cell.CellY, w, h);
       ostate->vtkglScissor(cell.CellX, cell.CellY, w, h);
-      glDrawArrays(GL_TRIANGLES, 0, this->Casters.VertexCount);
+      this->Casters.Draw();
       ++self->NumberOfSuperpages;
     }
     this->CopyPages(pages, cells);

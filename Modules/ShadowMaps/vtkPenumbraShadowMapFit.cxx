@@ -502,8 +502,8 @@ namespace penumbra_shadow_maps
 void ExtentFromScene(const LightSetup& setup, int slotMode, vtkPenumbraSceneGeometry* geometry,
   SceneChunks& chunks, ReceiverExtent& e)
 {
-  vtkDoubleArray* vertices = geometry->GetVertices();
-  const vtkIdType count = vertices ? 3 * geometry->GetNumberOfTriangles() : 0;
+  const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
+  const vtkIdType count = 3 * triangles.Size();
   if (count == 0)
   {
     return;
@@ -521,7 +521,8 @@ void ExtentFromScene(const LightSetup& setup, int slotMode, vtkPenumbraSceneGeom
     const vtkIdType first = static_cast<vtkIdType>(c) * SceneChunks::Size;
     for (vtkIdType v = first; v < std::min(count, first + SceneChunks::Size); ++v)
     {
-      const double* p = vertices->GetPointer(3 * v);
+      double p[3];
+      triangles.GetCorner(v / 3, static_cast<int>(v % 3), p);
       AddReceiver(setup, axes, slotMode, p, e);
       if (plane)
       {

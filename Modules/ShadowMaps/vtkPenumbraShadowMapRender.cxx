@@ -141,9 +141,13 @@ void vtkPenumbraShadowMapShadows::Internals::DrawSlotLayers(vtkPenumbraShadowMap
       this->DepthTextures[0]->Activate();
       program->SetUniformi("firstLayer", this->DepthTextures[0]->GetTextureUnit());
     }
-    if (count > 0)
+    if (count > 0 && maps->Paraboloid)
     {
       glDrawArrays(GL_TRIANGLES, 0, count);
+    }
+    else if (count > 0)
+    {
+      this->Casters.Draw();
     }
     if (layer == 1)
     {
@@ -381,9 +385,10 @@ bool vtkPenumbraShadowMapShadows::Internals::RenderMaps(vtkPenumbraShadowMapShad
 void vtkPenumbraShadowMapShadows::Internals::BuildParaboloidCasters(const double centre[3])
 {
   std::vector<float> data[2];
-  const std::vector<float>& v = this->Casters.Vertices;
-  for (size_t tri = 0; tri + 9 <= v.size(); tri += 9)
+  for (size_t caster = 0; caster < this->Casters.TriangleIds.size(); ++caster)
   {
+    float v[9];
+    this->Casters.Float(caster, v);
     for (int h = 0; h < 2; ++h)
     {
       const double sign = h ? -1.0 : 1.0;
@@ -392,7 +397,7 @@ void vtkPenumbraShadowMapShadows::Internals::BuildParaboloidCasters(const double
       {
         for (int c = 0; c < 3; ++c)
         {
-          q[k][c] = static_cast<double>(v[tri + 3 * k + c]) - centre[c];
+          q[k][c] = static_cast<double>(v[3 * k + c]) - centre[c];
         }
         q[k][2] *= sign;
       }

@@ -135,8 +135,8 @@ struct SceneChunks
 
   void Update(vtkPenumbraSceneGeometry* geometry)
   {
-    vtkDoubleArray* vertices = geometry->GetVertices();
-    const vtkIdType count = vertices ? 3 * geometry->GetNumberOfTriangles() : 0;
+    const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
+    const vtkIdType count = 3 * triangles.Size();
     if (geometry == this->Geometry && geometry->GetGeometryTime() == this->Time &&
       count == this->Count)
     {
@@ -157,7 +157,8 @@ struct SceneChunks
             std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
           for (vtkIdType v = c * Size; v < std::min(count, (c + 1) * Size); ++v)
           {
-            const double* p = vertices->GetPointer(3 * v);
+            double p[3];
+            triangles.GetCorner(v / 3, static_cast<int>(v % 3), p);
             for (int k = 0; k < 3; ++k)
             {
               box[2 * k] = std::min(box[2 * k], p[k]);

@@ -873,7 +873,7 @@ bool vtkPenumbraSoftShadowMapShadows::Internals::RenderMaps(
       program->SetUniformf("invFar", static_cast<float>(1.0 / m.Camera.Far));
       const GLfloat one = 1.0f;
       glClearBufferfv(GL_DEPTH, 0, &one);
-      glDrawArrays(GL_TRIANGLES, 0, buffers->VertexCount);
+      buffers->Draw();
       std::vector<float>& target = buffers == &this->Casters ? m.Depth : m.Surface;
       target.resize(static_cast<size_t>(res) * res);
       glReadPixels(0, 0, res, res, GL_DEPTH_COMPONENT, GL_FLOAT, target.data());

@@ -28,7 +28,7 @@ void ExactTriangles::Free()
 }
 
 //------------------------------------------------------------------------------
-void ExactTriangles::Reset(const std::vector<vtkIdType>& casters)
+void ExactTriangles::Reset(const CasterIds& casters)
 {
   this->SlotOf.clear();
   this->SlotOf.shrink_to_fit();
@@ -79,8 +79,10 @@ penumbra_rules::ExactTriangle& ExactTriangles::Slot(size_t slot)
 
 //------------------------------------------------------------------------------
 const penumbra_rules::ExactTriangle* ExactTriangles::Get(
-  vtkIdType id, const double* vertices, penumbra_rules::ExactTriangle& scratch)
+  vtkIdType id, const penumbra::SceneTriangles& triangles, penumbra_rules::ExactTriangle& scratch)
 {
+  double vertices[9];
+  triangles.Get(id, vertices);
   const std::int32_t slot =
     static_cast<size_t>(id) < this->SlotOf.size() ? this->SlotOf[static_cast<size_t>(id)] : -1;
   if (slot >= 0)
@@ -90,7 +92,7 @@ const penumbra_rules::ExactTriangle* ExactTriangles::Get(
     if (state == 0 && made.compare_exchange_strong(state, 1, std::memory_order_acq_rel))
     {
       penumbra_rules::ExactTriangle& t = this->Slot(static_cast<size_t>(slot));
-      const bool area = penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, t);
+      const bool area = penumbra_rules::MakeExactTriangle(vertices, id, t);
       made.store(area ? 2 : 3, std::memory_order_release);
       return area ? &t : nullptr;
     }
@@ -103,7 +105,7 @@ const penumbra_rules::ExactTriangle* ExactTriangles::Get(
       return nullptr;
     }
   }
-  return penumbra_rules::MakeExactTriangle(vertices + 9 * id, id, scratch) ? &scratch : nullptr;
+  return penumbra_rules::MakeExactTriangle(vertices, id, scratch) ? &scratch : nullptr;
 }
 
 //------------------------------------------------------------------------------
@@ -111,49 +113,66 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
 {
   if (this->Current.Changed(geometry))
   {
-    const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
-    vtkDoubleArray* vertexArray = geometry->GetVertices();
-    const double* v = nTriangles && vertexArray ? vertexArray->GetPointer(0) : nullptr;
-    // The lists are sized exactly (the casters first, then their positions): grown by
-    // push_back they would hold up to twice their size, at 36 bytes a caster.
-    this->Vertices.clear();
-    this->Vertices.shrink_to_fit();
+    const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
+    const vtkIdType nTriangles = triangles.Size();
+    // Sized exactly (counted first): grown by push_back the list would hold up to twice its
+    // size.
     this->TriangleIds.clear();
     this->TriangleIds.shrink_to_fit();
     // The reference's rule: casters with area (a zero-area triangle blocks no ray).
-    auto listed = [&](vtkIdType t) { return this->AllSurfaces || geometry->IsOccluder(t); };
+    auto listed = [&](vtkIdType t) { return this->AllSurfaces || triangles.IsOccluder(t); };
     vtkIdType count = 0;
-    for (vtkIdType t = 0; v && t < nTriangles; ++t)
+    for (vtkIdType t = 0; t < nTriangles; ++t)
     {
       count += listed(t) ? 1 : 0;
     }
-    std::vector<vtkIdType> casters;
-    casters.reserve(static_cast<size_t>(count));
-    for (vtkIdType t = 0; v && t < nTriangles; ++t)
+    if (nTriangles > static_cast<vtkIdType>(std::numeric_limits<std::uint32_t>::max()))
     {
-      if (listed(t))
-      {
-        casters.push_back(t);
-      }
+      vtkGenericWarningMacro(<< "caster buffers: " << nTriangles
+                             << " triangles exceed 32-bit caster ids; no casters are listed");
+      count = 0;
     }
-    std::vector<float> xyz(9 * casters.size());
+    CasterIds casters;
+    if (count == nTriangles)
+    {
+      casters.SetIdentity(static_cast<size_t>(count));
+    }
+    else
+    {
+      casters.reserve(static_cast<size_t>(count));
+    }
     double* bounds = this->Bounds;
     bounds[0] = bounds[2] = bounds[4] = std::numeric_limits<double>::max();
     bounds[1] = bounds[3] = bounds[5] = -std::numeric_limits<double>::max();
-    for (size_t i = 0; i < casters.size(); ++i)
+    for (vtkIdType t = 0; t < nTriangles && count > 0; ++t)
     {
-      const double* p = v + 9 * casters[i];
+      if (!listed(t))
+      {
+        continue;
+      }
+      if (count < nTriangles)
+      {
+        casters.push_back(static_cast<std::uint32_t>(t));
+      }
+      double p[9];
+      triangles.Get(t, p);
       for (int c = 0; c < 9; ++c)
       {
-        xyz[9 * i + c] = static_cast<float>(p[c]);
         bounds[2 * (c % 3)] = std::min(bounds[2 * (c % 3)], p[c]);
         bounds[2 * (c % 3) + 1] = std::max(bounds[2 * (c % 3) + 1], p[c]);
       }
     }
-    this->VertexCount = static_cast<GLsizei>(xyz.size() / 3);
-    this->Vertices.swap(xyz);
+    this->VertexCount = static_cast<GLsizei>(3 * casters.size());
     this->TriangleIds.swap(casters);
     this->Exact.Reset(this->TriangleIds);
+    this->Triangles = &triangles;
+    this->PointBase.clear();
+    GLuint points = 0;
+    for (const penumbra::SceneTriangles::Block& block : triangles.GetBlocks())
+    {
+      this->PointBase.push_back(points);
+      points += static_cast<GLuint>(block.List->NumberOfPoints());
+    }
     this->Current.Remember(geometry);
     this->OnGPU = false;
   }
@@ -161,28 +180,67 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
   {
     return false;
   }
-  std::vector<std::uint32_t> ids;
-  ids.reserve(this->Vertices.size() / 3);
-  for (vtkIdType t : this->TriangleIds)
-  {
-    ids.insert(ids.end(), 3, static_cast<std::uint32_t>(t));
-  }
   if (!this->VertexArray)
   {
     glGenVertexArrays(1, &this->VertexArray);
     glGenBuffers(1, &this->Positions);
-    glGenBuffers(1, &this->Ids);
+    glGenBuffers(1, &this->Elements);
     glGenBuffers(1, &this->Indices);
   }
+  // The points of every prop, one after the other (a prop without casters is a few unused
+  // points), then the casters' corners as indices into them.
+  GLsizeiptr pointBytes = 0;
+  for (const penumbra::SceneTriangles::Block& block : this->Triangles->GetBlocks())
+  {
+    pointBytes += static_cast<GLsizeiptr>(3 * block.List->NumberOfPoints() * sizeof(float));
+  }
   glBindBuffer(GL_ARRAY_BUFFER, this->Positions);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(this->Vertices.size() * sizeof(float)),
-    this->Vertices.empty() ? nullptr : this->Vertices.data(), GL_STATIC_DRAW);
-  glBindBuffer(GL_ARRAY_BUFFER, this->Ids);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ids.size() * sizeof(std::uint32_t)),
-    ids.empty() ? nullptr : ids.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, pointBytes, nullptr, GL_STATIC_DRAW);
+  GLintptr offset = 0;
+  for (const penumbra::SceneTriangles::Block& block : this->Triangles->GetBlocks())
+  {
+    const GLsizeiptr bytes =
+      static_cast<GLsizeiptr>(3 * block.List->NumberOfPoints() * sizeof(float));
+    if (bytes > 0)
+    {
+      glBufferSubData(GL_ARRAY_BUFFER, offset, bytes, block.List->Rebased.data());
+    }
+    offset += bytes;
+  }
   glBindBuffer(GL_ARRAY_BUFFER, 0);
+  // The element buffer is written in slices, so that no CPU copy of all of it is made.
+  constexpr size_t Slice = size_t(1) << 16;
+  std::vector<GLuint> slice;
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, this->Elements);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+    static_cast<GLsizeiptr>(this->VertexCount) * static_cast<GLsizeiptr>(sizeof(GLuint)), nullptr,
+    GL_STATIC_DRAW);
+  for (size_t first = 0; first < this->TriangleIds.size(); first += Slice)
+  {
+    const size_t last = std::min(this->TriangleIds.size(), first + Slice);
+    slice.clear();
+    for (size_t i = first; i < last; ++i)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        slice.push_back(this->Element(i, k));
+      }
+    }
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLintptr>(3 * first * sizeof(GLuint)),
+      static_cast<GLsizeiptr>(slice.size() * sizeof(GLuint)), slice.data());
+  }
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
   this->OnGPU = true;
   return true;
+}
+
+//------------------------------------------------------------------------------
+GLuint CasterBuffers::Element(size_t i, int k) const
+{
+  const vtkIdType t = this->TriangleIds[i];
+  const size_t b = this->Triangles->BlockIndex(t);
+  const penumbra::SceneTriangles::Block& block = this->Triangles->GetBlocks()[b];
+  return this->PointBase[b] + block.List->Corners[3 * static_cast<size_t>(t - block.First) + k];
 }
 
 //------------------------------------------------------------------------------
@@ -197,6 +255,14 @@ void CasterBuffers::Bind(vtkShaderProgram* program)
     glVertexAttribPointer(static_cast<GLuint>(posLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
   }
+  // The element buffer binding is part of the vertex array's state.
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, this->Elements);
+}
+
+//------------------------------------------------------------------------------
+void CasterBuffers::Draw() const
+{
+  glDrawElements(GL_TRIANGLES, this->VertexCount, GL_UNSIGNED_INT, nullptr);
 }
 
 //------------------------------------------------------------------------------
@@ -206,7 +272,7 @@ void CasterBuffers::Release()
   {
     glDeleteVertexArrays(1, &this->VertexArray);
     glDeleteBuffers(1, &this->Positions);
-    glDeleteBuffers(1, &this->Ids);
+    glDeleteBuffers(1, &this->Elements);
     glDeleteBuffers(1, &this->Indices);
   }
   this->Forget();
@@ -215,7 +281,7 @@ void CasterBuffers::Release()
 //------------------------------------------------------------------------------
 void CasterBuffers::Forget()
 {
-  this->VertexArray = this->Positions = this->Ids = this->Indices = 0;
+  this->VertexArray = this->Positions = this->Elements = this->Indices = 0;
   this->OnGPU = false;
 }
 }

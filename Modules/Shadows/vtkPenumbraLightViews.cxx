@@ -237,17 +237,6 @@ bool FrameInputs::Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry
   vtkIntArray* propArray = samples->GetPropIndices();
   vtkIdTypeArray* triArray = samples->GetTriangleIds();
   const vtkIdType nTriangles = geometry->GetNumberOfTriangles();
-  vtkDoubleArray* vertexArray = geometry->GetVertices();
-  vtkUnsignedCharArray* flagArray = geometry->GetFlags();
-  if (nTriangles > 0 &&
-    (!vertexArray || !flagArray || vertexArray->GetNumberOfComponents() != 9 ||
-      vertexArray->GetNumberOfTuples() != nTriangles ||
-      flagArray->GetNumberOfTuples() != nTriangles))
-  {
-    error = "scene geometry is inconsistent: vertex or flag arrays do not match its number of "
-            "triangles";
-    return false;
-  }
   double samplesOrigin[3];
   geometry->GetOrigin(this->GeometryOrigin);
   samples->GetOrigin(samplesOrigin);
@@ -270,11 +259,7 @@ bool FrameInputs::Read(vtkRenderer* renderer, vtkPenumbraSceneGeometry* geometry
   this->Props = n ? propArray->GetPointer(0) : nullptr;
   this->Triangles = n ? triArray->GetPointer(0) : nullptr;
   this->NumberOfTriangles = nTriangles;
-  this->TriangleVertices = nTriangles > 0 ? vertexArray->GetPointer(0) : nullptr;
-  vtkIdTypeArray* owners = geometry->GetOwners();
-  this->Owners = nTriangles > 0 && owners && owners->GetNumberOfTuples() == nTriangles
-    ? owners->GetPointer(0)
-    : nullptr;
+  this->SceneTriangles = &geometry->GetTriangles();
   return true;
 }
 

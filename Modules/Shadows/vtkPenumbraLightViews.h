@@ -15,6 +15,7 @@
 #ifndef vtkPenumbraLightViews_h
 #define vtkPenumbraLightViews_h
 
+#include "vtkPenumbraSceneTriangles.h"  // For penumbra::SceneTriangles
 #include "vtkPenumbraVisibilityRules.h" // For penumbra_rules::Hit
 #include "vtkType.h"
 #include "vtk_glew.h"
@@ -111,8 +112,7 @@ struct FrameInputs
   const int* Props = nullptr;
   const vtkIdType* Triangles = nullptr;
   vtkIdType NumberOfTriangles = 0;
-  const vtkIdType* Owners = nullptr;        // per triangle: its owner (GetOwners()), null: itself
-  const double* TriangleVertices = nullptr; // 9 per triangle, rebased
+  const penumbra::SceneTriangles* SceneTriangles = nullptr; // the geometry's (GetTriangles())
   double GeometryOrigin[3] = { 0, 0, 0 };
   double Shift[3] = { 0, 0, 0 }; // samples' frame -> geometry's frame
   LightSetup Light;
@@ -132,8 +132,11 @@ struct FrameInputs
   /// Whether caster triangle `t` never blocks sample `s` (penumbra_rules::IsOwnCaster).
   bool OwnCaster(vtkIdType t, vtkIdType s) const
   {
-    return penumbra_rules::IsOwnCaster(this->Owners ? this->Owners[t] : t, this->Triangles[s]);
+    return penumbra_rules::IsOwnCaster(this->SceneTriangles->GetOwner(t), this->Triangles[s]);
   }
+
+  /// Triangle `t`'s corners in the geometry's frame (rebased, double).
+  void Triangle(vtkIdType t, double v[9]) const { this->SceneTriangles->Get(t, v); }
 };
 
 /**

@@ -213,16 +213,17 @@ struct vtkPenumbraShadowPass::Internals
       this->CasterBoxMade.Remember(this->Geometry);
       this->HasCasters = false;
       double lo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, hi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
-      vtkDoubleArray* vertices = this->Geometry->GetVertices();
-      const vtkIdType n = vertices ? this->Geometry->GetNumberOfTriangles() : 0;
+      const penumbra::SceneTriangles& triangles = this->Geometry->GetTriangles();
+      const vtkIdType n = triangles.Size();
       for (vtkIdType t = 0; t < n; ++t)
       {
-        if (!this->Geometry->IsOccluder(t))
+        if (!triangles.IsOccluder(t))
         {
           continue;
         }
         this->HasCasters = true;
-        const double* v = vertices->GetPointer(9 * t);
+        double v[9];
+        triangles.Get(t, v);
         for (int c = 0; c < 9; ++c)
         {
           lo[c % 3] = std::min(lo[c % 3], v[c]);
@@ -290,10 +291,10 @@ struct vtkPenumbraShadowPass::Internals
       }
       const vtkIdType first = g->GetPropTriangleOffset(p);
       const vtkIdType count = g->GetPropTriangleCount(p);
-      const unsigned char* flags = g->GetFlags()->GetPointer(0);
+      const penumbra::SceneTriangles& triangles = g->GetTriangles();
       for (vtkIdType t = first; t < first + count && !this->Receivers; ++t)
       {
-        this->Receivers = (flags[t] & vtkPenumbraSceneGeometry::RECEIVES_SHADOWS) != 0;
+        this->Receivers = (triangles.GetFlags(t) & vtkPenumbraSceneGeometry::RECEIVES_SHADOWS) != 0;
       }
     }
     return this->Receivers;

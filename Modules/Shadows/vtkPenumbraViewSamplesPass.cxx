@@ -612,7 +612,7 @@ void vtkPenumbraViewSamplesPass::Internals::RebuildFromTriangles(
   int* props = target->GetPropIndices()->GetPointer(first);
   vtkIdType* tris = target->GetTriangleIds()->GetPointer(first);
   vtkPenumbraSceneGeometry* geometry = this->Geometry;
-  const double* vertices = geometry->GetVertices()->GetPointer(0);
+  const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
   const std::vector<float>& ids = this->ReadBuffers[2];
   unsigned char* fallback = this->Fallback.data();
   vtkSMPTools::For(0, n,
@@ -633,7 +633,8 @@ void vtkPenumbraViewSamplesPass::Internals::RebuildFromTriangles(
         }
         double o[3], d[3];
         this->PixelRay(static_cast<int>(i % w), static_cast<int>(i / w), o, d);
-        if (tri < 0 || !RebuildSample(vertices + 9 * tri, o, d, pos + 3 * i, nrm + 3 * i))
+        double v[9];
+        if (tri < 0 || (triangles.Get(tri, v), !RebuildSample(v, o, d, pos + 3 * i, nrm + 3 * i)))
         {
           fallback[i] = 1;
         }

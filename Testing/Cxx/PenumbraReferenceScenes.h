@@ -97,11 +97,10 @@ inline vtkIdType FindTriangleXY(
   const double py = y - origin[1];
   const vtkIdType first = geometry->GetPropTriangleOffset(propIndex);
   const vtkIdType count = geometry->GetPropTriangleCount(propIndex);
-  vtkDoubleArray* vertices = geometry->GetVertices();
   for (vtkIdType t = first; t < first + count; ++t)
   {
     double v[9];
-    vertices->GetTypedTuple(t, v);
+    geometry->GetTriangle(t, v);
     double sign = 0.0;
     bool inside = true;
     for (int e = 0; e < 3 && inside; ++e)

@@ -16,7 +16,6 @@ layout(triangles) in;
 layout(triangle_strip, max_vertices = 12) out;
 
 in vec4 clipVS[];
-flat in uint idVS[];
 
 uniform vec2 mapSize;       // texels per side
 uniform int perspective;    // 1: w = distance along the view axis; 0: z = linear depth
@@ -291,7 +290,8 @@ void main()
   {
     return;
   }
-  sId = idVS[0];
+  // The primitive's index in the draw; the CPU turns it into the caster's triangle id.
+  sId = uint(gl_PrimitiveIDIn);
   if (perspective == 1 && emitTipQuad(poly, n))
   {
     return;

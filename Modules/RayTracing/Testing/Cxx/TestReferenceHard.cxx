@@ -342,6 +342,17 @@ int Caching()
           expected) == 0);
   CHECK(!onEdge && expected > 200);
 
+  // The box's data modified without a change: extracted again, the same triangles, and the
+  // scene (which reads the geometry's own float32 points and owners) is kept and still right.
+  scene.Box->Modified();
+  CHECK(scene.Update());
+  CHECK(scene.Geometry->GetNumberOfPropsExtractedLastUpdate() == 1);
+  CHECK(reference->ComputeVisibility(scene.Samples, point, vis));
+  CHECK(reference->GetNumberOfBuilds() == 2);
+  CHECK(Mismatches(
+          vis, [&](const double c[2]) { return InPointFootprint(c, l, 0.5, onEdge); }, shadowed,
+          expected) == 0);
+
   // The box stops casting: rebuilt without it, nothing is shadowed.
   vtkPenumbraShadowKeys::SetCastsShadows(scene.BoxActor, false);
   CHECK(scene.Update());

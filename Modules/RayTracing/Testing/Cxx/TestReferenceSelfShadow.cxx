@@ -47,7 +47,7 @@ void SphereSamples(vtkPenumbraSceneGeometry* geometry, int prop, int points,
   for (vtkIdType t = 0; t < count; ++t)
   {
     double v[9];
-    geometry->GetVertices()->GetTypedTuple(first + t, v);
+    geometry->GetTriangle(first + t, v);
     const double e1[3] = { v[3] - v[0], v[4] - v[1], v[5] - v[2] };
     const double e2[3] = { v[6] - v[0], v[7] - v[1], v[8] - v[2] };
     double n[3];

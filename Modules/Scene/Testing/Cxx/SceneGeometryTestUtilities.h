@@ -59,7 +59,9 @@ inline void WorldVertex(vtkPenumbraSceneGeometry* g, vtkIdType t, int v, double 
   const double* o = g->GetOrigin();
   for (int c = 0; c < 3; ++c)
   {
-    out[c] = g->GetVertices()->GetComponent(t, 3 * v + c) + o[c];
+    double corners[9];
+    g->GetTriangle(t, corners);
+    out[c] = corners[3 * v + c] + o[c];
   }
 }
 

@@ -69,7 +69,7 @@ vtkIdType CountFlags(vtkPenumbraSceneGeometry* g, int p, int flags, double* area
   const vtkIdType first = g->GetPropTriangleOffset(p);
   for (vtkIdType t = first; t < first + g->GetPropTriangleCount(p); ++t)
   {
-    if (g->GetFlags()->GetValue(t) == flags)
+    if (g->GetTriangleFlags(t) == flags)
     {
       ++count;
       sum += Area(g, t);
@@ -143,14 +143,14 @@ int TestWireframeSquare()
   CHECK(edgesMet == 15);
   for (vtkIdType t = 0; t < g->GetNumberOfTriangles(); ++t)
   {
-    CHECK(g->GetOwners()->GetValue(t) == -1);
-    CHECK(g->GetCellIds()->GetValue(t) == 0);
+    CHECK(g->GetTriangleOwner(t) == -1);
+    CHECK(g->GetTriangleCellId(t) == 0);
   }
   // The same square as a surface: its two triangles, no tube.
   actor->GetProperty()->SetRepresentationToSurface();
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfTriangles() == 2 && CountFlags(g, 0, 3) == 2);
-  CHECK(g->GetOwners()->GetValue(0) == 0 && g->GetOwners()->GetValue(1) == 1);
+  CHECK(g->GetTriangleOwner(0) == 0 && g->GetTriangleOwner(1) == 1);
   CHECK(g->MapPrimitiveId(0, 1) == 1);
   CHECK(g->GetFirstSurfacePrimitive(0) == 0);
   // Surface with edges: each real edge gains a flat strip half the line width wide (VTK
@@ -163,7 +163,7 @@ int TestWireframeSquare()
   CHECK(std::fabs(stripArea - 4 * 0.01) < 1e-12); // 4 edges x 1 long x 0.01 wide
   for (vtkIdType t = 2; t < 10; ++t)
   {
-    const vtkIdType owner = g->GetOwners()->GetValue(t);
+    const vtkIdType owner = g->GetTriangleOwner(t);
     CHECK(owner == 0 || owner == 1);
   }
   return EXIT_SUCCESS;
@@ -208,7 +208,7 @@ int TestPointsAndLineCells()
   second->AddActor(cells);
   CHECK(g->Update(second) == 1);
   CHECK(g->GetNumberOfTriangles() == 2 * 8 + 3 * 8);
-  CHECK(g->GetCellIds()->GetValue(0) == 2 && g->GetCellIds()->GetValue(16) == 0);
+  CHECK(g->GetTriangleCellId(0) == 2 && g->GetTriangleCellId(16) == 0);
   // No pixel size: lines and points cast nothing, and the prop says so.
   g->SetPixelSize(0.0);
   CHECK(g->Update(second) == 1);
@@ -316,7 +316,7 @@ int TestClippingPlanes()
   CHECK(g->Update(renderer) == 1);
   const vtkIdType first = g->GetPropTriangleOffset(1);
   CHECK(first == 2);
-  CHECK(g->GetFlags()->GetValue(first) == Flags::RECEIVES_SHADOWS);
+  CHECK(g->GetTriangleFlags(first) == Flags::RECEIVES_SHADOWS);
   CHECK(!g->IsOccluder(first));
   double area = 0.0;
   const vtkIdType pieces = CountFlags(g, 1, Flags::CASTS_SHADOWS, &area);
@@ -324,7 +324,7 @@ int TestClippingPlanes()
   CHECK(std::fabs(area - 1.5) < 1e-12);
   for (vtkIdType t = first + 1; t < first + 1 + pieces; ++t)
   {
-    CHECK(g->GetOwners()->GetValue(t) == first);
+    CHECK(g->GetTriangleOwner(t) == first);
     for (int v = 0; v < 3; ++v)
     {
       double x[3];
@@ -341,7 +341,7 @@ int TestClippingPlanes()
   // A plane keeping everything changes nothing; one keeping nothing leaves nothing cast.
   plane->SetOrigin(10, 0, 0);
   CHECK(g->Update(renderer) == 1);
-  CHECK(g->GetPropTriangleCount(1) == 1 + 8 && g->GetFlags()->GetValue(first) == 3);
+  CHECK(g->GetPropTriangleCount(1) == 1 + 8 && g->GetTriangleFlags(first) == 3);
   plane->SetOrigin(-10, 0, 0);
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetPropTriangleCount(1) == 1 && !g->IsOccluder(first));
@@ -397,9 +397,9 @@ int CutArea(vtkActor* actor, double& area)
   area += whole;
   for (vtkIdType t = 2; t < g->GetNumberOfTriangles(); ++t)
   {
-    const vtkIdType owner = g->GetOwners()->GetValue(t);
+    const vtkIdType owner = g->GetTriangleOwner(t);
     CHECK(owner == 0 || owner == 1);
-    CHECK(g->GetFlags()->GetValue(owner) == Flags::RECEIVES_SHADOWS);
+    CHECK(g->GetTriangleFlags(owner) == Flags::RECEIVES_SHADOWS);
   }
   return EXIT_SUCCESS;
 }
@@ -470,9 +470,9 @@ int TestScalarAlpha()
   vtkNew<vtkPenumbraSceneGeometry> g;
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfTriangles() == 3);
-  CHECK(g->GetFlags()->GetValue(0) == Flags::RECEIVES_SHADOWS);
-  CHECK(g->GetFlags()->GetValue(1) == Flags::RECEIVES_SHADOWS);
-  CHECK(g->GetFlags()->GetValue(2) == 3); // one opaque corner: drawn inside
+  CHECK(g->GetTriangleFlags(0) == Flags::RECEIVES_SHADOWS);
+  CHECK(g->GetTriangleFlags(1) == Flags::RECEIVES_SHADOWS);
+  CHECK(g->GetTriangleFlags(2) == 3); // one opaque corner: drawn inside
   actor->GetMapper()->ScalarVisibilityOff();
   CHECK(g->Update(renderer) == 1);
   CHECK(CountFlags(g, 0, 3) == 3);
@@ -540,7 +540,7 @@ int TestGlyphs()
     }
     for (vtkIdType t = 12 * k; t < 12 * (k + 1); ++t)
     {
-      CHECK(g->GetCellIds()->GetValue(t) == k); // the input point
+      CHECK(g->GetTriangleCellId(t) == k); // the input point
       for (int v = 0; v < 3; ++v)
       {
         double x[3];
@@ -599,7 +599,7 @@ int TestSplats()
     const double centre[3] = { 10.0 * s, 0, 0 };
     const double radius = std::sqrt(vtkMath::Distance2BetweenPoints(x, centre));
     CHECK(std::fabs(radius - 2.0 * (1.0 + s) * 0.5 * scale * k) < 1e-12);
-    CHECK(g->GetOwners()->GetValue(8 * s) == -1);
+    CHECK(g->GetTriangleOwner(8 * s) == -1);
   }
   splats->SetScaleFactor(0.0);
   actor->GetProperty()->SetPointSize(5.0);

@@ -112,8 +112,8 @@ int TestTriangulation()
   const vtkIdType cells[9] = { 2, 2, 3, 3, 3, 4, 4, 4, 4 };
   for (vtkIdType t = 0; t < 9; ++t)
   {
-    CHECK(g->GetCellIds()->GetValue(t) == cells[t]);
-    CHECK(g->GetPropIndices()->GetValue(t) == 0);
+    CHECK(g->GetTriangleCellId(t) == cells[t]);
+    CHECK(g->GetTrianglePropIndex(t) == 0);
   }
   double w[3];
   // Pentagon fan: (4,5,6), (4,6,7), (4,7,8); check the last one.
@@ -187,9 +187,9 @@ int TestCompositeAndDataSet()
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfProps() == 2);
   CHECK(g->GetPropTriangleCount(0) == 3 && g->GetPropTriangleOffset(1) == 3);
-  CHECK(g->GetCellIds()->GetValue(0) == 1); // after block a's vertex cell
-  CHECK(g->GetCellIds()->GetValue(1) == 2); // block b's quad: a has 2 cells
-  CHECK(g->GetCellIds()->GetValue(2) == 2);
+  CHECK(g->GetTriangleCellId(0) == 1); // after block a's vertex cell
+  CHECK(g->GetTriangleCellId(1) == 2); // block b's quad: a has 2 cells
+  CHECK(g->GetTriangleCellId(2) == 2);
   double w[3];
   WorldVertex(g, 1, 0, w);
   CHECK(Near(w, 0, 0, 1, 1e-12));
@@ -223,10 +223,10 @@ int TestAssembly()
   double w[3];
   WorldVertex(g, 0, 1, w); // (1,0,0) + (0,1,0) = (1,1,0), scaled by 2, + (5,0,0)
   CHECK(Near(w, 7, 2, 0, 1e-12));
-  CHECK(g->GetFlags()->GetValue(0) == 3);
+  CHECK(g->GetTriangleFlags(0) == 3);
   vtkPenumbraShadowKeys::SetCastsShadows(assembly, false);
   CHECK(g->Update(renderer) == 1);
-  CHECK(g->GetFlags()->GetValue(0) == vtkPenumbraSceneGeometry::RECEIVES_SHADOWS);
+  CHECK(g->GetTriangleFlags(0) == vtkPenumbraSceneGeometry::RECEIVES_SHADOWS);
   CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 0);
   // Moving the assembly moves the part.
   assembly->SetPosition(6, 0, 0);
@@ -297,8 +297,8 @@ int TestFlagsAndCache()
   CHECK(g->GetGeometryTime() == geometryTime && g->GetFlagsTime() > flagsTime);
   CHECK(g->GetCastersTime() == g->GetFlagsTime() && stamp.Changed(g));
   stamp.Remember(g);
-  CHECK(g->GetFlags()->GetValue(0) == vtkPenumbraSceneGeometry::RECEIVES_SHADOWS);
-  CHECK(g->GetFlags()->GetValue(sphereTris) == vtkPenumbraSceneGeometry::CASTS_SHADOWS);
+  CHECK(g->GetTriangleFlags(0) == vtkPenumbraSceneGeometry::RECEIVES_SHADOWS);
+  CHECK(g->GetTriangleFlags(sphereTris) == vtkPenumbraSceneGeometry::CASTS_SHADOWS);
   flagsTime = g->GetFlagsTime();
 
   // Moving one prop re-extracts that prop only and keeps the origin.
@@ -379,7 +379,9 @@ int TestGeoreferenced()
       CHECK(Near(w, in[0], in[1], in[2], 1e-9));
       for (int c = 0; c < 3; ++c)
       {
-        const double rel = g->GetVertices()->GetComponent(t, 3 * v + c);
+        double corners[9];
+        g->GetTriangle(t, corners);
+        const double rel = corners[3 * v + c];
         CHECK(std::fabs(rel) < 64);
         // float32 of the relative position still holds the millimetre.
         CHECK(std::fabs(static_cast<float>(rel) - rel) < 1e-5);
@@ -431,7 +433,7 @@ int TestShadowOnlyAndCasterTriangles()
   CHECK(g->GetShadowOnlyProps() == shadowOnly.GetPointer());
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfProps() == 3 && g->GetProp(2) == remoteActor.GetPointer());
-  CHECK(g->GetFlags()->GetValue(2) == vtkPenumbraSceneGeometry::CASTS_SHADOWS);
+  CHECK(g->GetTriangleFlags(2) == vtkPenumbraSceneGeometry::CASTS_SHADOWS);
   CHECK(renderer->GetViewProps()->GetNumberOfItems() == 2);
 
   vtkNew<vtkDoubleArray> world;
@@ -543,7 +545,7 @@ int TestPrimitiveMapping()
   const vtkIdType cells[9] = { 4, 5, 5, 6, 6, 6, 7, 7, 7 };
   for (vtkIdType t = 0; t < 9; ++t)
   {
-    CHECK(g->GetCellIds()->GetValue(2 + t) == cells[t]);
+    CHECK(g->GetTriangleCellId(2 + t) == cells[t]);
   }
   // Offsets: 4 vertex points, 4 line segments -> triangles start at 8. Polygons draw 5 of
   // their 6 fan triangles; without a cell map the strips start at 8 + (12 - 2 * 3) = 14.
@@ -586,6 +588,97 @@ int TestPrimitiveMapping()
 }
 } // namespace
 
+// The storage: one copy of a mesh, indexed. A closed mesh's shared points are stored once,
+// its cell ids and owners cost nothing (affine), and an update that extracts the same
+// triangles again keeps the stored ones (their float32 copy is read in place by Embree and GL).
+int TestIndexedStorage()
+{
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(64);
+  sphere->SetPhiResolution(32);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(sphere->GetOutputPort());
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(actor);
+  vtkNew<vtkPenumbraSceneGeometry> g;
+  CHECK(g->Update(renderer) == 1);
+  const vtkIdType n = g->GetNumberOfTriangles();
+  CHECK(n == 2 * 64 * (32 - 2));
+  const penumbra::SceneTriangles& triangles = g->GetTriangles();
+  CHECK(triangles.GetBlocks().size() == 1);
+  const penumbra::TriangleList& list = *triangles.GetBlocks()[0].List;
+  mapper->Update();
+  CHECK(list.NumberOfPoints() == mapper->GetInput()->GetNumberOfPoints()); // each point once
+  // Points 24 and float32 copy 12 per point (about half a point a triangle), corners 12 and
+  // the role 1 per triangle: about 31 bytes a triangle; a soup of corners would take 110.
+  const double perTriangle = static_cast<double>(g->GetTriangleBytes()) / static_cast<double>(n);
+  std::cout << "  stored bytes per triangle: " << perTriangle << "\n";
+  CHECK(perTriangle > 25.0 && perTriangle < 36.0);
+  for (vtkIdType t = 0; t < n; t += 97)
+  {
+    CHECK(g->GetTriangleOwner(t) == t && g->GetTriangleCellId(t) == t);
+    CHECK(g->GetTrianglePropIndex(t) == 0);
+    // The accessors agree: the float32 corners are the rounded double ones.
+    double v[9];
+    float f[9];
+    triangles.Get(t, v);
+    triangles.GetFloat(t, f);
+    for (int k = 0; k < 9; ++k)
+    {
+      CHECK(f[k] == static_cast<float>(v[k]));
+    }
+  }
+  double v[9];
+  CHECK(!g->GetTriangle(n, v) && g->GetTriangleOwner(-1) == -1 && g->GetTriangleFlags(n) == 0);
+
+  // The same triangles extracted again: same stored list, same float32 array, same time.
+  const float* rebased = list.Rebased.data();
+  const vtkMTimeType time = g->GetGeometryTime();
+  sphere->Modified();
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1);
+  CHECK(g->GetGeometryTime() == time);
+  CHECK(g->GetTriangles().GetBlocks()[0].List->Rebased.data() == rebased);
+  // Other triangles: published anew.
+  sphere->SetRadius(2.0);
+  CHECK(g->Update(renderer) == 1);
+  CHECK(g->GetGeometryTime() > time);
+  return EXIT_SUCCESS;
+}
+
+// The per-triangle columns: an affine prefix (nothing stored) and an explicit tail.
+int TestAffineColumn()
+{
+  penumbra::AffineColumn c;
+  for (vtkIdType v : { 5, 6, 7 })
+  {
+    c.Append(v);
+  }
+  CHECK(c.Size() == 3 && c[0] == 5 && c[2] == 7 && c.HeapBytes() == 0);
+  c.Append(7); // breaks the run
+  c.Append(8);
+  CHECK(c.Size() == 5 && c[3] == 7 && c[4] == 8 && c.HeapBytes() > 0);
+  penumbra::AffineColumn d;
+  for (vtkIdType v : { 5, 6, 7, 7, 8 })
+  {
+    d.Append(v);
+  }
+  CHECK(c == d);
+  d.Fill(1, -1); // a glyph's instance ids over part of the prefix
+  CHECK(d[0] == 5 && d[1] == -1 && d[4] == -1 && !(c == d));
+  penumbra::AffineColumn e;
+  e.Append(0);
+  e.Append(-1);
+  e.Append(c, 10); // owners shifted, -1 kept
+  d.Clear();
+  d.Append(-1);
+  d.Append(e, 100);
+  CHECK(e.Size() == 7 && e[2] == 15 && e[6] == 18 && d[1] == 100 && d[2] == -1 && d[7] == 118);
+  return EXIT_SUCCESS;
+}
+
 int TestSceneGeometry(int, char*[])
 {
   RUN(TestTransform());
@@ -597,5 +690,7 @@ int TestSceneGeometry(int, char*[])
   RUN(TestBadInputAndEmpty());
   RUN(TestPrimitiveMapping());
   RUN(TestShadowOnlyAndCasterTriangles());
+  RUN(TestIndexedStorage());
+  RUN(TestAffineColumn());
   return EXIT_SUCCESS;
 }

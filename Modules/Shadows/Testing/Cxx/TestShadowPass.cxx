@@ -557,7 +557,7 @@ int CheckHiddenBlocks()
   CHECK(geometry->Update(renderer) == 1 && geometry->GetNumberOfTriangles() == 2);
   attributes->SetBlockVisibility(group->GetBlock(1), true); // its own flag wins
   CHECK(geometry->Update(renderer) == 1 && geometry->GetNumberOfTriangles() == 4);
-  CHECK(geometry->GetCellIds()->GetValue(2) == 2); // the second plane's cells are skipped
+  CHECK(geometry->GetTriangleCellId(2) == 2); // the second plane's cells are skipped
   double bounds[6];
   geometry->GetBounds(bounds);
   CHECK(bounds[4] == 0.0 && bounds[5] == 2.0);

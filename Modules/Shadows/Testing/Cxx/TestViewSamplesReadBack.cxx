@@ -139,7 +139,8 @@ int CheckReadBackModes(bool parallel)
       continue;
     }
     ++valid;
-    const double* v = geometry->GetVertices()->GetPointer(9 * tri);
+    double v[9];
+    geometry->GetTriangle(tri, v);
     double n[3] = { (v[4] - v[1]) * (v[8] - v[2]) - (v[5] - v[2]) * (v[7] - v[1]),
       (v[5] - v[2]) * (v[6] - v[0]) - (v[3] - v[0]) * (v[8] - v[2]),
       (v[3] - v[0]) * (v[7] - v[1]) - (v[4] - v[1]) * (v[6] - v[0]) };
