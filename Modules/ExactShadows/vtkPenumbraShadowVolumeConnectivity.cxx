@@ -7,36 +7,25 @@
 #include "vtkPenumbraSceneGeometry.h"
 
 #include <algorithm>
-#include <map>
-
-namespace
-{
-using penumbra_shadow_volume::Vec3;
-
-// Lexicographic order, for welding vertices in a std::map.
-struct Vec3Less
-{
-  bool operator()(const Vec3& a, const Vec3& b) const
-  {
-    return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
-  }
-};
-}
+#include <cstdint>
 
 namespace penumbra_shadow_volume
 {
-void Connectivity::Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes)
+void Connectivity::Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes, bool adjacency)
 {
   *this = Connectivity();
-  const std::vector<std::array<int, 3>> tris = this->WeldCasters(geometry);
+  std::vector<std::array<int, 3>> tris = this->WeldCasters(geometry);
   this->Casters = static_cast<vtkIdType>(tris.size());
   if (!silhouettes)
   {
-    this->Loose = tris;
+    this->Loose.swap(tris);
     return;
   }
 
   OMesh mesh;
+  // Reserved: grown by push_back, OpenMesh's arrays would hold up to twice their size (a
+  // closed mesh has 3/2 edges a face).
+  mesh.reserve(this->Points.size(), tris.size() * 3 / 2 + 3, tris.size());
   std::vector<OMesh::VertexHandle> handles;
   handles.reserve(this->Points.size());
   for (const Vec3& p : this->Points)
@@ -45,6 +34,7 @@ void Connectivity::Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes)
       OMesh::Point(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]))));
   }
   std::vector<int> faceTri; // OpenMesh face index -> index into tris
+  faceTri.reserve(tris.size());
   // OpenMesh reports every refused face on its error stream; we count them instead.
   omerr().disable();
   for (size_t i = 0; i < tris.size(); ++i)
@@ -63,54 +53,131 @@ void Connectivity::Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes)
     }
   }
   omerr().enable();
-  this->BuildComponents(mesh, tris, faceTri);
+  std::vector<OMesh::VertexHandle>().swap(handles);
+  this->BuildComponents(mesh, tris, faceTri, adjacency);
 }
 
-// The occluding, non-degenerate triangles as triples of welded points (into Points).
+// The occluding, non-degenerate triangles as triples of welded points (into Points, numbered
+// in the order the triangles' corners first use them). Exactly equal coordinates (in the
+// geometry's rebased frame, as the reference sees them) are welded, nothing looser: anything
+// looser would move geometry and the reference sees the unwelded triangles. The scene's
+// points are welded first (sorted by coordinates, 8 bytes a point), not every corner.
 std::vector<std::array<int, 3>> Connectivity::WeldCasters(vtkPenumbraSceneGeometry* geometry)
 {
-  const vtkIdType nt = geometry->GetNumberOfTriangles();
   const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
-  // Weld exactly equal coordinates only: anything looser would move geometry and the
-  // reference sees the unwelded triangles.
-  std::map<Vec3, int, Vec3Less> weld;
-  std::vector<std::array<int, 3>> tris;
-  for (vtkIdType t = 0; t < nt; ++t)
+  const double* origin = triangles.GetOrigin();
+  const auto& blocks = triangles.GetBlocks();
+  // Global point numbers: block b's points follow the earlier blocks'.
+  std::vector<std::uint32_t> base(blocks.size() + 1, 0);
+  for (size_t b = 0; b < blocks.size(); ++b)
   {
-    if (!triangles.IsOccluder(t))
+    base[b + 1] = base[b] + static_cast<std::uint32_t>(blocks[b].List->NumberOfPoints());
+  }
+  auto rebased = [&](std::uint32_t g, double p[3])
+  {
+    const size_t b =
+      static_cast<size_t>(std::upper_bound(base.begin(), base.end(), g) - base.begin()) - 1;
+    const double* w = &blocks[b].List->Points[3 * static_cast<size_t>(g - base[b])];
+    for (int c = 0; c < 3; ++c)
     {
-      continue;
+      p[c] = w[c] - origin[c];
     }
-    std::array<int, 3> idx;
-    Vec3 v[3];
+  };
+  auto occluding = [&](const penumbra::SceneTriangles::Block& block, vtkIdType local)
+  {
+    if (!triangles.IsOccluder(block.First + local))
+    {
+      return false;
+    }
     double tv[9];
-    triangles.Get(t, tv);
-    for (int k = 0; k < 3; ++k)
-    {
-      v[k] = { tv[3 * k], tv[3 * k + 1], tv[3 * k + 2] };
-    }
+    triangles.GetLocal(block, local, tv);
+    const Vec3 v[3] = { { tv[0], tv[1], tv[2] }, { tv[3], tv[4], tv[5] }, { tv[6], tv[7], tv[8] } };
     const Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
-    if (!(glm::dot(n, n) > 0.0)) // zero-area: the reference skips them too
+    return glm::dot(n, n) > 0.0; // zero-area: the reference skips them too
+  };
+  // canon[g]: the smallest global point with g's coordinates (g itself when unique), for the
+  // points the casters use.
+  constexpr std::uint32_t Unused = ~std::uint32_t(0);
+  std::vector<std::uint32_t> canon(base.back(), Unused);
+  for (size_t b = 0; b < blocks.size(); ++b)
+  {
+    const penumbra::TriangleList& list = *blocks[b].List;
+    for (vtkIdType t = 0; t < list.Size(); ++t)
     {
-      continue;
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      auto it = weld.emplace(v[k], static_cast<int>(this->Points.size()));
-      if (it.second)
+      if (occluding(blocks[b], t))
       {
-        this->Points.push_back(v[k]);
+        for (int k = 0; k < 3; ++k)
+        {
+          const std::uint32_t g = base[b] + list.Corners[3 * static_cast<size_t>(t) + k];
+          canon[g] = g;
+        }
       }
-      idx[k] = it.first->second;
     }
-    tris.push_back(idx);
+  }
+  {
+    std::vector<std::uint32_t> used;
+    for (std::uint32_t g = 0; g < canon.size(); ++g)
+    {
+      if (canon[g] != Unused)
+      {
+        used.push_back(g);
+      }
+    }
+    auto less = [&](std::uint32_t a, std::uint32_t c)
+    {
+      double p[3], q[3];
+      rebased(a, p);
+      rebased(c, q);
+      return p[0] != q[0] ? p[0] < q[0]
+                          : (p[1] != q[1] ? p[1] < q[1] : (p[2] != q[2] ? p[2] < q[2] : a < c));
+    };
+    std::sort(used.begin(), used.end(), less);
+    for (size_t i = 1; i < used.size(); ++i)
+    {
+      double p[3], q[3];
+      rebased(used[i - 1], p);
+      rebased(used[i], q);
+      if (p[0] == q[0] && p[1] == q[1] && p[2] == q[2])
+      {
+        canon[used[i]] = canon[used[i - 1]];
+      }
+    }
+  }
+  // Welded numbers in the order of first use, as a map over the casters' corners would give.
+  std::vector<int> welded(canon.size(), -1);
+  std::vector<std::array<int, 3>> tris;
+  for (size_t b = 0; b < blocks.size(); ++b)
+  {
+    const penumbra::TriangleList& list = *blocks[b].List;
+    for (vtkIdType t = 0; t < list.Size(); ++t)
+    {
+      if (!occluding(blocks[b], t))
+      {
+        continue;
+      }
+      std::array<int, 3> idx;
+      for (int k = 0; k < 3; ++k)
+      {
+        const std::uint32_t g = canon[base[b] + list.Corners[3 * static_cast<size_t>(t) + k]];
+        int& w = welded[g];
+        if (w < 0)
+        {
+          w = static_cast<int>(this->Points.size());
+          double p[3];
+          rebased(g, p);
+          this->Points.push_back({ p[0], p[1], p[2] });
+        }
+        idx[k] = w;
+      }
+      tris.push_back(idx);
+    }
   }
   return tris;
 }
 
 // Components of `mesh` by flood fill over shared edges.
-void Connectivity::BuildComponents(
-  const OMesh& mesh, const std::vector<std::array<int, 3>>& tris, const std::vector<int>& faceTri)
+void Connectivity::BuildComponents(const OMesh& mesh, const std::vector<std::array<int, 3>>& tris,
+  const std::vector<int>& faceTri, bool adjacency)
 {
   const int nf = static_cast<int>(mesh.n_faces());
   std::vector<int> component(static_cast<size_t>(nf), -1);
@@ -150,6 +217,10 @@ void Connectivity::BuildComponents(
       }
     }
     this->Components.push_back(this->MakeComponent(mesh, faces, closed, tris, faceTri, local));
+    if (adjacency && this->Components.back().Closed)
+    {
+      AddAdjacency(this->Components.back());
+    }
   }
 }
 
@@ -195,10 +266,6 @@ Connectivity::Component Connectivity::MakeComponent(const OMesh& mesh,
   {
     this->Orient(c);
   }
-  if (c.Closed)
-  {
-    AddAdjacency(c);
-  }
   return c;
 }
 
@@ -230,26 +297,47 @@ void Connectivity::Orient(Component& c) const
   c.Closed = volume != 0.0;
 }
 
-// The GL_TRIANGLES_ADJACENCY faces of a closed component (see Component::Adjacency).
+// The GL_TRIANGLES_ADJACENCY faces of a closed component (see Component::Adjacency): across
+// each edge, the third point of the face on its other side, from the component's edges (face
+// F0 runs v0 -> v1, F1 v1 -> v0).
 void Connectivity::AddAdjacency(Component& c)
 {
-  std::map<std::pair<int, int>, int> third; // directed edge -> third vertex of its face
-  for (const auto& t : c.Faces)
+  c.Adjacency.resize(c.Faces.size());
+  for (size_t f = 0; f < c.Faces.size(); ++f)
   {
     for (int k = 0; k < 3; ++k)
     {
-      third[{ t[k], t[(k + 1) % 3] }] = t[(k + 2) % 3];
+      c.Adjacency[f][static_cast<size_t>(2 * k)] = c.Faces[f][static_cast<size_t>(k)];
     }
   }
-  for (const auto& t : c.Faces)
+  auto third = [&](int f, int a, int b)
   {
-    std::array<int, 6> a;
+    for (int v : c.Faces[static_cast<size_t>(f)])
+    {
+      if (v != a && v != b)
+      {
+        return v;
+      }
+    }
+    return a;
+  };
+  // Face f's edge from a to b gets the opposite point `o`.
+  auto set = [&](int f, int a, int b, int o)
+  {
+    const std::array<int, 3>& t = c.Faces[static_cast<size_t>(f)];
     for (int k = 0; k < 3; ++k)
     {
-      a[static_cast<size_t>(2 * k)] = t[k];
-      a[static_cast<size_t>(2 * k + 1)] = third[{ t[(k + 1) % 3], t[k] }];
+      if (t[static_cast<size_t>(k)] == a && t[static_cast<size_t>((k + 1) % 3)] == b)
+      {
+        c.Adjacency[static_cast<size_t>(f)][static_cast<size_t>(2 * k + 1)] = o;
+      }
     }
-    c.Adjacency.push_back(a);
+  };
+  for (const auto& e : c.Edges)
+  {
+    set(e[2], e[0], e[1], third(e[3], e[0], e[1]));
+    set(e[3], e[1], e[0], third(e[2], e[0], e[1]));
   }
 }
+
 }

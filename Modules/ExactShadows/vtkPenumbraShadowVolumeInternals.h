@@ -88,10 +88,12 @@ struct Connectivity
 
   using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 
-  void Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes);
+  // `adjacency`: also the closed components' Adjacency (the GPU silhouette path alone uses
+  // it; 24 bytes a face).
+  void Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes, bool adjacency);
   std::vector<std::array<int, 3>> WeldCasters(vtkPenumbraSceneGeometry* geometry);
   void BuildComponents(const OMesh& mesh, const std::vector<std::array<int, 3>>& tris,
-    const std::vector<int>& faceTri);
+    const std::vector<int>& faceTri, bool adjacency);
   Component MakeComponent(const OMesh& mesh, const std::vector<int>& faces, bool closed,
     const std::vector<std::array<int, 3>>& tris, const std::vector<int>& faceTri,
     std::vector<int>& local) const;
@@ -234,6 +236,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   penumbra::CastersStamp MeshBuilt;
   double Origin[3] = { 0, 0, 0 }; // the geometry's Origin the mesh was built in
   bool BuiltWithSilhouettes = true;
+  bool BuiltWithAdjacency = false;
 
   // Volume cache, one entry per light (several lights render every frame): rebuilt when the
   // light, the connectivity, the sample box (with culling) or the options change. Each set

@@ -117,12 +117,14 @@ void vtkPenumbraShadowVolumeShadows::Internals::UpdateConnectivity(
   vtkPenumbraSceneGeometry* geometry = g.Geometry;
   const auto connectivityStart = Clock::now();
   {
-    if (this->MeshBuilt.Changed(geometry) || this->BuiltWithSilhouettes != self.Silhouettes)
+    if (this->MeshBuilt.Changed(geometry) || this->BuiltWithSilhouettes != self.Silhouettes ||
+      this->BuiltWithAdjacency != self.GPUSilhouettes)
     {
-      this->Mesh.Build(geometry, self.Silhouettes);
+      this->Mesh.Build(geometry, self.Silhouettes, self.GPUSilhouettes);
       this->MeshBuilt.Remember(geometry);
       geometry->GetOrigin(this->Origin);
       this->BuiltWithSilhouettes = self.Silhouettes;
+      this->BuiltWithAdjacency = self.GPUSilhouettes;
       this->Volumes.clear();
       this->PointsUploaded = false;
       ++self.NumberOfConnectivityBuilds;
