@@ -9,13 +9,23 @@
 
 using namespace penumbra_scene_io;
 
-void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, const char* dataDir)
+void vtkPenumbraSceneReader::Internals::Build(
+  const Ctx& ctx, const json& root, const char* dataDir, bool settingsOnly)
 {
   ctx.Keys(root, "",
-    { "description", "image", "background", "up", "camera", "objects", "lights", "technique" });
+    { "description", "image", "background", "up", "camera", "objects", "lights", "technique",
+      "distributed" });
   if (root.contains("description") && !root.at("description").is_string())
   {
     ctx.Fail("description", "expected a string");
+  }
+  this->Renderer = nullptr;
+  this->ObjectNames.clear();
+  this->Actors.clear();
+  if (settingsOnly)
+  {
+    this->ReadSettings(ctx, root);
+    return;
   }
   // Refused before any mesh is read: the scene cannot be rendered as asked.
   if (root.contains("lights") && root.at("lights").is_array() &&
@@ -87,7 +97,12 @@ void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, 
   }
 
   this->BuildCamera(ctx, root.contains("camera") ? root.at("camera") : json::object());
+  this->ReadSettings(ctx, root);
+}
 
+// The shadow settings: the "technique" and "distributed" blocks.
+void vtkPenumbraSceneReader::Internals::ReadSettings(const Ctx& ctx, const json& root)
+{
   this->TechniqueName = "auto";
   this->TechniqueOptions = "{}";
   if (root.contains("technique"))
@@ -101,6 +116,39 @@ void vtkPenumbraSceneReader::Internals::Build(const Ctx& ctx, const json& root, 
     json options = t;
     options.erase("name");
     this->TechniqueOptions = options.dump();
+  }
+  this->ReadDistributed(ctx, root);
+}
+
+// "distributed": how the ranks of a distributed render (ParaView on MPI ranks) share their
+// casters; a single process has nothing to share and ignores it.
+void vtkPenumbraSceneReader::Internals::ReadDistributed(const Ctx& ctx, const json& root)
+{
+  this->CasterExchange = "need";
+  this->CasterMemoryBudget = 0.0;
+  if (!root.contains("distributed"))
+  {
+    return;
+  }
+  const json& d = root.at("distributed");
+  if (!d.is_object())
+  {
+    ctx.Fail("distributed", "expected an object with \"caster_exchange\" and \"memory_budget\"");
+  }
+  ctx.Keys(d, "distributed", { "caster_exchange", "memory_budget" });
+  this->CasterExchange = ctx.String(d, "distributed", "caster_exchange", "need");
+  if (this->CasterExchange != "need" && this->CasterExchange != "distributed" &&
+    this->CasterExchange != "all")
+  {
+    ctx.Fail(Ctx::Sub("distributed", "caster_exchange"),
+      "expected \"need\", \"distributed\" or \"all\", got " + Quote(this->CasterExchange));
+  }
+  this->CasterMemoryBudget = ctx.Number(d, "distributed", "memory_budget", 0.0);
+  if (this->CasterMemoryBudget < 0.0)
+  {
+    ctx.Fail(Ctx::Sub("distributed", "memory_budget"),
+      "must be 0 (no budget) or a positive number of MiB per rank, got " +
+        d.at("memory_budget").dump());
   }
 }
 
@@ -170,7 +218,7 @@ int vtkPenumbraSceneReader::ReadFromString(
     {
       ctx.Fail("", "the scene must be a JSON object");
     }
-    impl.Build(ctx, root, this->DataDirectory);
+    impl.Build(ctx, root, this->DataDirectory, this->SettingsOnly);
   }
   catch (const SceneError& e)
   {
@@ -222,6 +270,16 @@ const char* vtkPenumbraSceneReader::GetTechniqueOptions()
   return this->Impl->TechniqueOptions.c_str();
 }
 
+const char* vtkPenumbraSceneReader::GetCasterExchange()
+{
+  return this->Impl->CasterExchange.c_str();
+}
+
+double vtkPenumbraSceneReader::GetCasterMemoryBudget()
+{
+  return this->Impl->CasterMemoryBudget;
+}
+
 const char* vtkPenumbraSceneReader::GetSceneLabel()
 {
   return this->Impl->Label.c_str();
@@ -256,5 +314,8 @@ void vtkPenumbraSceneReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "DataDirectory: " << this->Impl->DataDirectory(this->DataDirectory) << "\n";
   os << indent << "Objects: " << this->Impl->Actors.size() << "\n";
+  os << indent << "SettingsOnly: " << (this->SettingsOnly ? "on" : "off") << "\n";
   os << indent << "Technique: " << this->Impl->TechniqueName << "\n";
+  os << indent << "CasterExchange: " << this->Impl->CasterExchange << "\n";
+  os << indent << "CasterMemoryBudget: " << this->Impl->CasterMemoryBudget << " MiB\n";
 }

@@ -78,6 +78,19 @@ public:
    */
   int ReadFromString(const char* json, const char* label, const char* baseDirectory);
 
+  ///@{
+  /**
+   * Read only the scene's shadow settings, the "technique" and "distributed" blocks, checked
+   * as always (an unknown top-level key is still refused; objects, lights and camera are not
+   * read and not required): for applying a scene's settings to another pipeline, e.g. a
+   * ParaView view (penumbra_paraview.apply_scene_settings). GetRenderer() is then null.
+   * Default off.
+   */
+  vtkSetMacro(SettingsOnly, bool);
+  vtkGetMacro(SettingsOnly, bool);
+  vtkBooleanMacro(SettingsOnly, bool);
+  ///@}
+
   /**
    * The first problem found by the last Read(), empty after a success.
    */
@@ -109,6 +122,19 @@ public:
    */
   const char* GetTechniqueOptions();
 
+  ///@{
+  /**
+   * The scene's "distributed" block: how the ranks of a distributed render (the ParaView
+   * view on MPI ranks, vtkPVPenumbraShadowView's CasterExchange and CasterMemoryBudget; see
+   * penumbra_paraview.apply_scene_settings) share their casters. CasterExchange "need"
+   * (default), "distributed" or "all"; CasterMemoryBudget in MiB per rank, 0 (default) for
+   * none: a need-based exchange that would hold more than that for the other ranks sends rays
+   * instead. A single process has nothing to share and ignores both. See SettingsOnly.
+   */
+  const char* GetCasterExchange();
+  double GetCasterMemoryBudget();
+  ///@}
+
   /**
    * A label for messages about this scene: the file name, or the label given to
    * ReadFromString.
@@ -130,6 +156,7 @@ protected:
 
   char* FileName;
   char* DataDirectory;
+  bool SettingsOnly = false;
 
 private:
   vtkPenumbraSceneReader(const vtkPenumbraSceneReader&) = delete;

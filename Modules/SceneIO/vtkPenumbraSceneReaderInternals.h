@@ -258,6 +258,8 @@ struct vtkPenumbraSceneReader::Internals
   double Up[3] = { 0, 0, 1 };
   std::string TechniqueName = "auto";
   std::string TechniqueOptions = "{}";
+  std::string CasterExchange = "need";
+  double CasterMemoryBudget = 0.0; // MiB per rank, 0: none
   std::vector<std::string> ObjectNames;
   std::vector<vtkSmartPointer<vtkActor>> Actors;
 
@@ -316,8 +318,10 @@ struct vtkPenumbraSceneReader::Internals
     const KeyCheck& keys);
   void ReadUp(const penumbra_scene_io::Ctx& ctx, const penumbra_scene_io::json& root);
   void BuildCamera(const penumbra_scene_io::Ctx& ctx, const penumbra_scene_io::json& cam);
-  void Build(
-    const penumbra_scene_io::Ctx& ctx, const penumbra_scene_io::json& root, const char* dataDir);
+  void ReadSettings(const penumbra_scene_io::Ctx& ctx, const penumbra_scene_io::json& root);
+  void ReadDistributed(const penumbra_scene_io::Ctx& ctx, const penumbra_scene_io::json& root);
+  void Build(const penumbra_scene_io::Ctx& ctx, const penumbra_scene_io::json& root,
+    const char* dataDir, bool settingsOnly);
 };
 
 #endif

@@ -136,6 +136,46 @@ class SceneFilesTest(unittest.TestCase):
         self.assertFalse(area.GetSamplePosition(16, pos))
         self.assertEqual(lights.GetItemAsObject(1).GetSwitch(), 0)
 
+    def test_distributed_block(self):
+        """How MPI ranks share their casters: read and checked like every other block."""
+        base = ('{"objects": [{"generator": {"type": "plane"}}], '
+                '"lights": [{"type": "directional"}]%s}')
+        reader = penumbra.vtkPenumbraSceneReader()
+        reader.AddObserver("ErrorEvent", lambda *a: None)
+        self.assertEqual(reader.ReadFromString(base % "", "inline", ""), 1)
+        self.assertEqual((reader.GetCasterExchange(), reader.GetCasterMemoryBudget()), ("need", 0))
+        good = ', "distributed": {"caster_exchange": "distributed", "memory_budget": 512.5}'
+        self.assertEqual(reader.ReadFromString(base % good, "inline", ""), 1,
+                         reader.GetErrorMessage())
+        self.assertEqual(reader.GetCasterExchange(), "distributed")
+        self.assertEqual(reader.GetCasterMemoryBudget(), 512.5)
+        for block, message in (
+                ('"distributed": 3', "distributed: expected an object"),
+                ('"distributed": {"caster_exchange": "some"}',
+                 'distributed.caster_exchange: expected "need", "distributed" or "all", got "some"'),
+                ('"distributed": {"memory_budget": -1}',
+                 "distributed.memory_budget: must be 0 (no budget) or a positive number"),
+                ('"distributed": {"memory_budget": "1 GB"}',
+                 "distributed.memory_budget: expected a number"),
+                ('"distributed": {"budget": 1}', "distributed.budget: unknown key")):
+            with self.subTest(block=block):
+                self.assertEqual(reader.ReadFromString(base % (", " + block), "inline", ""), 0)
+                self.assertIn("inline: " + message, reader.GetErrorMessage())
+        # The settings alone (for a ParaView view): no objects needed, the blocks still checked.
+        reader.SettingsOnlyOn()
+        settings = ('{"technique": {"name": "shadowmap", "resolution": 512}, '
+                    '"distributed": {"caster_exchange": "all"}}')
+        self.assertEqual(reader.ReadFromString(settings, "inline", ""), 1, reader.GetErrorMessage())
+        self.assertIsNone(reader.GetRenderer())
+        self.assertEqual((reader.GetTechniqueName(), reader.GetCasterExchange()),
+                         ("shadowmap", "all"))
+        self.assertEqual(reader.GetTechniqueOptions(), '{"resolution":512}')
+        self.assertEqual(reader.ReadFromString('{"distributed": {"memory_budget": -2}}',
+                                               "inline", ""), 0)
+        self.assertIn("inline: distributed.memory_budget", reader.GetErrorMessage())
+        self.assertEqual(reader.ReadFromString('{"lighting": 1}', "inline", ""), 0)
+        self.assertIn("inline: lighting: unknown key", reader.GetErrorMessage())
+
     def test_disc_and_sphere_lights(self):
         text = """{
           "objects": [{"generator": {"type": "plane"}}],

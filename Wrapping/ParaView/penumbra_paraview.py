@@ -1,6 +1,7 @@
 """Loading the PenumbraShadows plugin from pvpython, pvbatch or the GUI's Python shell, on the
 client and on the server, whether or not a process has it already; and what its view sent
-between MPI ranks (exchange_report).
+between MPI ranks (exchange_report); a scene file's shadow settings applied to a view
+(apply_scene_settings).
 
     from paraview.simple import *
     Connect("localhost", 11111)                  # or no Connect: the built-in session
@@ -74,3 +75,31 @@ def exchange_report(view):
     """
     view.UpdatePropertyInformation()
     return view.GetProperty("CasterExchangeReport").GetData()
+
+
+def apply_scene_settings(view, path):
+    """Applies a Penumbra scene file's shadow settings to `view` (a PenumbraShadowView): its
+    "technique" block (ShadowTechnique, and the block's options as ShadowOptions) and its
+    "distributed" block (CasterExchange, CasterMemoryBudget: how MPI ranks share their
+    casters; Data/Scenes/SCHEMA.md). The scene's objects, lights and camera are neither read
+    nor needed: the pipeline is ParaView's. The blocks are checked by vtkPenumbraSceneReader
+    (SettingsOnly), as penumbra-render checks them: a bad one raises ValueError with the
+    reader's message (file, field, problem) and changes nothing.
+
+        penumbra_paraview.apply_scene_settings(view, "city.json")
+    """
+    import json
+
+    from penumbra.vtkPenumbraSceneIO import vtkPenumbraSceneReader
+
+    reader = vtkPenumbraSceneReader()
+    reader.SettingsOnlyOn()
+    reader.SetFileName(path)
+    reader.AddObserver("ErrorEvent", lambda *args: None)  # raised below, not printed
+    if not reader.Read():
+        raise ValueError(reader.GetErrorMessage())
+    options = reader.GetTechniqueOptions()
+    view.ShadowTechnique = reader.GetTechniqueName()
+    view.ShadowOptions = "" if json.loads(options) == {} else options
+    view.CasterExchange = reader.GetCasterExchange()
+    view.CasterMemoryBudget = reader.GetCasterMemoryBudget()

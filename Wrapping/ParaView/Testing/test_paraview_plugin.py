@@ -247,6 +247,37 @@ check(view.ShadowTechnique == "shadowmap" and view.ShadowOptions == '{"resolutio
       "a technique refused for its options is back to the one that draws (%r, %r)"
       % (view.ShadowTechnique, view.ShadowOptions))
 
+# A scene file's shadow settings: its technique block and how MPI ranks share their casters.
+import json  # noqa: E402
+import tempfile  # noqa: E402
+
+import penumbra_paraview  # noqa: E402
+
+with tempfile.TemporaryDirectory() as folder:
+    scene = os.path.join(folder, "scene.json")
+    with open(scene, "w") as f:
+        json.dump({"technique": {"name": "shadowmap", "resolution": 512},
+                   "distributed": {"caster_exchange": "distributed", "memory_budget": 256}}, f)
+    penumbra_paraview.apply_scene_settings(view, scene)
+    pvs.Render(view)
+    check(view.ShadowTechnique == "shadowmap" and view.CasterExchange == "distributed" and
+          view.CasterMemoryBudget == 256.0 and
+          installed_pass(view).GetTechnique().GetResolution() == 512,
+          "a scene file's technique and distributed blocks reach the view (%r, %r, %g)"
+          % (view.ShadowTechnique, view.CasterExchange, view.CasterMemoryBudget))
+    with open(scene, "w") as f:
+        json.dump({"distributed": {"memory_budget": -1}}, f)
+    try:
+        penumbra_paraview.apply_scene_settings(view, scene)
+        refused = ""
+    except ValueError as error:
+        refused = str(error)
+    check("distributed.memory_budget: must be 0 (no budget)" in refused and
+          view.CasterMemoryBudget == 256.0,
+          "a bad distributed block is refused with its field, the view unchanged (%r)" % refused)
+    view.CasterExchange = "need"
+    view.CasterMemoryBudget = 0
+
 # Hidden blocks cast no shadows: the same ground and box as blocks of one data set; hiding
 # the box block (BlockSelectors) must take its shadow away with it.
 for source in pvs.GetSources().values():
