@@ -122,15 +122,20 @@ struct VolumeBuilder
   const VolumeLight& Light;
   const double* Box = nullptr; // culling box of the pending samples, null: no culling
   double FarW = 0.0;           // positional lights: w of the extruded copies
-  VolumeStream Caps, Sides;
-  VolumeStream GPUVolumes;   // GPU components, as the geometry stage draws them
-  VolumeStream GPUUncertain; // segments: prism edges of faces it may classify otherwise
+  VolumeStream& Caps;          // explicit light caps (drawn with the cap offset)
+  VolumeStream& Sides;         // explicit dark caps and sides
+  VolumeStream GPUVolumes;     // GPU components, as the geometry stage draws them
+  VolumeStream GPUUncertain;   // segments: prism edges of faces it may classify otherwise
   vtkIdType Culled = 0;
   vtkIdType SilhouetteEdges = 0;
+  vtkIdType CapFaces = 0; // faces whose caps the point table draws
 
-  VolumeBuilder(const Connectivity& mesh, const VolumeLight& light)
+  VolumeBuilder(
+    const Connectivity& mesh, const VolumeLight& light, VolumeStream& caps, VolumeStream& sides)
     : Mesh(mesh)
     , Light(light)
+    , Caps(caps)
+    , Sides(sides)
   {
   }
 
@@ -248,16 +253,19 @@ struct VolumeBuilder
   // close): the light-facing set plus the back-facing set turned toward the light, i.e. every
   // triangle, as per-triangle volumes would, but with sides only on silhouette and boundary
   // edges. `gpu`: the component is drawn by the geometry stage; its volumes go to GPUVolumes
-  // (no culling there) for the outline alone.
-  void Component(const Connectivity::Component& c, bool bothSets, bool gpu)
+  // (no culling there) for the outline alone. Otherwise the faces' sets go to `sets` (their
+  // caps are drawn from the point table) and the sides to Sides.
+  void Component(
+    const Connectivity::Component& c, bool bothSets, bool gpu, std::vector<signed char>& sets)
   {
     const auto& P = this->Mesh.Points;
-    VolumeStream& caps = gpu ? this->GPUVolumes : this->Caps;
     VolumeStream& sides = gpu ? this->GPUVolumes : this->Sides;
     // Per face: +1 light-facing set, -1 back-facing set (turned), 0 none. Facing is one
     // decision per face, ties (edge-on) in no set (Brabec 2003, ch. 9). A culled face leaves
     // its set: the sum of the remaining volumes stays a valid count.
-    std::vector<signed char> set(c.Faces.size(), 0);
+    std::vector<signed char> gpuSet;
+    std::vector<signed char>& set = gpu ? gpuSet : sets;
+    set.assign(c.Faces.size(), 0);
     bool any = false;
     for (size_t i = 0; i < c.Faces.size(); ++i)
     {
@@ -282,7 +290,14 @@ struct VolumeBuilder
       }
       if (si != 0)
       {
-        this->CapAndDark(caps, sides, t.data());
+        if (gpu)
+        {
+          this->CapAndDark(this->GPUVolumes, this->GPUVolumes, t.data());
+        }
+        else
+        {
+          ++this->CapFaces;
+        }
         any = true;
       }
       set[i] = si;
@@ -323,16 +338,19 @@ void vtkPenumbraShadowVolumeShadows::Internals::BuildVolumes(VolumeSet& build,
   const Connectivity& mesh, const VolumeLight& vl, const double* box, const double bounds[6],
   bool gpu, bool outline)
 {
-  VolumeBuilder builder(mesh, vl);
+  VolumeBuilder builder(mesh, vl, build.LightCaps, build.Rest);
   builder.Box = box;
   builder.FarW = vl.Directional ? 0.0 : PositionalFarW(mesh, vl, bounds);
   build.FarW = builder.FarW;
+  build.Light = vl;
   for (const auto& t : mesh.Loose)
   {
     builder.PerTriangle(t);
   }
-  for (const auto& c : mesh.Components)
+  build.Sets.assign(mesh.Components.size(), {});
+  for (size_t ci = 0; ci < mesh.Components.size(); ++ci)
   {
+    const Connectivity::Component& c = mesh.Components[ci];
     bool inside = !vl.Directional;
     for (int a = 0; a < 3 && inside; ++a)
     {
@@ -351,27 +369,62 @@ void vtkPenumbraShadowVolumeShadows::Internals::BuildVolumes(VolumeSet& build,
         continue;
       }
     }
-    builder.Component(c, bothSets, gpu && !bothSets);
+    builder.Component(c, bothSets, gpu && !bothSets, build.Sets[ci]);
   }
-  build.CapVertices = static_cast<GLsizei>(builder.Caps.V.size() / 4);
-  build.AllVertices = static_cast<GLsizei>((builder.Caps.V.size() + builder.Sides.V.size()) / 4);
-  if (outline)
-  {
-    // Every volume triangle the outline is made of: the geometry stage's, then the drawn.
-    builder.GPUVolumes.Append(builder.Caps);
-    builder.GPUVolumes.Append(builder.Sides);
-    build.Outline.Build(builder.GPUVolumes, builder.GPUUncertain, mesh.Points.size());
-  }
-  build.Vertices.swap(builder.Caps.V);
-  build.Vertices.insert(build.Vertices.end(), builder.Sides.V.begin(), builder.Sides.V.end());
+  build.CapFaces = builder.CapFaces;
   build.SilhouetteEdges = gpu && !build.AdjacencyIndices.empty() ? -1 : builder.SilhouetteEdges;
   build.AdjacencyCount = static_cast<GLsizei>(build.AdjacencyIndices.size());
   build.Culled = builder.Culled;
+  if (outline)
+  {
+    BuildOutline(build, mesh, builder.GPUVolumes, builder.GPUUncertain);
+  }
+}
+
+void vtkPenumbraShadowVolumeShadows::Internals::VolumeSet::TablePoint(
+  const Connectivity& mesh, int id, float xyzw[4]) const
+{
+  const Vec3& v = mesh.Points[static_cast<size_t>(id / 2)];
+  const VolumeLight& vl = this->Light;
+  double p[4] = { v[0], v[1], v[2], 1.0 };
+  if (id % 2 == 1 && vl.Directional)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      p[c] = v[c] - vl.Extrusion * vl.Direction[c];
+    }
+  }
+  else if (id % 2 == 1)
+  {
+    const double w = this->FarW;
+    for (int c = 0; c < 3; ++c)
+    {
+      p[c] = v[c] - vl.Position[c] + w * vl.Position[c];
+    }
+    p[3] = w;
+  }
+  // As VolumeStream::Put rounds them.
+  for (int c = 0; c < 4; ++c)
+  {
+    xyzw[c] = static_cast<float>(p[c]);
+  }
+}
+
+std::array<int, 3> vtkPenumbraShadowVolumeShadows::Internals::VolumeSet::CapCorners(
+  const Connectivity::Component& c, size_t f, signed char set)
+{
+  std::array<int, 3> t = c.Faces[f];
+  if (set < 0)
+  {
+    std::swap(t[1], t[2]);
+  }
+  return t;
 }
 
 void vtkPenumbraShadowVolumeShadows::Internals::Evict(size_t i)
 {
-  for (GLuint b : { this->Volumes[i]->Buffer, this->Volumes[i]->AdjacencyBuffer })
+  const VolumeSet& set = *this->Volumes[i];
+  for (GLuint b : { set.TableBuffer, set.CapBuffer, set.StreamBuffer, set.AdjacencyBuffer })
   {
     if (b)
     {

@@ -32,6 +32,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -191,6 +192,12 @@ struct SampleLayout
 // A shadow narrower than a pixel lies entirely within snapping distance of such edges, so it
 // cannot be trusted to the neighbour test (Brabec 2003, ch. 3 and 9 for the silhouette
 // notions; here they are applied to the volume itself, from the eye).
+//
+// Most volume edges of a closed mesh join the caps of two faces of the same set (a cap's
+// interior): those are judged from the connectivity by the two caps' screen sides
+// (MarkCapInteriors), with nothing kept per edge. The rest (caps on the set's border, sides,
+// per-triangle volumes, the geometry stage's volumes) are kept as triangles with their edges
+// and incidences (Build, Mark), a share of the volumes the size of their silhouettes.
 struct VolumeOutline
 {
   // Pixel centres closer than this (pixels, in x and in y) to an outline edge are traced. It
@@ -204,6 +211,13 @@ struct VolumeOutline
   std::vector<int> EdgeStart;                // edge e's incidences: [EdgeStart[e], [e + 1])
   std::vector<int> Incidences;               // 2 face + 1 when the face runs first -> second
   std::vector<std::array<int, 2>> Forced;    // segments always on the outline
+  // Edges of the kept triangles that MarkCapInteriors judges (by their points' identities,
+  // VolumeStream numbers): skipped here, as each edge is judged once with all its faces.
+  std::vector<std::uint64_t> Skip; // sorted
+  // Same-kind edges of the explicit triangles (per-triangle volumes, sides): a component edge
+  // among them is judged here with all its faces, never as a cap interior's. Sorted.
+  std::vector<std::uint64_t> Shared;
+  std::vector<int> PointId; // per point: its identity (VolumeStream numbering)
   // Per frame.
   std::vector<std::array<double, 3>> Projected; // clip x, y, w of each point
   std::vector<signed char> FaceSide;            // sign of the homogeneous screen area
@@ -213,7 +227,15 @@ struct VolumeOutline
   void Build(const VolumeStream& triangles, const VolumeStream& forced, size_t meshPoints);
   void Mark(
     const double projection[4][4], int width, int height, std::vector<unsigned char>& pixels);
-  void MarkSegment(int i0, int i1, int width, int height, std::vector<unsigned char>& pixels) const;
+  static void MarkSegment(const std::array<double, 3>& p, const std::array<double, 3>& q, int width,
+    int height, std::vector<unsigned char>& pixels);
+  // The undirected pair of two point identities, as Skip holds it.
+  static std::uint64_t Pair(int a, int b)
+  {
+    const std::uint32_t lo = static_cast<std::uint32_t>(std::min(a, b));
+    const std::uint32_t hi = static_cast<std::uint32_t>(std::max(a, b));
+    return (static_cast<std::uint64_t>(lo) << 32) | hi;
+  }
 };
 }
 
@@ -241,25 +263,46 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   // Volume cache, one entry per light (several lights render every frame): rebuilt when the
   // light, the connectivity, the sample box (with culling) or the options change. Each set
   // keeps its own GL buffers, so lights that do not move upload nothing.
+  //
+  // A closed component's caps are not kept as vertices: per face its set (1 light-facing, -1
+  // back-facing turned toward the light, 0 none), and on the GPU a point table holding mesh
+  // point i at 2i and its extruded copy at 2i + 1 (VolumeStream's numbering) with the caps as
+  // indices into it: the same vertices, in the same float32 values, as the explicit
+  // triangles they replace. The rest (sides, per-triangle volumes) stays explicit.
   struct VolumeSet
   {
     std::vector<double> Key;
-    double Box[6] = { 0, 0, 0, 0, 0, 0 }; // with Cull: the box it was culled to (CullMargin)
-    std::uint64_t Stamp = 0;              // last use: the least recently used set is evicted
-    std::vector<float> Vertices;          // xyzw, caps first
-    GLsizei CapVertices = 0;
-    GLsizei AllVertices = 0;
-    std::vector<GLuint> AdjacencyIndices; // GPU silhouettes
+    double Box[6] = { 0, 0, 0, 0, 0, 0 };      // with Cull: the box it was culled to (CullMargin)
+    std::uint64_t Stamp = 0;                   // last use: the least recently used set is evicted
+    penumbra_shadow_volume::VolumeLight Light; // what the extruded copies are made for
+    double FarW = 0.0; // positional lights: w of the extruded copies (PositionalFarW)
+    std::vector<std::vector<signed char>> Sets;     // per component and face (empty: GPU drawn)
+    vtkIdType CapFaces = 0;                         // faces with a set: two caps each
+    penumbra_shadow_volume::VolumeStream LightCaps; // per-triangle volumes' light caps
+    penumbra_shadow_volume::VolumeStream Rest;      // their dark caps and sides, components' sides
+    std::vector<GLuint> AdjacencyIndices;           // GPU silhouettes
     GLsizei AdjacencyCount = 0;
     vtkIdType SilhouetteEdges = 0;
     vtkIdType Culled = 0;
-    double FarW = 0.0;          // positional lights: w of the extruded copies (PositionalFarW)
-    GLuint Buffer = 0;          // vertices, uploaded on first use
+    GLuint TableBuffer = 0;  // the point table, uploaded on first use
+    GLuint CapBuffer = 0;    // the caps' indices: light caps, then dark caps
+    GLuint StreamBuffer = 0; // LightCaps then Rest, xyzw
+    bool StreamUploaded = false;
     GLuint AdjacencyBuffer = 0; // adjacency indices, uploaded on first use
     // With the edge resolve: the volumes' edges, for the outline from the camera.
     penumbra_shadow_volume::VolumeOutline Outline;
-  };
-  // More sets than lights per mask: a group never evicts a set it is using.
+
+    // Near (mesh point i) or far (its extrusion) copy of volume point `id` (VolumeStream's
+    // numbering), as the GPU draws it.
+    void TablePoint(const penumbra_shadow_volume::Connectivity& mesh, int id, float xyzw[4]) const;
+    // Face f of component c as its caps are drawn: corners turned toward the light.
+    static std::array<int, 3> CapCorners(
+      const penumbra_shadow_volume::Connectivity::Component& c, size_t f, signed char set);
+    GLsizei StreamVertices() const
+    {
+      return static_cast<GLsizei>((this->LightCaps.Id.size() + this->Rest.Id.size()));
+    }
+  }; // More sets than lights per mask: a group never evicts a set it is using.
   static constexpr size_t MaxVolumeSets = 8;
   std::vector<std::unique_ptr<VolumeSet>> Volumes;
   std::uint64_t Clock = 0;
@@ -278,6 +321,10 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   static void BuildVolumes(VolumeSet& build, const penumbra_shadow_volume::Connectivity& mesh,
     const penumbra_shadow_volume::VolumeLight& vl, const double* box, const double bounds[6],
     bool gpu, bool outline);
+  static void BuildOutline(VolumeSet& build, const penumbra_shadow_volume::Connectivity& mesh,
+    const penumbra_shadow_volume::VolumeStream& gpuVolumes,
+    const penumbra_shadow_volume::VolumeStream& gpuUncertain);
+  void MarkOutline(VolumeSet& vs, int width, int height);
   void Evict(size_t i);
   void ClearVolumes();
   void Release(vtkWindow* window);
@@ -357,6 +404,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   void CountLight(vtkPenumbraShadowVolumeShadows& self, const Group& g, vtkOpenGLState* ostate,
     const Job& job, float matrix[16], GLint loc);
   void BindVolumeBuffers(const Group& g, VolumeSet& vs, GLint loc);
+  void UploadCaps(VolumeSet& vs);
   static void BindBuffer(GLenum target, GLuint& buffer, GLsizeiptr bytes, const void* data);
   void DrawVolumes(const Group& g, const VolumeSet& vs,
     const penumbra_shadow_volume::VolumeLight& vl, float matrix[16], float capScale);

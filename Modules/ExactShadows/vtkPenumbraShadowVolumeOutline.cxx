@@ -4,9 +4,11 @@
 #include "vtkFloatArray.h"
 #include "vtkPenumbraReference.h"
 #include "vtkPenumbraShadowVolumeInternals.h"
+#include "vtkSMPTools.h"
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <numeric>
 
 namespace penumbra_shadow_volume
@@ -27,6 +29,7 @@ void VolumeOutline::Build(
       n = static_cast<int>(this->Points.size());
       const float* v = from.V.data() + 4 * vertex;
       this->Points.push_back({ v[0], v[1], v[2], v[3] });
+      this->PointId.push_back(from.Id[vertex]);
     }
     return n;
   };
@@ -87,7 +90,6 @@ void VolumeOutline::Build(
 void VolumeOutline::Mark(
   const double projection[4][4], int width, int height, std::vector<unsigned char>& pixels)
 {
-  pixels.assign(static_cast<size_t>(width) * static_cast<size_t>(height), 0);
   this->Projected.resize(this->Points.size());
   for (size_t i = 0; i < this->Points.size(); ++i)
   {
@@ -111,6 +113,13 @@ void VolumeOutline::Mark(
   }
   for (size_t e = 0; e < this->Edges.size(); ++e)
   {
+    if (!this->Skip.empty() &&
+      std::binary_search(this->Skip.begin(), this->Skip.end(),
+        Pair(this->PointId[static_cast<size_t>(this->Edges[e][0])],
+          this->PointId[static_cast<size_t>(this->Edges[e][1])])))
+    {
+      continue; // a cap interior's edge: judged with both its caps by MarkCapInteriors
+    }
     // Faces on the left of first -> second minus those on the right, per winding: the
     // count is continuous across the edge only if both balance (and no face is edge-on).
     int front = 0, back = 0;
@@ -125,22 +134,22 @@ void VolumeOutline::Mark(
     }
     if (onEdge || front != 0 || back != 0)
     {
-      this->MarkSegment(this->Edges[e][0], this->Edges[e][1], width, height, pixels);
+      MarkSegment(this->Projected[static_cast<size_t>(this->Edges[e][0])],
+        this->Projected[static_cast<size_t>(this->Edges[e][1])], width, height, pixels);
     }
   }
   for (const auto& f : this->Forced)
   {
-    this->MarkSegment(f[0], f[1], width, height, pixels);
+    MarkSegment(this->Projected[static_cast<size_t>(f[0])],
+      this->Projected[static_cast<size_t>(f[1])], width, height, pixels);
   }
 }
 
 // The segment between two points, clipped in homogeneous coordinates to the view widened
 // by two pixels (which also keeps w > 0), then every pixel centre within Reach of it.
-void VolumeOutline::MarkSegment(
-  int i0, int i1, int width, int height, std::vector<unsigned char>& pixels) const
+void VolumeOutline::MarkSegment(const std::array<double, 3>& p, const std::array<double, 3>& q,
+  int width, int height, std::vector<unsigned char>& pixels)
 {
-  const auto& p = this->Projected[static_cast<size_t>(i0)];
-  const auto& q = this->Projected[static_cast<size_t>(i1)];
   double t0 = 0.0, t1 = 1.0;
   const double kx = 1.0 + 4.0 / width, ky = 1.0 + 4.0 / height;
   // Planes k w + x >= 0, k w - x >= 0, the same for y.
@@ -307,7 +316,7 @@ bool vtkPenumbraShadowVolumeShadows::Internals::TraceUncertain(
   this->Mask->SetNumberOfTuples(n);
   if (self.Resolve)
   {
-    job.Volumes->Outline.Mark(this->Projection, layout.Width, layout.Height, this->OutlinePixels);
+    this->MarkOutline(*job.Volumes, layout.Width, layout.Height);
   }
   const vtkIdType traced = MarkTraced(layout, *g.In, job.VL, job.State, job.Vis,
     self.Resolve ? this->OutlinePixels.data() : nullptr, n ? this->Mask->GetPointer(0) : nullptr);
@@ -325,4 +334,208 @@ bool vtkPenumbraShadowVolumeShadows::Internals::TraceUncertain(
   self.NumberOfResolvedSamples += traced;
   self.ResolveTimeMs += ElapsedMs(resolveStart);
   return true;
+}
+
+namespace
+{
+// Clip x, y, w of a homogeneous point under `projection` (VolumeOutline::Mark's).
+std::array<double, 3> Project(const double projection[4][4], const float xyzw[4])
+{
+  std::array<double, 3> out;
+  int i = 0;
+  for (int r : { 0, 1, 3 })
+  {
+    out[static_cast<size_t>(i++)] = projection[r][0] * xyzw[0] + projection[r][1] * xyzw[1] +
+      projection[r][2] * xyzw[2] + projection[r][3] * xyzw[3];
+  }
+  return out;
+}
+
+// The sign of det(x y w) of a projected triangle: its screen winding (VolumeOutline::Mark's).
+signed char Side(
+  const std::array<double, 3>& a, const std::array<double, 3>& b, const std::array<double, 3>& c)
+{
+  const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+    a[2] * (b[0] * c[1] - b[1] * c[0]);
+  return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+}
+
+// The identity pairs of the same-kind edges (both near or both far copies) of explicit
+// triangles, sorted: a component edge with one of them is not a cap interior's alone.
+std::vector<std::uint64_t> ExplicitPairs(std::initializer_list<const VolumeStream*> streams)
+{
+  std::vector<std::uint64_t> pairs;
+  for (const VolumeStream* s : streams)
+  {
+    for (size_t t = 0; t + 2 < s->Id.size(); t += 3)
+    {
+      for (size_t k = 0; k < 3; ++k)
+      {
+        const int a = s->Id[t + k], b = s->Id[t + (k + 1) % 3];
+        if (a % 2 == b % 2)
+        {
+          pairs.push_back(VolumeOutline::Pair(a, b));
+        }
+      }
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
+}
+}
+
+// The outline's kept part (VolumeOutline::Build): the explicit volumes, and the caps of the
+// faces next to an edge that is not a cap interior's (a silhouette or boundary edge of the
+// set, or one that explicit triangles share); the cap interiors' edges among their edges are
+// skipped there, MarkCapInteriors judges them.
+void vtkPenumbraShadowVolumeShadows::Internals::BuildOutline(VolumeSet& build,
+  const Connectivity& mesh, const VolumeStream& gpuVolumes, const VolumeStream& gpuUncertain)
+{
+  const std::vector<std::uint64_t> shared = ExplicitPairs({ &build.LightCaps, &build.Rest });
+  auto isShared = [&](std::uint64_t pair)
+  { return std::binary_search(shared.begin(), shared.end(), pair); };
+  VolumeStream triangles;
+  triangles.Append(build.LightCaps);
+  triangles.Append(build.Rest);
+  triangles.Append(gpuVolumes);
+  std::vector<std::uint64_t> skip;
+  for (size_t ci = 0; ci < mesh.Components.size(); ++ci)
+  {
+    const Connectivity::Component& c = mesh.Components[ci];
+    const std::vector<signed char>& set = build.Sets[ci];
+    if (set.empty())
+    {
+      continue;
+    }
+    // Per face: bit `kind` (0 light cap, 1 dark cap) when that cap is kept explicit.
+    std::vector<unsigned char> kept(c.Faces.size(), 0);
+    auto interior = [&](const std::array<int, 4>& e, int kind)
+    {
+      const signed char s0 = set[static_cast<size_t>(e[2])];
+      const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
+      return s0 == s1 && s0 != 0 &&
+        !isShared(VolumeOutline::Pair(2 * e[0] + kind, 2 * e[1] + kind));
+    };
+    for (const auto& e : c.Edges)
+    {
+      for (int kind = 0; kind < 2; ++kind)
+      {
+        if (!interior(e, kind))
+        {
+          for (int f : { e[2], e[3] })
+          {
+            if (f >= 0 && set[static_cast<size_t>(f)] != 0)
+            {
+              kept[static_cast<size_t>(f)] |= static_cast<unsigned char>(1 << kind);
+            }
+          }
+        }
+      }
+    }
+    for (const auto& e : c.Edges)
+    {
+      for (int kind = 0; kind < 2; ++kind)
+      {
+        const bool keptSide = (kept[static_cast<size_t>(e[2])] >> kind & 1) ||
+          (e[3] >= 0 && (kept[static_cast<size_t>(e[3])] >> kind & 1));
+        if (keptSide && interior(e, kind))
+        {
+          skip.push_back(VolumeOutline::Pair(2 * e[0] + kind, 2 * e[1] + kind));
+        }
+      }
+    }
+    for (size_t f = 0; f < c.Faces.size(); ++f)
+    {
+      const std::array<int, 3> t = VolumeSet::CapCorners(c, f, set[f]);
+      // As drawn: light cap t0, t1, t2; dark cap t0, t2, t1 (VolumeBuilder::CapAndDark).
+      const int order[2][3] = { { t[0], t[1], t[2] }, { t[0], t[2], t[1] } };
+      for (int kind = 0; kind < 2; ++kind)
+      {
+        if (kept[f] >> kind & 1)
+        {
+          for (int k = 0; k < 3; ++k)
+          {
+            float v[4];
+            const int id = 2 * order[kind][k] + kind;
+            build.TablePoint(mesh, id, v);
+            triangles.Put(v[0], v[1], v[2], v[3], id);
+          }
+        }
+      }
+    }
+  }
+  build.Outline.Build(triangles, gpuUncertain, mesh.Points.size());
+  std::sort(skip.begin(), skip.end());
+  skip.erase(std::unique(skip.begin(), skip.end()), skip.end());
+  build.Outline.Skip.swap(skip);
+  build.Outline.Shared = shared;
+}
+
+// One light's outline pixels (OutlinePixels): the kept part (VolumeOutline::Mark), then the
+// cap interiors' edges (MarkCapInteriors): an edge two caps of one set share is continuous
+// unless the caps face the camera differently (or edge-on), the rule Mark applies to a pair.
+void vtkPenumbraShadowVolumeShadows::Internals::MarkOutline(VolumeSet& vs, int width, int height)
+{
+  std::vector<unsigned char>& pixels = this->OutlinePixels;
+  pixels.assign(static_cast<size_t>(width) * static_cast<size_t>(height), 0);
+  vs.Outline.Mark(this->Projection, width, height, pixels);
+  const Connectivity& mesh = this->Mesh;
+  const std::vector<std::uint64_t>& shared = vs.Outline.Shared;
+  auto project = [&](int id)
+  {
+    float v[4];
+    vs.TablePoint(mesh, id, v);
+    return Project(this->Projection, v);
+  };
+  std::vector<signed char> sides;
+  for (size_t ci = 0; ci < mesh.Components.size(); ++ci)
+  {
+    const Connectivity::Component& c = mesh.Components[ci];
+    const std::vector<signed char>& set = vs.Sets[ci];
+    if (set.empty())
+    {
+      continue;
+    }
+    // Per face, the screen side of its light cap and of its dark cap, as drawn.
+    sides.assign(2 * c.Faces.size(), 0);
+    vtkSMPTools::For(0, static_cast<vtkIdType>(c.Faces.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType f = begin; f < end; ++f)
+        {
+          if (set[static_cast<size_t>(f)] == 0)
+          {
+            continue;
+          }
+          const std::array<int, 3> t =
+            VolumeSet::CapCorners(c, static_cast<size_t>(f), set[static_cast<size_t>(f)]);
+          sides[2 * static_cast<size_t>(f)] =
+            Side(project(2 * t[0]), project(2 * t[1]), project(2 * t[2]));
+          sides[2 * static_cast<size_t>(f) + 1] =
+            Side(project(2 * t[0] + 1), project(2 * t[2] + 1), project(2 * t[1] + 1));
+        }
+      });
+    for (const auto& e : c.Edges)
+    {
+      const signed char s0 = set[static_cast<size_t>(e[2])];
+      const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
+      if (s0 != s1 || s0 == 0)
+      {
+        continue; // kept explicit
+      }
+      for (int kind = 0; kind < 2; ++kind)
+      {
+        const int a = 2 * e[0] + kind, b = 2 * e[1] + kind;
+        const signed char side0 = sides[2 * static_cast<size_t>(e[2]) + static_cast<size_t>(kind)];
+        const signed char side1 = sides[2 * static_cast<size_t>(e[3]) + static_cast<size_t>(kind)];
+        if ((side0 == side1 && side0 != 0) ||
+          std::binary_search(shared.begin(), shared.end(), VolumeOutline::Pair(a, b)))
+        {
+          continue; // continuous, or shared with explicit triangles: the kept part judges it
+        }
+        VolumeOutline::MarkSegment(project(a), project(b), width, height, pixels);
+      }
+    }
+  }
 }

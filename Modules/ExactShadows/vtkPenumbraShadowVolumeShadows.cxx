@@ -208,7 +208,7 @@ bool vtkPenumbraShadowVolumeShadows::Internals::PrepareLight(
     ? -1
     : self.NumberOfSilhouetteEdges + vs.SilhouetteEdges;
   self.NumberOfCulledVolumes += vs.Culled;
-  self.NumberOfVolumeTriangles += vs.AllVertices / 3;
+  self.NumberOfVolumeTriangles += 2 * vs.CapFaces + vs.StreamVertices() / 3;
   return true;
 }
 
@@ -234,16 +234,37 @@ void vtkPenumbraShadowVolumeShadows::Internals::ChooseMethods(
         eyeWorld[2] - this->Origin[2] };
       const double tol = 1e-5 * g.Scale;
       bool outside = true;
-      const std::vector<float>& V = vs.Vertices;
-      for (GLsizei i = 0; i + 2 < vs.CapVertices && outside; i += 3)
+      // Every light cap as drawn (float32): the explicit ones, then the components'.
+      const std::vector<float>& V = vs.LightCaps.V;
+      for (size_t i = 0; i + 2 < vs.LightCaps.Id.size() && outside; i += 3)
       {
         Vec3 v[3];
-        for (int k = 0; k < 3; ++k)
+        for (size_t k = 0; k < 3; ++k)
         {
-          const float* f = V.data() + 4 * static_cast<size_t>(i + k);
+          const float* f = V.data() + 4 * (i + k);
           v[k] = { f[0], f[1], f[2] };
         }
         outside = !SegmentMayTouch(vl, eye, v, tol);
+      }
+      for (size_t ci = 0; ci < vs.Sets.size() && outside; ++ci)
+      {
+        const std::vector<signed char>& set = vs.Sets[ci];
+        for (size_t f = 0; f < set.size() && outside; ++f)
+        {
+          if (set[f] == 0)
+          {
+            continue;
+          }
+          const std::array<int, 3> t = VolumeSet::CapCorners(this->Mesh.Components[ci], f, set[f]);
+          Vec3 v[3];
+          for (int k = 0; k < 3; ++k)
+          {
+            float p[4];
+            vs.TablePoint(this->Mesh, 2 * t[static_cast<size_t>(k)], p);
+            v[k] = { p[0], p[1], p[2] };
+          }
+          outside = !SegmentMayTouch(vl, eye, v, tol);
+        }
       }
       // GPU components: their front faces are not known here, so every face must stay clear.
       for (size_t i = 0; i + 5 < vs.AdjacencyIndices.size() && outside; i += 6)

@@ -187,7 +187,9 @@ void vtkPenumbraShadowVolumeShadows::Internals::Release(vtkWindow* window)
   }
   for (auto& set : this->Volumes)
   {
-    set->Buffer = set->AdjacencyBuffer = 0; // their context is gone
+    // Their context is gone.
+    set->TableBuffer = set->CapBuffer = set->StreamBuffer = set->AdjacencyBuffer = 0;
+    set->StreamUploaded = false;
   }
   this->Garbage.clear();
   this->Framebuffer = this->DepthStencil = this->MaskTexture = this->VertexArray = 0;
@@ -658,19 +660,27 @@ void vtkPenumbraShadowVolumeShadows::Internals::CountLight(vtkPenumbraShadowVolu
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-// One light's buffers, uploaded once per volume build, bound for drawing.
+// One light's buffers, uploaded once per volume build (the point table and the caps'
+// indices made here, in slices, so that no CPU copy of them is kept), bound for drawing.
 void vtkPenumbraShadowVolumeShadows::Internals::BindVolumeBuffers(
   const Group& g, VolumeSet& vs, GLint loc)
 {
   glBindVertexArray(this->VertexArray);
-  BindBuffer(GL_ARRAY_BUFFER, vs.Buffer,
-    static_cast<GLsizeiptr>(vs.Vertices.size() * sizeof(float)),
-    vs.Vertices.empty() ? nullptr : vs.Vertices.data());
-  if (loc >= 0)
+  if (!vs.TableBuffer && vs.CapFaces > 0)
   {
-    glEnableVertexAttribArray(static_cast<GLuint>(loc));
-    glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+    this->UploadCaps(vs);
   }
+  BindBuffer(GL_ARRAY_BUFFER, vs.StreamBuffer,
+    static_cast<GLsizeiptr>(4 * static_cast<size_t>(vs.StreamVertices()) * sizeof(float)), nullptr);
+  if (vs.StreamVertices() > 0 && !vs.StreamUploaded)
+  {
+    const GLsizeiptr capBytes = static_cast<GLsizeiptr>(vs.LightCaps.V.size() * sizeof(float));
+    glBufferSubData(GL_ARRAY_BUFFER, 0, capBytes, vs.LightCaps.V.data());
+    glBufferSubData(GL_ARRAY_BUFFER, capBytes,
+      static_cast<GLsizeiptr>(vs.Rest.V.size() * sizeof(float)), vs.Rest.V.data());
+    vs.StreamUploaded = true;
+  }
+  (void)loc;
   if (g.GSProgram && vs.AdjacencyCount > 0)
   {
     glBindVertexArray(this->PointArray);
@@ -678,6 +688,72 @@ void vtkPenumbraShadowVolumeShadows::Internals::BindVolumeBuffers(
       static_cast<GLsizeiptr>(vs.AdjacencyIndices.size() * sizeof(GLuint)),
       vs.AdjacencyIndices.data());
   }
+}
+
+// The point table (mesh point i at 2i, its extrusion at 2i + 1, VolumeSet::TablePoint) and
+// the caps' indices into it: every light cap, then every dark cap, in face order.
+void vtkPenumbraShadowVolumeShadows::Internals::UploadCaps(VolumeSet& vs)
+{
+  const Connectivity& mesh = this->Mesh;
+  constexpr size_t Slice = size_t(1) << 16;
+  glGenBuffers(1, &vs.TableBuffer);
+  glBindBuffer(GL_ARRAY_BUFFER, vs.TableBuffer);
+  const size_t ids = 2 * mesh.Points.size();
+  glBufferData(
+    GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(4 * ids * sizeof(float)), nullptr, GL_STATIC_DRAW);
+  std::vector<float> table;
+  for (size_t first = 0; first < ids; first += Slice)
+  {
+    const size_t last = std::min(ids, first + Slice);
+    table.resize(4 * (last - first));
+    for (size_t id = first; id < last; ++id)
+    {
+      vs.TablePoint(mesh, static_cast<int>(id), table.data() + 4 * (id - first));
+    }
+    glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(4 * first * sizeof(float)),
+      static_cast<GLsizeiptr>(table.size() * sizeof(float)), table.data());
+  }
+  glGenBuffers(1, &vs.CapBuffer);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.CapBuffer);
+  const size_t capIndices = 3 * static_cast<size_t>(vs.CapFaces);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(2 * capIndices * sizeof(GLuint)),
+    nullptr, GL_STATIC_DRAW);
+  std::vector<GLuint> indices;
+  for (int kind = 0; kind < 2; ++kind)
+  {
+    size_t written = static_cast<size_t>(kind) * capIndices;
+    auto flush = [&]()
+    {
+      glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLintptr>(written * sizeof(GLuint)),
+        static_cast<GLsizeiptr>(indices.size() * sizeof(GLuint)), indices.data());
+      written += indices.size();
+      indices.clear();
+    };
+    for (size_t ci = 0; ci < mesh.Components.size(); ++ci)
+    {
+      const std::vector<signed char>& set = vs.Sets[ci];
+      for (size_t f = 0; f < set.size(); ++f)
+      {
+        if (set[f] == 0)
+        {
+          continue;
+        }
+        const std::array<int, 3> t = VolumeSet::CapCorners(mesh.Components[ci], f, set[f]);
+        // As VolumeBuilder::CapAndDark drew them: light cap t0, t1, t2; dark cap t0, t2, t1.
+        const int order[2][3] = { { t[0], t[1], t[2] }, { t[0], t[2], t[1] } };
+        for (int k = 0; k < 3; ++k)
+        {
+          indices.push_back(static_cast<GLuint>(2 * order[kind][k] + kind));
+        }
+        if (indices.size() >= 3 * Slice)
+        {
+          flush();
+        }
+      }
+    }
+    flush();
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
 
 // Binds `buffer` to `target`, first creating it with `bytes` of `data` if it does not exist.
@@ -700,15 +776,45 @@ void vtkPenumbraShadowVolumeShadows::Internals::DrawVolumes(
   g.Window->GetShaderCache()->ReadyShaderProgram(g.Program);
   g.Program->SetUniformMatrix4x4("worldToClip", matrix);
   glBindVertexArray(this->VertexArray);
-  if (vs.CapVertices > 0)
+  const GLint loc = glGetAttribLocation(g.Program->GetHandle(), "vertexRebased");
+  // The components' caps from the point table (light caps, then dark caps), the explicit
+  // volumes from their stream (light caps, then the rest).
+  auto table = [&](GLuint buffer)
   {
-    g.Program->SetUniformf("capScale", capScale);
-    glDrawArrays(GL_TRIANGLES, 0, vs.CapVertices);
+    glBindBuffer(GL_ARRAY_BUFFER, buffer);
+    if (loc >= 0)
+    {
+      glEnableVertexAttribArray(static_cast<GLuint>(loc));
+      glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+    }
+  };
+  const GLsizei capIndices = static_cast<GLsizei>(3 * vs.CapFaces);
+  const GLsizei lightCaps = static_cast<GLsizei>(vs.LightCaps.Id.size());
+  const GLsizei stream = vs.StreamVertices();
+  g.Program->SetUniformf("capScale", capScale);
+  if (capIndices > 0)
+  {
+    table(vs.TableBuffer);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.CapBuffer);
+    glDrawElements(GL_TRIANGLES, capIndices, GL_UNSIGNED_INT, nullptr);
   }
-  if (vs.AllVertices > vs.CapVertices)
+  if (lightCaps > 0)
   {
-    g.Program->SetUniformf("capScale", 1.0f);
-    glDrawArrays(GL_TRIANGLES, vs.CapVertices, vs.AllVertices - vs.CapVertices);
+    table(vs.StreamBuffer);
+    glDrawArrays(GL_TRIANGLES, 0, lightCaps);
+  }
+  g.Program->SetUniformf("capScale", 1.0f);
+  if (capIndices > 0)
+  {
+    table(vs.TableBuffer);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.CapBuffer);
+    glDrawElements(GL_TRIANGLES, capIndices, GL_UNSIGNED_INT,
+      reinterpret_cast<const void*>(static_cast<size_t>(capIndices) * sizeof(GLuint)));
+  }
+  if (stream > lightCaps)
+  {
+    table(vs.StreamBuffer);
+    glDrawArrays(GL_TRIANGLES, lightCaps, stream - lightCaps);
   }
   if (g.GSProgram && vs.AdjacencyCount > 0)
   {
