@@ -229,8 +229,10 @@ struct vtkPenumbraReference::Internals : penumbra_embree::Objects
   const penumbra::SceneTriangles* Triangles = nullptr; // the geometry's, while Built holds
   double Diagonal = 1.0;
 
-  bool AddMesh(
-    const penumbra::SceneTriangles& triangles, const penumbra::SceneTriangles::Block& block);
+  bool Compact = false; // the current scene indexes the shared points (CompactAbove)
+
+  bool AddMesh(const penumbra::SceneTriangles& triangles,
+    const penumbra::SceneTriangles::Block& block, vtkIdType occluders, RTCBuildQuality quality);
 
   vtkNew<vtkUnsignedCharArray> Ties;
 
@@ -431,6 +433,12 @@ vtkPenumbraReference::~vtkPenumbraReference()
 vtkUnsignedCharArray* vtkPenumbraReference::GetTies()
 {
   return this->Impl->Ties;
+}
+
+//------------------------------------------------------------------------------
+bool vtkPenumbraReference::GetCompact()
+{
+  return this->Impl->Compact;
 }
 
 //------------------------------------------------------------------------------
@@ -802,20 +810,15 @@ int vtkPenumbraReference::ComputeConvergedVisibility(vtkPenumbraViewSamples* sam
 // One prop's occluders as an Embree geometry whose id is its index in Meshes: casters only;
 // zero-area triangles cover no solid angle and are skipped. False with DeviceError set when
 // Embree refused.
-bool vtkPenumbraReference::Internals::AddMesh(
-  const penumbra::SceneTriangles& triangles, const penumbra::SceneTriangles::Block& block)
+bool vtkPenumbraReference::Internals::AddMesh(const penumbra::SceneTriangles& triangles,
+  const penumbra::SceneTriangles::Block& block, vtkIdType occluders, RTCBuildQuality quality)
 {
   Internals& impl = *this;
   const penumbra::TriangleList& list = *block.List;
   const vtkIdType n = list.Size();
   Mesh mesh;
   mesh.Block = static_cast<size_t>(&block - triangles.GetBlocks().data());
-  // Counted first: when every triangle is an occluder (the usual prop) nothing is copied.
-  vtkIdType occluders = 0;
-  for (vtkIdType t = 0; t < n; ++t)
-  {
-    occluders += triangles.IsOccluder(block.First + t) ? 1 : 0;
-  }
+  // When every triangle is an occluder (the usual prop) Embree reads the prop's corners.
   if (occluders == 0)
   {
     return true;
@@ -841,6 +844,7 @@ bool vtkPenumbraReference::Internals::AddMesh(
   rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
     mesh.Indices.empty() ? list.Corners.data() : mesh.Indices.data(), 0, 3 * sizeof(std::uint32_t),
     count);
+  rtcSetGeometryBuildQuality(geometry, quality);
   rtcCommitGeometry(geometry);
   rtcAttachGeometryByID(impl.Scene, geometry, static_cast<unsigned int>(impl.Meshes.size()));
   rtcReleaseGeometry(geometry);
@@ -893,17 +897,32 @@ int vtkPenumbraReference::EnsureScene()
   {
     return this->Fail("cannot create an Embree scene: " + impl.DeviceError);
   }
-  // Compact: the leaves index the vertices instead of copying them (Triangle4i, about 36
-  // bytes a triangle against 68 and a build peak of 100), with the same robust ray/triangle
-  // test on the same float32 corners. Build quality HIGH would need copies (spatial splits).
-  rtcSetSceneFlags(impl.Scene,
-    RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_COMPACT | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
-  rtcSetSceneBuildQuality(impl.Scene, RTC_BUILD_QUALITY_MEDIUM);
   const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
   impl.Triangles = &triangles;
+  std::vector<vtkIdType> occluders;
+  vtkIdType total = 0;
   for (const penumbra::SceneTriangles::Block& block : triangles.GetBlocks())
   {
-    if (!impl.AddMesh(triangles, block))
+    vtkIdType count = 0;
+    for (vtkIdType t = 0; t < block.List->Size(); ++t)
+    {
+      count += triangles.IsOccluder(block.First + t) ? 1 : 0;
+    }
+    occluders.push_back(count);
+    total += count;
+  }
+  // Large scenes compact (see CompactAbove): the leaves index the shared float32 points
+  // (Triangle4i) instead of holding copies (Triangle4v with spatial splits), the same robust
+  // ray/triangle test on the same corners.
+  impl.Compact = total > this->CompactAbove;
+  rtcSetSceneFlags(impl.Scene,
+    static_cast<RTCSceneFlags>(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION |
+      (impl.Compact ? RTC_SCENE_FLAG_COMPACT : 0)));
+  const RTCBuildQuality quality = impl.Compact ? RTC_BUILD_QUALITY_MEDIUM : RTC_BUILD_QUALITY_HIGH;
+  rtcSetSceneBuildQuality(impl.Scene, quality);
+  for (size_t b = 0; b < occluders.size(); ++b)
+  {
+    if (!impl.AddMesh(triangles, triangles.GetBlocks()[b], occluders[b], quality))
     {
       return this->Fail("cannot make an Embree geometry: " + impl.DeviceError);
     }
@@ -1067,6 +1086,8 @@ void vtkPenumbraReference::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Geometry: " << this->Geometry << "\n";
   os << indent << "RelativeEpsilon: " << this->RelativeEpsilon << "\n";
   os << indent << "TieFactor: " << this->TieFactor << "\n";
+  os << indent << "CompactAbove: " << this->CompactAbove << "\n";
+  os << indent << "Compact: " << (this->Impl->Compact ? "yes" : "no") << "\n";
   os << indent << "NumberOfBuilds: " << this->NumberOfBuilds << "\n";
   os << indent << "NumberOfCasterTriangles: " << this->GetNumberOfCasterTriangles() << "\n";
   os << indent << "NumberOfRays: " << this->NumberOfRays << "\n";

@@ -117,6 +117,20 @@ public:
   vtkGetMacro(TieFactor, double);
   ///@}
 
+  ///@{
+  /**
+   * Occluders above which the Embree scene indexes the scene geometry's own float32 points
+   * (RTC_SCENE_FLAG_COMPACT: about 36 bytes a triangle) instead of copying the corners into
+   * its leaves (about 68 bytes a triangle and 100 while it builds, with spatial splits; its
+   * rays are traced about 30 % faster). Both answer every ray the same: the same robust
+   * ray/triangle test on the same float32 corners. Default 2^20 (1,048,576); 0: always
+   * compact. GetCompact(): whether the current scene is.
+   */
+  vtkSetClampMacro(CompactAbove, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(CompactAbove, vtkIdType);
+  bool GetCompact();
+  ///@}
+
   /**
    * Visibility of each view sample from `light`, written to `visibility` (one component,
    * one tuple per sample): 1 lit, 0 shadowed, -1 invalid sample; for a vtkPenumbraAreaLight
@@ -219,6 +233,7 @@ protected:
   ~vtkPenumbraReference() override;
 
   vtkPenumbraSceneGeometry* Geometry;
+  vtkIdType CompactAbove = vtkIdType(1) << 20;
   double RelativeEpsilon;
   double TieFactor;
   vtkIdType NumberOfTies;

@@ -364,6 +364,44 @@ int Caching()
   return EXIT_SUCCESS;
 }
 
+// The compact Embree scene (leaves indexing the geometry's float32 points, used above
+// CompactAbove occluders) answers every ray as the default one, ties included.
+int CompactScene()
+{
+  const double far[3] = { 3.4e6, 5.4e6, 120.0 };
+  Scene scene(far);
+  scene.BoxActor->SetOrientation(10, 20, 30); // no edge along an axis
+  CHECK(scene.Update());
+  vtkNew<vtkLight> point, sun;
+  point->SetPositional(true);
+  point->SetConeAngle(180.0);
+  point->SetPosition(far[0] + 0.7, far[1] - 0.3, far[2] + 6.0);
+  sun->SetPosition(far[0] + 1, far[1] + 2, far[2] + 5);
+  sun->SetFocalPoint(far[0], far[1], far[2]);
+  for (vtkLight* light : { point.GetPointer(), sun.GetPointer() })
+  {
+    vtkNew<vtkPenumbraReference> plain, compact;
+    compact->SetCompactAbove(0);
+    vtkNew<vtkFloatArray> a, b;
+    for (vtkPenumbraReference* r : { plain.GetPointer(), compact.GetPointer() })
+    {
+      r->SetGeometry(scene.Geometry);
+      CHECK(r->ComputeVisibility(scene.Samples, light, r == plain ? a : b));
+    }
+    CHECK(!plain->GetCompact() && compact->GetCompact());
+    CHECK(plain->GetNumberOfCasterTriangles() == compact->GetNumberOfCasterTriangles());
+    vtkIdType shadowed = 0;
+    for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
+    {
+      CHECK(a->GetValue(i) == b->GetValue(i));
+      CHECK(plain->GetTies()->GetValue(i) == compact->GetTies()->GetValue(i));
+      shadowed += a->GetValue(i) == 0.0f ? 1 : 0;
+    }
+    CHECK(shadowed > 100);
+  }
+  return EXIT_SUCCESS;
+}
+
 // Blockers inside the tie band [tnear, TieFactor * tnear) are reported, never decided
 // silently; a real blocker farther away still decides.
 int Ties()
@@ -497,6 +535,7 @@ int TestReferenceHard(int, char*[])
   RUN(Georeferenced());
   RUN(Rules());
   RUN(Caching());
+  RUN(CompactScene());
   RUN(Ties());
   RUN(BadInput());
   return EXIT_SUCCESS;
