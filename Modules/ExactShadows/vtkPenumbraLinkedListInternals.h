@@ -320,6 +320,7 @@ struct vtkPenumbraLinkedListShadows::Internals
   void ListView(vtkPenumbraLinkedListShadows* self, const penumbra_llsm::View& view, int vi,
     const penumbra_llsm::TestContext& ctx, vtkIdType& rows);
   void ReportListPath(vtkPenumbraLinkedListShadows* self, const std::string& why);
+  void ReleaseLists();
 };
 
 #endif

@@ -133,6 +133,8 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
   this->LastListBuilder = impl.UseGpu ? LISTS_GPU : LISTS_CPU;
   this->MeanListLength = rows > 0 ? static_cast<double>(this->NumberOfListedSamples) / rows : 0.0;
 
+  impl.ReleaseLists();
+
   // ---- 5. Settle the lists' answers; the unknown and unlisted samples are traced.
   vtkIdType traced = 0;
   // Only pending samples changed state; the others are settled (0) already.
@@ -156,9 +158,30 @@ int vtkPenumbraLinkedListShadows::ComputeVisibility(vtkRenderer* renderer,
     this->TraceTimeMs = ElapsedMs(traceStart);
   }
   this->NumberOfTracedSamples = traced;
+  std::vector<vtkIdType>().swap(impl.ToDecide);
   visibility->Modified();
   this->LastTimeMs = ElapsedMs(start);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+// The lists and what was made for them, once every view is done: none of it is kept between
+// calls (a moving camera makes them anew), so that a frame's other phases (the view samples'
+// read-back, the tracer) do not hold them too. The caster clusters, made from the casters
+// alone, stay.
+void vtkPenumbraLinkedListShadows::Internals::ReleaseLists()
+{
+  std::vector<double>().swap(this->Depth);
+  std::vector<vtkIdType>().swap(this->Texel);
+  std::vector<float>().swap(this->Point);
+  std::vector<vtkIdType>().swap(this->Listed);
+  std::vector<vtkIdType>().swap(this->Pick);
+  std::vector<vtkIdType>().swap(this->Near);
+  std::vector<unsigned char>().swap(this->Keep);
+  this->Kept = penumbra_casters::CasterIds();
+  this->Grid = penumbra_llsm::Lists();
+  this->Cells = penumbra_llsm::SampleCells();
+  this->Bands = penumbra_llsm::CasterGrid();
 }
 
 //------------------------------------------------------------------------------

@@ -381,35 +381,6 @@ void vtkPenumbraShadowVolumeShadows::Internals::BuildVolumes(VolumeSet& build,
   }
 }
 
-void vtkPenumbraShadowVolumeShadows::Internals::VolumeSet::TablePoint(
-  const Connectivity& mesh, int id, float xyzw[4]) const
-{
-  const Vec3& v = mesh.Points[static_cast<size_t>(id / 2)];
-  const VolumeLight& vl = this->Light;
-  double p[4] = { v[0], v[1], v[2], 1.0 };
-  if (id % 2 == 1 && vl.Directional)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      p[c] = v[c] - vl.Extrusion * vl.Direction[c];
-    }
-  }
-  else if (id % 2 == 1)
-  {
-    const double w = this->FarW;
-    for (int c = 0; c < 3; ++c)
-    {
-      p[c] = v[c] - vl.Position[c] + w * vl.Position[c];
-    }
-    p[3] = w;
-  }
-  // As VolumeStream::Put rounds them.
-  for (int c = 0; c < 4; ++c)
-  {
-    xyzw[c] = static_cast<float>(p[c]);
-  }
-}
-
 std::array<int, 3> vtkPenumbraShadowVolumeShadows::Internals::VolumeSet::CapCorners(
   const Connectivity::Component& c, size_t f, signed char set)
 {

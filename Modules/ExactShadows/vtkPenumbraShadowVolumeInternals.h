@@ -265,10 +265,11 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   // keeps its own GL buffers, so lights that do not move upload nothing.
   //
   // A closed component's caps are not kept as vertices: per face its set (1 light-facing, -1
-  // back-facing turned toward the light, 0 none), and on the GPU a point table holding mesh
-  // point i at 2i and its extruded copy at 2i + 1 (VolumeStream's numbering) with the caps as
-  // indices into it: the same vertices, in the same float32 values, as the explicit
-  // triangles they replace. The rest (sides, per-triangle volumes) stays explicit.
+  // back-facing turned toward the light, 0 none), and on the GPU a point table holding the P
+  // mesh points and then their extruded copies (VolumeStream's identities 2i and 2i + 1 at i
+  // and P + i) with the caps as indices into it: the same vertices, in the same float32
+  // values, as the explicit triangles they replace. The rest (sides, per-triangle volumes)
+  // stays explicit.
   struct VolumeSet
   {
     std::vector<double> Key;
@@ -293,8 +294,37 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     penumbra_shadow_volume::VolumeOutline Outline;
 
     // Near (mesh point i) or far (its extrusion) copy of volume point `id` (VolumeStream's
-    // numbering), as the GPU draws it.
-    void TablePoint(const penumbra_shadow_volume::Connectivity& mesh, int id, float xyzw[4]) const;
+    // numbering), as the GPU draws it: VolumeBuilder's Near and Far, rounded as
+    // VolumeStream::Put rounds them.
+    void TablePoint(const penumbra_shadow_volume::Connectivity& mesh, int id, float xyzw[4]) const
+    {
+      const penumbra_shadow_volume::Vec3& v = mesh.Points[static_cast<size_t>(id / 2)];
+      const penumbra_shadow_volume::VolumeLight& vl = this->Light;
+      if (id % 2 == 0)
+      {
+        xyzw[0] = static_cast<float>(v[0]);
+        xyzw[1] = static_cast<float>(v[1]);
+        xyzw[2] = static_cast<float>(v[2]);
+        xyzw[3] = 1.0f;
+      }
+      else if (vl.Directional)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          xyzw[c] = static_cast<float>(v[c] - vl.Extrusion * vl.Direction[c]);
+        }
+        xyzw[3] = 1.0f;
+      }
+      else
+      {
+        const double w = this->FarW;
+        for (int c = 0; c < 3; ++c)
+        {
+          xyzw[c] = static_cast<float>(v[c] - vl.Position[c] + w * vl.Position[c]);
+        }
+        xyzw[3] = static_cast<float>(w);
+      }
+    }
     // Face f of component c as its caps are drawn: corners turned toward the light.
     static std::array<int, 3> CapCorners(
       const penumbra_shadow_volume::Connectivity::Component& c, size_t f, signed char set);

@@ -690,27 +690,29 @@ void vtkPenumbraShadowVolumeShadows::Internals::BindVolumeBuffers(
   }
 }
 
-// The point table (mesh point i at 2i, its extrusion at 2i + 1, VolumeSet::TablePoint) and
-// the caps' indices into it: every light cap, then every dark cap, in face order.
+// The point table (every mesh point, then every extruded copy: VolumeSet::TablePoint of
+// identities 2i and 2i + 1 at i and P + i, so that a draw of light caps reads only the first
+// half) and the caps' indices into it: every light cap, then every dark cap, in face order.
 void vtkPenumbraShadowVolumeShadows::Internals::UploadCaps(VolumeSet& vs)
 {
   const Connectivity& mesh = this->Mesh;
   constexpr size_t Slice = size_t(1) << 16;
   glGenBuffers(1, &vs.TableBuffer);
   glBindBuffer(GL_ARRAY_BUFFER, vs.TableBuffer);
-  const size_t ids = 2 * mesh.Points.size();
+  const size_t points = mesh.Points.size();
   glBufferData(
-    GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(4 * ids * sizeof(float)), nullptr, GL_STATIC_DRAW);
+    GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(8 * points * sizeof(float)), nullptr, GL_STATIC_DRAW);
   std::vector<float> table;
-  for (size_t first = 0; first < ids; first += Slice)
+  for (size_t slot = 0; slot < 2 * points; slot += Slice)
   {
-    const size_t last = std::min(ids, first + Slice);
-    table.resize(4 * (last - first));
-    for (size_t id = first; id < last; ++id)
+    const size_t last = std::min(2 * points, slot + Slice);
+    table.resize(4 * (last - slot));
+    for (size_t k = slot; k < last; ++k)
     {
-      vs.TablePoint(mesh, static_cast<int>(id), table.data() + 4 * (id - first));
+      const int id = k < points ? static_cast<int>(2 * k) : static_cast<int>(2 * (k - points) + 1);
+      vs.TablePoint(mesh, id, table.data() + 4 * (k - slot));
     }
-    glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(4 * first * sizeof(float)),
+    glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(4 * slot * sizeof(float)),
       static_cast<GLsizeiptr>(table.size() * sizeof(float)), table.data());
   }
   glGenBuffers(1, &vs.CapBuffer);
@@ -743,7 +745,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::UploadCaps(VolumeSet& vs)
         const int order[2][3] = { { t[0], t[1], t[2] }, { t[0], t[2], t[1] } };
         for (int k = 0; k < 3; ++k)
         {
-          indices.push_back(static_cast<GLuint>(2 * order[kind][k] + kind));
+          indices.push_back(static_cast<GLuint>(order[kind][k] + kind * points));
         }
         if (indices.size() >= 3 * Slice)
         {

@@ -531,6 +531,12 @@ bool vtkPenumbraViewSamplesPass::ReadSamples(vtkPenumbraViewSamples* target, int
     impl.RebuildFromTriangles(target, first);
     impl.ReadFallbacks(target, first);
   }
+  // The read-back buffers (up to 48 bytes a pixel) are not kept between reads.
+  for (std::vector<float>& buffer : impl.ReadBuffers)
+  {
+    std::vector<float>().swap(buffer);
+  }
+  std::vector<unsigned char>().swap(impl.Fallback);
   target->Modified();
   return true;
 }
