@@ -162,9 +162,10 @@ public:
   ///@{
   /**
    * Memory budget per rank for the other ranks' casters, in MiB (0, the default: none).
-   * When the need-based exchange would make some rank hold more (about 333 bytes a
+   * When the need-based exchange would make some rank hold more (about 297 bytes a
    * triangle), that exchange is made `distributed` instead, on every rank. A negative or
-   * non-finite budget is refused with an error.
+   * non-finite budget is refused with an error. A scene file's "distributed" block sets it
+   * too (penumbra_paraview.apply_scene_settings).
    */
   void SetCasterMemoryBudget(double megabytes);
   double GetCasterMemoryBudget() { return this->CasterMemoryBudget; }

@@ -35,9 +35,11 @@ constexpr int ReceiversAt = 16;
 constexpr int CastersAt = ReceiversAt + 6 * CasterExchange::MaxBoxes;
 constexpr int RecordSize = CastersAt + 6 * CasterExchange::MaxBoxes;
 
-// What the pass holds per triangle received (measured, docs/paraview.md): the received copy
-// (72 bytes), the shadow-only prop (104) and the pass's geometry (157).
-constexpr double BytesPerHeldTriangle = 333.0;
+// What the pass holds per triangle received: the received copy (72 bytes), the shadow-only
+// prop (104, measured, docs/paraview.md) and the pass's geometry, which stores the prop's
+// unshared corners as they come (72 bytes of points, 12 of indices, 36 of float32 copy and a
+// role: 121; 157 before the geometry kept one indexed copy).
+constexpr double BytesPerHeldTriangle = 297.0;
 
 // Grows `b` (uninitialized: empty) to `other` (uninitialized: nothing).
 void Grow(double b[6], const double other[6])
