@@ -340,9 +340,7 @@ struct vtkPenumbraGearsShadows::Internals
     for (vtkIdType t = 0; t < n; ++t)
     {
       Caster c;
-      double v[9];
-      if (triangles.IsOccluder(t) &&
-        (triangles.Get(t, v), penumbra_rules::MakeExactTriangle(v, triangles.GetOwner(t), c)))
+      if (penumbra_rules::MakeOccluder(triangles, t, c))
       {
         this->Casters.push_back(c);
         Sphere b;

@@ -1,6 +1,5 @@
 #include "vtkPenumbraLineReference.h"
 
-#include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
@@ -411,9 +410,7 @@ int vtkPenumbraLineReference::EnsureHierarchy()
   for (vtkIdType t = 0; t < n; ++t)
   {
     ExactTriangle tri;
-    double v[9];
-    if (triangles.IsOccluder(t) &&
-      (triangles.Get(t, v), penumbra_rules::MakeExactTriangle(v, triangles.GetOwner(t), tri)))
+    if (penumbra_rules::MakeOccluder(triangles, t, tri))
     {
       impl.Triangles.push_back(tri);
     }

@@ -41,8 +41,6 @@ constexpr int MaxConvergedSamplesPerAxis = 256;
 using penumbra::Clock;
 using penumbra::ElapsedMs;
 
-// Per-ray state the filter reads: Embree hands our context pointer back to the filter, so
-// the extra members must follow the RTCIntersectContext it starts with.
 // One Embree geometry: a prop's occluders, read in place from the scene geometry's storage
 // (its float32 points, and its corners when every triangle of the prop is an occluder).
 struct Mesh
@@ -56,12 +54,13 @@ struct Mesh
   vtkIdType Owner(const penumbra::SceneTriangles& triangles, unsigned int prim) const
   {
     const penumbra::SceneTriangles::Block& block = triangles.GetBlocks()[this->Block];
-    const vtkIdType local = this->Local.empty() ? prim : this->Local[prim];
-    const vtkIdType owner = block.List->Owners[local];
-    return owner >= 0 ? block.First + owner : -1;
+    return penumbra::SceneTriangles::GetOwnerLocal(
+      block, this->Local.empty() ? prim : this->Local[prim]);
   }
 };
 
+// Per-ray state the filter reads: Embree hands our context pointer back to the filter, so
+// the extra members must follow the RTCIntersectContext it starts with.
 struct RayContext
 {
   RTCIntersectContext Embree;
@@ -229,7 +228,8 @@ struct vtkPenumbraReference::Internals : penumbra_embree::Objects
   const penumbra::SceneTriangles* Triangles = nullptr; // the geometry's, while Built holds
   double Diagonal = 1.0;
 
-  bool Compact = false; // the current scene indexes the shared points (CompactAbove)
+  bool Compact = false;            // the current scene indexes the shared points (CompactAbove)
+  vtkIdType BuiltCompactAbove = 0; // the CompactAbove the current scene was built with
 
   bool AddMesh(const penumbra::SceneTriangles& triangles,
     const penumbra::SceneTriangles::Block& block, vtkIdType occluders, RTCBuildQuality quality);
@@ -818,18 +818,19 @@ bool vtkPenumbraReference::Internals::AddMesh(const penumbra::SceneTriangles& tr
   const vtkIdType n = list.Size();
   Mesh mesh;
   mesh.Block = static_cast<size_t>(&block - triangles.GetBlocks().data());
-  // When every triangle is an occluder (the usual prop) Embree reads the prop's corners.
   if (occluders == 0)
   {
     return true;
   }
+  // When every triangle is an occluder (the usual prop) Embree reads the prop's corners;
+  // otherwise the occluders' corners are listed.
   if (occluders < n)
   {
     mesh.Local.reserve(static_cast<size_t>(occluders));
     mesh.Indices.reserve(3 * static_cast<size_t>(occluders));
     for (vtkIdType t = 0; t < n; ++t)
     {
-      if (triangles.IsOccluder(block.First + t))
+      if (triangles.IsOccluderLocal(block, t))
       {
         mesh.Local.push_back(static_cast<std::uint32_t>(t));
         mesh.Indices.insert(mesh.Indices.end(), &list.Corners[3 * static_cast<size_t>(t)],
@@ -862,7 +863,7 @@ int vtkPenumbraReference::EnsureScene()
 {
   Internals& impl = *this->Impl;
   vtkPenumbraSceneGeometry* geometry = this->Geometry;
-  if (impl.Scene && !impl.Built.Changed(geometry))
+  if (impl.Scene && !impl.Built.Changed(geometry) && impl.BuiltCompactAbove == this->CompactAbove)
   {
     return 1;
   }
@@ -906,7 +907,7 @@ int vtkPenumbraReference::EnsureScene()
     vtkIdType count = 0;
     for (vtkIdType t = 0; t < block.List->Size(); ++t)
     {
-      count += triangles.IsOccluder(block.First + t) ? 1 : 0;
+      count += triangles.IsOccluderLocal(block, t) ? 1 : 0;
     }
     occluders.push_back(count);
     total += count;
@@ -915,6 +916,7 @@ int vtkPenumbraReference::EnsureScene()
   // (Triangle4i) instead of holding copies (Triangle4v with spatial splits), the same robust
   // ray/triangle test on the same corners.
   impl.Compact = total > this->CompactAbove;
+  impl.BuiltCompactAbove = this->CompactAbove;
   rtcSetSceneFlags(impl.Scene,
     static_cast<RTCSceneFlags>(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION |
       (impl.Compact ? RTC_SCENE_FLAG_COMPACT : 0)));

@@ -31,8 +31,7 @@
  *   harmless answer), and for masks all bits are set.
  * - Self-intersection: the sample's own triangle (its triangle id), and the caster pieces it
  *   owns (vtkPenumbraSceneGeometry::GetTriangleOwner(), penumbra_rules::IsOwnCaster), never
- *   block, and
- *   hits closer than tnear = RelativeEpsilon * max(|p|, D) are ignored, where |p| is the
+ *   block, and hits closer than tnear = RelativeEpsilon * max(|p|, D) are ignored, where |p| is the
  *   sample's distance to the geometry origin and D the diagonal of the geometry's bounds
  *   (scale-relative, no absolute length). Rays to a point/spot/area light sample end at
  *   distance * (1 - RelativeEpsilon) so the emitter's own surface never blocks.
@@ -124,7 +123,8 @@ public:
    * its leaves (about 68 bytes a triangle and 100 while it builds, with spatial splits; its
    * rays are traced about 30 % faster). Both answer every ray the same: the same robust
    * ray/triangle test on the same float32 corners. Default 2^20 (1,048,576); 0: always
-   * compact. GetCompact(): whether the current scene is.
+   * compact. A change takes effect at the next query (the scene is built again).
+   * GetCompact(): whether the current scene is.
    */
   vtkSetClampMacro(CompactAbove, vtkIdType, 0, VTK_ID_MAX);
   vtkGetMacro(CompactAbove, vtkIdType);

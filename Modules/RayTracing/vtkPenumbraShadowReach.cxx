@@ -1,6 +1,5 @@
 #include "vtkPenumbraShadowReach.h"
 
-#include "vtkDoubleArray.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkMath.h"
@@ -9,7 +8,6 @@
 #include "vtkPenumbraShadowKeys.h"
 #include "vtkPenumbraVisibilityRules.h"
 #include "vtkRenderer.h"
-#include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <cmath>

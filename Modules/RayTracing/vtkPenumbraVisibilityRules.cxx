@@ -1,9 +1,9 @@
 #include "vtkPenumbraVisibilityRules.h"
 
-#include "vtkIdTypeArray.h"
 #include "vtkLight.h"
 #include "vtkMath.h"
 #include "vtkPenumbraSceneGeometry.h"
+#include "vtkPenumbraSceneTriangles.h"
 
 #include <algorithm>
 #include <cmath>
@@ -33,12 +33,6 @@ double SceneDiagonal(vtkPenumbraSceneGeometry* geometry)
       (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
   }
   return std::isfinite(diagonal) && diagonal > 0.0 ? diagonal : 1.0;
-}
-
-vtkIdType CasterOwner(vtkPenumbraSceneGeometry* geometry, vtkIdType t)
-{
-  const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
-  return t >= 0 && t < triangles.Size() ? triangles.GetOwner(t) : t;
 }
 
 RayBand SampleBand(const double p[3], double diagonal, double epsilon, double tieFactor)
@@ -91,6 +85,19 @@ bool MakeExactTriangle(const double* v9, vtkIdType id, ExactTriangle& c)
   }
   c.Id = id;
   return true;
+}
+
+bool MakeOccluder(const penumbra::SceneTriangles& triangles, vtkIdType t, ExactTriangle& c)
+{
+  const penumbra::SceneTriangles::Block& b = triangles.BlockOf(t);
+  const vtkIdType local = t - b.First;
+  if (!triangles.IsOccluderLocal(b, local))
+  {
+    return false;
+  }
+  double v[9];
+  triangles.GetLocal(b, local, v);
+  return MakeExactTriangle(v, penumbra::SceneTriangles::GetOwnerLocal(b, local), c);
 }
 
 Hit SegmentTest(const double o[3], const double d[3], double tieLimit, double tmax,

@@ -18,6 +18,10 @@
 
 class vtkLight;
 class vtkPenumbraSceneGeometry;
+namespace penumbra
+{
+class SceneTriangles;
+}
 
 namespace penumbra_rules
 {
@@ -83,17 +87,18 @@ inline bool IsOwnCaster(vtkIdType casterOwner, vtkIdType sampleTriangle)
 }
 
 /**
- * The owner of triangle `t` of `geometry` (GetTriangleOwner()), `t` itself when `t` is not one
- * owner array of the right size.
- */
-VTKPENUMBRARAYTRACING_EXPORT vtkIdType CasterOwner(vtkPenumbraSceneGeometry* geometry, vtkIdType t);
-
-/**
  * Fills `triangle` from nine coordinates, `id` its owner (IsOwnCaster); false when it has no
  * area after rounding (the tracer cannot hit it either).
  */
 VTKPENUMBRARAYTRACING_EXPORT bool MakeExactTriangle(
   const double* v9, vtkIdType id, ExactTriangle& triangle);
+
+/**
+ * Triangle `t` of the scene as an occluder: false when it casts nothing or has no area
+ * (IsOccluder), else MakeExactTriangle of its rebased corners with its owner.
+ */
+VTKPENUMBRARAYTRACING_EXPORT bool MakeOccluder(
+  const penumbra::SceneTriangles& triangles, vtkIdType t, ExactTriangle& triangle);
 
 enum class Hit
 {

@@ -226,7 +226,12 @@ public:
   vtkIdType GetOwner(vtkIdType t) const
   {
     const Block& b = this->BlockOf(t);
-    const vtkIdType owner = b.List->Owners[t - b.First];
+    return GetOwnerLocal(b, t - b.First);
+  }
+  /** GetOwner of the triangle `local` of block `b` (for loops that walk a block). */
+  static vtkIdType GetOwnerLocal(const Block& b, vtkIdType local)
+  {
+    const vtkIdType owner = b.List->Owners[local];
     return owner >= 0 ? b.First + owner : -1;
   }
   vtkIdType GetCellId(vtkIdType t) const
@@ -239,7 +244,11 @@ public:
   bool IsOccluder(vtkIdType t) const
   {
     const Block& b = this->BlockOf(t);
-    const vtkIdType local = t - b.First;
+    return this->IsOccluderLocal(b, t - b.First);
+  }
+  /** IsOccluder of the triangle `local` of block `b` (for loops that walk a block). */
+  bool IsOccluderLocal(const Block& b, vtkIdType local) const
+  {
     if (!(b.List->Roles[static_cast<size_t>(local)] & b.Flags & 1))
     {
       return false;

@@ -447,6 +447,18 @@ int Ties()
   CHECK(vis->GetValue(3) == 1.0f && ties->GetValue(3) == 0);
   CHECK(reference->GetNumberOfTies() == 1);
 
+  // The compact scene, asked for after a build: built again, the same answers, the tie too.
+  CHECK(!reference->GetCompact() && reference->GetNumberOfBuilds() == 1);
+  reference->SetCompactAbove(0);
+  CHECK(reference->ComputeVisibility(samples, sun, vis));
+  CHECK(reference->GetCompact() && reference->GetNumberOfBuilds() == 2);
+  ties = reference->GetTies();
+  CHECK(vis->GetValue(0) == 1.0f && ties->GetValue(0) == 1);
+  CHECK(vis->GetValue(1) == 0.0f && ties->GetValue(1) == 0);
+  CHECK(vis->GetValue(2) == 0.0f && ties->GetValue(2) == 0);
+  CHECK(vis->GetValue(3) == 1.0f && ties->GetValue(3) == 0);
+  CHECK(reference->GetNumberOfTies() == 1);
+
   // TieFactor 1 empties the band: the near square lies beyond tnear, so it now blocks and
   // the sample is decided as shadowed without a tie.
   reference->SetTieFactor(1.0);

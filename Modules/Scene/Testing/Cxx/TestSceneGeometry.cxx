@@ -635,12 +635,14 @@ int TestIndexedStorage()
 
   // The same triangles extracted again: same stored list, same float32 array, same time.
   const float* rebased = list.Rebased.data();
+  const std::uint32_t* corners = list.Corners.data();
   const vtkMTimeType time = g->GetGeometryTime();
   sphere->Modified();
   CHECK(g->Update(renderer) == 1);
   CHECK(g->GetNumberOfPropsExtractedLastUpdate() == 1);
   CHECK(g->GetGeometryTime() == time);
   CHECK(g->GetTriangles().GetBlocks()[0].List->Rebased.data() == rebased);
+  CHECK(g->GetTriangles().GetBlocks()[0].List->Corners.data() == corners);
   // Other triangles: published anew.
   sphere->SetRadius(2.0);
   CHECK(g->Update(renderer) == 1);
