@@ -550,8 +550,7 @@ void vtkPenumbraSoftShadowMapShadows::ReleaseGraphicsResources(vtkWindow* window
 }
 
 //------------------------------------------------------------------------------
-// The casters as GL buffers for this window (uploaded when they changed); false when there
-// are none.
+// The casters as GL buffers for this window (uploaded when they changed); false without any.
 bool vtkPenumbraSoftShadowMapShadows::Internals::UpdateCasters(
   vtkOpenGLRenderWindow* win, vtkPenumbraSceneGeometry* geometry)
 {
@@ -562,8 +561,9 @@ bool vtkPenumbraSoftShadowMapShadows::Internals::UpdateCasters(
   }
   this->Window = win;
   this->Casters.Update(geometry);
-  this->Surfaces.Update(geometry);
+  this->Surfaces.Update(geometry, false); // on the GPU only when some triangles do not cast
   this->NeedSurfaces = this->Surfaces.VertexCount > this->Casters.VertexCount;
+  this->Surfaces.Update(geometry, this->NeedSurfaces);
   return this->Casters.VertexCount > 0;
 }
 

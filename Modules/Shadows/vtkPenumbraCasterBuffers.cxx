@@ -1,9 +1,7 @@
 #include "vtkPenumbraCasterBuffers.h"
 
-#include "vtkDoubleArray.h"
 #include "vtkPenumbraSceneGeometry.h"
 #include "vtkShaderProgram.h"
-#include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <limits>
@@ -82,7 +80,6 @@ const penumbra_rules::ExactTriangle* ExactTriangles::Get(
   vtkIdType id, const penumbra::SceneTriangles& triangles, penumbra_rules::ExactTriangle& scratch)
 {
   double vertices[9];
-  triangles.Get(id, vertices);
   const std::int32_t slot =
     static_cast<size_t>(id) < this->SlotOf.size() ? this->SlotOf[static_cast<size_t>(id)] : -1;
   if (slot >= 0)
@@ -92,6 +89,7 @@ const penumbra_rules::ExactTriangle* ExactTriangles::Get(
     if (state == 0 && made.compare_exchange_strong(state, 1, std::memory_order_acq_rel))
     {
       penumbra_rules::ExactTriangle& t = this->Slot(static_cast<size_t>(slot));
+      triangles.Get(id, vertices);
       const bool area = penumbra_rules::MakeExactTriangle(vertices, id, t);
       made.store(area ? 2 : 3, std::memory_order_release);
       return area ? &t : nullptr;
@@ -105,6 +103,7 @@ const penumbra_rules::ExactTriangle* ExactTriangles::Get(
       return nullptr;
     }
   }
+  triangles.Get(id, vertices);
   return penumbra_rules::MakeExactTriangle(vertices, id, scratch) ? &scratch : nullptr;
 }
 
@@ -126,10 +125,20 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
     {
       count += listed(t) ? 1 : 0;
     }
-    if (nTriangles > static_cast<vtkIdType>(std::numeric_limits<std::uint32_t>::max()))
+    // GL draws 3 * count elements (a GLsizei) indexing the points of the props with casters
+    // (32-bit elements), and the caster ids are 32-bit.
+    vtkIdType casterPoints = 0;
+    for (const penumbra::SceneTriangles::Block& block : triangles.GetBlocks())
     {
-      vtkGenericWarningMacro(<< "caster buffers: " << nTriangles
-                             << " triangles exceed 32-bit caster ids; no casters are listed");
+      casterPoints += block.List->NumberOfPoints();
+    }
+    if (nTriangles > static_cast<vtkIdType>(std::numeric_limits<std::uint32_t>::max()) ||
+      3 * count > static_cast<vtkIdType>(std::numeric_limits<GLsizei>::max()) ||
+      casterPoints > static_cast<vtkIdType>(std::numeric_limits<GLuint>::max()))
+    {
+      vtkGenericWarningMacro(<< "caster buffers: " << count << " casters of " << casterPoints
+                             << " points exceed what one GL draw can index (2^31 / 3 casters, "
+                                "2^32 points); no casters are listed, so nothing casts a shadow");
       count = 0;
     }
     CasterIds casters;
@@ -144,11 +153,21 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
     double* bounds = this->Bounds;
     bounds[0] = bounds[2] = bounds[4] = std::numeric_limits<double>::max();
     bounds[1] = bounds[3] = bounds[5] = -std::numeric_limits<double>::max();
+    // Per block: its first point in Positions, NoPoints when it has no caster (its points are
+    // not uploaded: a receiver-only terrain costs the GPU nothing).
+    this->PointBase.assign(triangles.GetBlocks().size(), NoPoints);
+    GLuint points = 0;
     for (vtkIdType t = 0; t < nTriangles && count > 0; ++t)
     {
       if (!listed(t))
       {
         continue;
+      }
+      const size_t b = triangles.BlockIndex(t);
+      if (this->PointBase[b] == NoPoints)
+      {
+        this->PointBase[b] = points;
+        points += static_cast<GLuint>(triangles.GetBlocks()[b].List->NumberOfPoints());
       }
       if (count < nTriangles)
       {
@@ -166,13 +185,6 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
     this->TriangleIds.swap(casters);
     this->Exact.Reset(this->TriangleIds);
     this->Triangles = &triangles;
-    this->PointBase.clear();
-    GLuint points = 0;
-    for (const penumbra::SceneTriangles::Block& block : triangles.GetBlocks())
-    {
-      this->PointBase.push_back(points);
-      points += static_cast<GLuint>(block.List->NumberOfPoints());
-    }
     this->Current.Remember(geometry);
     this->OnGPU = false;
   }
@@ -187,27 +199,37 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
     glGenBuffers(1, &this->Elements);
     glGenBuffers(1, &this->Indices);
   }
-  // The points of every prop, one after the other (a prop without casters is a few unused
-  // points), then the casters' corners as indices into them.
-  GLsizeiptr pointBytes = 0;
-  for (const penumbra::SceneTriangles::Block& block : this->Triangles->GetBlocks())
+  // The points of every prop that has a caster, one after the other (PointBase), then the
+  // casters' corners as indices into them.
+  const std::vector<penumbra::SceneTriangles::Block>& blocks = this->Triangles->GetBlocks();
+  auto pointBytes = [&](size_t b)
   {
-    pointBytes += static_cast<GLsizeiptr>(3 * block.List->NumberOfPoints() * sizeof(float));
+    return this->PointBase[b] == NoPoints
+      ? GLsizeiptr(0)
+      : static_cast<GLsizeiptr>(3 * blocks[b].List->NumberOfPoints() * sizeof(float));
+  };
+  GLsizeiptr allPointBytes = 0;
+  for (size_t b = 0; b < blocks.size(); ++b)
+  {
+    allPointBytes += pointBytes(b);
   }
   glBindBuffer(GL_ARRAY_BUFFER, this->Positions);
-  glBufferData(GL_ARRAY_BUFFER, pointBytes, nullptr, GL_STATIC_DRAW);
-  GLintptr offset = 0;
-  for (const penumbra::SceneTriangles::Block& block : this->Triangles->GetBlocks())
+  glBufferData(GL_ARRAY_BUFFER, allPointBytes, nullptr, GL_STATIC_DRAW);
+  for (size_t b = 0; b < blocks.size(); ++b)
   {
-    const GLsizeiptr bytes =
-      static_cast<GLsizeiptr>(3 * block.List->NumberOfPoints() * sizeof(float));
-    if (bytes > 0)
+    if (pointBytes(b) > 0)
     {
-      glBufferSubData(GL_ARRAY_BUFFER, offset, bytes, block.List->Rebased.data());
+      glBufferSubData(GL_ARRAY_BUFFER,
+        static_cast<GLintptr>(3 * sizeof(float) * static_cast<size_t>(this->PointBase[b])),
+        pointBytes(b), blocks[b].List->Rebased.data());
     }
-    offset += bytes;
   }
   glBindBuffer(GL_ARRAY_BUFFER, 0);
+  // The element buffer binding belongs to the bound vertex array: the casters' own is bound
+  // while it is written, and the caller's restored after.
+  GLint callerArray = 0;
+  glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &callerArray);
+  glBindVertexArray(this->VertexArray);
   // The element buffer is written in slices, so that no CPU copy of all of it is made.
   constexpr size_t Slice = size_t(1) << 16;
   std::vector<GLuint> slice;
@@ -229,7 +251,7 @@ bool CasterBuffers::Update(vtkPenumbraSceneGeometry* geometry, bool upload)
     glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLintptr>(3 * first * sizeof(GLuint)),
       static_cast<GLsizeiptr>(slice.size() * sizeof(GLuint)), slice.data());
   }
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+  glBindVertexArray(static_cast<GLuint>(callerArray));
   this->OnGPU = true;
   return true;
 }

@@ -196,6 +196,7 @@ private:
   penumbra::CastersStamp Current;                      // what the CPU lists were made from
   bool OnGPU = false;                                  // the GL buffers match the CPU lists
   const penumbra::SceneTriangles* Triangles = nullptr; // the geometry's, while Current holds
+  static constexpr GLuint NoPoints = ~GLuint(0);
   std::vector<GLuint> PointBase; // per block of Triangles: its first point in Positions
 };
 }

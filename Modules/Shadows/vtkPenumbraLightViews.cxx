@@ -2,7 +2,6 @@
 
 #include "vtkPenumbraVisibilityRules.h"
 
-#include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
@@ -15,7 +14,6 @@
 #include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
-#include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <atomic>

@@ -132,7 +132,11 @@ struct FrameInputs
   /// Whether caster triangle `t` never blocks sample `s` (penumbra_rules::IsOwnCaster).
   bool OwnCaster(vtkIdType t, vtkIdType s) const
   {
-    return penumbra_rules::IsOwnCaster(this->SceneTriangles->GetOwner(t), this->Triangles[s]);
+    // A sample of unknown triangle excludes nothing; a drawn triangle owns itself (the usual
+    // case, answered without looking the owner up).
+    const vtkIdType own = this->Triangles[s];
+    return own >= 0 &&
+      (own == t || penumbra_rules::IsOwnCaster(this->SceneTriangles->GetOwner(t), own));
   }
 
   /// Triangle `t`'s corners in the geometry's frame (rebased, double).
