@@ -379,6 +379,9 @@ void vtkPenumbraShadowVolumeShadows::Internals::BuildVolumes(VolumeSet& build,
   {
     BuildOutline(build, mesh, builder.GPUVolumes, builder.GPUUncertain);
   }
+  // The identities served the outline; the set keeps the floats it draws.
+  build.LightCaps.ForgetIds();
+  build.Rest.ForgetIds();
 }
 
 std::array<int, 3> vtkPenumbraShadowVolumeShadows::Internals::VolumeSet::CapCorners(

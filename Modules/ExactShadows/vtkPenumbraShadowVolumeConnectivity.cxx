@@ -3,7 +3,6 @@
 
 #include "vtkPenumbraShadowVolumeInternals.h"
 
-#include "vtkDoubleArray.h"
 #include "vtkPenumbraSceneGeometry.h"
 
 #include <algorithm>

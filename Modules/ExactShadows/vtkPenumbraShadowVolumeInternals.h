@@ -146,6 +146,10 @@ struct VolumeStream
     this->V.insert(this->V.end(), o.V.begin(), o.V.end());
     this->Id.insert(this->Id.end(), o.Id.begin(), o.Id.end());
   }
+  // Vertices (4 floats each).
+  size_t Size() const { return this->V.size() / 4; }
+  // Frees the identities once the outline has been built from them.
+  void ForgetIds() { std::vector<int>().swap(this->Id); }
 };
 
 // Where each view sample is counted. The stencil counts along the camera's pixel-centre rays
@@ -195,7 +199,7 @@ struct SampleLayout
 //
 // Most volume edges of a closed mesh join the caps of two faces of the same set (a cap's
 // interior): those are judged from the connectivity by the two caps' screen sides
-// (MarkCapInteriors), with nothing kept per edge. The rest (caps on the set's border, sides,
+// (MarkOutline), with nothing kept per edge. The rest (caps on the set's border, sides,
 // per-triangle volumes, the geometry stage's volumes) are kept as triangles with their edges
 // and incidences (Build, Mark), a share of the volumes the size of their silhouettes.
 struct VolumeOutline
@@ -211,7 +215,7 @@ struct VolumeOutline
   std::vector<int> EdgeStart;                // edge e's incidences: [EdgeStart[e], [e + 1])
   std::vector<int> Incidences;               // 2 face + 1 when the face runs first -> second
   std::vector<std::array<int, 2>> Forced;    // segments always on the outline
-  // Edges of the kept triangles that MarkCapInteriors judges (by their points' identities,
+  // Edges of the kept triangles that MarkOutline judges (by their points' identities,
   // VolumeStream numbers): skipped here, as each edge is judged once with all its faces.
   std::vector<std::uint64_t> Skip; // sorted
   // Same-kind edges of the explicit triangles (per-triangle volumes, sides): a component edge
@@ -330,9 +334,10 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       const penumbra_shadow_volume::Connectivity::Component& c, size_t f, signed char set);
     GLsizei StreamVertices() const
     {
-      return static_cast<GLsizei>((this->LightCaps.Id.size() + this->Rest.Id.size()));
+      return static_cast<GLsizei>(this->LightCaps.Size() + this->Rest.Size());
     }
-  }; // More sets than lights per mask: a group never evicts a set it is using.
+  };
+  // More sets than lights per mask: a group never evicts a set it is using.
   static constexpr size_t MaxVolumeSets = 8;
   std::vector<std::unique_ptr<VolumeSet>> Volumes;
   std::uint64_t Clock = 0;

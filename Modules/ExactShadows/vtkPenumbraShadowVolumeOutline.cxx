@@ -118,7 +118,7 @@ void VolumeOutline::Mark(
         Pair(this->PointId[static_cast<size_t>(this->Edges[e][0])],
           this->PointId[static_cast<size_t>(this->Edges[e][1])])))
     {
-      continue; // a cap interior's edge: judged with both its caps by MarkCapInteriors
+      continue; // a cap interior's edge: judged with both its caps by MarkOutline
     }
     // Faces on the left of first -> second minus those on the right, per winding: the
     // count is continuous across the edge only if both balance (and no face is edge-on).
@@ -388,7 +388,7 @@ std::vector<std::uint64_t> ExplicitPairs(std::initializer_list<const VolumeStrea
 // The outline's kept part (VolumeOutline::Build): the explicit volumes, and the caps of the
 // faces next to an edge that is not a cap interior's (a silhouette or boundary edge of the
 // set, or one that explicit triangles share); the cap interiors' edges among their edges are
-// skipped there, MarkCapInteriors judges them.
+// skipped there, MarkOutline judges them.
 void vtkPenumbraShadowVolumeShadows::Internals::BuildOutline(VolumeSet& build,
   const Connectivity& mesh, const VolumeStream& gpuVolumes, const VolumeStream& gpuUncertain)
 {
@@ -473,7 +473,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::BuildOutline(VolumeSet& build,
 }
 
 // One light's outline pixels (OutlinePixels): the kept part (VolumeOutline::Mark), then the
-// cap interiors' edges (MarkCapInteriors): an edge two caps of one set share is continuous
+// cap interiors' edges (MarkOutline): an edge two caps of one set share is continuous
 // unless the caps face the camera differently (or edge-on), the rule Mark applies to a pair.
 void vtkPenumbraShadowVolumeShadows::Internals::MarkOutline(VolumeSet& vs, int width, int height)
 {

@@ -125,7 +125,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::UpdateConnectivity(
       geometry->GetOrigin(this->Origin);
       this->BuiltWithSilhouettes = self.Silhouettes;
       this->BuiltWithAdjacency = self.GPUSilhouettes;
-      this->Volumes.clear();
+      this->ClearVolumes(); // their GL buffers are deleted once the context is current
       this->PointsUploaded = false;
       ++self.NumberOfConnectivityBuilds;
       self.ConnectivityTimeMs = ElapsedMs(connectivityStart);
@@ -236,7 +236,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::ChooseMethods(
       bool outside = true;
       // Every light cap as drawn (float32): the explicit ones, then the components'.
       const std::vector<float>& V = vs.LightCaps.V;
-      for (size_t i = 0; i + 2 < vs.LightCaps.Id.size() && outside; i += 3)
+      for (size_t i = 0; i + 2 < vs.LightCaps.Size() && outside; i += 3)
       {
         Vec3 v[3];
         for (size_t k = 0; k < 3; ++k)

@@ -791,7 +791,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::DrawVolumes(
     }
   };
   const GLsizei capIndices = static_cast<GLsizei>(3 * vs.CapFaces);
-  const GLsizei lightCaps = static_cast<GLsizei>(vs.LightCaps.Id.size());
+  const GLsizei lightCaps = static_cast<GLsizei>(vs.LightCaps.Size());
   const GLsizei stream = vs.StreamVertices();
   g.Program->SetUniformf("capScale", capScale);
   if (capIndices > 0)
