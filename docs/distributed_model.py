@@ -16,8 +16,9 @@ scene of area A, s = sqrt(A / P)), with lights that reach a band of width l arou
   rays = c_rays * pixels / sqrt(P) (the samples near the piece's boundary, a band of the
   piece's share of the screen, pixels / P, times its perimeter ratio sqrt(P)), independent
   of N.
-- memory per rank = N / P * own_bytes + held * 333 (the held triangle's copies, measured),
-  own_bytes from the 1-rank run's peak RSS.
+- memory per rank = N / P * own_bytes + held * 333 (the held triangle's copies as of
+  2026-11; 297 since 2026-12-07, kept at 333 to reproduce docs/paraview.md), own_bytes from
+  the 1-rank run's peak RSS.
 
 c_need and c_rays are fitted (least squares through the origin) on the measured ranks > 1;
 the table prints measured against model, then the projection to 64..1024 ranks and 1e8, 1e9
