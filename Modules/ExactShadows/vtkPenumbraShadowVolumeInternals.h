@@ -289,10 +289,9 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     GLsizei AdjacencyCount = 0;
     vtkIdType SilhouetteEdges = 0;
     vtkIdType Culled = 0;
-    GLuint TableBuffer = 0;  // the point table, uploaded on first use
-    GLuint CapBuffer = 0;    // the caps' indices: light caps, then dark caps
-    GLuint StreamBuffer = 0; // LightCaps then Rest, xyzw
-    bool StreamUploaded = false;
+    GLuint TableBuffer = 0;     // the point table, uploaded on first use
+    GLuint CapBuffer = 0;       // the caps' indices: light caps, then dark caps
+    GLuint StreamBuffer = 0;    // LightCaps then Rest, xyzw
     GLuint AdjacencyBuffer = 0; // adjacency indices, uploaded on first use
     // With the edge resolve: the volumes' edges, for the outline from the camera.
     penumbra_shadow_volume::VolumeOutline Outline;
@@ -435,10 +434,10 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   void CountLayers(vtkPenumbraShadowVolumeShadows& self, const Group& g, vtkOpenGLState* ostate);
   void UploadPoints(GLint pointLoc);
   void CountLayer(vtkPenumbraShadowVolumeShadows& self, const Group& g, vtkOpenGLState* ostate,
-    int layer, float matrix[16], GLint loc);
+    int layer, float matrix[16]);
   void CountLight(vtkPenumbraShadowVolumeShadows& self, const Group& g, vtkOpenGLState* ostate,
-    const Job& job, float matrix[16], GLint loc);
-  void BindVolumeBuffers(const Group& g, VolumeSet& vs, GLint loc);
+    const Job& job, float matrix[16]);
+  void BindVolumeBuffers(const Group& g, VolumeSet& vs);
   void UploadCaps(VolumeSet& vs);
   static void BindBuffer(GLenum target, GLuint& buffer, GLsizeiptr bytes, const void* data);
   void DrawVolumes(const Group& g, const VolumeSet& vs,

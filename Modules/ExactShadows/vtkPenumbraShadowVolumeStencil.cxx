@@ -189,7 +189,6 @@ void vtkPenumbraShadowVolumeShadows::Internals::Release(vtkWindow* window)
   {
     // Their context is gone.
     set->TableBuffer = set->CapBuffer = set->StreamBuffer = set->AdjacencyBuffer = 0;
-    set->StreamUploaded = false;
   }
   this->Garbage.clear();
   this->Framebuffer = this->DepthStencil = this->MaskTexture = this->VertexArray = 0;
@@ -503,7 +502,6 @@ void vtkPenumbraShadowVolumeShadows::Internals::CountLayers(
       matrix[4 * c + r] = static_cast<float>(this->Rows[r][c]);
     }
   }
-  const GLint loc = glGetAttribLocation(g.Program->GetHandle(), "vertexRebased");
   const GLint pointLoc =
     g.GSProgram ? glGetAttribLocation(g.GSProgram->GetHandle(), "vertexRebased") : -1;
   if (g.GSProgram && !this->PointsUploaded)
@@ -515,7 +513,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::CountLayers(
   // framebuffer.
   for (int layer = 0; layer < layout.Layers; ++layer)
   {
-    this->CountLayer(self, g, ostate, layer, matrix, loc);
+    this->CountLayer(self, g, ostate, layer, matrix);
   }
   glBindBuffer(GL_ARRAY_BUFFER, 0);
   glBindVertexArray(0);
@@ -556,7 +554,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::UploadPoints(GLint pointLoc)
 // ---- One layer of samples: its depth, every counted light into its channel, one read-back
 // for the whole group (the red channel alone for a single light).
 void vtkPenumbraShadowVolumeShadows::Internals::CountLayer(vtkPenumbraShadowVolumeShadows& self,
-  const Group& g, vtkOpenGLState* ostate, int layer, float matrix[16], GLint loc)
+  const Group& g, vtkOpenGLState* ostate, int layer, float matrix[16])
 {
   const SampleLayout& layout = this->Layout;
   const size_t perLayer = static_cast<size_t>(layout.Width) * static_cast<size_t>(layout.Height);
@@ -593,7 +591,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::CountLayer(vtkPenumbraShadowVolu
       const GLint zero = 0;
       glClearBufferiv(GL_STENCIL, 0, &zero);
     }
-    this->CountLight(self, g, ostate, job, matrix, loc);
+    this->CountLight(self, g, ostate, job, matrix);
   }
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, layout.Width, layout.Height, channels == 1 ? GL_RED : GL_RGBA,
@@ -605,7 +603,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::CountLayer(vtkPenumbraShadowVolu
 // One light on a cleared stencil: its volumes counted (z-pass or Carmack's reverse), then
 // "count != 0" into its channel.
 void vtkPenumbraShadowVolumeShadows::Internals::CountLight(vtkPenumbraShadowVolumeShadows& self,
-  const Group& g, vtkOpenGLState* ostate, const Job& job, float matrix[16], GLint loc)
+  const Group& g, vtkOpenGLState* ostate, const Job& job, float matrix[16])
 {
   VolumeSet& vs = *job.Volumes;
   const VolumeLight& vl = job.VL;
@@ -628,7 +626,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::CountLight(vtkPenumbraShadowVolu
     ostate->vtkglStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
   }
 
-  this->BindVolumeBuffers(g, vs, loc);
+  this->BindVolumeBuffers(g, vs);
   glBeginQuery(GL_SAMPLES_PASSED, this->Query);
   this->DrawVolumes(g, vs, vl, matrix, static_cast<float>(1.0 - self.CapOffset));
   glEndQuery(GL_SAMPLES_PASSED);
@@ -662,25 +660,25 @@ void vtkPenumbraShadowVolumeShadows::Internals::CountLight(vtkPenumbraShadowVolu
 
 // One light's buffers, uploaded once per volume build (the point table and the caps'
 // indices made here, in slices, so that no CPU copy of them is kept), bound for drawing.
-void vtkPenumbraShadowVolumeShadows::Internals::BindVolumeBuffers(
-  const Group& g, VolumeSet& vs, GLint loc)
+void vtkPenumbraShadowVolumeShadows::Internals::BindVolumeBuffers(const Group& g, VolumeSet& vs)
 {
   glBindVertexArray(this->VertexArray);
   if (!vs.TableBuffer && vs.CapFaces > 0)
   {
     this->UploadCaps(vs);
   }
-  BindBuffer(GL_ARRAY_BUFFER, vs.StreamBuffer,
-    static_cast<GLsizeiptr>(4 * static_cast<size_t>(vs.StreamVertices()) * sizeof(float)), nullptr);
-  if (vs.StreamVertices() > 0 && !vs.StreamUploaded)
+  if (!vs.StreamBuffer)
   {
+    // Made and filled at once: LightCaps, then Rest.
+    BindBuffer(GL_ARRAY_BUFFER, vs.StreamBuffer,
+      static_cast<GLsizeiptr>(4 * static_cast<size_t>(vs.StreamVertices()) * sizeof(float)),
+      nullptr);
     const GLsizeiptr capBytes = static_cast<GLsizeiptr>(vs.LightCaps.V.size() * sizeof(float));
     glBufferSubData(GL_ARRAY_BUFFER, 0, capBytes, vs.LightCaps.V.data());
     glBufferSubData(GL_ARRAY_BUFFER, capBytes,
       static_cast<GLsizeiptr>(vs.Rest.V.size() * sizeof(float)), vs.Rest.V.data());
-    vs.StreamUploaded = true;
   }
-  (void)loc;
+  glBindBuffer(GL_ARRAY_BUFFER, vs.StreamBuffer);
   if (g.GSProgram && vs.AdjacencyCount > 0)
   {
     glBindVertexArray(this->PointArray);
