@@ -398,7 +398,7 @@ std::array<int, 3> vtkPenumbraShadowVolumeShadows::Internals::VolumeSet::CapCorn
 void vtkPenumbraShadowVolumeShadows::Internals::Evict(size_t i)
 {
   const VolumeSet& set = *this->Volumes[i];
-  for (GLuint b : { set.TableBuffer, set.CapBuffer, set.StreamBuffer, set.AdjacencyBuffer })
+  for (GLuint b : { set.FarBuffer, set.CapBuffer, set.StreamBuffer, set.AdjacencyBuffer })
   {
     if (b)
     {

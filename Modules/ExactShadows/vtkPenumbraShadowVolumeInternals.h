@@ -251,8 +251,9 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   GLuint MaskTexture = 0; // RGBA8: one light per channel, 0 = shadow (Brabec 2003, ch. 8)
   GLuint VertexArray = 0;
   GLuint Query = 0;
-  GLuint PointArray = 0; // GPU silhouettes: VAO of the welded points
-  GLuint PointBuffer = 0;
+  GLuint PointArray = 0;  // GPU silhouettes: VAO of the welded points
+  GLuint PointBuffer = 0; // the welded points (xyz float), once per connectivity: the caps'
+                          // near corners of every set, and the GPU silhouettes' input
   bool PointsUploaded = false;
   int Width = 0;
   int Height = 0;
@@ -269,9 +270,11 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   // keeps its own GL buffers, so lights that do not move upload nothing.
   //
   // A closed component's caps are not kept as vertices: per face its set (1 light-facing, -1
-  // back-facing turned toward the light, 0 none), and on the GPU a point table holding the P
-  // mesh points and then their extruded copies (VolumeStream's identities 2i and 2i + 1 at i
-  // and P + i) with the caps as indices into it: the same vertices, in the same float32
+  // back-facing turned toward the light, 0 none), and on the GPU the caps as one index triple
+  // per face with a set, drawn twice: into the mesh points (PointBuffer, shared by every set;
+  // VolumeStream's identities 2i) as the light caps, and into the set's extruded copies
+  // (FarBuffer, xyz, their w the shader's pointW; identities 2i + 1) with the front face
+  // swapped, i.e. the other winding, as the dark caps: the same vertices, in the same float32
   // values, as the explicit triangles they replace. The rest (sides, per-triangle volumes)
   // stays explicit.
   struct VolumeSet
@@ -289,8 +292,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
     GLsizei AdjacencyCount = 0;
     vtkIdType SilhouetteEdges = 0;
     vtkIdType Culled = 0;
-    GLuint TableBuffer = 0;     // the point table, uploaded on first use
-    GLuint CapBuffer = 0;       // the caps' indices: light caps, then dark caps
+    GLuint FarBuffer = 0;       // the extruded copies (xyz), uploaded on first use
+    GLuint CapBuffer = 0;       // the caps' indices, light-cap winding
     GLuint StreamBuffer = 0;    // LightCaps then Rest, xyzw
     GLuint AdjacencyBuffer = 0; // adjacency indices, uploaded on first use
     // With the edge resolve: the volumes' edges, for the outline from the camera.
@@ -305,28 +308,28 @@ struct vtkPenumbraShadowVolumeShadows::Internals
       const penumbra_shadow_volume::VolumeLight& vl = this->Light;
       if (id % 2 == 0)
       {
-        xyzw[0] = static_cast<float>(v[0]);
-        xyzw[1] = static_cast<float>(v[1]);
-        xyzw[2] = static_cast<float>(v[2]);
-        xyzw[3] = 1.0f;
+        NearPoint(v, xyzw);
+        return;
       }
-      else if (vl.Directional)
+      for (int c = 0; c < 3; ++c)
       {
-        for (int c = 0; c < 3; ++c)
-        {
-          xyzw[c] = static_cast<float>(v[c] - vl.Extrusion * vl.Direction[c]);
-        }
-        xyzw[3] = 1.0f;
+        xyzw[c] =
+          static_cast<float>(vl.Directional ? v[c] - vl.Extrusion * vl.Direction[c]
+                                            : v[c] - vl.Position[c] + this->FarW * vl.Position[c]);
       }
-      else
-      {
-        const double w = this->FarW;
-        for (int c = 0; c < 3; ++c)
-        {
-          xyzw[c] = static_cast<float>(v[c] - vl.Position[c] + w * vl.Position[c]);
-        }
-        xyzw[3] = static_cast<float>(w);
-      }
+      xyzw[3] = this->FarPointW();
+    }
+    static void NearPoint(const penumbra_shadow_volume::Vec3& v, float xyzw[4])
+    {
+      xyzw[0] = static_cast<float>(v[0]);
+      xyzw[1] = static_cast<float>(v[1]);
+      xyzw[2] = static_cast<float>(v[2]);
+      xyzw[3] = 1.0f;
+    }
+    // The w of every extruded copy.
+    float FarPointW() const
+    {
+      return this->Light.Directional ? 1.0f : static_cast<float>(this->FarW);
     }
     // Face f of component c as its caps are drawn: corners turned toward the light.
     static std::array<int, 3> CapCorners(
@@ -432,7 +435,7 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   static bool HasDepthClamp();
   bool CountInStencil(vtkPenumbraShadowVolumeShadows& self, const Group& g);
   void CountLayers(vtkPenumbraShadowVolumeShadows& self, const Group& g, vtkOpenGLState* ostate);
-  void UploadPoints(GLint pointLoc);
+  void UploadPoints();
   void CountLayer(vtkPenumbraShadowVolumeShadows& self, const Group& g, vtkOpenGLState* ostate,
     int layer, float matrix[16]);
   void CountLight(vtkPenumbraShadowVolumeShadows& self, const Group& g, vtkOpenGLState* ostate,

@@ -25,6 +25,56 @@
 #include <cmath>
 #include <cstring>
 
+namespace
+{
+// Fills `buffer` (made here) with the xyz of `count` points, `point(i, xyzw)` each, in slices,
+// so that no CPU copy of the whole table is kept.
+template <class PointFn>
+void UploadXYZ(GLuint& buffer, size_t count, PointFn point)
+{
+  constexpr size_t Slice = size_t(1) << 16;
+  if (!buffer)
+  {
+    glGenBuffers(1, &buffer);
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, buffer);
+  glBufferData(
+    GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(3 * count * sizeof(float)), nullptr, GL_STATIC_DRAW);
+  std::vector<float> slice;
+  for (size_t first = 0; first < count; first += Slice)
+  {
+    const size_t last = std::min(count, first + Slice);
+    slice.resize(3 * (last - first));
+    for (size_t i = first; i < last; ++i)
+    {
+      float xyzw[4];
+      point(i, xyzw);
+      std::copy(xyzw, xyzw + 3, slice.begin() + static_cast<std::ptrdiff_t>(3 * (i - first)));
+    }
+    glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(3 * first * sizeof(float)),
+      static_cast<GLsizeiptr>(slice.size() * sizeof(float)), slice.data());
+  }
+}
+
+// The other winding for one draw (the dark caps drawn from the light caps' triples): the front
+// face swapped, restored after it. vtkOpenGLState does not cache the front face.
+class ScopedOtherFrontFace
+{
+public:
+  ScopedOtherFrontFace()
+  {
+    glGetIntegerv(GL_FRONT_FACE, &this->Saved);
+    glFrontFace(this->Saved == GL_CCW ? GL_CW : GL_CCW);
+  }
+  ~ScopedOtherFrontFace() { glFrontFace(static_cast<GLenum>(this->Saved)); }
+  ScopedOtherFrontFace(const ScopedOtherFrontFace&) = delete;
+  ScopedOtherFrontFace& operator=(const ScopedOtherFrontFace&) = delete;
+
+private:
+  GLint Saved = GL_CCW;
+};
+}
+
 namespace penumbra_shadow_volume
 {
 // Pixel of every sample that sees a surface, from `projection` (world -> clip, rebased:
@@ -188,7 +238,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::Release(vtkWindow* window)
   for (auto& set : this->Volumes)
   {
     // Their context is gone.
-    set->TableBuffer = set->CapBuffer = set->StreamBuffer = set->AdjacencyBuffer = 0;
+    set->FarBuffer = set->CapBuffer = set->StreamBuffer = set->AdjacencyBuffer = 0;
   }
   this->Garbage.clear();
   this->Framebuffer = this->DepthStencil = this->MaskTexture = this->VertexArray = 0;
@@ -502,13 +552,6 @@ void vtkPenumbraShadowVolumeShadows::Internals::CountLayers(
       matrix[4 * c + r] = static_cast<float>(this->Rows[r][c]);
     }
   }
-  const GLint pointLoc =
-    g.GSProgram ? glGetAttribLocation(g.GSProgram->GetHandle(), "vertexRebased") : -1;
-  if (g.GSProgram && !this->PointsUploaded)
-  {
-    this->UploadPoints(pointLoc);
-  }
-
   // One pass per layer of samples (see SampleLayout), each in the same view-sized
   // framebuffer.
   for (int layer = 0; layer < layout.Layers; ++layer)
@@ -529,25 +572,13 @@ void vtkPenumbraShadowVolumeShadows::Internals::CountLayers(
   ++self.NumberOfMasks;
 }
 
-// GPU silhouettes: the welded points, once per connectivity.
-void vtkPenumbraShadowVolumeShadows::Internals::UploadPoints(GLint pointLoc)
+// The welded points as the GPU draws them (VolumeSet::TablePoint of identity 2i: xyz, w = 1),
+// once per connectivity: the caps' near corners and the GPU silhouettes' input.
+void vtkPenumbraShadowVolumeShadows::Internals::UploadPoints()
 {
-  std::vector<float> points;
-  points.reserve(3 * this->Mesh.Points.size());
-  for (const Vec3& p : this->Mesh.Points)
-  {
-    points.insert(points.end(),
-      { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]) });
-  }
-  glBindVertexArray(this->PointArray);
-  glBindBuffer(GL_ARRAY_BUFFER, this->PointBuffer);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(points.size() * sizeof(float)),
-    points.empty() ? nullptr : points.data(), GL_STATIC_DRAW);
-  if (pointLoc >= 0)
-  {
-    glEnableVertexAttribArray(static_cast<GLuint>(pointLoc));
-    glVertexAttribPointer(static_cast<GLuint>(pointLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-  }
+  const Connectivity& mesh = this->Mesh;
+  UploadXYZ(this->PointBuffer, mesh.Points.size(),
+    [&](size_t i, float xyzw[4]) { VolumeSet::NearPoint(mesh.Points[i], xyzw); });
   this->PointsUploaded = true;
 }
 
@@ -658,12 +689,17 @@ void vtkPenumbraShadowVolumeShadows::Internals::CountLight(vtkPenumbraShadowVolu
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-// One light's buffers, uploaded once per volume build (the point table and the caps'
+// One light's buffers, uploaded once per volume build (the extruded copies and the caps'
 // indices made here, in slices, so that no CPU copy of them is kept), bound for drawing.
 void vtkPenumbraShadowVolumeShadows::Internals::BindVolumeBuffers(const Group& g, VolumeSet& vs)
 {
+  const bool gsDraws = g.GSProgram && vs.AdjacencyCount > 0;
+  if (!this->PointsUploaded && (vs.CapFaces > 0 || gsDraws))
+  {
+    this->UploadPoints();
+  }
   glBindVertexArray(this->VertexArray);
-  if (!vs.TableBuffer && vs.CapFaces > 0)
+  if (!vs.FarBuffer && vs.CapFaces > 0)
   {
     this->UploadCaps(vs);
   }
@@ -679,81 +715,66 @@ void vtkPenumbraShadowVolumeShadows::Internals::BindVolumeBuffers(const Group& g
       static_cast<GLsizeiptr>(vs.Rest.V.size() * sizeof(float)), vs.Rest.V.data());
   }
   glBindBuffer(GL_ARRAY_BUFFER, vs.StreamBuffer);
-  if (g.GSProgram && vs.AdjacencyCount > 0)
+  if (gsDraws)
   {
     glBindVertexArray(this->PointArray);
+    const GLint pointLoc = glGetAttribLocation(g.GSProgram->GetHandle(), "vertexRebased");
+    if (pointLoc >= 0)
+    {
+      glBindBuffer(GL_ARRAY_BUFFER, this->PointBuffer);
+      glEnableVertexAttribArray(static_cast<GLuint>(pointLoc));
+      glVertexAttribPointer(static_cast<GLuint>(pointLoc), 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    }
     BindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.AdjacencyBuffer,
       static_cast<GLsizeiptr>(vs.AdjacencyIndices.size() * sizeof(GLuint)),
       vs.AdjacencyIndices.data());
   }
 }
 
-// The point table (every mesh point, then every extruded copy: VolumeSet::TablePoint of
-// identities 2i and 2i + 1 at i and P + i, so that a draw of light caps reads only the first
-// half) and the caps' indices into it: every light cap, then every dark cap, in face order.
+// The set's extruded copies (VolumeSet::TablePoint of identity 2i + 1 at i, xyz: their w is
+// FarW, or 1, for every point) and the caps' indices: one triple per face with a set, in face
+// order, as the light cap winds (VolumeBuilder::CapAndDark: t0, t1, t2; the dark cap t0, t2,
+// t1 is the same triple drawn with the front face swapped).
 void vtkPenumbraShadowVolumeShadows::Internals::UploadCaps(VolumeSet& vs)
 {
   const Connectivity& mesh = this->Mesh;
+  UploadXYZ(vs.FarBuffer, mesh.Points.size(),
+    [&](size_t i, float xyzw[4])
+    { vs.TablePoint(mesh, VolumeStream::FarId(static_cast<int>(i)), xyzw); });
   constexpr size_t Slice = size_t(1) << 16;
-  glGenBuffers(1, &vs.TableBuffer);
-  glBindBuffer(GL_ARRAY_BUFFER, vs.TableBuffer);
-  const size_t points = mesh.Points.size();
-  glBufferData(
-    GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(8 * points * sizeof(float)), nullptr, GL_STATIC_DRAW);
-  std::vector<float> table;
-  for (size_t slot = 0; slot < 2 * points; slot += Slice)
-  {
-    const size_t last = std::min(2 * points, slot + Slice);
-    table.resize(4 * (last - slot));
-    for (size_t k = slot; k < last; ++k)
-    {
-      const int id = k < points ? static_cast<int>(2 * k) : static_cast<int>(2 * (k - points) + 1);
-      vs.TablePoint(mesh, id, table.data() + 4 * (k - slot));
-    }
-    glBufferSubData(GL_ARRAY_BUFFER, static_cast<GLintptr>(4 * slot * sizeof(float)),
-      static_cast<GLsizeiptr>(table.size() * sizeof(float)), table.data());
-  }
   glGenBuffers(1, &vs.CapBuffer);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.CapBuffer);
   const size_t capIndices = 3 * static_cast<size_t>(vs.CapFaces);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(2 * capIndices * sizeof(GLuint)),
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(capIndices * sizeof(GLuint)),
     nullptr, GL_STATIC_DRAW);
   std::vector<GLuint> indices;
-  for (int kind = 0; kind < 2; ++kind)
+  size_t written = 0;
+  auto flush = [&]()
   {
-    size_t written = static_cast<size_t>(kind) * capIndices;
-    auto flush = [&]()
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLintptr>(written * sizeof(GLuint)),
+      static_cast<GLsizeiptr>(indices.size() * sizeof(GLuint)), indices.data());
+    written += indices.size();
+    indices.clear();
+  };
+  for (size_t ci = 0; ci < mesh.Components.size(); ++ci)
+  {
+    const std::vector<signed char>& set = vs.Sets[ci];
+    for (size_t f = 0; f < set.size(); ++f)
     {
-      glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLintptr>(written * sizeof(GLuint)),
-        static_cast<GLsizeiptr>(indices.size() * sizeof(GLuint)), indices.data());
-      written += indices.size();
-      indices.clear();
-    };
-    for (size_t ci = 0; ci < mesh.Components.size(); ++ci)
-    {
-      const std::vector<signed char>& set = vs.Sets[ci];
-      for (size_t f = 0; f < set.size(); ++f)
+      if (set[f] == 0)
       {
-        if (set[f] == 0)
-        {
-          continue;
-        }
-        const std::array<int, 3> t = VolumeSet::CapCorners(mesh.Components[ci], f, set[f]);
-        // As VolumeBuilder::CapAndDark drew them: light cap t0, t1, t2; dark cap t0, t2, t1.
-        const int order[2][3] = { { t[0], t[1], t[2] }, { t[0], t[2], t[1] } };
-        for (int k = 0; k < 3; ++k)
-        {
-          indices.push_back(static_cast<GLuint>(order[kind][k] + kind * points));
-        }
-        if (indices.size() >= 3 * Slice)
-        {
-          flush();
-        }
+        continue;
+      }
+      const std::array<int, 3> t = VolumeSet::CapCorners(mesh.Components[ci], f, set[f]);
+      indices.insert(indices.end(),
+        { static_cast<GLuint>(t[0]), static_cast<GLuint>(t[1]), static_cast<GLuint>(t[2]) });
+      if (indices.size() >= 3 * Slice)
+      {
+        flush();
       }
     }
-    flush();
   }
-  glBindBuffer(GL_ARRAY_BUFFER, 0);
+  flush();
 }
 
 // Binds `buffer` to `target`, first creating it with `bytes` of `data` if it does not exist.
@@ -779,41 +800,48 @@ void vtkPenumbraShadowVolumeShadows::Internals::DrawVolumes(
   const GLint loc = glGetAttribLocation(g.Program->GetHandle(), "vertexRebased");
   // The components' caps from the point table (light caps, then dark caps), the explicit
   // volumes from their stream (light caps, then the rest).
-  auto table = [&](GLuint buffer)
+  // `components` values a vertex: 4 (xyzw streams) or 3 (point tables, w = 1).
+  auto table = [&](GLuint buffer, GLint components)
   {
     glBindBuffer(GL_ARRAY_BUFFER, buffer);
     if (loc >= 0)
     {
       glEnableVertexAttribArray(static_cast<GLuint>(loc));
-      glVertexAttribPointer(static_cast<GLuint>(loc), 4, GL_FLOAT, GL_FALSE, 0, nullptr);
+      glVertexAttribPointer(static_cast<GLuint>(loc), components, GL_FLOAT, GL_FALSE, 0, nullptr);
     }
   };
   const GLsizei capIndices = static_cast<GLsizei>(3 * vs.CapFaces);
   const GLsizei lightCaps = static_cast<GLsizei>(vs.LightCaps.Size());
   const GLsizei stream = vs.StreamVertices();
+  g.Program->SetUniformf("pointW", 1.0f);
   g.Program->SetUniformf("capScale", capScale);
   if (capIndices > 0)
   {
-    table(vs.TableBuffer);
+    table(this->PointBuffer, 3);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.CapBuffer);
     glDrawElements(GL_TRIANGLES, capIndices, GL_UNSIGNED_INT, nullptr);
   }
   if (lightCaps > 0)
   {
-    table(vs.StreamBuffer);
+    table(vs.StreamBuffer, 4);
     glDrawArrays(GL_TRIANGLES, 0, lightCaps);
   }
   g.Program->SetUniformf("capScale", 1.0f);
   if (capIndices > 0)
   {
-    table(vs.TableBuffer);
+    // The dark caps: the light caps' triples into the extruded copies, wound the other way.
+    g.Program->SetUniformf("pointW", vs.FarPointW());
+    table(vs.FarBuffer, 3);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, vs.CapBuffer);
-    glDrawElements(GL_TRIANGLES, capIndices, GL_UNSIGNED_INT,
-      reinterpret_cast<const void*>(static_cast<size_t>(capIndices) * sizeof(GLuint)));
+    {
+      const ScopedOtherFrontFace otherWinding;
+      glDrawElements(GL_TRIANGLES, capIndices, GL_UNSIGNED_INT, nullptr);
+    }
+    g.Program->SetUniformf("pointW", 1.0f);
   }
   if (stream > lightCaps)
   {
-    table(vs.StreamBuffer);
+    table(vs.StreamBuffer, 4);
     glDrawArrays(GL_TRIANGLES, lightCaps, stream - lightCaps);
   }
   if (g.GSProgram && vs.AdjacencyCount > 0)

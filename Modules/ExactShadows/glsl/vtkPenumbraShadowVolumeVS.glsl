@@ -8,14 +8,17 @@
 // capScale < 1 pushes light caps back by that relative eye depth: a sample lying on a caster's
 // own lit surface must see that cap behind it, i.e. outside the caster's volume (the
 // reference never lets a sample's own triangle block it).
+// pointW scales w: 1 for the xyzw streams and the mesh points; a positional light's w for its
+// extruded copies, which the point tables keep as xyz (their w is that one value).
 in vec4 vertexRebased;
 
 uniform mat4 worldToClip;
 uniform float capScale;
+uniform float pointW;
 
 void main()
 {
-  vec4 clip = worldToClip * vertexRebased;
+  vec4 clip = worldToClip * vec4(vertexRebased.xyz, vertexRebased.w * pointW);
   clip.z *= capScale;
   gl_Position = clip;
 }
