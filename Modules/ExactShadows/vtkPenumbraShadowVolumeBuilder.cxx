@@ -306,27 +306,28 @@ struct VolumeBuilder
     {
       return;
     }
-    for (const auto& e : c.Edges)
-    {
-      const int p0 = e[0], p1 = e[1];
-      const signed char s0 = set[static_cast<size_t>(e[2])];
-      const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
-      if (s0 == s1)
+    c.ForEachEdge(
+      [&](const std::array<int, 4>& e)
       {
-        continue;
-      }
-      this->SilhouetteEdges += gpu ? 0 : 1;
-      // Keep the winding of the face as turned toward the light (Brabec 2003, ch. 3): F0
-      // runs v0 -> v1, F1 v1 -> v0, each reversed when turned.
-      if (s0 != 0)
-      {
-        s0 > 0 ? this->Side(sides, p0, p1) : this->Side(sides, p1, p0);
-      }
-      if (s1 != 0)
-      {
-        s1 > 0 ? this->Side(sides, p1, p0) : this->Side(sides, p0, p1);
-      }
-    }
+        const int p0 = e[0], p1 = e[1];
+        const signed char s0 = set[static_cast<size_t>(e[2])];
+        const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
+        if (s0 == s1)
+        {
+          return;
+        }
+        this->SilhouetteEdges += gpu ? 0 : 1;
+        // Keep the winding of the face as turned toward the light (Brabec 2003, ch. 3): F0
+        // runs v0 -> v1, F1 v1 -> v0, each reversed when turned.
+        if (s0 != 0)
+        {
+          s0 > 0 ? this->Side(sides, p0, p1) : this->Side(sides, p1, p0);
+        }
+        if (s1 != 0)
+        {
+          s1 > 0 ? this->Side(sides, p1, p0) : this->Side(sides, p0, p1);
+        }
+      });
   }
 };
 }

@@ -20,26 +20,33 @@ void Connectivity::Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes, b
     this->Loose.swap(tris);
     return;
   }
+  const std::vector<std::array<int, 3>> across = this->Across(tris);
+  this->BuildComponents(tris, across, adjacency);
+}
 
+// Per triangle of `tris`, the triangle across each of its edges (t[k] -> t[k + 1]), -1 on a
+// boundary edge, Refused for the triangles OpenMesh refuses (a complex edge or vertex: they
+// go to Loose). OpenMesh's half-edges (48 bytes a face) live only in here.
+std::vector<std::array<int, 3>> Connectivity::Across(const std::vector<std::array<int, 3>>& tris)
+{
   OMesh mesh;
   // Reserved: grown by push_back, OpenMesh's arrays would hold up to twice their size (a
   // closed mesh has 3/2 edges a face).
   mesh.reserve(this->Points.size(), tris.size() * 3 / 2 + 3, tris.size());
-  std::vector<OMesh::VertexHandle> handles;
-  handles.reserve(this->Points.size());
-  for (const Vec3& p : this->Points)
+  for (size_t i = 0; i < this->Points.size(); ++i)
   {
-    handles.push_back(mesh.add_vertex(
-      OMesh::Point(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]))));
+    mesh.add_vertex();
   }
   std::vector<int> faceTri; // OpenMesh face index -> index into tris
   faceTri.reserve(tris.size());
+  std::vector<std::array<int, 3>> across(tris.size(), { Refused, Refused, Refused });
   // OpenMesh reports every refused face on its error stream; we count them instead.
   omerr().disable();
   for (size_t i = 0; i < tris.size(); ++i)
   {
     const auto& t = tris[i];
-    OMesh::FaceHandle f = mesh.add_face(handles[t[0]], handles[t[1]], handles[t[2]]);
+    const OMesh::FaceHandle f = mesh.add_face(
+      OMesh::VertexHandle(t[0]), OMesh::VertexHandle(t[1]), OMesh::VertexHandle(t[2]));
     if (!f.is_valid())
     {
       ++this->Complex;
@@ -52,8 +59,22 @@ void Connectivity::Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes, b
     }
   }
   omerr().enable();
-  std::vector<OMesh::VertexHandle>().swap(handles);
-  this->BuildComponents(mesh, tris, faceTri, adjacency);
+  for (OMesh::FaceHandle f : mesh.faces())
+  {
+    const int i = faceTri[static_cast<size_t>(f.idx())];
+    const std::array<int, 3>& t = tris[static_cast<size_t>(i)];
+    for (OMesh::HalfedgeHandle h : mesh.fh_range(f))
+    {
+      const int from = mesh.from_vertex_handle(h).idx();
+      const int k = from == t[0] ? 0 : (from == t[1] ? 1 : 2);
+      const OMesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
+      const bool boundary = mesh.is_boundary(o);
+      this->BoundaryEdges += boundary ? 1 : 0;
+      across[static_cast<size_t>(i)][static_cast<size_t>(k)] =
+        boundary ? -1 : faceTri[static_cast<size_t>(mesh.face_handle(o).idx())];
+    }
+  }
+  return across;
 }
 
 // The occluding, non-degenerate triangles as triples of welded points (into Points, numbered
@@ -174,81 +195,81 @@ std::vector<std::array<int, 3>> Connectivity::WeldCasters(vtkPenumbraSceneGeomet
   return tris;
 }
 
-// Components of `mesh` by flood fill over shared edges.
-void Connectivity::BuildComponents(const OMesh& mesh, const std::vector<std::array<int, 3>>& tris,
-  const std::vector<int>& faceTri, bool adjacency)
+// Components of `tris` by flood fill over shared edges (`across`), each with its faces in the
+// order of `tris` and the faces across their edges as indices into its own faces.
+void Connectivity::BuildComponents(const std::vector<std::array<int, 3>>& tris,
+  const std::vector<std::array<int, 3>>& across, bool adjacency)
 {
-  const int nf = static_cast<int>(mesh.n_faces());
-  std::vector<int> component(static_cast<size_t>(nf), -1);
+  const size_t n = tris.size();
+  std::vector<int> component(n, -1);
+  std::vector<char> closed;
   std::vector<int> stack;
-  std::vector<int> local(static_cast<size_t>(nf), -1); // face -> index in its component
-  for (int start = 0; start < nf; ++start)
+  for (size_t start = 0; start < n; ++start)
   {
-    if (component[static_cast<size_t>(start)] >= 0)
+    if (component[start] >= 0 || across[start][0] == Refused)
     {
       continue;
     }
-    std::vector<int> faces;
-    bool closed = true;
-    const int id = static_cast<int>(this->Components.size());
-    component[static_cast<size_t>(start)] = id;
-    stack.assign(1, start);
+    const int id = static_cast<int>(closed.size());
+    closed.push_back(1);
+    component[start] = id;
+    stack.assign(1, static_cast<int>(start));
     while (!stack.empty())
     {
       const int f = stack.back();
       stack.pop_back();
-      faces.push_back(f);
-      for (OMesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
+      for (int g : across[static_cast<size_t>(f)])
       {
-        const OMesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
-        if (mesh.is_boundary(o))
+        if (g < 0)
         {
-          closed = false;
-          ++this->BoundaryEdges;
-          continue;
+          closed.back() = 0;
         }
-        const int g = mesh.face_handle(o).idx();
-        if (component[static_cast<size_t>(g)] < 0)
+        else if (component[static_cast<size_t>(g)] < 0)
         {
           component[static_cast<size_t>(g)] = id;
           stack.push_back(g);
         }
       }
     }
-    this->Components.push_back(this->MakeComponent(mesh, faces, closed, tris, faceTri, local));
-    if (adjacency && this->Components.back().Closed)
+  }
+  std::vector<int>().swap(stack);
+  this->Components.resize(closed.size());
+  std::vector<int> local(n, -1); // triangle -> index in its component
+  for (size_t i = 0; i < n; ++i)
+  {
+    if (component[i] >= 0)
     {
-      AddAdjacency(this->Components.back());
+      Component& c = this->Components[static_cast<size_t>(component[i])];
+      local[i] = static_cast<int>(c.Faces.size());
+      c.Faces.push_back(tris[i]);
     }
+  }
+  for (size_t ci = 0; ci < closed.size(); ++ci)
+  {
+    this->Components[ci].Neighbors.reserve(this->Components[ci].Faces.size());
+  }
+  for (size_t i = 0; i < n; ++i)
+  {
+    if (component[i] >= 0)
+    {
+      std::array<int, 3> a = across[i];
+      for (int& g : a)
+      {
+        g = g < 0 ? -1 : local[static_cast<size_t>(g)];
+      }
+      this->Components[static_cast<size_t>(component[i])].Neighbors.push_back(a);
+    }
+  }
+  for (size_t ci = 0; ci < closed.size(); ++ci)
+  {
+    this->FinishComponent(this->Components[ci], closed[ci] != 0, adjacency);
   }
 }
 
-// One component of BuildComponents from its `faces` (OpenMesh indices); `local` maps
-// every face to its index in its component.
-Connectivity::Component Connectivity::MakeComponent(const OMesh& mesh,
-  const std::vector<int>& faces, bool closed, const std::vector<std::array<int, 3>>& tris,
-  const std::vector<int>& faceTri, std::vector<int>& local) const
+// A component's bounds and orientation (closed ones), and its adjacency if asked for.
+void Connectivity::FinishComponent(Component& c, bool closed, bool adjacency) const
 {
-  Component c;
   c.Closed = closed;
-  for (int f : faces)
-  {
-    local[static_cast<size_t>(f)] = static_cast<int>(c.Faces.size());
-    c.Faces.push_back(tris[static_cast<size_t>(faceTri[static_cast<size_t>(f)])]);
-  }
-  for (int f : faces)
-  {
-    for (OMesh::HalfedgeHandle h : mesh.fh_range(mesh.face_handle(static_cast<unsigned>(f))))
-    {
-      const OMesh::HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
-      const int g = mesh.is_boundary(o) ? -1 : mesh.face_handle(o).idx();
-      if (g < 0 || f < g) // each edge once
-      {
-        c.Edges.push_back({ mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx(),
-          local[static_cast<size_t>(f)], g < 0 ? -1 : local[static_cast<size_t>(g)] });
-      }
-    }
-  }
   for (const auto& t : c.Faces)
   {
     for (int k = 0; k < 3; ++k)
@@ -265,7 +286,10 @@ Connectivity::Component Connectivity::MakeComponent(const OMesh& mesh,
   {
     this->Orient(c);
   }
-  return c;
+  if (adjacency && c.Closed)
+  {
+    AddAdjacency(c);
+  }
 }
 
 // Orientation: a closed mesh with inward normals has negative signed volume; turn it once
@@ -283,13 +307,14 @@ void Connectivity::Orient(Component& c) const
   }
   if (volume < 0.0)
   {
+    // t0, t2, t1: its edges are the old third, second and first, reversed.
     for (auto& t : c.Faces)
     {
       std::swap(t[1], t[2]);
     }
-    for (auto& e : c.Edges)
+    for (auto& a : c.Neighbors)
     {
-      std::swap(e[0], e[1]);
+      std::swap(a[0], a[2]);
     }
   }
   // Flat closed surfaces (two coincident sheets) have no inside: treat them as open.
@@ -297,45 +322,28 @@ void Connectivity::Orient(Component& c) const
 }
 
 // The GL_TRIANGLES_ADJACENCY faces of a closed component (see Component::Adjacency): across
-// each edge, the third point of the face on its other side, from the component's edges (face
-// F0 runs v0 -> v1, F1 v1 -> v0).
+// each edge, the third point of the face on its other side.
 void Connectivity::AddAdjacency(Component& c)
 {
   c.Adjacency.resize(c.Faces.size());
   for (size_t f = 0; f < c.Faces.size(); ++f)
   {
-    for (int k = 0; k < 3; ++k)
+    const std::array<int, 3>& t = c.Faces[f];
+    for (size_t k = 0; k < 3; ++k)
     {
-      c.Adjacency[f][static_cast<size_t>(2 * k)] = c.Faces[f][static_cast<size_t>(k)];
-    }
-  }
-  auto third = [&](int f, int a, int b)
-  {
-    for (int v : c.Faces[static_cast<size_t>(f)])
-    {
-      if (v != a && v != b)
+      const int a = t[k], b = t[(k + 1) % 3];
+      int opposite = a;
+      for (int v : c.Faces[static_cast<size_t>(c.Neighbors[f][k])])
       {
-        return v;
+        if (v != a && v != b)
+        {
+          opposite = v;
+          break;
+        }
       }
+      c.Adjacency[f][2 * k] = a;
+      c.Adjacency[f][2 * k + 1] = opposite;
     }
-    return a;
-  };
-  // Face f's edge from a to b gets the opposite point `o`.
-  auto set = [&](int f, int a, int b, int o)
-  {
-    const std::array<int, 3>& t = c.Faces[static_cast<size_t>(f)];
-    for (int k = 0; k < 3; ++k)
-    {
-      if (t[static_cast<size_t>(k)] == a && t[static_cast<size_t>((k + 1) % 3)] == b)
-      {
-        c.Adjacency[static_cast<size_t>(f)][static_cast<size_t>(2 * k + 1)] = o;
-      }
-    }
-  };
-  for (const auto& e : c.Edges)
-  {
-    set(e[2], e[0], e[1], third(e[3], e[0], e[1]));
-    set(e[3], e[1], e[0], third(e[2], e[0], e[1]));
   }
 }
 

@@ -25,7 +25,7 @@
 // GCC 12 reports a false -Wmaybe-uninitialized inside OpenMesh's property push_back.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/Mesh/TriConnectivity.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #pragma GCC diagnostic pop
 
@@ -71,14 +71,33 @@ struct Connectivity
     // Faces as welded vertex triples; closed components are already turned so that their
     // winding is outward (components of negative volume are reversed once here).
     std::vector<std::array<int, 3>> Faces;
-    // Edges: v0 -> v1 as in face F0's winding, v1 -> v0 in F1's; indices into Faces; F1 is
+    // Per face, the face across each of its edges (t[k] -> t[k + 1]), an index into Faces;
     // -1 on a boundary edge.
-    std::vector<std::array<int, 4>> Edges;
+    std::vector<std::array<int, 3>> Neighbors;
     // Per face, GL_TRIANGLES_ADJACENCY order: v0, opposite of (v0, v1), v1, opposite of
     // (v1, v2), v2, opposite of (v2, v0) (the GPU silhouette path).
     std::vector<std::array<int, 6>> Adjacency;
     double Bounds[6] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX,
       VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+
+    // Every edge once, as { v0, v1, F0, F1 }: v0 -> v1 in face F0's winding, v1 -> v0 in
+    // F1's, F1 -1 on a boundary edge.
+    template <class EdgeFn>
+    void ForEachEdge(EdgeFn visit) const
+    {
+      for (size_t f = 0; f < this->Faces.size(); ++f)
+      {
+        for (size_t k = 0; k < 3; ++k)
+        {
+          const int g = this->Neighbors[f][k];
+          if (g < 0 || static_cast<int>(f) < g)
+          {
+            visit(std::array<int, 4>{
+              this->Faces[f][k], this->Faces[f][(k + 1) % 3], static_cast<int>(f), g });
+          }
+        }
+      }
+    }
   };
   std::vector<Vec3> Points;
   std::vector<Component> Components;
@@ -87,17 +106,18 @@ struct Connectivity
   vtkIdType Complex = 0;
   vtkIdType BoundaryEdges = 0;
 
-  using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+  // Connectivity alone: no points (they are in Points).
+  using OMesh = OpenMesh::TriConnectivity;
+  static constexpr int Refused = -2;
 
   // `adjacency`: also the closed components' Adjacency (the GPU silhouette path alone uses
   // it; 24 bytes a face).
   void Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes, bool adjacency);
   std::vector<std::array<int, 3>> WeldCasters(vtkPenumbraSceneGeometry* geometry);
-  void BuildComponents(const OMesh& mesh, const std::vector<std::array<int, 3>>& tris,
-    const std::vector<int>& faceTri, bool adjacency);
-  Component MakeComponent(const OMesh& mesh, const std::vector<int>& faces, bool closed,
-    const std::vector<std::array<int, 3>>& tris, const std::vector<int>& faceTri,
-    std::vector<int>& local) const;
+  std::vector<std::array<int, 3>> Across(const std::vector<std::array<int, 3>>& tris);
+  void BuildComponents(const std::vector<std::array<int, 3>>& tris,
+    const std::vector<std::array<int, 3>>& across, bool adjacency);
+  void FinishComponent(Component& c, bool closed, bool adjacency) const;
   void Orient(Component& c) const;
   static void AddAdjacency(Component& c);
 };

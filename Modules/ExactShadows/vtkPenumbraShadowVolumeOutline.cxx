@@ -417,34 +417,36 @@ void vtkPenumbraShadowVolumeShadows::Internals::BuildOutline(VolumeSet& build,
       return s0 == s1 && s0 != 0 &&
         !isShared(VolumeOutline::Pair(2 * e[0] + kind, 2 * e[1] + kind));
     };
-    for (const auto& e : c.Edges)
-    {
-      for (int kind = 0; kind < 2; ++kind)
+    c.ForEachEdge(
+      [&](const std::array<int, 4>& e)
       {
-        if (!interior(e, kind))
+        for (int kind = 0; kind < 2; ++kind)
         {
-          for (int f : { e[2], e[3] })
+          if (!interior(e, kind))
           {
-            if (f >= 0 && set[static_cast<size_t>(f)] != 0)
+            for (int f : { e[2], e[3] })
             {
-              kept[static_cast<size_t>(f)] |= static_cast<unsigned char>(1 << kind);
+              if (f >= 0 && set[static_cast<size_t>(f)] != 0)
+              {
+                kept[static_cast<size_t>(f)] |= static_cast<unsigned char>(1 << kind);
+              }
             }
           }
         }
-      }
-    }
-    for (const auto& e : c.Edges)
-    {
-      for (int kind = 0; kind < 2; ++kind)
+      });
+    c.ForEachEdge(
+      [&](const std::array<int, 4>& e)
       {
-        const bool keptSide = (kept[static_cast<size_t>(e[2])] >> kind & 1) ||
-          (e[3] >= 0 && (kept[static_cast<size_t>(e[3])] >> kind & 1));
-        if (keptSide && interior(e, kind))
+        for (int kind = 0; kind < 2; ++kind)
         {
-          skip.push_back(VolumeOutline::Pair(2 * e[0] + kind, 2 * e[1] + kind));
+          const bool keptSide = (kept[static_cast<size_t>(e[2])] >> kind & 1) ||
+            (e[3] >= 0 && (kept[static_cast<size_t>(e[3])] >> kind & 1));
+          if (keptSide && interior(e, kind))
+          {
+            skip.push_back(VolumeOutline::Pair(2 * e[0] + kind, 2 * e[1] + kind));
+          }
         }
-      }
-    }
+      });
     for (size_t f = 0; f < c.Faces.size(); ++f)
     {
       const std::array<int, 3> t = VolumeSet::CapCorners(c, f, set[f]);
@@ -516,26 +518,29 @@ void vtkPenumbraShadowVolumeShadows::Internals::MarkOutline(VolumeSet& vs, int w
             Side(project(2 * t[0] + 1), project(2 * t[2] + 1), project(2 * t[1] + 1));
         }
       });
-    for (const auto& e : c.Edges)
-    {
-      const signed char s0 = set[static_cast<size_t>(e[2])];
-      const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
-      if (s0 != s1 || s0 == 0)
+    c.ForEachEdge(
+      [&](const std::array<int, 4>& e)
       {
-        continue; // kept explicit
-      }
-      for (int kind = 0; kind < 2; ++kind)
-      {
-        const int a = 2 * e[0] + kind, b = 2 * e[1] + kind;
-        const signed char side0 = sides[2 * static_cast<size_t>(e[2]) + static_cast<size_t>(kind)];
-        const signed char side1 = sides[2 * static_cast<size_t>(e[3]) + static_cast<size_t>(kind)];
-        if ((side0 == side1 && side0 != 0) ||
-          std::binary_search(shared.begin(), shared.end(), VolumeOutline::Pair(a, b)))
+        const signed char s0 = set[static_cast<size_t>(e[2])];
+        const signed char s1 = e[3] >= 0 ? set[static_cast<size_t>(e[3])] : 0;
+        if (s0 != s1 || s0 == 0)
         {
-          continue; // continuous, or shared with explicit triangles: the kept part judges it
+          return; // kept explicit
         }
-        VolumeOutline::MarkSegment(project(a), project(b), width, height, pixels);
-      }
-    }
+        for (int kind = 0; kind < 2; ++kind)
+        {
+          const int a = 2 * e[0] + kind, b = 2 * e[1] + kind;
+          const signed char side0 =
+            sides[2 * static_cast<size_t>(e[2]) + static_cast<size_t>(kind)];
+          const signed char side1 =
+            sides[2 * static_cast<size_t>(e[3]) + static_cast<size_t>(kind)];
+          if ((side0 == side1 && side0 != 0) ||
+            std::binary_search(shared.begin(), shared.end(), VolumeOutline::Pair(a, b)))
+          {
+            continue; // continuous, or shared with explicit triangles: the kept part judges it
+          }
+          VolumeOutline::MarkSegment(project(a), project(b), width, height, pixels);
+        }
+      });
   }
 }
