@@ -230,9 +230,41 @@ struct vtkPenumbraReference::Internals : penumbra_embree::Objects
 
   bool Compact = false;            // the current scene indexes the shared points (CompactAbove)
   vtkIdType BuiltCompactAbove = 0; // the CompactAbove the current scene was built with
+  // SetOccluderSubset's ids (ascending) while one is set, and whether the current scene was
+  // built from them.
+  bool Subset = false;
+  std::vector<vtkIdType> SubsetIds;
+  bool SubsetBuilt = false;
 
   bool AddMesh(const penumbra::SceneTriangles& triangles,
     const penumbra::SceneTriangles::Block& block, vtkIdType occluders, RTCBuildQuality quality);
+
+  // `visit(local)` for every occluder of `block` the scene holds: all of them, or those of
+  // the subset.
+  template <class Visit>
+  void ForEachKept(const penumbra::SceneTriangles::Block& block, Visit visit) const
+  {
+    const vtkIdType n = block.List->Size();
+    if (!this->Subset)
+    {
+      for (vtkIdType t = 0; t < n; ++t)
+      {
+        if (this->Triangles->IsOccluderLocal(block, t))
+        {
+          visit(t);
+        }
+      }
+      return;
+    }
+    auto it = std::lower_bound(this->SubsetIds.begin(), this->SubsetIds.end(), block.First);
+    for (; it != this->SubsetIds.end() && *it < block.First + n; ++it)
+    {
+      if (this->Triangles->IsOccluderLocal(block, *it - block.First))
+      {
+        visit(*it - block.First);
+      }
+    }
+  }
 
   vtkNew<vtkUnsignedCharArray> Ties;
 
@@ -439,6 +471,25 @@ vtkUnsignedCharArray* vtkPenumbraReference::GetTies()
 bool vtkPenumbraReference::GetCompact()
 {
   return this->Impl->Compact;
+}
+
+//------------------------------------------------------------------------------
+void vtkPenumbraReference::SetOccluderSubset(vtkIdTypeArray* triangles)
+{
+  Internals& impl = *this->Impl;
+  const vtkIdType* ids =
+    triangles && triangles->GetNumberOfTuples() > 0 ? triangles->GetPointer(0) : nullptr;
+  const size_t count = triangles ? static_cast<size_t>(triangles->GetNumberOfTuples()) : 0;
+  const bool same = triangles ? impl.Subset && impl.SubsetIds.size() == count &&
+      std::equal(impl.SubsetIds.begin(), impl.SubsetIds.end(), ids)
+                              : !impl.Subset;
+  if (same)
+  {
+    return;
+  }
+  impl.Subset = triangles != nullptr;
+  impl.SubsetIds.assign(ids, ids + count);
+  impl.SubsetBuilt = false;
 }
 
 //------------------------------------------------------------------------------
@@ -822,21 +873,19 @@ bool vtkPenumbraReference::Internals::AddMesh(const penumbra::SceneTriangles& tr
   {
     return true;
   }
-  // When every triangle is an occluder (the usual prop) Embree reads the prop's corners;
-  // otherwise the occluders' corners are listed.
+  // When every triangle is kept (the usual prop) Embree reads the prop's corners; otherwise
+  // the kept occluders' corners are listed.
   if (occluders < n)
   {
     mesh.Local.reserve(static_cast<size_t>(occluders));
     mesh.Indices.reserve(3 * static_cast<size_t>(occluders));
-    for (vtkIdType t = 0; t < n; ++t)
-    {
-      if (triangles.IsOccluderLocal(block, t))
+    impl.ForEachKept(block,
+      [&](vtkIdType t)
       {
         mesh.Local.push_back(static_cast<std::uint32_t>(t));
         mesh.Indices.insert(mesh.Indices.end(), &list.Corners[3 * static_cast<size_t>(t)],
           &list.Corners[3 * static_cast<size_t>(t)] + 3);
-      }
-    }
+      });
   }
   const size_t count = mesh.Local.empty() ? static_cast<size_t>(n) : mesh.Local.size();
   RTCGeometry geometry = rtcNewGeometry(impl.Device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -863,7 +912,8 @@ int vtkPenumbraReference::EnsureScene()
 {
   Internals& impl = *this->Impl;
   vtkPenumbraSceneGeometry* geometry = this->Geometry;
-  if (impl.Scene && !impl.Built.Changed(geometry) && impl.BuiltCompactAbove == this->CompactAbove)
+  if (impl.Scene && !impl.Built.Changed(geometry) && impl.BuiltCompactAbove == this->CompactAbove &&
+    impl.SubsetBuilt)
   {
     return 1;
   }
@@ -905,10 +955,7 @@ int vtkPenumbraReference::EnsureScene()
   for (const penumbra::SceneTriangles::Block& block : triangles.GetBlocks())
   {
     vtkIdType count = 0;
-    for (vtkIdType t = 0; t < block.List->Size(); ++t)
-    {
-      count += triangles.IsOccluderLocal(block, t) ? 1 : 0;
-    }
+    impl.ForEachKept(block, [&](vtkIdType) { ++count; });
     occluders.push_back(count);
     total += count;
   }
@@ -938,6 +985,7 @@ int vtkPenumbraReference::EnsureScene()
   impl.Diagonal = penumbra_rules::SceneDiagonal(geometry);
 
   impl.Built.Remember(geometry);
+  impl.SubsetBuilt = true;
   ++this->NumberOfBuilds;
   this->LastBuildTimeMs = ElapsedMs(start);
   return 1;

@@ -77,6 +77,7 @@ class vtkLight;
 class vtkPenumbraAreaLight;
 class vtkPenumbraSceneGeometry;
 class vtkPenumbraViewSamples;
+class vtkIdTypeArray;
 class vtkTypeUInt32Array;
 class vtkUnsignedCharArray;
 
@@ -130,6 +131,16 @@ public:
   vtkGetMacro(CompactAbove, vtkIdType);
   bool GetCompact();
   ///@}
+
+  /**
+   * Restricts the Embree scene to the occluders among `triangles` (global triangle indices
+   * of the geometry, ascending), for a caller that has proved that no other triangle can
+   * block the rays it is about to trace; the answers for those rays are then the same as
+   * with every occluder. Null (the default) keeps every occluder. The ids are copied; a
+   * subset with other ids rebuilds the Embree scene at the next query, the same ids reuse it.
+   * GetNumberOfCasterTriangles() counts the occluders the current scene holds.
+   */
+  void SetOccluderSubset(vtkIdTypeArray* triangles);
 
   /**
    * Visibility of each view sample from `light`, written to `visibility` (one component,

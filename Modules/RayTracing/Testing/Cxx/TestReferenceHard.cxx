@@ -402,6 +402,62 @@ int CompactScene()
   return EXIT_SUCCESS;
 }
 
+// SetOccluderSubset: the Embree scene of the listed occluders alone. Every triangle listed
+// answers as the default scene; none listed blocks nothing; the same ids again reuse the
+// scene; null goes back to every occluder.
+int OccluderSubset()
+{
+  const double far[3] = { 3.4e6, 5.4e6, 120.0 };
+  Scene scene(far);
+  scene.BoxActor->SetOrientation(10, 20, 30);
+  CHECK(scene.Update());
+  vtkNew<vtkLight> sun;
+  sun->SetPosition(far[0] + 1, far[1] + 2, far[2] + 5);
+  sun->SetFocalPoint(far[0], far[1], far[2]);
+  vtkNew<vtkPenumbraReference> full, part;
+  vtkNew<vtkFloatArray> expected, vis;
+  full->SetGeometry(scene.Geometry);
+  part->SetGeometry(scene.Geometry);
+  CHECK(full->ComputeVisibility(scene.Samples, sun, expected));
+  const vtkIdType occluders = full->GetNumberOfCasterTriangles();
+  vtkNew<vtkIdTypeArray> all, none;
+  for (vtkIdType t = 0; t < scene.Geometry->GetNumberOfTriangles(); ++t)
+  {
+    all->InsertNextValue(t);
+  }
+  auto shadowedBy = [&](vtkIdTypeArray* subset, vtkIdType& shadowed)
+  {
+    part->SetOccluderSubset(subset);
+    shadowed = 0;
+    if (!part->ComputeVisibility(scene.Samples, sun, vis))
+    {
+      return false;
+    }
+    for (vtkIdType i = 0; i < vis->GetNumberOfTuples(); ++i)
+    {
+      shadowed += vis->GetValue(i) == 0.0f ? 1 : 0;
+    }
+    return true;
+  };
+  vtkIdType shadowed = 0;
+  CHECK(shadowedBy(all, shadowed));
+  CHECK(part->GetNumberOfCasterTriangles() == occluders && part->GetNumberOfBuilds() == 1);
+  for (vtkIdType i = 0; i < vis->GetNumberOfTuples(); ++i)
+  {
+    CHECK(vis->GetValue(i) == expected->GetValue(i));
+  }
+  CHECK(shadowed > 100);
+  CHECK(shadowedBy(all, shadowed)); // the same ids: the same scene
+  CHECK(part->GetNumberOfBuilds() == 1);
+  const vtkIdType withAll = shadowed;
+  CHECK(shadowedBy(none, shadowed));
+  CHECK(part->GetNumberOfCasterTriangles() == 0 && part->GetNumberOfBuilds() == 2);
+  CHECK(shadowed < withAll);
+  CHECK(shadowedBy(nullptr, shadowed));
+  CHECK(shadowed == withAll && part->GetNumberOfBuilds() == 3);
+  return EXIT_SUCCESS;
+}
+
 // Blockers inside the tie band [tnear, TieFactor * tnear) are reported, never decided
 // silently; a real blocker farther away still decides.
 int Ties()
@@ -548,6 +604,7 @@ int TestReferenceHard(int, char*[])
   RUN(Rules());
   RUN(Caching());
   RUN(CompactScene());
+  RUN(OccluderSubset());
   RUN(Ties());
   RUN(BadInput());
   return EXIT_SUCCESS;
