@@ -150,6 +150,13 @@ void VolumeOutline::Mark(
 void VolumeOutline::MarkSegment(const std::array<double, 3>& p, const std::array<double, 3>& q,
   int width, int height, std::vector<unsigned char>& pixels)
 {
+  if (q < p)
+  {
+    // One order for both: a segment's pixels do not depend on which end it is given from
+    // (the clipping and the row walk below round differently for the two orders).
+    MarkSegment(q, p, width, height, pixels);
+    return;
+  }
   double t0 = 0.0, t1 = 1.0;
   const double kx = 1.0 + 4.0 / width, ky = 1.0 + 4.0 / height;
   // Planes k w + x >= 0, k w - x >= 0, the same for y.
