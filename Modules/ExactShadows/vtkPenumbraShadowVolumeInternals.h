@@ -13,11 +13,13 @@
 
 #include "vtkPenumbraShadowVolumeShadows.h"
 
+#include "vtkIdTypeArray.h"
 #include "vtkNew.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPenumbraDiagnostics.h"
 #include "vtkPenumbraLightViews.h"
 #include "vtkPenumbraSceneGeometry.h"
+#include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkWeakPointer.h"
 #include "vtk_glew.h"
@@ -365,6 +367,16 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   std::uint64_t Clock = 0;
   std::vector<GLuint> Garbage; // buffers of evicted sets, deleted when the context is current
 
+  // Per light of the group, the edge resolve's last subset of casters (LimitBlockers) and
+  // what it was made from: the light, the casters, the traced samples' grids.
+  struct BlockerCache
+  {
+    std::vector<double> Key;
+    std::vector<std::vector<int>> Grids;
+    vtkSmartPointer<vtkIdTypeArray> Subset;
+  };
+  std::vector<BlockerCache> Blockers;
+
   // Per-frame camera data shared by every light (see ComputeGroup).
   std::vector<double> DepthKey;
   double Rows[4][4] = {};
@@ -468,6 +480,8 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   int FinishLights(vtkPenumbraShadowVolumeShadows& self, const Group& g);
   void ApplyMask(const Group& g, const Job& job);
   bool TraceUncertain(vtkPenumbraShadowVolumeShadows& self, const Group& g, const Job& job);
+  void LimitBlockers(vtkPenumbraShadowVolumeShadows& self, const Group& g, const Job& job,
+    const unsigned char* traced);
 };
 
 #endif

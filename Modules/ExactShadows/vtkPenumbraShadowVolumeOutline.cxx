@@ -330,6 +330,7 @@ bool vtkPenumbraShadowVolumeShadows::Internals::TraceUncertain(
   if (traced > 0)
   {
     self.Reference->SetGeometry(g.Geometry);
+    LimitBlockers(self, g, job, this->Mask->GetPointer(0));
     if (!self.Reference->ComputeVisibility(g.Samples, job.Light, job.Visibility, this->Mask))
     {
       vtkErrorWithObjectMacro(&self, << "shadow volumes: tracing the edge samples failed: "

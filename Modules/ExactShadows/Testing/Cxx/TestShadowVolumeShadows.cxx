@@ -49,6 +49,10 @@ namespace
 {
 using namespace penumbra_technique_tests;
 
+// Compare() with the edge resolve's tracer restricted to the casters that can block its
+// samples from the first caster on (it is, by default, above the tracer's compact threshold).
+bool ForceBlockerSubset = false;
+
 // Spot lights of this test open by 50 degrees.
 void SetLight(vtkRenderer* renderer, LightType type, const double from[3], const double target[3])
 {
@@ -67,6 +71,8 @@ struct Result
   vtkIdType Valid = 0;
   vtkIdType Resolved = 0;
   vtkIdType SilhouetteEdges = 0;
+  vtkIdType Blockers = -1; // the tracer's occluders after the last light's resolve, -1: none traced
+  vtkIdType Casters = 0;
 };
 
 // Renders `renderer` with the volumes technique and `options`, and compares every light's
@@ -83,6 +89,11 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
   auto* technique = vtkPenumbraShadowVolumeShadows::SafeDownCast(pass->GetTechnique());
   CHECK(technique != nullptr);
   CHECK(pass->GetNumberOfLights() >= 1);
+  if (ForceBlockerSubset)
+  {
+    technique->GetReference()->SetCompactAbove(0);
+    window->Render();
+  }
   vtkPenumbraViewSamples* samples = pass->GetViewSamples();
   CHECK(samples->GetNumberOfValidSamples() > 0);
 
@@ -143,6 +154,10 @@ int Compare(const std::string& label, vtkRenderer* renderer, const std::string& 
     result.SilhouetteEdges = technique->GetNumberOfSilhouetteEdges();
     result.Valid += samples->GetNumberOfValidSamples();
     result.Resolved += technique->GetNumberOfResolvedSamples();
+    result.Blockers = technique->GetNumberOfResolvedSamples() > 0
+      ? technique->GetReference()->GetNumberOfCasterTriangles()
+      : -1;
+    result.Casters = technique->GetNumberOfCasterTriangles();
   }
 
   // Nothing changed: the next frame reuses connectivity and volumes.
@@ -1021,6 +1036,44 @@ int CheckBadInput()
 }
 }
 
+// The edge resolve traced through an Embree scene of the casters that can block its samples
+// (a light-space grid of the traced samples, vtkPenumbraShadowVolumeBlockers.cxx) gives the
+// reference's answers: directional, spot and point lights, lights inside the scene and on a
+// surface, grazing light, thin occluders, huge coordinates, extreme depth ranges; on the
+// depth-range scene the subset is a small part of the casters.
+int CheckBlockerSubset()
+{
+  ForceBlockerSubset = true;
+  for (LightType type : { LightType::AsInScene, LightType::Spot, LightType::Point })
+  {
+    vtkNew<vtkPenumbraSceneReader> reader;
+    vtkSmartPointer<vtkRenderer> renderer = DefaultSceneWith(type, reader, 50.0);
+    CHECK(renderer != nullptr);
+    RUN(CompareExact(std::string("blocker subset: default.json ") + Name(type), renderer, "{}"));
+  }
+  for (const char* scene :
+    { "thin_occluders.json", "grazing_light.json", "georef_1e7.json", "point_light_in_room.json",
+      "point_light_on_surface.json", "zenith_light.json", "depth_range.json" })
+  {
+    vtkNew<vtkPenumbraSceneReader> reader;
+    vtkSmartPointer<vtkRenderer> renderer = ReadScene(std::string("torture/") + scene, reader);
+    CHECK(renderer != nullptr);
+    const bool onSurface = std::string(scene) == "point_light_on_surface.json";
+    Result result;
+    RUN(CompareExact(std::string("blocker subset: torture/") + scene, renderer, "{}", &result,
+      onSurface ? 1.0 : 0.4));
+    std::printf("  blockers %lld of %lld casters\n", static_cast<long long>(result.Blockers),
+      static_cast<long long>(result.Casters));
+    if (std::string(scene) == "depth_range.json")
+    {
+      // Its traced samples are few and far apart: the subset is a small part.
+      CHECK(result.Blockers >= 0 && result.Blockers < result.Casters / 4);
+    }
+  }
+  ForceBlockerSubset = false;
+  return EXIT_SUCCESS;
+}
+
 int TestShadowVolumeShadows(int, char*[])
 {
   RUN(CheckBadInput());
@@ -1035,6 +1088,7 @@ int TestShadowVolumeShadows(int, char*[])
   RUN(CheckMultiLightMasks());
   RUN(CheckGoniometric());
   RUN(CheckScenes());
+  RUN(CheckBlockerSubset());
   RUN(CheckTranslucent());
   RUN(CheckSweep());
   return EXIT_SUCCESS;
