@@ -7,38 +7,90 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <numeric>
+
+namespace
+{
+// The scene's points by global number (block b's points follow the earlier blocks'), in the
+// geometry's rebased frame, as the reference sees them.
+struct ScenePoints
+{
+  const penumbra::SceneTriangles& Triangles;
+  std::vector<std::uint32_t> Base; // per block, its first global number; then the total
+
+  explicit ScenePoints(const penumbra::SceneTriangles& triangles)
+    : Triangles(triangles)
+    , Base(triangles.GetBlocks().size() + 1, 0)
+  {
+    const auto& blocks = triangles.GetBlocks();
+    for (size_t b = 0; b < blocks.size(); ++b)
+    {
+      this->Base[b + 1] =
+        this->Base[b] + static_cast<std::uint32_t>(blocks[b].List->NumberOfPoints());
+    }
+  }
+  void Rebased(std::uint32_t g, double p[3]) const
+  {
+    const size_t b = static_cast<size_t>(std::upper_bound(this->Base.begin(), this->Base.end(), g) -
+                       this->Base.begin()) -
+      1;
+    const double* w =
+      &this->Triangles.GetBlocks()[b].List->Points[3 * static_cast<size_t>(g - this->Base[b])];
+    const double* origin = this->Triangles.GetOrigin();
+    for (int c = 0; c < 3; ++c)
+    {
+      p[c] = w[c] - origin[c];
+    }
+  }
+};
+}
 
 namespace penumbra_shadow_volume
 {
+// The welded points are made last, from their scene numbers: OpenMesh's half-edges are freed
+// by then, so the two never take memory at once.
 void Connectivity::Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes, bool adjacency)
 {
   *this = Connectivity();
-  std::vector<std::array<int, 3>> tris = this->WeldCasters(geometry);
+  std::vector<std::uint32_t> source; // welded point -> global scene point
+  std::vector<std::array<int, 3>> tris = this->WeldCasters(geometry, source);
   this->Casters = static_cast<vtkIdType>(tris.size());
+  std::vector<std::array<int, 3>> across;
+  if (silhouettes)
+  {
+    across = this->Across(tris, source.size());
+  }
+  const ScenePoints scene(geometry->GetTriangles());
+  this->Points.resize(source.size());
+  for (size_t i = 0; i < source.size(); ++i)
+  {
+    scene.Rebased(source[i], &this->Points[i][0]);
+  }
+  std::vector<std::uint32_t>().swap(source);
   if (!silhouettes)
   {
     this->Loose.swap(tris);
     return;
   }
-  const std::vector<std::array<int, 3>> across = this->Across(tris);
   this->BuildComponents(tris, across, adjacency);
 }
 
 // Per triangle of `tris`, the triangle across each of its edges (t[k] -> t[k + 1]), -1 on a
 // boundary edge, Refused for the triangles OpenMesh refuses (a complex edge or vertex: they
 // go to Loose). OpenMesh's half-edges (48 bytes a face) live only in here.
-std::vector<std::array<int, 3>> Connectivity::Across(const std::vector<std::array<int, 3>>& tris)
+std::vector<std::array<int, 3>> Connectivity::Across(
+  const std::vector<std::array<int, 3>>& tris, size_t points)
 {
   OMesh mesh;
   // Reserved: grown by push_back, OpenMesh's arrays would hold up to twice their size (a
   // closed mesh has 3/2 edges a face).
-  mesh.reserve(this->Points.size(), tris.size() * 3 / 2 + 3, tris.size());
-  for (size_t i = 0; i < this->Points.size(); ++i)
+  mesh.reserve(points, tris.size() * 3 / 2 + 3, tris.size());
+  for (size_t i = 0; i < points; ++i)
   {
     mesh.add_vertex();
   }
-  std::vector<int> faceTri; // OpenMesh face index -> index into tris
-  faceTri.reserve(tris.size());
+  // OpenMesh face index -> index into tris; empty while no face was refused (the same index).
+  std::vector<int> faceTri;
   std::vector<std::array<int, 3>> across(tris.size(), { Refused, Refused, Refused });
   // OpenMesh reports every refused face on its error stream; we count them instead.
   omerr().disable();
@@ -51,17 +103,23 @@ std::vector<std::array<int, 3>> Connectivity::Across(const std::vector<std::arra
     {
       ++this->Complex;
       this->Loose.push_back(t);
+      if (faceTri.empty())
+      {
+        faceTri.resize(i);
+        std::iota(faceTri.begin(), faceTri.end(), 0);
+      }
     }
-    else
+    else if (!faceTri.empty())
     {
-      faceTri.resize(static_cast<size_t>(f.idx()) + 1, -1);
-      faceTri[static_cast<size_t>(f.idx())] = static_cast<int>(i);
+      faceTri.push_back(static_cast<int>(i));
     }
   }
   omerr().enable();
+  auto triOf = [&](int face)
+  { return faceTri.empty() ? face : faceTri[static_cast<size_t>(face)]; };
   for (OMesh::FaceHandle f : mesh.faces())
   {
-    const int i = faceTri[static_cast<size_t>(f.idx())];
+    const int i = triOf(f.idx());
     const std::array<int, 3>& t = tris[static_cast<size_t>(i)];
     for (OMesh::HalfedgeHandle h : mesh.fh_range(f))
     {
@@ -71,38 +129,26 @@ std::vector<std::array<int, 3>> Connectivity::Across(const std::vector<std::arra
       const bool boundary = mesh.is_boundary(o);
       this->BoundaryEdges += boundary ? 1 : 0;
       across[static_cast<size_t>(i)][static_cast<size_t>(k)] =
-        boundary ? -1 : faceTri[static_cast<size_t>(mesh.face_handle(o).idx())];
+        boundary ? -1 : triOf(mesh.face_handle(o).idx());
     }
   }
   return across;
 }
 
-// The occluding, non-degenerate triangles as triples of welded points (into Points, numbered
-// in the order the triangles' corners first use them). Exactly equal coordinates (in the
-// geometry's rebased frame, as the reference sees them) are welded, nothing looser: anything
-// looser would move geometry and the reference sees the unwelded triangles. The scene's
-// points are welded first (sorted by coordinates, 8 bytes a point), not every corner.
-std::vector<std::array<int, 3>> Connectivity::WeldCasters(vtkPenumbraSceneGeometry* geometry)
+// The occluding, non-degenerate triangles as triples of welded points (numbered in the order
+// the triangles' corners first use them; `source` gets each one's global scene point). Exactly
+// equal coordinates (in the geometry's rebased frame, as the reference sees them) are welded,
+// nothing looser: anything looser would move geometry and the reference sees the unwelded
+// triangles. The scene's points are welded first (sorted by coordinates, 8 bytes a point), not
+// every corner.
+std::vector<std::array<int, 3>> Connectivity::WeldCasters(
+  vtkPenumbraSceneGeometry* geometry, std::vector<std::uint32_t>& source)
 {
   const penumbra::SceneTriangles& triangles = geometry->GetTriangles();
-  const double* origin = triangles.GetOrigin();
   const auto& blocks = triangles.GetBlocks();
-  // Global point numbers: block b's points follow the earlier blocks'.
-  std::vector<std::uint32_t> base(blocks.size() + 1, 0);
-  for (size_t b = 0; b < blocks.size(); ++b)
-  {
-    base[b + 1] = base[b] + static_cast<std::uint32_t>(blocks[b].List->NumberOfPoints());
-  }
-  auto rebased = [&](std::uint32_t g, double p[3])
-  {
-    const size_t b =
-      static_cast<size_t>(std::upper_bound(base.begin(), base.end(), g) - base.begin()) - 1;
-    const double* w = &blocks[b].List->Points[3 * static_cast<size_t>(g - base[b])];
-    for (int c = 0; c < 3; ++c)
-    {
-      p[c] = w[c] - origin[c];
-    }
-  };
+  const ScenePoints scene(triangles);
+  const std::vector<std::uint32_t>& base = scene.Base;
+  auto rebased = [&](std::uint32_t g, double p[3]) { scene.Rebased(g, p); };
   auto occluding = [&](const penumbra::SceneTriangles::Block& block, vtkIdType local)
   {
     if (!triangles.IsOccluder(block.First + local))
@@ -182,10 +228,8 @@ std::vector<std::array<int, 3>> Connectivity::WeldCasters(vtkPenumbraSceneGeomet
         int& w = welded[g];
         if (w < 0)
         {
-          w = static_cast<int>(this->Points.size());
-          double p[3];
-          rebased(g, p);
-          this->Points.push_back({ p[0], p[1], p[2] });
+          w = static_cast<int>(source.size());
+          source.push_back(g);
         }
         idx[k] = w;
       }

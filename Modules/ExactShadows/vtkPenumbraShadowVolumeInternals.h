@@ -115,8 +115,10 @@ struct Connectivity
   // `adjacency`: also the closed components' Adjacency (the GPU silhouette path alone uses
   // it; 24 bytes a face).
   void Build(vtkPenumbraSceneGeometry* geometry, bool silhouettes, bool adjacency);
-  std::vector<std::array<int, 3>> WeldCasters(vtkPenumbraSceneGeometry* geometry);
-  std::vector<std::array<int, 3>> Across(const std::vector<std::array<int, 3>>& tris);
+  std::vector<std::array<int, 3>> WeldCasters(
+    vtkPenumbraSceneGeometry* geometry, std::vector<std::uint32_t>& source);
+  std::vector<std::array<int, 3>> Across(
+    const std::vector<std::array<int, 3>>& tris, size_t points);
   void BuildComponents(const std::vector<std::array<int, 3>>& tris,
     const std::vector<std::array<int, 3>>& across, bool adjacency);
   void FinishComponent(Component& c, bool closed, bool adjacency) const;
