@@ -343,7 +343,7 @@ void vtkPenumbraShadowVolumeShadows::Internals::LimitBlockers(
   vtkPenumbraReference* reference = self.Reference;
   const penumbra::SceneTriangles& triangles = g.Geometry->GetTriangles();
   BlockerFilter filter(job.VL);
-  if (triangles.Size() <= reference->GetCompactAbove() || !filter.Setup(g.RebasedBounds) ||
+  if (this->Mesh.Casters <= reference->GetCompactAbove() || !filter.Setup(g.RebasedBounds) ||
     !filter.MarkSamples(*g.In, traced))
   {
     reference->SetOccluderSubset(nullptr);

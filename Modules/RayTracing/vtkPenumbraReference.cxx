@@ -1140,6 +1140,15 @@ void vtkPenumbraReference::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Compact: " << (this->Impl->Compact ? "yes" : "no") << "\n";
   os << indent << "NumberOfBuilds: " << this->NumberOfBuilds << "\n";
   os << indent << "NumberOfCasterTriangles: " << this->GetNumberOfCasterTriangles() << "\n";
+  os << indent << "OccluderSubset: ";
+  if (this->Impl->Subset)
+  {
+    os << this->Impl->SubsetIds.size() << " triangles\n";
+  }
+  else
+  {
+    os << "(none: every occluder)\n";
+  }
   os << indent << "NumberOfRays: " << this->NumberOfRays << "\n";
   os << indent << "NumberOfTies: " << this->NumberOfTies << "\n";
   os << indent << "LastTimeMs: " << this->LastTimeMs << "\n";
