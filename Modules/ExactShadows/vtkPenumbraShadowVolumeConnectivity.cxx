@@ -148,19 +148,15 @@ std::vector<std::array<int, 3>> Connectivity::WeldCasters(
   const auto& blocks = triangles.GetBlocks();
   const ScenePoints scene(triangles);
   const std::vector<std::uint32_t>& base = scene.Base;
-  auto rebased = [&](std::uint32_t g, double p[3]) { scene.Rebased(g, p); };
-  auto occluding = [&](const penumbra::SceneTriangles::Block& block, vtkIdType local)
+  // The scene's occluder rule (the reference's: casting, with area), once per triangle.
+  std::vector<bool> occluding(static_cast<size_t>(triangles.Size()));
+  for (const penumbra::SceneTriangles::Block& block : blocks)
   {
-    if (!triangles.IsOccluder(block.First + local))
+    for (vtkIdType t = 0; t < block.List->Size(); ++t)
     {
-      return false;
+      occluding[static_cast<size_t>(block.First + t)] = triangles.IsOccluderLocal(block, t);
     }
-    double tv[9];
-    triangles.GetLocal(block, local, tv);
-    const Vec3 v[3] = { { tv[0], tv[1], tv[2] }, { tv[3], tv[4], tv[5] }, { tv[6], tv[7], tv[8] } };
-    const Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
-    return glm::dot(n, n) > 0.0; // zero-area: the reference skips them too
-  };
+  }
   // canon[g]: the smallest global point with g's coordinates (g itself when unique), for the
   // points the casters use.
   constexpr std::uint32_t Unused = ~std::uint32_t(0);
@@ -170,7 +166,7 @@ std::vector<std::array<int, 3>> Connectivity::WeldCasters(
     const penumbra::TriangleList& list = *blocks[b].List;
     for (vtkIdType t = 0; t < list.Size(); ++t)
     {
-      if (occluding(blocks[b], t))
+      if (occluding[static_cast<size_t>(blocks[b].First + t)])
       {
         for (int k = 0; k < 3; ++k)
         {
@@ -192,8 +188,8 @@ std::vector<std::array<int, 3>> Connectivity::WeldCasters(
     auto less = [&](std::uint32_t a, std::uint32_t c)
     {
       double p[3], q[3];
-      rebased(a, p);
-      rebased(c, q);
+      scene.Rebased(a, p);
+      scene.Rebased(c, q);
       return p[0] != q[0] ? p[0] < q[0]
                           : (p[1] != q[1] ? p[1] < q[1] : (p[2] != q[2] ? p[2] < q[2] : a < c));
     };
@@ -201,8 +197,8 @@ std::vector<std::array<int, 3>> Connectivity::WeldCasters(
     for (size_t i = 1; i < used.size(); ++i)
     {
       double p[3], q[3];
-      rebased(used[i - 1], p);
-      rebased(used[i], q);
+      scene.Rebased(used[i - 1], p);
+      scene.Rebased(used[i], q);
       if (p[0] == q[0] && p[1] == q[1] && p[2] == q[2])
       {
         canon[used[i]] = canon[used[i - 1]];
@@ -217,7 +213,7 @@ std::vector<std::array<int, 3>> Connectivity::WeldCasters(
     const penumbra::TriangleList& list = *blocks[b].List;
     for (vtkIdType t = 0; t < list.Size(); ++t)
     {
-      if (!occluding(blocks[b], t))
+      if (!occluding[static_cast<size_t>(blocks[b].First + t)])
       {
         continue;
       }
