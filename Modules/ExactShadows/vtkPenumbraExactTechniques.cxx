@@ -6,6 +6,7 @@
 #include "vtkPenumbraConservativeShadows.h"
 #include "vtkPenumbraLinkedListShadows.h"
 #include "vtkPenumbraRayTracedShadows.h"
+#include "vtkPenumbraReference.h"
 #include "vtkPenumbraShadowVolumeShadows.h"
 
 namespace
@@ -128,6 +129,11 @@ const OptionTable VolumesOptions = {
   { "lights_per_mask", OptionType::Integer, 4, 1, 4, {}, "lights",
     "lights counted into one RGBA mask before it is read back (Brabec 2003, ch. 8); only speed "
     "depends on it" },
+  { "subset_above", OptionType::Integer, 1 << 20, 0, 2147483647.0, {}, "casters",
+    "casters above which the edge resolve traces through an Embree scene of only the casters "
+    "that can block its samples (a light-space grid of them; the same answers) and compacts "
+    "it: less memory than a BVH of every caster, for a pass over the casters whenever the "
+    "traced samples change; 0: always" },
 };
 
 vtkSmartPointer<vtkPenumbraShadowTechnique> CreateVolumes(const Options& opts)
@@ -145,6 +151,7 @@ vtkSmartPointer<vtkPenumbraShadowTechnique> CreateVolumes(const Options& opts)
   technique->SetResolve(opts.Boolean("resolve"));
   technique->SetMeasureFill(opts.Boolean("measure_fill"));
   technique->SetLightsPerMask(opts.Integer("lights_per_mask"));
+  technique->GetReference()->SetCompactAbove(opts.Integer("subset_above"));
   return technique;
 }
 

@@ -61,6 +61,18 @@ struct BlockerView
   }
 };
 
+// The distance from p to the box [lo, hi].
+double DistanceToBox(const double lo[3], const double hi[3], const Vec3& p)
+{
+  double gap = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double d = std::max({ lo[a] - p[a], p[a] - hi[a], 0.0 });
+    gap += d * d;
+  }
+  return std::sqrt(gap);
+}
+
 // The projections of every traced sample and of every caster for one light.
 struct BlockerFilter
 {
@@ -123,7 +135,6 @@ struct BlockerFilter
 
 bool BlockerFilter::Setup(const double bounds[6])
 {
-  double outside = 0.0; // positional: the light's distance to the bounds
   for (int corner = 0; corner < 8; ++corner)
   {
     const Vec3 q = { bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)],
@@ -144,13 +155,9 @@ bool BlockerFilter::Setup(const double bounds[6])
     this->E2 = glm::cross(d, this->E1);
     return std::isfinite(this->E1[0] + this->E1[1] + this->E1[2]);
   }
-  for (int a = 0; a < 3; ++a)
-  {
-    const double p = this->Light.Position[a];
-    const double gap = std::max({ bounds[2 * a] - p, p - bounds[2 * a + 1], 0.0 });
-    outside += gap * gap;
-  }
-  this->NearLight = std::max(1e-3 * this->Radius, std::sqrt(outside));
+  const double lo[3] = { bounds[0], bounds[2], bounds[4] };
+  const double hi[3] = { bounds[1], bounds[3], bounds[5] };
+  this->NearLight = std::max(1e-3 * this->Radius, DistanceToBox(lo, hi, this->Light.Position));
   for (int f = 0; f < 6; ++f)
   {
     this->Views[f].Axis = f / 2;
@@ -277,16 +284,13 @@ bool BlockerFilter::Keeps(const double tv[9]) const
   const Vec3 c[3] = { { tv[0], tv[1], tv[2] }, { tv[3], tv[4], tv[5] }, { tv[6], tv[7], tv[8] } };
   if (!this->Light.Directional)
   {
-    double gap = 0.0; // the triangle's box to the light
+    double lo[3], hi[3]; // the triangle's box
     for (int a = 0; a < 3; ++a)
     {
-      const double p = this->Light.Position[a];
-      const double lo = std::min({ c[0][a], c[1][a], c[2][a] });
-      const double hi = std::max({ c[0][a], c[1][a], c[2][a] });
-      const double d = std::max({ lo - p, p - hi, 0.0 });
-      gap += d * d;
+      lo[a] = std::min({ c[0][a], c[1][a], c[2][a] });
+      hi[a] = std::max({ c[0][a], c[1][a], c[2][a] });
     }
-    if (std::sqrt(gap) < this->NearLight)
+    if (DistanceToBox(lo, hi, this->Light.Position) < this->NearLight)
     {
       return true;
     }
@@ -342,32 +346,39 @@ void vtkPenumbraShadowVolumeShadows::Internals::LimitBlockers(
 {
   vtkPenumbraReference* reference = self.Reference;
   const penumbra::SceneTriangles& triangles = g.Geometry->GetTriangles();
-  BlockerFilter filter(job.VL);
-  if (this->Mesh.Casters <= reference->GetCompactAbove() || !filter.Setup(g.RebasedBounds) ||
-    !filter.MarkSamples(*g.In, traced))
+  if (this->Mesh.Casters <= reference->GetCompactAbove())
   {
     reference->SetOccluderSubset(nullptr);
     return;
   }
-  // The same grids for the same light and casters (a still frame): the same subset.
-  const VolumeLight& vl = job.VL;
+  // The same light, casters and traced samples (a still frame): the same subset.
+  const penumbra_light_views::FrameInputs& in = *g.In;
   BlockerCache key;
-  key.Key = { vl.Directional ? 1.0 : 0.0, vl.Direction[0], vl.Direction[1], vl.Direction[2],
-    vl.Position[0], vl.Position[1], vl.Position[2],
-    static_cast<double>(g.Geometry->GetCastersTime()), static_cast<double>(triangles.Size()) };
-  for (const BlockerView& view : filter.Views)
+  key.Key = job.VL.Key();
+  key.Key.insert(key.Key.end(),
+    { static_cast<double>(g.Geometry->GetCastersTime()), in.Shift[0], in.Shift[1], in.Shift[2] });
+  for (vtkIdType s = 0; s < in.NumberOfSamples; ++s)
   {
-    key.Key.insert(key.Key.end(),
-      { view.Used ? 1.0 : 0.0, view.Lo[0], view.Lo[1], view.Hi[0], view.Hi[1],
-        static_cast<double>(view.Cells) });
-    key.Grids.push_back(view.Sum);
+    if (traced[s])
+    {
+      key.Samples.push_back(s);
+      key.Positions.insert(key.Positions.end(), in.Positions + 3 * s, in.Positions + 3 * s + 3);
+    }
   }
   const size_t slot = static_cast<size_t>(&job - g.Jobs.data());
   this->Blockers.resize(std::max(this->Blockers.size(), g.Jobs.size()));
   BlockerCache& cache = this->Blockers[slot];
-  if (cache.Subset && cache.Key == key.Key && cache.Grids == key.Grids)
+  if (cache.Subset && cache.Key == key.Key && cache.Samples == key.Samples &&
+    cache.Positions == key.Positions)
   {
     reference->SetOccluderSubset(cache.Subset);
+    return;
+  }
+  BlockerFilter filter(job.VL);
+  if (!filter.Setup(g.RebasedBounds) || !filter.MarkSamples(in, traced))
+  {
+    cache = BlockerCache();
+    reference->SetOccluderSubset(nullptr);
     return;
   }
   vtkSMPThreadLocal<std::vector<vtkIdType>> kept;

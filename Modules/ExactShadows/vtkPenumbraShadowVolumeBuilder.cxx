@@ -455,9 +455,9 @@ vtkPenumbraShadowVolumeShadows::Internals::FindVolumes(
   vtkPenumbraShadowVolumeShadows& self, const Group& g, const VolumeLight& vl, const double box[6])
 {
   const auto volumeStart = Clock::now();
-  std::vector<double> key = { vl.Directional ? 1.0 : 0.0, vl.Direction[0], vl.Direction[1],
-    vl.Direction[2], vl.Position[0], vl.Position[1], vl.Position[2], vl.Extrusion,
-    self.Cull ? 1.0 : 0.0, self.GPUSilhouettes ? 1.0 : 0.0, self.Resolve ? 1.0 : 0.0 };
+  std::vector<double> key = vl.Key();
+  key.insert(key.end(),
+    { self.Cull ? 1.0 : 0.0, self.GPUSilhouettes ? 1.0 : 0.0, self.Resolve ? 1.0 : 0.0 });
   auto serves = [&](const std::unique_ptr<VolumeSet>& v)
   {
     return v->Key == key &&

@@ -135,6 +135,14 @@ struct VolumeLight
   Vec3 Position = { 0, 0, 0 };
   double Extrusion = 1.0; // directional: prism length beyond everything
 
+  // Everything above, as a cache key of what is made for the light.
+  std::vector<double> Key() const
+  {
+    return { this->Directional ? 1.0 : 0.0, this->Direction[0], this->Direction[1],
+      this->Direction[2], this->Position[0], this->Position[1], this->Position[2],
+      this->Extrusion };
+  }
+
   // Outward facing test value of an oriented triangle: > 0 means it faces the light.
   double Facing(const Vec3& a, const Vec3& b, const Vec3& c) const
   {
@@ -370,11 +378,13 @@ struct vtkPenumbraShadowVolumeShadows::Internals
   std::vector<GLuint> Garbage; // buffers of evicted sets, deleted when the context is current
 
   // Per light of the group, the edge resolve's last subset of casters (LimitBlockers) and
-  // what it was made from: the light, the casters, the traced samples' grids.
+  // what it was made from: the light, the casters and the samples' frame (Key), the traced
+  // samples and their positions.
   struct BlockerCache
   {
     std::vector<double> Key;
-    std::vector<std::vector<int>> Grids;
+    std::vector<vtkIdType> Samples;
+    std::vector<float> Positions;
     vtkSmartPointer<vtkIdTypeArray> Subset;
   };
   std::vector<BlockerCache> Blockers;

@@ -453,6 +453,8 @@ void vtkPenumbraShadowVolumeShadows::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "UsedZPass: " << this->UsedZPass << "\n";
   os << indent << "Resolve: " << this->Resolve << "\n";
   os << indent << "LightsPerMask: " << this->LightsPerMask << "\n";
+  // Above this many casters the edge resolve traces through the possible blockers alone.
+  os << indent << "ReferenceCompactAbove: " << this->Reference->GetCompactAbove() << "\n";
   os << indent << "NumberOfMasks: " << this->NumberOfMasks << "\n";
   os << indent << "NumberOfResolvedSamples: " << this->NumberOfResolvedSamples << "\n";
 }

@@ -225,7 +225,10 @@ public:
   vtkGetMacro(ResolveTimeMs, double);
 
   /**
-   * The ray tracer of the edge resolve (exposed for its statistics and epsilons).
+   * The ray tracer of the edge resolve (exposed for its statistics and epsilons). Above its
+   * CompactAbove casters, after a call it holds only the casters that can block the samples
+   * the call traced (vtkPenumbraReference::SetOccluderSubset): trace other rays with a
+   * vtkPenumbraReference of your own. Raising its CompactAbove keeps every caster.
    */
   vtkPenumbraReference* GetReference() { return this->Reference; }
 
