@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <set>
@@ -235,6 +236,7 @@ struct vtkPenumbraReference::Internals : penumbra_embree::Objects
   bool Subset = false;
   std::vector<vtkIdType> SubsetIds;
   bool SubsetBuilt = false;
+  std::string SubsetError; // a refused subset: every query fails with it until the next one
 
   bool AddMesh(const penumbra::SceneTriangles& triangles,
     const penumbra::SceneTriangles::Block& block, vtkIdType occluders, RTCBuildQuality quality);
@@ -479,7 +481,19 @@ void vtkPenumbraReference::SetOccluderSubset(vtkIdTypeArray* triangles)
   Internals& impl = *this->Impl;
   const vtkIdType* ids =
     triangles && triangles->GetNumberOfTuples() > 0 ? triangles->GetPointer(0) : nullptr;
-  const size_t count = triangles ? static_cast<size_t>(triangles->GetNumberOfTuples()) : 0;
+  size_t count = triangles ? static_cast<size_t>(triangles->GetNumberOfValues()) : 0;
+  // Ids out of order would make the scene miss occluders silently: the next query fails.
+  impl.SubsetError.clear();
+  if (triangles &&
+    (triangles->GetNumberOfComponents() != 1 || (count > 0 && ids[0] < 0) ||
+      std::adjacent_find(ids, ids + count, std::greater_equal<vtkIdType>()) != ids + count))
+  {
+    impl.SubsetError = "SetOccluderSubset: the triangle ids must be one component, ascending, "
+                       "without repeats and not negative";
+    triangles = nullptr;
+    ids = nullptr;
+    count = 0;
+  }
   const bool same = triangles ? impl.Subset && impl.SubsetIds.size() == count &&
       std::equal(impl.SubsetIds.begin(), impl.SubsetIds.end(), ids)
                               : !impl.Subset;
@@ -912,6 +926,10 @@ int vtkPenumbraReference::EnsureScene()
 {
   Internals& impl = *this->Impl;
   vtkPenumbraSceneGeometry* geometry = this->Geometry;
+  if (!impl.SubsetError.empty())
+  {
+    return this->Fail(impl.SubsetError);
+  }
   if (impl.Scene && !impl.Built.Changed(geometry) && impl.BuiltCompactAbove == this->CompactAbove &&
     impl.SubsetBuilt)
   {

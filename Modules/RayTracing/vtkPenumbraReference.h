@@ -138,6 +138,8 @@ public:
    * block the rays it is about to trace; the answers for those rays are then the same as
    * with every occluder. Null (the default) keeps every occluder. The ids are copied; a
    * subset with other ids rebuilds the Embree scene at the next query, the same ids reuse it.
+   * Ids out of order, repeated or negative are refused: every query then fails (message in
+   * GetErrorMessage()) until the next call.
    * GetNumberOfCasterTriangles() counts the occluders the current scene holds.
    */
   void SetOccluderSubset(vtkIdTypeArray* triangles);

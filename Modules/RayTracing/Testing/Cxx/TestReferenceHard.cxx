@@ -455,6 +455,18 @@ int OccluderSubset()
   CHECK(shadowed < withAll);
   CHECK(shadowedBy(nullptr, shadowed));
   CHECK(shadowed == withAll && part->GetNumberOfBuilds() == 3);
+  // Ids out of order (or repeated) are refused with a message, never traced as a wrong scene.
+  vtkNew<vtkIdTypeArray> unsorted;
+  for (vtkIdType t : { 3, 1, 2 })
+  {
+    unsorted->InsertNextValue(t);
+  }
+  vtkNew<ErrorCounter> errors;
+  part->AddObserver(vtkCommand::ErrorEvent, errors);
+  CHECK(!shadowedBy(unsorted, shadowed));
+  CHECK(std::string(part->GetErrorMessage()).find("ascending") != std::string::npos);
+  CHECK(errors->Count > 0);
+  CHECK(shadowedBy(all, shadowed) && shadowed == withAll);
   return EXIT_SUCCESS;
 }
 
